@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+// One status enum for the whole core. Nothing thrown escapes a core API; results carry a Status
+// plus a human message. JS mirrors statusCode() strings (workers/protocol.js).
+#pragma once
+#include <string>
+
+namespace omnislice {
+
+enum class Status {
+  Ok,
+  EmptyInput,          // no bytes, no triangles, nothing to slice
+  UnsupportedFormat,   // format not recognised from name or content
+  ParseError,          // malformed file content
+  TruncatedFile,       // file ends before its declared content
+  NonFiniteVertex,     // NaN or infinite coordinate
+  DegenerateInput,     // nothing left after dropping degenerate faces, zero-size bbox
+  OpenMesh,            // boundary edges: the solid is not closed (cannot slice as a solid)
+  NonManifoldInput,    // edges shared by more than two faces
+  SelfIntersecting,    // faces intersect each other
+  InvalidOption,       // absurd or unknown setting / option
+  IoError,             // cannot read or write a file
+  Cancelled,           // progress callback asked to stop
+  Internal,            // a bug: an invariant failed
+};
+
+// Stable machine-readable code, e.g. Status::OpenMesh -> "open_mesh".
+const char* statusCode(Status s);
+
+// Result header shared by every core function result struct.
+struct Outcome {
+  Status status = Status::Ok;
+  std::string message;  // human message, empty when Ok
+  bool ok() const { return status == Status::Ok; }
+};
+
+}  // namespace omnislice

@@ -1,0 +1,74 @@
+// SPDX-License-Identifier: MIT
+// Validation and safe repair of a raw mesh, and its placement on the platform.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "mesh/mesh.h"
+#include "pipeline/settings.h"
+
+namespace omnislice {
+
+// What validation found and what it did. Counts are after repair.
+struct MeshInfo {
+  size_t vertices = 0;
+  size_t faces = 0;
+  size_t shells = 0;                 // edge-connected components
+  bool closed = false;               // no boundary edge
+  bool manifold = false;             // every edge has <= 2 faces and every vertex link is one fan
+  bool oriented = false;             // consistently oriented (after repair)
+  size_t boundaryEdges = 0;
+  size_t boundaryLoops = 0;          // holes (counted on the half-edge mesh)
+  size_t nonManifoldEdges = 0;
+  size_t nonManifoldVertices = 0;
+  size_t selfIntersections = 0;      // intersecting face pairs found (capped, see selfIntersectionsCapped)
+  bool selfIntersectionsCapped = false;
+  size_t nonFiniteVertices = 0;
+  double volumeMm3 = 0;              // signed volume (closed meshes), > 0 after outward repair
+  double areaMm2 = 0;
+  BoundingBox bbox;
+  std::vector<std::string> repairs;  // e.g. "merged 1240 duplicate vertices", "dropped 3 degenerate faces"
+  std::vector<std::string> errors;   // each "code: message", e.g. "open_mesh: 147 boundary edges ..."
+  std::vector<std::string> warnings; // e.g. "self_intersecting: 12 face pairs intersect (sliced as union)"
+};
+
+struct PrepareOptions {
+  bool repair = true;               // apply safe repairs (merge, drop degenerate, orient, outward)
+  bool checkSelfIntersections = true;  // CGAL box-intersection test (costly on huge meshes)
+  size_t selfIntersectionCap = 1000;   // stop counting after this many pairs (0 = no cap)
+  double mergeTolerance = 0;        // 0 = merge bit-identical positions only; > 0 in mm
+};
+
+struct PrepareMeshResult : Outcome {
+  Mesh mesh;        // repaired mesh (welded, no degenerate faces, oriented, outward)
+  MeshInfo info;
+  // For slicing a solid: Ok when the repaired mesh is a closed manifold; otherwise the first
+  // unrepairable error: EmptyInput, NonFiniteVertex, DegenerateInput, OpenMesh, NonManifoldInput.
+  Outcome solid;
+};
+
+// Validate and (optionally) repair. status is an error only when there is nothing to work with
+// (EmptyInput, NonFiniteVertex, DegenerateInput, Cancelled); topological problems of the solid are
+// reported in info.errors and result.solid so `info` can still describe the mesh.
+PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options,
+                              const ProgressFn& progress = {});
+
+// MeshInfo as the JSON object `omnislice info` prints (keys: vertices, faces, shells, closed,
+// manifold, oriented, volume_mm3, area_mm2, bbox {min,max}, boundary_edges, boundary_loops,
+// non_manifold_edges, self_intersections, repairs, errors, warnings).
+std::string meshInfoJson(const MeshInfo& info);
+
+struct PlaceMeshResult : Outcome {
+  Mesh mesh;                  // in the part frame: lowest point at z = 0, centred in XY if asked
+  Eigen::Matrix4d transform;  // input-file coordinates -> part frame (homogeneous, row-major use)
+};
+
+// Apply PlacementSettings: scale (or fit largest side to fitMm), up-axis change, rotations X,Y,Z,
+// then translate so min z = 0 and (if center) bbox centre at x = y = 0. InvalidOption for
+// scale <= 0, non-finite values. Orientation (outwardness) is preserved (a mirror never happens).
+PlaceMeshResult placeMesh(const Mesh& mesh, const PlacementSettings& placement);
+
+}  // namespace omnislice

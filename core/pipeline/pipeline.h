@@ -1,0 +1,56 @@
+// SPDX-License-Identifier: MIT
+// The one pipeline every front end calls (CLI, wasm API, worker, page): mesh bytes -> read ->
+// validate/repair -> place -> slice -> tool-paths -> program, plus info and verify.
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "mesh/mesh.h"
+#include "pipeline/settings.h"
+
+namespace omnislice {
+
+// Tool-path preview for viewers: one line segment per move that deposits or travels.
+struct PreviewBuffers {
+  std::vector<float> positions;   // #S*6: x0 y0 z0 x1 y1 z1 per segment, part frame, mm
+  std::vector<uint8_t> features;  // #S: Feature code (toolpath.h), 0 = travel
+  std::vector<uint32_t> layers;   // #S: layer index
+};
+
+struct SliceOutput : Outcome {
+  std::string program;       // G-code text
+  std::string reportJson;    // method, machine, layers, path_mm, extrusion_mm, estimated_time_s,
+                             // timings_ms {read, validate, place, slice, toolpath, program}, mesh, ...
+  std::string infoJson;      // meshInfoJson() of the prepared input
+  PreviewBuffers preview;
+  Mesh partMesh;             // the placed solid (part frame), for viewers
+  int layers = 0;
+};
+
+// Slice mesh bytes with settings. Every failure is a Status with a message (never throws).
+SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
+                     const Settings& settings, const ProgressFn& progress = {});
+
+struct InfoOutput : Outcome {
+  std::string infoJson;      // `omnislice info` JSON
+  Mesh partMesh;             // placed mesh
+};
+
+// Read, validate and place; status is an error only when the file cannot be read at all.
+InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName,
+                   const PlacementSettings& placement, const ProgressFn& progress = {});
+
+struct VerifyOutput : Outcome {
+  std::string verifyJson;    // verifyReportJson()
+};
+
+// Verify a program against the mesh it was made from (the header's placement is applied to the
+// mesh bytes).
+VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, size_t meshSize,
+                       const std::string& meshName, const ProgressFn& progress = {});
+
+}  // namespace omnislice

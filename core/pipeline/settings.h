@@ -1,0 +1,77 @@
+// SPDX-License-Identifier: MIT
+// Every user-facing setting of the pipeline, with defaults. The CLI's --set KEY=VALUE, the wasm API
+// and the page all go through setSetting(), so a key means the same everywhere.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "common/status.h"
+
+namespace omnislice {
+
+enum class UpAxis { PosZ, NegZ, PosY, NegY, PosX, NegX };
+enum class InfillPattern { Lines, Grid };
+
+struct PlacementSettings {
+  double scale = 1.0;          // uniform factor applied first; must be > 0
+  double fitMm = 0;            // > 0: scale so the largest bbox side equals this (overrides scale)
+  UpAxis up = UpAxis::PosZ;    // which input axis points up on the platform
+  double rotateXDegrees = 0;   // extra rotation after the up-axis change, about part X, then Y, then Z
+  double rotateYDegrees = 0;
+  double rotateZDegrees = 0;
+  bool center = true;          // centre the bbox on (0,0) in XY (else keep XY as read)
+};
+
+struct Settings {
+  std::string method = "planar";       // planar (later: multidir, voxel, geodesic, isoplanar)
+  std::string machine = "cartesian3";  // machine profile name
+  PlacementSettings placement;
+  Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
+
+  double layerHeight = 0.2;       // mm, (0, nozzle]
+  double firstLayerHeight = 0;    // mm, 0 = same as layerHeight
+  double nozzleDiameter = 0.4;    // mm
+  double lineWidth = 0;           // mm, 0 = 1.125 x nozzle
+  double filamentDiameter = 1.75; // mm
+  int walls = 2;                  // perimeters per island, >= 0
+  int topLayers = 4;              // solid layers under a top surface
+  int bottomLayers = 4;           // solid layers over a bottom surface
+  double infillPercent = 20;      // sparse infill density, 0..100 (100 = solid)
+  InfillPattern infillPattern = InfillPattern::Grid;
+  double infillAngleDegrees = 45; // angle of infill lines in the layer plane
+  double infillOverlapPercent = 15;  // infill overlap into innermost wall, % of line width
+
+  double printSpeed = 50;         // mm/s, inner walls, skin
+  double outerWallSpeed = 30;     // mm/s
+  double infillSpeed = 70;        // mm/s
+  double firstLayerSpeed = 20;    // mm/s, all features on layer 0
+  double travelSpeed = 150;       // mm/s
+  double acceleration = 1500;     // mm/s^2, time estimate only (0 = ignore)
+  double retractLength = 0.8;     // mm of filament, 0 = off
+  double retractSpeed = 35;       // mm/s of filament
+  double retractMinTravel = 1.5;  // mm, shorter travels do not retract
+  double nozzleTemperature = 210; // deg C
+  double bedTemperature = 60;     // deg C
+  Eigen::Vector3d bedSize{220, 220, 250};  // mm, machine travel (limits for cartesian3)
+
+  // Resolved line width.
+  double effectiveLineWidth() const { return lineWidth > 0 ? lineWidth : 1.125 * nozzleDiameter; }
+  double effectiveFirstLayerHeight() const {
+    return firstLayerHeight > 0 ? firstLayerHeight : layerHeight;
+  }
+};
+
+// Set one setting by key ("layer_height", "walls", "infill", "placement.up", "direction", ...).
+// value is text as typed on the command line. Unknown keys and out-of-range values give
+// InvalidOption with a message naming the key and the accepted range.
+Outcome setSetting(Settings& settings, const std::string& key, const std::string& value);
+
+// Check cross-field consistency (e.g. layer height <= nozzle). InvalidOption on failure.
+Outcome validateSettings(const Settings& settings);
+
+// All settings as (key, value text) in a stable order, for program headers and reports.
+std::vector<std::pair<std::string, std::string>> listSettings(const Settings& settings);
+
+}  // namespace omnislice

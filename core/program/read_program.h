@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// Reader of Omnislice programs (and plain 3-axis G-code from other slicers where possible): header
+// facts and the moves replayed into the part frame, as verification needs them.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "common/status.h"
+#include "program/machine.h"
+
+namespace omnislice {
+
+struct ProgramMove {
+  Eigen::Vector3d from{0, 0, 0};   // part-frame tip position at the start
+  Eigen::Vector3d to{0, 0, 0};     // part-frame tip position at the end
+  Eigen::Vector3d axis{0, 0, 1};   // part-frame nozzle axis
+  double filament = 0;             // E increment (mm filament), > 0 extruding
+  double feedMmPerMin = 0;
+  int layer = -1;                  // last `; omnislice:layer` (or ;LAYER:) marker, -1 before any
+  int part = 0;
+  std::string feature;             // last feature marker ("wall-outer", ...)
+  std::vector<double> axes;        // machine axis values at the end (X Y Z [A|B C]) for limits
+  int line = 0;                    // 1-based source line
+};
+
+struct ParsedProgram : Outcome {
+  std::string method;
+  MachineProfile machine;
+  Eigen::Matrix4d placement = Eigen::Matrix4d::Identity();
+  bool absoluteExtrusion = true;
+  double filamentDiameter = 1.75;
+  double layerHeight = 0;          // from `; omnislice:setting layer_height = ...`
+  double lineWidth = 0;
+  double nozzleDiameter = 0;
+  std::vector<ProgramMove> moves;  // every G0/G1 with motion or extrusion
+  int layerCount = 0;              // number of distinct layer markers
+};
+
+// Parse program text. ParseError with the line number for malformed header JSON or words;
+// UnsupportedFormat for machine kinds this build cannot replay.
+ParsedProgram readProgram(const std::string& text);
+
+}  // namespace omnislice

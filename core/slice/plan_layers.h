@@ -1,0 +1,34 @@
+// SPDX-License-Identifier: MIT
+// Planar tool-paths from sliced layers: walls, solid top/bottom skins, sparse infill, travel
+// ordering and retraction, extrusion from the bead cross-section. For d = +Z a complete 3-axis
+// slicer.
+#pragma once
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "pipeline/settings.h"
+#include "slice/slice_mesh.h"
+#include "toolpath/toolpath.h"
+
+namespace omnislice {
+
+// Filament length (mm) that deposits a bead of width w, height h over length L: bead area is a
+// rectangle with semicircular ends, (w - h) h + pi h^2 / 4, divided by the filament section.
+double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm);
+
+struct PlanLayersResult : Outcome {
+  Toolpath toolpath;
+  // Per-layer region breakdown (for reports and tests).
+  std::vector<double> skinAreaMm2;    // solid-skin area per layer
+  std::vector<double> infillAreaMm2;  // sparse-infill area per layer
+};
+
+// Plan tool-paths for every layer of `slices` with settings (walls, topLayers, bottomLayers,
+// infillPercent, infillPattern, infillAngleDegrees, speeds, retraction, line width, filament).
+// Moves are in the part frame; nozzle axis = slices.frame.d; part id = partIndex.
+// Statuses: InvalidOption, Cancelled.
+PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings, int partIndex = 0,
+                            const ProgressFn& progress = {});
+
+}  // namespace omnislice

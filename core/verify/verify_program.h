@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// Verification by simulation: the measures of ../shared/PROGRAM-FORMAT.md ("What verification
+// measures"), computed on a parsed program against the part's solid in the part frame.
+#pragma once
+#include <string>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "mesh/mesh.h"
+#include "program/read_program.h"
+
+namespace omnislice {
+
+struct VerifyOptions {
+  double sampleSpacing = 0.5;    // mm along extruding path
+  double gridSpacing = 0;        // mm for coverage, 0 = min(nozzle diameter, layer height)
+  size_t maxGridPoints = 200000000;  // refuse coverage grids larger than this (InvalidOption)
+};
+
+struct VerifyReport : Outcome {
+  double inside = 0;            // share of samples within w/2 of the solid
+  double coverage = 0;          // share of interior grid points inside some bead
+  double supported = 0;         // share of surface samples supported
+  double supportedAll = 0;      // same over all samples
+  size_t collisions = 0;        // samples with an earlier sample inside the nozzle cone
+  size_t limitViolations = 0;   // moves with an axis outside the declared limits
+  double extrusionMm = 0;       // filament deposited
+  double pathMm = 0;            // extruding path length
+  size_t samples = 0;
+  size_t gridPoints = 0;        // interior grid points considered for coverage
+  int layers = 0;
+};
+
+// mesh: the part's solid already in the part frame (apply program.placement to the input mesh).
+VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
+                           const VerifyOptions& options = {}, const ProgressFn& progress = {});
+
+// JSON object with keys inside, coverage, supported, supported_all, collisions, limits,
+// extrusion_mm, path_mm, samples, grid_points, layers.
+std::string verifyReportJson(const VerifyReport& report);
+
+}  // namespace omnislice

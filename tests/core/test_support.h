@@ -1,0 +1,64 @@
+// SPDX-License-Identifier: MIT
+// Shared helpers for the C++ tests: locating ../shared/models (skip when absent, fail under CI=true),
+// reading files, temp paths, and small generated meshes.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <vector>
+
+#include "mesh/mesh.h"
+
+namespace omnislice::test {
+
+inline std::filesystem::path sharedModelsDir() { return OMNISLICE_SHARED_MODELS_DIR; }
+inline std::filesystem::path fixturesDir() { return OMNISLICE_FIXTURES_DIR; }
+inline std::filesystem::path tempDir() {
+  std::filesystem::path p = OMNISLICE_TEST_TMP;
+  std::filesystem::create_directories(p);
+  return p;
+}
+
+inline bool underCi() {
+  const char* ci = std::getenv("CI");
+  return ci && std::string(ci) == "true";
+}
+
+// Use at the top of a test that needs ../shared/models: skips with a message when the folder is
+// absent (a user's clone), fails when it is absent under CI=true.
+#define OMNISLICE_REQUIRE_SHARED_MODELS()                                                  \
+  do {                                                                                     \
+    if (!std::filesystem::exists(::omnislice::test::sharedModelsDir() / "MANIFEST.md")) { \
+      if (::omnislice::test::underCi()) {                                                  \
+        FAIL() << "../shared/models is absent under CI=true: " << OMNISLICE_SHARED_MODELS_DIR; \
+      }                                                                                    \
+      GTEST_SKIP() << "../shared/models absent (" << OMNISLICE_SHARED_MODELS_DIR          \
+                   << "): skipping test that needs the shared models";                     \
+    }                                                                                      \
+  } while (0)
+
+inline std::vector<uint8_t> readBytes(const std::filesystem::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::vector<uint8_t>(std::istreambuf_iterator<char>(in), {});
+}
+
+inline std::vector<uint8_t> bytesOf(const std::string& s) {
+  return std::vector<uint8_t>(s.begin(), s.end());
+}
+
+// Axis-aligned box [x0,x1]x[y0,y1]x[z0,z1] as 8 vertices / 12 outward-oriented triangles.
+inline Mesh makeBox(double x0, double y0, double z0, double x1, double y1, double z1) {
+  Mesh m;
+  m.positions = {x0, y0, z0, x1, y0, z0, x1, y1, z0, x0, y1, z0,
+                 x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1};
+  m.triangles = {0, 2, 1, 0, 3, 2,  4, 5, 6, 4, 6, 7,  0, 1, 5, 0, 5, 4,
+                 1, 2, 6, 1, 6, 5,  2, 3, 7, 2, 7, 6,  3, 0, 4, 3, 4, 7};
+  return m;
+}
+
+}  // namespace omnislice::test
