@@ -126,10 +126,15 @@ ReadMeshResult readChecked(const uint8_t* data, size_t size, const std::string& 
   Format chosen = byName;
   if (byName == Format::Unknown) {
     chosen = byContent != Format::Unknown ? byContent : weakSniff(data, size);
-  } else if (byContent != Format::Unknown && byContent != byName) {
-    chosen = byContent;
-    note = "'" + nameHint + "' is named as " + formatName(byName) + " but its content is " + formatName(byContent) +
-           "; read as " + formatName(byContent);
+  } else {
+    // Clear signatures win over the name; so does OBJ text in a file named as another format.
+    Format other = byContent;
+    if (other == Format::Unknown && byName != Format::Obj && weakSniff(data, size) == Format::Obj) other = Format::Obj;
+    if (other != Format::Unknown && other != byName) {
+      chosen = other;
+      note = "'" + nameHint + "' is named as " + formatName(byName) + " but its content is " + formatName(other) +
+             "; read as " + formatName(other);
+    }
   }
   if (chosen == Format::Unknown) {
     r.status = Status::UnsupportedFormat;
