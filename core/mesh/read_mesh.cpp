@@ -190,7 +190,7 @@ ReadMeshResult readMeshFile(const std::string& path) {
     size_t n;
     if (std::fseek(f, 0, SEEK_END) == 0) {
       const long length = std::ftell(f);
-      if (length > 0 && length < (long{1} << 40)) bytes.reserve(static_cast<size_t>(length));
+      if (length > 0 && static_cast<uint64_t>(length) < (uint64_t{1} << 40)) bytes.reserve(static_cast<size_t>(length));
       std::fseek(f, 0, SEEK_SET);
     }
     while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);
