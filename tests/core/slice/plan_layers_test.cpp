@@ -431,5 +431,29 @@ TEST(PlanLayers, TimingHundredThousandTriangles) {
   EXPECT_LT(sliceS + planS, 10.0);  // generous: the machine is shared; target is ~1 s natively
 }
 
+
+TEST(PlanLayers, RealModelKittenTilted) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const Mesh kitten = test::readSimpleOff(test::sharedModelsDir() / "pymdp_kitten.off");
+  ASSERT_EQ(kitten.faceCount(), 10000u);
+  for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0.2)}) {
+    SliceOptions o;
+    o.direction = dir;
+    o.layerHeight = 0.3;
+    const SliceResult slices = sliceMesh(kitten, o);
+    ASSERT_TRUE(slices.ok());
+    EXPECT_EQ(slices.openChains, 0u);
+    const Settings s = baseSettings();
+    const PlanLayersResult plan = planLayers(slices, s, 3);
+    checkToolpath(slices, s, plan, "kitten");
+    // The kitten has a handle (genus 1): some layers hold two islands or a hole.
+    size_t multi = 0;
+    for (const SliceLayer& layer : slices.layers) {
+      multi += layer.islands.size() > 1 || (layer.islands.size() == 1 && !layer.islands[0].holes.empty());
+    }
+    EXPECT_GT(multi, 0u);
+  }
+}
+
 }  // namespace
 }  // namespace omnislice

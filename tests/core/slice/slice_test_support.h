@@ -4,6 +4,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -166,6 +170,51 @@ inline double slicedVolume(const SliceResult& r) {
   double v = 0;
   for (const SliceLayer& layer : r.layers) v += layerArea(layer) * (layer.top - layer.bottom);
   return v;
+}
+
+}  // namespace omnislice::test
+
+namespace omnislice::test {
+
+// Minimal test-only readers for the two shared models used here (OBJ 'v' / 'f a/b/c ...' with
+// fan triangulation, OFF with triangle faces); the product readers live in core/mesh.
+inline Mesh readSimpleObj(const std::filesystem::path& p) {
+  Mesh m;
+  std::ifstream in(p);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream ls(line);
+    std::string tag;
+    ls >> tag;
+    if (tag == "v") {
+      double x, y, z;
+      ls >> x >> y >> z;
+      m.positions.insert(m.positions.end(), {x, y, z});
+    } else if (tag == "f") {
+      std::vector<uint32_t> idx;
+      std::string tok;
+      while (ls >> tok) idx.push_back(static_cast<uint32_t>(std::stol(tok.substr(0, tok.find('/'))) - 1));
+      for (size_t i = 1; i + 1 < idx.size(); ++i) m.triangles.insert(m.triangles.end(), {idx[0], idx[i], idx[i + 1]});
+    }
+  }
+  return m;
+}
+
+inline Mesh readSimpleOff(const std::filesystem::path& p) {
+  Mesh m;
+  std::ifstream in(p);
+  std::string magic;
+  size_t nv = 0, nf = 0, ne = 0;
+  in >> magic >> nv >> nf >> ne;
+  m.positions.resize(3 * nv);
+  for (double& c : m.positions) in >> c;
+  for (size_t f = 0; f < nf; ++f) {
+    size_t k;
+    uint32_t a, b, c;
+    in >> k >> a >> b >> c;
+    m.triangles.insert(m.triangles.end(), {a, b, c});
+  }
+  return m;
 }
 
 }  // namespace omnislice::test
