@@ -117,6 +117,7 @@ std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
 
 struct IslandWork {
   Paths outline;                       // contour + holes
+  std::vector<Vec2> probes;            // up to ~64 outline points, for nearest-island choice
   std::vector<std::vector<Run>> walls; // per level, 0 = outer
   Paths fill;                          // fill region F
 };
@@ -203,6 +204,10 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       for (const ExPolygon2& ex : layer.islands) {
         IslandWork iw;
         iw.outline = clip::toPaths(ex);
+        for (const Path& path : iw.outline) {
+          const size_t step = std::max<size_t>(1, path.size() / 64);
+          for (size_t p = 0; p < path.size(); p += step) iw.probes.push_back(clip::toVec(path[p]));
+        }
         for (int k = 0; k < walls; ++k) {
           Paths loops = clip::offset(iw.outline, -(0.5 * w + k * w));
           if (loops.empty()) break;
@@ -332,12 +337,10 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
         double bestD = std::numeric_limits<double>::infinity();
         for (size_t k = 0; k < islands.size(); ++k) {
           if (islandDone[k]) continue;
-          for (const Path& path : islands[k].outline) {
-            const double d = nearestVertex(toPoints(path), cur).second;
-            if (d < bestD) {
-              bestD = d;
-              best = k;
-            }
+          const double d = nearestVertex(islands[k].probes, cur).second;
+          if (d < bestD) {
+            bestD = d;
+            best = k;
           }
         }
         islandDone[best] = 1;

@@ -337,7 +337,9 @@ TEST(PlanLayers, TiltedDirectionsStayInsideSections) {
     for (size_t i = 0; i < n; ++i) {
       if (i < static_cast<size_t>(s.bottomLayers) || i + s.topLayers >= n) {
         EXPECT_EQ(plan.infillAreaMm2[i], 0) << "layer " << i;
-        if (!slices.layers[i].islands.empty() && i > 0 && i + 1 < n) EXPECT_GT(plan.skinAreaMm2[i], 0) << i;
+        if (!slices.layers[i].islands.empty() && i > 0 && i + 1 < n) {
+          EXPECT_GT(plan.skinAreaMm2[i], 0) << i;
+        }
       }
     }
     // Middle layers of a sphere carry both: sparse core and skin ring where the surface slopes.

@@ -38,7 +38,9 @@ void expectWellFormed(const SliceResult& r, const Mesh& mesh, double h, const st
   for (size_t i = 0; i < r.layers.size(); ++i) {
     const SliceLayer& layer = r.layers[i];
     EXPECT_NEAR(layer.sliceHeight, 0.5 * (layer.bottom + layer.top), 1e-12);
-    if (i > 0) EXPECT_NEAR(layer.bottom, r.layers[i - 1].top, 1e-12);
+    if (i > 0) {
+      EXPECT_NEAR(layer.bottom, r.layers[i - 1].top, 1e-12);
+    }
     for (const ExPolygon2& island : layer.islands) {
       ASSERT_GE(island.contour.size(), 3u) << what << " layer " << i;
       EXPECT_NE(island.contour.front(), island.contour.back()) << what << " layer " << i;
@@ -162,8 +164,12 @@ TEST(SliceMesh, TorusIslandsAndHoles) {
   for (const SliceLayer& layer : rx.layers) {
     const double x = rx.minHeight + layer.sliceHeight;
     for (const ExPolygon2& island : layer.islands) EXPECT_TRUE(island.holes.empty());
-    if (std::abs(x) < 6.5) EXPECT_EQ(layer.islands.size(), 2u) << "x = " << x;
-    if (std::abs(x) > 7.5) EXPECT_EQ(layer.islands.size(), 1u) << "x = " << x;
+    if (std::abs(x) < 6.5) {
+      EXPECT_EQ(layer.islands.size(), 2u) << "x = " << x;
+    }
+    if (std::abs(x) > 7.5) {
+      EXPECT_EQ(layer.islands.size(), 1u) << "x = " << x;
+    }
   }
   // Along a tilted direction the volume still matches.
   o.direction = {0, -1, 0.3};
@@ -267,6 +273,17 @@ TEST(SliceMesh, DegenerateEmptySlices) {
   for (size_t i = 0; i < r2.layers.size(); ++i) {
     EXPECT_EQ(r2.layers[i].islands.size(), (i >= 4 && i < 8) ? 0u : 1u) << "layer " << i;
   }
+}
+
+TEST(SliceMesh, PartThinnerThanHalfFirstLayer) {
+  // A 0.08 mm plate with a 0.2 mm first layer: the mid-layer plane (0.1) is above the part, so the
+  // only layer is cut at half the part's height instead of being dropped or left empty.
+  const Mesh plate = makeBox(0, 0, 0, 5, 4, 0.08);
+  const SliceResult r = sliceMesh(plate, SliceOptions{});
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.layers.size(), 1u);
+  EXPECT_NEAR(r.layers[0].sliceHeight, 0.04, 1e-12);
+  EXPECT_NEAR(layerArea(r.layers[0]), 20, 1e-6);
 }
 
 TEST(SliceMesh, OverlappingShellsAreUnited) {

@@ -37,7 +37,9 @@ inline void flipFaces(Mesh& m) {
 inline Mesh makeSphere(const Eigen::Vector3d& c, double r, int nLat, int nLon) {
   Mesh m;
   auto add = [&](const Eigen::Vector3d& p) {
-    m.positions.insert(m.positions.end(), {p.x(), p.y(), p.z()});
+    m.positions.push_back(p.x());
+    m.positions.push_back(p.y());
+    m.positions.push_back(p.z());
     return static_cast<uint32_t>(m.vertexCount() - 1);
   };
   const uint32_t south = add(c + Eigen::Vector3d(0, 0, -r));
