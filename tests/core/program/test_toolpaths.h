@@ -139,7 +139,9 @@ inline Toolpath sphereToolpath(double R, double h, double w) {
 inline Mesh makeUvSphere(double R, const Eigen::Vector3d& c, int slices = 96, int stacks = 48) {
   Mesh m;
   auto add = [&](const Eigen::Vector3d& p) {
-    m.positions.insert(m.positions.end(), {p.x(), p.y(), p.z()});
+    m.positions.push_back(p.x());
+    m.positions.push_back(p.y());
+    m.positions.push_back(p.z());
     return uint32_t(m.positions.size() / 3 - 1);
   };
   const uint32_t south = add(c + Eigen::Vector3d(0, 0, -R));
