@@ -6,6 +6,7 @@
 #include <random>
 
 #include "../program/test_toolpaths.h"
+#include "cgal/mesh_distance_reference.h"
 #include "../test_support.h"
 
 namespace omnislice {
@@ -123,6 +124,28 @@ TEST(AabbTree, ColumnCrossingsBalancedOnEdgesAndVertices) {
         EXPECT_DOUBLE_EQ(xs[0].z, 0.0);
         EXPECT_EQ(xs[1].sign, -1);
         EXPECT_DOUBLE_EQ(xs[1].z, 10.0);
+      }
+    }
+  }
+}
+
+TEST(AabbTree, AgreesWithCgalReference) {
+  // Independent implementation: CGAL AABB_tree distances and Side_of_triangle_mesh.
+  const Mesh sphere = test::makeUvSphere(8, {0, 0, 8}, 64, 32);
+  const Mesh box = test::makeBox(-4, -3, 0, 6, 3, 7);
+  for (const Mesh* m : {&sphere, &box}) {
+    const AabbTree tree(*m);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<double> u(-10, 18);
+    std::vector<Eigen::Vector3d> pts;
+    for (int i = 0; i < 3000; ++i) pts.emplace_back(u(rng) - 4, u(rng) - 4, u(rng));
+    const MeshDistanceReference ref = meshDistanceReference(*m, pts);
+    ASSERT_TRUE(ref.ok()) << ref.message;
+    for (size_t i = 0; i < pts.size(); ++i) {
+      const double d = tree.closest(pts[i]).distance;
+      EXPECT_NEAR(d, ref.distances[i], 1e-9) << pts[i].transpose();
+      if (d > 1e-6) {
+        EXPECT_EQ(tree.inside(pts[i]), ref.inside[i] == 1) << pts[i].transpose();
       }
     }
   }
