@@ -8,6 +8,7 @@
 
 #include "../program/test_toolpaths.h"
 #include "../test_support.h"
+#include "geometry/aabb_tree.h"
 #include "program/write_gcode.h"
 
 namespace omnislice {
@@ -193,6 +194,105 @@ TEST(VerifyProgram, SphereOf30mmIsFastAndPasses) {
   ASSERT_TRUE(r.ok()) << r.message;
   std::printf("verify 30 mm sphere: %.2f s, %zu samples, %zu grid points, %.0f mm path, %s\n",
               seconds, r.samples, r.gridPoints, r.pathMm, verifyReportJson(r).c_str());
+  EXPECT_GE(r.inside, 0.99);
+  EXPECT_GE(r.coverage, 0.95);
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_LT(seconds, 60.0);
+}
+
+// Minimal ASCII OFF reader for the shared models (triangles only).
+Mesh readOff(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string magic;
+  size_t nv = 0, nf = 0, ne = 0;
+  in >> magic >> nv >> nf >> ne;
+  Mesh m;
+  m.positions.resize(3 * nv);
+  for (double& x : m.positions) in >> x;
+  for (size_t f = 0; f < nf; ++f) {
+    int k = 0;
+    uint32_t a, b, c;
+    in >> k >> a >> b >> c;
+    m.triangles.push_back(a);
+    m.triangles.push_back(b);
+    m.triangles.push_back(c);
+  }
+  return m;
+}
+
+// 100 % raster tool-path of any closed mesh, independent of the slicer: per layer, lines along X
+// spaced w in Y (along Y on odd layers), split into runs where the column through each 0.1 mm
+// step is inside the solid at mid-layer.
+Toolpath rasterToolpath(const Mesh& mesh, double h, double w) {
+  const AabbTree tree(mesh);
+  const BoundingBox box = boundingBox(mesh);
+  test::PathBuilder b(h, w);
+  std::vector<ColumnCrossing> xs;
+  auto insideAt = [&](double x, double y, double z) {
+    tree.columnCrossings(x, y, xs);
+    int wind = 0;
+    for (const ColumnCrossing& c : xs) {
+      if (c.z > z) wind -= c.sign;
+    }
+    return wind != 0;
+  };
+  const int layers = int(std::floor((box.max.z() - box.min.z()) / h));
+  const double step = 0.1;
+  for (int l = 0; l < layers; ++l) {
+    b.setLayer(l);
+    const double z = box.min.z() + (l + 1) * h, zm = z - 0.5 * h;
+    const bool alongX = l % 2 == 0;
+    const int a0 = alongX ? 1 : 0;  // scan axis
+    const int c0 = 1 - a0;          // line axis
+    for (double t = box.min[a0] + 0.5 * w; t < box.max[a0]; t += w) {
+      double runStart = 0;
+      bool inRun = false;
+      for (double s = box.min[c0]; s <= box.max[c0] + step; s += step) {
+        Eigen::Vector2d q;
+        q[a0] = t;
+        q[c0] = s;
+        const bool in = s <= box.max[c0] && insideAt(q.x(), q.y(), zm);
+        if (in && !inRun) {
+          runStart = s;
+          inRun = true;
+        } else if (!in && inRun) {
+          inRun = false;
+          Eigen::Vector3d p0(0, 0, z), p1(0, 0, z);
+          p0[a0] = t;
+          p1[a0] = t;
+          p0[c0] = runStart;
+          p1[c0] = s - step;
+          b.travel(p0);
+          if ((p1 - p0).norm() == 0) p1[c0] += 0.05;
+          b.print(p1, Feature::Infill);
+        }
+      }
+    }
+  }
+  return b.path;
+}
+
+TEST(VerifyProgram, KittenOf30mmRasterPassesInSeconds) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  Mesh kitten = readOff(test::sharedModelsDir() / "pymdp_kitten.off");
+  ASSERT_EQ(kitten.faceCount(), 10000u);
+  // Y-up to Z-up (rotation about X by +90 degrees), scaled to 30 mm tall, resting on z = 0.
+  const double scale = 30.0 / 116.3;
+  for (size_t i = 0; i < kitten.vertexCount(); ++i) {
+    const double x = kitten.positions[3 * i], y = kitten.positions[3 * i + 1],
+                 z = kitten.positions[3 * i + 2];
+    kitten.positions[3 * i] = scale * x;
+    kitten.positions[3 * i + 1] = -scale * z;
+    kitten.positions[3 * i + 2] = scale * y;
+  }
+  const Toolpath tp = rasterToolpath(kitten, 0.2, 0.45);
+  const ParsedProgram p = throughGcode(tp);
+  const auto t0 = std::chrono::steady_clock::now();
+  const VerifyReport r = verifyProgram(p, kitten);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.ok()) << r.message;
+  std::printf("verify 30 mm kitten (raster): %.2f s, %s\n", seconds, verifyReportJson(r).c_str());
   EXPECT_GE(r.inside, 0.99);
   EXPECT_GE(r.coverage, 0.95);
   EXPECT_EQ(r.collisions, 0u);
