@@ -39,6 +39,8 @@ namespace omnislice {
 
 namespace {
 
+constexpr double kMaxCoordinate = 1e6;  // mm
+
 struct Segment {
   Eigen::Vector3d a, b, u;
   double length = 0;
@@ -110,6 +112,9 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   if (partMesh.empty()) return fail(Status::EmptyInput, "part mesh has no triangles");
   for (double v : partMesh.positions) {
     if (!std::isfinite(v)) return fail(Status::NonFiniteVertex, "part mesh has a non-finite vertex");
+    if (std::abs(v) > kMaxCoordinate) {
+      return fail(Status::InvalidOption, "part mesh has a coordinate beyond 1e6 mm");
+    }
   }
   const double h = program.layerHeight, w = program.lineWidth;
   if (!(h > 0) || !(w > 0) || !std::isfinite(h) || !std::isfinite(w)) {
@@ -142,6 +147,12 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       }
     }
     if (m.filament > 0) rep.extrusionMm += m.filament;
+    // Hash-cell and grid indices are 64-bit integers: keep coordinates in a sane range.
+    if (m.from.cwiseAbs().maxCoeff() > kMaxCoordinate || m.to.cwiseAbs().maxCoeff() > kMaxCoordinate ||
+        !m.from.allFinite() || !m.to.allFinite()) {
+      return fail(Status::InvalidOption, "move on line " + std::to_string(m.line) +
+                                             " has a coordinate beyond 1e6 mm or not finite");
+    }
     const double len = (m.to - m.from).norm();
     const bool extruding = m.filament > 0 && len > 1e-9;
     if (!extruding) {
@@ -169,6 +180,9 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   if (segments.empty()) return fail(Status::EmptyInput, "program has no extruding moves");
 
   // ---- samples ----
+  if (rep.pathMm / options.sampleSpacing + double(segments.size()) > double(options.maxSamples)) {
+    return fail(Status::InvalidOption, "program has more than maxSamples path samples");
+  }
   std::vector<Sample> samples;
   for (size_t si = 0; si < segments.size(); ++si) {
     const Segment& s = segments[si];
@@ -350,19 +364,20 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   // ---- coverage ----
   {
     const BoundingBox box = boundingBox(partMesh);
-    const int64_t i0 = int64_t(std::ceil(box.min.x() / g)), i1 = int64_t(std::floor(box.max.x() / g));
-    const int64_t j0 = int64_t(std::ceil(box.min.y() / g)), j1 = int64_t(std::floor(box.max.y() / g));
-    const int64_t k0 = int64_t(std::ceil(box.min.z() / g)), k1 = int64_t(std::floor(box.max.z() / g));
-    const int64_t nx = std::max<int64_t>(0, i1 - i0 + 1), ny = std::max<int64_t>(0, j1 - j0 + 1),
-                  nz = std::max<int64_t>(0, k1 - k0 + 1);
-    const double total = double(nx) * double(ny) * double(nz);
-    if (total > double(options.maxGridPoints)) {
+    // Index ranges in double first: nothing is cast to an integer before the size check.
+    const Eigen::Vector3d lo = (box.min / g).array().ceil(), hi = (box.max / g).array().floor();
+    const Eigen::Vector3d counts = (hi - lo).array() + 1.0;
+    const double total = counts.minCoeff() <= 0 ? 0.0 : counts.x() * counts.y() * counts.z();
+    if (total > double(options.maxGridPoints) || !std::isfinite(total)) {
       char msg[160];
       std::snprintf(msg, sizeof msg,
                     "coverage grid of %.0f points at spacing %g mm exceeds maxGridPoints %zu", total,
                     g, options.maxGridPoints);
       return fail(Status::InvalidOption, msg);
     }
+    const int64_t i0 = int64_t(lo.x()), i1 = int64_t(hi.x()), j0 = int64_t(lo.y()),
+                  j1 = int64_t(hi.y()), k0 = int64_t(lo.z()), k1 = int64_t(hi.z());
+    const int64_t nx = std::max<int64_t>(0, i1 - i0 + 1), ny = std::max<int64_t>(0, j1 - j0 + 1);
     const size_t n = size_t(total);
     auto index = [&](int64_t i, int64_t j, int64_t k) {
       return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));

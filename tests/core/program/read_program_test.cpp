@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <random>
+
 #include "program/write_gcode.h"
 #include "test_toolpaths.h"
 
@@ -149,6 +151,40 @@ TEST(ReadProgram, PlainGcodeOfOtherSlicers) {
   EXPECT_EQ(q.moves[6].to, Eigen::Vector3d(8, 1, 0.9));
   EXPECT_EQ(q.moves[6].filament, 0.5);
   EXPECT_EQ(q.layerCount, 0);
+}
+
+TEST(ReadProgram, GarbageAndMutatedProgramsNeverCrash) {
+  // Bad input gives a status, never a crash or a hang: random bytes, and a real program with
+  // random characters overwritten / lines cut short.
+  test::BoxPathOptions o;
+  o.half = 2;
+  o.height = 0.6;
+  const WriteProgramResult w = writeGcode(test::boxToolpath(o), testInfo());
+  ASSERT_TRUE(w.ok());
+  std::mt19937 rng(1234);
+  std::uniform_int_distribution<int> byte(0, 255);
+  int errors = 0;
+  for (int trial = 0; trial < 300; ++trial) {
+    std::string text = w.text;
+    if (trial % 3 == 0) {
+      text.assign(200 + trial, ' ');
+      for (char& c : text) c = char(byte(rng));
+    } else {
+      std::uniform_int_distribution<size_t> at(0, text.size() - 1);
+      for (int k = 0; k < 1 + trial % 7; ++k) text[at(rng)] = "GXE;{[0.-e9\n #"[byte(rng) % 15];
+      if (trial % 3 == 2) text.resize(at(rng));
+    }
+    const ParsedProgram p = readProgram(text);
+    if (!p.ok()) {
+      ++errors;
+      EXPECT_FALSE(p.message.empty());
+      EXPECT_TRUE(p.moves.empty());
+    }
+    for (const ProgramMove& m : p.moves) {
+      EXPECT_TRUE(m.from.allFinite() && m.to.allFinite() && std::isfinite(m.filament));
+    }
+  }
+  EXPECT_GT(errors, 0);
 }
 
 }  // namespace

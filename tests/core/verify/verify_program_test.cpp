@@ -325,6 +325,16 @@ TEST(VerifyProgram, ReportJsonAndStatuses) {
     return ++calls < 2;
   });
   EXPECT_EQ(c.status, Status::Cancelled);
+  // Absurd coordinates or sample counts are refused, not looped over.
+  ParsedProgram far = p;
+  far.moves[5].to.x() = 1e300;
+  EXPECT_EQ(verifyProgram(far, part).status, Status::InvalidOption);
+  VerifyOptions fine;
+  fine.sampleSpacing = 1e-9;
+  EXPECT_EQ(verifyProgram(p, part, fine).status, Status::InvalidOption);
+  fine = {};
+  fine.gridSpacing = 1e-300;
+  EXPECT_EQ(verifyProgram(p, part, fine).status, Status::InvalidOption);
   ParsedProgram noHeight = p;
   noHeight.layerHeight = 0;
   EXPECT_EQ(verifyProgram(noHeight, part).status, Status::InvalidOption);
