@@ -232,7 +232,7 @@ async function loadBytes(name, bytes, { frame = true } = {}) {
     app.placementDirty = false;
     showInfo(name, info);
     clearReport();
-    setPreview(null);
+    await setPreview(null);
     if (app.viewer) {
       app.viewer.setModel(mesh);
       if (frame) app.viewer.frame();
@@ -263,13 +263,15 @@ async function loadFile(file) {
   await loadBytes(file.name, bytes);
 }
 
-function setPreview(result) {
+/** Replace the preview (null clears). Built in slices, so it does not hold the main thread. */
+async function setPreview(result) {
   if (app.viewer) app.viewer.setPreview(null);
   app.preview = null;
   if (result && result.preview && result.preview.features && result.preview.features.length) {
-    app.preview = new ToolpathPreview(result.preview);
-    app.preview.setTravelVisible($('show-travel').checked);
-    if (app.viewer) app.viewer.setPreview(app.preview.object);
+    const preview = await ToolpathPreview.build(result.preview);
+    preview.setTravelVisible($('show-travel').checked);
+    app.preview = preview;
+    if (app.viewer) app.viewer.setPreview(preview.object);
   }
   setupLayerSliders(app.preview ? app.preview.layerCount : 0);
 }
@@ -299,7 +301,7 @@ async function slice() {
     if (app.placementDirty && app.viewer) app.viewer.frame();
     app.placementDirty = false;
     await nextFrame();
-    setPreview(result);
+    await setPreview(result);
     app.sliceCount += 1;
     document.body.dataset.sliceCount = String(app.sliceCount);
     const wall = ((performance.now() - started) / 1000).toFixed(2);

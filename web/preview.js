@@ -5,7 +5,8 @@
 //   - the position buffer is used as is (one GPU upload, shared by the two objects below);
 //   - one Uint8 colour per vertex from a small palette;
 //   - two index buffers (extruding moves, travel moves), each counting-sorted by layer, with
-//     per-layer start offsets, so a layer range [lo, hi] is one contiguous drawRange.
+//     per-layer start offsets, so a layer range [lo, hi] is one contiguous drawRange;
+//   - the per-segment pass runs in slices with yields in between (no long main-thread task).
 import * as THREE from 'three';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
@@ -25,78 +26,117 @@ export function featureCss(code) {
   return `rgb(${f.color.join(',')})`;
 }
 
+/** Yield to the event loop (scheduler.yield where available, else a message round trip). */
+export function yieldToEventLoop() {
+  if (globalThis.scheduler && typeof globalThis.scheduler.yield === 'function') return globalThis.scheduler.yield();
+  return new Promise((resolve) => {
+    const { port1, port2 } = new MessageChannel();
+    port1.onmessage = () => {
+      port1.close();
+      resolve();
+    };
+    port2.postMessage(null);
+  });
+}
+
 /**
- * Group segment indices by layer (counting sort, stable in print order).
- * @param {Uint32Array} layers #S layer index per segment
- * @param {(s: number) => boolean} keep which segments belong to the group
- * @param {number} layerCount layers (max index + 1)
- * @returns {{index: Uint32Array, starts: Uint32Array}} index: 2 vertex indices per kept segment,
- *   layer-sorted; starts[l]..starts[l+1] is layer l's range in segments (starts has layerCount+1 entries)
+ * Colours and layer-sorted index buffers of preview buffers, built in slices of `sliceSize`
+ * segments with a yield between slices, so no single task runs long.
+ * @returns {Promise<{layerCount: number, colors: Uint8Array, print: {index: Uint32Array,
+ *   starts: Uint32Array}, travel: {index: Uint32Array, starts: Uint32Array}}>} index: 2 vertex
+ *   indices per segment, counting-sorted by layer (stable: print order within a layer);
+ *   starts[l]..starts[l+1] is layer l's range in segments (layerCount+1 entries)
  */
-export function groupByLayer(layers, keep, layerCount) {
-  const starts = new Uint32Array(layerCount + 1);
-  const S = layers.length;
-  for (let s = 0; s < S; s++) if (keep(s)) starts[layers[s] + 1]++;
-  for (let l = 0; l < layerCount; l++) starts[l + 1] += starts[l];
-  const total = starts[layerCount];
-  const index = new Uint32Array(total * 2);
-  const cursor = starts.slice(0, layerCount);
+export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 << 17 } = {}) {
+  const S = features.length;
+  let maxLayer = -1;
+  for (let s = 0; s < S; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
+  const layerCount = maxLayer + 1;
+  const printStarts = new Uint32Array(layerCount + 1);
+  const travelStarts = new Uint32Array(layerCount + 1);
   for (let s = 0; s < S; s++) {
-    if (!keep(s)) continue;
-    const k = cursor[layers[s]]++;
-    index[2 * k] = 2 * s;
-    index[2 * k + 1] = 2 * s + 1;
+    if (features[s] === 0) travelStarts[layers[s] + 1]++;
+    else printStarts[layers[s] + 1]++;
   }
-  return { index, starts };
+  for (let l = 0; l < layerCount; l++) {
+    printStarts[l + 1] += printStarts[l];
+    travelStarts[l + 1] += travelStarts[l];
+  }
+  const printIndex = new Uint32Array(printStarts[layerCount] * 2);
+  const travelIndex = new Uint32Array(travelStarts[layerCount] * 2);
+  const printCursor = printStarts.slice(0, layerCount);
+  const travelCursor = travelStarts.slice(0, layerCount);
+  const colors = new Uint8Array(S * 6);
+  const palette = new Uint8Array(256 * 3);
+  for (let c = 0; c < 256; c++) palette.set((FEATURES[c] || FEATURES[0]).color, c * 3);
+  for (let from = 0; from < S; from += sliceSize) {
+    if (from > 0) await yieldToEventLoop();
+    const to = Math.min(S, from + sliceSize);
+    for (let s = from; s < to; s++) {
+      const f = features[s];
+      const p = f * 3;
+      const o = s * 6;
+      colors[o] = colors[o + 3] = palette[p];
+      colors[o + 1] = colors[o + 4] = palette[p + 1];
+      colors[o + 2] = colors[o + 5] = palette[p + 2];
+      let k;
+      let index;
+      if (f === 0) {
+        k = travelCursor[layers[s]]++;
+        index = travelIndex;
+      } else {
+        k = printCursor[layers[s]]++;
+        index = printIndex;
+      }
+      index[2 * k] = 2 * s;
+      index[2 * k + 1] = 2 * s + 1;
+    }
+  }
+  return {
+    layerCount,
+    colors,
+    print: { index: printIndex, starts: printStarts },
+    travel: { index: travelIndex, starts: travelStarts },
+  };
 }
 
 export class ToolpathPreview {
   /**
+   * Build a preview without holding the main thread (see buildPreviewArrays).
    * @param {{positions: Float32Array, features: Uint8Array, layers: Uint32Array}} preview
    *   #S*6 segment end points (part frame, mm), #S feature codes, #S layer indices
    */
-  constructor(preview) {
+  static async build(preview, options) {
     const { positions, features, layers } = preview;
     const S = features.length;
     if (positions.length !== S * 6 || layers.length !== S) {
       throw new Error(`preview buffers disagree: ${positions.length / 6} segments of positions, ${S} features, ${layers.length} layers`);
     }
-    let maxLayer = -1;
-    for (let s = 0; s < S; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
-    this.layerCount = maxLayer + 1;
-    this.segmentCount = S;
+    return new ToolpathPreview(positions, await buildPreviewArrays(preview, options));
+  }
 
-    const colors = new Uint8Array(S * 6);
-    const palette = FEATURES.map((f) => f.color);
-    for (let s = 0; s < S; s++) {
-      const c = palette[features[s]] || palette[0];
-      const o = s * 6;
-      colors[o] = colors[o + 3] = c[0];
-      colors[o + 1] = colors[o + 4] = c[1];
-      colors[o + 2] = colors[o + 5] = c[2];
-    }
+  /** Use ToolpathPreview.build(); this takes the arrays it prepares. */
+  constructor(positions, arrays) {
+    this.layerCount = arrays.layerCount;
+    this.segmentCount = positions.length / 6;
+    this.printStarts = arrays.print.starts;
+    this.travelStarts = arrays.travel.starts;
     const position = new THREE.BufferAttribute(positions, 3);
-    const color = new THREE.BufferAttribute(colors, 3, true);
-
-    const print = groupByLayer(layers, (s) => features[s] !== 0, this.layerCount);
-    const travel = groupByLayer(layers, (s) => features[s] === 0, this.layerCount);
-    this.printStarts = print.starts;
-    this.travelStarts = travel.starts;
-
+    const color = new THREE.BufferAttribute(arrays.colors, 3, true);
     const makeLines = (index, opacity, name) => {
       const g = new THREE.BufferGeometry();
       g.setAttribute('position', position);
       g.setAttribute('color', color);
       g.setIndex(new THREE.BufferAttribute(index, 1));
-      g.computeBoundingSphere();
+      // Never culled (frustumCulled = false): no bounding pass over millions of vertices here.
       const m = new THREE.LineBasicMaterial({ vertexColors: true, transparent: opacity < 1, opacity });
       const lines = new THREE.LineSegments(g, m);
       lines.name = name;
       lines.frustumCulled = false;
       return lines;
     };
-    this.printLines = makeLines(print.index, 1, 'preview-print');
-    this.travelLines = makeLines(travel.index, 0.35, 'preview-travel');
+    this.printLines = makeLines(arrays.print.index, 1, 'preview-print');
+    this.travelLines = makeLines(arrays.travel.index, 0.35, 'preview-travel');
     this.travelLines.visible = false;
     this.object = new THREE.Group();
     this.object.name = 'preview';

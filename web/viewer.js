@@ -12,7 +12,8 @@ export class Viewer {
    */
   constructor(host) {
     this.host = host;
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: false });
+    // Multisampling in a software renderer (SwiftShader, llvmpipe) costs several times the frame.
+    this.renderer = new THREE.WebGLRenderer({ antialias: !isSoftwareRenderer(), preserveDrawingBuffer: false });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio || 1, 2));
     this.renderer.setClearColor(0x1d2127);
     host.appendChild(this.renderer.domElement);
@@ -196,6 +197,20 @@ export class Viewer {
     if (this.bed) disposeTree(this.bed);
     this.renderer.dispose();
     this.renderer.domElement.remove();
+  }
+}
+
+/** True when WebGL runs on a CPU rasteriser (no GPU), judged from the unmasked renderer name. */
+export function isSoftwareRenderer() {
+  try {
+    const gl = document.createElement('canvas').getContext('webgl2');
+    if (!gl) return false;
+    const ext = gl.getExtension('WEBGL_debug_renderer_info');
+    const name = ext ? gl.getParameter(ext.UNMASKED_RENDERER_WEBGL) : gl.getParameter(gl.RENDERER);
+    gl.getExtension('WEBGL_lose_context')?.loseContext();
+    return /swiftshader|llvmpipe|softpipe|software/i.test(String(name));
+  } catch {
+    return false;
   }
 }
 
