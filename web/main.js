@@ -24,14 +24,24 @@ const app = {
   preview: null,
   model: new SettingsModel(),
   history: new History(),
-  mesh: null,        // {name, bytes (a private copy), meshId, info}
+  mesh: null,        // {name, meshId, info} of the loaded mesh
   result: null,      // last successful slice result
-  busy: null,        // 'loading' | 'slicing' | null
+  busy: null,        // 'loading' | 'placing' | 'slicing' | 'showing' | null
   abort: null,       // AbortController of the running slice
   placementDirty: false,
   sliceCount: 0,
   progress: { stage: '', fraction: 0, overall: 0, pending: false },
 };
+
+/** Run fn as one measured step (performance.measure 'omnislice:<name>'), for the tests' long-task check. */
+function timed(name, fn) {
+  const t0 = performance.now();
+  try {
+    return fn();
+  } finally {
+    performance.measure(`omnislice:${name}`, { start: t0, end: performance.now() });
+  }
+}
 
 function setState(state) {
   document.body.dataset.state = state;
@@ -99,6 +109,12 @@ function formatLength(mm) {
   return mm >= 1000 ? `${(mm / 1000).toFixed(2)} m` : `${mm.toFixed(1)} mm`;
 }
 
+/** 'x,y,z' (or [x, y, z]) -> three finite numbers, else null. */
+function parseVector(value) {
+  const parts = Array.isArray(value) ? value.map(Number) : typeof value === 'string' ? value.split(',').map(Number) : [];
+  return parts.length === 3 && parts.every(Number.isFinite) ? parts : null;
+}
+
 function bboxSize(bbox) {
   if (!bbox) return null;
   const min = bbox.min || bbox[0];
@@ -149,9 +165,10 @@ function showReport(report) {
     $('report-filament').textContent = '—';
   }
   $('report-path').textContent = formatLength(r.path_mm);
-  const timings = r.timings_ms && typeof r.timings_ms === 'object' ? Object.values(r.timings_ms) : [];
-  const total = timings.filter(Number.isFinite).reduce((a, b) => a + b, 0);
-  $('report-took').textContent = timings.length ? `${(total / 1000).toFixed(2)} s in the engine` : '—';
+  const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : null;
+  const total = t && (Number.isFinite(t.total) ? t.total
+    : Object.values(t).filter(Number.isFinite).reduce((a, b) => a + b, 0));
+  $('report-took').textContent = t ? `${(total / 1000).toFixed(2)} s in the engine` : '—';
 }
 
 function clearReport() {
@@ -226,9 +243,11 @@ async function loadBytes(name, bytes, { frame = true } = {}) {
   setProgressText(`reading ${name}`, 0);
   updateButtons();
   try {
-    const copy = bytes.slice(0);  // the facade may transfer (detach) the buffer it gets
-    const { meshId, info, mesh } = await app.slicer.loadMesh(name, copy, app.model.toPlacement());
-    app.mesh = { name, bytes, meshId, info };
+    // The facade keeps its own copy of the bytes (it re-sends them to a respawned worker).
+    const { meshId, info, mesh } = await app.slicer.loadMesh(name, bytes, app.model.toPlacement());
+    const previous = app.mesh;
+    app.mesh = { name, meshId, info };
+    if (previous && typeof app.slicer.unloadMesh === 'function') app.slicer.unloadMesh(previous.meshId).catch(() => {});
     app.placementDirty = false;
     showInfo(name, info);
     clearReport();
@@ -269,11 +288,13 @@ async function setPreview(result) {
   app.preview = null;
   if (result && result.preview && result.preview.features && result.preview.features.length) {
     const preview = await ToolpathPreview.build(result.preview);
-    preview.setTravelVisible($('show-travel').checked);
-    app.preview = preview;
-    if (app.viewer) app.viewer.setPreview(preview.object);
+    timed('set-preview', () => {
+      preview.setTravelVisible($('show-travel').checked);
+      app.preview = preview;
+      if (app.viewer) app.viewer.setPreview(preview.object);
+    });
   }
-  setupLayerSliders(app.preview ? app.preview.layerCount : 0);
+  timed('layer-sliders', () => setupLayerSliders(app.preview ? app.preview.layerCount : 0));
 }
 
 async function slice() {
@@ -286,22 +307,29 @@ async function slice() {
   setProgressText('starting', 0);
   updateButtons();
   const started = performance.now();
+  performance.mark('omnislice:slice-start');
   try {
     const result = await app.slicer.slice(app.mesh.meshId, app.model.toSettings(), {
       onProgress,
       signal: app.abort.signal,
     });
+    performance.mark('omnislice:result');
     app.busy = 'showing';
     // Each step below is its own task, so none of them holds the main thread for long.
     await nextFrame();
-    app.result = result;
-    showReport(result.report);
-    if (result.info) showInfo(app.mesh.name, result.info);
-    if (result.mesh && app.viewer) app.viewer.setModel(result.mesh);
+    timed('show-report', () => {
+      app.result = result;
+      showReport(result.report);
+      const bed = parseVector(result.report && result.report.settings && result.report.settings.bed_size);
+      if (bed && app.viewer && bed.some((x, i) => x !== app.viewer.bedSize[i])) app.viewer.setBed(bed);
+      if (result.info) showInfo(app.mesh.name, result.info);
+    });
+    if (result.mesh && app.viewer) timed('set-model', () => app.viewer.setModel(result.mesh));
     if (app.placementDirty && app.viewer) app.viewer.frame();
     app.placementDirty = false;
     await nextFrame();
     await setPreview(result);
+    performance.mark('omnislice:preview-built');
     app.sliceCount += 1;
     document.body.dataset.sliceCount = String(app.sliceCount);
     const wall = ((performance.now() - started) / 1000).toFixed(2);
@@ -355,8 +383,37 @@ function onSettingChange(event) {
   // the next slice applies it (slice() sends the placement keys too).
   clearTimeout(placeTimer);
   placeTimer = setTimeout(() => {
-    if (!app.busy && app.mesh && app.placementDirty) loadBytes(app.mesh.name, app.mesh.bytes, { frame: true });
+    if (!app.busy && app.mesh && app.placementDirty) applyPlacement();
   }, 250);
+}
+
+/** Show the loaded mesh with the current placement (the old tool-paths no longer match it). */
+async function applyPlacement() {
+  app.busy = 'placing';
+  clearError();
+  setState('loading');
+  setProgressText(`placing ${app.mesh.name}`, 0);
+  updateButtons();
+  try {
+    const { info, mesh } = await app.slicer.info(app.mesh.meshId, app.model.toPlacement());
+    app.placementDirty = false;
+    showInfo(app.mesh.name, info);
+    clearReport();
+    await setPreview(null);
+    if (app.viewer) {
+      app.viewer.setModel(mesh);
+      app.viewer.frame();
+    }
+    setProgressText(`placed ${app.mesh.name}: press Slice`, 0);
+    setState('ready');
+  } catch (err) {
+    showError(err);
+    setProgressText('placement failed', 0);
+    setState('error');
+  } finally {
+    app.busy = null;
+    updateButtons();
+  }
 }
 
 // ---- start-up -----------------------------------------------------------------------------------

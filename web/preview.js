@@ -48,6 +48,7 @@ export function yieldToEventLoop() {
  *   starts[l]..starts[l+1] is layer l's range in segments (layerCount+1 entries)
  */
 export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 << 17 } = {}) {
+  let t0 = performance.now();
   const S = features.length;
   let maxLayer = -1;
   for (let s = 0; s < S; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
@@ -70,7 +71,12 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
   const palette = new Uint8Array(256 * 3);
   for (let c = 0; c < 256; c++) palette.set((FEATURES[c] || FEATURES[0]).color, c * 3);
   for (let from = 0; from < S; from += sliceSize) {
-    if (from > 0) await yieldToEventLoop();
+    if (from > 0) {
+      // Each slice is one task; its duration is recorded for the end-to-end long-task check.
+      performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
+      await yieldToEventLoop();
+      t0 = performance.now();
+    }
     const to = Math.min(S, from + sliceSize);
     for (let s = from; s < to; s++) {
       const f = features[s];
@@ -92,6 +98,7 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
       index[2 * k + 1] = 2 * s + 1;
     }
   }
+  performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
   return {
     layerCount,
     colors,
