@@ -138,7 +138,8 @@ function showInfo(name, info) {
   $('model-name').textContent = name;
   $('info-faces').textContent = info && info.faces !== undefined ? Number(info.faces).toLocaleString('en') : '—';
   $('info-closed').textContent = info && info.closed !== undefined ? (info.closed ? 'yes' : 'no') : '—';
-  const size = bboxSize(info && info.bbox);
+  // The placed part's box (part frame), else the file's.
+  const size = bboxSize(info && (info.placed_bbox || info.bbox));
   $('info-size').textContent = size ? size.map((x) => x.toFixed(1)).join(' × ') : '—';
   const repairs = describeList(info && info.repairs);
   $('info-repairs').textContent = repairs.length ? repairs.join(', ') : 'none';
