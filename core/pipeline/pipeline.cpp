@@ -1,0 +1,322 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/pipeline.h"
+
+#include <Eigen/Geometry>
+#include <chrono>
+#include <cstdio>
+#include <cmath>
+#include <exception>
+#include <new>
+#include <nlohmann/json.hpp>
+
+#include "mesh/prepare_mesh.h"
+#include "mesh/read_mesh.h"
+#include "program/machine.h"
+#include "program/read_program.h"
+#include "program/write_gcode.h"
+#include "slice/plan_layers.h"
+#include "slice/slice_mesh.h"
+#include "toolpath/toolpath.h"
+#include "verify/verify_program.h"
+
+namespace omnislice {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// Finite number for JSON (nlohmann writes NaN as null; keep reports numeric).
+double finite(double v) { return std::isfinite(v) ? v : 0.0; }
+
+Json matrixJson(const Eigen::Matrix4d& m) {
+  Json a = Json::array();
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) a.push_back(m(r, c));
+  }
+  return a;
+}
+
+Json bboxJson(const BoundingBox& b) {
+  return Json{{"min", {b.min.x(), b.min.y(), b.min.z()}}, {"max", {b.max.x(), b.max.y(), b.max.z()}}};
+}
+
+Mesh transformMesh(const Mesh& mesh, const Eigen::Matrix4d& t) {
+  Mesh out = mesh;
+  for (size_t i = 0; i < mesh.vertexCount(); ++i) {
+    const Eigen::Vector3d p = (t * mesh.vertex(i).homogeneous()).head<3>();
+    out.positions[3 * i] = p.x();
+    out.positions[3 * i + 1] = p.y();
+    out.positions[3 * i + 2] = p.z();
+  }
+  return out;
+}
+
+// Rotation taking unit vector d onto +Z by the shortest arc (identity for d = +Z).
+Eigen::Matrix3d rotationToZ(const Eigen::Vector3d& d) {
+  return Eigen::Quaterniond::FromTwoVectors(d.normalized(), Eigen::Vector3d::UnitZ())
+      .toRotationMatrix();
+}
+
+// Wrap a progress callback so every stage reports through one function.
+struct StageClock {
+  Json timings = Json::object();
+  Clock::time_point t0 = Clock::now();
+  void done(const char* stage) {
+    timings[stage] = msSince(t0);
+    t0 = Clock::now();
+  }
+};
+
+PreviewBuffers makePreview(const Toolpath& path) {
+  PreviewBuffers p;
+  const size_t n = path.moves.size();
+  p.positions.reserve(n * 6);
+  p.features.reserve(n);
+  p.layers.reserve(n);
+  Eigen::Vector3d prev = path.start;
+  for (const Move& m : path.moves) {
+    const bool draws = m.kind == MoveKind::Print || m.kind == MoveKind::Support ||
+                       m.kind == MoveKind::Travel;
+    if (draws && (m.position - prev).squaredNorm() > 0) {
+      for (const Eigen::Vector3d& q : {prev, m.position}) {
+        p.positions.push_back(static_cast<float>(q.x()));
+        p.positions.push_back(static_cast<float>(q.y()));
+        p.positions.push_back(static_cast<float>(q.z()));
+      }
+      p.features.push_back(m.kind == MoveKind::Travel ? 0 : static_cast<uint8_t>(m.feature));
+      p.layers.push_back(static_cast<uint32_t>(std::max(0, m.layer)));
+    }
+    prev = m.position;
+  }
+  return p;
+}
+
+template <typename Result>
+Result failed(Status status, std::string message) {
+  Result r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+template <typename Result>
+Result failed(const Outcome& o) {
+  return failed<Result>(o.status, o.message);
+}
+
+// Read + validate/repair + place. Shared by slice and info.
+struct PreparedInput : Outcome {
+  PrepareMeshResult prepared;
+  PlaceMeshResult placed;
+  std::string format;
+  std::vector<std::string> readWarnings;
+};
+
+PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& fileName,
+                           const PlacementSettings& placement, const Eigen::Matrix3d& extraRotation,
+                           const ProgressFn& progress, StageClock& clock) {
+  PreparedInput in;
+  if (!reportProgress(progress, "read", 0)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
+  ReadMeshResult read = readMesh(data, size, fileName);
+  if (!read.ok()) return failed<PreparedInput>(read);
+  in.format = read.format;
+  in.readWarnings = read.warnings;
+  clock.done("read");
+  if (!reportProgress(progress, "read", 1)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
+
+  in.prepared = prepareMesh(read.mesh, PrepareOptions{}, progress);
+  if (!in.prepared.ok()) return failed<PreparedInput>(in.prepared);
+  clock.done("validate");
+
+  if (!reportProgress(progress, "place", 0)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
+  in.placed = placeMesh(in.prepared.mesh, placement);
+  if (!in.placed.ok()) return failed<PreparedInput>(in.placed);
+  if (!extraRotation.isIdentity(1e-15)) {
+    // Re-place after turning the slicing direction up (cartesian3 prints along +Z only).
+    Eigen::Matrix4d r = Eigen::Matrix4d::Identity();
+    r.topLeftCorner<3, 3>() = extraRotation;
+    Mesh turned = transformMesh(in.placed.mesh, r);
+    PlacementSettings keep;  // no scale, no rotation: only drop to z = 0 and centre
+    keep.center = placement.center;
+    PlaceMeshResult again = placeMesh(turned, keep);
+    if (!again.ok()) return failed<PreparedInput>(again);
+    again.transform = again.transform * r * in.placed.transform;
+    in.placed = std::move(again);
+  }
+  clock.done("place");
+  if (!reportProgress(progress, "place", 1)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
+  return in;
+}
+
+Json infoObject(const PreparedInput& in) {
+  Json info = Json::parse(meshInfoJson(in.prepared.info));
+  info["format"] = in.format;
+  if (!in.readWarnings.empty()) {
+    for (const auto& w : in.readWarnings) info["warnings"].push_back(w);
+  }
+  const BoundingBox placedBox = boundingBox(in.placed.mesh);
+  info["placement"] = matrixJson(in.placed.transform);
+  info["placed_bbox"] = bboxJson(placedBox);
+  return info;
+}
+
+}  // namespace
+
+SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
+                     const Settings& settings, const ProgressFn& progress) {
+  try {
+    const Clock::time_point start = Clock::now();
+    if (Outcome v = validateSettings(settings); !v.ok()) return failed<SliceOutput>(v);
+    if (settings.method != "planar") {
+      return failed<SliceOutput>(Status::InvalidOption, "method '" + settings.method + "' is not available");
+    }
+    StageClock clock;
+    // cartesian3 lays every layer with the nozzle along +Z: a direction d is realised by turning
+    // the part so that d points up (recorded in the placement).
+    const Eigen::Vector3d d = settings.direction.normalized();
+    const Eigen::Matrix3d turn = rotationToZ(d);
+    PreparedInput in =
+        prepareInput(data, size, fileName, settings.placement, turn, progress, clock);
+    if (!in.ok()) return failed<SliceOutput>(in);
+    if (!in.prepared.solid.ok()) return failed<SliceOutput>(in.prepared.solid);
+
+    const BoundingBox box = boundingBox(in.placed.mesh);
+    const Eigen::Vector3d extent = box.max - box.min;
+    const MachineProfile machine = cartesian3Profile(settings.bedSize, settings.nozzleDiameter);
+    for (int a = 0; a < 3; ++a) {
+      const auto& lim = machine.axisLimits.at(std::string(1, "XYZ"[a]));
+      if (box.min[a] < lim.first - 1e-9 || box.max[a] > lim.second + 1e-9) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "the placed model (%.1f x %.1f x %.1f mm) does not fit the bed (%.0f x %.0f x "
+                      "%.0f mm); scale it (--scale, --fit-mm) or set bed_size",
+                      extent.x(), extent.y(), extent.z(), settings.bedSize.x(), settings.bedSize.y(),
+                      settings.bedSize.z());
+        return failed<SliceOutput>(Status::InvalidOption, msg);
+      }
+    }
+    const double tooManyLayers = 100000;
+    if (extent.z() / settings.layerHeight > tooManyLayers) {
+      return failed<SliceOutput>(Status::InvalidOption,
+                                 "the model needs more than 100000 layers at this layer height");
+    }
+
+    SliceOptions sliceOptions;
+    sliceOptions.direction = Eigen::Vector3d::UnitZ();
+    sliceOptions.layerHeight = settings.layerHeight;
+    sliceOptions.firstLayerHeight = settings.effectiveFirstLayerHeight();
+    SliceResult slices = sliceMesh(in.placed.mesh, sliceOptions, progress);
+    if (!slices.ok()) return failed<SliceOutput>(slices);
+    clock.done("slice");
+
+    PlanLayersResult plan = planLayers(slices, settings, 0, progress);
+    if (!plan.ok()) return failed<SliceOutput>(plan);
+    clock.done("toolpath");
+
+    if (!reportProgress(progress, "program", 0)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+    ProgramInfo pinfo;
+    pinfo.method = settings.method;
+    pinfo.machine = machine;
+    pinfo.placement = in.placed.transform;
+    pinfo.filamentDiameter = settings.filamentDiameter;
+    pinfo.layerHeight = settings.layerHeight;
+    pinfo.lineWidth = settings.effectiveLineWidth();
+    pinfo.nozzleTemperature = settings.nozzleTemperature;
+    pinfo.bedTemperature = settings.bedTemperature;
+    pinfo.acceleration = settings.acceleration;
+    pinfo.settings = listSettings(settings);
+    WriteProgramResult written = writeGcode(plan.toolpath, pinfo);
+    if (!written.ok()) return failed<SliceOutput>(written);
+    clock.done("program");
+    if (!reportProgress(progress, "program", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+
+    const ToolpathStats stats = toolpathStats(plan.toolpath, settings.acceleration);
+    SliceOutput out;
+    Json info = infoObject(in);
+    out.infoJson = info.dump();
+    // Layers that deposit material (a sliver thinner than a bead at the top prints nothing); the
+    // program has one layer marker for each.
+    out.layers = written.layers;
+    out.preview = makePreview(plan.toolpath);
+    out.partMesh = std::move(in.placed.mesh);
+    out.program = std::move(written.text);
+
+    Json report;
+    report["method"] = settings.method;
+    report["machine"] = settings.machine;
+    report["layers"] = out.layers;
+    report["sliced_layers"] = slices.layers.size();
+    report["path_mm"] = finite(stats.pathMm);
+    report["extrusion_mm"] = finite(stats.filamentMm);
+    report["travel_mm"] = finite(stats.travelMm);
+    report["retractions"] = stats.retractions;
+    report["estimated_time_s"] = finite(written.estimatedTimeS);
+    report["moves"] = plan.toolpath.moves.size();
+    report["direction"] = {d.x(), d.y(), d.z()};
+    report["placement"] = matrixJson(pinfo.placement);
+    report["open_chains"] = slices.openChains;
+    Json t = clock.timings;
+    t["total"] = msSince(start);
+    report["timings_ms"] = t;
+    report["mesh"] = info;
+    Json set = Json::object();
+    for (const auto& [k, v] : pinfo.settings) set[k] = v;
+    report["settings"] = set;
+    out.reportJson = report.dump();
+    return out;
+  } catch (const std::bad_alloc&) {
+    return failed<SliceOutput>(Status::Internal, "out of memory while slicing");
+  } catch (const std::exception& e) {
+    return failed<SliceOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
+  }
+}
+
+InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName,
+                   const PlacementSettings& placement, const ProgressFn& progress) {
+  try {
+    StageClock clock;
+    PreparedInput in = prepareInput(data, size, fileName, placement, Eigen::Matrix3d::Identity(),
+                                    progress, clock);
+    if (!in.ok()) return failed<InfoOutput>(in);
+    Json info = infoObject(in);
+    info["timings_ms"] = clock.timings;
+    InfoOutput out;
+    out.infoJson = info.dump();
+    out.partMesh = std::move(in.placed.mesh);
+    return out;
+  } catch (const std::bad_alloc&) {
+    return failed<InfoOutput>(Status::Internal, "out of memory while reading the mesh");
+  } catch (const std::exception& e) {
+    return failed<InfoOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
+  }
+}
+
+VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, size_t meshSize,
+                       const std::string& meshName, const ProgressFn& progress) {
+  try {
+    ParsedProgram program = readProgram(programText);
+    if (!program.ok()) return failed<VerifyOutput>(program);
+    ReadMeshResult read = readMesh(meshData, meshSize, meshName);
+    if (!read.ok()) return failed<VerifyOutput>(read);
+    PrepareMeshResult prepared = prepareMesh(read.mesh, PrepareOptions{}, progress);
+    if (!prepared.ok()) return failed<VerifyOutput>(prepared);
+    if (!prepared.solid.ok()) return failed<VerifyOutput>(prepared.solid);
+    const Mesh part = transformMesh(prepared.mesh, program.placement);
+    VerifyReport report = verifyProgram(program, part, VerifyOptions{}, progress);
+    if (!report.ok()) return failed<VerifyOutput>(report);
+    VerifyOutput out;
+    out.verifyJson = verifyReportJson(report);
+    return out;
+  } catch (const std::bad_alloc&) {
+    return failed<VerifyOutput>(Status::Internal, "out of memory while verifying");
+  } catch (const std::exception& e) {
+    return failed<VerifyOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
+  }
+}
+
+}  // namespace omnislice

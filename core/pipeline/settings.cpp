@@ -1,0 +1,270 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/settings.h"
+
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <functional>
+#include <map>
+#include <sstream>
+
+namespace omnislice {
+
+namespace {
+
+Outcome invalid(const std::string& key, const std::string& what) {
+  return {Status::InvalidOption, "setting '" + key + "': " + what};
+}
+
+// Strict number parse: the whole text must be one finite number.
+bool parseNumber(const std::string& text, double& out) {
+  if (text.empty()) return false;
+  errno = 0;
+  char* end = nullptr;
+  const double v = std::strtod(text.c_str(), &end);
+  if (end == text.c_str() || errno == ERANGE) return false;
+  while (*end == ' ' || *end == '\t') ++end;
+  if (*end != '\0' || !std::isfinite(v)) return false;
+  out = v;
+  return true;
+}
+
+// "x,y,z" (also "x y z" or "[x,y,z]").
+bool parseVector(std::string text, Eigen::Vector3d& out) {
+  for (char& c : text) {
+    if (c == ',' || c == '[' || c == ']' || c == ';') c = ' ';
+  }
+  std::istringstream in(text);
+  std::string a, b, c, extra;
+  if (!(in >> a >> b >> c) || (in >> extra)) return false;
+  return parseNumber(a, out.x()) && parseNumber(b, out.y()) && parseNumber(c, out.z());
+}
+
+bool parseBool(const std::string& text, bool& out) {
+  if (text == "true" || text == "1" || text == "yes" || text == "on") return out = true, true;
+  if (text == "false" || text == "0" || text == "no" || text == "off") return out = false, true;
+  return false;
+}
+
+std::string formatNumber(double v) {
+  std::ostringstream s;
+  s.precision(10);
+  s << v;
+  return s.str();
+}
+
+std::string formatVector(const Eigen::Vector3d& v) {
+  return formatNumber(v.x()) + "," + formatNumber(v.y()) + "," + formatNumber(v.z());
+}
+
+const char* upAxisName(UpAxis a) {
+  switch (a) {
+    case UpAxis::PosZ: return "z";
+    case UpAxis::NegZ: return "-z";
+    case UpAxis::PosY: return "y";
+    case UpAxis::NegY: return "-y";
+    case UpAxis::PosX: return "x";
+    case UpAxis::NegX: return "-x";
+  }
+  return "z";
+}
+
+// A numeric setting bound to a field with an inclusive range.
+struct NumberSpec {
+  std::function<double&(Settings&)> field;
+  double min, max;
+  const char* unit;
+};
+
+struct IntSpec {
+  std::function<int&(Settings&)> field;
+  int min, max;
+};
+
+const std::map<std::string, NumberSpec>& numberSpecs() {
+  static const std::map<std::string, NumberSpec> specs = {
+      {"layer_height", {[](Settings& s) -> double& { return s.layerHeight; }, 0.01, 5, "mm"}},
+      {"first_layer_height",
+       {[](Settings& s) -> double& { return s.firstLayerHeight; }, 0, 5, "mm (0 = layer_height)"}},
+      {"nozzle_diameter", {[](Settings& s) -> double& { return s.nozzleDiameter; }, 0.05, 5, "mm"}},
+      {"line_width", {[](Settings& s) -> double& { return s.lineWidth; }, 0, 10, "mm (0 = auto)"}},
+      {"filament_diameter",
+       {[](Settings& s) -> double& { return s.filamentDiameter; }, 0.5, 5, "mm"}},
+      {"infill", {[](Settings& s) -> double& { return s.infillPercent; }, 0, 100, "%"}},
+      {"infill_angle_deg",
+       {[](Settings& s) -> double& { return s.infillAngleDegrees; }, -360, 360, "degrees"}},
+      {"infill_overlap_pct",
+       {[](Settings& s) -> double& { return s.infillOverlapPercent; }, 0, 100, "% of line width"}},
+      {"print_speed", {[](Settings& s) -> double& { return s.printSpeed; }, 1, 1000, "mm/s"}},
+      {"outer_wall_speed", {[](Settings& s) -> double& { return s.outerWallSpeed; }, 1, 1000, "mm/s"}},
+      {"infill_speed", {[](Settings& s) -> double& { return s.infillSpeed; }, 1, 1000, "mm/s"}},
+      {"first_layer_speed",
+       {[](Settings& s) -> double& { return s.firstLayerSpeed; }, 1, 1000, "mm/s"}},
+      {"travel_speed", {[](Settings& s) -> double& { return s.travelSpeed; }, 1, 2000, "mm/s"}},
+      {"acceleration", {[](Settings& s) -> double& { return s.acceleration; }, 0, 100000, "mm/s^2"}},
+      {"retract_length", {[](Settings& s) -> double& { return s.retractLength; }, 0, 20, "mm"}},
+      {"retract_speed", {[](Settings& s) -> double& { return s.retractSpeed; }, 1, 200, "mm/s"}},
+      {"retract_min_travel",
+       {[](Settings& s) -> double& { return s.retractMinTravel; }, 0, 1000, "mm"}},
+      {"nozzle_temperature",
+       {[](Settings& s) -> double& { return s.nozzleTemperature; }, 0, 500, "deg C (0 = no heating)"}},
+      {"bed_temperature",
+       {[](Settings& s) -> double& { return s.bedTemperature; }, 0, 200, "deg C (0 = no heating)"}},
+      {"scale", {[](Settings& s) -> double& { return s.placement.scale; }, 1e-6, 1e6, "factor"}},
+      {"fit_mm", {[](Settings& s) -> double& { return s.placement.fitMm; }, 0, 1e5, "mm (0 = off)"}},
+      {"rotate_x_deg",
+       {[](Settings& s) -> double& { return s.placement.rotateXDegrees; }, -360, 360, "degrees"}},
+      {"rotate_y_deg",
+       {[](Settings& s) -> double& { return s.placement.rotateYDegrees; }, -360, 360, "degrees"}},
+      {"rotate_z_deg",
+       {[](Settings& s) -> double& { return s.placement.rotateZDegrees; }, -360, 360, "degrees"}},
+  };
+  return specs;
+}
+
+const std::map<std::string, IntSpec>& intSpecs() {
+  static const std::map<std::string, IntSpec> specs = {
+      {"walls", {[](Settings& s) -> int& { return s.walls; }, 0, 50}},
+      {"top_layers", {[](Settings& s) -> int& { return s.topLayers; }, 0, 200}},
+      {"bottom_layers", {[](Settings& s) -> int& { return s.bottomLayers; }, 0, 200}},
+  };
+  return specs;
+}
+
+// Accepted aliases (CLI spellings) -> canonical key.
+std::string canonicalKey(std::string key) {
+  for (char& c : key) {
+    if (c == '-') c = '_';
+  }
+  static const std::map<std::string, std::string> aliases = {
+      {"nozzle", "nozzle_diameter"}, {"infill_percent", "infill"}, {"infill_density", "infill"},
+      {"placement.scale", "scale"},  {"placement.fit_mm", "fit_mm"}, {"placement.up", "up"},
+      {"placement.center", "center"}, {"placement.rotate_x_deg", "rotate_x_deg"},
+      {"placement.rotate_y_deg", "rotate_y_deg"}, {"placement.rotate_z_deg", "rotate_z_deg"},
+      {"perimeters", "walls"},       {"direction_d", "direction"},
+  };
+  auto it = aliases.find(key);
+  return it == aliases.end() ? key : it->second;
+}
+
+}  // namespace
+
+Outcome setSetting(Settings& settings, const std::string& rawKey, const std::string& value) {
+  const std::string key = canonicalKey(rawKey);
+  if (auto it = numberSpecs().find(key); it != numberSpecs().end()) {
+    double v = 0;
+    if (!parseNumber(value, v)) return invalid(key, "'" + value + "' is not a finite number");
+    if (v < it->second.min || v > it->second.max) {
+      return invalid(key, formatNumber(v) + " is outside [" + formatNumber(it->second.min) + ", " +
+                              formatNumber(it->second.max) + "] " + it->second.unit);
+    }
+    it->second.field(settings) = v;
+    return {};
+  }
+  if (auto it = intSpecs().find(key); it != intSpecs().end()) {
+    double v = 0;
+    if (!parseNumber(value, v) || v != std::floor(v)) {
+      return invalid(key, "'" + value + "' is not a whole number");
+    }
+    if (v < it->second.min || v > it->second.max) {
+      return invalid(key, formatNumber(v) + " is outside [" + std::to_string(it->second.min) +
+                              ", " + std::to_string(it->second.max) + "]");
+    }
+    it->second.field(settings) = static_cast<int>(v);
+    return {};
+  }
+  if (key == "method") {
+    if (value != "planar") {
+      return invalid(key, "'" + value + "' is not available in this build (available: planar)");
+    }
+    settings.method = value;
+    return {};
+  }
+  if (key == "machine") {
+    if (value != "cartesian3") {
+      return invalid(key, "'" + value + "' is not available in this build (available: cartesian3)");
+    }
+    settings.machine = value;
+    return {};
+  }
+  if (key == "direction") {
+    Eigen::Vector3d d;
+    if (!parseVector(value, d)) return invalid(key, "expected three numbers 'x,y,z'");
+    if (d.norm() < 1e-9) return invalid(key, "the direction must not be zero");
+    settings.direction = d.normalized();
+    return {};
+  }
+  if (key == "bed_size") {
+    Eigen::Vector3d b;
+    if (!parseVector(value, b)) return invalid(key, "expected three numbers 'x,y,z' in mm");
+    if (b.minCoeff() <= 0 || b.maxCoeff() > 10000) return invalid(key, "each size must be in (0, 10000] mm");
+    settings.bedSize = b;
+    return {};
+  }
+  if (key == "infill_pattern") {
+    if (value == "lines") settings.infillPattern = InfillPattern::Lines;
+    else if (value == "grid") settings.infillPattern = InfillPattern::Grid;
+    else return invalid(key, "'" + value + "' is not a pattern (lines, grid)");
+    return {};
+  }
+  if (key == "up") {
+    static const std::map<std::string, UpAxis> axes = {
+        {"z", UpAxis::PosZ}, {"+z", UpAxis::PosZ}, {"-z", UpAxis::NegZ}, {"y", UpAxis::PosY},
+        {"+y", UpAxis::PosY}, {"-y", UpAxis::NegY}, {"x", UpAxis::PosX}, {"+x", UpAxis::PosX},
+        {"-x", UpAxis::NegX}};
+    std::string v = value;
+    for (char& c : v) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    auto it = axes.find(v);
+    if (it == axes.end()) return invalid(key, "'" + value + "' is not an axis (z, -z, y, -y, x, -x)");
+    settings.placement.up = it->second;
+    return {};
+  }
+  if (key == "center") {
+    bool b = false;
+    if (!parseBool(value, b)) return invalid(key, "expected true or false");
+    settings.placement.center = b;
+    return {};
+  }
+  return {Status::InvalidOption, "unknown setting '" + rawKey + "'"};
+}
+
+Outcome validateSettings(const Settings& s) {
+  if (s.layerHeight > s.nozzleDiameter) {
+    return {Status::InvalidOption, "setting 'layer_height': " + formatNumber(s.layerHeight) +
+                                       " mm is thicker than the nozzle (" +
+                                       formatNumber(s.nozzleDiameter) + " mm)"};
+  }
+  if (s.effectiveFirstLayerHeight() > s.nozzleDiameter) {
+    return {Status::InvalidOption, "setting 'first_layer_height' is thicker than the nozzle"};
+  }
+  const double w = s.effectiveLineWidth();
+  if (w < 0.5 * s.nozzleDiameter || w > 3 * s.nozzleDiameter) {
+    return {Status::InvalidOption, "setting 'line_width': " + formatNumber(w) +
+                                       " mm must be between 0.5x and 3x the nozzle diameter"};
+  }
+  if (w < s.layerHeight) {
+    return {Status::InvalidOption, "setting 'line_width' must not be smaller than the layer height"};
+  }
+  return {};
+}
+
+std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s) {
+  // Resolved values (line width, first layer) so a header states what was printed.
+  Settings copy = s;
+  copy.lineWidth = s.effectiveLineWidth();
+  copy.firstLayerHeight = s.effectiveFirstLayerHeight();
+  std::vector<std::pair<std::string, std::string>> out;
+  out.emplace_back("method", s.method);
+  out.emplace_back("machine", s.machine);
+  out.emplace_back("direction", formatVector(s.direction));
+  for (const auto& [key, spec] : numberSpecs()) out.emplace_back(key, formatNumber(spec.field(copy)));
+  for (const auto& [key, spec] : intSpecs()) out.emplace_back(key, std::to_string(spec.field(copy)));
+  out.emplace_back("infill_pattern", s.infillPattern == InfillPattern::Lines ? "lines" : "grid");
+  out.emplace_back("up", upAxisName(s.placement.up));
+  out.emplace_back("center", s.placement.center ? "true" : "false");
+  out.emplace_back("bed_size", formatVector(s.bedSize));
+  return out;
+}
+
+}  // namespace omnislice
