@@ -314,6 +314,26 @@ TEST(ReadMeshThreeMf, ModelPartFoundThroughRelationships) {
   EXPECT_EQ(bare.mesh.faceCount(), 12u);
 }
 
+// Production extension: a component may reference an object in another model part (p:path).
+TEST(ReadMeshThreeMf, ComponentInAnotherPart) {
+  const Mesh box = test::makeBox(0, 0, 0, 1, 1, 1);
+  const std::string other = test::modelXml(test::objectXml(1, box), "");
+  const std::string root = test::modelXml(
+      "<object id=\"5\"><components><component xmlns:p=\"http://schemas.microsoft.com/3dmanufacturing/production/2015/06\" "
+      "p:path=\"/3D/Objects/other.model\" objectid=\"1\" transform=\"1 0 0 0 1 0 0 0 1 0 0 7\"/></components></object>",
+      "<item objectid=\"5\"/>");
+  const std::vector<uint8_t> bytes = test::writeZip({{"[Content_Types].xml", test::kContentTypes, true},
+                                                     {"_rels/.rels", test::relsFor("/3D/3dmodel.model"), false},
+                                                     {"3D/3dmodel.model", root, true},
+                                                     {"3D/Objects/other.model", other, true}});
+  const ReadMeshResult r = readBytes(bytes, "p.3mf");
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(r.mesh.faceCount(), 12u);
+  const BoundingBox b = boundingBox(r.mesh);
+  EXPECT_EQ(b.min, Eigen::Vector3d(0, 0, 7));
+  EXPECT_EQ(b.max, Eigen::Vector3d(1, 1, 8));
+}
+
 // Non-finite coordinates are read as they are (validation reports them later).
 TEST(ReadMeshValues, NonFiniteCoordinatesKept) {
   const std::string stl = "solid s\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 inf 0\nvertex 0 1 -INF\n"
