@@ -361,6 +361,7 @@ class PlyDataReader {
   }
 
   bool readAsciiElement(const PlyElement& el, const Roles& roles, bool isVertex, bool isFace) {
+    if (el.props.empty()) return true;  // items without properties hold no data (any count)
     reserveFor(el, isVertex, isFace);
     TextCursor& c = *cursor_;
     const char* b;

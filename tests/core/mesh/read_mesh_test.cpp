@@ -593,6 +593,12 @@ TEST(ReadMeshMalformed, Ply) {
     test::putLe(b, 0, 4);
     EXPECT_EQ(readBytes(b, "t.ply").status, Status::TruncatedFile);
   }
+  {  // An element without properties and a gigantic count holds no data: no hang, faces still read.
+    const ReadMeshResult r = readText(head + "element nothing 999999999999999\nelement face 1\n"
+                                      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n", "t.ply");
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_EQ(r.mesh.faceCount(), 1u);
+  }
   {  // Element count far beyond the data -> TruncatedFile.
     std::string h = "ply\nformat binary_big_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
                     "property float z\nend_header\n";
