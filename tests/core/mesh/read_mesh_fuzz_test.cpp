@@ -4,6 +4,7 @@
 // -DOMNISLICE_SANITIZE=ON as well), and an Ok result must be a well-formed mesh.
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <random>
 #include <string>
 #include <vector>
@@ -14,6 +15,12 @@
 
 namespace omnislice {
 namespace {
+
+// OMNISLICE_FUZZ_ITERATIONS scales the random cases (default 300 per format).
+int fuzzIterations() {
+  const char* env = std::getenv("OMNISLICE_FUZZ_ITERATIONS");
+  return env ? std::atoi(env) : 300;
+}
 
 const char* const kNames[] = {"", "f.stl", "f.obj", "f.off", "f.ply", "f.3mf", "f.dat"};
 
@@ -59,7 +66,7 @@ TEST(ReadMeshFuzz, RandomBytes) {
   std::mt19937 rng(12345);
   const std::vector<std::string> prefixes = {"", "solid x\n", "ply\nformat binary_little_endian 1.0\n", "OFF\n",
                                              std::string("PK\x03\x04", 4), "v 1 2 3\nf "};
-  for (int i = 0; i < 400; ++i) {
+  for (int i = 0; i < 4 * fuzzIterations() / 3; ++i) {
     std::vector<uint8_t> b = test::bytesOf(prefixes[i % prefixes.size()]);
     const size_t n = rng() % 600;
     for (size_t k = 0; k < n; ++k) b.push_back(static_cast<uint8_t>(rng()));
@@ -93,7 +100,7 @@ TEST(ReadMeshFuzz, Corruption) {
   std::mt19937 rng(777);
   for (const Sample& s : samples()) {
     SCOPED_TRACE(s.label);
-    for (int i = 0; i < 300; ++i) {
+    for (int i = 0; i < fuzzIterations(); ++i) {
       std::vector<uint8_t> b = s.bytes;
       const int edits = 1 + static_cast<int>(rng() % 4);
       for (int e = 0; e < edits && !b.empty(); ++e) {
