@@ -12,12 +12,12 @@ import * as THREE from 'three';
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
 export const FEATURES = [
   { code: 0, name: 'travel', color: [0x5a, 0x6a, 0x80] },
-  { code: 1, name: 'wall-outer', color: [0xf0, 0x5a, 0x3c] },
+  { code: 1, name: 'wall-outer', color: [0xe8, 0x4a, 0x3c] },
   { code: 2, name: 'wall-inner', color: [0xf2, 0xc1, 0x3b] },
   { code: 3, name: 'skin', color: [0x9b, 0x6b, 0xe8] },
-  { code: 4, name: 'infill', color: [0xe0, 0x8a, 0x2e] },
-  { code: 5, name: 'support', color: [0x3c, 0xc8, 0xd8] },
-  { code: 6, name: 'bridge', color: [0x4c, 0xd1, 0x6e] },
+  { code: 4, name: 'infill', color: [0x2f, 0xb0, 0x9a] },
+  { code: 5, name: 'support', color: [0x5a, 0xa8, 0xf0] },
+  { code: 6, name: 'bridge', color: [0x8c, 0xd8, 0x4c] },
 ];
 
 /** CSS colour of a feature code, for legends. */
@@ -68,6 +68,7 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
   const printCursor = printStarts.slice(0, layerCount);
   const travelCursor = travelStarts.slice(0, layerCount);
   const colors = new Uint8Array(S * 6);
+  const featureCounts = new Uint32Array(256);
   const palette = new Uint8Array(256 * 3);
   for (let c = 0; c < 256; c++) palette.set((FEATURES[c] || FEATURES[0]).color, c * 3);
   for (let from = 0; from < S; from += sliceSize) {
@@ -80,6 +81,7 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
     const to = Math.min(S, from + sliceSize);
     for (let s = from; s < to; s++) {
       const f = features[s];
+      featureCounts[f]++;
       const p = f * 3;
       const o = s * 6;
       colors[o] = colors[o + 3] = palette[p];
@@ -102,6 +104,7 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
   return {
     layerCount,
     colors,
+    featureCounts,
     print: { index: printIndex, starts: printStarts },
     travel: { index: travelIndex, starts: travelStarts },
   };
@@ -126,6 +129,8 @@ export class ToolpathPreview {
   constructor(positions, arrays) {
     this.layerCount = arrays.layerCount;
     this.segmentCount = positions.length / 6;
+    /** Segments per feature name (travel, wall-outer, ...), e.g. for a legend. */
+    this.featureCounts = Object.fromEntries(FEATURES.map((f) => [f.name, arrays.featureCounts[f.code]]));
     this.printStarts = arrays.print.starts;
     this.travelStarts = arrays.travel.starts;
     const position = new THREE.BufferAttribute(positions, 3);

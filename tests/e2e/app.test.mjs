@@ -280,6 +280,9 @@ test('a shared model: load through the file input, slice with progress, download
 
   const report = await page.evaluate(() => window.omnislice.report);
   const shown = Number(await page.textContent(tid('report-layers')));
+  // The preview is coloured by feature: a closed solid with 2 walls and 20 % infill has them all.
+  const counts = await page.evaluate(() => window.omnislice.featureCounts);
+  for (const f of ['travel', 'wall-outer', 'wall-inner', 'skin', 'infill']) assert.ok(counts[f] > 100, `${f}: ${counts[f]} segments`);
   const { name, text } = await downloadProgram();
   assert.equal(name, 'compas_bunny_closed_low_res.gcode');
   const markers = [...text.matchAll(/^; omnislice:layer (\d+)/gm)].map((m) => Number(m[1]));
