@@ -6,7 +6,7 @@
 //   - one Uint8 colour per vertex from a small palette;
 //   - two index buffers (extruding moves, travel moves), each counting-sorted by layer, with
 //     per-layer start offsets, so a layer range [lo, hi] is one contiguous drawRange;
-//   - the per-segment pass runs in slices with yields in between (no long main-thread task).
+//   - the per-segment passes run in blocks and yield every ~12 ms (no long main-thread task).
 import * as THREE from 'three';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
@@ -40,25 +40,45 @@ export function yieldToEventLoop() {
 }
 
 /**
- * Colours and layer-sorted index buffers of preview buffers, built in slices of `sliceSize`
- * segments with a yield between slices, so no single task runs long.
- * @returns {Promise<{layerCount: number, colors: Uint8Array, print: {index: Uint32Array,
- *   starts: Uint32Array}, travel: {index: Uint32Array, starts: Uint32Array}}>} index: 2 vertex
- *   indices per segment, counting-sorted by layer (stable: print order within a layer);
- *   starts[l]..starts[l+1] is layer l's range in segments (layerCount+1 entries)
+ * Colours and layer-sorted index buffers of preview buffers, built in blocks of `block` segments;
+ * whenever a task has run for `budgetMs` it yields, so no single task runs long (the first blocks
+ * run before the JIT has optimised the loops, so a time budget beats a fixed slice size).
+ * @returns {Promise<{layerCount: number, colors: Uint8Array, featureCounts: Uint32Array,
+ *   print: {index: Uint32Array, starts: Uint32Array}, travel: {index: Uint32Array,
+ *   starts: Uint32Array}}>} index: 2 vertex indices per segment, counting-sorted by layer (stable:
+ *   print order within a layer); starts[l]..starts[l+1] is layer l's range in segments
+ *   (layerCount+1 entries)
  */
-export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 << 17 } = {}) {
-  let t0 = performance.now();
+export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, block = 4096 } = {}) {
   const S = features.length;
+  let t0 = performance.now();
+  // Run fn(from, to) over [0, S) in blocks, yielding when the task has used its budget.
+  const forBlocks = async (fn) => {
+    for (let from = 0; from < S; from += block) {
+      fn(from, Math.min(S, from + block));
+      if (performance.now() - t0 > budgetMs) {
+        // Each task's duration is recorded for the end-to-end long-task check.
+        performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
+        await yieldToEventLoop();
+        t0 = performance.now();
+      }
+    }
+  };
   let maxLayer = -1;
-  for (let s = 0; s < S; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
+  await forBlocks((from, to) => {
+    for (let s = from; s < to; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
+  });
   const layerCount = maxLayer + 1;
   const printStarts = new Uint32Array(layerCount + 1);
   const travelStarts = new Uint32Array(layerCount + 1);
-  for (let s = 0; s < S; s++) {
-    if (features[s] === 0) travelStarts[layers[s] + 1]++;
-    else printStarts[layers[s] + 1]++;
-  }
+  const featureCounts = new Uint32Array(256);
+  await forBlocks((from, to) => {
+    for (let s = from; s < to; s++) {
+      featureCounts[features[s]]++;
+      if (features[s] === 0) travelStarts[layers[s] + 1]++;
+      else printStarts[layers[s] + 1]++;
+    }
+  });
   for (let l = 0; l < layerCount; l++) {
     printStarts[l + 1] += printStarts[l];
     travelStarts[l + 1] += travelStarts[l];
@@ -68,20 +88,11 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
   const printCursor = printStarts.slice(0, layerCount);
   const travelCursor = travelStarts.slice(0, layerCount);
   const colors = new Uint8Array(S * 6);
-  const featureCounts = new Uint32Array(256);
   const palette = new Uint8Array(256 * 3);
   for (let c = 0; c < 256; c++) palette.set((FEATURES[c] || FEATURES[0]).color, c * 3);
-  for (let from = 0; from < S; from += sliceSize) {
-    if (from > 0) {
-      // Each slice is one task; its duration is recorded for the end-to-end long-task check.
-      performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
-      await yieldToEventLoop();
-      t0 = performance.now();
-    }
-    const to = Math.min(S, from + sliceSize);
+  await forBlocks((from, to) => {
     for (let s = from; s < to; s++) {
       const f = features[s];
-      featureCounts[f]++;
       const p = f * 3;
       const o = s * 6;
       colors[o] = colors[o + 3] = palette[p];
@@ -99,7 +110,7 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
       index[2 * k] = 2 * s;
       index[2 * k + 1] = 2 * s + 1;
     }
-  }
+  });
   performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
   return {
     layerCount,
