@@ -115,6 +115,57 @@ std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
   return out;
 }
 
+// Closed paths with their bounding boxes, so a Boolean operation can skip far-away paths.
+struct BoxedPaths {
+  Paths paths;
+  std::vector<ClipperLib::IntRect> boxes;
+};
+
+ClipperLib::IntRect boundsOf(const Path& path) {
+  ClipperLib::IntRect r{0, 0, -1, -1};
+  if (path.empty()) return r;
+  r.left = r.right = path[0].X;
+  r.top = r.bottom = path[0].Y;
+  for (const auto& p : path) {
+    r.left = std::min(r.left, p.X);
+    r.right = std::max(r.right, p.X);
+    r.top = std::min(r.top, p.Y);
+    r.bottom = std::max(r.bottom, p.Y);
+  }
+  return r;
+}
+
+ClipperLib::IntRect boundsOf(const Paths& paths) {
+  ClipperLib::IntRect r{0, 0, -1, -1};
+  bool first = true;
+  for (const Path& path : paths) {
+    if (path.empty()) continue;
+    const ClipperLib::IntRect b = boundsOf(path);
+    if (first) {
+      r = b;
+      first = false;
+    } else {
+      r.left = std::min(r.left, b.left);
+      r.right = std::max(r.right, b.right);
+      r.top = std::min(r.top, b.top);
+      r.bottom = std::max(r.bottom, b.bottom);
+    }
+  }
+  return r;
+}
+
+// The paths of `all` whose box meets `box`: within `box` they bound the same region (a hole's
+// box lies inside its contour's box, so a kept hole always comes with its contour).
+Paths nearby(const BoxedPaths& all, const ClipperLib::IntRect& box) {
+  Paths out;
+  for (size_t i = 0; i < all.paths.size(); ++i) {
+    const ClipperLib::IntRect& b = all.boxes[i];
+    if (b.right < box.left || b.left > box.right || b.bottom < box.top || b.top > box.bottom) continue;
+    out.push_back(all.paths[i]);
+  }
+  return out;
+}
+
 struct IslandWork {
   Paths outline;                       // contour + holes
   std::vector<Vec2> probes;            // up to ~64 outline points, for nearest-island choice
@@ -187,8 +238,11 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
   bool extruded = false;
 
   try {
-    std::vector<Paths> sections(layerCount);
-    for (size_t i = 0; i < layerCount; ++i) sections[i] = clip::toPaths(slices.layers[i].islands);
+    std::vector<BoxedPaths> sections(layerCount);
+    for (size_t i = 0; i < layerCount; ++i) {
+      sections[i].paths = clip::toPaths(slices.layers[i].islands);
+      for (const Path& path : sections[i].paths) sections[i].boxes.push_back(boundsOf(path));
+    }
 
     for (size_t i = 0; i < layerCount; ++i) {
       if (!reportProgress(progress, "toolpath", static_cast<double>(i) / layerCount)) {
@@ -231,38 +285,47 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       const double skinAngle = (i % 2 == 0) ? 45.0 : -45.0;
       const double pct = settings.infillPercent;
       std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
+      // Cover of this layer: the intersection of the sections in the window, computed once per
+      // layer; a window reaching beyond the part leaves it empty (everything is skin).
+      const long lo = static_cast<long>(i) - settings.bottomLayers;
+      const long hi = static_cast<long>(i) + settings.topLayers;
+      const bool noSkin = settings.bottomLayers == 0 && settings.topLayers == 0;
+      BoxedPaths cover;
+      if (!noSkin && lo >= 0 && hi < static_cast<long>(layerCount) && !islands.empty()) {
+        bool firstSection = true;
+        for (long j = lo; j <= hi; ++j) {
+          if (j == static_cast<long>(i)) continue;
+          if (firstSection) {
+            cover.paths = sections[j].paths;
+            firstSection = false;
+          } else {
+            cover.paths = clip::intersect(cover.paths, nearby(sections[j], boundsOf(cover.paths)));
+          }
+          if (cover.paths.empty()) break;
+        }
+        for (const Path& path : cover.paths) cover.boxes.push_back(boundsOf(path));
+      }
       for (size_t k = 0; k < islands.size(); ++k) {
         const Paths& fill = islands[k].fill;
         if (fill.empty()) continue;
-        Paths sparse = fill;
-        const long lo = static_cast<long>(i) - settings.bottomLayers;
-        const long hi = static_cast<long>(i) + settings.topLayers;
-        if (lo < 0 || hi >= static_cast<long>(layerCount)) {
-          sparse.clear();
-        } else {
-          for (long j = lo; j <= hi && !sparse.empty(); ++j) {
-            if (j == static_cast<long>(i)) continue;
-            sparse = clip::intersect(sparse, sections[j]);
-          }
-        }
+        const Paths sparse =
+            noSkin ? fill : clip::intersect(fill, nearby(cover, boundsOf(fill)));
         const Paths skin = sparse.empty() ? fill : clip::subtract(fill, sparse);
         result.skinAreaMm2[i] += clip::areaMm2(skin);
         result.infillAreaMm2[i] += clip::areaMm2(sparse);
-        for (const Path& line : fillLines(skin, skinAngle, w, minLine)) {
+        for (const Path& line : fillLines(skin, {skinAngle}, w, minLine)) {
           skinRuns[k].push_back(Run{toPoints(line), false, Feature::Skin});
         }
         if (pct > 0 && !sparse.empty()) {
           Paths lines;
           if (pct >= 100) {
-            lines = fillLines(sparse, skinAngle, w, minLine);
+            lines = fillLines(sparse, {skinAngle}, w, minLine);
           } else if (settings.infillPattern == InfillPattern::Lines) {
             const double angle = settings.infillAngleDegrees + (i % 2 == 0 ? 0.0 : 90.0);
-            lines = fillLines(sparse, angle, w * 100.0 / pct, minLine);
+            lines = fillLines(sparse, {angle}, w * 100.0 / pct, minLine);
           } else {
-            const double s = 2.0 * w * 100.0 / pct;
-            lines = fillLines(sparse, settings.infillAngleDegrees, s, minLine);
-            Paths cross = fillLines(sparse, settings.infillAngleDegrees + 90.0, s, minLine);
-            lines.insert(lines.end(), cross.begin(), cross.end());
+            lines = fillLines(sparse, {settings.infillAngleDegrees, settings.infillAngleDegrees + 90.0},
+                              2.0 * w * 100.0 / pct, minLine);
           }
           for (const Path& line : lines) infillRuns[k].push_back(Run{toPoints(line), false, Feature::Infill});
         }
