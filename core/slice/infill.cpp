@@ -16,8 +16,12 @@ ClipperLib::Paths fillLines(const ClipperLib::Paths& region, const std::vector<d
   for (const Path& path : region) {
     for (const IntPoint& ip : path) pts.push_back(clip::toVec(ip));
   }
-  Paths lines;
+  Paths out;
+  const double minUnits = minLengthMm * clip::kClipperScale;
+  // One clipping pass per direction: lines of one direction never cross each other, whereas
+  // crossing subject lines would make Clipper compute all their mutual intersections.
   for (double angleDegrees : anglesDegrees) {
+    Paths lines;
     const double a = angleDegrees * M_PI / 180.0;
     const Eigen::Vector2d u(std::cos(a), std::sin(a));   // along the lines
     const Eigen::Vector2d n(-std::sin(a), std::cos(a));  // across them
@@ -39,18 +43,14 @@ ClipperLib::Paths fillLines(const ClipperLib::Paths& region, const std::vector<d
       const Eigen::Vector2d p0 = off * n + alo * u, p1 = off * n + ahi * u;
       lines.push_back(Path{clip::toPoint(p0), clip::toPoint(p1)});
     }
-  }
-  Paths pieces = clip::clipLines(lines, region);
-  Paths out;
-  out.reserve(pieces.size());
-  const double minUnits = minLengthMm * clip::kClipperScale;
-  for (Path& piece : pieces) {
-    if (piece.size() < 2) continue;
-    const IntPoint& s = piece.front();
-    const IntPoint& e = piece.back();
-    const double len = std::hypot(static_cast<double>(e.X - s.X), static_cast<double>(e.Y - s.Y));
-    if (len < minUnits) continue;
-    out.push_back(Path{s, e});
+    for (Path& piece : clip::clipLines(lines, region)) {
+      if (piece.size() < 2) continue;
+      const IntPoint& s = piece.front();
+      const IntPoint& e = piece.back();
+      const double len = std::hypot(static_cast<double>(e.X - s.X), static_cast<double>(e.Y - s.Y));
+      if (len < minUnits) continue;
+      out.push_back(Path{s, e});
+    }
   }
   return out;
 }

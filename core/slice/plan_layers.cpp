@@ -290,26 +290,20 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       const long lo = static_cast<long>(i) - settings.bottomLayers;
       const long hi = static_cast<long>(i) + settings.topLayers;
       const bool noSkin = settings.bottomLayers == 0 && settings.topLayers == 0;
-      BoxedPaths cover;
-      if (!noSkin && lo >= 0 && hi < static_cast<long>(layerCount) && !islands.empty()) {
-        bool firstSection = true;
-        for (long j = lo; j <= hi; ++j) {
-          if (j == static_cast<long>(i)) continue;
-          if (firstSection) {
-            cover.paths = sections[j].paths;
-            firstSection = false;
-          } else {
-            cover.paths = clip::intersect(cover.paths, nearby(sections[j], boundsOf(cover.paths)));
-          }
-          if (cover.paths.empty()) break;
-        }
-        for (const Path& path : cover.paths) cover.boxes.push_back(boundsOf(path));
-      }
       for (size_t k = 0; k < islands.size(); ++k) {
         const Paths& fill = islands[k].fill;
         if (fill.empty()) continue;
-        const Paths sparse =
-            noSkin ? fill : clip::intersect(fill, nearby(cover, boundsOf(fill)));
+        Paths sparse = fill;
+        if (!noSkin) {
+          if (lo < 0 || hi >= static_cast<long>(layerCount)) {
+            sparse.clear();
+          } else {
+            for (long j = lo; j <= hi && !sparse.empty(); ++j) {
+              if (j == static_cast<long>(i)) continue;
+              sparse = clip::intersect(sparse, nearby(sections[j], boundsOf(sparse)));
+            }
+          }
+        }
         const Paths skin = sparse.empty() ? fill : clip::subtract(fill, sparse);
         result.skinAreaMm2[i] += clip::areaMm2(skin);
         result.infillAreaMm2[i] += clip::areaMm2(sparse);
