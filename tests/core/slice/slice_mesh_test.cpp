@@ -297,6 +297,22 @@ TEST(SliceMesh, OverlappingShellsAreUnited) {
   }
 }
 
+TEST(SliceMesh, InsideOutMeshGivesTheSameRegions) {
+  // Non-zero union: with every face flipped, loops reverse (outer CW, holes CCW) yet the winding
+  // is still non-zero exactly inside the solid, so islands and holes are unchanged.
+  Mesh torus = makeTorus({0, 0, 5}, 10, 3, 48, 24);
+  const SliceResult a = sliceMesh(torus, SliceOptions{});
+  test::flipFaces(torus);
+  const SliceResult b = sliceMesh(torus, SliceOptions{});
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a.layers.size(), b.layers.size());
+  for (size_t i = 0; i < a.layers.size(); ++i) {
+    ASSERT_EQ(a.layers[i].islands.size(), b.layers[i].islands.size());
+    EXPECT_NEAR(layerArea(a.layers[i]), layerArea(b.layers[i]), 1e-9);
+    for (const ExPolygon2& island : b.layers[i].islands) EXPECT_GT(polygonArea(island.contour), 0);
+  }
+}
+
 TEST(SliceMesh, ClosingRadiusBridgesTinyGaps) {
   // Two boxes 0.02 mm apart: two islands; closing with 0.05 mm merges them.
   const Mesh two = test::appendMesh(makeBox(0, 0, 0, 4, 4, 1), makeBox(4.02, 0, 0, 8, 4, 1));
