@@ -285,8 +285,9 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       const double skinAngle = (i % 2 == 0) ? 45.0 : -45.0;
       const double pct = settings.infillPercent;
       std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
-      // Cover of this layer: the intersection of the sections in the window, computed once per
-      // layer; a window reaching beyond the part leaves it empty (everything is skin).
+      // Window of layers whose sections must all cover a point for it to be sparse (computed per
+      // island with bbox-filtered sections, which keeps Clipper's scan lines short on layers with
+      // many islands); a window reaching beyond the part leaves nothing sparse (all skin).
       const long lo = static_cast<long>(i) - settings.bottomLayers;
       const long hi = static_cast<long>(i) + settings.topLayers;
       const bool noSkin = settings.bottomLayers == 0 && settings.topLayers == 0;
