@@ -8,6 +8,8 @@
 
 namespace omnislice {
 
+constexpr double kPi = 3.14159265358979323846;
+
 ClipperLib::Paths fillLines(const ClipperLib::Paths& region, const std::vector<double>& anglesDegrees,
                             double spacingMm, double minLengthMm) {
   using namespace ClipperLib;
@@ -22,7 +24,7 @@ ClipperLib::Paths fillLines(const ClipperLib::Paths& region, const std::vector<d
   // crossing subject lines would make Clipper compute all their mutual intersections.
   for (double angleDegrees : anglesDegrees) {
     Paths lines;
-    const double a = angleDegrees * M_PI / 180.0;
+    const double a = angleDegrees * kPi / 180.0;
     const Eigen::Vector2d u(std::cos(a), std::sin(a));   // along the lines
     const Eigen::Vector2d n(-std::sin(a), std::cos(a));  // across them
     double alo = std::numeric_limits<double>::infinity(), ahi = -alo, nlo = alo, nhi = -alo;

@@ -29,9 +29,11 @@
 
 namespace omnislice {
 
+constexpr double kPi = 3.14159265358979323846;
+
 double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
-  const double bead = (widthMm - heightMm) * heightMm + M_PI * heightMm * heightMm / 4.0;
-  const double filament = M_PI * filamentDiameterMm * filamentDiameterMm / 4.0;
+  const double bead = (widthMm - heightMm) * heightMm + kPi * heightMm * heightMm / 4.0;
+  const double filament = kPi * filamentDiameterMm * filamentDiameterMm / 4.0;
   return bead * lengthMm / filament;
 }
 
