@@ -26,6 +26,7 @@
 
 #include "slice/clipper_adapter.h"
 #include "slice/infill.h"
+#include "slice/travel_order.h"
 
 namespace omnislice {
 
@@ -73,42 +74,32 @@ std::pair<size_t, double> nearestVertex(const std::vector<Vec2>& pts, const Vec2
 }
 
 // Orders runs nearest-first from `cur`: loops rotated to start at their nearest vertex, open runs
-// reversed when their far end is nearer. Updates cur to the end of the last run.
+// reversed when their far end is nearer. Updates cur to the end of the last run. A loop is picked
+// by its nearest probe (up to 32 evenly spaced vertices), then entered at its exact nearest vertex.
 std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
+  std::vector<std::vector<Vec2>> probes(runs.size());
+  for (size_t r = 0; r < runs.size(); ++r) {
+    const std::vector<Vec2>& pts = runs[r].points;
+    if (runs[r].closed) {
+      const size_t step = std::max<size_t>(1, pts.size() / 32);
+      for (size_t i = 0; i < pts.size(); i += step) probes[r].push_back(pts[i]);
+    } else {
+      probes[r] = {pts.front(), pts.back()};
+    }
+  }
+  NearestIndex index(probes);
   std::vector<Run> out;
   out.reserve(runs.size());
-  std::vector<char> done(runs.size(), 0);
   for (size_t n = 0; n < runs.size(); ++n) {
-    size_t best = 0, bestVertex = 0;
-    bool reverse = false;
-    double bestD = std::numeric_limits<double>::infinity();
-    for (size_t r = 0; r < runs.size(); ++r) {
-      if (done[r]) continue;
-      const std::vector<Vec2>& pts = runs[r].points;
-      if (runs[r].closed) {
-        const auto [v, d] = nearestVertex(pts, cur);
-        if (d < bestD) {
-          bestD = d;
-          best = r;
-          bestVertex = v;
-          reverse = false;
-        }
-      } else {
-        const double d0 = (pts.front() - cur).squaredNorm();
-        const double d1 = (pts.back() - cur).squaredNorm();
-        if (std::min(d0, d1) < bestD) {
-          bestD = std::min(d0, d1);
-          best = r;
-          reverse = d1 < d0;
-        }
-      }
-    }
-    done[best] = 1;
-    Run run = std::move(runs[best]);
+    const NearestIndex::Hit hit = index.nearest(cur);
+    if (!hit.found) break;
+    index.take(hit.item);
+    Run run = std::move(runs[hit.item]);
     if (run.closed) {
-      std::rotate(run.points.begin(), run.points.begin() + bestVertex, run.points.end());
+      const size_t v = nearestVertex(run.points, cur).first;
+      std::rotate(run.points.begin(), run.points.begin() + v, run.points.end());
       run.points.push_back(run.points.front());
-    } else if (reverse) {
+    } else if (hit.probe == 1) {
       std::reverse(run.points.begin(), run.points.end());
     }
     cur = run.points.back();
@@ -391,19 +382,14 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
         cur = run.points.back();
       };
 
-      std::vector<char> islandDone(islands.size(), 0);
+      std::vector<std::vector<Vec2>> islandProbes(islands.size());
+      for (size_t k = 0; k < islands.size(); ++k) islandProbes[k] = islands[k].probes;
+      NearestIndex islandIndex(islandProbes);
       for (size_t n = 0; n < islands.size(); ++n) {
-        size_t best = 0;
-        double bestD = std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k < islands.size(); ++k) {
-          if (islandDone[k]) continue;
-          const double d = nearestVertex(islands[k].probes, cur).second;
-          if (d < bestD) {
-            bestD = d;
-            best = k;
-          }
-        }
-        islandDone[best] = 1;
+        const NearestIndex::Hit hit = islandIndex.nearest(cur);
+        if (!hit.found) break;
+        islandIndex.take(hit.item);
+        const size_t best = hit.item;
         IslandWork& iw = islands[best];
         for (size_t level = iw.walls.size(); level-- > 0;) {
           Vec2 probe = cur;
