@@ -15,6 +15,7 @@ struct VerifyOptions {
   double sampleSpacing = 0.5;    // mm along extruding path
   double gridSpacing = 0;        // mm for coverage, 0 = min(nozzle diameter, layer height)
   size_t maxGridPoints = 200000000;  // refuse coverage grids larger than this (InvalidOption)
+  size_t maxSamples = 50000000;      // refuse programs with more path samples (InvalidOption)
 };
 
 struct VerifyReport : Outcome {

@@ -1,0 +1,269 @@
+// SPDX-License-Identifier: MIT
+#include "geometry/aabb_tree.h"
+
+#include <algorithm>
+#include <Eigen/Geometry>
+#include <cmath>
+
+namespace omnislice {
+
+namespace {
+
+constexpr int32_t kLeafSize = 4;
+
+Eigen::Vector3d closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                 const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  if (len2 <= 0) return a;
+  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
+  return a + t * ab;
+}
+
+double boxDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  double d2 = 0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = p[k] < lo[k] ? lo[k] - p[k] : (p[k] > hi[k] ? p[k] - hi[k] : 0.0);
+    d2 += d * d;
+  }
+  return d2;
+}
+
+// Edge function of the directed 2D edge P->Q at r, computed from the lexicographically smaller
+// endpoint so that E(P,Q,r) == -E(Q,P,r) exactly: two faces sharing an edge agree on which side
+// r lies, bit for bit.
+double edgeFunction(double px, double py, double qx, double qy, double rx, double ry) {
+  const bool swap = (qx < px) || (qx == px && qy < py);
+  if (swap) {
+    std::swap(px, qx);
+    std::swap(py, qy);
+  }
+  const double e = (qx - px) * (ry - py) - (qy - py) * (rx - px);
+  return swap ? -e : e;
+}
+
+// Half-open ownership of a point lying exactly on edge P->Q (interior on the left): the edge owns
+// it when the point shifted by (e, e^2) would be on the left. Antisymmetric in P, Q.
+bool ownsBoundary(double px, double py, double qx, double qy) {
+  const double dy = qy - py, dx = qx - px;
+  return dy < 0 || (dy == 0 && dx > 0);
+}
+
+}  // namespace
+
+Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d ab = b - a, ac = c - a;
+  if (ab.cross(ac).squaredNorm() <= 1e-30 * std::max(1.0, ab.squaredNorm() * ac.squaredNorm())) {
+    // Degenerate (needle or point): nearest of the three edges.
+    Eigen::Vector3d best = closestOnSegment(p, a, b);
+    for (const Eigen::Vector3d& q : {closestOnSegment(p, b, c), closestOnSegment(p, c, a)}) {
+      if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
+    }
+    return best;
+  }
+  // Voronoi regions of the vertices, then the edges, else the face interior.
+  const Eigen::Vector3d ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  }
+  const double inv = 1.0 / (va + vb + vc);
+  return a + ab * (vb * inv) + ac * (vc * inv);
+}
+
+AabbTree::AabbTree(const Mesh& mesh) {
+  const size_t nv = mesh.vertexCount();
+  for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    const uint32_t i = mesh.triangles[3 * f], j = mesh.triangles[3 * f + 1],
+                   k = mesh.triangles[3 * f + 2];
+    if (i >= nv || j >= nv || k >= nv) continue;
+    a_.push_back(mesh.vertex(i));
+    b_.push_back(mesh.vertex(j));
+    c_.push_back(mesh.vertex(k));
+    faceIndex_.push_back(static_cast<int64_t>(f));
+  }
+  const int32_t n = static_cast<int32_t>(a_.size());
+  order_.resize(n);
+  std::vector<Eigen::Vector3d> centroids(n);
+  for (int32_t t = 0; t < n; ++t) {
+    order_[t] = t;
+    centroids[t] = (a_[t] + b_[t] + c_[t]) / 3.0;
+  }
+  nodes_.reserve(n > 0 ? 2 * (n / kLeafSize + 1) : 0);
+  if (n > 0) build(0, n, centroids);
+}
+
+int32_t AabbTree::build(int32_t first, int32_t count, std::vector<Eigen::Vector3d>& centroids) {
+  const int32_t id = static_cast<int32_t>(nodes_.size());
+  nodes_.emplace_back();
+  Eigen::Vector3d lo = a_[order_[first]], hi = lo;
+  Eigen::Vector3d clo = centroids[order_[first]], chi = clo;
+  for (int32_t i = first; i < first + count; ++i) {
+    const int32_t t = order_[i];
+    lo = lo.cwiseMin(a_[t]).cwiseMin(b_[t]).cwiseMin(c_[t]);
+    hi = hi.cwiseMax(a_[t]).cwiseMax(b_[t]).cwiseMax(c_[t]);
+    clo = clo.cwiseMin(centroids[t]);
+    chi = chi.cwiseMax(centroids[t]);
+  }
+  nodes_[id].lo = lo;
+  nodes_[id].hi = hi;
+  if (count <= kLeafSize) {
+    nodes_[id].first = first;
+    nodes_[id].count = count;
+    return id;
+  }
+  int axis = 0;
+  const Eigen::Vector3d ext = chi - clo;
+  if (ext.y() > ext[axis]) axis = 1;
+  if (ext.z() > ext[axis]) axis = 2;
+  const int32_t half = count / 2;
+  std::nth_element(order_.begin() + first, order_.begin() + first + half,
+                   order_.begin() + first + count, [&](int32_t s, int32_t t) {
+                     return centroids[s][axis] < centroids[t][axis];
+                   });
+  const int32_t left = build(first, half, centroids);
+  const int32_t right = build(first + half, count - half, centroids);
+  nodes_[id].left = left;
+  nodes_[id].right = right;
+  return id;
+}
+
+ClosestPoint AabbTree::closest(const Eigen::Vector3d& p, double maxDistance) const {
+  ClosestPoint best;
+  if (nodes_.empty()) return best;
+  double best2 = maxDistance * maxDistance;
+  if (!std::isfinite(best2)) best2 = std::numeric_limits<double>::infinity();
+  int32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (boxDistance2(p, node.lo, node.hi) >= best2) continue;
+    if (node.left < 0) {
+      for (int32_t i = node.first; i < node.first + node.count; ++i) {
+        const int32_t t = order_[i];
+        const Eigen::Vector3d q = closestPointOnTriangle(p, a_[t], b_[t], c_[t]);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 < best2) {
+          best2 = d2;
+          best.distance = std::sqrt(d2);
+          best.point = q;
+          best.triangle = faceIndex_[t];
+        }
+      }
+      continue;
+    }
+    // Visit the nearer child first (pushed last).
+    const Node& l = nodes_[node.left];
+    const Node& r = nodes_[node.right];
+    const double dl = boxDistance2(p, l.lo, l.hi), dr = boxDistance2(p, r.lo, r.hi);
+    if (dl < dr) {
+      if (dr < best2) stack[top++] = node.right;
+      if (dl < best2) stack[top++] = node.left;
+    } else {
+      if (dl < best2) stack[top++] = node.left;
+      if (dr < best2) stack[top++] = node.right;
+    }
+  }
+  return best;
+}
+
+bool AabbTree::anyWithin(const Eigen::Vector3d& p, double r) const {
+  if (nodes_.empty()) return false;
+  const double r2 = r * r;
+  int32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (boxDistance2(p, node.lo, node.hi) > r2) continue;
+    if (node.left < 0) {
+      for (int32_t i = node.first; i < node.first + node.count; ++i) {
+        const int32_t t = order_[i];
+        if ((closestPointOnTriangle(p, a_[t], b_[t], c_[t]) - p).squaredNorm() <= r2) return true;
+      }
+      continue;
+    }
+    stack[top++] = node.left;
+    stack[top++] = node.right;
+  }
+  return false;
+}
+
+bool AabbTree::crossing(int32_t t, double x, double y, ColumnCrossing& out) const {
+  const Eigen::Vector3d& a = a_[t];
+  Eigen::Vector3d b = b_[t], c = c_[t];
+  const double area2 = edgeFunction(a.x(), a.y(), b.x(), b.y(), c.x(), c.y());
+  if (area2 == 0) return false;  // vertical face: no signed contribution
+  int sign = -1;                  // counter-clockwise seen from above: face looks up, line leaves
+  if (area2 < 0) {
+    std::swap(b, c);
+    sign = +1;
+  }
+  const Eigen::Vector3d* v[3] = {&a, &b, &c};
+  double w[3];
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d& P = *v[k];
+    const Eigen::Vector3d& Q = *v[(k + 1) % 3];
+    const double e = edgeFunction(P.x(), P.y(), Q.x(), Q.y(), x, y);
+    if (e < 0 || (e == 0 && !ownsBoundary(P.x(), P.y(), Q.x(), Q.y()))) return false;
+    w[k] = e;  // weight of the vertex opposite edge k
+  }
+  const double sum = w[0] + w[1] + w[2];
+  // w[0] is opposite c (edge a-b), w[1] opposite a (edge b-c), w[2] opposite b (edge c-a).
+  out.z = sum > 0 ? (w[1] * a.z() + w[2] * b.z() + w[0] * c.z()) / sum
+                  : std::min({a.z(), b.z(), c.z()});
+  out.sign = sign;
+  return true;
+}
+
+template <class Visit>
+void AabbTree::visitColumn(double x, double y, Visit&& visit) const {
+  if (nodes_.empty()) return;
+  int32_t stack[128];
+  int top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const Node& node = nodes_[stack[--top]];
+    if (x < node.lo.x() || x > node.hi.x() || y < node.lo.y() || y > node.hi.y()) continue;
+    if (node.left < 0) {
+      for (int32_t i = node.first; i < node.first + node.count; ++i) visit(order_[i], node);
+      continue;
+    }
+    stack[top++] = node.left;
+    stack[top++] = node.right;
+  }
+}
+
+void AabbTree::columnCrossings(double x, double y, std::vector<ColumnCrossing>& out) const {
+  out.clear();
+  visitColumn(x, y, [&](int32_t t, const Node&) {
+    ColumnCrossing c;
+    if (crossing(t, x, y, c)) out.push_back(c);
+  });
+}
+
+int AabbTree::winding(const Eigen::Vector3d& p) const {
+  int w = 0;
+  visitColumn(p.x(), p.y(), [&](int32_t t, const Node& leaf) {
+    if (leaf.hi.z() <= p.z()) return;
+    ColumnCrossing c;
+    if (crossing(t, p.x(), p.y(), c) && c.z > p.z()) w -= c.sign;  // leaving above counts +1
+  });
+  return w;
+}
+
+}  // namespace omnislice

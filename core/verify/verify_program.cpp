@@ -1,0 +1,466 @@
+// SPDX-License-Identifier: MIT
+// Verification by simulation (PROGRAM-FORMAT.md "What verification measures").
+//
+// Definitions made precise here:
+// - Samples: every sampleSpacing mm along each extruding move (filament > 0, length > 0),
+//   starting at the move's start; a move shorter than the spacing gives one sample.
+// - Bead: a maximal run of consecutive extruding moves, each starting where the previous ended.
+// - Reach of a centre-line segment [a, b] with nozzle axis u at grid point p: c = closest point of
+//   the segment to p, d = p - c, axial = d.u, lateral = |d - (d.u) u|; covered when
+//   (axial / (0.75 h))^2 + (lateral / (0.75 w))^2 <= 1.
+// - Collision cone at sample s (axis u, half-angle t, length L, tolerance 0.001 mm): an earlier
+//   sample p with d = p - s counts when d.u > h + tol, |d| < L - tol and the distance of p from
+//   the axis is < (d.u) tan t - tol.
+//
+// Complexity (n samples, m segments, F triangles, G grid points):
+// - inside / surface distance: one closest-point query per sample, O(n log F) typical.
+// - supported: each centre-line piece (<= one hash cell long) is inserted into the cells its
+//   1.5 h neighbourhood touches; one cell lookup per sample: O(n + m) typical.
+// - collisions: O(1) per sample while all earlier material lies at or below the sample's plane
+//   orthogonal to u plus h (every layer-by-layer print); otherwise a scan of the occupied cells of a
+//   2 mm hash near the cone with early exit, O(cells + samples in the cone) per sample.
+// - coverage: one vertical-line query per grid column plus a near-surface check per interior point,
+//   and a rasterisation of each segment's reach over the grid cells near it: O(G + path * reach).
+#include "verify/verify_program.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <unordered_map>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "geometry/aabb_tree.h"
+#include "program/machine_json.h"
+
+namespace omnislice {
+
+namespace {
+
+constexpr double kMaxCoordinate = 1e6;  // mm
+
+struct Segment {
+  Eigen::Vector3d a, b, u;
+  double length = 0;
+  double beadStart = 0;  // arc length within its bead at a
+  int bead = 0;
+};
+
+struct Sample {
+  Eigen::Vector3d p, u;
+  int segment = 0;
+  double beadS = 0;  // arc length within its bead
+};
+
+double segmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double len2 = ab.squaredNorm();
+  double t = len2 > 0 ? (p - a).dot(ab) / len2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return (a + t * ab - p).squaredNorm();
+}
+
+int64_t cellKey(int64_t x, int64_t y, int64_t z) {
+  const int64_t o = 1 << 20;
+  return ((x + o) & 0x1FFFFF) | (((y + o) & 0x1FFFFF) << 21) | (((z + o) & 0x1FFFFF) << 42);
+}
+
+class Bits {
+ public:
+  explicit Bits(size_t n = 0) : w_((n + 63) / 64, 0) {}
+  void set(size_t i) { w_[i >> 6] |= uint64_t(1) << (i & 63); }
+  bool get(size_t i) const { return (w_[i >> 6] >> (i & 63)) & 1; }
+  size_t countAnd(const Bits& o) const {
+    size_t c = 0;
+    for (size_t k = 0; k < w_.size(); ++k) c += __builtin_popcountll(w_[k] & o.w_[k]);
+    return c;
+  }
+  size_t count() const { return countAnd(*this); }
+
+ private:
+  std::vector<uint64_t> w_;
+};
+
+// Periodic progress with cancellation.
+struct Progress {
+  const ProgressFn& fn;
+  bool cancelled = false;
+  bool tick(size_t i, size_t n, double from, double to) {
+    if (cancelled) return false;
+    if ((i & 4095) != 0) return true;
+    const double f = n ? from + (to - from) * double(i) / double(n) : from;
+    if (!reportProgress(fn, "verify", f)) cancelled = true;
+    return !cancelled;
+  }
+};
+
+}  // namespace
+
+VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
+                           const VerifyOptions& options, const ProgressFn& progressFn) {
+  VerifyReport rep;
+  auto fail = [&](Status s, const std::string& msg) {
+    VerifyReport f;
+    f.status = s;
+    f.message = msg;
+    return f;
+  };
+  if (!program.ok()) return fail(program.status, "program not readable: " + program.message);
+  if (partMesh.empty()) return fail(Status::EmptyInput, "part mesh has no triangles");
+  for (double v : partMesh.positions) {
+    if (!std::isfinite(v)) return fail(Status::NonFiniteVertex, "part mesh has a non-finite vertex");
+    if (std::abs(v) > kMaxCoordinate) {
+      return fail(Status::InvalidOption, "part mesh has a coordinate beyond 1e6 mm");
+    }
+  }
+  const double h = program.layerHeight, w = program.lineWidth;
+  if (!(h > 0) || !(w > 0) || !std::isfinite(h) || !std::isfinite(w)) {
+    return fail(Status::InvalidOption, "program declares no positive layer_height / line_width");
+  }
+  if (!(options.sampleSpacing > 0) || !std::isfinite(options.sampleSpacing) ||
+      options.gridSpacing < 0 || !std::isfinite(options.gridSpacing)) {
+    return fail(Status::InvalidOption, "sample spacing must be > 0 and grid spacing >= 0");
+  }
+  const double nozzle =
+      program.nozzleDiameter > 0 ? program.nozzleDiameter : program.machine.nozzle.diameter;
+  const double g = options.gridSpacing > 0 ? options.gridSpacing : std::min(nozzle, h);
+  Progress progress{progressFn};
+  if (!reportProgress(progressFn, "verify", 0)) return fail(Status::Cancelled, "verify cancelled");
+
+  // ---- limits, extrusion, segments ----
+  const std::vector<std::string> letters = machineAxisLetters(program.machine.kind);
+  std::vector<Segment> segments;
+  int bead = -1;
+  bool prevExtruding = false;
+  Eigen::Vector3d prevEnd(0, 0, 0);
+  double beadS = 0;
+  for (const ProgramMove& m : program.moves) {
+    for (size_t i = 0; i < letters.size() && i < m.axes.size(); ++i) {
+      auto it = program.machine.axisLimits.find(letters[i]);
+      if (it == program.machine.axisLimits.end()) continue;
+      if (m.axes[i] < it->second.first - 1e-9 || m.axes[i] > it->second.second + 1e-9) {
+        ++rep.limitViolations;
+        break;
+      }
+    }
+    if (m.filament > 0) rep.extrusionMm += m.filament;
+    // Hash-cell and grid indices are 64-bit integers: keep coordinates in a sane range.
+    if (m.from.cwiseAbs().maxCoeff() > kMaxCoordinate || m.to.cwiseAbs().maxCoeff() > kMaxCoordinate ||
+        !m.from.allFinite() || !m.to.allFinite()) {
+      return fail(Status::InvalidOption, "move on line " + std::to_string(m.line) +
+                                             " has a coordinate beyond 1e6 mm or not finite");
+    }
+    const double len = (m.to - m.from).norm();
+    const bool extruding = m.filament > 0 && len > 1e-9;
+    if (!extruding) {
+      prevExtruding = false;
+      continue;
+    }
+    if (!prevExtruding || (m.from - prevEnd).norm() > 1e-6) {
+      ++bead;
+      beadS = 0;
+    }
+    Segment s;
+    s.a = m.from;
+    s.b = m.to;
+    s.u = m.axis.normalized();
+    s.length = len;
+    s.beadStart = beadS;
+    s.bead = bead;
+    segments.push_back(s);
+    beadS += len;
+    rep.pathMm += len;
+    prevExtruding = true;
+    prevEnd = m.to;
+  }
+  rep.layers = program.layerCount;
+  if (segments.empty()) return fail(Status::EmptyInput, "program has no extruding moves");
+
+  // ---- samples ----
+  if (rep.pathMm / options.sampleSpacing + double(segments.size()) > double(options.maxSamples)) {
+    return fail(Status::InvalidOption, "program has more than maxSamples path samples");
+  }
+  std::vector<Sample> samples;
+  for (size_t si = 0; si < segments.size(); ++si) {
+    const Segment& s = segments[si];
+    for (size_t k = 0;; ++k) {
+      const double t = double(k) * options.sampleSpacing;
+      if (k > 0 && t >= s.length) break;
+      samples.push_back({s.a + (t / s.length) * (s.b - s.a), s.u, int(si), s.beadStart + t});
+    }
+  }
+  rep.samples = samples.size();
+
+  // ---- inside and surface samples ----
+  const AabbTree tree(partMesh);
+  std::vector<uint8_t> nearSurface(samples.size(), 0);
+  size_t insideCount = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!progress.tick(i, samples.size(), 0.0, 0.3)) return fail(Status::Cancelled, "verify cancelled");
+    const ClosestPoint c = tree.closest(samples[i].p, w);
+    if (c.distance <= w) nearSurface[i] = 1;
+    if (c.distance <= 0.5 * w || tree.inside(samples[i].p)) ++insideCount;
+  }
+  rep.inside = double(insideCount) / double(samples.size());
+
+  // ---- supported ----
+  {
+    const double R = 1.5 * h;
+    const double exclusion = std::max(0.5, 3.0 * h);
+    const double cs = std::max(2.0 * R, 0.5);
+    struct Piece {
+      Eigen::Vector3d a, b;
+      double s0, s1;
+    };
+    std::vector<Piece> pieces;
+    std::vector<int> pieceBead;
+    for (const Segment& s : segments) {
+      const int n = std::max(1, int(std::ceil(s.length / cs)));
+      for (int k = 0; k < n; ++k) {
+        const double t0 = double(k) / n, t1 = double(k + 1) / n;
+        pieces.push_back({s.a + t0 * (s.b - s.a), s.a + t1 * (s.b - s.a),
+                          s.beadStart + t0 * s.length, s.beadStart + t1 * s.length});
+        pieceBead.push_back(s.bead);
+      }
+    }
+    std::unordered_map<int64_t, std::vector<uint32_t>> hash;
+    auto insert = [&](uint32_t pi) {
+      const Piece& p = pieces[pi];
+      const Eigen::Vector3d lo = p.a.cwiseMin(p.b).array() - R, hi = p.a.cwiseMax(p.b).array() + R;
+      for (int64_t x = int64_t(std::floor(lo.x() / cs)); x <= int64_t(std::floor(hi.x() / cs)); ++x)
+        for (int64_t y = int64_t(std::floor(lo.y() / cs)); y <= int64_t(std::floor(hi.y() / cs)); ++y)
+          for (int64_t z = int64_t(std::floor(lo.z() / cs)); z <= int64_t(std::floor(hi.z() / cs)); ++z)
+            hash[cellKey(x, y, z)].push_back(pi);
+    };
+    size_t nextPiece = 0;  // pieces [0, nextPiece) are in the hash
+    size_t supportedSurface = 0, surfaceCount = 0, supportedAll = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      if (!progress.tick(i, samples.size(), 0.3, 0.5)) return fail(Status::Cancelled, "verify cancelled");
+      const Sample& smp = samples[i];
+      const int myBead = segments[smp.segment].bead;
+      const double cutoff = smp.beadS - exclusion;
+      // Everything of earlier beads, and this bead's path laid before the cut-off.
+      while (nextPiece < pieces.size() &&
+             (pieceBead[nextPiece] < myBead ||
+              (pieceBead[nextPiece] == myBead && pieces[nextPiece].s1 <= cutoff))) {
+        insert(uint32_t(nextPiece++));
+      }
+      bool ok = smp.p.z() <= R;  // the platform z = 0
+      if (!ok && nextPiece < pieces.size() && pieceBead[nextPiece] == myBead &&
+          pieces[nextPiece].s0 < cutoff) {
+        // The piece straddling the cut-off, clipped to the part laid before it.
+        const Piece& p = pieces[nextPiece];
+        const double t = (cutoff - p.s0) / (p.s1 - p.s0);
+        ok = segmentDistance2(smp.p, p.a, p.a + t * (p.b - p.a)) <= R * R;
+      }
+      if (!ok) {
+        auto it = hash.find(cellKey(int64_t(std::floor(smp.p.x() / cs)),
+                                    int64_t(std::floor(smp.p.y() / cs)),
+                                    int64_t(std::floor(smp.p.z() / cs))));
+        if (it != hash.end()) {
+          for (uint32_t pi : it->second) {
+            if (segmentDistance2(smp.p, pieces[pi].a, pieces[pi].b) <= R * R) {
+              ok = true;
+              break;
+            }
+          }
+        }
+      }
+      if (ok) ++supportedAll;
+      if (nearSurface[i]) {
+        ++surfaceCount;
+        if (ok) ++supportedSurface;
+      }
+    }
+    rep.supported = surfaceCount ? double(supportedSurface) / double(surfaceCount) : 1.0;
+    rep.supportedAll = double(supportedAll) / double(samples.size());
+  }
+
+  // ---- collisions ----
+  {
+    const double tol = 0.001;
+    const double L = program.machine.nozzle.coneLength;
+    const double tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * M_PI / 180.0);
+    const double C = 2.0;
+    struct Cell {
+      std::vector<uint32_t> items;
+      Eigen::Vector3d lo, hi;
+    };
+    std::unordered_map<int64_t, Cell> cells;
+    std::vector<int64_t> occupied;
+    const double inf = std::numeric_limits<double>::infinity();
+    Eigen::Vector3d glo(inf, inf, inf), ghi(-inf, -inf, -inf);
+    auto support = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& u) {
+      double s = 0;
+      for (int k = 0; k < 3; ++k) s += u[k] * (u[k] > 0 ? hi[k] : lo[k]);
+      return s;
+    };
+    auto hits = [&](const Sample& s, uint32_t pi) {
+      const Eigen::Vector3d d = samples[pi].p - s.p;
+      const double a = d.dot(s.u);
+      if (a <= h + tol) return false;
+      const double len2 = d.squaredNorm();
+      if (len2 >= (L - tol) * (L - tol)) return false;
+      const double lat = std::sqrt(std::max(0.0, len2 - a * a));
+      return lat < a * tanT - tol;
+    };
+    for (size_t i = 0; i < samples.size(); ++i) {
+      if (!progress.tick(i, samples.size(), 0.5, 0.6)) return fail(Status::Cancelled, "verify cancelled");
+      const Sample& s = samples[i];
+      const double level = s.p.dot(s.u) + h + tol;
+      if (i > 0 && support(glo, ghi, s.u) > level) {
+        bool hit = false;
+        const int64_t cx = int64_t(std::floor(s.p.x() / C)), cy = int64_t(std::floor(s.p.y() / C)),
+                      cz = int64_t(std::floor(s.p.z() / C));
+        const int64_t span = int64_t(std::ceil(L / C));
+        const size_t boxCells = size_t(2 * span + 1) * size_t(2 * span + 1) * size_t(2 * span + 1);
+        auto checkCell = [&](const Cell& cell) {
+          if (support(cell.lo, cell.hi, s.u) <= level) return;
+          Eigen::Vector3d q = s.p.cwiseMax(cell.lo).cwiseMin(cell.hi);
+          if ((q - s.p).norm() >= L) return;
+          for (uint32_t pi : cell.items) {
+            if (hits(s, pi)) {
+              hit = true;
+              return;
+            }
+          }
+        };
+        if (occupied.size() < boxCells) {
+          for (int64_t key : occupied) {
+            checkCell(cells[key]);
+            if (hit) break;
+          }
+        } else {
+          for (int64_t x = cx - span; x <= cx + span && !hit; ++x)
+            for (int64_t y = cy - span; y <= cy + span && !hit; ++y)
+              for (int64_t z = cz - span; z <= cz + span && !hit; ++z) {
+                auto it = cells.find(cellKey(x, y, z));
+                if (it != cells.end()) checkCell(it->second);
+                if (hit) break;
+              }
+        }
+        if (hit) ++rep.collisions;
+      }
+      // Add s to the earlier samples.
+      glo = glo.cwiseMin(s.p);
+      ghi = ghi.cwiseMax(s.p);
+      const int64_t key = cellKey(int64_t(std::floor(s.p.x() / C)), int64_t(std::floor(s.p.y() / C)),
+                                  int64_t(std::floor(s.p.z() / C)));
+      auto [it, fresh] = cells.try_emplace(key);
+      if (fresh) {
+        it->second.lo = s.p;
+        it->second.hi = s.p;
+        occupied.push_back(key);
+      }
+      it->second.items.push_back(uint32_t(i));
+      it->second.lo = it->second.lo.cwiseMin(s.p);
+      it->second.hi = it->second.hi.cwiseMax(s.p);
+    }
+  }
+
+  // ---- coverage ----
+  {
+    const BoundingBox box = boundingBox(partMesh);
+    // Index ranges in double first: nothing is cast to an integer before the size check.
+    const Eigen::Vector3d lo = (box.min / g).array().ceil(), hi = (box.max / g).array().floor();
+    const Eigen::Vector3d counts = (hi - lo).array() + 1.0;
+    const double total = counts.minCoeff() <= 0 ? 0.0 : counts.x() * counts.y() * counts.z();
+    if (total > double(options.maxGridPoints) || !std::isfinite(total)) {
+      char msg[160];
+      std::snprintf(msg, sizeof msg,
+                    "coverage grid of %.0f points at spacing %g mm exceeds maxGridPoints %zu", total,
+                    g, options.maxGridPoints);
+      return fail(Status::InvalidOption, msg);
+    }
+    const int64_t i0 = int64_t(lo.x()), i1 = int64_t(hi.x()), j0 = int64_t(lo.y()),
+                  j1 = int64_t(hi.y()), k0 = int64_t(lo.z()), k1 = int64_t(hi.z());
+    const int64_t nx = std::max<int64_t>(0, i1 - i0 + 1), ny = std::max<int64_t>(0, j1 - j0 + 1);
+    const size_t n = size_t(total);
+    auto index = [&](int64_t i, int64_t j, int64_t k) {
+      return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));
+    };
+    Bits interior(n), covered(n);
+    const double half = 0.5 * w;
+    std::vector<ColumnCrossing> xs;
+    size_t column = 0;
+    const size_t columns = size_t(nx * ny);
+    for (int64_t j = j0; j <= j1; ++j) {
+      for (int64_t i = i0; i <= i1; ++i, ++column) {
+        if (!progress.tick(column, columns, 0.6, 0.8)) return fail(Status::Cancelled, "verify cancelled");
+        const double x = double(i) * g, y = double(j) * g;
+        tree.columnCrossings(x, y, xs);
+        std::sort(xs.begin(), xs.end(),
+                  [](const ColumnCrossing& a, const ColumnCrossing& b) { return a.z < b.z; });
+        int wind = 0;
+        for (size_t m = 0; m + 1 < xs.size(); ++m) {
+          wind += xs[m].sign;
+          if (wind == 0) continue;
+          const double zLo = xs[m].z + half, zHi = xs[m + 1].z - half;
+          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g)));
+               k <= std::min(k1, int64_t(std::floor(zHi / g))); ++k) {
+            const Eigen::Vector3d p(x, y, double(k) * g);
+            if (tree.anyWithin(p, half * (1 - 1e-9))) continue;
+            interior.set(index(i, j, k));
+          }
+        }
+      }
+    }
+    rep.gridPoints = interior.count();
+    const double rax = 0.75 * h, rlat = 0.75 * w, rb = std::max(rax, rlat);
+    const double pieceLen = std::max(4.0 * g, 1.0);
+    for (size_t si = 0; si < segments.size(); ++si) {
+      if (!progress.tick(si, segments.size(), 0.8, 1.0)) return fail(Status::Cancelled, "verify cancelled");
+      const Segment& s = segments[si];
+      const Eigen::Vector3d ab = s.b - s.a;
+      const double len2 = ab.squaredNorm();
+      const int pieces = std::max(1, int(std::ceil(s.length / pieceLen)));
+      for (int q = 0; q < pieces; ++q) {
+        const Eigen::Vector3d pa = s.a + (double(q) / pieces) * ab,
+                              pb = s.a + (double(q + 1) / pieces) * ab;
+        const Eigen::Vector3d lo = pa.cwiseMin(pb).array() - rb, hi = pa.cwiseMax(pb).array() + rb;
+        const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
+                      ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
+        const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),
+                      jb = std::min(j1, int64_t(std::floor(hi.y() / g)));
+        const int64_t ka = std::max(k0, int64_t(std::ceil(lo.z() / g))),
+                      kb = std::min(k1, int64_t(std::floor(hi.z() / g)));
+        for (int64_t k = ka; k <= kb; ++k)
+          for (int64_t j = ja; j <= jb; ++j)
+            for (int64_t i = ia; i <= ib; ++i) {
+              const size_t idx = index(i, j, k);
+              if (!interior.get(idx) || covered.get(idx)) continue;
+              const Eigen::Vector3d p(double(i) * g, double(j) * g, double(k) * g);
+              const double t = std::clamp((p - s.a).dot(ab) / len2, 0.0, 1.0);
+              const Eigen::Vector3d d = p - (s.a + t * ab);
+              const double axial = d.dot(s.u);
+              const double lat2 = std::max(0.0, d.squaredNorm() - axial * axial);
+              if ((axial * axial) / (rax * rax) + lat2 / (rlat * rlat) <= 1.0) covered.set(idx);
+            }
+      }
+    }
+    rep.coverage = rep.gridPoints ? double(covered.countAnd(interior)) / double(rep.gridPoints) : 0.0;
+  }
+  if (!reportProgress(progressFn, "verify", 1.0)) return fail(Status::Cancelled, "verify cancelled");
+  return rep;
+}
+
+std::string verifyReportJson(const VerifyReport& r) {
+  nlohmann::ordered_json j;
+  j["inside"] = r.inside;
+  j["coverage"] = r.coverage;
+  j["supported"] = r.supported;
+  j["supported_all"] = r.supportedAll;
+  j["collisions"] = r.collisions;
+  j["limits"] = r.limitViolations;
+  j["extrusion_mm"] = r.extrusionMm;
+  j["path_mm"] = r.pathMm;
+  j["samples"] = r.samples;
+  j["grid_points"] = r.gridPoints;
+  j["layers"] = r.layers;
+  return j.dump();
+}
+
+}  // namespace omnislice

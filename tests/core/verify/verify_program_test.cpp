@@ -1,0 +1,344 @@
+// SPDX-License-Identifier: MIT
+#include "verify/verify_program.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <nlohmann/json.hpp>
+
+#include "../program/test_toolpaths.h"
+#include "../test_support.h"
+#include "geometry/aabb_tree.h"
+#include "program/write_gcode.h"
+
+namespace omnislice {
+namespace {
+
+ParsedProgram throughGcode(const Toolpath& tp, double h = 0.2, double w = 0.45) {
+  ProgramInfo info;
+  info.isoDate = "2026-11-21T12:00:00Z";
+  info.machine = cartesian3Profile({220, 220, 250}, 0.4);
+  info.layerHeight = h;
+  info.lineWidth = w;
+  const WriteProgramResult r = writeGcode(tp, info);
+  EXPECT_TRUE(r.ok()) << r.message;
+  ParsedProgram p = readProgram(r.text);
+  EXPECT_TRUE(p.ok()) << p.message;
+  return p;
+}
+
+const Mesh& box10() {
+  static const Mesh m = test::makeBox(-5, -5, 0, 5, 5, 10);
+  return m;
+}
+
+VerifyReport verifyBox(const test::BoxPathOptions& o) {
+  return verifyProgram(throughGcode(test::boxToolpath(o)), box10());
+}
+
+TEST(VerifyProgram, SolidBoxPasses) {
+  const Toolpath tp = test::boxToolpath({});
+  const VerifyReport r = verifyProgram(throughGcode(tp), box10());
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_GE(r.inside, 0.99);
+  EXPECT_GE(r.coverage, 0.95);
+  EXPECT_GE(r.supported, 0.99);
+  EXPECT_GE(r.supportedAll, 0.99);
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_EQ(r.limitViolations, 0u);
+  EXPECT_EQ(r.layers, 50);
+  const ToolpathStats s = toolpathStats(tp, 0);
+  EXPECT_NEAR(r.pathMm, s.pathMm, 1e-3 * s.pathMm);
+  // Positive E increments: printing moves plus the unretracts.
+  double positive = 0;
+  for (const Move& m : tp.moves) positive += std::max(0.0, m.filament);
+  EXPECT_NEAR(r.extrusionMm, positive, 1e-3);
+  EXPECT_NEAR(double(r.samples), s.pathMm / 0.5, 0.05 * s.pathMm / 0.5);
+  // Interior grid: multiples of 0.2 at least w/2 = 0.225 from the faces of [-5,5]^2 x [0,10]:
+  // x, y in {-4.6, ..., 4.6} and z in {0.4, ..., 9.6}, 47 values each.
+  EXPECT_EQ(r.gridPoints, size_t(47) * 47 * 47);
+}
+
+TEST(VerifyProgram, CoverageAndInsideMatchIndependentBruteForce) {
+  // A small box so every grid point can be checked against every segment.
+  const Mesh part = test::makeBox(-1.5, -1.5, 0, 1.5, 1.5, 1.2);
+  test::BoxPathOptions o;
+  o.half = 1.5;
+  o.height = 1.2;
+  o.keepLayer = [](int l) { return l != 2; };  // a gap, so coverage is well below 1
+  const ParsedProgram p = throughGcode(test::boxToolpath(o));
+  const VerifyReport r = verifyProgram(p, part);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const double h = 0.2, w = 0.45, g = 0.2;
+  size_t interior = 0, covered = 0;
+  for (int i = -10; i <= 10; ++i)
+    for (int j = -10; j <= 10; ++j)
+      for (int k = 0; k <= 10; ++k) {
+        const Eigen::Vector3d q(i * g, j * g, k * g);
+        const double d = std::min({q.x() + 1.5, 1.5 - q.x(), q.y() + 1.5, 1.5 - q.y(), q.z(), 1.2 - q.z()});
+        if (d < 0.5 * w) continue;
+        ++interior;
+        for (const ProgramMove& m : p.moves) {
+          if (m.filament <= 0 || (m.to - m.from).norm() == 0) continue;
+          // Closest point by dense sampling along the segment (independent of the verifier).
+          bool hit = false;
+          for (int t = 0; t <= 2000 && !hit; ++t) {
+            const Eigen::Vector3d c = m.from + (m.to - m.from) * (t / 2000.0);
+            const Eigen::Vector3d dd = q - c;
+            const double ax = dd.z(), lat = std::hypot(dd.x(), dd.y());
+            hit = std::pow(ax / (0.75 * h), 2) + std::pow(lat / (0.75 * w), 2) <= 1 + 1e-9;
+          }
+          if (hit) {
+            ++covered;
+            break;
+          }
+        }
+      }
+  EXPECT_EQ(r.gridPoints, interior);
+  EXPECT_NEAR(r.coverage, double(covered) / interior, 2.0 / interior);
+  EXPECT_LT(r.coverage, 0.9);
+
+  // inside: a program shifted 1 mm in x against the analytic box distance.
+  Toolpath shifted = test::boxToolpath(o);
+  for (Move& m : shifted.moves) m.position.x() += 1.0;
+  shifted.start.x() += 1.0;
+  const ParsedProgram ps = throughGcode(shifted);
+  const VerifyReport rs = verifyProgram(ps, part);
+  size_t in = 0, n = 0;
+  for (const ProgramMove& m : ps.moves) {
+    const double len = (m.to - m.from).norm();
+    if (m.filament <= 0 || len == 0) continue;
+    for (int k = 0; k == 0 || k * 0.5 < len; ++k) {
+      const Eigen::Vector3d s = m.from + (m.to - m.from) * (k * 0.5 / len);
+      const double dx = std::max({-1.5 - s.x(), s.x() - 1.5, 0.0});
+      const double dy = std::max({-1.5 - s.y(), s.y() - 1.5, 0.0});
+      const double dz = std::max({-s.z(), s.z() - 1.2, 0.0});
+      ++n;
+      if (std::sqrt(dx * dx + dy * dy + dz * dz) <= 0.5 * w) ++in;
+    }
+  }
+  EXPECT_EQ(rs.samples, n);
+  EXPECT_NEAR(rs.inside, double(in) / n, 1e-12);
+  EXPECT_LT(rs.inside, 0.95);
+}
+
+TEST(VerifyProgram, MissingEveryOtherLayerFailsCoverage) {
+  test::BoxPathOptions o;
+  o.keepLayer = [](int l) { return l % 2 == 0; };
+  const VerifyReport r = verifyBox(o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LT(r.coverage, 0.7);
+  EXPECT_GE(r.inside, 0.99);
+}
+
+TEST(VerifyProgram, ShiftedProgramFailsInside) {
+  Toolpath tp = test::boxToolpath({});
+  for (Move& m : tp.moves) m.position.x() += 5.0;
+  const VerifyReport r = verifyProgram(throughGcode(tp), box10());
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_LT(r.inside, 0.7);
+  EXPECT_LT(r.coverage, 0.7);
+}
+
+TEST(VerifyProgram, FloatingLayerIsUnsupported) {
+  test::BoxPathOptions good, floating;
+  good.keepLayer = [](int l) { return l < 5; };
+  floating.keepLayer = [](int l) { return l >= 25 && l < 30; };  // starts 5 mm above the bed
+  const VerifyReport rg = verifyBox(good);
+  const VerifyReport rf = verifyBox(floating);
+  ASSERT_TRUE(rg.ok() && rf.ok());
+  EXPECT_GE(rg.supported, 0.99);
+  EXPECT_GE(rg.supportedAll, 0.99);
+  EXPECT_LT(rf.supported, 0.85);
+  EXPECT_LT(rf.supportedAll, 0.85);
+  EXPECT_GT(rf.supportedAll, 0.7);  // the 4 layers over the floating one are supported
+}
+
+TEST(VerifyProgram, TallWallFirstThenLowerInfillCollides) {
+  test::BoxPathOptions walls, infill;
+  walls.wallsOnly = true;
+  walls.keepLayer = [](int l) { return l < 20; };
+  infill.infillOnly = true;
+  infill.keepLayer = [](int l) { return l == 0; };
+  Toolpath tp = test::boxToolpath(walls);
+  const Toolpath late = test::boxToolpath(infill);
+  tp.moves.insert(tp.moves.end(), late.moves.begin(), late.moves.end());
+  const VerifyReport r = verifyProgram(throughGcode(tp), box10());
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_GT(r.collisions, 0u);
+  // The same moves in a layer-by-layer order do not collide.
+  test::BoxPathOptions both;
+  both.keepLayer = [](int l) { return l < 20; };
+  EXPECT_EQ(verifyBox(both).collisions, 0u);
+}
+
+TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
+  Toolpath tp = test::boxToolpath({});
+  for (Move& m : tp.moves) {
+    if (m.layer == 3 && m.kind == MoveKind::Print) m.position.x() = 120;  // bed is X in [-110, 110]
+  }
+  const VerifyReport r = verifyProgram(throughGcode(tp), box10());
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_GT(r.limitViolations, 0u);
+  EXPECT_EQ(verifyBox({}).limitViolations, 0u);
+}
+
+TEST(VerifyProgram, SphereOf30mmIsFastAndPasses) {
+  const double R = 15;
+  const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 256, 128);
+  const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
+  const auto t0 = std::chrono::steady_clock::now();
+  const VerifyReport r = verifyProgram(p, sphere);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.ok()) << r.message;
+  std::printf("verify 30 mm sphere: %.2f s, %zu samples, %zu grid points, %.0f mm path, %s\n",
+              seconds, r.samples, r.gridPoints, r.pathMm, verifyReportJson(r).c_str());
+  EXPECT_GE(r.inside, 0.99);
+  EXPECT_GE(r.coverage, 0.95);
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_LT(seconds, 60.0);
+}
+
+// Minimal ASCII OFF reader for the shared models (triangles only).
+Mesh readOff(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string magic;
+  size_t nv = 0, nf = 0, ne = 0;
+  in >> magic >> nv >> nf >> ne;
+  Mesh m;
+  m.positions.resize(3 * nv);
+  for (double& x : m.positions) in >> x;
+  for (size_t f = 0; f < nf; ++f) {
+    int k = 0;
+    uint32_t a, b, c;
+    in >> k >> a >> b >> c;
+    m.triangles.push_back(a);
+    m.triangles.push_back(b);
+    m.triangles.push_back(c);
+  }
+  return m;
+}
+
+// 100 % raster tool-path of any closed mesh, independent of the slicer: per layer, lines along X
+// spaced w in Y (along Y on odd layers), split into runs where the column through each 0.1 mm
+// step is inside the solid at mid-layer.
+Toolpath rasterToolpath(const Mesh& mesh, double h, double w) {
+  const AabbTree tree(mesh);
+  const BoundingBox box = boundingBox(mesh);
+  test::PathBuilder b(h, w);
+  std::vector<ColumnCrossing> xs;
+  auto insideAt = [&](double x, double y, double z) {
+    tree.columnCrossings(x, y, xs);
+    int wind = 0;
+    for (const ColumnCrossing& c : xs) {
+      if (c.z > z) wind -= c.sign;
+    }
+    return wind != 0;
+  };
+  const int layers = int(std::floor((box.max.z() - box.min.z()) / h));
+  const double step = 0.1;
+  for (int l = 0; l < layers; ++l) {
+    b.setLayer(l);
+    const double z = box.min.z() + (l + 1) * h, zm = z - 0.5 * h;
+    const bool alongX = l % 2 == 0;
+    const int a0 = alongX ? 1 : 0;  // scan axis
+    const int c0 = 1 - a0;          // line axis
+    for (double t = box.min[a0] + 0.5 * w; t < box.max[a0]; t += w) {
+      double runStart = 0;
+      bool inRun = false;
+      for (double s = box.min[c0]; s <= box.max[c0] + step; s += step) {
+        Eigen::Vector2d q;
+        q[a0] = t;
+        q[c0] = s;
+        const bool in = s <= box.max[c0] && insideAt(q.x(), q.y(), zm);
+        if (in && !inRun) {
+          runStart = s;
+          inRun = true;
+        } else if (!in && inRun) {
+          inRun = false;
+          Eigen::Vector3d p0(0, 0, z), p1(0, 0, z);
+          p0[a0] = t;
+          p1[a0] = t;
+          p0[c0] = runStart;
+          p1[c0] = s - step;
+          b.travel(p0);
+          if ((p1 - p0).norm() == 0) p1[c0] += 0.05;
+          b.print(p1, Feature::Infill);
+        }
+      }
+    }
+  }
+  return b.path;
+}
+
+TEST(VerifyProgram, KittenOf30mmRasterPassesInSeconds) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  Mesh kitten = readOff(test::sharedModelsDir() / "pymdp_kitten.off");
+  ASSERT_EQ(kitten.faceCount(), 10000u);
+  // Y-up to Z-up (rotation about X by +90 degrees), scaled to 30 mm tall, resting on z = 0.
+  const double scale = 30.0 / 116.3;
+  for (size_t i = 0; i < kitten.vertexCount(); ++i) {
+    const double x = kitten.positions[3 * i], y = kitten.positions[3 * i + 1],
+                 z = kitten.positions[3 * i + 2];
+    kitten.positions[3 * i] = scale * x;
+    kitten.positions[3 * i + 1] = -scale * z;
+    kitten.positions[3 * i + 2] = scale * y;
+  }
+  const Toolpath tp = rasterToolpath(kitten, 0.2, 0.45);
+  const ParsedProgram p = throughGcode(tp);
+  const auto t0 = std::chrono::steady_clock::now();
+  const VerifyReport r = verifyProgram(p, kitten);
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.ok()) << r.message;
+  std::printf("verify 30 mm kitten (raster): %.2f s, %s\n", seconds, verifyReportJson(r).c_str());
+  EXPECT_GE(r.inside, 0.99);
+  EXPECT_GE(r.coverage, 0.95);
+  EXPECT_EQ(r.collisions, 0u);
+  EXPECT_LT(seconds, 60.0);
+}
+
+TEST(VerifyProgram, ReportJsonAndStatuses) {
+  test::BoxPathOptions o;
+  o.half = 2;
+  o.height = 1;
+  const ParsedProgram p = throughGcode(test::boxToolpath(o));
+  const Mesh part = test::makeBox(-2, -2, 0, 2, 2, 1);
+  const VerifyReport r = verifyProgram(p, part);
+  ASSERT_TRUE(r.ok());
+  const nlohmann::json j = nlohmann::json::parse(verifyReportJson(r));
+  for (const char* key : {"inside", "coverage", "supported", "supported_all", "collisions", "limits",
+                          "extrusion_mm", "path_mm", "samples", "grid_points", "layers"}) {
+    EXPECT_TRUE(j.contains(key)) << key;
+  }
+  EXPECT_EQ(j["samples"].get<size_t>(), r.samples);
+  EXPECT_EQ(j.size(), 11u);
+
+  VerifyOptions small;
+  small.maxGridPoints = 1000;
+  EXPECT_EQ(verifyProgram(p, part, small).status, Status::InvalidOption);
+  EXPECT_EQ(verifyProgram(p, Mesh{}).status, Status::EmptyInput);
+  int calls = 0;
+  const VerifyReport c = verifyProgram(p, part, {}, [&](const char* stage, double) {
+    EXPECT_STREQ(stage, "verify");
+    return ++calls < 2;
+  });
+  EXPECT_EQ(c.status, Status::Cancelled);
+  // Absurd coordinates or sample counts are refused, not looped over.
+  ParsedProgram far = p;
+  far.moves[5].to.x() = 1e300;
+  EXPECT_EQ(verifyProgram(far, part).status, Status::InvalidOption);
+  VerifyOptions fine;
+  fine.sampleSpacing = 1e-9;
+  EXPECT_EQ(verifyProgram(p, part, fine).status, Status::InvalidOption);
+  fine = {};
+  fine.gridSpacing = 1e-300;
+  EXPECT_EQ(verifyProgram(p, part, fine).status, Status::InvalidOption);
+  ParsedProgram noHeight = p;
+  noHeight.layerHeight = 0;
+  EXPECT_EQ(verifyProgram(noHeight, part).status, Status::InvalidOption);
+}
+
+}  // namespace
+}  // namespace omnislice
