@@ -2,134 +2,46 @@
 // prepareMesh on the real models of ../shared/models, checked against MANIFEST.md (closed or
 // open with the listed boundary edge count, genus, shells, outward volume), and a measurement on a
 // generated 1M-triangle torus (printed, not timed).
-//
-// The mesh readers (core/mesh/read_mesh.cpp) live on another branch; until they are merged this
-// file carries a minimal local reader (binary STL, ASCII OFF, OBJ v/f, binary little-endian PLY).
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <functional>
+#include <map>
 #include <cstdio>
 #include <ctime>
-#include <cstring>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 #include "cgal/self_intersections.h"
 #include "mesh/generated_meshes.h"
 #include "mesh/prepare_mesh.h"
+#include "mesh/read_mesh.h"
 #include "pipeline/pipeline_fixtures.h"
 #include "test_support.h"
 
 namespace omnislice {
 namespace {
 
-Mesh parseBinaryStl(const std::vector<uint8_t>& bytes) {
-  Mesh m;
-  if (bytes.size() < 84) return m;
-  uint32_t n;
-  std::memcpy(&n, bytes.data() + 80, 4);
-  if (bytes.size() < 84 + 50ull * n) return m;
-  m.positions.resize(9ull * n);
-  m.triangles.resize(3ull * n);
-  for (size_t f = 0; f < n; ++f) {
-    const uint8_t* rec = bytes.data() + 84 + 50 * f + 12;
-    for (int k = 0; k < 9; ++k) {
-      float x;
-      std::memcpy(&x, rec + 4 * k, 4);
-      m.positions[9 * f + k] = x;
-    }
-    for (int k = 0; k < 3; ++k) m.triangles[3 * f + k] = static_cast<uint32_t>(3 * f + k);
-  }
-  return m;
-}
-
-Mesh parseOff(const std::string& text) {
-  std::istringstream in(text);
-  std::string magic;
-  size_t nv = 0, nf = 0, ne = 0;
-  in >> magic >> nv >> nf >> ne;
-  Mesh m;
-  m.positions.resize(3 * nv);
-  for (double& x : m.positions) in >> x;
-  for (size_t f = 0; f < nf; ++f) {
-    size_t k;
-    in >> k;
-    std::vector<uint32_t> poly(k);
-    for (auto& v : poly) in >> v;
-    for (size_t i = 1; i + 1 < k; ++i) m.triangles.insert(m.triangles.end(), {poly[0], poly[i], poly[i + 1]});
-  }
-  return m;
-}
-
-Mesh parseObj(const std::string& text) {
-  std::istringstream in(text);
-  std::string line;
-  Mesh m;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      double x, y, z;
-      ls >> x >> y >> z;
-      m.positions.insert(m.positions.end(), {x, y, z});
-    } else if (tag == "f") {
-      std::vector<uint32_t> poly;
-      std::string tok;
-      while (ls >> tok) poly.push_back(static_cast<uint32_t>(std::stol(tok.substr(0, tok.find('/'))) - 1));
-      for (size_t i = 1; i + 1 < poly.size(); ++i) m.triangles.insert(m.triangles.end(), {poly[0], poly[i], poly[i + 1]});
-    }
-  }
-  return m;
-}
-
-// Binary little-endian PLY with float x y z vertex properties first and a uchar/int face list.
-Mesh parsePlyBinary(const std::vector<uint8_t>& bytes) {
-  const std::string text(bytes.begin(), bytes.end());
-  const size_t end = text.find("end_header\n");
-  std::istringstream header(text.substr(0, end));
-  std::string line;
-  size_t nv = 0, nf = 0, vertexProps = 0;
-  std::string element;
-  while (std::getline(header, line)) {
-    std::istringstream ls(line);
-    std::string w, a, b;
-    ls >> w >> a >> b;
-    if (w == "element") element = a, (a == "vertex" ? nv : nf) = std::stoul(b);
-    if (w == "property" && element == "vertex") ++vertexProps;
-  }
-  Mesh m;
-  const uint8_t* p = bytes.data() + end + 11;
-  for (size_t i = 0; i < nv; ++i, p += 4 * vertexProps) {
+// Holes counted independently of OpenMesh: connected components of the graph of boundary edges
+// (equal to the number of boundary loops when no vertex lies on two holes).
+size_t boundaryComponents(const Mesh& m) {
+  std::map<std::pair<uint32_t, uint32_t>, int> uses;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
     for (int k = 0; k < 3; ++k) {
-      float x;
-      std::memcpy(&x, p + 4 * k, 4);
-      m.positions.push_back(x);
+      ++uses[std::minmax(m.triangles[3 * f + k], m.triangles[3 * f + (k + 1) % 3])];
     }
   }
-  for (size_t f = 0; f < nf; ++f) {
-    const uint8_t k = *p++;
-    std::vector<uint32_t> poly(k);
-    for (auto& v : poly) {
-      int32_t id;
-      std::memcpy(&id, p, 4);
-      p += 4;
-      v = static_cast<uint32_t>(id);
-    }
-    for (size_t i = 1; i + 1 < k; ++i) m.triangles.insert(m.triangles.end(), {poly[0], poly[i], poly[i + 1]});
+  std::map<uint32_t, uint32_t> parent;
+  std::function<uint32_t(uint32_t)> root = [&](uint32_t v) {
+    return parent[v] == v ? v : parent[v] = root(parent[v]);
+  };
+  for (const auto& [edge, n] : uses) {
+    if (n != 1) continue;
+    for (uint32_t v : {edge.first, edge.second}) parent.emplace(v, v);
+    parent[root(edge.first)] = root(edge.second);
   }
-  return m;
-}
-
-Mesh loadModel(const std::filesystem::path& path) {
-  const std::vector<uint8_t> bytes = test::readBytes(path);
-  const std::string ext = path.extension().string();
-  if (ext == ".stl") return parseBinaryStl(bytes);
-  if (ext == ".off") return parseOff(std::string(bytes.begin(), bytes.end()));
-  if (ext == ".obj") return parseObj(std::string(bytes.begin(), bytes.end()));
-  if (ext == ".ply") return parsePlyBinary(bytes);
-  return {};
+  size_t roots = 0;
+  for (const auto& [v, p] : parent) roots += root(v) == v ? 1 : 0;
+  return roots;
 }
 
 struct Expected {
@@ -167,7 +79,9 @@ TEST(PrepareMeshModels, MatchManifest) {
   EXPECT_EQ(meshFiles, std::size(kModels));
   for (const Expected& e : kModels) {
     SCOPED_TRACE(e.file);
-    const Mesh raw = loadModel(test::sharedModelsDir() / e.file);
+    const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / e.file).string());
+    ASSERT_TRUE(read.ok()) << read.message;
+    const Mesh& raw = read.mesh;
     ASSERT_EQ(raw.faceCount(), e.faces);
     const PrepareMeshResult r = prepareMesh(raw, {});
     ASSERT_TRUE(r.ok()) << r.message;
@@ -188,6 +102,7 @@ TEST(PrepareMeshModels, MatchManifest) {
     } else {
       EXPECT_EQ(i.boundaryEdges, e.boundaryEdges);
       EXPECT_GE(i.boundaryLoops, 1u);
+      EXPECT_EQ(i.boundaryLoops, boundaryComponents(r.mesh));
       EXPECT_EQ(r.solid.status, Status::OpenMesh);
     }
     std::string lines;
@@ -221,8 +136,10 @@ TEST(PrepareMeshModels, MillionTriangleMeasurement) {
   ASSERT_EQ(torus.faceCount(), 1000000u);
   const std::vector<uint8_t> stl = test::binaryStl(torus);
   Stopwatch watch;
-  const Mesh soup = parseBinaryStl(stl);
+  const ReadMeshResult read = readMesh(stl.data(), stl.size(), "torus.stl");
   const std::string parse = watch.lap();
+  ASSERT_TRUE(read.ok()) << read.message;
+  const Mesh& soup = read.mesh;
   const PrepareMeshResult r = prepareMesh(soup, {});
   const std::string prepare = watch.lap();
   ASSERT_TRUE(r.ok());
