@@ -134,8 +134,17 @@ WeldResult weldTolerance(const Mesh& mesh, double tolerance) {
 }  // namespace
 
 WeldResult weldVertices(const Mesh& mesh, double tolerance) {
-  if (tolerance > 0 && std::isfinite(tolerance)) return weldTolerance(mesh, tolerance);
-  return weldExact(mesh);
+  WeldResult exact = weldExact(mesh);
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) return exact;
+  // Exact copies first (one probe each), then the 27-cell search over the distinct positions
+  // only: an STL soup has ~6 copies of each vertex.
+  Mesh distinct;
+  distinct.positions = std::move(exact.positions);
+  WeldResult near = weldTolerance(distinct, tolerance);
+  for (uint32_t& v : exact.remap) v = near.remap[v];
+  near.remap = std::move(exact.remap);
+  near.merged += exact.merged;
+  return near;
 }
 
 }  // namespace omnislice
