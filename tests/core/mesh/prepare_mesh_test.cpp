@@ -6,6 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -145,7 +151,8 @@ TEST(PrepareMesh, MergesDuplicateVerticesOfSoup) {
 // Repair with a tolerance: coordinates jittered by 1e-6 mm weld only when mergeTolerance allows.
 TEST(PrepareMesh, MergesWithinTolerance) {
   Mesh soup = test::toSoup(makeBox(0, 0, 0, 10, 10, 10));
-  for (size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] += 1e-6 * double((i * 7) % 5);
+  // Jitter of -2..2 um: copies straddle the grid cell boundaries at 0 and 10.
+  for (size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] += 1e-6 * (double((i * 7) % 5) - 2);
   const PrepareMeshResult exact = prepareMesh(soup, {});
   ASSERT_TRUE(exact.ok());
   EXPECT_FALSE(exact.info.closed);
@@ -477,6 +484,79 @@ TEST(PrepareMesh, InfoJson) {
   MeshInfo bad;
   bad.volumeMm3 = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(nlohmann::json::parse(meshInfoJson(bad))["volume_mm3"].is_null());
+}
+
+// Random small meshes on a coarse grid (coincident points, coplanar and folded faces, shared and
+// non-manifold edges, repeated indices) never crash, and the report agrees with an independent
+// recount on the returned mesh.
+TEST(PrepareMesh, RandomMeshesAgreeWithRecount) {
+  std::mt19937 rng(12345);
+  for (int round = 0; round < 300; ++round) {
+    Mesh m;
+    const int nv = 4 + int(rng() % 12);
+    for (int i = 0; i < 3 * nv; ++i) m.positions.push_back(double(rng() % 3));
+    const int nf = 1 + int(rng() % 20);
+    for (int i = 0; i < 3 * nf; ++i) m.triangles.push_back(rng() % nv);
+    if (round % 3 == 0) m = test::append(makeBox(0, 0, 0, 2, 2, 2), m);
+    if (round % 5 == 0) m = test::toSoup(m);
+    for (bool repair : {true, false}) {
+      SCOPED_TRACE("round " + std::to_string(round) + (repair ? " repair" : " no repair"));
+      PrepareOptions o;
+      o.repair = repair;
+      const PrepareMeshResult r = prepareMesh(m, o);
+      if (!r.ok()) {
+        EXPECT_EQ(r.status, Status::DegenerateInput) << r.message;
+        continue;
+      }
+      const Mesh& out = r.mesh;
+      ASSERT_EQ(r.info.faces, out.faceCount());
+      ASSERT_EQ(r.info.vertices, out.vertexCount());
+      for (uint32_t v : out.triangles) ASSERT_LT(v, out.vertexCount());
+      std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edgeFaces;  // -> halfedges
+      for (uint32_t h = 0; h < out.triangles.size(); ++h) {
+        const uint32_t a = out.triangles[h], b = out.triangles[h - h % 3 + (h % 3 + 1) % 3];
+        edgeFaces[std::minmax(a, b)].push_back(h);
+      }
+      size_t boundary = 0, nonManifold = 0, misoriented = 0;
+      std::vector<uint32_t> parent(out.faceCount());
+      std::iota(parent.begin(), parent.end(), 0u);
+      std::function<uint32_t(uint32_t)> root = [&](uint32_t x) { return parent[x] == x ? x : parent[x] = root(parent[x]); };
+      for (const auto& [edge, hs] : edgeFaces) {
+        boundary += hs.size() == 1;
+        nonManifold += hs.size() > 2;
+        if (hs.size() == 2) misoriented += out.triangles[hs[0]] == out.triangles[hs[1]];
+        for (uint32_t h : hs) parent[root(h / 3)] = root(hs[0] / 3);
+      }
+      size_t shells = 0;
+      for (uint32_t f = 0; f < out.faceCount(); ++f) shells += root(f) == f;
+      EXPECT_EQ(r.info.boundaryEdges, boundary);
+      EXPECT_EQ(r.info.nonManifoldEdges, nonManifold);
+      EXPECT_EQ(r.info.shells, shells);
+      EXPECT_EQ(r.info.closed, boundary == 0);
+      EXPECT_EQ(r.info.oriented, misoriented == 0);
+      EXPECT_EQ(r.solid.ok(), r.info.closed && r.info.manifold && r.info.oriented);
+      EXPECT_NEAR(r.info.areaMm2, test::surfaceArea(out), 1e-9);
+      if (r.info.closed && r.info.oriented && r.info.manifold) {  // volume independent of origin
+        EXPECT_NEAR(r.info.volumeMm3, test::signedVolume(out), 1e-9);
+      }
+      if (repair) {
+        std::set<std::array<uint32_t, 3>> faces;
+        std::vector<uint8_t> used(out.vertexCount(), 0);
+        for (size_t f = 0; f < out.faceCount(); ++f) {
+          std::array<uint32_t, 3> t = {out.triangles[3 * f], out.triangles[3 * f + 1], out.triangles[3 * f + 2]};
+          for (uint32_t v : t) used[v] = 1;
+          std::sort(t.begin(), t.end());
+          EXPECT_TRUE(t[0] != t[1] && t[1] != t[2]) << "degenerate face left";
+          EXPECT_TRUE(faces.insert(t).second) << "duplicate face left";
+        }
+        EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << "unreferenced vertex left";
+        // Nothing orientable is left misoriented, and outward shells have positive volume.
+        if (r.info.closed && r.info.manifold && r.info.oriented && r.info.shells == 1) {
+          EXPECT_GE(r.info.volumeMm3, 0);
+        }
+      }
+    }
+  }
 }
 
 }  // namespace
