@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "mesh/openmesh_adapter.h"
 
+// GCC 12 flags OpenMesh's default-constructed VectorT in PropertyT::push_back (a header
+// instantiated here) as maybe-uninitialized; the value is overwritten by add_vertex.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <vector>
