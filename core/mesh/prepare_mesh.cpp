@@ -343,9 +343,14 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   if (!options.repair && info.closed && info.oriented && info.volumeMm3 < 0) {
     info.warnings.push_back("inside_out: the signed volume is negative (repair off)");
   }
+  if (options.repair && orient.nestedSameOrientation > 0) {
+    info.warnings.push_back("nested_shells: " +
+                            plural(orient.nestedSameOrientation, "closed shell lies", "closed shells lie") +
+                            " inside another with the same orientation; slicing fills it (union)");
+  }
   if (orient.nestingUnchecked > 0) {
     info.warnings.push_back("nesting: " + plural(orient.nestingUnchecked, "shell was", "shells were") +
-                            " not tested for lying inside another (too costly); made outward");
+                            " not tested for lying inside another (too costly); treated as outermost");
   }
   if (!info.closed) {
     result.solid.status = Status::OpenMesh;

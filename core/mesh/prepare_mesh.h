@@ -60,8 +60,8 @@ struct PrepareMeshResult : Outcome {
 // still describe the mesh.
 // Repairs, in order: weld, drop degenerate faces (repeated index, or area <= 1e-12 x squared bbox
 // diagonal), drop unreferenced vertices, drop faces on the same three vertices as an earlier one,
-// orient each edge-connected sheet consistently, flip closed shells outward (a shell nested in
-// an odd number of others is a cavity and is made to face inward). Manifold and orientation
+// orient each edge-connected sheet consistently, flip closed shells outward (nested shells flip
+// with their outermost container, so a cavity facing inward stays a cavity). Manifold and orientation
 // counts use two-face edges only; "oriented" means no two-face edge has both faces running it the
 // same way. Self-intersections are a warning (the slicer unions with the non-zero rule) and are
 // not checked above options.selfIntersectionMaxFaces. Progress stage: "validate".

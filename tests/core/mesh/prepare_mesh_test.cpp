@@ -240,22 +240,46 @@ TEST(PrepareMesh, FlipsInsideOutShell) {
   EXPECT_TRUE(r.solid.ok());
 }
 
-// Outward repair keeps a cavity: an inner shell nested in an outer one must face inward, whatever
-// orientation it came with; the volume is outer minus inner.
-TEST(PrepareMesh, KeepsCavityInward) {
+// Outward repair flips whole nesting trees: a cavity facing inward stays a cavity, an inside-out
+// hollow box is turned as a whole, and a shell nested with the same orientation (a union under
+// the non-zero rule) is kept as it is, with a warning.
+TEST(PrepareMesh, NestedShellsKeepTheirMeaning) {
   const Mesh outer = makeBox(0, 0, 0, 10, 10, 10);
-  const Mesh inner = makeBox(2, 2, 2, 8, 8, 8);  // outward: wrong for a cavity
-  for (const Mesh& cavity : {inner, test::flipped(inner)}) {
-    const PrepareMeshResult r = prepareMesh(test::append(outer, cavity), {});
+  const Mesh inner = makeBox(2, 2, 2, 8, 8, 8);
+  struct Case {
+    Mesh mesh;
+    double volume;
+    size_t flippedShells;
+    bool nestedWarning;
+  };
+  const Case cases[] = {
+      {test::append(outer, test::flipped(inner)), 1000.0 - 216.0, 0, false},                // hollow box
+      {test::append(test::flipped(outer), inner), 1000.0 - 216.0, 2, false},                // inside out
+      {test::append(outer, inner), 1000.0 + 216.0, 0, true},                                // union
+      {test::append(test::flipped(outer), test::flipped(inner)), 1000.0 + 216.0, 2, true},  // union, inside out
+  };
+  for (const Case& c : cases) {
+    const PrepareMeshResult r = prepareMesh(c.mesh, {});
     ASSERT_TRUE(r.ok());
     EXPECT_EQ(r.info.shells, 2u);
-    EXPECT_NEAR(r.info.volumeMm3, 1000.0 - 216.0, 1e-9);
+    EXPECT_NEAR(r.info.volumeMm3, c.volume, 1e-9);
     EXPECT_TRUE(r.solid.ok());
+    EXPECT_EQ(hasLine(r.info.repairs, "flipped 2 closed shells (24 faces)"), c.flippedShells == 2)
+        << joined(r.info.repairs);
+    if (c.flippedShells == 0) {
+      EXPECT_TRUE(r.info.repairs.empty()) << joined(r.info.repairs);
+    }
+    EXPECT_EQ(hasLine(r.info.warnings, "nested_shells: 1 closed shell lies inside another with the same "
+                                       "orientation; slicing fills it (union)"),
+              c.nestedWarning)
+        << joined(r.info.warnings);
   }
-  // An inside-out outer shell around a proper cavity: only the outer one is flipped.
-  const PrepareMeshResult both = prepareMesh(test::append(test::flipped(outer), test::flipped(inner)), {});
-  EXPECT_NEAR(both.info.volumeMm3, 1000.0 - 216.0, 1e-9);
-  EXPECT_TRUE(hasLine(both.info.repairs, "flipped 1 closed shell (12 faces)")) << joined(both.info.repairs);
+  // Three levels: an island inside the cavity, whole model inside out: all three turn.
+  const Mesh island = makeBox(4, 4, 4, 6, 6, 6);
+  const PrepareMeshResult r3 = prepareMesh(
+      test::append(test::append(test::flipped(outer), inner), test::flipped(island)), {});
+  EXPECT_NEAR(r3.info.volumeMm3, 1000.0 - 216.0 + 8.0, 1e-9);
+  EXPECT_TRUE(hasLine(r3.info.repairs, "flipped 3 closed shells (36 faces)")) << joined(r3.info.repairs);
 }
 
 // open_mesh: a box with one triangle removed has one hole of 3 edges.
