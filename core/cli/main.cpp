@@ -1,4 +1,250 @@
 // SPDX-License-Identifier: MIT
-// Temporary entry point while the pipeline is assembled (replaced by the real CLI in this session).
+// The omnislice command line: a thin wrapper over core/pipeline (the same functions the wasm API
+// calls). Any bad input or option: exit code 2 and one line `error: <code>: <message>` on stderr;
+// outputs are written to a temporary file and renamed, so no partial file is ever left behind.
+#include <algorithm>
 #include <cstdio>
-int main() { std::fputs("error: internal: CLI not assembled yet\n", stderr); return 2; }
+#include <cstdlib>
+#include <cstring>
+#include <exception>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "common/status.h"
+#include "pipeline/pipeline.h"
+#include "pipeline/settings.h"
+
+namespace {
+
+using namespace omnislice;
+
+const char* kUsage =
+    "usage:\n"
+    "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
+    "  omnislice slice MESH -o OUT.gcode [--method planar] [--machine cartesian3]\n"
+    "                 [--layer-height MM] [--nozzle MM] [--walls N] [--infill PCT]\n"
+    "                 [--direction X,Y,Z] [--scale S] [--fit-mm MM] [--up AXIS]\n"
+    "                 [--set KEY=VALUE ...] [--report REPORT.json] [--progress]\n"
+    "  omnislice verify PROGRAM --mesh MESH [-o REPORT.json]\n"
+    "  omnislice settings            (every setting with its default, as JSON)\n"
+    "  omnislice --version | --help\n"
+    "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF. AXIS: z, -z, y, -y, x, -x.\n";
+
+struct CliError {
+  Status status;
+  std::string message;
+};
+
+[[noreturn]] void fail(Status status, const std::string& message) { throw CliError{status, message}; }
+
+std::vector<uint8_t> readFile(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) fail(Status::IoError, "'" + path + "' is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(Status::IoError, "cannot open '" + path + "'");
+  std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), {});
+  if (in.bad()) fail(Status::IoError, "cannot read '" + path + "'");
+  return bytes;
+}
+
+// Write atomically: temp file in the same folder, then rename.
+void writeFileAtomic(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp-omnislice";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) fail(Status::IoError, "cannot write '" + path + "'");
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.close();
+    if (!out) {
+      std::remove(tmp.c_str());
+      fail(Status::IoError, "cannot write '" + path + "' (disk full?)");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    fail(Status::IoError, "cannot write '" + path + "'");
+  }
+}
+
+void check(const Outcome& o) {
+  if (!o.ok()) fail(o.status, o.message);
+}
+
+// Options shared by the commands: positional arguments plus --flag VALUE pairs.
+struct Args {
+  std::vector<std::string> positional;
+  std::multimap<std::string, std::string> options;
+  std::vector<std::string> flags;
+  bool has(const std::string& k) const { return options.count(k) > 0; }
+  std::string get(const std::string& k) const {
+    auto it = options.find(k);
+    return it == options.end() ? "" : it->second;
+  }
+};
+
+Args parseArgs(int argc, char** argv, int first, const std::vector<std::string>& valued,
+               const std::vector<std::string>& boolean) {
+  Args a;
+  for (int i = first; i < argc; ++i) {
+    std::string arg = argv[i];
+    if (arg.size() > 1 && arg[0] == '-') {
+      std::string value;
+      bool inlineValue = false;
+      if (auto eq = arg.find('='); eq != std::string::npos && arg.rfind("--", 0) == 0) {
+        value = arg.substr(eq + 1);
+        arg = arg.substr(0, eq);
+        inlineValue = true;
+      }
+      if (std::find(boolean.begin(), boolean.end(), arg) != boolean.end()) {
+        a.flags.push_back(arg);
+        continue;
+      }
+      if (std::find(valued.begin(), valued.end(), arg) == valued.end()) {
+        fail(Status::InvalidOption, "unknown option '" + arg + "'");
+      }
+      if (!inlineValue) {
+        if (i + 1 >= argc) fail(Status::InvalidOption, "option '" + arg + "' needs a value");
+        value = argv[++i];
+      }
+      a.options.emplace(arg, value);
+    } else {
+      a.positional.push_back(arg);
+    }
+  }
+  return a;
+}
+
+// Apply the named CLI options and every --set KEY=VALUE to settings.
+void applyOptions(const Args& a, Settings& s) {
+  static const std::map<std::string, std::string> named = {
+      {"--method", "method"},   {"--machine", "machine"}, {"--layer-height", "layer_height"},
+      {"--nozzle", "nozzle_diameter"}, {"--walls", "walls"}, {"--infill", "infill"},
+      {"--direction", "direction"}, {"--scale", "scale"}, {"--fit-mm", "fit_mm"}, {"--up", "up"}};
+  for (const auto& [opt, key] : named) {
+    auto range = a.options.equal_range(opt);
+    for (auto it = range.first; it != range.second; ++it) check(setSetting(s, key, it->second));
+  }
+  auto range = a.options.equal_range("--set");
+  for (auto it = range.first; it != range.second; ++it) {
+    const std::string& kv = it->second;
+    const auto eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0) {
+      fail(Status::InvalidOption, "--set expects KEY=VALUE, got '" + kv + "'");
+    }
+    check(setSetting(s, kv.substr(0, eq), kv.substr(eq + 1)));
+  }
+}
+
+ProgressFn stderrProgress(bool enabled) {
+  if (!enabled) return {};
+  return [last = std::string()](const char* stage, double f) mutable {
+    if (stage != last || f >= 1.0) {
+      std::fprintf(stderr, "progress: %s %.0f%%\n", stage, 100.0 * f);
+      last = stage;
+    }
+    return true;
+  };
+}
+
+std::string fileName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
+
+int cmdInfo(int argc, char** argv) {
+  Args a = parseArgs(argc, argv, 2, {"--scale", "--fit-mm", "--up", "--set"}, {});
+  if (a.positional.size() != 1) fail(Status::InvalidOption, "info takes one MESH argument");
+  Settings s;
+  applyOptions(a, s);
+  const std::vector<uint8_t> bytes = readFile(a.positional[0]);
+  InfoOutput out = runInfo(bytes.data(), bytes.size(), fileName(a.positional[0]), s.placement);
+  check(out);
+  std::cout << out.infoJson << "\n";
+  return 0;
+}
+
+int cmdSlice(int argc, char** argv) {
+  Args a = parseArgs(argc, argv, 2,
+                     {"-o", "--output", "--method", "--machine", "--layer-height", "--nozzle",
+                      "--walls", "--infill", "--direction", "--scale", "--fit-mm", "--up", "--set",
+                      "--report"},
+                     {"--progress"});
+  if (a.positional.size() != 1) fail(Status::InvalidOption, "slice takes one MESH argument");
+  std::string outPath = a.has("-o") ? a.get("-o") : a.get("--output");
+  if (outPath.empty()) fail(Status::InvalidOption, "slice needs -o OUT.gcode");
+  Settings s;
+  applyOptions(a, s);
+  const std::vector<uint8_t> bytes = readFile(a.positional[0]);
+  const bool progress = std::find(a.flags.begin(), a.flags.end(), "--progress") != a.flags.end();
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), fileName(a.positional[0]), s,
+                             stderrProgress(progress));
+  check(out);
+  writeFileAtomic(outPath, out.program);
+  if (a.has("--report")) writeFileAtomic(a.get("--report"), out.reportJson + "\n");
+  return 0;
+}
+
+int cmdVerify(int argc, char** argv) {
+  Args a = parseArgs(argc, argv, 2, {"--mesh", "-o", "--output"}, {"--progress"});
+  if (a.positional.size() != 1) fail(Status::InvalidOption, "verify takes one PROGRAM argument");
+  if (!a.has("--mesh")) fail(Status::InvalidOption, "verify needs --mesh MESH");
+  const std::vector<uint8_t> program = readFile(a.positional[0]);
+  const std::vector<uint8_t> mesh = readFile(a.get("--mesh"));
+  const bool progress = std::find(a.flags.begin(), a.flags.end(), "--progress") != a.flags.end();
+  VerifyOutput out = runVerify(std::string(program.begin(), program.end()), mesh.data(), mesh.size(),
+                               fileName(a.get("--mesh")), stderrProgress(progress));
+  check(out);
+  const std::string outPath = a.has("-o") ? a.get("-o") : a.get("--output");
+  if (!outPath.empty()) writeFileAtomic(outPath, out.verifyJson + "\n");
+  std::cout << out.verifyJson << "\n";
+  return 0;
+}
+
+int cmdSettings() {
+  Settings s;
+  std::cout << "{";
+  bool first = true;
+  for (const auto& [k, v] : listSettings(s)) {
+    std::cout << (first ? "" : ",") << "\"" << k << "\":\"" << v << "\"";
+    first = false;
+  }
+  std::cout << "}\n";
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    if (argc < 2) {
+      std::fputs(kUsage, stderr);
+      std::fputs("error: invalid_option: no command given\n", stderr);
+      return 2;
+    }
+    const std::string cmd = argv[1];
+    if (cmd == "--help" || cmd == "-h" || cmd == "help") {
+      std::fputs(kUsage, stdout);
+      return 0;
+    }
+    if (cmd == "--version") {
+      std::printf("omnislice %s\n", OMNISLICE_VERSION);
+      return 0;
+    }
+    if (cmd == "info") return cmdInfo(argc, argv);
+    if (cmd == "slice") return cmdSlice(argc, argv);
+    if (cmd == "verify") return cmdVerify(argc, argv);
+    if (cmd == "settings") return cmdSettings();
+    fail(Status::InvalidOption, "unknown command '" + cmd + "' (try --help)");
+  } catch (const CliError& e) {
+    std::fprintf(stderr, "error: %s: %s\n", statusCode(e.status), e.message.c_str());
+    return 2;
+  } catch (const std::bad_alloc&) {
+    std::fputs("error: internal: out of memory\n", stderr);
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: internal: %s\n", e.what());
+    return 2;
+  }
+}

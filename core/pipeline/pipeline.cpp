@@ -237,17 +237,20 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
 
     const ToolpathStats stats = toolpathStats(plan.toolpath, settings.acceleration);
     SliceOutput out;
-    out.layers = static_cast<int>(slices.layers.size());
+    Json info = infoObject(in);
+    out.infoJson = info.dump();
+    // Layers that deposit material (a sliver thinner than a bead at the top prints nothing); the
+    // program has one layer marker for each.
+    out.layers = written.layers;
     out.preview = makePreview(plan.toolpath);
     out.partMesh = std::move(in.placed.mesh);
     out.program = std::move(written.text);
 
-    Json info = infoObject(in);
-    out.infoJson = info.dump();
     Json report;
     report["method"] = settings.method;
     report["machine"] = settings.machine;
     report["layers"] = out.layers;
+    report["sliced_layers"] = slices.layers.size();
     report["path_mm"] = finite(stats.pathMm);
     report["extrusion_mm"] = finite(stats.filamentMm);
     report["travel_mm"] = finite(stats.travelMm);

@@ -1,0 +1,133 @@
+#!/usr/bin/env node
+// SPDX-License-Identifier: MIT
+// Native CLI vs wasm (in Node) per pipeline stage. Writes build/bench.json: a list of rows
+// {case, stage, native_ms, wasm_ms, ratio} (ratio = wasm / native), prints them as a table and
+// checks the targets: wasm/native <= 1.5 on planar slicing, 1M-triangle binary STL
+// read+validate <= 1 s native, a 100k-triangle model sliced at 0.2 mm in <= 2 s in wasm.
+// Env: BENCH_REPS (default 1: best of N), BENCH_SLICE_1M=1 (also slice the 1M mesh).
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath, pathToFileURL } from 'node:url';
+import { generateBenchModels } from './gen-bench-models.mjs';
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+const CLI = process.env.OMNISLICE_CLI || path.join(ROOT, 'build/native/omnislice');
+const WASM_DIR = process.env.OMNISLICE_WASM_DIR || path.join(ROOT, 'build/wasm');
+const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 1);
+const STAGES = ['read', 'validate', 'place', 'slice', 'toolpath', 'program'];
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-bench-'));
+
+for (const f of [CLI, path.join(WASM_DIR, 'omnislice.mjs')]) {
+  if (!fs.existsSync(f)) {
+    console.error(`[bench] missing ${f}: run scripts/build.sh first`);
+    process.exit(1);
+  }
+}
+
+const wrapper = await import(pathToFileURL(path.join(WASM_DIR, 'omnislice.js')).href);
+const wasm = await wrapper.loadOmnislice({
+  moduleUrl: pathToFileURL(path.join(WASM_DIR, 'omnislice.mjs')).href,
+  wasmBinary: fs.readFileSync(path.join(WASM_DIR, 'omnislice.wasm')),
+});
+
+function setArgs(settings) {
+  return Object.entries(settings).flatMap(([k, v]) => ['--set', `${k}=${v}`]);
+}
+
+// Stage timings of one run: {stage: ms, total: ms}; total is wall-clock around the call.
+function nativeRun(mode, file, settings) {
+  const t0 = performance.now();
+  let timings;
+  if (mode === 'slice') {
+    const report = path.join(tmp, 'report.json');
+    execFileSync(CLI, ['slice', file, '-o', path.join(tmp, 'out.gcode'), '--report', report,
+      ...setArgs(settings)], { stdio: 'ignore' });
+    timings = JSON.parse(fs.readFileSync(report, 'utf8')).timings_ms;
+  } else {
+    const out = execFileSync(CLI, ['info', file, ...setArgs(settings)],
+      { encoding: 'utf8', maxBuffer: 64 << 20 });
+    timings = JSON.parse(out).timings_ms;
+  }
+  return { ...timings, total: performance.now() - t0 };
+}
+
+function wasmRun(mode, bytes, name, settings) {
+  const t0 = performance.now();
+  const r = mode === 'slice' ? wasm.slice(bytes, name, settings) : wasm.info(bytes, name, settings);
+  const total = performance.now() - t0;
+  const timings = mode === 'slice' ? r.report.timings_ms : r.info.timings_ms;
+  return { ...timings, total };
+}
+
+// Best (minimum) of REPS runs, per stage.
+function best(run) {
+  let out = null;
+  for (let i = 0; i < REPS; ++i) {
+    const t = run();
+    if (!out) out = { ...t };
+    else for (const k of Object.keys(t)) out[k] = Math.min(out[k], t[k]);
+  }
+  return out;
+}
+
+const models = generateBenchModels(path.join(ROOT, 'build/bench'));
+const cases = [
+  { case: 'torus-100k slice 0.2mm', mode: 'slice', file: models['torus-100k.stl'], settings: { layer_height: 0.2 } },
+  { case: 'sphere-1m read+validate', mode: 'info', file: models['sphere-1m.stl'], settings: {} },
+];
+if (process.env.BENCH_SLICE_1M === '1') {
+  cases.push({ case: 'sphere-1m slice 0.2mm', mode: 'slice', file: models['sphere-1m.stl'], settings: { layer_height: 0.2 } });
+}
+const bunny = path.resolve(ROOT, '../shared/models/compas_bunny_closed_high_res.stl');
+if (fs.existsSync(bunny)) {
+  cases.push({ case: 'bunny-70k (shared) slice 0.2mm fit 100', mode: 'slice', file: bunny,
+    settings: { layer_height: 0.2, fit_mm: 100 } });
+}
+
+const rows = [];
+for (const c of cases) {
+  const bytes = fs.readFileSync(c.file);
+  console.error(`[bench] ${c.case}: native...`);
+  const n = best(() => nativeRun(c.mode, c.file, c.settings));
+  console.error(`[bench] ${c.case}: wasm...`);
+  const w = best(() => wasmRun(c.mode, bytes, path.basename(c.file), c.settings));
+  for (const stage of [...STAGES, 'total']) {
+    if (n[stage] === undefined && w[stage] === undefined) continue;
+    const native_ms = n[stage] ?? null;
+    const wasm_ms = w[stage] ?? null;
+    const ratio = native_ms > 0 && wasm_ms !== null ? wasm_ms / native_ms : null;
+    rows.push({ case: c.case, stage, native_ms, wasm_ms, ratio });
+  }
+}
+
+const round = (v, d = 1) => (v === null || v === undefined ? null : Number(v.toFixed(d)));
+const out = rows.map((r) => ({ ...r, native_ms: round(r.native_ms), wasm_ms: round(r.wasm_ms), ratio: round(r.ratio, 2) }));
+fs.mkdirSync(path.join(ROOT, 'build'), { recursive: true });
+fs.writeFileSync(path.join(ROOT, 'build/bench.json'), `${JSON.stringify(out, null, 2)}\n`);
+
+const pad = (s, n) => String(s ?? '-').padEnd(n);
+const padL = (s, n) => String(s ?? '-').padStart(n);
+console.log(`${pad('case', 40)} ${pad('stage', 10)} ${padL('native ms', 10)} ${padL('wasm ms', 10)} ${padL('ratio', 6)}`);
+for (const r of out) {
+  console.log(`${pad(r.case, 40)} ${pad(r.stage, 10)} ${padL(r.native_ms, 10)} ${padL(r.wasm_ms, 10)} ${padL(r.ratio, 6)}`);
+}
+
+// Targets.
+const get = (c, s) => out.find((r) => r.case === c && r.stage === s);
+const checks = [];
+const planar = get('torus-100k slice 0.2mm', 'slice');
+if (planar) checks.push(['wasm/native on planar slicing (slice stage, torus-100k) <= 1.5', planar.ratio, planar.ratio <= 1.5]);
+const planarTotal = get('torus-100k slice 0.2mm', 'total');
+if (planarTotal) checks.push(['wasm/native total, torus-100k slice <= 1.5', planarTotal.ratio, planarTotal.ratio <= 1.5]);
+const rv = ['read', 'validate'].map((s) => get('sphere-1m read+validate', s));
+if (rv.every(Boolean)) {
+  const ms = rv[0].native_ms + rv[1].native_ms;
+  checks.push(['1M-triangle binary STL read+validate native <= 1000 ms', round(ms), ms <= 1000]);
+}
+if (planarTotal) checks.push(['100k-triangle slice at 0.2 mm in wasm <= 2000 ms', planarTotal.wasm_ms, planarTotal.wasm_ms <= 2000]);
+console.log('\ntargets:');
+for (const [what, value, ok] of checks) console.log(`  ${ok ? 'PASS' : 'MISS'}  ${what}: ${value}`);
+console.log(`\nwrote ${path.join(ROOT, 'build/bench.json')}`);
+fs.rmSync(tmp, { recursive: true, force: true });

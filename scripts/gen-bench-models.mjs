@@ -1,0 +1,38 @@
+#!/usr/bin/env node
+// SPDX-License-Identifier: MIT
+// Benchmark meshes (binary STL, generated, cached): build/bench/torus-100k.stl (100,000 triangles,
+// genus 1, 80 x 80 x 20 mm) and build/bench/sphere-1m.stl (1,000,000 triangles, 100 mm).
+// Usage: node scripts/gen-bench-models.mjs [OUT_DIR=build/bench]
+import fs from 'node:fs';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { sphereStl, torusStl } from '../tests/js/fixtures/meshes.js';
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
+
+export const BENCH_MODELS = [
+  { name: 'torus-100k.stl', triangles: 100000, make: () => torusStl(30, 10, 400, 125) },
+  { name: 'sphere-1m.stl', triangles: 1000000, make: () => sphereStl(50, 1000, 501) },
+];
+
+/** Write the models that are missing (or have the wrong size); returns their paths. */
+export function generateBenchModels(outDir = path.join(ROOT, 'build/bench')) {
+  fs.mkdirSync(outDir, { recursive: true });
+  const files = {};
+  for (const m of BENCH_MODELS) {
+    const file = path.join(outDir, m.name);
+    const size = 84 + 50 * m.triangles;
+    if (!fs.existsSync(file) || fs.statSync(file).size !== size) {
+      const bytes = m.make();
+      if (bytes.byteLength !== size) throw new Error(`${m.name}: ${bytes.byteLength} bytes, expected ${size}`);
+      fs.writeFileSync(file, new Uint8Array(bytes));
+      console.error(`[gen-bench-models] wrote ${file} (${m.triangles} triangles)`);
+    }
+    files[m.name] = file;
+  }
+  return files;
+}
+
+if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
+  generateBenchModels(process.argv[2] ? path.resolve(process.argv[2]) : undefined);
+}

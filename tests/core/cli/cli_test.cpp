@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: MIT
+// The omnislice CLI as a user runs it: exit codes, the one-line error format, no partial files.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "../pipeline/pipeline_fixtures.h"
+#include "../test_support.h"
+
+namespace omnislice {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::json;
+
+struct CliRun {
+  int exitCode = -1;
+  bool signalled = false;
+  std::string out;
+  std::string err;
+};
+
+CliRun runCli(const std::string& args) {
+  const fs::path dir = test::tempDir();
+  // ctest runs tests in parallel processes: name the capture files after this process.
+  static int calls = 0;
+  const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(++calls);
+  const fs::path outFile = dir / ("cli_stdout_" + tag + ".txt");
+  const fs::path errFile = dir / ("cli_stderr_" + tag + ".txt");
+  const std::string cmd = std::string(OMNISLICE_CLI_PATH) + " " + args + " >" + outFile.string() +
+                          " 2>" + errFile.string();
+  const int raw = std::system(cmd.c_str());
+  CliRun r;
+  if (WIFEXITED(raw)) r.exitCode = WEXITSTATUS(raw);
+  // A shell reports a child killed by a signal as 128 + signal.
+  r.signalled = WIFSIGNALED(raw) || (WIFEXITED(raw) && WEXITSTATUS(raw) > 128);
+  std::ifstream o(outFile), e(errFile);
+  std::stringstream so, se;
+  so << o.rdbuf();
+  se << e.rdbuf();
+  r.out = so.str();
+  r.err = se.str();
+  fs::remove(outFile);
+  fs::remove(errFile);
+  return r;
+}
+
+fs::path writeTemp(const std::string& name, const std::vector<uint8_t>& bytes) {
+  const fs::path p = test::tempDir() / name;
+  std::ofstream f(p, std::ios::binary);
+  f.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  return p;
+}
+
+// Exactly one line "error: <code>: <message>" on stderr and exit code 2.
+void expectError(const CliRun& r, const std::string& code) {
+  EXPECT_FALSE(r.signalled);
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  EXPECT_EQ(r.err.rfind("error: " + code + ": ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+}
+
+TEST(Cli, InfoPrintsJson) {
+  const fs::path box = writeTemp("cli_box.stl", test::binaryStl(test::makeBox(0, 0, 0, 10, 20, 30)));
+  CliRun r = runCli("info " + box.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Json j = Json::parse(r.out);
+  for (const char* k : {"vertices", "faces", "shells", "closed", "manifold", "volume_mm3",
+                        "area_mm2", "bbox", "repairs", "errors"}) {
+    EXPECT_TRUE(j.contains(k)) << k;
+  }
+  EXPECT_EQ(j["vertices"].get<int>(), 8);
+  EXPECT_EQ(j["faces"].get<int>(), 12);
+  EXPECT_NEAR(j["volume_mm3"].get<double>(), 6000, 1e-6);
+  EXPECT_NEAR(j["area_mm2"].get<double>(), 2 * (200 + 300 + 600), 1e-6);
+  EXPECT_TRUE(j["closed"].get<bool>());
+}
+
+TEST(Cli, SliceWritesProgramAndReport) {
+  const fs::path box = writeTemp("cli_box2.stl", test::binaryStl(test::makeBox(0, 0, 0, 10, 10, 4)));
+  const fs::path gcode = test::tempDir() / "cli_box2.gcode";
+  const fs::path report = test::tempDir() / "cli_box2.json";
+  fs::remove(gcode);
+  CliRun r = runCli("slice " + box.string() + " -o " + gcode.string() + " --layer-height 0.25 --walls 3 " +
+                 "--infill 30 --set infill_pattern=lines --report " + report.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  ASSERT_TRUE(fs::exists(gcode));
+  std::ifstream rf(report);
+  const Json j = Json::parse(rf);
+  EXPECT_EQ(j["layers"].get<int>(), 16);
+  EXPECT_EQ(j["settings"]["walls"].get<std::string>(), "3");
+  EXPECT_EQ(j["settings"]["infill_pattern"].get<std::string>(), "lines");
+  EXPECT_GT(j["path_mm"].get<double>(), 0);
+  CliRun v = runCli("verify " + gcode.string() + " --mesh " + box.string());
+  ASSERT_EQ(v.exitCode, 0) << v.err;
+  const Json vj = Json::parse(v.out);
+  EXPECT_GE(vj["inside"].get<double>(), 0.99);
+  EXPECT_EQ(vj["layers"].get<int>(), 16);
+}
+
+// Bad input and options: exit 2, one error line, and no output file left behind.
+TEST(Cli, BadInputNeverLeavesPartialFiles) {
+  const fs::path out = test::tempDir() / "cli_bad.gcode";
+  fs::remove(out);
+  const fs::path garbage = writeTemp("cli_garbage.stl", test::bytesOf("solid nonsense\nfacet?\n"));
+  const fs::path empty = writeTemp("cli_empty.stl", {});
+  const auto good = writeTemp("cli_good.stl", test::binaryStl(test::makeBox(0, 0, 0, 5, 5, 5)));
+  auto full = test::binaryStl(test::makeBox(0, 0, 0, 5, 5, 5));
+  full.resize(full.size() - 30);
+  const fs::path truncated = writeTemp("cli_trunc.stl", full);
+
+  expectError(runCli("slice /nonexistent/x.stl -o " + out.string()), "io_error");
+  expectError(runCli("slice " + empty.string() + " -o " + out.string()), "empty_input");
+  expectError(runCli("slice " + truncated.string() + " -o " + out.string()), "truncated_file");
+  expectError(runCli("slice " + good.string() + " -o " + out.string() + " --set nope=1"),
+              "invalid_option");
+  expectError(runCli("slice " + good.string() + " -o " + out.string() + " --layer-height -3"),
+              "invalid_option");
+  expectError(runCli("slice " + good.string() + " -o " + out.string() + " --layer-height nan"),
+              "invalid_option");
+  expectError(runCli("slice " + good.string() + " -o " + out.string() + " --method voodoo"),
+              "invalid_option");
+  expectError(runCli("slice " + good.string()), "invalid_option");  // no -o
+  expectError(runCli("frobnicate"), "invalid_option");
+  expectError(runCli("slice " + good.string() + " -o " + out.string() + " --bogus"), "invalid_option");
+  CliRun r = runCli("slice " + garbage.string() + " -o " + out.string());
+  EXPECT_EQ(r.exitCode, 2);
+  EXPECT_FALSE(r.signalled);
+  EXPECT_FALSE(fs::exists(out));
+  // Output folder that does not exist: io_error, nothing written.
+  expectError(runCli("slice " + good.string() + " -o /nonexistent-dir/out.gcode"), "io_error");
+}
+
+TEST(Cli, SharedModelsInfo) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  CliRun r = runCli("info " + (test::sharedModelsDir() / "compas_connection3legs_open_low_res.obj").string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Json j = Json::parse(r.out);
+  EXPECT_FALSE(j["closed"].get<bool>());
+  EXPECT_EQ(j["boundary_edges"].get<int>(), 147);
+  ASSERT_FALSE(j["errors"].empty());
+  EXPECT_EQ(j["errors"][0].get<std::string>().rfind("open_mesh", 0), 0u);
+  // Slicing it is refused with the open-mesh code.
+  expectError(runCli("slice " + (test::sharedModelsDir() / "compas_connection3legs_open_low_res.obj").string() +
+                     " -o " + (test::tempDir() / "open.gcode").string()),
+              "open_mesh");
+}
+
+}  // namespace
+}  // namespace omnislice

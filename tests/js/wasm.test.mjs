@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: MIT
+// The wasm module in Node: same numbers as the native CLI on the same inputs, status codes from
+// bad input as OmnisliceError codes, progress/cancel, results as heap copies.
+import { before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { boxStl, sphereStl, torusStl, writeBinaryStl } from './fixtures/meshes.js';
+import { CI, NATIVE_CLI, loadShipped, sharedModel, wasmUnavailable } from './wasm-support.mjs';
+
+const why = wasmUnavailable();
+if (why && CI) throw new Error(`wasm tests cannot run under CI: ${why}`);
+const nativeWhy = fs.existsSync(NATIVE_CLI) ? null : `native CLI ${NATIVE_CLI} missing (scripts/build.sh native)`;
+if (!why && nativeWhy && CI) throw new Error(nativeWhy);
+
+const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-wasm-test-'));
+process.on('exit', () => fs.rmSync(tmp, { recursive: true, force: true }));
+
+/** Relative closeness with a message. */
+function close(actual, expected, rel, what) {
+  const tol = rel * Math.max(1, Math.abs(expected));
+  assert.ok(Math.abs(actual - expected) <= tol, `${what}: wasm ${actual} vs native ${expected} (tol ${tol})`);
+}
+
+function nativeSlice(file, settings) {
+  const out = path.join(tmp, `${path.basename(file)}.gcode`);
+  const report = path.join(tmp, `${path.basename(file)}.report.json`);
+  const args = ['slice', file, '-o', out, '--report', report];
+  for (const [k, v] of Object.entries(settings)) args.push('--set', `${k}=${v}`);
+  execFileSync(NATIVE_CLI, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  return { report: JSON.parse(fs.readFileSync(report, 'utf8')), program: fs.readFileSync(out, 'utf8') };
+}
+
+function nativeInfo(file) {
+  return JSON.parse(execFileSync(NATIVE_CLI, ['info', file], { encoding: 'utf8' }));
+}
+
+describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () => {
+  let m;
+  let wrapper;
+  before(async () => {
+    ({ module: m, wrapper } = await loadShipped());
+  });
+
+  test('default settings come from the core (listSettings)', () => {
+    const { values, keys } = m.defaultSettings();
+    for (const k of ['layer_height', 'walls', 'infill', 'direction', 'up', 'fit_mm', 'scale']) {
+      assert.ok(keys.includes(k), `default settings list ${k}`);
+    }
+    assert.equal(Number(values.layer_height), 0.2);
+    assert.equal(Number(values.walls), 2);
+    assert.equal(keys.length, Object.keys(values).length);
+  });
+
+  // ---- parity with the native CLI --------------------------------------------------------------
+  const settings = { layer_height: 0.3, walls: 2, infill: 20 };
+  const cases = [
+    ['generated torus', () => ({ name: 'torus.stl', bytes: new Uint8Array(torusStl(20, 6, 96, 32)) }), settings],
+    ['generated sphere, direction tilted', () => ({ name: 'sphere.stl', bytes: new Uint8Array(sphereStl(12, 48, 24)) }),
+      { ...settings, direction: '0,1,1' }],
+    ['shared bunny (OBJ), fit 60 mm', () => {
+      const f = sharedModel('compas_bunny_closed_low_res.obj');
+      return f && { name: path.basename(f), bytes: fs.readFileSync(f), file: f };
+    }, { ...settings, fit_mm: 60 }],
+    ['shared kitten (OFF, y up)', () => {
+      const f = sharedModel('pymdp_kitten.off');
+      return f && { name: path.basename(f), bytes: fs.readFileSync(f), file: f };
+    }, { ...settings, up: 'y', fit_mm: 50 }],
+  ];
+  for (const [label, make, s] of cases) {
+    test(`same report numbers as the native CLI: ${label}`, { skip: nativeWhy || false }, (t) => {
+      const input = make();
+      if (!input) { t.skip('../shared/models absent'); return; }
+      let file = input.file;
+      if (!file) {
+        file = path.join(tmp, input.name);
+        fs.writeFileSync(file, input.bytes);
+      }
+      const native = nativeSlice(file, s);
+      const wasm = m.slice(input.bytes, input.name, s);
+      assert.ok(wasm.layers > 5, 'sliced into layers');
+      assert.equal(wasm.report.layers, native.report.layers, 'layers');
+      assert.equal(wasm.report.moves, native.report.moves, 'moves');
+      for (const k of ['path_mm', 'extrusion_mm', 'travel_mm', 'estimated_time_s']) {
+        close(wasm.report[k], native.report[k], 1e-6, k);
+      }
+      assert.ok(wasm.report.path_mm > 0 && wasm.report.extrusion_mm > 0);
+      // info JSON of the same input
+      const ni = nativeInfo(file);
+      assert.equal(wasm.info.vertices, ni.vertices, 'vertices');
+      assert.equal(wasm.info.faces, ni.faces, 'faces');
+      close(wasm.info.volume_mm3, ni.volume_mm3, 1e-9, 'volume_mm3');
+      const info = m.info(input.bytes, input.name, {});
+      assert.equal(info.info.faces, ni.faces);
+      close(info.info.volume_mm3, ni.volume_mm3, 1e-9, 'info volume_mm3');
+      // Same G-code apart from header lines that carry timings or versions.
+      const strip = (g) => g.split('\n').filter((l) => !(l.startsWith(';') && /\d{4}-\d\d-\d\dT|time|version/i.test(l)));
+      const a = strip(wasm.program);
+      const b = strip(native.program);
+      assert.equal(a.length, b.length, 'program line count');
+      let differing = 0;
+      for (let i = 0; i < a.length; ++i) if (a[i] !== b[i]) ++differing;
+      assert.ok(differing <= a.length * 1e-3, `${differing} of ${a.length} program lines differ`);
+    });
+  }
+
+  test('torus preview and mesh: counts agree with the report and are heap copies', () => {
+    const r = m.slice(torusStl(20, 6, 96, 32), 'torus.stl', settings);
+    assert.equal(r.report.layers, 40, '12 mm high at 0.3 mm');
+    const n = r.preview.features.length;
+    assert.ok(n > 0);
+    assert.equal(r.preview.positions.length, 6 * n);
+    assert.equal(r.preview.layers.length, n);
+    assert.equal(Math.max(...r.preview.layers), r.report.layers - 1);
+    assert.equal(r.mesh.indices.length, 3 * 2 * 96 * 32);
+    for (const a of [r.preview.positions, r.preview.features, r.preview.layers, r.mesh.positions, r.mesh.indices]) {
+      assert.equal(a.byteOffset, 0);
+      assert.equal(a.buffer.byteLength, a.byteLength, 'own buffer, not a view of the wasm heap');
+    }
+    // Printed z values stay within the placed part's height.
+    let zmax = -Infinity;
+    for (let i = 2; i < r.preview.positions.length; i += 3) zmax = Math.max(zmax, r.preview.positions[i]);
+    assert.ok(zmax <= 12 + 0.3 + 1e-3, `preview z max ${zmax}`);
+    // A later slice that grows the heap leaves earlier results intact.
+    const before = Array.from(r.preview.positions.subarray(0, 60));
+    m.slice(sphereStl(40, 300, 150), 'big.stl', { layer_height: 0.4 });
+    assert.deepEqual(Array.from(r.preview.positions.subarray(0, 60)), before);
+  });
+
+  // ---- status codes from bad input -------------------------------------------------------------
+  const expectCode = (fn, code) => assert.throws(fn, (e) => {
+    assert.ok(e instanceof wrapper.OmnisliceError, `OmnisliceError, got ${e}`);
+    assert.equal(e.code, code, e.message);
+    assert.ok(e.message.length > 0);
+    return true;
+  });
+
+  test('empty input -> empty_input', () => {
+    expectCode(() => m.slice(new Uint8Array(0), 'a.stl'), 'empty_input');
+    expectCode(() => m.info(new ArrayBuffer(0), 'a.obj'), 'empty_input');
+  });
+
+  test('garbage -> parse_error / unsupported_format / truncated_file', () => {
+    const junk = new Uint8Array(1000);
+    for (let i = 0; i < junk.length; ++i) junk[i] = (i * 7919) % 251;
+    expectCode(() => m.slice(junk, 'junk.bin'), 'unsupported_format');
+    expectCode(() => m.slice(new TextEncoder().encode('v 1 2 3\nf 1 2 x\n'), 'bad.obj'), 'parse_error');
+    const box = new Uint8Array(boxStl(10, 10, 10));
+    expectCode(() => m.slice(box.subarray(0, 84 + 50 * 5), 'cut.stl'), 'truncated_file');
+  });
+
+  test('NaN vertex -> non_finite_vertex', () => {
+    const v = new Float32Array([0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, NaN]);
+    const stl = writeBinaryStl(v, [0, 2, 1, 0, 1, 3, 1, 2, 3, 0, 3, 2]);
+    expectCode(() => m.slice(stl, 'nan.stl'), 'non_finite_vertex');
+  });
+
+  test('open mesh -> open_mesh (info still describes it)', () => {
+    const box = new Uint8Array(boxStl(10, 10, 10));
+    const open = new Uint8Array(box.subarray(0, 84 + 50 * 11));
+    new DataView(open.buffer).setUint32(80, 11, true);
+    expectCode(() => m.slice(open, 'open.stl'), 'open_mesh');
+    const { info } = m.info(open, 'open.stl');
+    assert.equal(info.closed, false);
+    assert.ok(info.boundary_edges >= 3, `boundary edges ${info.boundary_edges}`);
+  });
+
+  test('absurd or unknown settings -> invalid_option', () => {
+    const box = boxStl(10, 10, 10);
+    expectCode(() => m.slice(box, 'b.stl', { layer_height: 1e9 }), 'invalid_option');
+    expectCode(() => m.slice(box, 'b.stl', { layer_height: -0.2 }), 'invalid_option');
+    expectCode(() => m.slice(box, 'b.stl', { walls: 'many' }), 'invalid_option');
+    expectCode(() => m.slice(box, 'b.stl', { no_such_key: 1 }), 'invalid_option');
+    expectCode(() => m.slice(box, 'b.stl', { direction: '0,0,0' }), 'invalid_option');
+    expectCode(() => m.slice(box, 'b.stl', { layer_height: NaN }), 'invalid_option');
+    expectCode(() => m.info(box, 'b.stl', { scale: 0 }), 'invalid_option');
+  });
+
+  test('progress: stages in order, nondecreasing; returning false cancels', () => {
+    const events = [];
+    m.slice(torusStl(20, 6, 48, 16), 't.stl', settings, { onProgress: (p) => { events.push(p); } });
+    const order = [];
+    const last = new Map();
+    for (const { stage, fraction } of events) {
+      if (order[order.length - 1] !== stage) {
+        assert.ok(!order.includes(stage), `stage ${stage} repeated: ${order}`);
+        order.push(stage);
+      }
+      assert.ok(!(fraction < (last.get(stage) ?? 0)), `${stage} went back to ${fraction}`);
+      last.set(stage, fraction);
+    }
+    assert.equal(order[0], 'read');
+    assert.equal(order[order.length - 1], 'program');
+    for (const stage of ['slice', 'program']) assert.ok(order.includes(stage), `${stage} reported: ${order}`);
+    let calls = 0;
+    expectCode(() => m.slice(torusStl(20, 6, 48, 16), 't.stl', settings,
+      { onProgress: ({ stage }) => { ++calls; return stage !== 'slice'; } }), 'cancelled');
+    assert.ok(calls > 0);
+    // The module keeps working after a cancel.
+    assert.equal(m.slice(boxStl(10, 10, 3), 'b.stl', settings).report.layers, 10);
+  });
+
+  test('verify accepts the program sliced from the same mesh', () => {
+    const bytes = torusStl(20, 6, 48, 16);
+    const r = m.slice(bytes, 't.stl', settings);
+    const v = m.verify(r.program, bytes, 't.stl');
+    assert.equal(v.layers, r.report.layers, 'verify sees every layer');
+    assert.equal(v.collisions, 0);
+    assert.equal(v.limits, 0);
+    assert.ok(v.inside > 0.99, `deposits inside the part: ${v.inside}`);
+    close(v.extrusion_mm, r.report.extrusion_mm, 1e-4, 'verify extrusion_mm (G-code rounds to 3-5 decimals)');
+    close(v.path_mm, r.report.path_mm, 1e-4, 'verify path_mm');
+    // A program whose header does not match is refused with a status, not a crash.
+    assert.throws(() => m.verify('G1 X1 Y1\n', bytes, 't.stl'), (e) => e instanceof wrapper.OmnisliceError);
+  });
+
+  test('settingsToLines validates keys and values', () => {
+    assert.equal(wrapper.settingsToLines({ a: 1, b: true, c: [0, 0, 1], d: 'y', e: undefined }),
+      'a=1\nb=true\nc=0,0,1\nd=y');
+    assert.throws(() => wrapper.settingsToLines({ 'a=b': 1 }), { code: 'invalid_option' });
+    assert.throws(() => wrapper.settingsToLines({ a: 'x\ny' }), { code: 'invalid_option' });
+    assert.throws(() => wrapper.settingsToLines({ a: Infinity }), { code: 'invalid_option' });
+  });
+});

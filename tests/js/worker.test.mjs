@@ -1,0 +1,232 @@
+// SPDX-License-Identifier: MIT
+// The worker protocol through the engine facade (workers/engine.js) in headless Chromium: real
+// module workers, transfers, progress order, cancel, error and crash recovery.
+import { after, before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import { browserUnavailable, openPage } from './browser.mjs';
+
+const why = await browserUnavailable();
+if (why && process.env.CI === 'true') throw new Error(`browser tests cannot run under CI: ${why}`);
+
+describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }, () => {
+  let env;
+  let page;
+  before(async () => {
+    env = await openPage('/tests/js/fixtures/worker-harness.html');
+    page = env.page;
+    await page.waitForFunction(() => window.harnessReady === true, null, { timeout: 30000 });
+    await page.evaluate(async () => {
+      window.meshes = await import('/tests/js/fixtures/meshes.js');
+      window.slicer = await window.engine.createSlicer({ workerUrl: '/tests/js/fixtures/spy-worker.js' });
+    });
+  });
+  after(async () => {
+    if (page) await page.evaluate(() => window.slicer && window.slicer.dispose());
+    if (env) await env.close();
+  });
+
+  test('loadMesh returns info and the placed mesh; the bytes are transferred to the worker', async () => {
+    const r = await page.evaluate(async () => {
+      window.sentTransfers.length = 0;
+      const bytes = window.meshes.torusStl(20, 6, 64, 24);
+      const { meshId, info, mesh } = await window.slicer.loadMesh('torus.stl', bytes, { up: 'z' });
+      window.torusId = meshId;
+      const load = window.sentTransfers.find((s) => s.type === 'load');
+      return {
+        meshId, info, callerBytes: bytes.byteLength, load,
+        positions: mesh.positions.constructor.name, indices: mesh.indices.constructor.name,
+        nPositions: mesh.positions.length, nIndices: mesh.indices.length,
+      };
+    });
+    assert.equal(typeof r.meshId, 'string');
+    assert.equal(r.info.faces, 2 * 64 * 24);
+    assert.equal(r.info.vertices, 64 * 24);
+    assert.equal(r.info.closed, true);
+    assert.equal(r.positions, 'Float32Array');
+    assert.equal(r.indices, 'Uint32Array');
+    assert.equal(r.nIndices, 3 * 2 * 64 * 24);
+    assert.equal(r.nPositions, 3 * 64 * 24);
+    assert.equal(r.callerBytes, 84 + 50 * 2 * 64 * 24, "the caller's buffer is not detached");
+    assert.ok(r.load, 'a load request was posted');
+    assert.deepEqual(r.load.before, [84 + 50 * 2 * 64 * 24]);
+    assert.deepEqual(r.load.after, [0], 'the bytes sent to the worker were transferred');
+  });
+
+  test('slice: progress in stage order, fractions nondecreasing, result buffers transferred', async () => {
+    const r = await page.evaluate(async () => {
+      window.workerTransfers.length = 0;
+      const events = [];
+      let settledEarly = false;
+      const result = await window.slicer.slice(window.torusId, { layer_height: 0.3, walls: 2, infill: 20 },
+        { onProgress: (p) => events.push(p) });
+      settledEarly = events.length === 0;
+      window.torusLayers = result.layers;
+      return {
+        events, settledEarly, report: result.report, info: result.info,
+        programStart: result.program.slice(0, 200), programLength: result.program.length,
+        types: [result.preview.positions, result.preview.features, result.preview.layers,
+          result.mesh.positions, result.mesh.indices].map((a) => a.constructor.name),
+        segments: result.preview.features.length, previewFloats: result.preview.positions.length,
+        layerIdsLength: result.preview.layers.length,
+        maxLayer: result.preview.layers.reduce((m, v) => Math.max(m, v), 0),
+        spy: await (async () => {
+          // The spy reports in a message right after the result: wait for it.
+          for (let i = 0; i < 100 && !window.workerTransfers.some((x) => x.replyType === 'result'); ++i) {
+            await new Promise((res) => setTimeout(res, 10));
+          }
+          return window.workerTransfers.slice();
+        })(),
+      };
+    });
+    assert.equal(r.settledEarly, false, 'progress came before the result');
+    // Stages: each appears in one contiguous run (pipeline order), fractions nondecreasing.
+    const order = [];
+    const last = new Map();
+    for (const { stage, fraction } of r.events) {
+      assert.equal(typeof stage, 'string');
+      assert.ok(fraction >= 0 && fraction <= 1, `fraction ${fraction} in [0,1]`);
+      if (order[order.length - 1] !== stage) {
+        assert.ok(!order.includes(stage), `stage ${stage} came back after ${order[order.length - 1]}: ${order}`);
+        order.push(stage);
+      }
+      if (last.has(stage)) assert.ok(fraction >= last.get(stage), `${stage}: ${fraction} < ${last.get(stage)}`);
+      last.set(stage, fraction);
+    }
+    assert.equal(order[0], 'read', `first stage is read (${order})`);
+    assert.equal(order[order.length - 1], 'program', `last stage is program (${order})`);
+    assert.equal(last.get('program'), 1);
+    // Result content.
+    assert.deepEqual(r.types, ['Float32Array', 'Uint8Array', 'Uint32Array', 'Float32Array', 'Uint32Array']);
+    assert.ok(r.programLength > 1000 && /G1 /.test(r.programStart + 'G1 '), 'G-code text');
+    assert.equal(r.report.layers, Math.round(12 / 0.3), 'torus of height 12 mm at 0.3 mm');
+    assert.equal(r.previewFloats, 6 * r.segments);
+    assert.equal(r.layerIdsLength, r.segments);
+    assert.equal(r.maxLayer, r.report.layers - 1);
+    // The worker transferred (detached) every result buffer.
+    const spy = r.spy.find((s) => s.replyType === 'result');
+    assert.ok(spy, 'spy saw the slice result');
+    assert.equal(spy.before.length, 6, 'program + 3 preview + 2 mesh buffers in the transfer list');
+    assert.ok(spy.before[0] === r.programLength, 'program bytes (ASCII G-code) transferred');
+    assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
+  });
+
+  test('cancel rejects with cancelled within 200 ms and the slicer works again', async () => {
+    const r = await page.evaluate(async () => {
+      const bytes = window.meshes.sphereStl(30, 400, 200);  // 159,600 triangles
+      const { meshId } = await window.slicer.loadMesh('sphere.stl', bytes);
+      const controller = new AbortController();
+      let abortedAt = 0;
+      let firstStage = null;
+      const started = performance.now();
+      const promise = window.slicer.slice(meshId, { layer_height: 0.05 }, {
+        signal: controller.signal,
+        onProgress: (p) => {
+          if (!firstStage) {
+            firstStage = p.stage;
+            abortedAt = performance.now();
+            controller.abort();
+          }
+        },
+      });
+      let code = null;
+      try {
+        await promise;
+      } catch (e) {
+        code = e.code;
+      }
+      const rejectMs = performance.now() - abortedAt;
+      // A request pending on the worker at cancel time rejects too.
+      const controller2 = new AbortController();
+      const p2 = window.slicer.slice(window.torusId, { layer_height: 0.3 }, { signal: controller2.signal });
+      const p3 = window.slicer.slice(window.torusId, { layer_height: 0.3 });
+      await new Promise((res) => setTimeout(res, 5));
+      controller2.abort();
+      const codes = await Promise.allSettled([p2, p3]).then((s) => s.map((x) => x.reason && x.reason.code));
+      // Works again: the torus bytes are re-sent to the new worker transparently.
+      const again = await window.slicer.slice(window.torusId, { layer_height: 0.3, walls: 2, infill: 20 });
+      const preAborted = await window.slicer.slice(window.torusId, {}, { signal: AbortSignal.abort() })
+        .then(() => 'resolved', (e) => e.code);
+      return { code, rejectMs, firstStage, totalMs: performance.now() - started, codes,
+        againLayers: again.layers, expected: window.torusLayers, preAborted };
+    });
+    assert.equal(r.code, 'cancelled');
+    assert.ok(r.rejectMs < 200, `rejected ${r.rejectMs.toFixed(1)} ms after abort`);
+    assert.deepEqual(r.codes, ['cancelled', 'cancelled'], 'pending requests reject with cancelled');
+    assert.equal(r.againLayers, r.expected, 'same result after respawn');
+    assert.equal(r.preAborted, 'cancelled');
+  });
+
+  test('bad input rejects with its status code; a wasm crash respawns the worker', async () => {
+    const r = await page.evaluate(async () => {
+      const { OmnisliceError } = window.engine;
+      const codeOf = (p) => p.then(() => 'resolved', (e) => (e instanceof OmnisliceError ? e.code : `not OmnisliceError: ${e}`));
+      const garbage = new Uint8Array(300).fill(7).buffer;
+      const out = {};
+      out.empty = await codeOf(window.slicer.slice({ name: 'a.stl', bytes: new ArrayBuffer(0) }));
+      out.garbage = await codeOf(window.slicer.loadMesh('junk.xyz', garbage));
+      out.absurd = await codeOf(window.slicer.slice(window.torusId, { layer_height: -1 }));
+      out.unknownKey = await codeOf(window.slicer.slice(window.torusId, { no_such_setting: 1 }));
+      out.unknownMesh = await codeOf(window.slicer.slice('mesh-999'));
+      out.afterErrors = (await window.slicer.slice(window.torusId, { layer_height: 0.3 })).layers;
+      // Crash: the crashing request rejects internal, a queued one worker_failed; then it recovers.
+      const crash = codeOf(window.slicer._debugCrash());
+      const queued = codeOf(window.slicer.slice(window.torusId, { layer_height: 0.3 }));
+      out.crash = await crash;
+      out.queued = await queued;
+      out.afterCrash = (await window.slicer.slice(window.torusId, { layer_height: 0.3 })).layers;
+      out.verify = await window.slicer.verify('G28\n', window.torusId).then((v) => typeof v, (e) => e.code);
+      return out;
+    });
+    assert.equal(r.empty, 'empty_input');
+    assert.ok(['unsupported_format', 'parse_error'].includes(r.garbage), r.garbage);
+    assert.equal(r.absurd, 'invalid_option');
+    assert.equal(r.unknownKey, 'invalid_option');
+    assert.equal(r.unknownMesh, 'invalid_option');
+    assert.ok(r.afterErrors > 0);
+    assert.equal(r.crash, 'internal');
+    assert.equal(r.queued, 'worker_failed');
+    assert.equal(r.afterCrash, r.afterErrors);
+    assert.ok(['object', 'parse_error', 'invalid_option'].includes(r.verify), String(r.verify));
+  });
+
+  test('the main thread is not blocked while slicing', async () => {
+    const r = await page.evaluate(async () => {
+      const bytes = window.meshes.torusStl(30, 10, 400, 125);  // 100,000 triangles
+      const { meshId } = await window.slicer.loadMesh('torus100k.stl', bytes);
+      const longTasks = [];
+      const observer = new PerformanceObserver((list) => {
+        for (const e of list.getEntries()) longTasks.push({ start: e.startTime, ms: e.duration });
+      });
+      observer.observe({ type: 'longtask' });
+      // Control: the observer sees a deliberate 80 ms block on the main thread.
+      const busyStart = performance.now();
+      while (performance.now() - busyStart < 80) { /* block */ }
+      await new Promise((res) => setTimeout(res, 20));
+      const control = longTasks.length;
+      let ticks = 0;
+      let maxGap = 0;
+      let last = performance.now();
+      let running = true;
+      const tick = () => {
+        const now = performance.now();
+        maxGap = Math.max(maxGap, now - last);
+        last = now;
+        ++ticks;
+        if (running) setTimeout(tick, 0);
+      };
+      setTimeout(tick, 0);
+      const t0 = performance.now();
+      const result = await window.slicer.slice(meshId, { layer_height: 0.2 });
+      const sliceMs = performance.now() - t0;
+      running = false;
+      await new Promise((res) => setTimeout(res, 50));  // let the observer deliver
+      observer.disconnect();
+      const during = longTasks.filter((e) => e.start >= t0 - 1);
+      return { control, during, ticks, maxGap, sliceMs, layers: result.layers };
+    });
+    assert.ok(r.control >= 1, 'the long-task observer works (control block seen)');
+    assert.deepEqual(r.during, [], `main-thread tasks over 50 ms while slicing: ${JSON.stringify(r.during)}`);
+    assert.ok(r.ticks >= r.sliceMs / 100, `timers kept running (${r.ticks} ticks in ${r.sliceMs.toFixed(0)} ms, longest gap ${r.maxGap.toFixed(0)} ms)`);
+    assert.equal(r.layers, Math.round(20 / 0.2));
+  });
+});

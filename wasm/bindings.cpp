@@ -1,0 +1,15 @@
+// SPDX-License-Identifier: MIT
+// Embind declarations only: the raw `_`-prefixed facade over core/pipeline. Marshalling lives in
+// helpers.cpp; defaults, validation and typed errors in the JS wrapper omnislice.js.
+#include <emscripten/bind.h>
+
+#include "helpers.h"
+
+EMSCRIPTEN_BINDINGS(omnislice) {
+  using namespace omnislice::wasm;
+  emscripten::function("_slice", &sliceJs);
+  emscripten::function("_info", &infoJs);
+  emscripten::function("_verify", &verifyJs);
+  emscripten::function("_defaultSettings", &defaultSettingsJs);
+  emscripten::function("_abortForTest", &abortForTest);
+}

@@ -1,0 +1,162 @@
+// SPDX-License-Identifier: MIT
+#include "helpers.h"
+
+#include <cstdint>
+#include <cstdlib>
+#include <exception>
+#include <new>
+#include <vector>
+
+#include "common/status.h"
+#include "pipeline/pipeline.h"
+#include "pipeline/settings.h"
+
+namespace omnislice::wasm {
+namespace {
+
+using emscripten::val;
+
+// One memcpy from a JS Uint8Array/ArrayBuffer into the wasm heap.
+std::vector<uint8_t> bytesFromJs(const val& bytes) {
+  val view = bytes;
+  if (bytes.instanceof(val::global("ArrayBuffer"))) view = val::global("Uint8Array").new_(bytes);
+  if (view.isUndefined() || view.isNull() || !view.instanceof(val::global("Uint8Array"))) return {};
+  return emscripten::convertJSArrayToNumberVector<uint8_t>(view);
+}
+
+// new Ctor(view) copies the elements out of the heap, so growth cannot invalidate the result.
+template <class T>
+val copyArray(const char* ctor, const T* data, size_t count) {
+  if (count == 0) return val::global(ctor).new_(0);
+  return val::global(ctor).new_(val(emscripten::typed_memory_view(count, data)));
+}
+
+val meshToJs(const Mesh& mesh) {
+  std::vector<float> positions(mesh.positions.begin(), mesh.positions.end());
+  val out = val::object();
+  out.set("positions", copyArray("Float32Array", positions.data(), positions.size()));
+  out.set("indices", copyArray("Uint32Array", mesh.triangles.data(), mesh.triangles.size()));
+  return out;
+}
+
+val statusObject(Status status, const std::string& message) {
+  val out = val::object();
+  out.set("status", std::string(statusCode(status)));
+  out.set("message", message);
+  return out;
+}
+
+// A progress callback calling the JS function; false from JS cancels, anything else continues.
+ProgressFn progressFromJs(const val& fn) {
+  if (fn.typeOf().as<std::string>() != "function") return {};
+  return [fn](const char* stage, double fraction) {
+    val r = fn(std::string(stage), fraction);
+    return !r.isFalse();
+  };
+}
+
+// Apply "key=value" lines with setSetting. Blank lines are skipped.
+Outcome applySettingLines(Settings& settings, const std::string& lines) {
+  size_t start = 0;
+  while (start < lines.size()) {
+    size_t end = lines.find('\n', start);
+    if (end == std::string::npos) end = lines.size();
+    std::string line = lines.substr(start, end - start);
+    start = end + 1;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.find_first_not_of(" \t") == std::string::npos) continue;
+    size_t eq = line.find('=');
+    if (eq == std::string::npos) {
+      return {Status::InvalidOption, "setting line without '=': \"" + line + "\""};
+    }
+    Outcome o = setSetting(settings, line.substr(0, eq), line.substr(eq + 1));
+    if (!o.ok()) return o;
+  }
+  return {};
+}
+
+// Runs body; a C++ exception (e.g. bad_alloc on a huge mesh) becomes an `internal` status object.
+template <class F>
+val guarded(F&& body) {
+  try {
+    return body();
+  } catch (const std::bad_alloc&) {
+    return statusObject(Status::Internal, "out of memory (the wasm heap is limited to 4 GB)");
+  } catch (const std::exception& e) {
+    return statusObject(Status::Internal, std::string("unexpected exception: ") + e.what());
+  }
+}
+
+}  // namespace
+
+val sliceJs(const val& bytes, const std::string& name, const std::string& settingsLines,
+            const val& progress) {
+  return guarded([&] {
+    Settings settings;
+    Outcome applied = applySettingLines(settings, settingsLines);
+    if (!applied.ok()) return statusObject(applied.status, applied.message);
+    std::vector<uint8_t> data = bytesFromJs(bytes);
+    SliceOutput r = runSlice(data.data(), data.size(), name, settings, progressFromJs(progress));
+    val out = statusObject(r.status, r.message);
+    out.set("program", copyArray("Uint8Array", reinterpret_cast<const uint8_t*>(r.program.data()),
+                                 r.program.size()));
+    out.set("report", r.reportJson);
+    out.set("info", r.infoJson);
+    out.set("layers", r.layers);
+    val preview = val::object();
+    preview.set("positions", copyArray("Float32Array", r.preview.positions.data(),
+                                       r.preview.positions.size()));
+    preview.set("features", copyArray("Uint8Array", r.preview.features.data(),
+                                      r.preview.features.size()));
+    preview.set("layers", copyArray("Uint32Array", r.preview.layers.data(),
+                                    r.preview.layers.size()));
+    out.set("preview", preview);
+    out.set("mesh", meshToJs(r.partMesh));
+    return out;
+  });
+}
+
+val infoJs(const val& bytes, const std::string& name, const std::string& placementLines,
+           const val& progress) {
+  return guarded([&] {
+    Settings settings;
+    Outcome applied = applySettingLines(settings, placementLines);
+    if (!applied.ok()) return statusObject(applied.status, applied.message);
+    std::vector<uint8_t> data = bytesFromJs(bytes);
+    InfoOutput r = runInfo(data.data(), data.size(), name, settings.placement,
+                           progressFromJs(progress));
+    val out = statusObject(r.status, r.message);
+    out.set("info", r.infoJson);
+    out.set("mesh", meshToJs(r.partMesh));
+    return out;
+  });
+}
+
+val verifyJs(const std::string& program, const val& meshBytes, const std::string& meshName,
+             const val& progress) {
+  return guarded([&] {
+    std::vector<uint8_t> data = bytesFromJs(meshBytes);
+    VerifyOutput r = runVerify(program, data.data(), data.size(), meshName,
+                               progressFromJs(progress));
+    val out = statusObject(r.status, r.message);
+    out.set("verify", r.verifyJson);
+    return out;
+  });
+}
+
+val defaultSettingsJs() {
+  val out = val::object();
+  val keys = val::array();
+  for (const auto& [key, value] : listSettings(Settings{})) {
+    out.set(key, value);
+    keys.call<void>("push", key);
+  }
+  val result = val::object();
+  result.set("values", out);
+  result.set("keys", keys);
+  return result;
+}
+
+void abortForTest() { std::abort(); }
+
+}  // namespace omnislice::wasm

@@ -1,0 +1,37 @@
+// SPDX-License-Identifier: MIT
+// Marshalling between JS values and the pipeline (core/pipeline/pipeline.h). Each function takes
+// typed arrays / strings, calls one pipeline function and returns a plain JS object whose arrays
+// are heap COPIES (never views: memory growth would invalidate them). No geometry logic here.
+#pragma once
+#include <emscripten/val.h>
+
+#include <string>
+
+namespace omnislice::wasm {
+
+// Slice mesh bytes. bytes: Uint8Array (or ArrayBuffer) of the file; name: file name (extension
+// picks the format); settingsLines: "key=value" lines applied with setSetting(); progress: JS
+// function(stage, fraction) or undefined (returning false cancels).
+// Returns {status, message, program: Uint8Array, report, info (JSON strings), layers,
+// preview: {positions: Float32Array, features: Uint8Array, layers: Uint32Array},
+// mesh: {positions: Float32Array, indices: Uint32Array}}.
+emscripten::val sliceJs(const emscripten::val& bytes, const std::string& name,
+                        const std::string& settingsLines, const emscripten::val& progress);
+
+// Read, validate and place. placementLines: "key=value" lines (placement keys of setSetting).
+// Returns {status, message, info (JSON string), mesh: {positions, indices}}.
+emscripten::val infoJs(const emscripten::val& bytes, const std::string& name,
+                       const std::string& placementLines, const emscripten::val& progress);
+
+// Verify a program (G-code text) against the mesh bytes it was made from.
+// Returns {status, message, verify (JSON string)}.
+emscripten::val verifyJs(const std::string& program, const emscripten::val& meshBytes,
+                         const std::string& meshName, const emscripten::val& progress);
+
+// Default settings: {values: {key: valueText}, keys: [key...] in listSettings() order}.
+emscripten::val defaultSettingsJs();
+
+// Test hook for the worker's crash path: aborts the wasm instance (std::abort).
+void abortForTest();
+
+}  // namespace omnislice::wasm

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+// Types of the JS wrapper wasm/omnislice.js (copied next to build/wasm/omnislice.mjs).
+
+export type StatusCode =
+  | 'empty_input' | 'unsupported_format' | 'parse_error' | 'truncated_file'
+  | 'non_finite_vertex' | 'degenerate_input' | 'open_mesh' | 'non_manifold'
+  | 'self_intersecting' | 'invalid_option' | 'io_error' | 'cancelled' | 'internal'
+  | 'worker_failed';
+
+export const STATUS_CODES: readonly ('ok' | StatusCode)[];
+
+export class OmnisliceError extends Error {
+  constructor(code: StatusCode | string, message: string);
+  readonly name: 'OmnisliceError';
+  code: StatusCode;
+  /** Set when the wasm instance aborted and must be discarded. */
+  fatal?: boolean;
+}
+
+export type SettingValue = number | string | boolean | number[];
+export type Settings = Record<string, SettingValue>;
+
+export interface MeshBuffers {
+  positions: Float32Array;   // #V*3, mm, part frame
+  indices: Uint32Array;      // #F*3
+}
+
+export interface PreviewBuffers {
+  positions: Float32Array;   // #S*6: x0 y0 z0 x1 y1 z1 per segment
+  features: Uint8Array;      // #S feature code, 0 = travel
+  layers: Uint32Array;       // #S layer index
+}
+
+export interface Progress { stage: string; fraction: number }
+
+export interface SliceResult<P = string> {
+  program: P;
+  report: Record<string, any>;
+  info: Record<string, any>;
+  layers: number;
+  preview: PreviewBuffers;
+  mesh: MeshBuffers;
+}
+
+export function settingsToLines(settings?: Settings): string;
+
+export interface LoadOptions {
+  wasmBinary?: ArrayBuffer | Uint8Array;
+  locateFile?: (name: string, prefix: string) => string;
+  /** URL of omnislice.mjs (default: next to omnislice.js). */
+  moduleUrl?: string | URL;
+  /** An already imported Emscripten factory. */
+  factory?: (args: object) => Promise<any>;
+}
+
+export function loadOmnislice(options?: LoadOptions): Promise<Omnislice>;
+
+export class Omnislice {
+  readonly raw: any;
+  aborted: boolean;
+  slice(bytes: ArrayBuffer | Uint8Array, name: string, settings?: Settings,
+        options?: { onProgress?: (p: Progress) => boolean | void; programAs?: 'string' }): SliceResult<string>;
+  slice(bytes: ArrayBuffer | Uint8Array, name: string, settings: Settings,
+        options: { onProgress?: (p: Progress) => boolean | void; programAs: 'bytes' }): SliceResult<Uint8Array>;
+  info(bytes: ArrayBuffer | Uint8Array, name: string, placement?: Settings,
+       options?: { onProgress?: (p: Progress) => boolean | void }): { info: Record<string, any>; mesh: MeshBuffers };
+  verify(program: string, meshBytes: ArrayBuffer | Uint8Array, meshName: string,
+         options?: { onProgress?: (p: Progress) => boolean | void }): Record<string, any>;
+  defaultSettings(): { values: Record<string, string>; keys: string[] };
+}

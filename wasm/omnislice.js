@@ -1,0 +1,193 @@
+// SPDX-License-Identifier: MIT
+// JS wrapper over the raw embind module (omnislice.mjs): defaults, validation, JSON parsing and
+// typed errors. Works in browsers, workers and Node (Node reads omnislice.wasm itself when no
+// wasmBinary is given). The build copies this file next to omnislice.mjs (build/wasm/).
+
+/** Status codes of core/common/status.cpp, plus the JS-only 'cancelled'/'worker_failed'. */
+export const STATUS_CODES = Object.freeze([
+  'ok', 'empty_input', 'unsupported_format', 'parse_error', 'truncated_file',
+  'non_finite_vertex', 'degenerate_input', 'open_mesh', 'non_manifold', 'self_intersecting',
+  'invalid_option', 'io_error', 'cancelled', 'internal', 'worker_failed',
+]);
+
+/** The one error class of the JS side: `code` is one of STATUS_CODES (never 'ok'). */
+export class OmnisliceError extends Error {
+  /** @param {string} code @param {string} message */
+  constructor(code, message) {
+    super(message || code);
+    this.name = 'OmnisliceError';
+    this.code = STATUS_CODES.includes(code) && code !== 'ok' ? code : 'internal';
+  }
+}
+
+const isNode = typeof process !== 'undefined' && !!process.versions && !!process.versions.node
+  && typeof window === 'undefined' && typeof self === 'undefined';
+
+/**
+ * Settings object -> "key=value" lines for setSetting(). Numbers must be finite; arrays are
+ * joined with ',' (e.g. direction [0,0,1]); booleans are 'true'/'false'; null/undefined skipped.
+ * @param {Record<string, number|string|boolean|number[]>} settings
+ * @returns {string}
+ */
+export function settingsToLines(settings = {}) {
+  if (settings === null || typeof settings !== 'object' || Array.isArray(settings)) {
+    throw new OmnisliceError('invalid_option', 'settings must be an object of key -> value');
+  }
+  const lines = [];
+  for (const [key, value] of Object.entries(settings)) {
+    if (value === undefined || value === null) continue;
+    if (!key || /[=\n\r]/.test(key)) {
+      throw new OmnisliceError('invalid_option', `invalid setting key "${key}"`);
+    }
+    let text;
+    if (typeof value === 'number') {
+      if (!Number.isFinite(value)) {
+        throw new OmnisliceError('invalid_option', `setting ${key}: ${value} is not a finite number`);
+      }
+      text = String(value);
+    } else if (typeof value === 'boolean') {
+      text = value ? 'true' : 'false';
+    } else if (Array.isArray(value)) {
+      if (!value.every((v) => typeof v === 'number' && Number.isFinite(v))) {
+        throw new OmnisliceError('invalid_option', `setting ${key}: array values must be finite numbers`);
+      }
+      text = value.join(',');
+    } else if (typeof value === 'string') {
+      text = value;
+    } else {
+      throw new OmnisliceError('invalid_option', `setting ${key}: unsupported value type ${typeof value}`);
+    }
+    if (/[\n\r]/.test(text)) {
+      throw new OmnisliceError('invalid_option', `setting ${key}: value contains a line break`);
+    }
+    lines.push(`${key}=${text}`);
+  }
+  return lines.join('\n');
+}
+
+function toBytes(bytes, what) {
+  if (bytes instanceof Uint8Array) return bytes;
+  if (bytes instanceof ArrayBuffer) return new Uint8Array(bytes);
+  if (ArrayBuffer.isView(bytes)) return new Uint8Array(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  throw new OmnisliceError('invalid_option', `${what} must be an ArrayBuffer or Uint8Array`);
+}
+
+function parseJson(text, what) {
+  if (!text) return {};
+  try {
+    return JSON.parse(text);
+  } catch (e) {
+    throw new OmnisliceError('internal', `${what} is not valid JSON: ${e.message}`);
+  }
+}
+
+function progressAdapter(onProgress) {
+  if (typeof onProgress !== 'function') return undefined;
+  return (stage, fraction) => onProgress({ stage, fraction }) !== false;
+}
+
+/**
+ * Load the module.
+ * @param {{wasmBinary?: ArrayBuffer|Uint8Array, locateFile?: (name: string, prefix: string) => string,
+ *          moduleUrl?: string|URL, factory?: Function}} [options]
+ *   moduleUrl: URL of omnislice.mjs (default: next to this file); factory: an already imported
+ *   Emscripten factory (skips the import).
+ * @returns {Promise<Omnislice>}
+ */
+export async function loadOmnislice(options = {}) {
+  const { locateFile } = options;
+  let { wasmBinary, factory, moduleUrl } = options;
+  const url = new URL(moduleUrl ?? './omnislice.mjs', import.meta.url);
+  if (!factory) factory = (await import(url.href)).default;
+  if (typeof factory !== 'function') {
+    throw new OmnisliceError('internal', 'omnislice.mjs does not export a module factory');
+  }
+  if (!wasmBinary && !locateFile && isNode && url.protocol === 'file:') {
+    const fs = await import('node:fs');
+    wasmBinary = fs.readFileSync(new URL('./omnislice.wasm', url));
+  }
+  const moduleArgs = {};
+  if (wasmBinary) moduleArgs.wasmBinary = wasmBinary;
+  if (locateFile) moduleArgs.locateFile = locateFile;
+  else moduleArgs.locateFile = (name) => new URL(name, url).href;
+  let raw;
+  try {
+    raw = await factory(moduleArgs);
+  } catch (e) {
+    throw new OmnisliceError('internal', `cannot instantiate the wasm module: ${e && e.message || e}`);
+  }
+  return new Omnislice(raw);
+}
+
+/** A loaded module. Calls are synchronous (run them in a worker in a page). */
+export class Omnislice {
+  constructor(raw) {
+    /** The raw embind module (`_slice`, `_info`, `_verify`, `_defaultSettings`). */
+    this.raw = raw;
+    /** Set after a wasm abort: the instance must be discarded. */
+    this.aborted = false;
+  }
+
+  #call(fn) {
+    if (this.aborted) throw new OmnisliceError('internal', 'the wasm module aborted earlier; load it again');
+    let out;
+    try {
+      out = fn();
+    } catch (e) {
+      if (e instanceof OmnisliceError) throw e;
+      this.aborted = true;  // RuntimeError / abort(): the instance state is undefined now
+      const err = new OmnisliceError('internal', `wasm crashed: ${e && e.message || e}`);
+      err.fatal = true;
+      throw err;
+    }
+    if (out.status !== 'ok') throw new OmnisliceError(out.status, out.message);
+    return out;
+  }
+
+  /**
+   * Slice a mesh file.
+   * @param {ArrayBuffer|Uint8Array} bytes file content
+   * @param {string} name file name (extension picks the format)
+   * @param {object} [settings] setting key -> value
+   * @param {{onProgress?: (p: {stage: string, fraction: number}) => (boolean|void),
+   *          programAs?: 'string'|'bytes'}} [options]
+   */
+  slice(bytes, name, settings = {}, { onProgress, programAs = 'string' } = {}) {
+    const data = toBytes(bytes, 'bytes');
+    const lines = settingsToLines(settings);
+    const out = this.#call(() => this.raw._slice(data, String(name ?? ''), lines, progressAdapter(onProgress)));
+    return {
+      program: programAs === 'bytes' ? out.program : new TextDecoder().decode(out.program),
+      report: parseJson(out.report, 'report'),
+      info: parseJson(out.info, 'info'),
+      layers: out.layers,
+      preview: out.preview,
+      mesh: out.mesh,
+    };
+  }
+
+  /**
+   * Read, validate and place a mesh (placement keys only).
+   * @returns {{info: object, mesh: {positions: Float32Array, indices: Uint32Array}}}
+   */
+  info(bytes, name, placement = {}, { onProgress } = {}) {
+    const data = toBytes(bytes, 'bytes');
+    const lines = settingsToLines(placement);
+    const out = this.#call(() => this.raw._info(data, String(name ?? ''), lines, progressAdapter(onProgress)));
+    return { info: parseJson(out.info, 'info'), mesh: out.mesh };
+  }
+
+  /** Verify a program (G-code text) against its mesh; returns the verification report object. */
+  verify(program, meshBytes, meshName, { onProgress } = {}) {
+    if (typeof program !== 'string') throw new OmnisliceError('invalid_option', 'program must be a string');
+    const data = toBytes(meshBytes, 'meshBytes');
+    const out = this.#call(() => this.raw._verify(program, data, String(meshName ?? ''), progressAdapter(onProgress)));
+    return parseJson(out.verify, 'verify report');
+  }
+
+  /** Default settings: {values: {key: text}, keys: [...]} in the core's stable order. */
+  defaultSettings() {
+    const { values, keys } = this.#call(() => ({ status: 'ok', ...this.raw._defaultSettings() }));
+    return { values, keys };
+  }
+}

@@ -1,0 +1,36 @@
+// SPDX-License-Identifier: MIT
+// Types of the engine facade workers/engine.js.
+import type { MeshBuffers, PreviewBuffers, Progress, Settings } from '../wasm/omnislice';
+import { OmnisliceError } from '../wasm/omnislice';
+
+export { OmnisliceError };
+
+export interface CreateSlicerOptions {
+  /** URL of slicer-worker.js (default: next to engine.js). */
+  workerUrl?: string | URL;
+  /** URL of omnislice.mjs (default: /wasm/omnislice.mjs relative to the worker). */
+  wasmUrl?: string | URL;
+}
+
+/** Placement keys: scale, fit_mm, up, rotate_x_deg, rotate_y_deg, rotate_z_deg, center. */
+export type Placement = Settings;
+
+export type MeshRef = string | { name: string; bytes: ArrayBuffer | ArrayBufferView };
+
+export interface Slicer {
+  loadMesh(name: string, arrayBuffer: ArrayBuffer | ArrayBufferView, placement?: Placement):
+    Promise<{ meshId: string; info: Record<string, any>; mesh: MeshBuffers }>;
+  slice(meshIdOrFile: MeshRef, settings?: Settings,
+        options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }):
+    Promise<{ program: string; report: Record<string, any>; info: Record<string, any>;
+              layers: number; preview: PreviewBuffers; mesh: MeshBuffers }>;
+  info(meshIdOrFile: MeshRef, placement?: Placement, options?: { signal?: AbortSignal }):
+    Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;
+  verify(program: string, meshIdOrFile: MeshRef,
+         options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }): Promise<Record<string, any>>;
+  /** Forget a mesh (its kept bytes here and its copy in the worker). */
+  unloadMesh(meshId: string): Promise<void>;
+  dispose(): void;
+}
+
+export function createSlicer(options?: CreateSlicerOptions): Promise<Slicer>;

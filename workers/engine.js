@@ -1,0 +1,272 @@
+// SPDX-License-Identifier: MIT
+// The promise-based engine facade used by the page, the JS tests and vendors. It owns one slicer
+// worker (slicer-worker.js), speaks protocol.js with it, and hides respawns: cancel terminates the
+// worker and starts a new one; meshes are kept here and re-sent to a new worker transparently.
+//
+//   const slicer = await createSlicer();
+//   const { meshId, info, mesh } = await slicer.loadMesh('part.stl', arrayBuffer, { up: 'y' });
+//   const { program, report, preview } = await slicer.slice(meshId, { layer_height: 0.2 },
+//     { onProgress: ({ stage, fraction }) => {}, signal: abortController.signal });
+//   const verification = await slicer.verify(program, meshId);
+//   slicer.dispose();
+import { OmnisliceError, Reply, Request } from './protocol.js';
+
+export { OmnisliceError };
+
+const textDecoder = new TextDecoder();
+
+function copyBytes(data, what) {
+  if (data instanceof ArrayBuffer) return data.slice(0);
+  if (ArrayBuffer.isView(data)) {
+    return data.buffer.slice(data.byteOffset, data.byteOffset + data.byteLength);
+  }
+  throw new OmnisliceError('invalid_option', `${what} must be an ArrayBuffer or typed array`);
+}
+
+function cancelledError() {
+  return new OmnisliceError('cancelled', 'cancelled');
+}
+
+class Slicer {
+  #workerUrl;
+  #wasmUrl;
+  #worker = null;
+  #ready = null;            // Promise resolved when the current worker answered init
+  #pending = new Map();     // request id -> {resolve, reject, onProgress}
+  #nextId = 1;
+  #nextMesh = 1;
+  #meshes = new Map();      // meshId -> {name, bytes: ArrayBuffer (private copy), placement}
+  #loaded = new Map();      // meshId -> Promise of the load in the CURRENT worker
+  #disposed = false;
+
+  constructor({ workerUrl, wasmUrl } = {}) {
+    this.#workerUrl = workerUrl ? new URL(workerUrl, globalThis.location?.href)
+      : new URL('./slicer-worker.js', import.meta.url);
+    this.#wasmUrl = wasmUrl ? new URL(wasmUrl, globalThis.location?.href).href : undefined;
+  }
+
+  /** Start a worker and wait for `ready`. */
+  start() {
+    const worker = new Worker(this.#workerUrl, { type: 'module' });
+    this.#worker = worker;
+    this.#loaded = new Map();
+    worker.onmessage = (event) => this.#onMessage(worker, event.data);
+    let wasReady = false;
+    worker.onerror = (event) => {
+      if (event && event.preventDefault) event.preventDefault();
+      if (worker !== this.#worker) return;
+      const message = `slicer worker failed: ${event && event.message || 'script error'}`;
+      // A worker that never became ready is not respawned (that would loop on a broken URL).
+      this.#restart(new OmnisliceError('worker_failed', message), wasReady);
+    };
+    const ready = this.#send(Request.INIT, { wasmUrl: this.#wasmUrl }, [], {}, false);
+    ready.then(() => { wasReady = true; }, () => {});
+    this.#ready = ready;
+    return ready;
+  }
+
+  // Wait until the current worker is ready (follows respawns that happen meanwhile).
+  async #whenReady() {
+    for (;;) {
+      const ready = this.#ready;
+      await ready;
+      if (ready === this.#ready) return;
+    }
+  }
+
+  #onMessage(worker, msg) {
+    if (worker !== this.#worker || !msg || typeof msg !== 'object') return;
+    const entry = this.#pending.get(msg.id);
+    if (!entry) return;  // e.g. a reply of a request already settled, or a test spy message
+    switch (msg.type) {
+      case Reply.PROGRESS:
+        if (entry.onProgress) {
+          try { entry.onProgress({ stage: msg.stage, fraction: msg.fraction }); } catch { /* caller bug */ }
+        }
+        break;
+      case Reply.READY:
+        this.#pending.delete(msg.id);
+        entry.resolve({ version: msg.version });
+        break;
+      case Reply.RESULT:
+        this.#pending.delete(msg.id);
+        entry.resolve(msg.result);
+        break;
+      case Reply.ERROR: {
+        this.#pending.delete(msg.id);
+        const err = new OmnisliceError(msg.code, msg.message);
+        entry.reject(err);
+        if (msg.fatal) {
+          // The wasm instance crashed: discard the worker; other requests fail with worker_failed.
+          this.#restart(new OmnisliceError('worker_failed', `slicer worker crashed: ${msg.message}`), true);
+        }
+        break;
+      }
+      default:
+        break;
+    }
+  }
+
+  // Post a request to the current worker; resolves with the reply's result.
+  #send(type, payload, transfer = [], { onProgress } = {}, waitReady = true) {
+    const run = () => new Promise((resolve, reject) => {
+      if (this.#disposed) { reject(new OmnisliceError('cancelled', 'slicer disposed')); return; }
+      if (!this.#worker) { reject(new OmnisliceError('worker_failed', 'no slicer worker')); return; }
+      const id = this.#nextId++;
+      this.#pending.set(id, { resolve, reject, onProgress });
+      try {
+        this.#worker.postMessage({ id, type, payload }, transfer);
+      } catch (e) {
+        this.#pending.delete(id);
+        reject(new OmnisliceError('worker_failed', `cannot post ${type}: ${e.message || e}`));
+      }
+    });
+    return waitReady ? this.#whenReady().then(run) : run();
+  }
+
+  // Terminate the worker, reject everything pending with `error`, start a fresh worker.
+  #restart(error, respawn = true) {
+    const worker = this.#worker;
+    this.#worker = null;
+    if (worker) worker.terminate();
+    const pending = [...this.#pending.values()];
+    this.#pending.clear();
+    for (const p of pending) p.reject(error);
+    if (this.#disposed) return;
+    if (respawn) {
+      this.start().catch(() => {});
+    } else {
+      this.#ready = Promise.reject(error);
+      this.#ready.catch(() => {});
+    }
+  }
+
+  // Make sure meshId is stored in the current worker (re-sends the kept bytes after a respawn).
+  #ensureLoaded(meshId) {
+    const mesh = this.#meshes.get(meshId);
+    if (!mesh) return Promise.reject(new OmnisliceError('invalid_option', `unknown meshId ${meshId}`));
+    let p = this.#loaded.get(meshId);
+    if (!p) {
+      const bytes = mesh.bytes.slice(0);
+      const loaded = this.#loaded;
+      p = this.#send(Request.LOAD, { meshId, name: mesh.name, bytes, placement: mesh.placement }, [bytes]);
+      loaded.set(meshId, p);
+      p.catch(() => { if (loaded.get(meshId) === p) loaded.delete(meshId); });
+    }
+    return p;
+  }
+
+  // {meshId} or {file} payload part for a meshId or a {name, bytes} file; with its transfer list.
+  async #target(meshIdOrFile) {
+    if (typeof meshIdOrFile === 'string') {
+      await this.#ensureLoaded(meshIdOrFile);
+      return { part: { meshId: meshIdOrFile }, transfer: [] };
+    }
+    if (meshIdOrFile && typeof meshIdOrFile === 'object' && 'bytes' in meshIdOrFile) {
+      const bytes = copyBytes(meshIdOrFile.bytes, 'file.bytes');
+      return { part: { file: { name: String(meshIdOrFile.name ?? ''), bytes } }, transfer: [bytes] };
+    }
+    throw new OmnisliceError('invalid_option', 'expected a meshId from loadMesh or a file {name, bytes}');
+  }
+
+  // Run fn (which issues requests) under an AbortSignal: abort terminates and respawns the worker.
+  async #cancellable(signal, fn) {
+    if (signal && signal.aborted) throw cancelledError();
+    if (!signal) return fn();
+    let onAbort;
+    const aborted = new Promise((_, reject) => {
+      onAbort = () => {
+        reject(cancelledError());
+        this.#restart(cancelledError(), true);
+      };
+      signal.addEventListener('abort', onAbort, { once: true });
+    });
+    try {
+      return await Promise.race([fn(), aborted]);
+    } finally {
+      signal.removeEventListener('abort', onAbort);
+    }
+  }
+
+  async loadMesh(name, arrayBuffer, placement = {}) {
+    const bytes = copyBytes(arrayBuffer, 'arrayBuffer');
+    const meshId = `mesh-${this.#nextMesh++}`;
+    this.#meshes.set(meshId, { name: String(name ?? ''), bytes, placement: { ...placement } });
+    try {
+      const result = await this.#ensureLoaded(meshId);
+      return { meshId, info: result.info, mesh: result.mesh };
+    } catch (e) {
+      this.#meshes.delete(meshId);
+      throw e;
+    }
+  }
+
+  async slice(meshIdOrFile, settings = {}, { onProgress, signal } = {}) {
+    return this.#cancellable(signal, async () => {
+      const { part, transfer } = await this.#target(meshIdOrFile);
+      if (signal && signal.aborted) throw cancelledError();
+      const r = await this.#send(Request.SLICE, { ...part, settings }, transfer, { onProgress });
+      return {
+        program: textDecoder.decode(new Uint8Array(r.program)),
+        report: r.report, info: r.info, layers: r.layers, preview: r.preview, mesh: r.mesh,
+      };
+    });
+  }
+
+  async info(meshIdOrFile, placement = {}, { signal } = {}) {
+    return this.#cancellable(signal, async () => {
+      const { part, transfer } = await this.#target(meshIdOrFile);
+      return this.#send(Request.INFO, { ...part, placement }, transfer);
+    });
+  }
+
+  async verify(program, meshIdOrFile, { onProgress, signal } = {}) {
+    if (typeof program !== 'string') throw new OmnisliceError('invalid_option', 'program must be a string');
+    return this.#cancellable(signal, async () => {
+      const { part, transfer } = await this.#target(meshIdOrFile);
+      const r = await this.#send(Request.VERIFY, { ...part, program }, transfer, { onProgress });
+      return r.report;
+    });
+  }
+
+  /** Forget a mesh (here and in the worker). */
+  async unloadMesh(meshId) {
+    this.#meshes.delete(meshId);
+    if (this.#loaded.delete(meshId)) await this.#send(Request.UNLOAD, { meshId });
+  }
+
+  /** Test hook: crash the wasm instance in the worker (rejects with code 'internal'). */
+  _debugCrash() {
+    return this.#send(Request.DEBUG_CRASH, {});
+  }
+
+  dispose() {
+    if (this.#disposed) return;
+    this.#disposed = true;
+    const worker = this.#worker;
+    this.#worker = null;
+    if (worker) worker.terminate();
+    const pending = [...this.#pending.values()];
+    this.#pending.clear();
+    for (const p of pending) p.reject(new OmnisliceError('cancelled', 'slicer disposed'));
+    this.#meshes.clear();
+    this.#loaded = new Map();
+  }
+}
+
+/**
+ * Create a slicer backed by a module worker. Resolves after the worker answered `ready`.
+ * @param {{workerUrl?: string|URL, wasmUrl?: string|URL}} [options]
+ *   workerUrl: slicer-worker.js (default: next to this file); wasmUrl: omnislice.mjs (default:
+ *   /wasm/omnislice.mjs relative to the worker).
+ */
+export async function createSlicer(options = {}) {
+  const slicer = new Slicer(options);
+  try {
+    await slicer.start();
+  } catch (e) {
+    slicer.dispose();
+    throw e instanceof OmnisliceError ? e : new OmnisliceError('worker_failed', String(e && e.message || e));
+  }
+  return slicer;
+}

@@ -1,0 +1,69 @@
+// SPDX-License-Identifier: MIT
+// The worker message protocol: every message type between the engine facade (engine.js, main
+// thread) and the slicer worker (slicer-worker.js), in one place.
+//
+// Request (main -> worker):  {id: number, type: RequestType, payload: object}
+// Reply   (worker -> main):  {id, type: 'ready'|'progress'|'result'|'error', ...}
+//   ready:    {id, type: 'ready', version}                      answers `init`, before any work
+//   progress: {id, type: 'progress', stage, fraction}           interim; stages in pipeline order,
+//                                                               fraction nondecreasing per stage
+//   result:   {id, type: 'result', result}                      ArrayBuffers inside are transferred
+//   error:    {id, type: 'error', code, message, fatal}         code: a STATUS_CODES string;
+//                                                               fatal: the worker must be discarded
+// A mesh is sent once (`load`, with a facade-chosen meshId) and referenced by meshId after that.
+// Cancel is not a message: the facade terminates the worker and spawns a new one.
+
+export { OmnisliceError, STATUS_CODES } from '../wasm/omnislice.js';
+
+/** Protocol version sent in `ready`. */
+export const PROTOCOL_VERSION = 1;
+
+/** Request types (main -> worker). */
+export const Request = Object.freeze({
+  /** payload {wasmUrl?: string}: load the wasm module. Reply: `ready` {version}. */
+  INIT: 'init',
+  /** payload {meshId, name, bytes: ArrayBuffer (transferred), placement: object}: keep the mesh
+   *  bytes under meshId; read/validate/place it. Reply: `result` {meshId, info: object,
+   *  mesh: {positions: Float32Array, indices: Uint32Array}} (buffers transferred). */
+  LOAD: 'load',
+  /** payload {meshId}: forget a mesh. Reply: `result` {meshId}. */
+  UNLOAD: 'unload',
+  /** payload {meshId | file: {name, bytes}, placement?}: read/validate/place. Reply: `result`
+   *  {info, mesh} (buffers transferred). */
+  INFO: 'info',
+  /** payload {meshId | file: {name, bytes}, settings: object}: slice (the mesh's load placement
+   *  is applied first, settings override it). Reply: `progress`*, then `result` {program:
+   *  ArrayBuffer (UTF-8 G-code), report: object, info: object, layers: number, preview:
+   *  {positions, features, layers}, mesh: {positions, indices}} (all buffers transferred). */
+  SLICE: 'slice',
+  /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
+   *  `progress`*, then `result` {report: object}. */
+  VERIFY: 'verify',
+  /** Test hook, payload {}: aborts the wasm instance. Reply: `error` {code: 'internal', fatal}. */
+  DEBUG_CRASH: 'debug-crash',
+});
+
+/** Reply types (worker -> main). */
+export const Reply = Object.freeze({
+  READY: 'ready',
+  PROGRESS: 'progress',
+  RESULT: 'result',
+  ERROR: 'error',
+});
+
+/** The ArrayBuffers of typed arrays (deduplicated, non-shared) for a transfer list. */
+export function transferList(...arrays) {
+  const out = [];
+  for (const a of arrays) {
+    const buffer = a instanceof ArrayBuffer ? a : a && a.buffer;
+    if (buffer instanceof ArrayBuffer && !out.includes(buffer)) out.push(buffer);
+  }
+  return out;
+}
+
+/** An error reply for request id from any thrown value. */
+export function errorReply(id, error) {
+  const code = error && typeof error.code === 'string' ? error.code : 'internal';
+  const message = error && error.message ? error.message : String(error);
+  return { id, type: Reply.ERROR, code, message, fatal: !!(error && error.fatal) };
+}
