@@ -9,6 +9,7 @@
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "cgal/self_intersections.h"
@@ -28,6 +29,12 @@ constexpr double kDegenerateAreaRatio = 1e-12;
 
 std::string plural(size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string shortNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
 }
 
 bool finite3(const double* p) {
@@ -178,7 +185,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   Mesh mesh;
   FaceFilter filtered;
   {
-    // Weld (repair) then drop degenerate and duplicate faces.
+    // Weld (repair), drop degenerate faces, drop unreferenced vertices.
     Mesh welded;
     if (options.repair) {
       WeldResult weld = weldVertices(raw, options.mergeTolerance);
@@ -188,7 +195,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       if (weld.merged > 0) {
         info.repairs.push_back("merged " + plural(weld.merged, "duplicate vertex", "duplicate vertices") +
                                (options.mergeTolerance > 0
-                                    ? " (within " + std::to_string(options.mergeTolerance) + " mm)"
+                                    ? " (within " + shortNumber(options.mergeTolerance) + " mm)"
                                     : ""));
       }
     } else {

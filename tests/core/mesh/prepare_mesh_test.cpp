@@ -161,6 +161,7 @@ TEST(PrepareMesh, MergesWithinTolerance) {
   const PrepareMeshResult r = prepareMesh(soup, tol);
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.info.vertices, 8u);
+  EXPECT_TRUE(hasLine(r.info.repairs, "merged 28 duplicate vertices (within 0.0001 mm)")) << joined(r.info.repairs);
   EXPECT_TRUE(r.info.closed && r.info.manifold && r.info.oriented) << joined(r.info.errors);
   EXPECT_NEAR(r.info.volumeMm3, 1000.0, 1e-2);
   PrepareOptions bad;
