@@ -39,6 +39,9 @@ struct PrepareOptions {
   bool repair = true;               // apply safe repairs (merge, drop degenerate, orient, outward)
   bool checkSelfIntersections = true;  // CGAL box-intersection test (costly on huge meshes)
   size_t selfIntersectionCap = 1000;   // stop counting after this many pairs (0 = no cap)
+  size_t selfIntersectionMaxFaces = 300000;  // skip the test above this many faces, with a
+                                             // warning (0 = no limit); see the measured cost in
+                                             // prepare_mesh.cpp
   double mergeTolerance = 0;        // 0 = merge bit-identical positions only; > 0 in mm
 };
 

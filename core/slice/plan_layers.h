@@ -27,7 +27,12 @@ struct PlanLayersResult : Outcome {
 // Plan tool-paths for every layer of `slices` with settings (walls, topLayers, bottomLayers,
 // infillPercent, infillPattern, infillAngleDegrees, speeds, retraction, line width, filament).
 // Moves are in the part frame; nozzle axis = slices.frame.d; part id = partIndex.
-// Statuses: InvalidOption, Cancelled.
+// Per island: walls inner to outer (outer wall last), each loop starting at its vertex nearest the
+// nozzle; then skin lines (spacing w, +45/-45 deg by layer), then sparse infill, lines nearest-first
+// with either end allowed. Islands nearest-first. The nozzle tip sits at each layer's top; z changes
+// only in travel moves; travels longer than retractMinTravel are wrapped in Retract/Unretract
+// (none before the first extrusion). toolpath.start is 2 mm above the first point along d.
+// Statuses: InvalidOption (settings out of range, slices carrying an error), Cancelled, Internal.
 PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings, int partIndex = 0,
                             const ProgressFn& progress = {});
 

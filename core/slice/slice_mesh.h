@@ -59,9 +59,16 @@ struct SliceResult : Outcome {
 
 // Slice a closed, oriented, welded mesh (output of prepareMesh) with planes normal to
 // options.direction. Layer i spans [minHeight + b_i, minHeight + t_i]; the plane sits mid-layer.
+// Layer count: ceil((H - first) / h) + 1 for a part of height H, minus a last layer whose plane
+// would be at or above the top (the part fills at most half of it): the printed height is within
+// h/2 of H. A part thinner than first/2 gets one layer cut at H/2.
 // Vertices and faces exactly on a plane are handled by symbolic perturbation (a vertex on the plane
-// counts as above it), so every contour is closed. Sections are united with the non-zero rule, so
-// overlapping shells give one region. Statuses: EmptyInput, InvalidOption, Cancelled.
+// counts as above it, so a plane through a horizontal face gives the section just below it), so
+// every contour is closed. Loops that do not close (open meshes) are dropped and counted in
+// openChains. Sections are united with the non-zero rule, so overlapping shells give one region.
+// Coordinates are snapped to a 10 nm grid. Statuses: EmptyInput (no triangles, zero extent along
+// d), InvalidOption (bad direction/heights, index out of range, |coordinate| > 1e6 mm, > 2e6
+// layers), NonFiniteVertex, Cancelled, Internal (clipping failure).
 SliceResult sliceMesh(const Mesh& mesh, const SliceOptions& options,
                       const ProgressFn& progress = {});
 

@@ -1,0 +1,168 @@
+// SPDX-License-Identifier: MIT
+#include "cgal/self_intersections.h"
+
+#include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
+#include <CGAL/box_intersection_d.h>
+#include <CGAL/intersections.h>
+
+#include <algorithm>
+#include <exception>
+
+namespace omnislice {
+namespace {
+
+using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
+using Point = Kernel::Point_3;
+using Segment = Kernel::Segment_3;
+using Triangle = Kernel::Triangle_3;
+
+// Box whose id is the face index: deterministic, no global counter.
+class FaceBox : public CGAL::Box_intersection_d::Box_d<double, 3, CGAL::Box_intersection_d::ID_NONE> {
+ public:
+  using Base = CGAL::Box_intersection_d::Box_d<double, 3, CGAL::Box_intersection_d::ID_NONE>;
+  using ID = std::size_t;
+  FaceBox(const CGAL::Bbox_3& b, uint32_t face) : Base(b), face_(face) {}
+  std::size_t id() const { return face_; }
+  uint32_t face() const { return face_; }
+
+ private:
+  uint32_t face_;
+};
+
+struct StopSearch {};  // thrown from the callback to end box_intersection_d early
+
+class PairTester {
+ public:
+  PairTester(const Mesh& mesh, std::vector<Point>& points) : mesh_(mesh), points_(points) {}
+
+  bool degenerate(uint32_t f) const {
+    const uint32_t* t = mesh_.triangles.data() + 3 * f;
+    return t[0] == t[1] || t[1] == t[2] || t[0] == t[2] ||
+           CGAL::collinear(points_[t[0]], points_[t[1]], points_[t[2]]);
+  }
+
+  bool intersect(uint32_t f, uint32_t g) const {
+    const uint32_t* a = mesh_.triangles.data() + 3 * f;
+    const uint32_t* b = mesh_.triangles.data() + 3 * g;
+    // Shared corners: ia[k] is the corner of g equal to a[k], or -1.
+    int ia[3], shared = 0;
+    for (int i = 0; i < 3; ++i) {
+      ia[i] = -1;
+      for (int j = 0; j < 3; ++j) {
+        if (a[i] == b[j]) ia[i] = j;
+      }
+      if (ia[i] >= 0) ++shared;
+    }
+    const Point& a0 = points_[a[0]];
+    const Point& a1 = points_[a[1]];
+    const Point& a2 = points_[a[2]];
+    const Point& b0 = points_[b[0]];
+    const Point& b1 = points_[b[1]];
+    const Point& b2 = points_[b[2]];
+    if (shared == 0) return CGAL::do_intersect(Triangle(a0, a1, a2), Triangle(b0, b1, b2));
+    if (shared == 3) return true;
+    if (shared == 2) {
+      // Common edge p-q; r opposite in f, s opposite in g. Non-coplanar faces meet only on p-q.
+      int r = 0;
+      while (ia[r] >= 0) ++r;
+      const int p = (r + 1) % 3, q = (r + 2) % 3;
+      int s = 0;
+      while (s == ia[p] || s == ia[q]) ++s;
+      const Point& P = points_[a[p]];
+      const Point& Q = points_[a[q]];
+      const Point& R = points_[a[r]];
+      const Point& S = points_[b[s]];
+      if (!CGAL::coplanar(P, Q, R, S)) return false;
+      return CGAL::coplanar_orientation(P, Q, R, S) == CGAL::POSITIVE;
+    }
+    // One common vertex v: the faces overlap beyond v iff the edge of one opposite v meets the
+    // other face (the intersection is a segment from v ending on such an edge).
+    int va = 0;
+    while (ia[va] < 0) ++va;
+    const int vb = ia[va];
+    const Segment oppositeA(points_[a[(va + 1) % 3]], points_[a[(va + 2) % 3]]);
+    const Segment oppositeB(points_[b[(vb + 1) % 3]], points_[b[(vb + 2) % 3]]);
+    return CGAL::do_intersect(oppositeA, Triangle(b0, b1, b2)) ||
+           CGAL::do_intersect(oppositeB, Triangle(a0, a1, a2));
+  }
+
+ private:
+  const Mesh& mesh_;
+  std::vector<Point>& points_;
+};
+
+}  // namespace
+
+SelfIntersectionResult findSelfIntersections(const Mesh& mesh, const SelfIntersectionOptions& options,
+                                             const ProgressFn& progress, double from, double to) {
+  SelfIntersectionResult result;
+  try {
+    std::vector<Point> points;
+    points.reserve(mesh.vertexCount());
+    for (size_t i = 0; i < mesh.vertexCount(); ++i) {
+      const double* p = mesh.positions.data() + 3 * i;
+      points.emplace_back(p[0], p[1], p[2]);
+    }
+    PairTester tester(mesh, points);
+    std::vector<FaceBox> boxes;
+    boxes.reserve(mesh.faceCount());
+    for (uint32_t f = 0; f < mesh.faceCount(); ++f) {
+      if (tester.degenerate(f)) continue;
+      const uint32_t* t = mesh.triangles.data() + 3 * f;
+      boxes.emplace_back(points[t[0]].bbox() + points[t[1]].bbox() + points[t[2]].bbox(), f);
+    }
+    if (!reportProgress(progress, "validate", from)) {
+      result.status = Status::Cancelled;
+      result.message = "cancelled during the self-intersection test";
+      return result;
+    }
+    size_t candidates = 0;
+    bool cancelled = false;
+    // Candidate pairs are not known in advance: the fraction creeps towards `to` as they come.
+    auto callback = [&](const FaceBox& x, const FaceBox& y) {
+      if ((++candidates & 0xFFFF) == 0) {
+        const double frac = from + (to - from) * (1.0 - 1.0 / (1.0 + double(candidates) / 4e6));
+        if (!reportProgress(progress, "validate", frac)) {
+          cancelled = true;
+          throw StopSearch{};
+        }
+      }
+      if (!tester.intersect(x.face(), y.face())) return;
+      ++result.count;
+      if (options.collectPairs) {
+        result.pairs.emplace_back(std::min(x.face(), y.face()), std::max(x.face(), y.face()));
+      }
+      if (options.cap > 0 && result.count >= options.cap) {
+        result.capped = true;
+        throw StopSearch{};
+      }
+    };
+    try {
+      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+    } catch (const StopSearch&) {
+    }
+    if (cancelled) {
+      result.status = Status::Cancelled;
+      result.message = "cancelled during the self-intersection test";
+      result.pairs.clear();
+      return result;
+    }
+    std::sort(result.pairs.begin(), result.pairs.end());
+    if (!reportProgress(progress, "validate", to)) {
+      result = SelfIntersectionResult{};
+      result.status = Status::Cancelled;
+      result.message = "cancelled during the self-intersection test";
+    }
+  } catch (const std::exception& e) {
+    result = SelfIntersectionResult{};
+    result.status = Status::Internal;
+    result.message = std::string("self-intersection test failed: ") + e.what();
+  } catch (...) {
+    result = SelfIntersectionResult{};
+    result.status = Status::Internal;
+    result.message = "self-intersection test failed with an unknown CGAL error";
+  }
+  return result;
+}
+
+}  // namespace omnislice

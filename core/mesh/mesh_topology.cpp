@@ -1,0 +1,136 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/mesh_topology.h"
+
+#include <numeric>
+
+#include "mesh/index_table.h"
+
+namespace omnislice {
+namespace {
+
+// Union-find with path halving; ranks are not needed at these sizes.
+struct DisjointSets {
+  std::vector<uint32_t> parent;
+  explicit DisjointSets(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a == b) return;
+    if (a < b) parent[b] = a;
+    else parent[a] = b;
+  }
+};
+
+inline uint32_t fromVertex(const Mesh& m, uint32_t h) { return m.triangles[h]; }
+inline uint32_t nextInFace(uint32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
+
+}  // namespace
+
+MeshEdges buildEdges(const Mesh& mesh) {
+  const size_t halfedges = mesh.triangles.size();
+  MeshEdges e;
+  e.edgeOfHalfedge.resize(halfedges);
+  e.nextHalfedge.assign(halfedges, kNoIndex);
+  e.keys.reserve(halfedges / 2 + 16);
+  e.faceCount.reserve(halfedges / 2 + 16);
+  e.firstHalfedge.reserve(halfedges / 2 + 16);
+  std::vector<uint32_t> lastHalfedge;
+  lastHalfedge.reserve(halfedges / 2 + 16);
+  IndexTable table(halfedges);
+  const uint32_t* t = mesh.triangles.data();
+  for (uint32_t h = 0; h < halfedges; ++h) {
+    const uint32_t a = t[h];
+    const uint32_t b = t[nextInFace(h)];
+    const uint64_t key = a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
+    const uint32_t candidate = static_cast<uint32_t>(e.keys.size());
+    const uint32_t edge =
+        table.findOrInsert(mixHash64(key), candidate, [&](uint32_t id) { return e.keys[id] == key; });
+    if (edge == candidate) {
+      e.keys.push_back(key);
+      e.faceCount.push_back(1);
+      e.firstHalfedge.push_back(h);
+      lastHalfedge.push_back(h);
+    } else {
+      ++e.faceCount[edge];
+      e.nextHalfedge[lastHalfedge[edge]] = h;
+      lastHalfedge[edge] = h;
+    }
+    e.edgeOfHalfedge[h] = edge;
+  }
+  return e;
+}
+
+FaceComponents edgeComponents(const Mesh& mesh, const MeshEdges& edges) {
+  const size_t faces = mesh.faceCount();
+  DisjointSets sets(faces);
+  for (size_t edge = 0; edge < edges.edgeCount(); ++edge) {
+    const uint32_t first = edges.firstHalfedge[edge];
+    for (uint32_t h = edges.nextHalfedge[first]; h != kNoIndex; h = edges.nextHalfedge[h]) {
+      sets.unite(first / 3, h / 3);
+    }
+  }
+  FaceComponents out;
+  out.label.assign(faces, kNoIndex);
+  for (uint32_t f = 0; f < faces; ++f) {
+    const uint32_t root = sets.find(f);
+    if (out.label[root] == kNoIndex) out.label[root] = static_cast<uint32_t>(out.count++);
+    out.label[f] = out.label[root];
+  }
+  return out;
+}
+
+TopologyCounts countTopology(const Mesh& mesh, const MeshEdges& edges) {
+  TopologyCounts c;
+  c.shells = edgeComponents(mesh, edges).count;
+  for (size_t edge = 0; edge < edges.edgeCount(); ++edge) {
+    const uint32_t n = edges.faceCount[edge];
+    if (n == 1) ++c.boundaryEdges;
+    if (n > 2) ++c.nonManifoldEdges;
+    if (n == 2) {
+      const uint32_t h1 = edges.firstHalfedge[edge];
+      const uint32_t h2 = edges.nextHalfedge[h1];
+      if (fromVertex(mesh, h1) == fromVertex(mesh, h2)) ++c.misorientedEdges;
+    }
+  }
+  // Vertex fans: corner 3f+k sits at triangles[3f+k]. Corners of faces that share an edge are
+  // joined at both ends of that edge; a vertex whose corners end up in several sets is the apex
+  // of several fans (a "bow-tie" where separate sheets touch at a point).
+  DisjointSets corners(mesh.triangles.size());
+  for (size_t edge = 0; edge < edges.edgeCount(); ++edge) {
+    const uint32_t first = edges.firstHalfedge[edge];
+    const uint32_t a = fromVertex(mesh, first);
+    for (uint32_t h = edges.nextHalfedge[first]; h != kNoIndex; h = edges.nextHalfedge[h]) {
+      const uint32_t hn = nextInFace(h);
+      const uint32_t fn = nextInFace(first);
+      if (fromVertex(mesh, h) == a) {  // same direction
+        corners.unite(first, h);
+        corners.unite(fn, hn);
+      } else {
+        corners.unite(first, hn);
+        corners.unite(fn, h);
+      }
+    }
+  }
+  std::vector<uint32_t> rootOfVertex(mesh.vertexCount(), kNoIndex);
+  std::vector<uint8_t> counted(mesh.vertexCount(), 0);
+  for (uint32_t corner = 0; corner < mesh.triangles.size(); ++corner) {
+    const uint32_t v = mesh.triangles[corner];
+    const uint32_t root = corners.find(corner);
+    if (rootOfVertex[v] == kNoIndex) {
+      rootOfVertex[v] = root;
+    } else if (rootOfVertex[v] != root && !counted[v]) {
+      counted[v] = 1;
+      ++c.nonManifoldVertices;
+    }
+  }
+  return c;
+}
+
+}  // namespace omnislice

@@ -1,0 +1,401 @@
+// SPDX-License-Identifier: MIT
+// prepareMesh: validation, safe repair and the MeshInfo report. The steps live in their own
+// files (weld_vertices, mesh_topology, orient_mesh, openmesh_adapter, cgal/self_intersections);
+// this file orders them, reports progress and words the findings.
+#include "mesh/prepare_mesh.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cgal/self_intersections.h"
+#include "mesh/index_table.h"
+#include "mesh/mesh_topology.h"
+#include "mesh/openmesh_adapter.h"
+#include "mesh/orient_mesh.h"
+#include "mesh/weld_vertices.h"
+
+namespace omnislice {
+namespace {
+
+constexpr const char* kStage = "validate";
+
+// Zero-area threshold relative to the squared bounding-box diagonal: far below any printable
+// feature, far above the rounding noise of a cross product of collinear edges.
+constexpr double kDegenerateAreaRatio = 1e-12;
+
+std::string plural(size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+bool finite3(const double* p) {
+  return std::isfinite(p[0]) && std::isfinite(p[1]) && std::isfinite(p[2]);
+}
+
+PrepareMeshResult fail(Status status, std::string message) {
+  PrepareMeshResult r;
+  r.status = status;
+  r.message = std::move(message);
+  r.solid.status = status;
+  r.solid.message = r.message;
+  return r;
+}
+
+PrepareMeshResult cancelled() { return fail(Status::Cancelled, "validation cancelled"); }
+
+double twiceArea(const Mesh& m, const uint32_t* t) {
+  const Eigen::Vector3d a = m.vertex(t[0]);
+  return (m.vertex(t[1]) - a).cross(m.vertex(t[2]) - a).norm();
+}
+
+// Bounds of the vertices referenced by faces.
+BoundingBox referencedBox(const Mesh& m) {
+  BoundingBox box;
+  if (m.triangles.empty()) return box;
+  box.min = Eigen::Vector3d::Constant(INFINITY);
+  box.max = -box.min;
+  for (uint32_t v : m.triangles) {
+    const Eigen::Vector3d p = m.vertex(v);
+    box.min = box.min.cwiseMin(p);
+    box.max = box.max.cwiseMax(p);
+  }
+  return box;
+}
+
+struct FaceFilter {
+  std::vector<uint32_t> triangles;
+  size_t repeated = 0;    // faces with a repeated vertex index
+  size_t zeroArea = 0;    // faces with distinct indices but (numerically) zero area
+  size_t duplicates = 0;  // faces on the same three vertices as an earlier face
+};
+
+// Keep faces that are not degenerate and (if dropDuplicates) not a copy of an earlier face.
+FaceFilter filterFaces(const Mesh& m, double areaEps2, bool dropDuplicates) {
+  FaceFilter out;
+  const size_t faces = m.faceCount();
+  out.triangles.reserve(m.triangles.size());
+  IndexTable table(dropDuplicates ? faces : 0);
+  std::vector<uint32_t> sorted;  // sorted triples of kept faces
+  sorted.reserve(dropDuplicates ? m.triangles.size() : 0);
+  for (size_t f = 0; f < faces; ++f) {
+    const uint32_t* t = m.triangles.data() + 3 * f;
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+      ++out.repeated;
+      continue;
+    }
+    if (twiceArea(m, t) <= areaEps2) {
+      ++out.zeroArea;
+      continue;
+    }
+    if (dropDuplicates) {
+      uint32_t s[3] = {t[0], t[1], t[2]};
+      std::sort(s, s + 3);
+      const uint32_t candidate = static_cast<uint32_t>(sorted.size() / 3);
+      const uint64_t hash = mixHash64(s[0] ^ mixHash64((uint64_t(s[1]) << 32) ^ s[2]));
+      const uint32_t found = table.findOrInsert(hash, candidate, [&](uint32_t id) {
+        const uint32_t* o = sorted.data() + 3 * size_t(id);
+        return o[0] == s[0] && o[1] == s[1] && o[2] == s[2];
+      });
+      if (found != candidate) {
+        ++out.duplicates;
+        continue;
+      }
+      sorted.insert(sorted.end(), s, s + 3);
+    }
+    out.triangles.insert(out.triangles.end(), t, t + 3);
+  }
+  return out;
+}
+
+// Drop vertices no face references; keeps the order of the others.
+size_t compactVertices(Mesh& m) {
+  constexpr uint32_t kUnused = 0xFFFFFFFFu;
+  std::vector<uint32_t> remap(m.vertexCount(), kUnused);
+  for (uint32_t v : m.triangles) remap[v] = 0;
+  std::vector<double> positions;
+  positions.reserve(m.positions.size());
+  uint32_t next = 0;
+  for (size_t i = 0; i < remap.size(); ++i) {
+    if (remap[i] == kUnused) continue;
+    remap[i] = next++;
+    positions.insert(positions.end(), m.positions.begin() + 3 * i, m.positions.begin() + 3 * i + 3);
+  }
+  const size_t dropped = m.vertexCount() - next;
+  for (uint32_t& v : m.triangles) v = remap[v];
+  m.positions = std::move(positions);
+  return dropped;
+}
+
+}  // namespace
+
+PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, const ProgressFn& progress) {
+  if (!reportProgress(progress, kStage, 0)) return cancelled();
+  if (raw.triangles.empty()) return fail(Status::EmptyInput, "the mesh has no faces");
+  if (raw.triangles.size() % 3 != 0) {
+    return fail(Status::ParseError, "triangle index count " + std::to_string(raw.triangles.size()) +
+                                        " is not a multiple of 3");
+  }
+  if (raw.positions.size() % 3 != 0) {
+    return fail(Status::ParseError, "position count " + std::to_string(raw.positions.size()) +
+                                        " is not a multiple of 3");
+  }
+  if (raw.vertexCount() >= kNoIndex || raw.faceCount() >= kNoIndex / 3) {
+    return fail(Status::InvalidOption, "the mesh is too large for 32-bit indices");
+  }
+  if (!(options.mergeTolerance >= 0) || !std::isfinite(options.mergeTolerance)) {
+    return fail(Status::InvalidOption, "merge tolerance must be a finite value >= 0 mm");
+  }
+  const size_t nv = raw.vertexCount();
+  size_t nonFinite = 0;
+  {
+    std::vector<uint8_t> checked(nv, 0);
+    for (size_t i = 0; i < raw.triangles.size(); ++i) {
+      const uint32_t v = raw.triangles[i];
+      if (v >= nv) {
+        return fail(Status::ParseError, "face " + std::to_string(i / 3) + " references vertex " +
+                                            std::to_string(v) + " but the mesh has " +
+                                            std::to_string(nv) + " vertices");
+      }
+      if (checked[v]) continue;
+      checked[v] = 1;
+      if (!finite3(raw.positions.data() + 3 * size_t(v))) ++nonFinite;
+    }
+  }
+  if (nonFinite > 0) {
+    PrepareMeshResult r = fail(Status::NonFiniteVertex,
+                               plural(nonFinite, "vertex has", "vertices have") +
+                                   " a NaN or infinite coordinate");
+    r.info.nonFiniteVertices = nonFinite;
+    return r;
+  }
+  if (!reportProgress(progress, kStage, 0.05)) return cancelled();
+
+  PrepareMeshResult result;
+  MeshInfo& info = result.info;
+  Mesh mesh;
+  FaceFilter filtered;
+  {
+    // Weld (repair) then drop degenerate and duplicate faces.
+    Mesh welded;
+    if (options.repair) {
+      WeldResult weld = weldVertices(raw, options.mergeTolerance);
+      welded.positions = std::move(weld.positions);
+      welded.triangles.resize(raw.triangles.size());
+      for (size_t i = 0; i < raw.triangles.size(); ++i) welded.triangles[i] = weld.remap[raw.triangles[i]];
+      if (weld.merged > 0) {
+        info.repairs.push_back("merged " + plural(weld.merged, "duplicate vertex", "duplicate vertices") +
+                               (options.mergeTolerance > 0
+                                    ? " (within " + std::to_string(options.mergeTolerance) + " mm)"
+                                    : ""));
+      }
+    } else {
+      welded = raw;
+    }
+    if (!reportProgress(progress, kStage, 0.15)) return cancelled();
+    const BoundingBox box = referencedBox(welded);
+    const double diag2 = (box.max - box.min).squaredNorm();
+    filtered = filterFaces(welded, 2 * kDegenerateAreaRatio * diag2, options.repair);
+    if (filtered.triangles.empty()) {
+      return fail(Status::DegenerateInput,
+                  "all " + plural(welded.faceCount(), "face is", "faces are") +
+                      " degenerate (repeated vertices or zero area)");
+    }
+    if (options.repair) {
+      mesh.positions = std::move(welded.positions);
+      mesh.triangles = std::move(filtered.triangles);
+      const size_t degenerate = filtered.repeated + filtered.zeroArea;
+      if (degenerate > 0) {
+        info.repairs.push_back("dropped " + plural(degenerate, "degenerate face", "degenerate faces") +
+                               " (" + std::to_string(filtered.repeated) + " with repeated vertices, " +
+                               std::to_string(filtered.zeroArea) + " with zero area)");
+      }
+      if (filtered.duplicates > 0) {
+        info.repairs.push_back("dropped " + plural(filtered.duplicates, "duplicate face", "duplicate faces"));
+      }
+      const size_t unused = compactVertices(mesh);
+      if (unused > 0) {
+        info.repairs.push_back("dropped " + plural(unused, "unreferenced vertex", "unreferenced vertices"));
+      }
+    } else {
+      mesh = std::move(welded);
+      const size_t degenerate = filtered.repeated + filtered.zeroArea;
+      if (degenerate > 0) {
+        info.warnings.push_back("degenerate: " + plural(degenerate, "face has", "faces have") +
+                                " repeated vertices or zero area (repair off)");
+      }
+    }
+  }
+  if (!reportProgress(progress, kStage, 0.25)) return cancelled();
+
+  // Topology.
+  const MeshEdges edges = buildEdges(mesh);
+  if (!reportProgress(progress, kStage, 0.35)) return cancelled();
+  const TopologyCounts topo = countTopology(mesh, edges);
+  if (!reportProgress(progress, kStage, 0.45)) return cancelled();
+  OrientOptions orientOptions;
+  orientOptions.outward = options.repair;  // flips are computed either way, applied on repair
+  const OrientResult orient = orientMesh(mesh, edges, orientOptions);
+  if (options.repair) {
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+      if (orient.flip[f]) std::swap(mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]);
+    }
+    if (orient.reorientedFaces > 0) {
+      info.repairs.push_back("reoriented " + plural(orient.reorientedFaces, "face", "faces") +
+                             " to agree with their neighbours");
+    }
+    if (orient.outwardComponents > 0) {
+      info.repairs.push_back("flipped " + plural(orient.outwardComponents, "closed shell", "closed shells") +
+                             " (" + plural(orient.outwardFaces, "face", "faces") +
+                             ") so that normals point out of the solid");
+    }
+  }
+  if (!reportProgress(progress, kStage, 0.5)) return cancelled();
+
+  info.vertices = mesh.vertexCount();
+  info.faces = mesh.faceCount();
+  info.shells = topo.shells;
+  info.boundaryEdges = topo.boundaryEdges;
+  info.nonManifoldEdges = topo.nonManifoldEdges;
+  info.nonManifoldVertices = topo.nonManifoldVertices;
+  info.closed = topo.boundaryEdges == 0;
+  info.manifold = topo.nonManifoldEdges == 0 && topo.nonManifoldVertices == 0;
+  const size_t misoriented = options.repair ? orient.misorientedEdges : topo.misorientedEdges;
+  info.oriented = misoriented == 0;
+  info.bbox = referencedBox(mesh);
+  {
+    const Eigen::Vector3d centre = 0.5 * (info.bbox.min + info.bbox.max);
+    double volume = 0, area = 0;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+      const uint32_t* t = mesh.triangles.data() + 3 * f;
+      const Eigen::Vector3d a = mesh.vertex(t[0]) - centre;
+      const Eigen::Vector3d b = mesh.vertex(t[1]) - centre;
+      const Eigen::Vector3d c = mesh.vertex(t[2]) - centre;
+      volume += a.dot(b.cross(c));
+      area += (b - a).cross(c - a).norm();
+    }
+    info.volumeMm3 = volume / 6;
+    info.areaMm2 = area / 2;
+  }
+  if (!reportProgress(progress, kStage, 0.55)) return cancelled();
+
+  // Holes, counted on OpenMesh's half-edge structure.
+  size_t rejected = 0;
+  if (!info.closed) {
+    const HalfedgeBoundary hb = countBoundaryLoops(mesh);
+    info.boundaryLoops = hb.boundaryLoops;
+    rejected = hb.rejectedFaces;
+  }
+  if (!reportProgress(progress, kStage, 0.6)) return cancelled();
+
+  // Findings that cannot be repaired safely.
+  std::string openMessage, manifoldMessage;
+  if (!info.closed) {
+    openMessage = plural(info.boundaryEdges, "boundary edge", "boundary edges") + " in " +
+                  plural(info.boundaryLoops, "hole", "holes") + "; the solid is not closed";
+    info.errors.push_back(std::string("open_mesh: ") + openMessage);
+  }
+  if (topo.nonManifoldEdges > 0) {
+    const std::string m = plural(topo.nonManifoldEdges, "edge", "edges") + " shared by more than two faces";
+    info.errors.push_back("non_manifold: " + m);
+    if (manifoldMessage.empty()) manifoldMessage = m;
+  }
+  if (topo.nonManifoldVertices > 0) {
+    const std::string m = plural(topo.nonManifoldVertices, "vertex", "vertices") +
+                          " where separate sheets of faces touch at a point";
+    info.errors.push_back("non_manifold: " + m);
+    if (manifoldMessage.empty()) manifoldMessage = m;
+  }
+  if (!info.oriented) {
+    std::string m;
+    if (orient.nonOrientableComponents > 0) {
+      m = plural(orient.nonOrientableComponents, "component is", "components are") +
+          " not orientable (Moebius-like); " +
+          plural(misoriented, "edge joins", "edges join") + " faces of opposite orientation";
+    } else {
+      m = plural(misoriented, "edge joins", "edges join") +
+          " faces of opposite orientation (repair off)";
+    }
+    info.errors.push_back("inconsistent_orientation: " + m);
+    if (manifoldMessage.empty()) manifoldMessage = m;
+  }
+  if (rejected > 0) {
+    info.warnings.push_back("half_edge: " + plural(rejected, "face was", "faces were") +
+                            " rejected by the half-edge structure (non-manifold or misoriented); "
+                            "boundary_loops counts the accepted faces");
+  }
+  if (!options.repair && info.closed && info.oriented && info.volumeMm3 < 0) {
+    info.warnings.push_back("inside_out: the signed volume is negative (repair off)");
+  }
+  if (orient.nestingUnchecked > 0) {
+    info.warnings.push_back("nesting: " + plural(orient.nestingUnchecked, "shell was", "shells were") +
+                            " not tested for lying inside another (too costly); made outward");
+  }
+  if (!info.closed) {
+    result.solid.status = Status::OpenMesh;
+    result.solid.message = openMessage;
+  } else if (!manifoldMessage.empty()) {
+    result.solid.status = Status::NonManifoldInput;
+    result.solid.message = manifoldMessage;
+  }
+
+  // Self-intersections: a warning, the slicer unions sections with the non-zero rule.
+  if (options.checkSelfIntersections) {
+    if (options.selfIntersectionMaxFaces > 0 && info.faces > options.selfIntersectionMaxFaces) {
+      info.warnings.push_back("self_intersections not checked above " +
+                              std::to_string(options.selfIntersectionMaxFaces) + " faces (" +
+                              std::to_string(info.faces) + " here)");
+    } else {
+      SelfIntersectionOptions so;
+      so.cap = options.selfIntersectionCap;
+      so.collectPairs = false;
+      const SelfIntersectionResult si = findSelfIntersections(mesh, so, progress, 0.6, 1.0);
+      if (si.status == Status::Cancelled) return cancelled();
+      if (!si.ok()) {
+        info.warnings.push_back("self_intersections not checked: " + si.message);
+      } else {
+        info.selfIntersections = si.count;
+        info.selfIntersectionsCapped = si.capped;
+        if (si.count > 0) {
+          info.warnings.push_back("self_intersecting: " + std::string(si.capped ? "at least " : "") +
+                                  plural(si.count, "face pair intersects", "face pairs intersect") +
+                                  "; slicing uses the union");
+        }
+      }
+    }
+  }
+  if (!reportProgress(progress, kStage, 1)) return cancelled();
+  result.mesh = std::move(mesh);
+  return result;
+}
+
+std::string meshInfoJson(const MeshInfo& info) {
+  auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+  auto point = [&](const Eigen::Vector3d& p) {
+    return nlohmann::json::array({number(p.x()), number(p.y()), number(p.z())});
+  };
+  nlohmann::json j;
+  j["vertices"] = info.vertices;
+  j["faces"] = info.faces;
+  j["shells"] = info.shells;
+  j["closed"] = info.closed;
+  j["manifold"] = info.manifold;
+  j["oriented"] = info.oriented;
+  j["volume_mm3"] = number(info.volumeMm3);
+  j["area_mm2"] = number(info.areaMm2);
+  j["bbox"] = {{"min", point(info.bbox.min)}, {"max", point(info.bbox.max)}};
+  j["boundary_edges"] = info.boundaryEdges;
+  j["boundary_loops"] = info.boundaryLoops;
+  j["non_manifold_edges"] = info.nonManifoldEdges;
+  j["non_manifold_vertices"] = info.nonManifoldVertices;
+  j["self_intersections"] = info.selfIntersections;
+  j["self_intersections_capped"] = info.selfIntersectionsCapped;
+  j["non_finite_vertices"] = info.nonFiniteVertices;
+  j["repairs"] = info.repairs;
+  j["errors"] = info.errors;
+  j["warnings"] = info.warnings;
+  return j.dump();
+}
+
+}  // namespace omnislice

@@ -1,0 +1,366 @@
+// SPDX-License-Identifier: MIT
+// Planar tool-path planning.
+//
+// Regions of an island (w = line width, k = 0..walls-1):
+//   wall loop k      = island offset by -(w/2 + k w)       (k = 0: outer wall, touches the surface)
+//   fill region F    = island offset by -(walls w - overlap) (overlap = infillOverlapPercent % of w;
+//                      with no walls: -w/2, so bead edges stay inside the section)
+//   sparse region    = F intersected with the sections of layers i-bottomLayers..i+topLayers (i
+//                      excluded; a layer beyond the part is empty) = what is covered above and below
+//   skin region      = F minus the sparse region (solid: lines spaced w, +45 / -45 deg by layer)
+// Sparse infill: Lines pattern at infillAngle + 90 deg on odd layers, spacing w*100/percent; Grid:
+// both infillAngle and infillAngle + 90 on every layer, spacing twice that; 100 % = solid lines.
+//
+// Order: islands nearest-first from the nozzle; within an island inner walls first, then the outer
+// wall (the outer surface is laid against walls already in place), each wall level's loops nearest-
+// first, each loop starting at its vertex nearest the nozzle (seam follows the nozzle); then skin
+// lines, then sparse lines, each set nearest-first with either end allowed (zig-zag).
+// Travel: longer than retractMinTravel -> Retract, Travel, Unretract (never before the first
+// extrusion). Each layer begins with a travel to its first point at the layer top.
+#include "slice/plan_layers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "slice/clipper_adapter.h"
+#include "slice/infill.h"
+
+namespace omnislice {
+
+double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
+  const double bead = (widthMm - heightMm) * heightMm + M_PI * heightMm * heightMm / 4.0;
+  const double filament = M_PI * filamentDiameterMm * filamentDiameterMm / 4.0;
+  return bead * lengthMm / filament;
+}
+
+namespace {
+
+using ClipperLib::Path;
+using ClipperLib::Paths;
+using Vec2 = Eigen::Vector2d;
+
+constexpr double kParkClearanceMm = 2.0;  // toolpath.start sits this far above the first point
+
+struct Run {
+  std::vector<Vec2> points;
+  bool closed = false;  // a loop: may start at any vertex, ends back at its start
+  Feature feature = Feature::None;
+};
+
+std::vector<Vec2> toPoints(const Path& path) {
+  std::vector<Vec2> pts;
+  pts.reserve(path.size());
+  for (const auto& ip : path) pts.push_back(clip::toVec(ip));
+  return pts;
+}
+
+// Index of the vertex of `pts` nearest to `from` and its squared distance.
+std::pair<size_t, double> nearestVertex(const std::vector<Vec2>& pts, const Vec2& from) {
+  size_t best = 0;
+  double bestD = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const double d = (pts[i] - from).squaredNorm();
+    if (d < bestD) {
+      bestD = d;
+      best = i;
+    }
+  }
+  return {best, bestD};
+}
+
+// Orders runs nearest-first from `cur`: loops rotated to start at their nearest vertex, open runs
+// reversed when their far end is nearer. Updates cur to the end of the last run.
+std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
+  std::vector<Run> out;
+  out.reserve(runs.size());
+  std::vector<char> done(runs.size(), 0);
+  for (size_t n = 0; n < runs.size(); ++n) {
+    size_t best = 0, bestVertex = 0;
+    bool reverse = false;
+    double bestD = std::numeric_limits<double>::infinity();
+    for (size_t r = 0; r < runs.size(); ++r) {
+      if (done[r]) continue;
+      const std::vector<Vec2>& pts = runs[r].points;
+      if (runs[r].closed) {
+        const auto [v, d] = nearestVertex(pts, cur);
+        if (d < bestD) {
+          bestD = d;
+          best = r;
+          bestVertex = v;
+          reverse = false;
+        }
+      } else {
+        const double d0 = (pts.front() - cur).squaredNorm();
+        const double d1 = (pts.back() - cur).squaredNorm();
+        if (std::min(d0, d1) < bestD) {
+          bestD = std::min(d0, d1);
+          best = r;
+          reverse = d1 < d0;
+        }
+      }
+    }
+    done[best] = 1;
+    Run run = std::move(runs[best]);
+    if (run.closed) {
+      std::rotate(run.points.begin(), run.points.begin() + bestVertex, run.points.end());
+      run.points.push_back(run.points.front());
+    } else if (reverse) {
+      std::reverse(run.points.begin(), run.points.end());
+    }
+    cur = run.points.back();
+    out.push_back(std::move(run));
+  }
+  return out;
+}
+
+struct IslandWork {
+  Paths outline;                       // contour + holes
+  std::vector<Vec2> probes;            // up to ~64 outline points, for nearest-island choice
+  std::vector<std::vector<Run>> walls; // per level, 0 = outer
+  Paths fill;                          // fill region F
+};
+
+PlanLayersResult fail(Status s, std::string message) {
+  PlanLayersResult r;
+  r.status = s;
+  r.message = std::move(message);
+  return r;
+}
+
+bool positiveFinite(double v) { return std::isfinite(v) && v > 0; }
+
+}  // namespace
+
+PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings, int partIndex,
+                            const ProgressFn& progress) {
+  if (!slices.ok()) return fail(Status::InvalidOption, "slices carry an error: " + slices.message);
+  const double w = settings.effectiveLineWidth();
+  if (!positiveFinite(w)) return fail(Status::InvalidOption, "line_width must be > 0 mm");
+  if (!positiveFinite(settings.filamentDiameter)) {
+    return fail(Status::InvalidOption, "filament_diameter must be > 0 mm");
+  }
+  if (settings.walls < 0 || settings.walls > 1000) return fail(Status::InvalidOption, "walls must be in 0..1000");
+  if (settings.topLayers < 0 || settings.bottomLayers < 0 || settings.topLayers > 1000 ||
+      settings.bottomLayers > 1000) {
+    return fail(Status::InvalidOption, "top_layers and bottom_layers must be in 0..1000");
+  }
+  if (!std::isfinite(settings.infillPercent) || settings.infillPercent < 0 ||
+      settings.infillPercent > 100) {
+    return fail(Status::InvalidOption, "infill must be in 0..100 %");
+  }
+  if (!std::isfinite(settings.infillOverlapPercent) || settings.infillOverlapPercent < 0 ||
+      settings.infillOverlapPercent > 100) {
+    return fail(Status::InvalidOption, "infill_overlap must be in 0..100 % of the line width");
+  }
+  if (!std::isfinite(settings.infillAngleDegrees)) return fail(Status::InvalidOption, "infill_angle must be finite");
+  for (double speed : {settings.printSpeed, settings.outerWallSpeed, settings.infillSpeed,
+                       settings.firstLayerSpeed, settings.travelSpeed}) {
+    if (!positiveFinite(speed)) return fail(Status::InvalidOption, "speeds must be > 0 mm/s");
+  }
+  if (!std::isfinite(settings.retractLength) || settings.retractLength < 0 ||
+      !std::isfinite(settings.retractMinTravel) || settings.retractMinTravel < 0) {
+    return fail(Status::InvalidOption, "retract_length and retract_min_travel must be >= 0 mm");
+  }
+  if (settings.retractLength > 0 && !positiveFinite(settings.retractSpeed)) {
+    return fail(Status::InvalidOption, "retract_speed must be > 0 mm/s");
+  }
+
+  PlanLayersResult result;
+  const SliceFrame& frame = slices.frame;
+  const size_t layerCount = slices.layers.size();
+  result.toolpath.layerCount = static_cast<int32_t>(layerCount);
+  result.skinAreaMm2.assign(layerCount, 0.0);
+  result.infillAreaMm2.assign(layerCount, 0.0);
+  Toolpath& tp = result.toolpath;
+
+  const int walls = settings.walls;
+  const double overlap = settings.infillOverlapPercent / 100.0 * w;
+  const double fillInset = walls > 0 ? walls * w - overlap : 0.5 * w;
+  const double minLine = 0.25 * w;
+  const bool retractOn = settings.retractLength > 0;
+
+  Vec2 cur(0, 0);             // nozzle in the layer plane
+  Eigen::Vector3d pos(0, 0, 0);
+  bool started = false;       // first travel not yet emitted
+  bool extruded = false;
+
+  try {
+    std::vector<Paths> sections(layerCount);
+    for (size_t i = 0; i < layerCount; ++i) sections[i] = clip::toPaths(slices.layers[i].islands);
+
+    for (size_t i = 0; i < layerCount; ++i) {
+      if (!reportProgress(progress, "toolpath", static_cast<double>(i) / layerCount)) {
+        return fail(Status::Cancelled, "cancelled");
+      }
+      const SliceLayer& layer = slices.layers[i];
+      const double thickness = layer.top - layer.bottom;
+      const double z = slices.minHeight + layer.top;
+      const bool firstLayer = i == 0;
+
+      // Islands of this layer with their walls and fill regions.
+      std::vector<IslandWork> islands;
+      for (const ExPolygon2& ex : layer.islands) {
+        IslandWork iw;
+        iw.outline = clip::toPaths(ex);
+        for (const Path& path : iw.outline) {
+          const size_t step = std::max<size_t>(1, path.size() / 64);
+          for (size_t p = 0; p < path.size(); p += step) iw.probes.push_back(clip::toVec(path[p]));
+        }
+        for (int k = 0; k < walls; ++k) {
+          Paths loops = clip::offset(iw.outline, -(0.5 * w + k * w));
+          if (loops.empty()) break;
+          std::vector<Run> level;
+          for (const Path& loop : loops) {
+            if (loop.size() < 3) continue;
+            Run run;
+            run.points = toPoints(loop);
+            run.closed = true;
+            run.feature = k == 0 ? Feature::WallOuter : Feature::WallInner;
+            level.push_back(std::move(run));
+          }
+          if (level.empty()) break;
+          iw.walls.push_back(std::move(level));
+        }
+        iw.fill = clip::offset(iw.outline, -fillInset);
+        islands.push_back(std::move(iw));
+      }
+
+      // Skin versus sparse: covered by every section within topLayers above and bottomLayers below.
+      const double skinAngle = (i % 2 == 0) ? 45.0 : -45.0;
+      const double pct = settings.infillPercent;
+      std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
+      for (size_t k = 0; k < islands.size(); ++k) {
+        const Paths& fill = islands[k].fill;
+        if (fill.empty()) continue;
+        Paths sparse = fill;
+        const long lo = static_cast<long>(i) - settings.bottomLayers;
+        const long hi = static_cast<long>(i) + settings.topLayers;
+        if (lo < 0 || hi >= static_cast<long>(layerCount)) {
+          sparse.clear();
+        } else {
+          for (long j = lo; j <= hi && !sparse.empty(); ++j) {
+            if (j == static_cast<long>(i)) continue;
+            sparse = clip::intersect(sparse, sections[j]);
+          }
+        }
+        const Paths skin = sparse.empty() ? fill : clip::subtract(fill, sparse);
+        result.skinAreaMm2[i] += clip::areaMm2(skin);
+        result.infillAreaMm2[i] += clip::areaMm2(sparse);
+        for (const Path& line : fillLines(skin, skinAngle, w, minLine)) {
+          skinRuns[k].push_back(Run{toPoints(line), false, Feature::Skin});
+        }
+        if (pct > 0 && !sparse.empty()) {
+          Paths lines;
+          if (pct >= 100) {
+            lines = fillLines(sparse, skinAngle, w, minLine);
+          } else if (settings.infillPattern == InfillPattern::Lines) {
+            const double angle = settings.infillAngleDegrees + (i % 2 == 0 ? 0.0 : 90.0);
+            lines = fillLines(sparse, angle, w * 100.0 / pct, minLine);
+          } else {
+            const double s = 2.0 * w * 100.0 / pct;
+            lines = fillLines(sparse, settings.infillAngleDegrees, s, minLine);
+            Paths cross = fillLines(sparse, settings.infillAngleDegrees + 90.0, s, minLine);
+            lines.insert(lines.end(), cross.begin(), cross.end());
+          }
+          for (const Path& line : lines) infillRuns[k].push_back(Run{toPoints(line), false, Feature::Infill});
+        }
+      }
+
+      // Emit the layer: islands nearest-first, walls inner to outer, then skin, then infill.
+      auto speedOf = [&](Feature f) {
+        if (firstLayer) return settings.firstLayerSpeed;
+        if (f == Feature::WallOuter) return settings.outerWallSpeed;
+        if (f == Feature::Infill) return settings.infillSpeed;
+        return settings.printSpeed;
+      };
+      auto baseMove = [&](const Eigen::Vector3d& p, MoveKind kind) {
+        Move m;
+        m.position = p;
+        m.axis = frame.d;
+        m.kind = kind;
+        m.part = partIndex;
+        m.layer = static_cast<int32_t>(i);
+        return m;
+      };
+      auto travelTo = [&](const Eigen::Vector3d& target) {
+        if (!started) {
+          tp.start = target + kParkClearanceMm * frame.d;
+          pos = tp.start;
+          started = true;
+        }
+        const double len = (target - pos).norm();
+        if (len <= 1e-9) return;
+        const bool retract = retractOn && extruded && len > settings.retractMinTravel;
+        if (retract) {
+          Move r = baseMove(pos, MoveKind::Retract);
+          r.filament = -settings.retractLength;
+          r.speed = settings.retractSpeed;
+          tp.moves.push_back(r);
+        }
+        Move t = baseMove(target, MoveKind::Travel);
+        t.speed = settings.travelSpeed;
+        tp.moves.push_back(t);
+        if (retract) {
+          Move u = baseMove(target, MoveKind::Unretract);
+          u.filament = settings.retractLength;
+          u.speed = settings.retractSpeed;
+          tp.moves.push_back(u);
+        }
+        pos = target;
+      };
+      auto emitRun = [&](const Run& run) {
+        travelTo(frame.toPart(run.points.front(), z));
+        cur = run.points.front();
+        const double speed = speedOf(run.feature);
+        for (size_t p = 1; p < run.points.size(); ++p) {
+          const Eigen::Vector3d target = frame.toPart(run.points[p], z);
+          const double len = (target - pos).norm();
+          if (len <= 1e-9) continue;
+          Move m = baseMove(target, MoveKind::Print);
+          m.width = w;
+          m.height = thickness;
+          m.filament = filamentForBead(w, thickness, len, settings.filamentDiameter);
+          m.speed = speed;
+          m.feature = run.feature;
+          tp.moves.push_back(m);
+          pos = target;
+          extruded = true;
+        }
+        cur = run.points.back();
+      };
+
+      std::vector<char> islandDone(islands.size(), 0);
+      for (size_t n = 0; n < islands.size(); ++n) {
+        size_t best = 0;
+        double bestD = std::numeric_limits<double>::infinity();
+        for (size_t k = 0; k < islands.size(); ++k) {
+          if (islandDone[k]) continue;
+          const double d = nearestVertex(islands[k].probes, cur).second;
+          if (d < bestD) {
+            bestD = d;
+            best = k;
+          }
+        }
+        islandDone[best] = 1;
+        IslandWork& iw = islands[best];
+        for (size_t level = iw.walls.size(); level-- > 0;) {
+          Vec2 probe = cur;
+          for (const Run& run : orderRuns(std::move(iw.walls[level]), probe)) emitRun(run);
+        }
+        Vec2 probe = cur;
+        for (const Run& run : orderRuns(std::move(skinRuns[best]), probe)) emitRun(run);
+        probe = cur;
+        for (const Run& run : orderRuns(std::move(infillRuns[best]), probe)) emitRun(run);
+      }
+    }
+  } catch (const std::exception& e) {
+    return fail(Status::Internal, std::string("polygon clipping failed: ") + e.what());
+  }
+  if (!started) tp.start = frame.toPart(Vec2(0, 0), slices.minHeight + kParkClearanceMm);
+  if (!reportProgress(progress, "toolpath", 1.0)) return fail(Status::Cancelled, "cancelled");
+  return result;
+}
+
+}  // namespace omnislice

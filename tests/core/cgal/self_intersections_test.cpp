@@ -1,0 +1,149 @@
+// SPDX-License-Identifier: MIT
+// findSelfIntersections against an independent O(n^2) plain-double test, and its adjacency rules.
+#include "cgal/self_intersections.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <set>
+
+#include "mesh/generated_meshes.h"
+#include "test_support.h"
+
+namespace omnislice {
+namespace {
+
+using Pair = std::pair<uint32_t, uint32_t>;
+
+double orient(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+              const Eigen::Vector3d& d) {
+  return (b - a).cross(c - a).dot(d - a);
+}
+
+// Point where segment pq crosses the plane of triangle abc and lies inside it, for segments not in
+// that plane (generic positions). Returns false when there is none.
+bool segmentHitsTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                         const Eigen::Vector3d& b, const Eigen::Vector3d& c, Eigen::Vector3d& hit) {
+  const double dp = orient(a, b, c, p), dq = orient(a, b, c, q);
+  if ((dp > 0 && dq > 0) || (dp < 0 && dq < 0) || dp == dq) return false;
+  hit = p + (q - p) * (dp / (dp - dq));
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double s1 = (b - a).cross(hit - a).dot(n);
+  const double s2 = (c - b).cross(hit - b).dot(n);
+  const double s3 = (a - c).cross(hit - c).dot(n);
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+// Two triangles (not coplanar) intersect iff an edge of one meets the other. Points that are a
+// shared vertex, and edges both contain, do not count: adjacency is not intersection.
+std::set<Pair> bruteForcePairs(const Mesh& m) {
+  std::set<Pair> out;
+  for (uint32_t f = 0; f < m.faceCount(); ++f) {
+    for (uint32_t g = f + 1; g < m.faceCount(); ++g) {
+      const uint32_t* tf = &m.triangles[3 * f];
+      const uint32_t* tg = &m.triangles[3 * g];
+      std::vector<Eigen::Vector3d> shared;
+      for (int i = 0; i < 3; ++i) {
+        for (int j = 0; j < 3; ++j) {
+          if (tf[i] == tg[j]) shared.push_back(m.vertex(tf[i]));
+        }
+      }
+      bool found = false;
+      for (int side = 0; side < 2 && !found; ++side) {
+        const uint32_t* e = side ? tg : tf;
+        const uint32_t* t = side ? tf : tg;
+        for (int k = 0; k < 3 && !found; ++k) {
+          // An edge both faces contain lies in both planes: it only shows adjacency (and its
+          // rounding-level plane distances would fake a crossing).
+          const bool sharedEdge = std::count(t, t + 3, e[k]) && std::count(t, t + 3, e[(k + 1) % 3]);
+          if (sharedEdge) continue;
+          Eigen::Vector3d hit;
+          if (!segmentHitsTriangle(m.vertex(e[k]), m.vertex(e[(k + 1) % 3]), m.vertex(t[0]), m.vertex(t[1]),
+                                   m.vertex(t[2]), hit)) {
+            continue;
+          }
+          bool atShared = false;
+          for (const auto& s : shared) atShared |= (hit - s).norm() < 1e-9;
+          found = !atShared;
+        }
+      }
+      if (found) out.insert({f, g});
+    }
+  }
+  return out;
+}
+
+// A small mesh in generic position with many crossings and many adjacent pairs: two welded
+// icospheres that overlap and a tilted box through both.
+Mesh tangle() {
+  Mesh m = test::append(test::makeIcosphere(10, 2), test::makeIcosphere(7, 2, {12.3, 1.7, -0.9}));
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(0.37, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(1.11, Eigen::Vector3d(0.2, 1, 0.3).normalized()))
+                                .toRotationMatrix();
+  return test::append(m, test::transformed(test::makeBox(-3, -2.5, -14, 4.1, 3.3, 16), R,
+                                           Eigen::Vector3d(5.2, 0.4, 0.3)));
+}
+
+TEST(SelfIntersections, MatchesBruteForce) {
+  const Mesh m = tangle();
+  ASSERT_EQ(m.faceCount(), 652u);
+  const std::set<Pair> expected = bruteForcePairs(m);
+  ASSERT_GT(expected.size(), 20u);
+  SelfIntersectionOptions o;
+  o.cap = 0;
+  const SelfIntersectionResult r = findSelfIntersections(m, o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_FALSE(r.capped);
+  EXPECT_EQ(r.count, expected.size());
+  const std::set<Pair> got(r.pairs.begin(), r.pairs.end());
+  for (const Pair& p : expected) EXPECT_TRUE(got.count(p)) << "missing " << p.first << "," << p.second;
+  for (const Pair& p : got) EXPECT_TRUE(expected.count(p)) << "extra " << p.first << "," << p.second;
+  // Each shell alone is clean: adjacent faces are not reported.
+  EXPECT_EQ(findSelfIntersections(test::makeIcosphere(10, 3), o).count, 0u);
+  EXPECT_EQ(findSelfIntersections(test::makeBox(0, 0, 0, 1, 1, 1), o).count, 0u);
+  EXPECT_EQ(findSelfIntersections(test::makeTorus(10, 3, 40, 20), o).count, 0u);
+}
+
+// Faces sharing an edge intersect only when folded flat onto each other.
+TEST(SelfIntersections, FoldedEdgeNeighbours) {
+  Mesh m;
+  m.positions = {0, 0, 0, 1, 0, 0, 0.3, 1, 0, 0.6, 0.8, 0, 0.5, -1, 0, 0.4, 0.7, 0.5};
+  m.triangles = {0, 1, 2,   // reference face
+                 1, 0, 3};  // same plane, same side of edge 0-1: folded onto it
+  SelfIntersectionResult r = findSelfIntersections(m, {});
+  EXPECT_EQ(r.count, 1u);
+  m.triangles = {0, 1, 2, 1, 0, 4};  // same plane, other side: a flat neighbour
+  EXPECT_EQ(findSelfIntersections(m, {}).count, 0u);
+  m.triangles = {0, 1, 2, 1, 0, 5};  // out of plane: a hinge
+  EXPECT_EQ(findSelfIntersections(m, {}).count, 0u);
+}
+
+// Faces sharing a vertex intersect when one pierces the other away from it.
+TEST(SelfIntersections, VertexNeighbours) {
+  Mesh m;
+  m.positions = {0, 0, 0, 2, 0, 0, 0, 2, 0,     // face in z = 0 at the origin
+                 0.5, 0.5, -1, 0.6, 0.4, 1,     // pierces it
+                 -1, -1, -1, -1, -2, 1};        // stays outside
+  m.triangles = {0, 1, 2, 0, 3, 4};
+  EXPECT_EQ(findSelfIntersections(m, {}).count, 1u);
+  m.triangles = {0, 1, 2, 0, 5, 6};
+  EXPECT_EQ(findSelfIntersections(m, {}).count, 0u);
+}
+
+// The cap stops the search; progress can cancel it.
+TEST(SelfIntersections, CapAndCancel) {
+  const Mesh m = tangle();
+  SelfIntersectionOptions o;
+  o.cap = 5;
+  const SelfIntersectionResult r = findSelfIntersections(m, o);
+  EXPECT_EQ(r.count, 5u);
+  EXPECT_TRUE(r.capped);
+  EXPECT_EQ(r.pairs.size(), 5u);
+  const SelfIntersectionResult c =
+      findSelfIntersections(m, {}, [](const char*, double) { return false; });
+  EXPECT_EQ(c.status, Status::Cancelled);
+}
+
+}  // namespace
+}  // namespace omnislice

@@ -1,0 +1,88 @@
+// SPDX-License-Identifier: MIT
+// Reader speed on large generated files. The 1M-triangle binary STL must parse well under 0.5 s
+// in an optimised build (the read + validate budget is 1 s); times are printed for the record.
+// OMNISLICE_SPEED_TRIANGLES overrides the text-format size (default 200k triangles).
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "../test_support.h"
+#include "mesh/read_mesh.h"
+#include "read_mesh_writers.h"
+
+namespace omnislice {
+namespace {
+
+#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
+constexpr bool kTimed = true;
+#else
+constexpr bool kTimed = false;  // Debug or sanitizer builds: report only
+#endif
+
+Mesh randomSoup(size_t faces, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> u(-100.f, 100.f);
+  Mesh m;
+  m.positions.resize(9 * faces);
+  for (double& v : m.positions) v = u(rng);
+  m.triangles.resize(3 * faces);
+  for (size_t i = 0; i < m.triangles.size(); ++i) m.triangles[i] = static_cast<uint32_t>(i);
+  return m;
+}
+
+double secondsToRead(const std::vector<uint8_t>& bytes, const std::string& name, ReadMeshResult& out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  out = readMesh(bytes.data(), bytes.size(), name);
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+TEST(ReadMeshSpeed, BinaryStlMillionTriangles) {
+  const size_t faces = 1000000;
+  const Mesh m = randomSoup(faces, 1);
+  const std::vector<uint8_t> bytes = test::writeBinaryStl(m, "solid speed test");
+  ReadMeshResult r;
+  double best = 1e9;
+  for (int i = 0; i < 3; ++i) best = std::min(best, secondsToRead(bytes, "speed.stl", r));
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(r.mesh.faceCount(), faces);
+  EXPECT_EQ(r.mesh.positions[12345], m.positions[12345]);
+  std::printf("[ReadMeshSpeed] binary STL, %zu triangles (%.1f MB): %.3f s\n", faces, bytes.size() / 1e6, best);
+  if (kTimed) {
+    EXPECT_LT(best, 0.5);
+  }
+}
+
+TEST(ReadMeshSpeed, TextFormats) {
+  size_t faces = 200000;
+  if (const char* env = std::getenv("OMNISLICE_SPEED_TRIANGLES")) faces = std::strtoull(env, nullptr, 10);
+  const Mesh m = randomSoup(faces, 2);
+  test::PolyMesh poly;
+  poly.positions = m.positions;
+  for (size_t f = 0; f < faces; ++f) poly.polygons.push_back({m.triangles[3 * f], m.triangles[3 * f + 1], m.triangles[3 * f + 2]});
+  struct Case {
+    const char* label;
+    std::vector<uint8_t> bytes;
+    const char* name;
+  };
+  std::vector<Case> cases;
+  cases.push_back({"ASCII STL", test::bytesOf(test::writeAsciiStl(m)), "s.stl"});
+  cases.push_back({"OBJ", test::bytesOf(test::writeObj(poly)), "s.obj"});
+  cases.push_back({"PLY LE", test::writePly(poly, test::PlyKind::LittleEndian), "s.ply"});
+  cases.push_back({"3MF deflated", test::write3mf(test::modelXml(test::objectXml(1, m), "<item objectid=\"1\"/>"), true), "s.3mf"});
+  for (const Case& c : cases) {
+    ReadMeshResult r;
+    const double s = secondsToRead(c.bytes, c.name, r);
+    ASSERT_TRUE(r.ok()) << c.label << ": " << r.message;
+    EXPECT_EQ(r.mesh.faceCount(), faces) << c.label;
+    std::printf("[ReadMeshSpeed] %s, %zu triangles (%.1f MB): %.3f s (%.3f s per million triangles)\n", c.label, faces,
+                c.bytes.size() / 1e6, s, s * 1e6 / faces);
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
