@@ -2,6 +2,7 @@
 // The omnislice CLI as a user runs it: exit codes, the one-line error format, no partial files.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -28,8 +29,11 @@ struct CliRun {
 
 CliRun runCli(const std::string& args) {
   const fs::path dir = test::tempDir();
-  const fs::path outFile = dir / "cli_stdout.txt";
-  const fs::path errFile = dir / "cli_stderr.txt";
+  // ctest runs tests in parallel processes: name the capture files after this process.
+  static int calls = 0;
+  const std::string tag = std::to_string(::getpid()) + "_" + std::to_string(++calls);
+  const fs::path outFile = dir / ("cli_stdout_" + tag + ".txt");
+  const fs::path errFile = dir / ("cli_stderr_" + tag + ".txt");
   const std::string cmd = std::string(OMNISLICE_CLI_PATH) + " " + args + " >" + outFile.string() +
                           " 2>" + errFile.string();
   const int raw = std::system(cmd.c_str());
@@ -43,6 +47,8 @@ CliRun runCli(const std::string& args) {
   se << e.rdbuf();
   r.out = so.str();
   r.err = se.str();
+  fs::remove(outFile);
+  fs::remove(errFile);
   return r;
 }
 
