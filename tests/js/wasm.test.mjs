@@ -228,6 +228,13 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.throws(() => m.verify('G1 X1 Y1\n', bytes, 't.stl'), (e) => e instanceof wrapper.OmnisliceError);
   });
 
+  test('Node: loadOmnislice reads omnislice.wasm itself when no wasmBinary is given', async () => {
+    const { pathToFileURL } = await import('node:url');
+    const { WASM_DIR } = await import('./wasm-support.mjs');
+    const other = await wrapper.loadOmnislice({ moduleUrl: pathToFileURL(path.join(WASM_DIR, 'omnislice.mjs')).href });
+    assert.equal(other.slice(boxStl(10, 10, 2), 'b.stl', { layer_height: 0.2 }).report.layers, 10);
+  });
+
   test('settingsToLines validates keys and values', () => {
     assert.equal(wrapper.settingsToLines({ a: 1, b: true, c: [0, 0, 1], d: 'y', e: undefined }),
       'a=1\nb=true\nc=0,0,1\nd=y');
