@@ -189,6 +189,32 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.ok(['object', 'parse_error', 'invalid_option'].includes(r.verify), String(r.verify));
   });
 
+  test('default URLs work; a bad wasm URL rejects with worker_failed; unloadMesh forgets', async () => {
+    const r = await page.evaluate(async () => {
+      const out = {};
+      const plain = await window.engine.createSlicer();
+      const { meshId, info } = await plain.loadMesh('box.stl', window.meshes.boxStl(10, 10, 4));
+      out.faces = info.faces;
+      out.layers = (await plain.slice(meshId, { layer_height: 0.2 })).layers;
+      await plain.unloadMesh(meshId);
+      out.afterUnload = await plain.slice(meshId).then(() => 'resolved', (e) => e.code);
+      plain.dispose();
+      out.afterDispose = await plain.slice({ name: 'b.stl', bytes: window.meshes.boxStl(1, 1, 1) })
+        .then(() => 'resolved', (e) => e.code);
+      out.badWasm = await window.engine.createSlicer({ wasmUrl: '/wasm/missing.mjs' })
+        .then((s) => { s.dispose(); return 'resolved'; }, (e) => e.code);
+      out.badWorker = await window.engine.createSlicer({ workerUrl: '/workers/missing.js' })
+        .then((s) => { s.dispose(); return 'resolved'; }, (e) => e.code);
+      return out;
+    });
+    assert.equal(r.faces, 12);
+    assert.equal(r.layers, 20);
+    assert.equal(r.afterUnload, 'invalid_option');
+    assert.equal(r.afterDispose, 'cancelled');
+    assert.equal(r.badWasm, 'worker_failed');
+    assert.equal(r.badWorker, 'worker_failed');
+  });
+
   test('the main thread is not blocked while slicing', async () => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.torusStl(30, 10, 400, 125);  // 100,000 triangles
