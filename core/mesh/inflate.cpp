@@ -155,6 +155,8 @@ class Inflater {
       : br_(data, size), data_(data), size_(size), max_(maxOutput), r_(r) {}
 
   void run() {
+    // With a plausible expected size (zip entries), allocate the output once.
+    if (max_ <= 1032 * static_cast<uint64_t>(size_) + 1024) out_.resize(max_);
     bool last = false;
     while (!last) {
       last = br_.bits(1) != 0;

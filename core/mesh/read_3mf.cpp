@@ -462,7 +462,7 @@ class ThreeMfReader {
         if (!attrDouble(a, "x", xyz[0]) || !attrDouble(a, "y", xyz[1]) || !attrDouble(a, "z", xyz[2])) {
           return fail(Status::ParseError, where + "object " + std::to_string(objId) + ": vertex without valid x, y, z");
         }
-        obj->positions.insert(obj->positions.end(), xyz, xyz + 3);
+        pushXyz(obj->positions, xyz);
       } else if (n == "triangle" && obj != nullptr && s.ancestor(0) == "triangles" && s.ancestor(1) == "mesh") {
         int64_t v[3];
         if (!attrInt(a, "v1", v[0]) || !attrInt(a, "v2", v[1]) || !attrInt(a, "v3", v[2])) {

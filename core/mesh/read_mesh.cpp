@@ -126,10 +126,15 @@ ReadMeshResult readChecked(const uint8_t* data, size_t size, const std::string& 
   Format chosen = byName;
   if (byName == Format::Unknown) {
     chosen = byContent != Format::Unknown ? byContent : weakSniff(data, size);
-  } else if (byContent != Format::Unknown && byContent != byName) {
-    chosen = byContent;
-    note = "'" + nameHint + "' is named as " + formatName(byName) + " but its content is " + formatName(byContent) +
-           "; read as " + formatName(byContent);
+  } else {
+    // Clear signatures win over the name; so does OBJ text in a file named as another format.
+    Format other = byContent;
+    if (other == Format::Unknown && byName != Format::Obj && weakSniff(data, size) == Format::Obj) other = Format::Obj;
+    if (other != Format::Unknown && other != byName) {
+      chosen = other;
+      note = "'" + nameHint + "' is named as " + formatName(byName) + " but its content is " + formatName(other) +
+             "; read as " + formatName(other);
+    }
   }
   if (chosen == Format::Unknown) {
     r.status = Status::UnsupportedFormat;
@@ -185,7 +190,7 @@ ReadMeshResult readMeshFile(const std::string& path) {
     size_t n;
     if (std::fseek(f, 0, SEEK_END) == 0) {
       const long length = std::ftell(f);
-      if (length > 0 && length < (long{1} << 40)) bytes.reserve(static_cast<size_t>(length));
+      if (length > 0 && static_cast<uint64_t>(length) < (uint64_t{1} << 40)) bytes.reserve(static_cast<size_t>(length));
       std::fseek(f, 0, SEEK_SET);
     }
     while ((n = std::fread(buffer, 1, sizeof buffer, f)) > 0) bytes.insert(bytes.end(), buffer, buffer + n);

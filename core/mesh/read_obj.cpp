@@ -108,7 +108,7 @@ ReadMeshResult parseObj(const char* p, const char* end) {
         if (!parseDouble(b, e, xyz[k])) return fail(Status::ParseError, "bad vertex coordinate " + std::string(b, e - b > 40 ? 40 : e - b));
       }
       // Anything after x y z (w, or r g b colours) is ignored.
-      m.positions.insert(m.positions.end(), xyz, xyz + 3);
+      pushXyz(m.positions, xyz);
       continue;
     }
     if (klen == 1 && kb[0] == 'f') {

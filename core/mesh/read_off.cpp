@@ -38,7 +38,7 @@ ReadMeshResult readOff(const uint8_t* data, size_t size) {
   const char* e;
   auto fail = [&r, &c](Status s, const std::string& what) {
     r.status = s;
-    r.message = "OFF line " + std::to_string(c.line) + ": " + what;
+    r.message = "OFF line " + std::to_string(c.lineNumber()) + ": " + what;
     r.mesh = Mesh();
     return r;
   };
@@ -68,7 +68,7 @@ ReadMeshResult readOff(const uint8_t* data, size_t size) {
       }
       if (!parseDouble(b, e, xyz[k])) return fail(Status::ParseError, "bad vertex coordinate " + tokenForMessage(b, e));
     }
-    m.positions.insert(m.positions.end(), xyz, xyz + 3);
+    pushXyz(m.positions, xyz);
     c.skipLine();
   }
   std::vector<uint32_t> polygon;

@@ -252,7 +252,7 @@ class PlyDataReader {
       if (!ok) return false;
     }
     if (h_.encoding == PlyEncoding::Ascii && !cursor.atEnd()) {
-      r_.warnings.push_back("PLY: ignored data after the last element (line " + std::to_string(cursor.line) + ")");
+      r_.warnings.push_back("PLY: ignored data after the last element (line " + std::to_string(cursor.lineNumber()) + ")");
     } else if (h_.encoding != PlyEncoding::Ascii && pos_ < size_) {
       r_.warnings.push_back("PLY: ignored " + std::to_string(size_ - pos_) + " bytes after the last element");
     }
@@ -355,7 +355,7 @@ class PlyDataReader {
         }
         pos_ += static_cast<size_t>(count) * n;
       }
-      if (isVertex) r_.mesh.positions.insert(r_.mesh.positions.end(), xyz, xyz + 3);
+      if (isVertex) pushXyz(r_.mesh.positions, xyz);
     }
     return true;
   }
@@ -367,7 +367,7 @@ class PlyDataReader {
     const char* e;
     double xyz[3] = {0, 0, 0};
     auto bad = [&](const char* what) {
-      return fail(Status::ParseError, "line " + std::to_string(c.line) + ": bad " + what + " " + tokenForMessage(b, e));
+      return fail(Status::ParseError, "line " + std::to_string(c.lineNumber()) + ": bad " + what + " " + tokenForMessage(b, e));
     };
     for (uint64_t i = 0; i < el.count; ++i) {
       for (size_t pi = 0; pi < el.props.size(); ++pi) {
@@ -396,7 +396,7 @@ class PlyDataReader {
         }
         if (wanted && !emitPolygon(el, i)) return false;
       }
-      if (isVertex) r_.mesh.positions.insert(r_.mesh.positions.end(), xyz, xyz + 3);
+      if (isVertex) pushXyz(r_.mesh.positions, xyz);
     }
     return true;
   }

@@ -94,12 +94,14 @@ ReadMeshResult readAsciiStl(const uint8_t* data, size_t size) {
   ReadMeshResult r;
   r.format = "stl-ascii";
   Mesh& m = r.mesh;
-  m.positions.reserve(size / 25);
-  m.triangles.reserve(size / 75);
+  m.positions.reserve(size / 20);
+  m.triangles.reserve(size / 60);
   TextCursor c(data, size);
   const char* b;
   const char* e;
-  auto where = [&c]() { return "ASCII STL line " + std::to_string(c.line) + ": "; };
+  auto where = [&c]() { return "ASCII STL line " + std::to_string(c.lineNumber()) + ": "; };
+  size_t polygons = 0;          // facets with more than 3 vertices
+  size_t firstPolygonLine = 0;
   auto truncated = [&](const char* what) {
     return fail(Status::TruncatedFile, "ASCII STL: file ends inside a facet (expected " + std::string(what) + ")");
   };
@@ -109,7 +111,7 @@ ReadMeshResult readAsciiStl(const uint8_t* data, size_t size) {
   std::vector<double> polygon;
   while (c.next(b, e)) {
     if (tokenIs(b, e, "solid")) {
-      if (inSolid) r.warnings.push_back(where() + "'solid' before 'endsolid' of the previous solid");
+      if (inSolid && r.warnings.size() < 20) r.warnings.push_back(where() + "'solid' before 'endsolid' of the previous solid");
       inSolid = sawSolid = true;
       c.skipLine();  // the rest of the line is the solid's name
       continue;
@@ -148,13 +150,13 @@ ReadMeshResult readAsciiStl(const uint8_t* data, size_t size) {
           return fail(Status::ParseError, where() + "bad vertex coordinate " + tokenForMessage(b, e));
         }
       }
-      m.positions.insert(m.positions.end(), loopCoords, loopCoords + 3);
+      pushXyz(m.positions, loopCoords);
     }
     const size_t n = (m.positions.size() - first) / 3;
     if (n < 3) return fail(Status::ParseError, where() + "facet loop with " + std::to_string(n) + " vertices");
     if (m.positions.size() / 3 > 0xFFFFFFFFull) return fail(Status::ParseError, "ASCII STL: too many vertices");
     const uint32_t v0 = static_cast<uint32_t>(first / 3);
-    if (n > 3) r.warnings.push_back(where() + "facet with " + std::to_string(n) + " vertices fan-triangulated");
+    if (n > 3 && polygons++ == 0) firstPolygonLine = c.lineNumber();
     for (uint32_t k = 1; k + 1 < n; ++k) {
       m.triangles.push_back(v0);
       m.triangles.push_back(v0 + k);
@@ -165,10 +167,9 @@ ReadMeshResult readAsciiStl(const uint8_t* data, size_t size) {
   }
   if (!sawSolid) return fail(Status::ParseError, "ASCII STL: no 'solid' keyword");
   if (inSolid) r.warnings.push_back("ASCII STL: missing 'endsolid' at the end of the file");
-  if (r.warnings.size() > 20) {
-    const size_t more = r.warnings.size() - 20;
-    r.warnings.resize(20);
-    r.warnings.push_back("... and " + std::to_string(more) + " more warnings");
+  if (polygons > 0) {
+    r.warnings.push_back("ASCII STL: " + std::to_string(polygons) + " facets with more than 3 vertices fan-triangulated (first at line " +
+                         std::to_string(firstPolygonLine) + ")");
   }
   return r;
 }

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Whitespace-separated token scanning over a byte range, counting lines for error messages.
-// Shared by the text mesh readers (ASCII STL, OFF, ASCII PLY, OBJ); header-only and internal.
+// Whitespace-separated token scanning over a byte range, shared by the text mesh readers
+// (ASCII STL, OFF, ASCII PLY). Header-only and internal. Line numbers for messages are counted
+// on demand (lineNumber()), keeping the per-byte loop to a table lookup.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -8,31 +9,29 @@
 
 namespace omnislice {
 
+// Whitespace of the text formats: space, \t, \n, \v, \f, \r.
+inline bool isTextSpace(char c) {
+  const unsigned u = static_cast<unsigned char>(c);
+  return u == ' ' || (u >= '\t' && u <= '\r');
+}
+
 struct TextCursor {
+  const char* begin = nullptr;
   const char* p = nullptr;
   const char* end = nullptr;
-  size_t line = 1;                  // 1-based line of p
-  char commentChar = '\0';          // when set, skips from this character to the end of the line
+  char commentChar = '\0';  // when set, skips from this character to the end of the line
 
   TextCursor(const uint8_t* data, size_t size)
-      : p(reinterpret_cast<const char*>(data)), end(reinterpret_cast<const char*>(data) + size) {}
+      : begin(reinterpret_cast<const char*>(data)), p(begin), end(begin + size) {}
 
-  static bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\n' || c == '\v' || c == '\f'; }
+  static bool isSpace(char c) { return isTextSpace(c); }
 
-  // Skips whitespace (and comments), counting newlines.
+  // Skips whitespace (and comments).
   void skipSpace() {
-    while (p != end) {
-      const char c = *p;
-      if (c == '\n') {
-        ++line;
-        ++p;
-      } else if (c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f') {
-        ++p;
-      } else if (commentChar != '\0' && c == commentChar) {
-        while (p != end && *p != '\n') ++p;
-      } else {
-        break;
-      }
+    for (;;) {
+      while (p != end && isTextSpace(*p)) ++p;
+      if (p == end || commentChar == '\0' || *p != commentChar) return;
+      while (p != end && *p != '\n') ++p;
     }
   }
 
@@ -41,7 +40,11 @@ struct TextCursor {
     skipSpace();
     if (p == end) return false;
     b = p;
-    while (p != end && !isSpace(*p) && !(commentChar != '\0' && *p == commentChar)) ++p;
+    if (commentChar == '\0') {
+      while (p != end && !isTextSpace(*p)) ++p;
+    } else {
+      while (p != end && !isTextSpace(*p) && *p != commentChar) ++p;
+    }
     e = p;
     return true;
   }
@@ -49,15 +52,19 @@ struct TextCursor {
   // Skips the rest of the current line including its newline.
   void skipLine() {
     while (p != end && *p != '\n') ++p;
-    if (p != end) {
-      ++p;
-      ++line;
-    }
+    if (p != end) ++p;
   }
 
   bool atEnd() {
     skipSpace();
     return p == end;
+  }
+
+  // 1-based line number of the current position (counts newlines: use for messages only).
+  size_t lineNumber() const {
+    size_t line = 1;
+    for (const char* q = begin; q < p; ++q) line += *q == '\n';
+    return line;
   }
 };
 

@@ -360,6 +360,12 @@ TEST(ReadMeshFormat, ExtensionAndSniffing) {
   const ReadMeshResult b = readBytes(test::writeBinaryStl(tri, "solid looks like text"), "x.obj");
   EXPECT_EQ(b.format, "stl-binary");
   EXPECT_TRUE(b.ok());
+  // OBJ text named .stl is read as OBJ, with a warning.
+  const ReadMeshResult c = readText(test::writeObj(box), "model.stl");
+  ASSERT_TRUE(c.ok()) << c.message;
+  EXPECT_EQ(c.format, "obj");
+  EXPECT_EQ(c.mesh.faceCount(), 12u);
+  EXPECT_FALSE(c.warnings.empty());
   // Extension in any case, path with dots in folder names.
   EXPECT_EQ(readText(test::writeOff(box), "/tmp/a.b/c.OfF").format, "off");
   // No extension: sniffed from content.
