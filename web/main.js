@@ -72,7 +72,11 @@ function clearError() {
 
 function setProgressText(text, fraction) {
   $('progress-text').textContent = text;
-  if (fraction !== undefined) $('progress').value = fraction;
+  const bar = $('progress');
+  // The bar carries the stage text too (accessible name and fallback content).
+  bar.textContent = text;
+  bar.setAttribute('aria-valuetext', text);
+  if (fraction !== undefined) bar.value = fraction;
 }
 
 /** Progress callback: keep the latest value, paint once per frame. */
@@ -504,6 +508,7 @@ window.omnislice = {
   get report() { return app.result ? app.result.report : null; },
   get info() { return app.mesh ? app.mesh.info : null; },
   get previewSegments() { return app.preview ? app.preview.segmentCount : 0; },
+  get featureCounts() { return app.preview ? app.preview.featureCounts : null; },
   get drawnSegments() { return app.preview ? app.preview.drawnSegments() : [0, 0]; },
   get settings() { return app.model.toSettings(); },
   get history() { return app.history.serialize(); },
