@@ -25,22 +25,29 @@ std::vector<char> joinContinuations(const char* p, const char* end) {
   out.reserve(static_cast<size_t>(end - p));
   size_t pendingNewlines = 0;
   while (p != end) {
-    if (*p == '\\') {
-      const char* q = p + 1;
-      while (q != end && (*q == '\r' || *q == ' ' || *q == '\t')) ++q;
-      if (q != end && *q == '\n') {
-        out.push_back(' ');
-        ++pendingNewlines;
-        p = q + 1;
-        continue;
-      }
-    }
-    out.push_back(*p);
+    // Copy up to the next backslash or newline in one go.
+    const char* q = p;
+    while (q != end && *q != '\\' && *q != '\n') ++q;
+    out.insert(out.end(), p, q);
+    p = q;
+    if (p == end) break;
     if (*p == '\n') {
+      out.push_back('\n');
       out.insert(out.end(), pendingNewlines, '\n');
       pendingNewlines = 0;
+      ++p;
+      continue;
     }
-    ++p;
+    const char* r = p + 1;
+    while (r != end && (*r == '\r' || *r == ' ' || *r == '\t')) ++r;
+    if (r != end && *r == '\n') {
+      out.push_back(' ');
+      ++pendingNewlines;
+      p = r + 1;
+    } else {
+      out.push_back('\\');
+      ++p;
+    }
   }
   out.insert(out.end(), pendingNewlines, '\n');
   return out;

@@ -110,7 +110,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
   });
 
-  test('cancel rejects with cancelled within 200 ms and the slicer works again', async () => {
+  test('cancel rejects with cancelled within 200 ms and the slicer works again', async (t) => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.sphereStl(30, 400, 200);  // 159,600 triangles
       const { meshId } = await window.slicer.loadMesh('sphere.stl', bytes);
@@ -149,6 +149,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
       return { code, rejectMs, firstStage, totalMs: performance.now() - started, codes,
         againLayers: again.layers, expected: window.torusLayers, preAborted };
     });
+    t.diagnostic(`cancel: rejected ${r.rejectMs.toFixed(1)} ms after abort (first stage ${r.firstStage})`);
     assert.equal(r.code, 'cancelled');
     assert.ok(r.rejectMs < 200, `rejected ${r.rejectMs.toFixed(1)} ms after abort`);
     assert.deepEqual(r.codes, ['cancelled', 'cancelled'], 'pending requests reject with cancelled');
@@ -215,7 +216,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.equal(r.badWorker, 'worker_failed');
   });
 
-  test('the main thread is not blocked while slicing', async () => {
+  test('the main thread is not blocked while slicing', async (t) => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.torusStl(30, 10, 400, 125);  // 100,000 triangles
       const { meshId } = await window.slicer.loadMesh('torus100k.stl', bytes);
@@ -250,6 +251,8 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
       const during = longTasks.filter((e) => e.start >= t0 - 1);
       return { control, during, ticks, maxGap, sliceMs, layers: result.layers };
     });
+    t.diagnostic(`100k-triangle torus sliced in the worker in ${r.sliceMs.toFixed(0)} ms; `
+      + `${r.ticks} timer ticks, longest gap ${r.maxGap.toFixed(0)} ms, long tasks ${r.during.length}`);
     assert.ok(r.control >= 1, 'the long-task observer works (control block seen)');
     assert.deepEqual(r.during, [], `main-thread tasks over 50 ms while slicing: ${JSON.stringify(r.during)}`);
     assert.ok(r.ticks >= r.sliceMs / 100, `timers kept running (${r.ticks} ticks in ${r.sliceMs.toFixed(0)} ms, longest gap ${r.maxGap.toFixed(0)} ms)`);

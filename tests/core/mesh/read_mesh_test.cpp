@@ -469,6 +469,14 @@ TEST(ReadMeshMalformed, Obj) {
     EXPECT_EQ(r.status, Status::ParseError);
     EXPECT_NE(r.message.find("line 1"), std::string::npos) << r.message;
   }
+  {  // A line continuation joins lines, and later errors still name the physical line.
+    const ReadMeshResult ok = readText("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\n 2 3\n", "t.obj");
+    ASSERT_TRUE(ok.ok()) << ok.message;
+    EXPECT_EQ(ok.mesh.faceCount(), 1u);
+    const ReadMeshResult r = readText("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 \\\r\n 2 3\nf 1 2 9\n", "t.obj");
+    EXPECT_EQ(r.status, Status::ParseError);
+    EXPECT_NE(r.message.find("line 6"), std::string::npos) << r.message;
+  }
   {  // Index 0 -> ParseError.
     EXPECT_EQ(readText("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "t.obj").status, Status::ParseError);
   }
