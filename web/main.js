@@ -365,10 +365,10 @@ function cancelSlice() {
 }
 
 function download() {
-  if (!app.result || typeof app.result.program !== 'string') return;
+  if (!app.result || !(app.result.programBytes instanceof Uint8Array)) return;
   const base = (app.mesh ? app.mesh.name : 'model').replace(/\.[^.]*$/, '') || 'model';
-  // The Blob is made only now: no work on the (possibly large) G-code string until it is wanted.
-  const url = URL.createObjectURL(new Blob([app.result.program], { type: 'text/x-gcode' }));
+  // The Blob is made only now, from the bytes: the G-code is never decoded on the main thread.
+  const url = URL.createObjectURL(new Blob([app.result.programBytes], { type: 'text/x-gcode' }));
   const a = document.createElement('a');
   a.href = url;
   a.download = `${base}.gcode`;
