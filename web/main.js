@@ -72,7 +72,11 @@ function clearError() {
 
 function setProgressText(text, fraction) {
   $('progress-text').textContent = text;
-  if (fraction !== undefined) $('progress').value = fraction;
+  const bar = $('progress');
+  // The bar carries the stage text too (accessible name and fallback content).
+  bar.textContent = text;
+  bar.setAttribute('aria-valuetext', text);
+  if (fraction !== undefined) bar.value = fraction;
 }
 
 /** Progress callback: keep the latest value, paint once per frame. */
@@ -361,10 +365,10 @@ function cancelSlice() {
 }
 
 function download() {
-  if (!app.result || typeof app.result.program !== 'string') return;
+  if (!app.result || !(app.result.programBytes instanceof Uint8Array)) return;
   const base = (app.mesh ? app.mesh.name : 'model').replace(/\.[^.]*$/, '') || 'model';
-  // The Blob is made only now: no work on the (possibly large) G-code string until it is wanted.
-  const url = URL.createObjectURL(new Blob([app.result.program], { type: 'text/x-gcode' }));
+  // The Blob is made only now, from the bytes: the G-code is never decoded on the main thread.
+  const url = URL.createObjectURL(new Blob([app.result.programBytes], { type: 'text/x-gcode' }));
   const a = document.createElement('a');
   a.href = url;
   a.download = `${base}.gcode`;
@@ -504,6 +508,7 @@ window.omnislice = {
   get report() { return app.result ? app.result.report : null; },
   get info() { return app.mesh ? app.mesh.info : null; },
   get previewSegments() { return app.preview ? app.preview.segmentCount : 0; },
+  get featureCounts() { return app.preview ? app.preview.featureCounts : null; },
   get drawnSegments() { return app.preview ? app.preview.drawnSegments() : [0, 0]; },
   get settings() { return app.model.toSettings(); },
   get history() { return app.history.serialize(); },

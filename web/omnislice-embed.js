@@ -47,10 +47,10 @@ export function programFileName(modelName) {
 
 /** The G-code of a slice result as a Blob (make it when the user asks for it, not before). */
 export function programBlob(result) {
-  if (!result || typeof result.program !== 'string') {
+  if (!result || !(result.programBytes instanceof Uint8Array)) {
     throw new OmnisliceError('invalid_option', 'programBlob needs a slice result with a program');
   }
-  return new Blob([result.program], { type: 'text/x-gcode' });
+  return new Blob([result.programBytes], { type: 'text/x-gcode' });
 }
 
 /**
@@ -78,7 +78,9 @@ export async function sliceFile(file, settings = {}, { onProgress, signal, slice
   const { meshId } = await engine.loadMesh(fileName, bytes, placement);
   try {
     const result = await engine.slice(meshId, settings, { onProgress, signal });
-    return { ...result, fileName: programFileName(fileName) };
+    // Keep the result object itself: its `program` text is decoded lazily on first read.
+    result.fileName = programFileName(fileName);
+    return result;
   } finally {
     if (typeof engine.unloadMesh === 'function') engine.unloadMesh(meshId).catch(() => {});
   }

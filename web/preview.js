@@ -6,18 +6,18 @@
 //   - one Uint8 colour per vertex from a small palette;
 //   - two index buffers (extruding moves, travel moves), each counting-sorted by layer, with
 //     per-layer start offsets, so a layer range [lo, hi] is one contiguous drawRange;
-//   - the per-segment pass runs in slices with yields in between (no long main-thread task).
+//   - the per-segment passes run in blocks and yield every ~12 ms (no long main-thread task).
 import * as THREE from 'three';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
 export const FEATURES = [
   { code: 0, name: 'travel', color: [0x5a, 0x6a, 0x80] },
-  { code: 1, name: 'wall-outer', color: [0xf0, 0x5a, 0x3c] },
+  { code: 1, name: 'wall-outer', color: [0xe8, 0x4a, 0x3c] },
   { code: 2, name: 'wall-inner', color: [0xf2, 0xc1, 0x3b] },
   { code: 3, name: 'skin', color: [0x9b, 0x6b, 0xe8] },
-  { code: 4, name: 'infill', color: [0xe0, 0x8a, 0x2e] },
-  { code: 5, name: 'support', color: [0x3c, 0xc8, 0xd8] },
-  { code: 6, name: 'bridge', color: [0x4c, 0xd1, 0x6e] },
+  { code: 4, name: 'infill', color: [0x2f, 0xb0, 0x9a] },
+  { code: 5, name: 'support', color: [0x5a, 0xa8, 0xf0] },
+  { code: 6, name: 'bridge', color: [0x8c, 0xd8, 0x4c] },
 ];
 
 /** CSS colour of a feature code, for legends. */
@@ -40,25 +40,45 @@ export function yieldToEventLoop() {
 }
 
 /**
- * Colours and layer-sorted index buffers of preview buffers, built in slices of `sliceSize`
- * segments with a yield between slices, so no single task runs long.
- * @returns {Promise<{layerCount: number, colors: Uint8Array, print: {index: Uint32Array,
- *   starts: Uint32Array}, travel: {index: Uint32Array, starts: Uint32Array}}>} index: 2 vertex
- *   indices per segment, counting-sorted by layer (stable: print order within a layer);
- *   starts[l]..starts[l+1] is layer l's range in segments (layerCount+1 entries)
+ * Colours and layer-sorted index buffers of preview buffers, built in blocks of `block` segments;
+ * whenever a task has run for `budgetMs` it yields, so no single task runs long (the first blocks
+ * run before the JIT has optimised the loops, so a time budget beats a fixed slice size).
+ * @returns {Promise<{layerCount: number, colors: Uint8Array, featureCounts: Uint32Array,
+ *   print: {index: Uint32Array, starts: Uint32Array}, travel: {index: Uint32Array,
+ *   starts: Uint32Array}}>} index: 2 vertex indices per segment, counting-sorted by layer (stable:
+ *   print order within a layer); starts[l]..starts[l+1] is layer l's range in segments
+ *   (layerCount+1 entries)
  */
-export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 << 17 } = {}) {
-  let t0 = performance.now();
+export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, block = 4096 } = {}) {
   const S = features.length;
+  let t0 = performance.now();
+  // Run fn(from, to) over [0, S) in blocks, yielding when the task has used its budget.
+  const forBlocks = async (fn) => {
+    for (let from = 0; from < S; from += block) {
+      fn(from, Math.min(S, from + block));
+      if (performance.now() - t0 > budgetMs) {
+        // Each task's duration is recorded for the end-to-end long-task check.
+        performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
+        await yieldToEventLoop();
+        t0 = performance.now();
+      }
+    }
+  };
   let maxLayer = -1;
-  for (let s = 0; s < S; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
+  await forBlocks((from, to) => {
+    for (let s = from; s < to; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
+  });
   const layerCount = maxLayer + 1;
   const printStarts = new Uint32Array(layerCount + 1);
   const travelStarts = new Uint32Array(layerCount + 1);
-  for (let s = 0; s < S; s++) {
-    if (features[s] === 0) travelStarts[layers[s] + 1]++;
-    else printStarts[layers[s] + 1]++;
-  }
+  const featureCounts = new Uint32Array(256);
+  await forBlocks((from, to) => {
+    for (let s = from; s < to; s++) {
+      featureCounts[features[s]]++;
+      if (features[s] === 0) travelStarts[layers[s] + 1]++;
+      else printStarts[layers[s] + 1]++;
+    }
+  });
   for (let l = 0; l < layerCount; l++) {
     printStarts[l + 1] += printStarts[l];
     travelStarts[l + 1] += travelStarts[l];
@@ -70,14 +90,7 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
   const colors = new Uint8Array(S * 6);
   const palette = new Uint8Array(256 * 3);
   for (let c = 0; c < 256; c++) palette.set((FEATURES[c] || FEATURES[0]).color, c * 3);
-  for (let from = 0; from < S; from += sliceSize) {
-    if (from > 0) {
-      // Each slice is one task; its duration is recorded for the end-to-end long-task check.
-      performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
-      await yieldToEventLoop();
-      t0 = performance.now();
-    }
-    const to = Math.min(S, from + sliceSize);
+  await forBlocks((from, to) => {
     for (let s = from; s < to; s++) {
       const f = features[s];
       const p = f * 3;
@@ -97,11 +110,12 @@ export async function buildPreviewArrays({ features, layers }, { sliceSize = 1 <
       index[2 * k] = 2 * s;
       index[2 * k + 1] = 2 * s + 1;
     }
-  }
+  });
   performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
   return {
     layerCount,
     colors,
+    featureCounts,
     print: { index: printIndex, starts: printStarts },
     travel: { index: travelIndex, starts: travelStarts },
   };
@@ -126,6 +140,8 @@ export class ToolpathPreview {
   constructor(positions, arrays) {
     this.layerCount = arrays.layerCount;
     this.segmentCount = positions.length / 6;
+    /** Segments per feature name (travel, wall-outer, ...), e.g. for a legend. */
+    this.featureCounts = Object.fromEntries(FEATURES.map((f) => [f.name, arrays.featureCounts[f.code]]));
     this.printStarts = arrays.print.starts;
     this.travelStarts = arrays.travel.starts;
     const position = new THREE.BufferAttribute(positions, 3);

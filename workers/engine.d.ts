@@ -22,7 +22,7 @@ export interface Slicer {
     Promise<{ meshId: string; info: Record<string, any>; mesh: MeshBuffers }>;
   slice(meshIdOrFile: MeshRef, settings?: Settings,
         options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }):
-    Promise<{ program: string; report: Record<string, any>; info: Record<string, any>;
+    Promise<{ program: string; programBytes: Uint8Array; report: Record<string, any>; info: Record<string, any>;
               layers: number; preview: PreviewBuffers; mesh: MeshBuffers }>;
   info(meshIdOrFile: MeshRef, placement?: Placement, options?: { signal?: AbortSignal }):
     Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;

@@ -206,8 +206,16 @@ class Slicer {
       const { part, transfer } = await this.#target(meshIdOrFile);
       if (signal && signal.aborted) throw cancelledError();
       const r = await this.#send(Request.SLICE, { ...part, settings }, transfer, { onProgress });
+      // The G-code arrives as transferred bytes; decoding a large program to a string costs the
+      // main thread tens of milliseconds, so it happens only when `program` is first read.
+      const programBytes = new Uint8Array(r.program);
+      let text = null;
       return {
-        program: textDecoder.decode(new Uint8Array(r.program)),
+        programBytes,
+        get program() {
+          if (text === null) text = textDecoder.decode(programBytes);
+          return text;
+        },
         report: r.report, info: r.info, layers: r.layers, preview: r.preview, mesh: r.mesh,
       };
     });

@@ -29,6 +29,11 @@ class FaceBox : public CGAL::Box_intersection_d::Box_d<double, 3, CGAL::Box_inte
   uint32_t face_;
 };
 
+// Below this many boxes CGAL's segment tree scans pairs directly. CGAL's default is 10; 2000 (the
+// value CGAL's Polygon_mesh_processing::self_intersections uses) was 2x faster on a 1.3M-face
+// icosphere here (1.2 s vs 2.5 s CPU).
+constexpr std::ptrdiff_t kCutoff = 2000;
+
 struct StopSearch {};  // thrown from the callback to end box_intersection_d early
 
 class PairTester {
@@ -76,10 +81,18 @@ class PairTester {
       return CGAL::coplanar_orientation(P, Q, R, S) == CGAL::POSITIVE;
     }
     // One common vertex v: the faces overlap beyond v iff the edge of one opposite v meets the
-    // other face (the intersection is a segment from v ending on such an edge).
+    // other face (the intersection is a segment from v ending on such an edge). Quick exit, the
+    // usual case in a smooth surface: the far corners of one face lie strictly on one side of the
+    // other's plane, so that face touches the plane at v only.
     int va = 0;
     while (ia[va] < 0) ++va;
     const int vb = ia[va];
+    const CGAL::Orientation s1 = CGAL::orientation(a0, a1, a2, points_[b[(vb + 1) % 3]]);
+    const CGAL::Orientation s2 = CGAL::orientation(a0, a1, a2, points_[b[(vb + 2) % 3]]);
+    if (s1 != CGAL::COPLANAR && s1 == s2) return false;
+    const CGAL::Orientation s3 = CGAL::orientation(b0, b1, b2, points_[a[(va + 1) % 3]]);
+    const CGAL::Orientation s4 = CGAL::orientation(b0, b1, b2, points_[a[(va + 2) % 3]]);
+    if (s3 != CGAL::COPLANAR && s3 == s4) return false;
     const Segment oppositeA(points_[a[(va + 1) % 3]], points_[a[(va + 2) % 3]]);
     const Segment oppositeB(points_[b[(vb + 1) % 3]], points_[b[(vb + 2) % 3]]);
     return CGAL::do_intersect(oppositeA, Triangle(b0, b1, b2)) ||
@@ -138,7 +151,7 @@ SelfIntersectionResult findSelfIntersections(const Mesh& mesh, const SelfInterse
       }
     };
     try {
-      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback);
+      CGAL::box_self_intersection_d(boxes.begin(), boxes.end(), callback, kCutoff);
     } catch (const StopSearch&) {
     }
     if (cancelled) {

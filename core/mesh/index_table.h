@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Open-addressing hash set of uint32 ids whose keys live outside the table (vertex positions,
-// sorted face triples, packed edge keys). Used by welding and topology so that every step stays
-// linear: one probe sequence per element, no node allocation, no std::map per edge.
+// sorted face triples). Each slot keeps 32 bits of the key's hash next to the id, so a probe
+// rarely touches the key itself, and the table grows with the number of distinct keys (not with
+// the number of lookups): welding 3M STL corners into 0.5M vertices keeps the table in cache.
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -23,26 +24,24 @@ class IndexTable {
  public:
   static constexpr uint32_t kEmpty = 0xFFFFFFFFu;
 
-  // Room for at most maxEntries ids (load factor stays <= 1/2).
-  explicit IndexTable(size_t maxEntries) {
-    size_t capacity = 16;
-    while (capacity < 2 * maxEntries) capacity <<= 1;
-    slots_.assign(capacity, kEmpty);
-    mask_ = capacity - 1;
-  }
+  // expectedEntries only sizes the first allocation; the table doubles when half full.
+  explicit IndexTable(size_t expectedEntries = 0) { allocate(capacityFor(expectedEntries)); }
 
   // Returns the id already stored whose key equals id's key (same(existing) is true), or stores
   // id and returns it. hash must be the same for equal keys.
   template <class Same>
   uint32_t findOrInsert(uint64_t hash, uint32_t id, Same same) {
-    size_t slot = static_cast<size_t>(hash) & mask_;
+    const uint32_t tag = static_cast<uint32_t>(hash);
+    size_t slot = tag & mask_;
     while (true) {
-      const uint32_t existing = slots_[slot];
-      if (existing == kEmpty) {
-        slots_[slot] = id;
+      Slot& s = slots_[slot];
+      if (s.id == kEmpty) {
+        s.id = id;
+        s.tag = tag;
+        if (++size_ * 2 > slots_.size()) grow();
         return id;
       }
-      if (same(existing)) return existing;
+      if (s.tag == tag && same(s.id)) return s.id;
       slot = (slot + 1) & mask_;
     }
   }
@@ -50,17 +49,47 @@ class IndexTable {
   // Returns the stored id whose key matches (same(existing) true), or kEmpty.
   template <class Same>
   uint32_t find(uint64_t hash, Same same) const {
-    size_t slot = static_cast<size_t>(hash) & mask_;
+    const uint32_t tag = static_cast<uint32_t>(hash);
+    size_t slot = tag & mask_;
     while (true) {
-      const uint32_t existing = slots_[slot];
-      if (existing == kEmpty || same(existing)) return existing;
+      const Slot& s = slots_[slot];
+      if (s.id == kEmpty || (s.tag == tag && same(s.id))) return s.id;
       slot = (slot + 1) & mask_;
     }
   }
 
  private:
-  std::vector<uint32_t> slots_;
+  struct Slot {
+    uint32_t id;
+    uint32_t tag;  // low 32 bits of the hash; also the home slot after growth
+  };
+
+  static size_t capacityFor(size_t entries) {
+    size_t capacity = 16;
+    while (capacity < 2 * entries) capacity <<= 1;
+    return capacity;
+  }
+
+  void allocate(size_t capacity) {
+    slots_.assign(capacity, Slot{kEmpty, 0});
+    mask_ = capacity - 1;
+  }
+
+  void grow() {
+    std::vector<Slot> old;
+    old.swap(slots_);
+    allocate(old.size() * 2);
+    for (const Slot& s : old) {
+      if (s.id == kEmpty) continue;
+      size_t slot = s.tag & mask_;
+      while (slots_[slot].id != kEmpty) slot = (slot + 1) & mask_;
+      slots_[slot] = s;
+    }
+  }
+
+  std::vector<Slot> slots_;
   size_t mask_ = 0;
+  size_t size_ = 0;
 };
 
 }  // namespace omnislice

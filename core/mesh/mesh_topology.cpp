@@ -3,7 +3,7 @@
 
 #include <numeric>
 
-#include "mesh/index_table.h"
+#include <algorithm>
 
 namespace omnislice {
 namespace {
@@ -34,35 +34,57 @@ inline uint32_t nextInFace(uint32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
 }  // namespace
 
 MeshEdges buildEdges(const Mesh& mesh) {
+  // Bucket the half-edges by their smaller vertex (a counting sort), then group each small bucket
+  // by the larger vertex: edges come out sorted by (min, max) key with sequential memory access,
+  // where a hash of 3M keys would miss the cache on nearly every probe.
   const size_t halfedges = mesh.triangles.size();
+  const size_t nv = mesh.vertexCount();
+  const uint32_t* t = mesh.triangles.data();
+  auto minVertex = [&](uint32_t h) { return std::min(t[h], t[nextInFace(h)]); };
+  auto maxVertex = [&](uint32_t h) { return std::max(t[h], t[nextInFace(h)]); };
+  std::vector<uint32_t> start(nv + 1, 0);
+  for (uint32_t h = 0; h < halfedges; ++h) ++start[minVertex(h) + 1];
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<uint32_t> bucket(halfedges);
+  {
+    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+    for (uint32_t h = 0; h < halfedges; ++h) bucket[fill[minVertex(h)]++] = h;
+  }
   MeshEdges e;
   e.edgeOfHalfedge.resize(halfedges);
   e.nextHalfedge.assign(halfedges, kNoIndex);
   e.keys.reserve(halfedges / 2 + 16);
   e.faceCount.reserve(halfedges / 2 + 16);
   e.firstHalfedge.reserve(halfedges / 2 + 16);
-  std::vector<uint32_t> lastHalfedge;
-  lastHalfedge.reserve(halfedges / 2 + 16);
-  IndexTable table(halfedges);
-  const uint32_t* t = mesh.triangles.data();
-  for (uint32_t h = 0; h < halfedges; ++h) {
-    const uint32_t a = t[h];
-    const uint32_t b = t[nextInFace(h)];
-    const uint64_t key = a < b ? (uint64_t(a) << 32 | b) : (uint64_t(b) << 32 | a);
-    const uint32_t candidate = static_cast<uint32_t>(e.keys.size());
-    const uint32_t edge =
-        table.findOrInsert(mixHash64(key), candidate, [&](uint32_t id) { return e.keys[id] == key; });
-    if (edge == candidate) {
-      e.keys.push_back(key);
-      e.faceCount.push_back(1);
-      e.firstHalfedge.push_back(h);
-      lastHalfedge.push_back(h);
+  for (size_t v = 0; v < nv; ++v) {
+    uint32_t* b = bucket.data() + start[v];
+    uint32_t* bEnd = bucket.data() + start[v + 1];
+    // Stable order by the other vertex (half-edge ids ascending within an edge).
+    if (bEnd - b <= 32) {
+      for (uint32_t* i = b + 1; i < bEnd; ++i) {
+        const uint32_t h = *i;
+        const uint32_t key = maxVertex(h);
+        uint32_t* j = i;
+        for (; j > b && maxVertex(*(j - 1)) > key; --j) *j = *(j - 1);
+        *j = h;
+      }
     } else {
-      ++e.faceCount[edge];
-      e.nextHalfedge[lastHalfedge[edge]] = h;
-      lastHalfedge[edge] = h;
+      std::stable_sort(b, bEnd, [&](uint32_t x, uint32_t y) { return maxVertex(x) < maxVertex(y); });
     }
-    e.edgeOfHalfedge[h] = edge;
+    for (uint32_t* i = b; i < bEnd;) {
+      const uint32_t other = maxVertex(*i);
+      const uint32_t edge = static_cast<uint32_t>(e.keys.size());
+      e.keys.push_back(uint64_t(v) << 32 | other);
+      e.firstHalfedge.push_back(*i);
+      uint32_t count = 0, prev = kNoIndex;
+      for (; i < bEnd && maxVertex(*i) == other; ++i) {
+        e.edgeOfHalfedge[*i] = edge;
+        if (prev != kNoIndex) e.nextHalfedge[prev] = *i;
+        prev = *i;
+        ++count;
+      }
+      e.faceCount.push_back(count);
+    }
   }
   return e;
 }

@@ -23,7 +23,8 @@ struct MeshEdges {
   size_t edgeCount() const { return keys.size(); }
 };
 
-// Build the undirected edges of mesh with one hash probe per half-edge (linear time).
+// Build the undirected edges of mesh, sorted by key, in linear time (counting sort of the
+// half-edges by their smaller vertex). Half-edges of one edge are listed in increasing order.
 // Precondition: every index < vertexCount().
 MeshEdges buildEdges(const Mesh& mesh);
 

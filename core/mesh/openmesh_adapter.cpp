@@ -1,6 +1,11 @@
 // SPDX-License-Identifier: MIT
 #include "mesh/openmesh_adapter.h"
 
+// GCC 12 flags OpenMesh's default-constructed VectorT in PropertyT::push_back (a header
+// instantiated here) as maybe-uninitialized; the value is overwritten by add_vertex.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <OpenMesh/Core/System/omstream.hh>
 #include <vector>
@@ -43,6 +48,12 @@ HalfedgeBoundary countBoundaryLoops(const Mesh& mesh) {
     MuteOpenMeshErrors mute;
     for (size_t f = 0; f < mesh.faceCount(); ++f) {
       const uint32_t* t = mesh.triangles.data() + 3 * f;
+      // A repeated vertex would make OpenMesh create a self-loop edge and trip its assertions
+      // (or corrupt its links without them): such faces never reach add_face.
+      if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
+        ++out.rejectedFaces;
+        continue;
+      }
       const TriMesh::FaceHandle fh = om.add_face(handles[t[0]], handles[t[1]], handles[t[2]]);
       if (!fh.is_valid()) ++out.rejectedFaces;
     }

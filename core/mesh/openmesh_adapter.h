@@ -17,7 +17,8 @@ struct HalfedgeBoundary {
 // Build an OpenMesh TriMesh from mesh (all vertices, faces in order) and count its boundary loops
 // by following next-half-edge links around each hole. Faces OpenMesh cannot insert without breaking
 // its half-edge invariants are skipped and counted: evidence of non-manifoldness, and the loops are
-// then those of the accepted faces. OpenMesh's own error log is muted while building.
+// then those of the accepted faces. Faces with a repeated vertex index are rejected without being
+// offered to OpenMesh. OpenMesh's own error log is muted while building.
 // Precondition: every index < mesh.vertexCount().
 HalfedgeBoundary countBoundaryLoops(const Mesh& mesh);
 

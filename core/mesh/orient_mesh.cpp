@@ -136,17 +136,22 @@ OrientResult orientMesh(const Mesh& mesh, const MeshEdges& edges, const OrientOp
     }
   }
 
-  // 4. Nesting depth: how many other closed components contain this one. A few face centroids
-  //    must all be inside (|winding| > 1/2): components that merely overlap are not nested.
+  // 4. Nesting: the container of a closed component is the smallest other closed component that
+  //    holds it (a few face centroids all inside, |winding| > 1/2, so components that merely
+  //    overlap are not nested). Each nesting tree is flipped as a whole when its outermost
+  //    component has a negative volume: relative orientations, and so what the non-zero rule
+  //    makes of nested shells (cavity or union), are never changed.
+  std::vector<uint32_t> parent(comps.size(), kNoIndex);
   double work = 0;
   for (uint32_t id : closedIds) {
-    Component& inner = comps[id];
-    int depth = 0;
+    const Component& inner = comps[id];
     bool unchecked = false;
     for (uint32_t other : closedIds) {
-      if (other == id) continue;
       const Component& outer = comps[other];
-      if (!boxInside(inner, outer)) continue;
+      if (other == id || !(std::abs(outer.volume) > std::abs(inner.volume)) || !boxInside(inner, outer)) {
+        continue;
+      }
+      if (parent[id] != kNoIndex && std::abs(comps[parent[id]].volume) <= std::abs(outer.volume)) continue;
       const size_t samples = std::min<size_t>(5, inner.faces.size());
       const double cost = double(samples) * double(outer.faces.size());
       if (work + cost > options.nestingBudget) {
@@ -161,16 +166,24 @@ OrientResult orientMesh(const Mesh& mesh, const MeshEdges& edges, const OrientOp
         faceCorners(mesh, r.flip, f, a, b, c);
         inside = std::abs(windingNumber(mesh, r.flip, outer, (a + b + c) / 3)) > 0.5;
       }
-      depth += inside ? 1 : 0;
+      if (inside) parent[id] = other;
     }
     r.nestingUnchecked += unchecked ? 1 : 0;
-    const bool cavity = depth % 2 == 1;
-    r.cavities += cavity ? 1 : 0;
-    const bool wrongSign = cavity ? inner.volume > 0 : inner.volume < 0;
-    if (wrongSign) {
-      for (uint32_t f : inner.faces) r.flip[f] ^= 1;
+  }
+  for (uint32_t id : closedIds) {
+    Component& c = comps[id];
+    if (parent[id] != kNoIndex) {
+      const bool opposite = (c.volume < 0) != (comps[parent[id]].volume < 0);
+      r.cavities += opposite ? 1 : 0;
+      r.nestedSameOrientation += opposite ? 0 : 1;
+    }
+    // Containers have strictly larger |volume|, so the chain ends.
+    uint32_t root = id;
+    while (parent[root] != kNoIndex) root = parent[root];
+    if (comps[root].volume < 0) {
+      for (uint32_t f : c.faces) r.flip[f] ^= 1;
       ++r.outwardComponents;
-      r.outwardFaces += inner.faces.size();
+      r.outwardFaces += c.faces.size();
     }
   }
   return r;

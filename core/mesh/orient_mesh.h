@@ -24,16 +24,20 @@ struct OrientResult {
   size_t reorientedFaces = 0;           // faces flipped to agree with their neighbours
   size_t outwardComponents = 0;         // closed components flipped as a whole
   size_t outwardFaces = 0;              // faces in those components
-  size_t cavities = 0;                  // closed components kept inward: nested inside another
+  size_t cavities = 0;                  // closed components nested in one of opposite orientation
+  size_t nestedSameOrientation = 0;     // closed components nested in one of the same orientation
+                                        // (the non-zero rule fills them: a union)
   size_t nestingUnchecked = 0;          // components whose nesting was not tested (budget)
 };
 
 // Orientation repair. Consistency: breadth-first over two-face edges from the lowest face of each
 // component, flipping a neighbour whose shared edge runs the same direction; the minority of each
-// component is flipped. Outward: each closed, orientable component gets a positive signed volume
-// unless it lies inside an odd number of other closed components (then it is a cavity and gets a
-// negative one), so hollow parts keep their voids. Nesting is tested with the generalised winding
-// number of a few face centroids, only where bounding boxes nest. edges = buildEdges(mesh).
+// component is flipped. Outward: closed, orientable components are arranged in nesting trees
+// (container = smallest closed component holding a few of its face centroids, by generalised
+// winding number, tested only where bounding boxes nest); a tree whose outermost component has a
+// negative signed volume is flipped as a whole. Relative orientations are kept, so a correctly
+// inward cavity stays a cavity and what the non-zero rule makes of nested shells never changes.
+// edges = buildEdges(mesh).
 OrientResult orientMesh(const Mesh& mesh, const MeshEdges& edges, const OrientOptions& options = {});
 
 }  // namespace omnislice

@@ -6,12 +6,13 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <sstream>
 #include <string>
 
 #include "cgal/self_intersections.h"
-#include "mesh/index_table.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/openmesh_adapter.h"
 #include "mesh/orient_mesh.h"
@@ -28,6 +29,12 @@ constexpr double kDegenerateAreaRatio = 1e-12;
 
 std::string plural(size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string shortNumber(double v) {
+  std::ostringstream out;
+  out << v;
+  return out.str();
 }
 
 bool finite3(const double* p) {
@@ -68,43 +75,44 @@ struct FaceFilter {
   std::vector<uint32_t> triangles;
   size_t repeated = 0;    // faces with a repeated vertex index
   size_t zeroArea = 0;    // faces with distinct indices but (numerically) zero area
-  size_t duplicates = 0;  // faces on the same three vertices as an earlier face
 };
 
-// Keep faces that are not degenerate and (if dropDuplicates) not a copy of an earlier face.
-FaceFilter filterFaces(const Mesh& m, double areaEps2, bool dropDuplicates) {
+// Keep the faces that are not degenerate.
+FaceFilter dropDegenerateFaces(const Mesh& m, double areaEps2) {
   FaceFilter out;
-  const size_t faces = m.faceCount();
   out.triangles.reserve(m.triangles.size());
-  IndexTable table(dropDuplicates ? faces : 0);
-  std::vector<uint32_t> sorted;  // sorted triples of kept faces
-  sorted.reserve(dropDuplicates ? m.triangles.size() : 0);
-  for (size_t f = 0; f < faces; ++f) {
+  for (size_t f = 0; f < m.faceCount(); ++f) {
     const uint32_t* t = m.triangles.data() + 3 * f;
     if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) {
       ++out.repeated;
-      continue;
-    }
-    if (twiceArea(m, t) <= areaEps2) {
+    } else if (twiceArea(m, t) <= areaEps2) {
       ++out.zeroArea;
-      continue;
+    } else {
+      out.triangles.insert(out.triangles.end(), t, t + 3);
     }
-    if (dropDuplicates) {
-      uint32_t s[3] = {t[0], t[1], t[2]};
-      std::sort(s, s + 3);
-      const uint32_t candidate = static_cast<uint32_t>(sorted.size() / 3);
-      const uint64_t hash = mixHash64(s[0] ^ mixHash64((uint64_t(s[1]) << 32) ^ s[2]));
-      const uint32_t found = table.findOrInsert(hash, candidate, [&](uint32_t id) {
-        const uint32_t* o = sorted.data() + 3 * size_t(id);
-        return o[0] == s[0] && o[1] == s[1] && o[2] == s[2];
-      });
-      if (found != candidate) {
-        ++out.duplicates;
-        continue;
+  }
+  return out;
+}
+
+// Faces on the same three vertices as an earlier face. Such faces share all their edges, so only
+// the other faces on each face's first edge are compared (no hash over all faces).
+std::vector<uint32_t> duplicateFaces(const Mesh& m, const MeshEdges& edges) {
+  std::vector<uint32_t> out;
+  auto sortedFace = [&](uint32_t f) {
+    std::array<uint32_t, 3> s = {m.triangles[3 * f], m.triangles[3 * f + 1], m.triangles[3 * f + 2]};
+    std::sort(s.begin(), s.end());
+    return s;
+  };
+  for (uint32_t f = 0; f < m.faceCount(); ++f) {
+    const uint32_t edge = edges.edgeOfHalfedge[3 * f];
+    if (edges.faceCount[edge] < 2) continue;
+    const auto mine = sortedFace(f);
+    for (uint32_t h = edges.firstHalfedge[edge]; h != kNoIndex && h / 3 < f; h = edges.nextHalfedge[h]) {
+      if (sortedFace(h / 3) == mine) {
+        out.push_back(f);
+        break;
       }
-      sorted.insert(sorted.end(), s, s + 3);
     }
-    out.triangles.insert(out.triangles.end(), t, t + 3);
   }
   return out;
 }
@@ -177,7 +185,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   Mesh mesh;
   FaceFilter filtered;
   {
-    // Weld (repair) then drop degenerate and duplicate faces.
+    // Weld (repair), drop degenerate faces, drop unreferenced vertices.
     Mesh welded;
     if (options.repair) {
       WeldResult weld = weldVertices(raw, options.mergeTolerance);
@@ -187,7 +195,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       if (weld.merged > 0) {
         info.repairs.push_back("merged " + plural(weld.merged, "duplicate vertex", "duplicate vertices") +
                                (options.mergeTolerance > 0
-                                    ? " (within " + std::to_string(options.mergeTolerance) + " mm)"
+                                    ? " (within " + shortNumber(options.mergeTolerance) + " mm)"
                                     : ""));
       }
     } else {
@@ -196,7 +204,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     if (!reportProgress(progress, kStage, 0.15)) return cancelled();
     const BoundingBox box = referencedBox(welded);
     const double diag2 = (box.max - box.min).squaredNorm();
-    filtered = filterFaces(welded, 2 * kDegenerateAreaRatio * diag2, options.repair);
+    filtered = dropDegenerateFaces(welded, 2 * kDegenerateAreaRatio * diag2);
     if (filtered.triangles.empty()) {
       return fail(Status::DegenerateInput,
                   "all " + plural(welded.faceCount(), "face is", "faces are") +
@@ -210,9 +218,6 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
         info.repairs.push_back("dropped " + plural(degenerate, "degenerate face", "degenerate faces") +
                                " (" + std::to_string(filtered.repeated) + " with repeated vertices, " +
                                std::to_string(filtered.zeroArea) + " with zero area)");
-      }
-      if (filtered.duplicates > 0) {
-        info.repairs.push_back("dropped " + plural(filtered.duplicates, "duplicate face", "duplicate faces"));
       }
       const size_t unused = compactVertices(mesh);
       if (unused > 0) {
@@ -230,7 +235,24 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   if (!reportProgress(progress, kStage, 0.25)) return cancelled();
 
   // Topology.
-  const MeshEdges edges = buildEdges(mesh);
+  MeshEdges edges = buildEdges(mesh);
+  if (options.repair) {
+    const std::vector<uint32_t> duplicates = duplicateFaces(mesh, edges);
+    if (!duplicates.empty()) {
+      // Rare: drop them and rebuild the edges. The first copy keeps every vertex referenced.
+      std::vector<uint8_t> drop(mesh.faceCount(), 0);
+      for (uint32_t f : duplicates) drop[f] = 1;
+      size_t kept = 0;
+      for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        if (drop[f]) continue;
+        for (int k = 0; k < 3; ++k) mesh.triangles[3 * kept + k] = mesh.triangles[3 * f + k];
+        ++kept;
+      }
+      mesh.triangles.resize(3 * kept);
+      edges = buildEdges(mesh);
+      info.repairs.push_back("dropped " + plural(duplicates.size(), "duplicate face", "duplicate faces"));
+    }
+  }
   if (!reportProgress(progress, kStage, 0.35)) return cancelled();
   const TopologyCounts topo = countTopology(mesh, edges);
   if (!reportProgress(progress, kStage, 0.45)) return cancelled();
@@ -328,9 +350,14 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   if (!options.repair && info.closed && info.oriented && info.volumeMm3 < 0) {
     info.warnings.push_back("inside_out: the signed volume is negative (repair off)");
   }
+  if (options.repair && orient.nestedSameOrientation > 0) {
+    info.warnings.push_back("nested_shells: " +
+                            plural(orient.nestedSameOrientation, "closed shell lies", "closed shells lie") +
+                            " inside another with the same orientation; slicing fills it (union)");
+  }
   if (orient.nestingUnchecked > 0) {
     info.warnings.push_back("nesting: " + plural(orient.nestingUnchecked, "shell was", "shells were") +
-                            " not tested for lying inside another (too costly); made outward");
+                            " not tested for lying inside another (too costly); treated as outermost");
   }
   if (!info.closed) {
     result.solid.status = Status::OpenMesh;

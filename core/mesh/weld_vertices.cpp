@@ -32,7 +32,7 @@ WeldResult weldExact(const Mesh& mesh) {
   out.positions.reserve(mesh.positions.size());
   // The table stores the old index of each kept vertex; keepIndex maps it to the new index.
   std::vector<uint32_t> newIndexOfKept(n, 0);
-  IndexTable table(n);
+  IndexTable table(n / 8);
   uint32_t next = 0;
   for (size_t i = 0; i < n; ++i) {
     const double* p = pos + 3 * i;
@@ -84,7 +84,7 @@ WeldResult weldTolerance(const Mesh& mesh, double tolerance) {
   std::vector<Cell> cells;           // per cell id
   std::vector<uint32_t> cellHead;    // per cell id: first kept vertex (new index)
   std::vector<uint32_t> nextInCell;  // per kept vertex (new index)
-  IndexTable table(n);
+  IndexTable table(n / 8);
   uint32_t next = 0;
   for (size_t i = 0; i < n; ++i) {
     const double* p = pos + 3 * i;
@@ -134,8 +134,17 @@ WeldResult weldTolerance(const Mesh& mesh, double tolerance) {
 }  // namespace
 
 WeldResult weldVertices(const Mesh& mesh, double tolerance) {
-  if (tolerance > 0 && std::isfinite(tolerance)) return weldTolerance(mesh, tolerance);
-  return weldExact(mesh);
+  WeldResult exact = weldExact(mesh);
+  if (!(tolerance > 0) || !std::isfinite(tolerance)) return exact;
+  // Exact copies first (one probe each), then the 27-cell search over the distinct positions
+  // only: an STL soup has ~6 copies of each vertex.
+  Mesh distinct;
+  distinct.positions = std::move(exact.positions);
+  WeldResult near = weldTolerance(distinct, tolerance);
+  for (uint32_t& v : exact.remap) v = near.remap[v];
+  near.remap = std::move(exact.remap);
+  near.merged += exact.merged;
+  return near;
 }
 
 }  // namespace omnislice

@@ -12,6 +12,8 @@ namespace omnislice {
 
 namespace {
 
+constexpr double kPi = 3.14159265358979323846;
+
 // Marlin-style names host previews understand (`;TYPE:` lines, written next to the omnislice ones).
 const char* typeName(Feature f) {
   switch (f) {
@@ -142,7 +144,7 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
   }
   line("; estimated printing time (normal mode) = " + durationText(stats.estimatedTimeS));
   line("; filament used [mm] = " + fmt("%.2f", stats.filamentMm));
-  const double filamentArea = M_PI * 0.25 * info.filamentDiameter * info.filamentDiameter;
+  const double filamentArea = kPi * 0.25 * info.filamentDiameter * info.filamentDiameter;
   line("; filament used [cm3] = " + fmt("%.2f", stats.filamentMm * filamentArea / 1000.0));
 
   // ---- start code ----

@@ -26,12 +26,15 @@
 
 #include "slice/clipper_adapter.h"
 #include "slice/infill.h"
+#include "slice/travel_order.h"
 
 namespace omnislice {
 
+constexpr double kPi = 3.14159265358979323846;
+
 double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
-  const double bead = (widthMm - heightMm) * heightMm + M_PI * heightMm * heightMm / 4.0;
-  const double filament = M_PI * filamentDiameterMm * filamentDiameterMm / 4.0;
+  const double bead = (widthMm - heightMm) * heightMm + kPi * heightMm * heightMm / 4.0;
+  const double filament = kPi * filamentDiameterMm * filamentDiameterMm / 4.0;
   return bead * lengthMm / filament;
 }
 
@@ -71,46 +74,87 @@ std::pair<size_t, double> nearestVertex(const std::vector<Vec2>& pts, const Vec2
 }
 
 // Orders runs nearest-first from `cur`: loops rotated to start at their nearest vertex, open runs
-// reversed when their far end is nearer. Updates cur to the end of the last run.
+// reversed when their far end is nearer. Updates cur to the end of the last run. A loop is picked
+// by its nearest probe (up to 32 evenly spaced vertices), then entered at its exact nearest vertex.
 std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
+  std::vector<std::vector<Vec2>> probes(runs.size());
+  for (size_t r = 0; r < runs.size(); ++r) {
+    const std::vector<Vec2>& pts = runs[r].points;
+    if (runs[r].closed) {
+      const size_t step = std::max<size_t>(1, pts.size() / 32);
+      for (size_t i = 0; i < pts.size(); i += step) probes[r].push_back(pts[i]);
+    } else {
+      probes[r] = {pts.front(), pts.back()};
+    }
+  }
+  NearestIndex index(probes);
   std::vector<Run> out;
   out.reserve(runs.size());
-  std::vector<char> done(runs.size(), 0);
   for (size_t n = 0; n < runs.size(); ++n) {
-    size_t best = 0, bestVertex = 0;
-    bool reverse = false;
-    double bestD = std::numeric_limits<double>::infinity();
-    for (size_t r = 0; r < runs.size(); ++r) {
-      if (done[r]) continue;
-      const std::vector<Vec2>& pts = runs[r].points;
-      if (runs[r].closed) {
-        const auto [v, d] = nearestVertex(pts, cur);
-        if (d < bestD) {
-          bestD = d;
-          best = r;
-          bestVertex = v;
-          reverse = false;
-        }
-      } else {
-        const double d0 = (pts.front() - cur).squaredNorm();
-        const double d1 = (pts.back() - cur).squaredNorm();
-        if (std::min(d0, d1) < bestD) {
-          bestD = std::min(d0, d1);
-          best = r;
-          reverse = d1 < d0;
-        }
-      }
-    }
-    done[best] = 1;
-    Run run = std::move(runs[best]);
+    const NearestIndex::Hit hit = index.nearest(cur);
+    if (!hit.found) break;
+    index.take(hit.item);
+    Run run = std::move(runs[hit.item]);
     if (run.closed) {
-      std::rotate(run.points.begin(), run.points.begin() + bestVertex, run.points.end());
+      const size_t v = nearestVertex(run.points, cur).first;
+      std::rotate(run.points.begin(), run.points.begin() + v, run.points.end());
       run.points.push_back(run.points.front());
-    } else if (reverse) {
+    } else if (hit.probe == 1) {
       std::reverse(run.points.begin(), run.points.end());
     }
     cur = run.points.back();
     out.push_back(std::move(run));
+  }
+  return out;
+}
+
+// Closed paths with their bounding boxes, so a Boolean operation can skip far-away paths.
+struct BoxedPaths {
+  Paths paths;
+  std::vector<ClipperLib::IntRect> boxes;
+};
+
+ClipperLib::IntRect boundsOf(const Path& path) {
+  ClipperLib::IntRect r{0, 0, -1, -1};
+  if (path.empty()) return r;
+  r.left = r.right = path[0].X;
+  r.top = r.bottom = path[0].Y;
+  for (const auto& p : path) {
+    r.left = std::min(r.left, p.X);
+    r.right = std::max(r.right, p.X);
+    r.top = std::min(r.top, p.Y);
+    r.bottom = std::max(r.bottom, p.Y);
+  }
+  return r;
+}
+
+ClipperLib::IntRect boundsOf(const Paths& paths) {
+  ClipperLib::IntRect r{0, 0, -1, -1};
+  bool first = true;
+  for (const Path& path : paths) {
+    if (path.empty()) continue;
+    const ClipperLib::IntRect b = boundsOf(path);
+    if (first) {
+      r = b;
+      first = false;
+    } else {
+      r.left = std::min(r.left, b.left);
+      r.right = std::max(r.right, b.right);
+      r.top = std::min(r.top, b.top);
+      r.bottom = std::max(r.bottom, b.bottom);
+    }
+  }
+  return r;
+}
+
+// The paths of `all` whose box meets `box`: within `box` they bound the same region (a hole's
+// box lies inside its contour's box, so a kept hole always comes with its contour).
+Paths nearby(const BoxedPaths& all, const ClipperLib::IntRect& box) {
+  Paths out;
+  for (size_t i = 0; i < all.paths.size(); ++i) {
+    const ClipperLib::IntRect& b = all.boxes[i];
+    if (b.right < box.left || b.left > box.right || b.bottom < box.top || b.top > box.bottom) continue;
+    out.push_back(all.paths[i]);
   }
   return out;
 }
@@ -187,8 +231,11 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
   bool extruded = false;
 
   try {
-    std::vector<Paths> sections(layerCount);
-    for (size_t i = 0; i < layerCount; ++i) sections[i] = clip::toPaths(slices.layers[i].islands);
+    std::vector<BoxedPaths> sections(layerCount);
+    for (size_t i = 0; i < layerCount; ++i) {
+      sections[i].paths = clip::toPaths(slices.layers[i].islands);
+      for (const Path& path : sections[i].paths) sections[i].boxes.push_back(boundsOf(path));
+    }
 
     for (size_t i = 0; i < layerCount; ++i) {
       if (!reportProgress(progress, "toolpath", static_cast<double>(i) / layerCount)) {
@@ -231,38 +278,42 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       const double skinAngle = (i % 2 == 0) ? 45.0 : -45.0;
       const double pct = settings.infillPercent;
       std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
+      // Window of layers whose sections must all cover a point for it to be sparse (computed per
+      // island with bbox-filtered sections, which keeps Clipper's scan lines short on layers with
+      // many islands); a window reaching beyond the part leaves nothing sparse (all skin).
+      const long lo = static_cast<long>(i) - settings.bottomLayers;
+      const long hi = static_cast<long>(i) + settings.topLayers;
+      const bool noSkin = settings.bottomLayers == 0 && settings.topLayers == 0;
       for (size_t k = 0; k < islands.size(); ++k) {
         const Paths& fill = islands[k].fill;
         if (fill.empty()) continue;
         Paths sparse = fill;
-        const long lo = static_cast<long>(i) - settings.bottomLayers;
-        const long hi = static_cast<long>(i) + settings.topLayers;
-        if (lo < 0 || hi >= static_cast<long>(layerCount)) {
-          sparse.clear();
-        } else {
-          for (long j = lo; j <= hi && !sparse.empty(); ++j) {
-            if (j == static_cast<long>(i)) continue;
-            sparse = clip::intersect(sparse, sections[j]);
+        if (!noSkin) {
+          if (lo < 0 || hi >= static_cast<long>(layerCount)) {
+            sparse.clear();
+          } else {
+            for (long j = lo; j <= hi && !sparse.empty(); ++j) {
+              if (j == static_cast<long>(i)) continue;
+              sparse = clip::intersect(sparse, nearby(sections[j], boundsOf(sparse)));
+            }
           }
         }
         const Paths skin = sparse.empty() ? fill : clip::subtract(fill, sparse);
         result.skinAreaMm2[i] += clip::areaMm2(skin);
         result.infillAreaMm2[i] += clip::areaMm2(sparse);
-        for (const Path& line : fillLines(skin, skinAngle, w, minLine)) {
+        for (const Path& line : fillLines(skin, {skinAngle}, w, minLine)) {
           skinRuns[k].push_back(Run{toPoints(line), false, Feature::Skin});
         }
         if (pct > 0 && !sparse.empty()) {
           Paths lines;
           if (pct >= 100) {
-            lines = fillLines(sparse, skinAngle, w, minLine);
+            lines = fillLines(sparse, {skinAngle}, w, minLine);
           } else if (settings.infillPattern == InfillPattern::Lines) {
             const double angle = settings.infillAngleDegrees + (i % 2 == 0 ? 0.0 : 90.0);
-            lines = fillLines(sparse, angle, w * 100.0 / pct, minLine);
+            lines = fillLines(sparse, {angle}, w * 100.0 / pct, minLine);
           } else {
-            const double s = 2.0 * w * 100.0 / pct;
-            lines = fillLines(sparse, settings.infillAngleDegrees, s, minLine);
-            Paths cross = fillLines(sparse, settings.infillAngleDegrees + 90.0, s, minLine);
-            lines.insert(lines.end(), cross.begin(), cross.end());
+            lines = fillLines(sparse, {settings.infillAngleDegrees, settings.infillAngleDegrees + 90.0},
+                              2.0 * w * 100.0 / pct, minLine);
           }
           for (const Path& line : lines) infillRuns[k].push_back(Run{toPoints(line), false, Feature::Infill});
         }
@@ -331,19 +382,14 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
         cur = run.points.back();
       };
 
-      std::vector<char> islandDone(islands.size(), 0);
+      std::vector<std::vector<Vec2>> islandProbes(islands.size());
+      for (size_t k = 0; k < islands.size(); ++k) islandProbes[k] = islands[k].probes;
+      NearestIndex islandIndex(islandProbes);
       for (size_t n = 0; n < islands.size(); ++n) {
-        size_t best = 0;
-        double bestD = std::numeric_limits<double>::infinity();
-        for (size_t k = 0; k < islands.size(); ++k) {
-          if (islandDone[k]) continue;
-          const double d = nearestVertex(islands[k].probes, cur).second;
-          if (d < bestD) {
-            bestD = d;
-            best = k;
-          }
-        }
-        islandDone[best] = 1;
+        const NearestIndex::Hit hit = islandIndex.nearest(cur);
+        if (!hit.found) break;
+        islandIndex.take(hit.item);
+        const size_t best = hit.item;
         IslandWork& iw = islands[best];
         for (size_t level = iw.walls.size(); level-- > 0;) {
           Vec2 probe = cur;

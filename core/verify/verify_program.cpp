@@ -40,6 +40,7 @@ namespace omnislice {
 namespace {
 
 constexpr double kMaxCoordinate = 1e6;  // mm
+constexpr double kPi = 3.14159265358979323846;
 
 struct Segment {
   Eigen::Vector3d a, b, u;
@@ -283,7 +284,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   {
     const double tol = 0.001;
     const double L = program.machine.nozzle.coneLength;
-    const double tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * M_PI / 180.0);
+    const double tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
     const double C = 2.0;
     struct Cell {
       std::vector<uint32_t> items;

@@ -110,7 +110,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
   });
 
-  test('cancel rejects with cancelled within 200 ms and the slicer works again', async () => {
+  test('cancel rejects with cancelled within 200 ms and the slicer works again', async (t) => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.sphereStl(30, 400, 200);  // 159,600 triangles
       const { meshId } = await window.slicer.loadMesh('sphere.stl', bytes);
@@ -149,6 +149,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
       return { code, rejectMs, firstStage, totalMs: performance.now() - started, codes,
         againLayers: again.layers, expected: window.torusLayers, preAborted };
     });
+    t.diagnostic(`cancel: rejected ${r.rejectMs.toFixed(1)} ms after abort (first stage ${r.firstStage})`);
     assert.equal(r.code, 'cancelled');
     assert.ok(r.rejectMs < 200, `rejected ${r.rejectMs.toFixed(1)} ms after abort`);
     assert.deepEqual(r.codes, ['cancelled', 'cancelled'], 'pending requests reject with cancelled');
@@ -189,7 +190,33 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.ok(['object', 'parse_error', 'invalid_option'].includes(r.verify), String(r.verify));
   });
 
-  test('the main thread is not blocked while slicing', async () => {
+  test('default URLs work; a bad wasm URL rejects with worker_failed; unloadMesh forgets', async () => {
+    const r = await page.evaluate(async () => {
+      const out = {};
+      const plain = await window.engine.createSlicer();
+      const { meshId, info } = await plain.loadMesh('box.stl', window.meshes.boxStl(10, 10, 4));
+      out.faces = info.faces;
+      out.layers = (await plain.slice(meshId, { layer_height: 0.2 })).layers;
+      await plain.unloadMesh(meshId);
+      out.afterUnload = await plain.slice(meshId).then(() => 'resolved', (e) => e.code);
+      plain.dispose();
+      out.afterDispose = await plain.slice({ name: 'b.stl', bytes: window.meshes.boxStl(1, 1, 1) })
+        .then(() => 'resolved', (e) => e.code);
+      out.badWasm = await window.engine.createSlicer({ wasmUrl: '/wasm/missing.mjs' })
+        .then((s) => { s.dispose(); return 'resolved'; }, (e) => e.code);
+      out.badWorker = await window.engine.createSlicer({ workerUrl: '/workers/missing.js' })
+        .then((s) => { s.dispose(); return 'resolved'; }, (e) => e.code);
+      return out;
+    });
+    assert.equal(r.faces, 12);
+    assert.equal(r.layers, 20);
+    assert.equal(r.afterUnload, 'invalid_option');
+    assert.equal(r.afterDispose, 'cancelled');
+    assert.equal(r.badWasm, 'worker_failed');
+    assert.equal(r.badWorker, 'worker_failed');
+  });
+
+  test('the main thread is not blocked while slicing', async (t) => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.torusStl(30, 10, 400, 125);  // 100,000 triangles
       const { meshId } = await window.slicer.loadMesh('torus100k.stl', bytes);
@@ -224,6 +251,8 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
       const during = longTasks.filter((e) => e.start >= t0 - 1);
       return { control, during, ticks, maxGap, sliceMs, layers: result.layers };
     });
+    t.diagnostic(`100k-triangle torus sliced in the worker in ${r.sliceMs.toFixed(0)} ms; `
+      + `${r.ticks} timer ticks, longest gap ${r.maxGap.toFixed(0)} ms, long tasks ${r.during.length}`);
     assert.ok(r.control >= 1, 'the long-task observer works (control block seen)');
     assert.deepEqual(r.during, [], `main-thread tasks over 50 ms while slicing: ${JSON.stringify(r.during)}`);
     assert.ok(r.ticks >= r.sliceMs / 100, `timers kept running (${r.ticks} ticks in ${r.sliceMs.toFixed(0)} ms, longest gap ${r.maxGap.toFixed(0)} ms)`);

@@ -97,9 +97,15 @@ TEST(PlaceMesh, UpAxis) {
     // Heights follow the chosen axis: the bump (max +Y) is on top for PosY, at the bottom for NegY.
     const double bumpZ = (r.transform * bumpIn.homogeneous()).z();
     const BoundingBox b = boundingBox(r.mesh);
-    if (c.up == UpAxis::PosY) EXPECT_NEAR(bumpZ, 10.5, 1e-12);
-    if (c.up == UpAxis::NegY) EXPECT_NEAR(bumpZ, 0.5, 1e-12);
-    if (c.up == UpAxis::PosY || c.up == UpAxis::NegY) EXPECT_NEAR(b.max.z(), 11, 1e-12);
+    if (c.up == UpAxis::PosY) {
+      EXPECT_NEAR(bumpZ, 10.5, 1e-12);
+    }
+    if (c.up == UpAxis::NegY) {
+      EXPECT_NEAR(bumpZ, 0.5, 1e-12);
+    }
+    if (c.up == UpAxis::PosY || c.up == UpAxis::NegY) {
+      EXPECT_NEAR(b.max.z(), 11, 1e-12);
+    }
   }
 }
 

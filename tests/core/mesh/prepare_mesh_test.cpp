@@ -6,6 +6,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <random>
+#include <set>
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -145,7 +151,8 @@ TEST(PrepareMesh, MergesDuplicateVerticesOfSoup) {
 // Repair with a tolerance: coordinates jittered by 1e-6 mm weld only when mergeTolerance allows.
 TEST(PrepareMesh, MergesWithinTolerance) {
   Mesh soup = test::toSoup(makeBox(0, 0, 0, 10, 10, 10));
-  for (size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] += 1e-6 * double((i * 7) % 5);
+  // Jitter of -2..2 um: copies straddle the grid cell boundaries at 0 and 10.
+  for (size_t i = 0; i < soup.positions.size(); ++i) soup.positions[i] += 1e-6 * (double((i * 7) % 5) - 2);
   const PrepareMeshResult exact = prepareMesh(soup, {});
   ASSERT_TRUE(exact.ok());
   EXPECT_FALSE(exact.info.closed);
@@ -154,6 +161,7 @@ TEST(PrepareMesh, MergesWithinTolerance) {
   const PrepareMeshResult r = prepareMesh(soup, tol);
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.info.vertices, 8u);
+  EXPECT_TRUE(hasLine(r.info.repairs, "merged 28 duplicate vertices (within 0.0001 mm)")) << joined(r.info.repairs);
   EXPECT_TRUE(r.info.closed && r.info.manifold && r.info.oriented) << joined(r.info.errors);
   EXPECT_NEAR(r.info.volumeMm3, 1000.0, 1e-2);
   PrepareOptions bad;
@@ -233,22 +241,46 @@ TEST(PrepareMesh, FlipsInsideOutShell) {
   EXPECT_TRUE(r.solid.ok());
 }
 
-// Outward repair keeps a cavity: an inner shell nested in an outer one must face inward, whatever
-// orientation it came with; the volume is outer minus inner.
-TEST(PrepareMesh, KeepsCavityInward) {
+// Outward repair flips whole nesting trees: a cavity facing inward stays a cavity, an inside-out
+// hollow box is turned as a whole, and a shell nested with the same orientation (a union under
+// the non-zero rule) is kept as it is, with a warning.
+TEST(PrepareMesh, NestedShellsKeepTheirMeaning) {
   const Mesh outer = makeBox(0, 0, 0, 10, 10, 10);
-  const Mesh inner = makeBox(2, 2, 2, 8, 8, 8);  // outward: wrong for a cavity
-  for (const Mesh& cavity : {inner, test::flipped(inner)}) {
-    const PrepareMeshResult r = prepareMesh(test::append(outer, cavity), {});
+  const Mesh inner = makeBox(2, 2, 2, 8, 8, 8);
+  struct Case {
+    Mesh mesh;
+    double volume;
+    size_t flippedShells;
+    bool nestedWarning;
+  };
+  const Case cases[] = {
+      {test::append(outer, test::flipped(inner)), 1000.0 - 216.0, 0, false},                // hollow box
+      {test::append(test::flipped(outer), inner), 1000.0 - 216.0, 2, false},                // inside out
+      {test::append(outer, inner), 1000.0 + 216.0, 0, true},                                // union
+      {test::append(test::flipped(outer), test::flipped(inner)), 1000.0 + 216.0, 2, true},  // union, inside out
+  };
+  for (const Case& c : cases) {
+    const PrepareMeshResult r = prepareMesh(c.mesh, {});
     ASSERT_TRUE(r.ok());
     EXPECT_EQ(r.info.shells, 2u);
-    EXPECT_NEAR(r.info.volumeMm3, 1000.0 - 216.0, 1e-9);
+    EXPECT_NEAR(r.info.volumeMm3, c.volume, 1e-9);
     EXPECT_TRUE(r.solid.ok());
+    EXPECT_EQ(hasLine(r.info.repairs, "flipped 2 closed shells (24 faces)"), c.flippedShells == 2)
+        << joined(r.info.repairs);
+    if (c.flippedShells == 0) {
+      EXPECT_TRUE(r.info.repairs.empty()) << joined(r.info.repairs);
+    }
+    EXPECT_EQ(hasLine(r.info.warnings, "nested_shells: 1 closed shell lies inside another with the same "
+                                       "orientation; slicing fills it (union)"),
+              c.nestedWarning)
+        << joined(r.info.warnings);
   }
-  // An inside-out outer shell around a proper cavity: only the outer one is flipped.
-  const PrepareMeshResult both = prepareMesh(test::append(test::flipped(outer), test::flipped(inner)), {});
-  EXPECT_NEAR(both.info.volumeMm3, 1000.0 - 216.0, 1e-9);
-  EXPECT_TRUE(hasLine(both.info.repairs, "flipped 1 closed shell (12 faces)")) << joined(both.info.repairs);
+  // Three levels: an island inside the cavity, whole model inside out: all three turn.
+  const Mesh island = makeBox(4, 4, 4, 6, 6, 6);
+  const PrepareMeshResult r3 = prepareMesh(
+      test::append(test::append(test::flipped(outer), inner), test::flipped(island)), {});
+  EXPECT_NEAR(r3.info.volumeMm3, 1000.0 - 216.0 + 8.0, 1e-9);
+  EXPECT_TRUE(hasLine(r3.info.repairs, "flipped 3 closed shells (36 faces)")) << joined(r3.info.repairs);
 }
 
 // open_mesh: a box with one triangle removed has one hole of 3 edges.
@@ -477,6 +509,79 @@ TEST(PrepareMesh, InfoJson) {
   MeshInfo bad;
   bad.volumeMm3 = std::numeric_limits<double>::quiet_NaN();
   EXPECT_TRUE(nlohmann::json::parse(meshInfoJson(bad))["volume_mm3"].is_null());
+}
+
+// Random small meshes on a coarse grid (coincident points, coplanar and folded faces, shared and
+// non-manifold edges, repeated indices) never crash, and the report agrees with an independent
+// recount on the returned mesh.
+TEST(PrepareMesh, RandomMeshesAgreeWithRecount) {
+  std::mt19937 rng(12345);
+  for (int round = 0; round < 300; ++round) {
+    Mesh m;
+    const int nv = 4 + int(rng() % 12);
+    for (int i = 0; i < 3 * nv; ++i) m.positions.push_back(double(rng() % 3));
+    const int nf = 1 + int(rng() % 20);
+    for (int i = 0; i < 3 * nf; ++i) m.triangles.push_back(rng() % nv);
+    if (round % 3 == 0) m = test::append(makeBox(0, 0, 0, 2, 2, 2), m);
+    if (round % 5 == 0) m = test::toSoup(m);
+    for (bool repair : {true, false}) {
+      SCOPED_TRACE("round " + std::to_string(round) + (repair ? " repair" : " no repair"));
+      PrepareOptions o;
+      o.repair = repair;
+      const PrepareMeshResult r = prepareMesh(m, o);
+      if (!r.ok()) {
+        EXPECT_EQ(r.status, Status::DegenerateInput) << r.message;
+        continue;
+      }
+      const Mesh& out = r.mesh;
+      ASSERT_EQ(r.info.faces, out.faceCount());
+      ASSERT_EQ(r.info.vertices, out.vertexCount());
+      for (uint32_t v : out.triangles) ASSERT_LT(v, out.vertexCount());
+      std::map<std::pair<uint32_t, uint32_t>, std::vector<uint32_t>> edgeFaces;  // -> halfedges
+      for (uint32_t h = 0; h < out.triangles.size(); ++h) {
+        const uint32_t a = out.triangles[h], b = out.triangles[h - h % 3 + (h % 3 + 1) % 3];
+        edgeFaces[std::minmax(a, b)].push_back(h);
+      }
+      size_t boundary = 0, nonManifold = 0, misoriented = 0;
+      std::vector<uint32_t> parent(out.faceCount());
+      std::iota(parent.begin(), parent.end(), 0u);
+      std::function<uint32_t(uint32_t)> root = [&](uint32_t x) { return parent[x] == x ? x : parent[x] = root(parent[x]); };
+      for (const auto& [edge, hs] : edgeFaces) {
+        boundary += hs.size() == 1;
+        nonManifold += hs.size() > 2;
+        if (hs.size() == 2) misoriented += out.triangles[hs[0]] == out.triangles[hs[1]];
+        for (uint32_t h : hs) parent[root(h / 3)] = root(hs[0] / 3);
+      }
+      size_t shells = 0;
+      for (uint32_t f = 0; f < out.faceCount(); ++f) shells += root(f) == f;
+      EXPECT_EQ(r.info.boundaryEdges, boundary);
+      EXPECT_EQ(r.info.nonManifoldEdges, nonManifold);
+      EXPECT_EQ(r.info.shells, shells);
+      EXPECT_EQ(r.info.closed, boundary == 0);
+      EXPECT_EQ(r.info.oriented, misoriented == 0);
+      EXPECT_EQ(r.solid.ok(), r.info.closed && r.info.manifold && r.info.oriented);
+      EXPECT_NEAR(r.info.areaMm2, test::surfaceArea(out), 1e-9);
+      if (r.info.closed && r.info.oriented && r.info.manifold) {  // volume independent of origin
+        EXPECT_NEAR(r.info.volumeMm3, test::signedVolume(out), 1e-9);
+      }
+      if (repair) {
+        std::set<std::array<uint32_t, 3>> faces;
+        std::vector<uint8_t> used(out.vertexCount(), 0);
+        for (size_t f = 0; f < out.faceCount(); ++f) {
+          std::array<uint32_t, 3> t = {out.triangles[3 * f], out.triangles[3 * f + 1], out.triangles[3 * f + 2]};
+          for (uint32_t v : t) used[v] = 1;
+          std::sort(t.begin(), t.end());
+          EXPECT_TRUE(t[0] != t[1] && t[1] != t[2]) << "degenerate face left";
+          EXPECT_TRUE(faces.insert(t).second) << "duplicate face left";
+        }
+        EXPECT_EQ(std::count(used.begin(), used.end(), 0), 0) << "unreferenced vertex left";
+        // Nothing orientable is left misoriented, and outward shells have positive volume.
+        if (r.info.closed && r.info.manifold && r.info.oriented && r.info.shells == 1) {
+          EXPECT_GE(r.info.volumeMm3, 0);
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "../test_support.h"
+#include "slice/travel_order.h"
 #include "slice_test_support.h"
 
 namespace omnislice {
@@ -321,6 +322,61 @@ TEST(PlanLayers, TravelOrderBeatsUnorderedBaseline) {
   EXPECT_LT(planned, 0.8 * oneWay);
 }
 
+TEST(PlanLayers, NearestIndexMatchesBruteForce) {
+  // The grid index behind travel ordering returns exactly the nearest probe of an untaken item.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-50, 50);
+  std::vector<std::vector<Eigen::Vector2d>> probes(300);
+  for (auto& list : probes) {
+    const int n = 1 + static_cast<int>(rng() % 5);
+    const Eigen::Vector2d c(u(rng), 0.2 * u(rng));  // an elongated cloud
+    for (int i = 0; i < n; ++i) list.push_back(c + Eigen::Vector2d(0.05 * u(rng), 0.05 * u(rng)));
+  }
+  NearestIndex index(probes);
+  std::vector<char> taken(probes.size(), 0);
+  for (int q = 0; q < 300; ++q) {
+    const Eigen::Vector2d from(2 * u(rng), 2 * u(rng));  // also far outside the cloud
+    double best = 1e300;
+    for (size_t i = 0; i < probes.size(); ++i) {
+      if (taken[i]) continue;
+      for (const auto& p : probes[i]) best = std::min(best, (p - from).squaredNorm());
+    }
+    const NearestIndex::Hit hit = index.nearest(from);
+    ASSERT_TRUE(hit.found);
+    ASSERT_FALSE(taken[hit.item]);
+    EXPECT_DOUBLE_EQ((probes[hit.item][hit.probe] - from).squaredNorm(), best) << "query " << q;
+    index.take(hit.item);
+    taken[hit.item] = 1;
+  }
+  EXPECT_FALSE(index.nearest({0, 0}).found);
+}
+
+TEST(PlanLayers, ManyIslandsOrderedQuickly) {
+  // 20 x 20 pillars: 400 islands per layer, visited nearest-first (travel close to the minimum
+  // tour of about 400 x pitch per layer, far below a shuffled order).
+  Mesh m;
+  for (int i = 0; i < 20; ++i) {
+    for (int j = 0; j < 20; ++j) m = test::appendMesh(m, makeBox(5 * i, 5 * j, 0, 5 * i + 3, 5 * j + 3, 2));
+  }
+  const SliceResult slices = sliceMesh(m, SliceOptions{});
+  ASSERT_TRUE(slices.ok());
+  const Settings s = baseSettings();
+  const auto t0 = std::chrono::steady_clock::now();
+  const PlanLayersResult plan = planLayers(slices, s, 3);
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  checkToolpath(slices, s, plan, "pillars");
+  const std::vector<PrintRun> runs = runsOf(plan.toolpath);
+  size_t outer = 0;
+  for (const PrintRun& r : runs) outer += r.feature == Feature::WallOuter;
+  EXPECT_EQ(outer, 400u * slices.layers.size());
+  const double planned = toolpathStats(plan.toolpath, 0).travelMm;
+  const double shuffled = shuffledTravel(runs, 11);
+  std::printf("pillars: %zu layers, plan %.3f s, travel %.0f mm (shuffled %.0f mm)\n", slices.layers.size(),
+              seconds, planned, shuffled);
+  EXPECT_LT(planned, 0.2 * shuffled);
+  EXPECT_LT(planned / slices.layers.size(), 2.0 * 400 * 5);
+}
+
 TEST(PlanLayers, TiltedDirectionsStayInsideSections) {
   const Mesh sphere = test::makeSphere({0, 0, 10}, 10, 32, 64);
   for (const Eigen::Vector3d& dir :
@@ -436,7 +492,7 @@ TEST(PlanLayers, TimingHundredThousandTriangles) {
 
 TEST(PlanLayers, RealModelKittenTilted) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = test::readSimpleOff(test::sharedModelsDir() / "pymdp_kitten.off");
+  const Mesh kitten = test::loadSolid("pymdp_kitten.off");
   ASSERT_EQ(kitten.faceCount(), 10000u);
   for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0.2)}) {
     SliceOptions o;

@@ -4,14 +4,12 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "../test_support.h"
 #include "mesh/mesh.h"
 #include "slice/slice_mesh.h"
 
@@ -176,47 +174,23 @@ inline double slicedVolume(const SliceResult& r) {
 
 }  // namespace omnislice::test
 
+#include "mesh/prepare_mesh.h"
+#include "mesh/read_mesh.h"
+
 namespace omnislice::test {
 
-// Minimal test-only readers for the two shared models used here (OBJ 'v' / 'f a/b/c ...' with
-// fan triangulation, OFF with triangle faces); the product readers live in core/mesh.
-inline Mesh readSimpleObj(const std::filesystem::path& p) {
-  Mesh m;
-  std::ifstream in(p);
-  std::string line;
-  while (std::getline(in, line)) {
-    std::istringstream ls(line);
-    std::string tag;
-    ls >> tag;
-    if (tag == "v") {
-      double x, y, z;
-      ls >> x >> y >> z;
-      m.positions.insert(m.positions.end(), {x, y, z});
-    } else if (tag == "f") {
-      std::vector<uint32_t> idx;
-      std::string tok;
-      while (ls >> tok) idx.push_back(static_cast<uint32_t>(std::stol(tok.substr(0, tok.find('/'))) - 1));
-      for (size_t i = 1; i + 1 < idx.size(); ++i) m.triangles.insert(m.triangles.end(), {idx[0], idx[i], idx[i + 1]});
-    }
-  }
-  return m;
-}
-
-inline Mesh readSimpleOff(const std::filesystem::path& p) {
-  Mesh m;
-  std::ifstream in(p);
-  std::string magic;
-  size_t nv = 0, nf = 0, ne = 0;
-  in >> magic >> nv >> nf >> ne;
-  m.positions.resize(3 * nv);
-  for (double& c : m.positions) in >> c;
-  for (size_t f = 0; f < nf; ++f) {
-    size_t k;
-    uint32_t a, b, c;
-    in >> k >> a >> b >> c;
-    m.triangles.insert(m.triangles.end(), {a, b, c});
-  }
-  return m;
+// A shared model read and prepared as the pipeline does (welded, oriented outward), scaled by
+// `scale`; fails the calling test when it is not a closed solid.
+inline Mesh loadSolid(const std::string& file, double scale = 1.0) {
+  const ReadMeshResult raw = readMeshFile((sharedModelsDir() / file).string());
+  EXPECT_TRUE(raw.ok()) << file << ": " << raw.message;
+  PrepareOptions options;
+  options.checkSelfIntersections = false;
+  PrepareMeshResult prepared = prepareMesh(raw.mesh, options);
+  EXPECT_TRUE(prepared.ok()) << file << ": " << prepared.message;
+  EXPECT_TRUE(prepared.solid.ok()) << file << ": " << prepared.solid.message;
+  for (double& c : prepared.mesh.positions) c *= scale;
+  return prepared.mesh;
 }
 
 }  // namespace omnislice::test

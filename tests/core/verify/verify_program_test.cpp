@@ -172,6 +172,35 @@ TEST(VerifyProgram, TallWallFirstThenLowerInfillCollides) {
   EXPECT_EQ(verifyBox(both).collisions, 0u);
 }
 
+TEST(VerifyProgram, TopDownOrderCollidesEverywhereAndStaysFast) {
+  // Layers printed from the top down: every sample below the first layers has earlier material
+  // above it inside the cone, so the slow path of the collision search runs for nearly all samples.
+  const Toolpath tp = test::boxToolpath({});
+  std::vector<std::vector<Move>> byLayer(50);
+  for (const Move& m : tp.moves) byLayer[m.layer].push_back(m);
+  Toolpath reversed = tp;
+  reversed.moves.clear();
+  for (int l = 49; l >= 0; --l) {
+    reversed.moves.insert(reversed.moves.end(), byLayer[l].begin(), byLayer[l].end());
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const VerifyReport r = verifyProgram(throughGcode(reversed), box10());
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.ok()) << r.message;
+  // Every sample of layers 0..46 has layer 49 (>= 3 h higher) inside its cone; layers 47 and 48
+  // are too close below it (a sample only collides with material more than h above).
+  size_t lastLayerSamples = 0;
+  {
+    test::BoxPathOptions top;
+    top.keepLayer = [](int l) { return l == 49; };
+    lastLayerSamples = verifyBox(top).samples;
+  }
+  EXPECT_GE(r.collisions, r.samples - 3 * lastLayerSamples - 100);
+  EXPECT_LE(r.collisions, r.samples - 2 * lastLayerSamples + 100);
+  EXPECT_LT(seconds, 30.0);
+}
+
 TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
   Toolpath tp = test::boxToolpath({});
   for (Move& m : tp.moves) {

@@ -1,0 +1,503 @@
+// SPDX-License-Identifier: MIT
+// End-to-end tests of the page in headless Chromium (playwright-core, /usr/bin/chromium), against
+// the real worker and wasm module served by scripts/serve.mjs on a free port.
+//
+// What is checked:
+//   - the bundled demo is loaded and sliced on page load (report, mesh info, preview drawn);
+//   - a shared model (../shared/models/compas_bunny_closed_low_res.obj) loaded through the file
+//     input, sliced with progress updates naming the stages; the downloaded G-code has as many
+//     `; omnislice:layer` markers as report.layers and as the page shows, numbered 0..n-1, and
+//     its top matches the placed model's height;
+//   - the layer-range sliders filter the preview;
+//   - a truncated binary STL shows its error code and message, and the app still loads and slices
+//     a good file afterwards;
+//   - a long slice is cancelled: control returns within a second, 'cancelled' is shown, and the
+//     next slice works;
+//   - the embedding module (web/omnislice-embed.js) slices a file in one call;
+//   - no request leaves the page's origin (every request of the page and its worker is recorded);
+//   - long tasks attributable to slicing (see sliceWithLongTaskCheck): none while the worker slices, and
+//     every app step handling the result under 50 ms. The worker's wasm compile at start-up is not
+//     on the main thread and happens before any measured window.
+// A screenshot goes to build/e2e/app.png.
+//
+// Skips (with a message) when ../shared/models is absent; under CI=true that is a failure.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { startServer } from '../../scripts/serve.mjs';
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+// The served tree; OMNISLICE_E2E_ROOT lets a developer point the test at another checkout.
+const SERVE_ROOT = process.env.OMNISLICE_E2E_ROOT ? path.resolve(process.env.OMNISLICE_E2E_ROOT) : ROOT;
+const SHARED_MODELS = path.resolve(ROOT, '..', 'shared', 'models');
+const BUNNY = path.join(SHARED_MODELS, 'compas_bunny_closed_low_res.obj');
+const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const OUT_DIR = path.join(ROOT, 'build', 'e2e');
+const IN_CI = process.env.CI === 'true';
+const CHROMIUM_FLAGS = [
+  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+  '--disable-background-networking', '--disable-component-update', '--disable-sync',
+];
+const SLICE_TIMEOUT = 180_000;
+
+let server;
+let context;
+let page;
+let userDataDir;
+let tmpDir;
+const requests = [];     // every request URL seen by the browser context (page and worker)
+const offOrigin = [];    // requests to another origin (aborted)
+const pageErrors = [];
+
+function missingPrerequisite() {
+  const needed = [
+    [path.join(SERVE_ROOT, 'workers', 'engine.js'), 'workers/engine.js'],
+    [path.join(SERVE_ROOT, 'build', 'wasm', 'omnislice.mjs'), 'build/wasm/omnislice.mjs (bash scripts/build-wasm.sh)'],
+    [path.join(SERVE_ROOT, 'node_modules', 'three', 'build', 'three.module.js'), 'node_modules/three (npm ci)'],
+    [CHROMIUM, CHROMIUM],
+  ];
+  const missing = needed.filter(([p]) => !fs.existsSync(p)).map(([, what]) => what);
+  return missing.length ? `missing: ${missing.join(', ')}` : null;
+}
+
+const sharedAvailable = fs.existsSync(BUNNY);
+function sharedSkip(t) {
+  if (sharedAvailable) return false;
+  if (IN_CI) assert.fail(`shared models are required under CI=true: ${BUNNY} not found`);
+  t.skip(`shared models not found at ${SHARED_MODELS}`);
+  return true;
+}
+
+const tid = (id) => `[data-testid="${id}"]`;
+
+/** Wait until the app reaches `state` with data-slice-count >= minSlices (when given). */
+async function waitState(state, { minSlices, timeout = SLICE_TIMEOUT } = {}) {
+  await page.waitForFunction(
+    ([s, n]) => document.body.dataset.state === s && (n === null || Number(document.body.dataset.sliceCount || 0) >= n),
+    [state, minSlices ?? null],
+    { timeout },
+  );
+}
+
+async function sliceCount() {
+  return page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
+}
+
+async function setSetting(key, value) {
+  const input = page.locator(tid(`setting-${key}`));
+  if ((await input.evaluate((el) => el.tagName)) === 'SELECT') {
+    await input.selectOption(String(value));
+  } else {
+    await input.fill(String(value));
+    await input.dispatchEvent('change');
+  }
+  assert.equal(await page.evaluate((k) => window.omnislice.settings[k], key), value, `setting ${key}`);
+}
+
+/** Install a recorder of progress texts/values and of long tasks; returns nothing. */
+async function startRecording() {
+  await page.evaluate(async () => {
+    // Let frames already requested (a model just loaded) finish before the window opens.
+    await new Promise((resolve) => requestAnimationFrame(() => requestAnimationFrame(() => setTimeout(resolve, 50))));
+    const rec = { texts: [], values: [], longTasks: [], clickedAt: 0 };
+    window.__rec = rec;
+    const text = document.querySelector('[data-testid="progress-text"]');
+    const bar = document.querySelector('[data-testid="progress"]');
+    rec.mo = new MutationObserver(() => {
+      rec.texts.push(text.textContent);
+      rec.values.push(Number(bar.value));
+    });
+    rec.mo.observe(text, { childList: true, characterData: true, subtree: true });
+    rec.po = new PerformanceObserver((list) => {
+      for (const e of list.getEntries()) {
+        rec.longTasks.push({ start: e.startTime, duration: e.duration, name: e.name,
+          attribution: (e.attribution || []).map((a) => `${a.containerType}:${a.containerSrc || a.containerName || ''}`) });
+      }
+    });
+    rec.po.observe({ type: 'longtask' });
+    // Long animation frames say what a long task ran (scripts with their source, or rendering).
+    rec.loaf = [];
+    rec.lo = new PerformanceObserver((list) => {
+      for (const e of list.getEntries()) {
+        rec.loaf.push({ start: e.startTime, duration: e.duration, blocking: e.blockingDuration,
+          render: e.renderStart ? e.startTime + e.duration - e.renderStart : 0,
+          scripts: e.scripts.map((x) => ({ what: `${x.invoker} ${x.sourceFunctionName || ''} ${x.sourceURL || ''}`.trim(), duration: x.duration })) });
+      }
+    });
+    if (PerformanceObserver.supportedEntryTypes.includes('long-animation-frame')) rec.lo.observe({ type: 'long-animation-frame' });
+  });
+}
+
+async function stopRecording() {
+  return page.evaluate(() => {
+    const rec = window.__rec;
+    rec.mo.disconnect();
+    // Deliver entries still queued in the observer.
+    for (const e of rec.po.takeRecords()) rec.longTasks.push({ start: e.startTime, duration: e.duration, name: e.name, attribution: [] });
+    rec.po.disconnect();
+    for (const e of rec.lo.takeRecords()) rec.loaf.push({ start: e.startTime, duration: e.duration, blocking: e.blockingDuration, render: 0, scripts: [] });
+    rec.lo.disconnect();
+    const marks = performance.getEntriesByType('mark');
+    const last = (name) => marks.filter((m) => m.name === name).at(-1)?.startTime ?? null;
+    const sliceStart = last('omnislice:slice-start');
+    const steps = performance.getEntriesByType('measure')
+      .filter((m) => m.name.startsWith('omnislice:') && sliceStart !== null && m.startTime >= sliceStart)
+      .map((m) => ({ name: m.name, duration: m.duration }));
+    return { texts: rec.texts, values: rec.values, longTasks: rec.longTasks, loaf: rec.loaf, sliceStart, result: last('omnislice:result'), steps };
+  });
+}
+
+/** Click Slice with the recorders on; resolves with the recording once the result is drawn. */
+async function measuredSlice() {
+  const before = await sliceCount();
+  await startRecording();
+  await page.click(tid('slice-button'));
+  await waitState('done', { minSlices: before + 1 });
+  return stopRecording();
+}
+
+/** Long tasks and slow app steps of one recording that are attributable to slicing. */
+function attributable(rec) {
+  const overlaps = (e) => e.start < rec.result && e.start + e.duration > rec.sliceStart;
+  return {
+    tasks: rec.longTasks.filter(overlaps),
+    frames: rec.loaf.filter(overlaps),
+    steps: rec.steps.filter((x) => x.duration > 50),
+  };
+}
+
+/**
+ * The long-task check. Attributable to slicing: (1) any main-thread long task (> 50 ms, from the
+ * 'longtask' PerformanceObserver) overlapping the time from the Slice click to the arrival of the
+ * result (the click handler, the progress messages, and the task that delivers the result,
+ * decodes the G-code and resolves the promise are all in it); (2) any of the app's own steps after
+ * that (report, model, preview slices, layer sliders; performance.measure 'omnislice:*') taking
+ * over 50 ms. WebGL frames drawing the new result are reported but not judged: with --disable-gpu,
+ * Chromium rasterises in software (SwiftShader) and reads each changed canvas back on the main
+ * thread, ~100-500 ms per frame here for any scene, a cost of this headless set-up, not of slicing.
+ * The test machine is shared (load averages above 10 on 2 cores were seen), which can stretch a
+ * few-millisecond task past 50 ms; so the slice is run up to three times and one clean run is
+ * required. Work that really blocks the main thread (slicing or decoding on it) fails every run.
+ * @returns the first recording (for the other checks)
+ */
+async function sliceWithLongTaskCheck(t, what) {
+  const runs = [];
+  for (let attempt = 0; attempt < 3; attempt++) {
+    const rec = await measuredSlice();
+    runs.push(rec);
+    const a = attributable(rec);
+    const frames = rec.longTasks.filter((e) => e.start >= rec.result).map((e) => Math.round(e.duration));
+    t.diagnostic(`${what}, run ${attempt + 1}: slice window ${Math.round(rec.result - rec.sliceStart)} ms, ` +
+      `long tasks in it: ${JSON.stringify(a.tasks.map((e) => Math.round(e.duration)))}; longest app step ` +
+      `${Math.max(0, ...rec.steps.map((x) => x.duration)).toFixed(1)} ms; drawing frames (software GL): ${frames.join(', ') || 'none'} ms`);
+    if (a.tasks.length === 0 && a.steps.length === 0) return runs[0];
+    t.diagnostic(`${what}, run ${attempt + 1}: long animation frames in the window: ${JSON.stringify(a.frames)}; slow steps: ${JSON.stringify(a.steps)}`);
+  }
+  assert.fail(`${what}: every run had a main-thread task over 50 ms while slicing (see diagnostics)`);
+}
+
+async function downloadProgram() {
+  const [download] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
+  const file = path.join(tmpDir, `dl-${Date.now()}-${download.suggestedFilename()}`);
+  await download.saveAs(file);
+  return { name: download.suggestedFilename(), text: fs.readFileSync(file, 'utf8') };
+}
+
+before(async () => {
+  const missing = missingPrerequisite();
+  if (missing) throw new Error(`e2e prerequisites ${missing}`);
+  tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-e2e-'));
+  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-chromium-'));
+  fs.mkdirSync(OUT_DIR, { recursive: true });
+  server = await startServer({ port: 0, root: SERVE_ROOT });
+  const origin = new URL(server.url).origin;
+  context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: CHROMIUM,
+    headless: true,
+    args: CHROMIUM_FLAGS,
+    viewport: { width: 1280, height: 800 },
+    acceptDownloads: true,
+  });
+  context.on('request', (r) => requests.push(r.url()));
+  await context.route(
+    (url) => url.origin !== origin && url.protocol !== 'blob:' && url.protocol !== 'data:',
+    (route) => {
+      offOrigin.push(route.request().url());
+      return route.abort();
+    },
+  );
+  page = context.pages()[0] || (await context.newPage());
+  page.on('pageerror', (e) => pageErrors.push(e.message));
+  await page.goto(server.url);
+});
+
+after(async () => {
+  if (context) await context.close();
+  if (server) await server.close();
+  for (const d of [userDataDir, tmpDir]) if (d) fs.rmSync(d, { recursive: true, force: true });
+});
+
+test('the demo model is loaded and sliced on page load', async () => {
+  await waitState('done', { minSlices: 1 });
+  assert.equal(await page.textContent(tid('model-name')), 'demo-overhang.stl');
+  assert.equal(await page.textContent(tid('info-faces')), '112');
+  assert.equal(await page.textContent(tid('info-closed')), 'yes');
+  const report = await page.evaluate(() => window.omnislice.report);
+  // The demo is 17 mm tall; at the default 0.2 mm layers that is about 85 layers.
+  assert.ok(report.layers >= 80 && report.layers <= 90, `demo layers ${report.layers}`);
+  assert.equal(await page.textContent(tid('report-layers')), String(report.layers));
+  assert.match(await page.textContent(tid('report-time')), /\d/);
+  assert.match(await page.textContent(tid('report-filament')), /\d.*g PLA/);
+  assert.ok(await page.evaluate(() => window.omnislice.previewSegments) > 1000);
+  assert.equal(await page.isHidden(tid('error-message')), true);
+  await page.screenshot({ path: path.join(OUT_DIR, 'demo.png') });
+});
+
+test('a shared model: load through the file input, slice with progress, download the G-code', async (t) => {
+  if (sharedSkip(t)) return;
+  await setSetting('fit_mm', 60);
+  await setSetting('layer_height', 0.3);
+  await page.setInputFiles(tid('file-input'), BUNNY);
+  await page.waitForFunction(() => document.querySelector('[data-testid="model-name"]').textContent === 'compas_bunny_closed_low_res.obj' && document.body.dataset.state === 'ready');
+  assert.equal(await page.textContent(tid('info-faces')), '1,872');
+  assert.equal(await page.textContent(tid('info-closed')), 'yes');
+  // fit_mm = 60 scales the largest side (the bunny's 202.8 mm X extent) to 60 mm.
+  const size = (await page.textContent(tid('info-size'))).split('×').map(Number);
+  assert.ok(Math.abs(Math.max(...size) - 60) < 0.1, `placed size ${size}`);
+
+  const rec = await sliceWithLongTaskCheck(t, 'bunny slice');
+  const stages = new Set(rec.texts.map((s) => s.split(' ')[0]));
+  const known = ['read', 'validate', 'place', 'slice', 'toolpath', 'program'].filter((s) => stages.has(s));
+  assert.ok(known.length >= 2, `progress named the stages, saw: ${[...stages].join(', ')}`);
+  assert.ok(rec.values.every((v, i) => i === 0 || v >= rec.values[i - 1] || v === 1 || rec.values[i - 1] === 0),
+    `progress fraction never goes back: ${rec.values.join(' ')}`);
+  assert.equal(rec.values.at(-1), 1);
+  t.diagnostic(`progress texts: ${rec.texts.slice(0, 12).join(' | ')} ... (${rec.texts.length})`);
+
+  const report = await page.evaluate(() => window.omnislice.report);
+  const shown = Number(await page.textContent(tid('report-layers')));
+  // The preview is coloured by feature: a closed solid with 2 walls and 20 % infill has them all.
+  const counts = await page.evaluate(() => window.omnislice.featureCounts);
+  for (const f of ['travel', 'wall-outer', 'wall-inner', 'skin', 'infill']) assert.ok(counts[f] > 100, `${f}: ${counts[f]} segments`);
+  const { name, text } = await downloadProgram();
+  assert.equal(name, 'compas_bunny_closed_low_res.gcode');
+  const markers = [...text.matchAll(/^; omnislice:layer (\d+)/gm)].map((m) => Number(m[1]));
+  assert.equal(markers.length, report.layers, 'layer markers in the G-code = report.layers');
+  assert.equal(shown, report.layers, 'layers shown on the page = report.layers');
+  assert.deepEqual(markers, markers.map((_, i) => i), 'layers numbered 0..n-1 in order');
+  // The highest printing move is within a layer of the placed model's top.
+  const height = size[2];
+  let zTop = 0;
+  let z = 0;
+  for (const line of text.split('\n')) {
+    if (!line.startsWith('G1') && !line.startsWith('G0')) continue;
+    const mz = / Z(-?[\d.]+)/.exec(line);
+    if (mz) z = Number(mz[1]);
+    if (line.startsWith('G1') && / E[\d.]/.test(line) && / [XY]/.test(line)) zTop = Math.max(zTop, z);
+  }
+  assert.ok(zTop <= height + 1e-3 && zTop >= height - 2 * 0.3, `top print z ${zTop} vs model height ${height}`);
+  assert.ok(Math.abs(report.layers - height / 0.3) <= 2, `${report.layers} layers for ${height} mm at 0.3 mm`);
+  await page.screenshot({ path: path.join(OUT_DIR, 'app.png') });
+});
+
+test('the layer sliders filter the preview', async () => {
+  const total = await page.evaluate(() => window.omnislice.drawnSegments[0]);
+  const layers = await page.evaluate(() => window.omnislice.report.layers);
+  assert.ok(total > 0);
+  const drawnAt = async (hi, lo = 0) => {
+    await page.locator(tid('layer-min-slider')).fill(String(lo));
+    await page.locator(tid('layer-slider')).fill(String(hi));
+    return page.evaluate(() => window.omnislice.drawnSegments[0]);
+  };
+  const mid = Math.floor(layers / 2);
+  const a = await drawnAt(0);
+  const b = await drawnAt(mid);
+  await page.waitForTimeout(500);  // let the software renderer draw the cut-away view
+  await page.screenshot({ path: path.join(OUT_DIR, 'app-mid-layer.png') });
+  const c = await drawnAt(layers - 1);
+  assert.ok(a > 0 && a < b && b < c, `drawn segments grow with the top layer: ${a} ${b} ${c}`);
+  assert.equal(c, total);
+  const band = await drawnAt(mid, mid);
+  assert.ok(band > 0 && band < b, `one layer ${band}`);
+  assert.equal(await page.textContent(tid('layer-text')), `${mid + 1}–${mid + 1} of ${layers}`);
+  await drawnAt(layers - 1, 0);
+});
+
+test('settings edits are commands: undo and redo restore values', async () => {
+  const before = await page.evaluate(() => window.omnislice.settings.infill);
+  await setSetting('infill', 35);
+  await setSetting('infill_pattern', 'lines');
+  const history = await page.evaluate(() => window.omnislice.history);
+  assert.deepEqual(history.slice(-2).map((c) => [c.key, c.value]), [['infill', 35], ['infill_pattern', 'lines']]);
+  await page.click(tid('settings-undo'));
+  assert.equal(await page.evaluate(() => window.omnislice.settings.infill_pattern), 'grid');
+  assert.equal(await page.inputValue(tid('setting-infill_pattern')), 'grid');
+  await page.click(tid('settings-undo'));
+  assert.equal(await page.evaluate(() => window.omnislice.settings.infill), before);
+  assert.equal(Number(await page.inputValue(tid('setting-infill'))), before);
+  await page.click(tid('settings-redo'));
+  assert.equal(await page.evaluate(() => window.omnislice.settings.infill), 35);
+  await page.click(tid('settings-undo'));
+  // An out-of-range value is refused with a message and changes nothing.
+  await page.locator(tid('setting-infill')).fill('250');
+  await page.locator(tid('setting-infill')).dispatchEvent('change');
+  assert.equal(await page.evaluate(() => window.omnislice.settings.infill), before);
+  assert.match(await page.textContent(tid('settings-problem')), /infill.*0\.\.100/);
+  await setSetting('infill', before);
+  // A free slicing direction is normalised.
+  await page.selectOption(tid('setting-direction'), 'custom');
+  await page.locator(tid('setting-direction-custom')).fill('0, -1, 1');
+  await page.locator(tid('setting-direction-custom')).dispatchEvent('change');
+  assert.equal(await page.evaluate(() => window.omnislice.settings.direction), '0,-0.7071,0.7071');
+  await page.selectOption(tid('setting-direction'), '0,0,1');
+  assert.equal(await page.evaluate(() => window.omnislice.settings.direction), '0,0,1');
+});
+
+test('dropping a file on the view loads it', async () => {
+  await page.evaluate(async () => {
+    const bytes = await (await fetch('/models/demo-overhang.stl')).arrayBuffer();
+    const dt = new DataTransfer();
+    dt.items.add(new File([bytes], 'dropped-part.stl'));
+    const view = document.querySelector('[data-testid="viewer"]');
+    view.dispatchEvent(new DragEvent('dragover', { dataTransfer: dt, bubbles: true, cancelable: true }));
+    view.dispatchEvent(new DragEvent('drop', { dataTransfer: dt, bubbles: true, cancelable: true }));
+  });
+  await page.waitForFunction(() => document.body.dataset.state === 'ready' && document.querySelector('[data-testid="model-name"]').textContent === 'dropped-part.stl');
+  assert.equal(await page.textContent(tid('info-faces')), '112');
+});
+
+test('a tilted slicing direction slices the dropped part turned so the direction points up', async () => {
+  // The dropped demo part is a prism along Y: turning it so d = (0, -sin 30, cos 30) points up
+  // makes its height exactly sy sin 30 + sz cos 30.
+  const [, sy, sz] = (await page.textContent(tid('info-size'))).split('×').map(Number);
+  await setSetting('direction', '0,-0.5,0.866');
+  try {
+    const before = await sliceCount();
+    await page.click(tid('slice-button'));
+    await waitState('done', { minSlices: before + 1 });
+    const report = await page.evaluate(() => window.omnislice.report);
+    assert.ok(Math.abs(report.direction[1] + 0.5) < 1e-3 && Math.abs(report.direction[2] - 0.866) < 1e-3, JSON.stringify(report.direction));
+    const markers = (await downloadProgram()).text.match(/^; omnislice:layer \d+/gm).length;
+    assert.equal(markers, report.layers);
+    const height = Number((await page.textContent(tid('info-size'))).split('×')[2]);
+    const expected = sy * 0.5 + sz * 0.866;
+    assert.ok(Math.abs(height - expected) < 0.15, `turned height ${height}, expected ${expected.toFixed(2)}`);
+  } finally {
+    await setSetting('direction', '0,0,1');
+  }
+});
+
+test('a truncated STL shows its error code; a good file loads and slices afterwards', async (t) => {
+  const demo = fs.readFileSync(path.join(ROOT, 'web', 'models', 'demo-overhang.stl'));
+  const broken = path.join(tmpDir, 'broken.stl');
+  // Header and count say 112 triangles; the bytes stop in the middle of triangle 41.
+  fs.writeFileSync(broken, demo.subarray(0, 84 + 50 * 40 + 17));
+  await page.setInputFiles(tid('file-input'), broken);
+  await waitState('error');
+  const message = await page.textContent(tid('error-message'));
+  assert.equal(await page.isVisible(tid('error-message')), true);
+  assert.match(message, /^truncated_file: \S.*/, message);
+  assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'truncated_file');
+
+  const good = path.join(tmpDir, 'good-part.stl');
+  fs.writeFileSync(good, demo);
+  await page.setInputFiles(tid('file-input'), good);
+  await page.waitForFunction(() => document.body.dataset.state === 'ready' && document.querySelector('[data-testid="model-name"]').textContent === 'good-part.stl');
+  assert.equal(await page.isHidden(tid('error-message')), true);
+  await sliceWithLongTaskCheck(t, 'demo slice after an error');
+  const { name, text } = await downloadProgram();
+  assert.equal(name, 'good-part.gcode');
+  const layers = await page.evaluate(() => window.omnislice.report.layers);
+  assert.equal((text.match(/^; omnislice:layer \d+/gm) || []).length, layers);
+});
+
+test('cancelling a long slice returns control quickly, and slicing works again', async (t) => {
+  if (sharedSkip(t)) return;
+  await setSetting('fit_mm', 150);
+  await setSetting('layer_height', 0.05);
+  await page.setInputFiles(tid('file-input'), BUNNY);
+  await page.waitForFunction(() => document.body.dataset.state === 'ready' && document.querySelector('[data-testid="model-name"]').textContent === 'compas_bunny_closed_low_res.obj');
+  await startRecording();
+  await page.click(tid('slice-button'));
+  // Let the engine get well into the work: a later stage with a percentage is shown, and at
+  // least 1.5 s of slicing have passed (so the long-task check below covers real work).
+  const clickedAt = Date.now();
+  await page.waitForFunction(() => /^(toolpath|program) \d+%/.test(document.querySelector('[data-testid="progress-text"]').textContent), null, { timeout: 60_000 });
+  const wait = 1500 - (Date.now() - clickedAt);
+  if (wait > 0) await page.waitForTimeout(wait);
+  assert.equal(await page.evaluate(() => document.body.dataset.state), 'slicing', 'the long slice was still running when cancelled');
+  const elapsed = await page.evaluate(() => new Promise((resolve) => {
+    const t0 = performance.now();
+    const mo = new MutationObserver(() => {
+      if (document.body.dataset.state === 'cancelled') {
+        mo.disconnect();
+        resolve(performance.now() - t0);
+      }
+    });
+    mo.observe(document.body, { attributes: true, attributeFilter: ['data-state'] });
+    document.querySelector('[data-testid="cancel-button"]').click();
+  }));
+  const rec = await stopRecording();
+  t.diagnostic(`cancelled after ${Date.now() - clickedAt} ms of slicing; control returned in ${elapsed.toFixed(0)} ms; long tasks meanwhile: ${rec.longTasks.length}`);
+  assert.ok(elapsed < 1000, `control returned after ${elapsed} ms`);
+  assert.match(await page.textContent(tid('error-message')), /^cancelled: /);
+  assert.match(await page.textContent(tid('progress-text')), /cancelled/);
+  assert.equal(await page.isEnabled(tid('slice-button')), true);
+  // Reported, not judged (a shared machine stretches tasks; the judged check is sliceWithLongTaskCheck).
+  t.diagnostic(`long tasks during the long slice: ${JSON.stringify(rec.longTasks.map((e) => Math.round(e.duration)))}`);
+
+  await setSetting('layer_height', 0.4);
+  const before = await sliceCount();
+  await page.click(tid('slice-button'));
+  await waitState('done', { minSlices: before + 1 });
+  const layers = await page.evaluate(() => window.omnislice.report.layers);
+  assert.ok(Math.abs(layers - 147.9 / 0.4) <= 3, `${layers} layers after the cancel`);
+  assert.equal(await page.isHidden(tid('error-message')), true);
+});
+
+test('the embedding module slices a file in one call and reports errors with codes', async () => {
+  const out = await page.evaluate(async () => {
+    const m = await import('/omnislice-embed.js');
+    const bytes = await (await fetch('/models/demo-overhang.stl')).arrayBuffer();
+    const seen = new Set();
+    const r = await m.sliceFile(new File([bytes], 'demo-part.stl'), { layer_height: 0.25, infill: 15 },
+      { onProgress: ({ stage }) => seen.add(stage) });
+    let error = null;
+    try {
+      await m.sliceFile({ name: 'bad.stl', bytes: bytes.slice(0, 300) }, {});
+    } catch (e) {
+      error = { code: e.code, isClass: e instanceof m.OmnisliceError, message: e.message };
+    }
+    const blob = m.programBlob(r);
+    await m.disposeSharedSlicer();
+    return {
+      layers: r.report.layers,
+      markers: (r.program.match(/^; omnislice:layer \d+/gm) || []).length,
+      fileName: r.fileName,
+      blobSize: blob.size,
+      programLength: new TextEncoder().encode(r.program).length,
+      stages: [...seen],
+      error,
+    };
+  });
+  assert.equal(out.fileName, 'demo-part.gcode');
+  assert.equal(out.markers, out.layers);
+  assert.ok(Math.abs(out.layers - 17 / 0.25) <= 2, `${out.layers} layers`);
+  assert.equal(out.blobSize, out.programLength);
+  assert.ok(out.stages.includes('slice') && out.stages.includes('program'), out.stages.join(','));
+  assert.ok(out.error && out.error.isClass, JSON.stringify(out.error));
+  assert.equal(out.error.code, 'truncated_file');
+});
+
+test('no request left the page origin, and the page raised no uncaught error', () => {
+  const origin = new URL(server.url).origin;
+  assert.ok(requests.some((u) => u.endsWith('/wasm/omnislice.wasm')), 'the worker\'s wasm fetch was recorded');
+  const foreign = requests.filter((u) => !u.startsWith(`${origin}/`) && !u.startsWith('blob:') && !u.startsWith('data:'));
+  assert.deepEqual(foreign, []);
+  assert.deepEqual(offOrigin, []);
+  assert.deepEqual(pageErrors, []);
+});

@@ -1,0 +1,58 @@
+// SPDX-License-Identifier: MIT
+// The preview's typed-array builder (web/preview.js) against a direct computation: index buffers
+// grouped by layer, stable in print order, travel separated, colours from the feature palette,
+// and a layer range maps to exactly the segments of those layers.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { buildPreviewArrays, FEATURES, ToolpathPreview } from '../../web/preview.js';
+
+// Deterministic pseudo-random preview: layers mostly increasing with some out-of-order segments.
+function makePreview(S, L, seed = 7) {
+  let x = seed;
+  const rnd = () => ((x = (x * 1103515245 + 12345) % 2147483648) / 2147483648);
+  const positions = new Float32Array(S * 6).map(() => rnd() * 100);
+  const features = new Uint8Array(S).map(() => Math.floor(rnd() * 7));
+  const layers = new Uint32Array(S).map((_, s) => (rnd() < 0.1 ? Math.floor(rnd() * L) : Math.floor((s * L) / S)));
+  return { positions, features, layers };
+}
+
+test('buildPreviewArrays groups segments by layer, stably, print and travel apart', async () => {
+  const S = 50_000;
+  const L = 97;
+  const p = makePreview(S, L);
+  // Small blocks and budget force many yields.
+  const a = await buildPreviewArrays(p, { block: 1000, budgetMs: 0 });
+  assert.equal(a.layerCount, Math.max(...p.layers) + 1);
+  for (const [group, keep] of [[a.print, (s) => p.features[s] !== 0], [a.travel, (s) => p.features[s] === 0]]) {
+    const expected = [];
+    for (let l = 0; l < a.layerCount; l++) {
+      assert.equal(group.starts[l], expected.length, `start of layer ${l}`);
+      for (let s = 0; s < S; s++) if (keep(s) && p.layers[s] === l) expected.push(s);
+    }
+    assert.equal(group.starts[a.layerCount], expected.length);
+    assert.equal(group.index.length, expected.length * 2);
+    for (let k = 0; k < expected.length; k++) {
+      assert.equal(group.index[2 * k], 2 * expected[k]);
+      assert.equal(group.index[2 * k + 1], 2 * expected[k] + 1);
+    }
+  }
+  for (let s = 0; s < S; s += 997) {
+    const c = FEATURES[p.features[s]].color;
+    assert.deepEqual([...a.colors.subarray(s * 6, s * 6 + 6)], [...c, ...c]);
+  }
+  for (const f of FEATURES) assert.equal(a.featureCounts[f.code], p.features.filter((x) => x === f.code).length);
+});
+
+test('ToolpathPreview draws exactly the segments of the chosen layer range', async () => {
+  const p = makePreview(20_000, 40, 3);
+  const preview = await ToolpathPreview.build(p);
+  const count = (lo, hi, travel) => p.layers.filter((l, s) => l >= lo && l <= hi && (p.features[s] === 0) === travel).length;
+  for (const [lo, hi] of [[0, 39], [0, 0], [10, 20], [39, 39], [25, 5], [-3, 100]]) {
+    preview.setLayerRange(lo, hi);
+    const [a, b] = preview.range;
+    assert.equal(preview.printLines.geometry.drawRange.count / 2, count(a, b, false), `print ${lo}..${hi}`);
+    assert.equal(preview.travelLines.geometry.drawRange.count / 2, count(a, b, true), `travel ${lo}..${hi}`);
+  }
+  assert.deepEqual(preview.range, [0, 39], "out-of-range bounds are clamped");
+  await assert.rejects(ToolpathPreview.build({ ...p, layers: p.layers.subarray(1) }), /disagree/);
+});
