@@ -18,11 +18,8 @@
 namespace omnislice {
 namespace {
 
-#if defined(NDEBUG) && !defined(__SANITIZE_ADDRESS__)
-constexpr bool kTimed = true;
-#else
-constexpr bool kTimed = false;  // Debug or sanitizer builds: report only
-#endif
+// Speed is measured by `npm run bench`, never asserted in tests (a loaded CI machine would make a
+// time bound flaky): these tests check large inputs read correctly and print the time taken.
 
 // Random triangles; coordinates are floats, or (shortDecimals) multiples of 1/1024 whose
 // decimal text has at most 13 significant digits, like typical exporters' output.
@@ -54,9 +51,6 @@ TEST(ReadMeshSpeed, BinaryStlMillionTriangles) {
   ASSERT_EQ(r.mesh.faceCount(), faces);
   EXPECT_EQ(r.mesh.positions[12345], m.positions[12345]);
   std::printf("[ReadMeshSpeed] binary STL, %zu triangles (%.1f MB): %.3f s\n", faces, bytes.size() / 1e6, best);
-  if (kTimed) {
-    EXPECT_LT(best, 0.5);
-  }
 }
 
 TEST(ReadMeshSpeed, TextFormats) {
