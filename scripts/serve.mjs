@@ -51,7 +51,7 @@ export function mimeType(fileName) {
  * @param {string} root     repository root
  * @returns {{file: string} | {status: number}}
  */
-export function resolveRequestPath(urlPath, root) {
+export function resolveRequestPath(urlPath, root, routes = ROUTES) {
   let decoded;
   try {
     decoded = decodeURIComponent(urlPath);
@@ -65,7 +65,7 @@ export function resolveRequestPath(urlPath, root) {
   if (segments.some((s) => s === '..' || s === '.')) return { status: 403 };
   // Hidden files (.git, .env, ...) are never served.
   if (segments.some((s) => s.startsWith('.'))) return { status: 404 };
-  const route = ROUTES.find(([prefix]) => decoded.startsWith(prefix));
+  const route = routes.find(([prefix]) => decoded.startsWith(prefix));
   if (!route) return { status: 404 };
   const base = path.resolve(root, route[1]);
   const rest = decoded.slice(route[0].length);
@@ -80,14 +80,14 @@ function sendStatus(res, status) {
   res.end(text);
 }
 
-async function handle(req, res, root) {
+async function handle(req, res, root, routes) {
   if (req.method !== 'GET' && req.method !== 'HEAD') {
     res.setHeader('Allow', 'GET, HEAD');
     sendStatus(res, 405);
     return;
   }
   const urlPath = (req.url || '/').split('?')[0].split('#')[0];
-  const resolved = resolveRequestPath(urlPath, root);
+  const resolved = resolveRequestPath(urlPath, root, routes);
   if (!resolved.file) {
     sendStatus(res, resolved.status);
     return;
@@ -132,13 +132,20 @@ async function handle(req, res, root) {
 
 /**
  * Start the server.
- * @param {{port?: number, host?: string, root?: string, quiet?: boolean}} options
- *   port 0 picks a free port; root defaults to the repository holding this script.
+ * @param {{port?: number, host?: string, root?: string, quiet?: boolean,
+ *          extraRoutes?: Array<[string, string]>, onRequest?: (path: string) => void}} options
+ *   port 0 picks a free port; root defaults to the repository holding this script; extraRoutes
+ *   (prefix -> folder, relative to root or absolute) are tried before the app's ROUTES (tests
+ *   add /tests/ and another wasm folder); onRequest sees every request path.
  * @returns {Promise<{url: string, port: number, close: () => Promise<void>}>}
  */
-export function startServer({ port = 8080, host = '127.0.0.1', root = REPO_ROOT, quiet = true } = {}) {
+export function startServer({
+  port = 8080, host = '127.0.0.1', root = REPO_ROOT, quiet = true, extraRoutes = [], onRequest,
+} = {}) {
+  const routes = [...extraRoutes, ...ROUTES];
   const server = http.createServer((req, res) => {
-    handle(req, res, root).catch(() => {
+    if (onRequest) onRequest((req.url || '/').split('?')[0]);
+    handle(req, res, root, routes).catch(() => {
       if (!res.headersSent) sendStatus(res, 500);
       else res.destroy();
     });
