@@ -36,7 +36,7 @@ if [ ${#missing[@]} -gt 0 ] || [ $need_src -eq 1 ]; then
   echo "bootstrap: apt-get install ${missing[*]:-(none)}"
   apt-get update -q
   if [ ${#missing[@]} -gt 0 ]; then
-    DEBIAN_FRONTEND=noninteractive apt-get install -y -q --no-install-recommends "${missing[@]}"
+    DEBIAN_FRONTEND=noninteractive apt-get install -y -q "${missing[@]}"
   fi
 fi
 
