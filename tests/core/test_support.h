@@ -51,6 +51,18 @@ inline std::vector<uint8_t> bytesOf(const std::string& s) {
   return std::vector<uint8_t>(s.begin(), s.end());
 }
 
+// Signed volume by the divergence theorem (sum of signed tetrahedra against the origin), written
+// independently of the core's so tests can check it.
+inline double meshVolume(const Mesh& m) {
+  double v = 0;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const Eigen::Vector3d a = m.vertex(m.triangles[3 * f]), b = m.vertex(m.triangles[3 * f + 1]),
+                          c = m.vertex(m.triangles[3 * f + 2]);
+    v += a.dot(b.cross(c)) / 6.0;
+  }
+  return v;
+}
+
 // Axis-aligned box [x0,x1]x[y0,y1]x[z0,z1] as 8 vertices / 12 outward-oriented triangles.
 inline Mesh makeBox(double x0, double y0, double z0, double x1, double y1, double z1) {
   Mesh m;

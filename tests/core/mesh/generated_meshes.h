@@ -11,6 +11,8 @@
 
 #include "mesh/mesh.h"
 
+#include "../test_support.h"
+
 namespace omnislice::test {
 
 // Closed outward icosphere: 20 * 4^level faces, vertices on the sphere of the given radius.
@@ -131,15 +133,6 @@ inline Mesh transformed(Mesh m, const Eigen::Matrix3d& R, const Eigen::Vector3d&
     for (int k = 0; k < 3; ++k) m.positions[3 * i + k] = q[k];
   }
   return m;
-}
-
-// Signed volume by the divergence theorem, summed about the origin (independent of the core's).
-inline double signedVolume(const Mesh& m) {
-  double v = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    v += m.vertex(m.triangles[3 * f]).dot(m.vertex(m.triangles[3 * f + 1]).cross(m.vertex(m.triangles[3 * f + 2])));
-  }
-  return v / 6;
 }
 
 inline double surfaceArea(const Mesh& m) {

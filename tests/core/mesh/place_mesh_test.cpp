@@ -34,7 +34,7 @@ BoundingBox checkPlacement(const Mesh& in, const PlacementSettings& p, double ex
     EXPECT_NEAR(box.min.x() + box.max.x(), 0, 1e-12 * size);
     EXPECT_NEAR(box.min.y() + box.max.y(), 0, 1e-12 * size);
   }
-  const double v0 = test::signedVolume(in), v1 = test::signedVolume(r.mesh);
+  const double v0 = test::meshVolume(in), v1 = test::meshVolume(r.mesh);
   EXPECT_NEAR(v1, v0 * std::pow(expectedScale, 3), 1e-9 * std::abs(v1));
   if (v0 > 0) {
     EXPECT_GT(v1, 0);

@@ -236,7 +236,7 @@ TEST(PrepareMesh, FlipsInsideOutShell) {
   const PrepareMeshResult r = prepareMesh(m, {});
   ASSERT_TRUE(r.ok());
   EXPECT_NEAR(r.info.volumeMm3, 6.0, 1e-12);
-  EXPECT_GT(test::signedVolume(r.mesh), 0);
+  EXPECT_GT(test::meshVolume(r.mesh), 0);
   EXPECT_TRUE(hasLine(r.info.repairs, "flipped 1 closed shell (12 faces)")) << joined(r.info.repairs);
   EXPECT_TRUE(r.solid.ok());
 }
@@ -445,7 +445,7 @@ TEST(PrepareMesh, SphereAndTorusMeasures) {
   const double section = 0.5 * 48 * 10 * 10 * std::sin(2 * M_PI / 48);
   const double ringCorrection = std::sin(2 * M_PI / 96) / (2 * M_PI / 96);
   EXPECT_NEAR(t.info.volumeMm3, 2 * M_PI * 30 * section * ringCorrection, 1e-6 * t.info.volumeMm3);
-  EXPECT_NEAR(t.info.volumeMm3, test::signedVolume(t.mesh), 1e-9 * t.info.volumeMm3);
+  EXPECT_NEAR(t.info.volumeMm3, test::meshVolume(t.mesh), 1e-9 * t.info.volumeMm3);
   EXPECT_NEAR(t.info.areaMm2, test::surfaceArea(t.mesh), 1e-9 * t.info.areaMm2);
 }
 
@@ -562,7 +562,7 @@ TEST(PrepareMesh, RandomMeshesAgreeWithRecount) {
       EXPECT_EQ(r.solid.ok(), r.info.closed && r.info.manifold && r.info.oriented);
       EXPECT_NEAR(r.info.areaMm2, test::surfaceArea(out), 1e-9);
       if (r.info.closed && r.info.oriented && r.info.manifold) {  // volume independent of origin
-        EXPECT_NEAR(r.info.volumeMm3, test::signedVolume(out), 1e-9);
+        EXPECT_NEAR(r.info.volumeMm3, test::meshVolume(out), 1e-9);
       }
       if (repair) {
         std::set<std::array<uint32_t, 3>> faces;

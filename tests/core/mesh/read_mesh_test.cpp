@@ -107,14 +107,14 @@ TEST(ReadMeshSharedModels, FormatsAndOrientation) {
   const ReadMeshResult ply = readMeshFile((test::sharedModelsDir() / "voxelmaam_kitten.ply").string());
   ASSERT_TRUE(ply.ok()) << ply.message;
   EXPECT_EQ(ply.format, "ply-binary-le");
-  EXPECT_GT(test::signedVolume(ply.mesh), 0);
+  EXPECT_GT(test::meshVolume(ply.mesh), 0);
   const ReadMeshResult off = readMeshFile((test::sharedModelsDir() / "pymdp_kitten.off").string());
   ASSERT_TRUE(off.ok()) << off.message;
   EXPECT_EQ(off.format, "off");
-  EXPECT_GT(test::signedVolume(off.mesh), 0);
+  EXPECT_GT(test::meshVolume(off.mesh), 0);
   const ReadMeshResult stl = readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_high_res.stl").string());
   ASSERT_TRUE(stl.ok()) << stl.message;
-  EXPECT_GT(test::signedVolume(stl.mesh), 0);
+  EXPECT_GT(test::meshVolume(stl.mesh), 0);
 }
 
 // ---- generated round trips -----------------------------------------------------------------------
@@ -159,7 +159,7 @@ void expectSameMesh(const test::PolyMesh& poly, const RoundTrip& t) {
     EXPECT_EQ(r.mesh.faceCount(), expected.faceCount());
     // Coordinates lie on a 1/1024 grid, so every format reproduces them exactly.
     EXPECT_EQ(test::canonicalTriangles(r.mesh), test::canonicalTriangles(expected));
-    EXPECT_DOUBLE_EQ(test::signedVolume(r.mesh), test::signedVolume(expected));
+    EXPECT_DOUBLE_EQ(test::meshVolume(r.mesh), test::meshVolume(expected));
     if (t.format != "stl-binary" && t.format != "stl-ascii") {
       EXPECT_EQ(r.mesh.vertexCount(), expected.vertexCount());
     }
@@ -172,7 +172,7 @@ TEST(ReadMeshRoundTrip, SphereInEveryFormat) {
   const Mesh tri = sphere.triangulated();
   ASSERT_EQ(tri.faceCount(), 352u);
   // Independent check of the generator: the volume approaches 4/3 pi r^3 from below.
-  const double v = test::signedVolume(tri);
+  const double v = test::meshVolume(tri);
   EXPECT_GT(v, 0.9 * 4.0 / 3.0 * M_PI * 1000);
   EXPECT_LT(v, 4.0 / 3.0 * M_PI * 1000);
   for (const RoundTrip& t : writeAllFormats(sphere)) expectSameMesh(sphere, t);
@@ -181,14 +181,14 @@ TEST(ReadMeshRoundTrip, SphereInEveryFormat) {
 // The quad box of the test support in every format: 12 triangles, volume 6.
 TEST(ReadMeshRoundTrip, BoxInEveryFormat) {
   const test::PolyMesh box = test::makeBoxPoly(-1, 0, 2, 0, 2, 5);
-  EXPECT_DOUBLE_EQ(test::signedVolume(box.triangulated()), 6.0);
+  EXPECT_DOUBLE_EQ(test::meshVolume(box.triangulated()), 6.0);
   for (const RoundTrip& t : writeAllFormats(box)) expectSameMesh(box, t);
   // The triangle box of test_support.h, too.
   const Mesh m = test::makeBox(0, 0, 0, 1, 2, 3);
   const ReadMeshResult r = readBytes(test::writeBinaryStl(m), "box.stl");
   ASSERT_TRUE(r.ok());
   EXPECT_EQ(test::canonicalTriangles(r.mesh), test::canonicalTriangles(m));
-  EXPECT_DOUBLE_EQ(test::signedVolume(r.mesh), 6.0);
+  EXPECT_DOUBLE_EQ(test::meshVolume(r.mesh), 6.0);
 }
 
 // A cube with 6 x 6 quads per side, as makeGridBoxPoly in tests/fixtures/make_grid_box_3mf.py.
@@ -243,7 +243,7 @@ TEST(ReadMeshThreeMf, ZipToolFixtureWithDynamicHuffman) {
     expected.positions[3 * i + 1] = x;
   }
   EXPECT_EQ(test::canonicalTriangles(r.mesh), test::canonicalTriangles(expected));
-  EXPECT_DOUBLE_EQ(test::signedVolume(r.mesh), 8000.0);
+  EXPECT_DOUBLE_EQ(test::meshVolume(r.mesh), 8000.0);
   const BoundingBox box = boundingBox(r.mesh);
   EXPECT_EQ(box.min, Eigen::Vector3d(-15, 0, 0));
   EXPECT_EQ(box.max, Eigen::Vector3d(5, 20, 20));
@@ -297,7 +297,7 @@ TEST(ReadMeshThreeMf, ComponentsTransformsAndUnits) {
       for (int k = 0; k < 9; ++k) EXPECT_NEAR(got[i][k], want[i][k], 1e-9 * scale);
     }
     // Volume: 6 + 6 * 8 + 6 mm3 (rotations keep it), times the unit scale cubed.
-    EXPECT_NEAR(test::signedVolume(r.mesh), 60.0 * scale * scale * scale, 1e-9 * 60 * scale * scale * scale);
+    EXPECT_NEAR(test::meshVolume(r.mesh), 60.0 * scale * scale * scale, 1e-9 * 60 * scale * scale * scale);
   }
 }
 

@@ -18,6 +18,8 @@
 #include "mesh/inflate.h"
 #include "mesh/mesh.h"
 
+#include "../test_support.h"
+
 namespace omnislice::test {
 
 // Positions plus polygons (3 or more vertex indices each, counter-clockwise from outside).
@@ -73,16 +75,6 @@ inline PolyMesh makeBoxPoly(double x0, double y0, double z0, double x1, double y
   m.positions = {x0, y0, z0, x1, y0, z0, x1, y1, z0, x0, y1, z0, x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1};
   m.polygons = {{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4}, {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
   return m;
-}
-
-inline double signedVolume(const Mesh& m) {
-  double v = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    const Eigen::Vector3d a = m.vertex(m.triangles[3 * f]), b = m.vertex(m.triangles[3 * f + 1]),
-                          c = m.vertex(m.triangles[3 * f + 2]);
-    v += a.dot(b.cross(c)) / 6.0;
-  }
-  return v;
 }
 
 // Triangles as coordinate 9-tuples, each rotated to start at its smallest vertex (orientation

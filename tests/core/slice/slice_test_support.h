@@ -15,17 +15,6 @@
 
 namespace omnislice::test {
 
-// Signed volume by the divergence theorem (sum of signed tetrahedra against the origin).
-inline double meshVolume(const Mesh& m) {
-  double v = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    const Eigen::Vector3d a = m.vertex(m.triangles[3 * f]), b = m.vertex(m.triangles[3 * f + 1]),
-                          c = m.vertex(m.triangles[3 * f + 2]);
-    v += a.dot(b.cross(c)) / 6.0;
-  }
-  return v;
-}
-
 inline void flipFaces(Mesh& m) {
   for (size_t f = 0; f < m.faceCount(); ++f) std::swap(m.triangles[3 * f + 1], m.triangles[3 * f + 2]);
 }
