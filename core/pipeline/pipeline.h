@@ -19,12 +19,16 @@ struct PreviewBuffers {
   std::vector<float> positions;   // #S*6: x0 y0 z0 x1 y1 z1 per segment, part frame, mm
   std::vector<uint8_t> features;  // #S: Feature code (toolpath.h), 0 = travel
   std::vector<uint32_t> layers;   // #S: layer index
+  std::vector<float> machine;     // #S*6: machine values at each segment's end (machine kinds'
+                                  // units: mm, deg; robot6 rad), for the machine animation
 };
 
 struct SliceOutput : Outcome {
-  std::string program;       // G-code text
-  std::string reportJson;    // method, machine, layers, path_mm, extrusion_mm, estimated_time_s,
-                             // timings_ms {read, validate, place, slice, toolpath, program}, mesh, ...
+  std::string program;       // program text (G-code, robot CSV or URScript)
+  std::string programExtension = "gcode";  // "gcode" | "csv" | "script"
+  std::string reportJson;    // method, machine, machine_kind, layers, path_mm, extrusion_mm,
+                             // estimated_time_s, motion {...}, timings_ms {read, validate, place,
+                             // slice, toolpath, motion, program}, mesh, machine_profile, ...
   std::string infoJson;      // meshInfoJson() of the prepared input
   PreviewBuffers preview;
   Mesh partMesh;             // the placed solid (part frame), for viewers

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Parsing side of the machine JSON of PROGRAM-FORMAT.md, and the axis letters each kind writes.
+// Parsing side of the machine JSON of PROGRAM-FORMAT.md (schema in docs/MACHINES.md), and the axis
+// names each kind writes.
 #pragma once
 #include <string>
 #include <vector>
@@ -13,9 +14,10 @@ struct MachineParseResult : Outcome {
   MachineProfile machine;
 };
 
-// Parse the one-line machine JSON (inverse of machineJson()). ParseError for malformed JSON or
-// non-numeric / non-finite limits, min > max or a non-positive nozzle size; any kind string is
-// accepted here (replaying it is the reader's concern). A missing nozzle cone keeps the defaults
+// Parse a machine JSON object (inverse of machineJson(); also the user's profile files). ParseError
+// for malformed JSON, non-finite numbers, min > max, a non-positive nozzle size, a robot6 profile
+// without a 6-row dh table, a non-rigid flange_to_platform or a zero nozzle_axis; any kind string
+// is accepted here (replaying it is the reader's concern). Missing nozzle cone keeps the defaults
 // (40 degrees, 25 mm).
 MachineParseResult machineFromJson(const std::string& json);
 

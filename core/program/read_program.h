@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// Reader of Omnislice programs (and plain 3-axis G-code from other slicers where possible): header
-// facts and the moves replayed into the part frame, as verification needs them.
+// Reader of Omnislice programs of every machine kind (G-code for cartesian3 / rotary4 / table5,
+// robot joint CSV and URScript for robot6) and of plain 3-axis G-code from other slicers where
+// possible: header facts and the moves replayed into the part frame, as verification needs them.
 #pragma once
 #include <Eigen/Core>
 #include <string>
@@ -20,12 +21,14 @@ struct ProgramMove {
   int layer = -1;                  // last `; omnislice:layer` (or ;LAYER:) marker, -1 before any
   int part = 0;
   std::string feature;             // last feature marker ("wall-outer", ...)
-  std::vector<double> axes;        // machine axis values at the end (X Y Z [A|B C]) for limits
+  std::vector<double> axes;        // machine values at the end (X Y Z [A|B C] or q1..q6), limits
   int line = 0;                    // 1-based source line
 };
 
 struct ParsedProgram : Outcome {
   std::string method;
+  std::string format = "gcode";    // "gcode" | "csv" | "urscript"
+  std::string feedSemantics;       // header feed semantics ("xyz", "combined", "part_tip"), "" if none
   MachineProfile machine;
   Eigen::Matrix4d placement = Eigen::Matrix4d::Identity();
   bool absoluteExtrusion = true;
@@ -37,8 +40,11 @@ struct ParsedProgram : Outcome {
   int layerCount = 0;              // number of distinct layer markers
 };
 
-// Parse program text. ParseError with the line number for malformed header JSON or words;
-// UnsupportedFormat for machine kinds this build cannot replay.
+// Parse program text (format detected from the header: `;` G-code, `#` CSV or URScript). Every
+// axis / joint changes linearly between consecutive targets (PROGRAM-FORMAT.md), so a move whose
+// angular values change is split into pieces whose part-frame chords stay within 0.01 mm of the
+// replayed tip path; pieces keep the source line. ParseError with the line number for malformed
+// header JSON, words or CSV rows; UnsupportedFormat for machine kinds this build cannot replay.
 ParsedProgram readProgram(const std::string& text);
 
 }  // namespace omnislice

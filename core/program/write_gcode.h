@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
-// G-code writer for cartesian3 following ../shared/PROGRAM-FORMAT.md: header (version, method, date,
-// machine JSON, placement, extrusion, feed semantics, settings, time and filament estimate),
-// per-layer markers, per-feature markers, G0/G1 moves with absolute E, retraction.
+// Program writers following ../shared/PROGRAM-FORMAT.md: G-code for cartesian3, rotary4 (A) and
+// table5 (B C) in the Marlin, RepRapFirmware and Klipper dialects; robot joint CSV and URScript
+// for robot6. Header (version, method, date, machine JSON, placement, extrusion, feed semantics,
+// settings, time and filament estimate), part / layer / feature markers, moves.
 #pragma once
 #include <Eigen/Core>
 #include <string>
@@ -9,10 +10,21 @@
 #include <vector>
 
 #include "common/status.h"
+#include "motion/machine_path.h"
 #include "program/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {
+
+enum class GcodeDialect { Marlin, RepRap, Klipper };
+enum class RobotFormat { Csv, UrScript };
+
+// "marlin" | "reprap" | "klipper"; parse returns false for other text.
+const char* gcodeDialectName(GcodeDialect d);
+bool parseGcodeDialect(const std::string& text, GcodeDialect& out);
+// "csv" | "urscript"
+const char* robotFormatName(RobotFormat f);
+bool parseRobotFormat(const std::string& text, RobotFormat& out);
 
 struct ProgramInfo {
   std::string version = OMNISLICE_VERSION;
@@ -25,8 +37,13 @@ struct ProgramInfo {
   double lineWidth = 0.45;                           // mm (header setting)
   double nozzleTemperature = 210;                    // deg C, 0 = no heating commands
   double bedTemperature = 60;                        // deg C, 0 = none
-  double acceleration = 1500;                        // mm/s^2 for the time estimate
-  std::vector<std::pair<std::string, std::string>> settings;  // every setting, printed as header lines
+  double acceleration = 1500;                        // mm/s^2 for the cartesian3 time estimate
+  GcodeDialect dialect = GcodeDialect::Marlin;       // G-code kinds
+  RobotFormat robotFormat = RobotFormat::Csv;        // robot6
+  double extruderAnalogPerMmS = 0.1;                 // URScript: analog output (V) per mm/s of
+                                                     // filament feed (set_analog_out, documented
+                                                     // in the program header)
+  std::vector<std::pair<std::string, std::string>> settings;  // every setting, as header lines
 };
 
 struct WriteProgramResult : Outcome {
@@ -36,8 +53,20 @@ struct WriteProgramResult : Outcome {
   int layers = 0;
 };
 
-// Write a cartesian3 G-code program. InvalidOption when the machine kind is not cartesian3 or a
-// move's nozzle axis is not +Z.
+// Write the program of a planned machine path (planMachineMotion()) for path.machine.kind:
+// G-code for cartesian3 / rotary4 / table5 (dialect from info), CSV or URScript for robot6.
+// The feed semantics declared in the header: "xyz" (Marlin, Klipper: F is the machine XYZ speed;
+// pure rotations use the rotary distance in degrees), "combined" (RepRapFirmware: F over all axes,
+// degrees counted as mm), "part_tip" (robot CSV: f is the tip speed along the part). F / f are
+// computed from each move's planned duration, so every dialect reproduces the planned time.
+// InvalidOption for non-finite values or a kind / format mismatch.
+WriteProgramResult writeProgram(const MachinePath& path, const ProgramInfo& info);
+
+// cartesian3 convenience: plan the tool-path on info.machine (which must be cartesian3, every
+// printing axis +Z) and write it.
 WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info);
+
+// File extension for a machine kind and robot format: "gcode", "csv" or "script".
+const char* programExtension(const std::string& kind, RobotFormat robotFormat);
 
 }  // namespace omnislice

@@ -1,0 +1,122 @@
+// SPDX-License-Identifier: MIT
+// Names, limits and the forward maps of PROGRAM-FORMAT.md. The inverse maps are in
+// kinematics_inverse.cpp.
+#include "kinematics/kinematics.h"
+
+#include <cmath>
+#include <limits>
+
+#include "kinematics/robot_arm.h"
+
+namespace omnislice {
+
+namespace {
+constexpr double kDeg = 3.14159265358979323846 / 180.0;
+
+Eigen::Matrix3d rotX(double deg) {
+  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
+  Eigen::Matrix3d r;
+  r << 1, 0, 0, 0, c, -s, 0, s, c;
+  return r;
+}
+Eigen::Matrix3d rotY(double deg) {
+  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
+  Eigen::Matrix3d r;
+  r << c, 0, s, 0, 1, 0, -s, 0, c;
+  return r;
+}
+Eigen::Matrix3d rotZ(double deg) {
+  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
+  Eigen::Matrix3d r;
+  r << c, -s, 0, s, c, 0, 0, 0, 1;
+  return r;
+}
+}  // namespace
+
+int machineAxisCount(const std::string& kind) {
+  if (kind == "cartesian3") return 3;
+  if (kind == "rotary4") return 4;
+  if (kind == "table5") return 5;
+  if (kind == "robot6") return 6;
+  return 0;
+}
+
+std::vector<std::string> machineAxisNames(const std::string& kind) {
+  if (kind == "cartesian3") return {"X", "Y", "Z"};
+  if (kind == "rotary4") return {"X", "Y", "Z", "A"};
+  if (kind == "table5") return {"X", "Y", "Z", "B", "C"};
+  if (kind == "robot6") return {"q1", "q2", "q3", "q4", "q5", "q6"};
+  return {};
+}
+
+bool isAngularAxis(const std::string& kind, int index) {
+  if (kind == "robot6") return index >= 0 && index < 6;
+  if (kind == "rotary4" || kind == "table5") return index >= 3 && index < machineAxisCount(kind);
+  return false;
+}
+
+std::vector<std::pair<double, double>> machineLimits(const MachineProfile& machine) {
+  const double inf = std::numeric_limits<double>::infinity();
+  const int n = machineAxisCount(machine.kind);
+  std::vector<std::pair<double, double>> out(n, {-inf, inf});
+  if (machine.kind == "robot6") {
+    for (int i = 0; i < 6; ++i) {
+      const auto& l = machine.jointLimits[i];
+      if (l.first < l.second) out[i] = l;
+    }
+    return out;
+  }
+  const std::vector<std::string> names = machineAxisNames(machine.kind);
+  for (int i = 0; i < n; ++i) {
+    auto it = machine.axisLimits.find(names[i]);
+    if (it != machine.axisLimits.end()) out[i] = it->second;
+  }
+  return out;
+}
+
+bool withinLimits(const MachineProfile& machine, const MachineValues& values, double tolerance) {
+  const auto limits = machineLimits(machine);
+  for (size_t i = 0; i < limits.size(); ++i) {
+    if (!(values[i] >= limits[i].first - tolerance && values[i] <= limits[i].second + tolerance)) {
+      return false;
+    }
+  }
+  return true;
+}
+
+Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineValues& q) {
+  return armForward(machine.dh, q) * machine.flangeToPlatform;
+}
+
+bool forwardMap(const MachineProfile& machine, const MachineValues& v, Eigen::Vector3d& tip,
+                Eigen::Vector3d& axis) {
+  const int n = machineAxisCount(machine.kind);
+  if (n == 0) return false;
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  const Eigen::Vector3d m(v[0], v[1], v[2]);
+  const Eigen::Vector3d& p = machine.pivot;
+  if (machine.kind == "cartesian3") {
+    tip = m;
+    axis = Eigen::Vector3d::UnitZ();
+  } else if (machine.kind == "rotary4") {
+    // m = P + Rx(A)(q - P)  =>  q = P + Rx(A)^T (m - P); u = Rx(A)^T z.
+    const Eigen::Matrix3d r = rotX(v[3]);
+    tip = p + r.transpose() * (m - p);
+    axis = r.transpose() * Eigen::Vector3d::UnitZ();
+  } else if (machine.kind == "table5") {
+    // m = P + Ry(B) Rz(C)(q - P).
+    const Eigen::Matrix3d r = rotY(v[3]) * rotZ(v[4]);
+    tip = p + r.transpose() * (m - p);
+    axis = r.transpose() * Eigen::Vector3d::UnitZ();
+  } else {  // robot6: q = W^-1 N, u = rot(W)^T u_base
+    const Eigen::Matrix4d w = robotPlatformPose(machine, v);
+    const Eigen::Matrix3d r = w.topLeftCorner<3, 3>();
+    tip = r.transpose() * (machine.nozzleTip - w.topRightCorner<3, 1>());
+    axis = (r.transpose() * machine.nozzleAxis).normalized();
+  }
+  return tip.allFinite() && axis.allFinite();
+}
+
+}  // namespace omnislice

@@ -1,0 +1,70 @@
+// SPDX-License-Identifier: MIT
+// Machine kinematics for every kind of ../shared/PROGRAM-FORMAT.md: the forward map (machine
+// values -> part-frame tip and nozzle axis) and the inverse (tip and axis -> every candidate set of
+// machine values), limits, and the units of each axis.
+#pragma once
+#include <Eigen/Core>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "program/machine.h"
+
+namespace omnislice {
+
+// Number of values a kind uses (3, 4, 5, 6), 0 for an unknown kind.
+int machineAxisCount(const std::string& kind);
+
+// Names of the values in order: "X","Y","Z"[,"A" | ,"B","C"] or "q1".."q6".
+std::vector<std::string> machineAxisNames(const std::string& kind);
+
+// True for angular values (A, B, C in degrees; robot joints in radians).
+bool isAngularAxis(const std::string& kind, int index);
+
+// [min, max] per value index from the profile (axisLimits by letter, jointLimits for robot6);
+// (-inf, inf) where the profile declares none.
+std::vector<std::pair<double, double>> machineLimits(const MachineProfile& machine);
+
+// True when every value is inside machineLimits() (with tolerance, in the value's unit).
+bool withinLimits(const MachineProfile& machine, const MachineValues& values,
+                  double tolerance = 1e-9);
+
+// Forward map of PROGRAM-FORMAT.md: part-frame tip position and nozzle axis (unit) for machine
+// values. False for an unknown kind or non-finite values.
+bool forwardMap(const MachineProfile& machine, const MachineValues& values, Eigen::Vector3d& tip,
+                Eigen::Vector3d& axis);
+
+struct IkOptions {
+  int freeRotationSamples = 30;          // robot6: samples of the free rotation about the nozzle
+                                         // axis over [-pi, pi) (paper 001 Section 5.3 uses 30)
+  const MachineValues* reference = nullptr;  // resolves free axes (table5 C at B = 0) and angle
+                                             // wraps (C +- 360, A +- 360) to the nearest values
+  double axisTolerance = 1e-9;           // rotary4: |u.x| above this is infeasible
+};
+
+struct IkCandidate {
+  MachineValues values{};
+  int branch = 0;           // table5: 0 (B >= 0) or 1 (B < 0); robot6: urInverse() branch bits
+  double freeAngle = 0;     // robot6: rotation about the nozzle axis (rad); 0 otherwise
+};
+
+struct IkResult : Outcome {
+  std::vector<IkCandidate> candidates;  // only candidates within the limits
+  bool orientationFeasible = true;      // false when no value set can realise the nozzle axis
+                                        // (rotary4 with u.x != 0, table5 tilt beyond B limits...)
+  int outOfLimits = 0;                  // solutions dropped by the limits
+};
+
+// Every candidate set of machine values that puts the tip at `tip` with nozzle axis `axis` (part
+// frame). rotary4: A = atan2(u.y, u.z) (and its 360-degree aliases inside the limits), snapped to
+// the step angle when one is declared (then orientationFeasible is false if u is not on a step);
+// table5: both branches (B, C) and (-B, C + 180), C chosen among its 360-degree aliases nearest the
+// reference; robot6: urInverse() on the freeRotationSamples platform poses. Status InvalidOption
+// for a non-unit or non-finite input or an unknown kind.
+IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
+                    const Eigen::Vector3d& axis, const IkOptions& options = {});
+
+// robot6: platform pose W in the robot base frame for joint values q (W = FK(q) T).
+Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineValues& q);
+
+}  // namespace omnislice

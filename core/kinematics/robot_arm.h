@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// Serial 6-joint arms described by a standard DH table (PROGRAM-FORMAT.md): forward kinematics,
+// the analytic inverse of the UR family (UR3/UR5/UR10 structure: a1 = a4 = a5 = a6 = 0,
+// alpha = [pi/2, 0, 0, pi/2, -pi/2, 0]), the geometric Jacobian and paper 003's singularity
+// parameter (Eq. 5).
+#pragma once
+#include <Eigen/Core>
+#include <array>
+
+#include "program/machine.h"
+
+namespace omnislice {
+
+using DhTable = std::array<DhRow, 6>;
+using JointValues = std::array<double, 6>;  // radians
+
+// The UR5 (CB series) table of PROGRAM-FORMAT.md.
+DhTable ur5DhTable();
+
+// Pose of the flange (DH frame 6) in the base frame (DH frame 0), mm.
+Eigen::Matrix4d armForward(const DhTable& dh, const JointValues& q);
+
+// Poses of every DH frame 0..6 in the base frame (frames[0] = identity), for drawing the arm and
+// for self-collision checks.
+std::array<Eigen::Matrix4d, 7> armFrames(const DhTable& dh, const JointValues& q);
+
+// True when dh has the UR-family structure urInverse() solves.
+bool isUrFamily(const DhTable& dh);
+
+// All analytic inverse-kinematics solutions of a UR-family arm for a flange pose: up to 8 branches
+// (shoulder left/right x wrist up/down x elbow up/down), each joint wrapped to (-pi, pi]. Returns
+// the number of solutions written; 0 when the pose is out of reach. Branch b's bits: 1 = shoulder,
+// 2 = wrist, 4 = elbow (a branch keeps its index along a continuous motion away from singularities).
+int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solutions[8],
+              int branches[8]);
+
+// Geometric Jacobian at q in the base frame: rows 0-2 linear velocity of the flange origin in
+// metres per radian (so the rows are commensurate with the angular ones), rows 3-5 angular.
+Eigen::Matrix<double, 6, 6> armJacobian(const DhTable& dh, const JointValues& q);
+
+// Paper 003 Eq. (5): w_PS = sqrt(s1 s2 ... s6) / (sqrt(s1) / sqrt(s6)) with s the singular values
+// of J in descending order. It is 0 at a singular pose and grows away from singularities, so
+// Omnislice keeps poses with the LARGEST w_PS (the paper's text says "minimise"; its own definition
+// vanishes at singularities, so maximising is the reading that avoids them).
+double singularityMeasure(const Eigen::Matrix<double, 6, 6>& jacobian);
+
+}  // namespace omnislice
