@@ -10,6 +10,7 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   emscripten::function("_slice", &sliceJs);
   emscripten::function("_info", &infoJs);
   emscripten::function("_verify", &verifyJs);
+  emscripten::function("_parseMachine", &parseMachineJs);
   emscripten::function("_defaultSettings", &defaultSettingsJs);
   emscripten::function("_abortForTest", &abortForTest);
 }

@@ -10,6 +10,8 @@
 #include "common/status.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
+#include "program/machine.h"
+#include "program/machine_json.h"
 
 namespace omnislice::wasm {
 namespace {
@@ -110,7 +112,10 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
                                       r.preview.features.size()));
     preview.set("layers", copyArray("Uint32Array", r.preview.layers.data(),
                                     r.preview.layers.size()));
+    preview.set("machine", copyArray("Float32Array", r.preview.machine.data(),
+                                     r.preview.machine.size()));
     out.set("preview", preview);
+    out.set("programExtension", r.programExtension);
     out.set("mesh", meshToJs(r.partMesh));
     return out;
   });
@@ -140,6 +145,15 @@ val verifyJs(const std::string& program, const val& meshBytes, const std::string
                                progressFromJs(progress));
     val out = statusObject(r.status, r.message);
     out.set("verify", r.verifyJson);
+    return out;
+  });
+}
+
+val parseMachineJs(const std::string& json) {
+  return guarded([&] {
+    MachineParseResult r = machineFromJson(json);
+    val out = statusObject(r.status, r.message);
+    if (r.ok()) out.set("json", machineJson(r.machine));
     return out;
   });
 }

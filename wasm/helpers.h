@@ -13,8 +13,9 @@ namespace omnislice::wasm {
 // picks the format); settingsLines: "key=value" lines applied with setSetting(); progress: JS
 // function(stage, fraction) or undefined (returning false cancels).
 // Returns {status, message, program: Uint8Array, report, info (JSON strings), layers,
-// preview: {positions: Float32Array, features: Uint8Array, layers: Uint32Array},
-// mesh: {positions: Float32Array, indices: Uint32Array}}.
+// preview: {positions: Float32Array, features: Uint8Array, layers: Uint32Array,
+// machine: Float32Array (6 machine values per segment end)}, programExtension ("gcode" | "csv" |
+// "script"), mesh: {positions: Float32Array, indices: Uint32Array}}.
 emscripten::val sliceJs(const emscripten::val& bytes, const std::string& name,
                         const std::string& settingsLines, const emscripten::val& progress);
 
@@ -27,6 +28,10 @@ emscripten::val infoJs(const emscripten::val& bytes, const std::string& name,
 // Returns {status, message, verify (JSON string)}.
 emscripten::val verifyJs(const std::string& program, const emscripten::val& meshBytes,
                          const std::string& meshName, const emscripten::val& progress);
+
+// Parse a machine profile JSON (machineFromJson) and write it back in the program header's form
+// (machineJson). Returns {status, message, json (one line, when ok)}.
+emscripten::val parseMachineJs(const std::string& json);
 
 // Default settings: {values: {key: valueText}, keys: [key...] in listSettings() order}.
 emscripten::val defaultSettingsJs();

@@ -29,6 +29,23 @@ export interface PreviewBuffers {
   positions: Float32Array;   // #S*6: x0 y0 z0 x1 y1 z1 per segment
   features: Uint8Array;      // #S feature code, 0 = travel
   layers: Uint32Array;       // #S layer index
+  /** #S*6 machine values at each segment's end: X Y Z (mm) then A or B C (degrees), or q1..q6
+   *  (radians) for robot6; unused trailing values 0. Empty when the core wrote none. */
+  machine: Float32Array;
+}
+
+/** A machine profile as the program header writes it (PROGRAM-FORMAT.md, docs/MACHINES.md). */
+export interface MachineProfileJson {
+  kind: 'cartesian3' | 'rotary4' | 'table5' | 'robot6' | string;
+  pivot?: [number, number, number];
+  axis_limits?: Record<string, [number, number]>;
+  joint_limits?: [number, number][];
+  dh?: [number, number, number, number][];   // robot6: [theta_offset, d, a, alpha], mm / rad
+  flange_to_platform?: number[];              // robot6: 16 numbers, row-major
+  nozzle_tip?: [number, number, number];      // robot6: robot base frame, mm
+  nozzle_axis?: [number, number, number];     // robot6: unit, tip -> hot end
+  nozzle?: { diameter: number; cone_half_angle_deg?: number; cone_length?: number };
+  [key: string]: any;
 }
 
 export interface Progress { stage: string; fraction: number }
@@ -39,6 +56,8 @@ export interface SliceResult<P = string> {
   info: Record<string, any>;
   layers: number;
   preview: PreviewBuffers;
+  /** File extension of the program: 'gcode', 'csv' (robot joint CSV) or 'script' (URScript). */
+  programExtension: 'gcode' | 'csv' | 'script';
   mesh: MeshBuffers;
 }
 
@@ -66,5 +85,7 @@ export class Omnislice {
        options?: { onProgress?: (p: Progress) => boolean | void }): { info: Record<string, any>; mesh: MeshBuffers };
   verify(program: string, meshBytes: ArrayBuffer | Uint8Array, meshName: string,
          options?: { onProgress?: (p: Progress) => boolean | void }): Record<string, any>;
+  /** Check a machine profile JSON with the core's parser; throws OmnisliceError 'parse_error'. */
+  parseMachine(text: string): { profile: MachineProfileJson; json: string };
   defaultSettings(): { values: Record<string, string>; keys: string[] };
 }

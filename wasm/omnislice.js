@@ -162,6 +162,7 @@ export class Omnislice {
       info: parseJson(out.info, 'info'),
       layers: out.layers,
       preview: out.preview,
+      programExtension: out.programExtension || 'gcode',
       mesh: out.mesh,
     };
   }
@@ -183,6 +184,19 @@ export class Omnislice {
     const data = toBytes(meshBytes, 'meshBytes');
     const out = this.#call(() => this.raw._verify(program, data, String(meshName ?? ''), progressAdapter(onProgress)));
     return parseJson(out.verify, 'verify report');
+  }
+
+  /**
+   * Check a machine profile JSON (a user's profile file; schema in docs/MACHINES.md) with the
+   * core's parser. Throws OmnisliceError 'parse_error' with the core's message when it is malformed.
+   * @param {string} text the JSON text
+   * @returns {{profile: object, json: string}} the profile as the program header writes it (one
+   *   line, usable as the `machine_json` setting) and parsed
+   */
+  parseMachine(text) {
+    if (typeof text !== 'string') throw new OmnisliceError('invalid_option', 'machine JSON must be a string');
+    const out = this.#call(() => this.raw._parseMachine(text));
+    return { profile: parseJson(out.json, 'machine JSON'), json: out.json };
   }
 
   /** Default settings: {values: {key: text}, keys: [...]} in the core's stable order. */

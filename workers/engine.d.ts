@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Types of the engine facade workers/engine.js.
-import type { MeshBuffers, PreviewBuffers, Progress, Settings } from '../wasm/omnislice';
+import type { MachineProfileJson, MeshBuffers, PreviewBuffers, Progress, Settings } from '../wasm/omnislice';
 import { OmnisliceError } from '../wasm/omnislice';
 
 export { OmnisliceError };
@@ -22,12 +22,15 @@ export interface Slicer {
     Promise<{ meshId: string; info: Record<string, any>; mesh: MeshBuffers }>;
   slice(meshIdOrFile: MeshRef, settings?: Settings,
         options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }):
-    Promise<{ program: string; programBytes: Uint8Array; report: Record<string, any>; info: Record<string, any>;
+    Promise<{ program: string; programBytes: Uint8Array; programExtension: 'gcode' | 'csv' | 'script';
+              report: Record<string, any>; info: Record<string, any>;
               layers: number; preview: PreviewBuffers; mesh: MeshBuffers }>;
   info(meshIdOrFile: MeshRef, placement?: Placement, options?: { signal?: AbortSignal }):
     Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;
   verify(program: string, meshIdOrFile: MeshRef,
          options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }): Promise<Record<string, any>>;
+  /** Check a machine profile JSON with the core's parser; rejects with code 'parse_error'. */
+  parseMachine(text: string): Promise<{ profile: MachineProfileJson; json: string }>;
   /** Forget a mesh (its kept bytes here and its copy in the worker). */
   unloadMesh(meshId: string): Promise<void>;
   dispose(): void;

@@ -216,6 +216,7 @@ class Slicer {
           if (text === null) text = textDecoder.decode(programBytes);
           return text;
         },
+        programExtension: r.programExtension || 'gcode',
         report: r.report, info: r.info, layers: r.layers, preview: r.preview, mesh: r.mesh,
       };
     });
@@ -235,6 +236,16 @@ class Slicer {
       const r = await this.#send(Request.VERIFY, { ...part, program }, transfer, { onProgress });
       return r.report;
     });
+  }
+
+  /**
+   * Check a machine profile JSON (a user's profile file) with the core's parser. Resolves with
+   * {profile: object, json: string}; json is one line, for the `machine_json` setting. Rejects
+   * with OmnisliceError 'parse_error' (the core's message) when the profile is malformed.
+   */
+  async parseMachine(text) {
+    if (typeof text !== 'string') throw new OmnisliceError('invalid_option', 'machine JSON must be a string');
+    return this.#send(Request.PARSE_MACHINE, { json: text });
   }
 
   /** Forget a mesh (here and in the worker). */

@@ -33,12 +33,17 @@ export const Request = Object.freeze({
   INFO: 'info',
   /** payload {meshId | file: {name, bytes}, settings: object}: slice (the mesh's load placement
    *  is applied first, settings override it). Reply: `progress`*, then `result` {program:
-   *  ArrayBuffer (UTF-8 G-code), report: object, info: object, layers: number, preview:
-   *  {positions, features, layers}, mesh: {positions, indices}} (all buffers transferred). */
+   *  ArrayBuffer (UTF-8 program: G-code, robot CSV or URScript), programExtension: 'gcode' |
+   *  'csv' | 'script', report: object, info: object, layers: number, preview: {positions,
+   *  features, layers, machine}, mesh: {positions, indices}} (all buffers transferred). */
   SLICE: 'slice',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */
   VERIFY: 'verify',
+  /** payload {json: string}: check a machine profile JSON with the core's parser. Reply: `result`
+   *  {profile: object, json: string (one line, for the machine_json setting)}, or `error`
+   *  {code: 'parse_error', message}. */
+  PARSE_MACHINE: 'parse-machine',
   /** Test hook, payload {}: aborts the wasm instance. Reply: `error` {code: 'internal', fatal}. */
   DEBUG_CRASH: 'debug-crash',
 });

@@ -104,12 +104,12 @@ const handlers = {
     const r = e.slice(m.bytes, m.name, settings,
       { onProgress: progressPoster(id), programAs: 'bytes' });
     const result = {
-      program: r.program.buffer, report: r.report, info: r.info, layers: r.layers,
-      preview: r.preview, mesh: r.mesh,
+      program: r.program.buffer, programExtension: r.programExtension, report: r.report,
+      info: r.info, layers: r.layers, preview: r.preview, mesh: r.mesh,
     };
     post({ id, type: Reply.RESULT, result },
       transferList(r.program, r.preview.positions, r.preview.features, r.preview.layers,
-        r.mesh.positions, r.mesh.indices));
+        r.preview.machine, r.mesh.positions, r.mesh.indices));
   },
 
   async [Request.VERIFY](id, payload) {
@@ -118,6 +118,12 @@ const handlers = {
     const report = e.verify(String(payload.program ?? ''), m.bytes, m.name,
       { onProgress: progressPoster(id) });
     post({ id, type: Reply.RESULT, result: { report } });
+  },
+
+  async [Request.PARSE_MACHINE](id, payload) {
+    const e = await engine();
+    const { profile, json } = e.parseMachine(String(payload.json ?? ''));
+    post({ id, type: Reply.RESULT, result: { profile, json } });
   },
 
   async [Request.DEBUG_CRASH]() {

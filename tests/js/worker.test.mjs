@@ -65,7 +65,8 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
         events, settledEarly, report: result.report, info: result.info,
         programStart: result.program.slice(0, 200), programLength: result.program.length,
         types: [result.preview.positions, result.preview.features, result.preview.layers,
-          result.mesh.positions, result.mesh.indices].map((a) => a.constructor.name),
+          result.preview.machine, result.mesh.positions, result.mesh.indices].map((a) => a.constructor.name),
+        machineFloats: result.preview.machine.length, programExtension: result.programExtension,
         segments: result.preview.features.length, previewFloats: result.preview.positions.length,
         layerIdsLength: result.preview.layers.length,
         maxLayer: result.preview.layers.reduce((m, v) => Math.max(m, v), 0),
@@ -96,7 +97,8 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.equal(order[order.length - 1], 'program', `last stage is program (${order})`);
     assert.equal(last.get('program'), 1);
     // Result content.
-    assert.deepEqual(r.types, ['Float32Array', 'Uint8Array', 'Uint32Array', 'Float32Array', 'Uint32Array']);
+    assert.deepEqual(r.types, ['Float32Array', 'Uint8Array', 'Uint32Array', 'Float32Array', 'Float32Array', 'Uint32Array']);
+    assert.equal(r.programExtension, 'gcode', 'the default machine writes G-code');
     assert.ok(r.programLength > 1000 && /G1 /.test(r.programStart + 'G1 '), 'G-code text');
     assert.equal(r.report.layers, Math.round(12 / 0.3), 'torus of height 12 mm at 0.3 mm');
     assert.equal(r.previewFloats, 6 * r.segments);
@@ -105,7 +107,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     // The worker transferred (detached) every result buffer.
     const spy = r.spy.find((s) => s.replyType === 'result');
     assert.ok(spy, 'spy saw the slice result');
-    assert.equal(spy.before.length, 6, 'program + 3 preview + 2 mesh buffers in the transfer list');
+    assert.equal(spy.before.length, 7, 'program + 4 preview + 2 mesh buffers in the transfer list');
     assert.ok(spy.before[0] === r.programLength, 'program bytes (ASCII G-code) transferred');
     assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
   });
@@ -188,6 +190,28 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.equal(r.queued, 'worker_failed');
     assert.equal(r.afterCrash, r.afterErrors);
     assert.ok(['object', 'parse_error', 'invalid_option'].includes(r.verify), String(r.verify));
+  });
+
+  test('parseMachine: a profile comes back in the header form; a malformed one rejects with parse_error', async () => {
+    const r = await page.evaluate(async () => {
+      const { OmnisliceError } = window.engine;
+      const good = await window.slicer.parseMachine(JSON.stringify({
+        kind: 'rotary4', pivot: [0, 5, 12], axis_limits: { A: [-60, 60] }, nozzle: { diameter: 0.6 },
+      }, null, 2));
+      const fails = [];
+      for (const text of ['{"kind": "rotary4", ', '[1, 2]', '{"pivot": [0, 0, 0]}',
+        '{"kind": "rotary4", "axis_limits": {"A": [60, -60]}}']) {
+        fails.push(await window.slicer.parseMachine(text).then(() => 'resolved',
+          (e) => (e instanceof OmnisliceError ? `${e.code}: ${e.message}` : `not OmnisliceError: ${e}`)));
+      }
+      return { good, fails };
+    });
+    assert.equal(r.good.profile.kind, 'rotary4');
+    assert.deepEqual(r.good.profile.pivot, [0, 5, 12]);
+    assert.deepEqual(r.good.profile.axis_limits.A, [-60, 60]);
+    assert.equal(r.good.profile.nozzle.diameter, 0.6);
+    assert.ok(!/\n/.test(r.good.json) && JSON.parse(r.good.json).kind === 'rotary4', 'one-line JSON');
+    for (const f of r.fails) assert.match(f, /^parse_error: machine JSON: \S/, f);
   });
 
   test('default URLs work; a bad wasm URL rejects with worker_failed; unloadMesh forgets', async () => {
