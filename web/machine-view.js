@@ -174,7 +174,7 @@ export class MachineView {
     const group = this.#fixed(new THREE.Group(), 'machine-nozzle');
     // Cone: apex at the tip (local origin), opening along local +Z (the nozzle axis).
     const cone = new THREE.ConeGeometry(length * Math.tan(half), length, 32, 1, false).rotateX(-Math.PI / 2).translate(0, 0, length / 2);
-    group.add(new THREE.Mesh(this.#geometry(cone), this.#material(material(0xc9a227))));
+    group.add(new THREE.Mesh(this.#geometry(cone), this.#material(material(0xc9a227, { transparent: true, opacity: 0.6 }))));
     const box = new THREE.BoxGeometry(...carriage).translate(0, 0, length + carriage[2] / 2);
     group.add(new THREE.Mesh(this.#geometry(box), this.#material(material(0x59636e, { transparent: true, opacity: 0.55 }))));
     // The tip itself: an object at the local origin whose world position is the nozzle tip.
@@ -232,9 +232,12 @@ export class MachineView {
           .translate(P.x, P.y + side * (r + 9), (cheekTop + cheekBottom) / 2);
         cradle.add(new THREE.Mesh(this.#geometry(cheek), this.#material(material(0x6b5b95))));
       }
-      const axle = new THREE.Mesh(this.#geometry(new THREE.CylinderGeometry(4, 4, 2 * r + 50, 20)), axisMaterial);
-      axle.position.copy(P);
-      this.object.add(axle);
+      // The B axis: two stubs on the tilt axis outside the cheeks (the stand's bearings).
+      for (const side of [-1, 1]) {
+        const stub = new THREE.Mesh(this.#geometry(new THREE.CylinderGeometry(5, 5, 24, 20)), axisMaterial);
+        stub.position.set(P.x, P.y + side * (r + 25), P.z);
+        this.object.add(stub);
+      }
       this.trunnion = cradle;
       this.object.add(cradle);
     }
@@ -269,7 +272,7 @@ export class MachineView {
     this.flange = this.#fixed(new THREE.Mesh(this.#geometry(new THREE.CylinderGeometry(this.linkRadius * 0.8, this.linkRadius * 0.8, 4, 24).rotateX(Math.PI / 2).translate(0, 0, -2)), jointMaterial), 'machine-flange');
     this.object.add(this.flange);
     // A floor grid under the robot (base frame z = 0 is DH frame 0).
-    const grid = new THREE.GridHelper(2 * reach, 20, 0x56606d, 0x3a424d);
+    const grid = new THREE.GridHelper(reach, 10, 0x56606d, 0x3a424d);
     grid.rotateX(Math.PI / 2);
     this.disposables.push(grid.geometry, grid.material);
     this.object.add(grid);

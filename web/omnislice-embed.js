@@ -39,18 +39,25 @@ export async function disposeSharedSlicer() {
   if (s) (await s.catch(() => null))?.dispose();
 }
 
-/** G-code file name for a model file name: 'part.stl' -> 'part.gcode'. */
-export function programFileName(modelName) {
+/** MIME types of the program kinds by extension (G-code, robot joint CSV, URScript). */
+const PROGRAM_MIME = Object.freeze({ gcode: 'text/x-gcode', csv: 'text/csv', script: 'text/plain' });
+
+/**
+ * Program file name for a model file name: ('part.stl') -> 'part.gcode'; with the result's
+ * programExtension: ('part.stl', 'csv') -> 'part.csv', ('part.stl', 'script') -> 'part.script'.
+ */
+export function programFileName(modelName, extension = 'gcode') {
   const base = String(modelName || '').split(/[\\/]/).pop().replace(/\.[^.]*$/, '');
-  return `${base || 'model'}.gcode`;
+  const ext = PROGRAM_MIME[extension] ? extension : 'gcode';
+  return `${base || 'model'}.${ext}`;
 }
 
-/** The G-code of a slice result as a Blob (make it when the user asks for it, not before). */
+/** The program of a slice result as a Blob (make it when the user asks for it, not before). */
 export function programBlob(result) {
   if (!result || !(result.programBytes instanceof Uint8Array)) {
     throw new OmnisliceError('invalid_option', 'programBlob needs a slice result with a program');
   }
-  return new Blob([result.programBytes], { type: 'text/x-gcode' });
+  return new Blob([result.programBytes], { type: PROGRAM_MIME[result.programExtension] || PROGRAM_MIME.gcode });
 }
 
 /**
@@ -62,7 +69,8 @@ export function programBlob(result) {
  * @param {{onProgress?: Function, signal?: AbortSignal, slicer?: object, name?: string}} options
  *   onProgress({stage, fraction}); signal aborts (rejects with code 'cancelled'); slicer: use this
  *   facade instead of the shared one; name: file name when `file` is a Blob without one
- * @returns {Promise<object>} the facade's slice result plus fileName (the G-code's file name)
+ * @returns {Promise<object>} the facade's slice result plus fileName (the program's file name:
+ *   .gcode, or .csv / .script for a robot)
  * @throws {OmnisliceError} code and human message (e.g. 'truncated_file', 'open_mesh', 'cancelled')
  */
 export async function sliceFile(file, settings = {}, { onProgress, signal, slicer, name } = {}) {
@@ -79,7 +87,7 @@ export async function sliceFile(file, settings = {}, { onProgress, signal, slice
   try {
     const result = await engine.slice(meshId, settings, { onProgress, signal });
     // Keep the result object itself: its `program` text is decoded lazily on first read.
-    result.fileName = programFileName(fileName);
+    result.fileName = programFileName(fileName, result.programExtension);
     return result;
   } finally {
     if (typeof engine.unloadMesh === 'function') engine.unloadMesh(meshId).catch(() => {});
