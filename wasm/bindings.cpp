@@ -11,6 +11,7 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   emscripten::function("_info", &infoJs);
   emscripten::function("_verify", &verifyJs);
   emscripten::function("_parseMachine", &parseMachineJs);
+  emscripten::function("_machines", &machinesJs);
   emscripten::function("_defaultSettings", &defaultSettingsJs);
   emscripten::function("_abortForTest", &abortForTest);
 }

@@ -158,6 +158,26 @@ val parseMachineJs(const std::string& json) {
   });
 }
 
+val machinesJs(const std::string& settingsLines) {
+  return guarded([&] {
+    Settings settings;
+    Outcome applied = applySettingLines(settings, settingsLines);
+    if (!applied.ok()) return statusObject(applied.status, applied.message);
+    val list = val::array();
+    for (const std::string& name : builtinMachineNames()) {
+      MachineProfileResult r = builtinMachine(name, settings.bedSize, settings.nozzleDiameter);
+      if (!r.ok()) return statusObject(r.status, r.message);
+      val item = val::object();
+      item.set("name", name);
+      item.set("json", machineJson(r.machine));
+      list.call<void>("push", item);
+    }
+    val out = statusObject(Status::Ok, "");
+    out.set("machines", list);
+    return out;
+  });
+}
+
 val defaultSettingsJs() {
   val out = val::object();
   val keys = val::array();

@@ -33,6 +33,11 @@ emscripten::val verifyJs(const std::string& program, const emscripten::val& mesh
 // (machineJson). Returns {status, message, json (one line, when ok)}.
 emscripten::val parseMachineJs(const std::string& json);
 
+// Built-in machine profiles (builtinMachineNames(), builtinMachine() sized by the settings'
+// bed_size and nozzle). settingsLines: "key=value" lines. Returns {status, message,
+// machines: [{name, json (machineJson, one line)}...]} in display order.
+emscripten::val machinesJs(const std::string& settingsLines);
+
 // Default settings: {values: {key: valueText}, keys: [key...] in listSettings() order}.
 emscripten::val defaultSettingsJs();
 

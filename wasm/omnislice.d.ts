@@ -85,6 +85,8 @@ export class Omnislice {
        options?: { onProgress?: (p: Progress) => boolean | void }): { info: Record<string, any>; mesh: MeshBuffers };
   verify(program: string, meshBytes: ArrayBuffer | Uint8Array, meshName: string,
          options?: { onProgress?: (p: Progress) => boolean | void }): Record<string, any>;
+  /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
+  machines(settings?: Settings): { name: string; profile: MachineProfileJson; json: string }[];
   /** Check a machine profile JSON with the core's parser; throws OmnisliceError 'parse_error'. */
   parseMachine(text: string): { profile: MachineProfileJson; json: string };
   defaultSettings(): { values: Record<string, string>; keys: string[] };

@@ -199,6 +199,22 @@ export class Omnislice {
     return { profile: parseJson(out.json, 'machine JSON'), json: out.json };
   }
 
+  /**
+   * The built-in machine profiles, in display order, sized by the settings' bed_size and nozzle.
+   * @param {object} [settings] setting key -> value
+   * @returns {{name: string, profile: object, json: string}[]}
+   */
+  machines(settings = {}) {
+    const lines = settingsToLines(settings);
+    const out = this.#call(() => this.raw._machines(lines));
+    const list = [];
+    for (let i = 0; i < out.machines.length; i++) {
+      const { name, json } = out.machines[i];
+      list.push({ name, json, profile: parseJson(json, `machine ${name}`) });
+    }
+    return list;
+  }
+
   /** Default settings: {values: {key: text}, keys: [...]} in the core's stable order. */
   defaultSettings() {
     const { values, keys } = this.#call(() => ({ status: 'ok', ...this.raw._defaultSettings() }));

@@ -29,6 +29,8 @@ export interface Slicer {
     Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;
   verify(program: string, meshIdOrFile: MeshRef,
          options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }): Promise<Record<string, any>>;
+  /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
+  machines(settings?: Settings): Promise<{ name: string; profile: MachineProfileJson; json: string }[]>;
   /** Check a machine profile JSON with the core's parser; rejects with code 'parse_error'. */
   parseMachine(text: string): Promise<{ profile: MachineProfileJson; json: string }>;
   /** Forget a mesh (its kept bytes here and its copy in the worker). */

@@ -239,6 +239,15 @@ class Slicer {
   }
 
   /**
+   * The built-in machine profiles in display order: [{name, profile, json}], sized by the
+   * settings' bed_size and nozzle (defaults when not given).
+   */
+  async machines(settings = {}) {
+    const r = await this.#send(Request.MACHINES, { settings });
+    return r.machines;
+  }
+
+  /**
    * Check a machine profile JSON (a user's profile file) with the core's parser. Resolves with
    * {profile: object, json: string}; json is one line, for the `machine_json` setting. Rejects
    * with OmnisliceError 'parse_error' (the core's message) when the profile is malformed.

@@ -40,6 +40,9 @@ export const Request = Object.freeze({
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */
   VERIFY: 'verify',
+  /** payload {settings?: object}: the built-in machine profiles. Reply: `result` {machines:
+   *  [{name, profile: object, json: string}...]} in display order. */
+  MACHINES: 'machines',
   /** payload {json: string}: check a machine profile JSON with the core's parser. Reply: `result`
    *  {profile: object, json: string (one line, for the machine_json setting)}, or `error`
    *  {code: 'parse_error', message}. */

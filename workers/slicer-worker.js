@@ -120,6 +120,11 @@ const handlers = {
     post({ id, type: Reply.RESULT, result: { report } });
   },
 
+  async [Request.MACHINES](id, payload) {
+    const e = await engine();
+    post({ id, type: Reply.RESULT, result: { machines: e.machines(payload.settings || {}) } });
+  },
+
   async [Request.PARSE_MACHINE](id, payload) {
     const e = await engine();
     const { profile, json } = e.parseMachine(String(payload.json ?? ''));

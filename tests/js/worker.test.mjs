@@ -192,7 +192,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.ok(['object', 'parse_error', 'invalid_option'].includes(r.verify), String(r.verify));
   });
 
-  test('parseMachine: a profile comes back in the header form; a malformed one rejects with parse_error', async () => {
+  test('machines and parseMachine: built-in profiles; a profile comes back in the header form; a malformed one rejects with parse_error', async () => {
     const r = await page.evaluate(async () => {
       const { OmnisliceError } = window.engine;
       const good = await window.slicer.parseMachine(JSON.stringify({
@@ -204,8 +204,13 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
         fails.push(await window.slicer.parseMachine(text).then(() => 'resolved',
           (e) => (e instanceof OmnisliceError ? `${e.code}: ${e.message}` : `not OmnisliceError: ${e}`)));
       }
-      return { good, fails };
+      const machines = await window.slicer.machines({ bed_size: '200,180,150' });
+      return { good, fails, machines };
     });
+    assert.deepEqual(r.machines.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'robot6-ur5']);
+    assert.deepEqual(r.machines[0].profile.axis_limits.Y, [-90, 90], 'sized by bed_size');
+    assert.equal(r.machines[3].profile.kind, 'robot6');
+    assert.equal(JSON.parse(r.machines[3].json).dh.length, 6);
     assert.equal(r.good.profile.kind, 'rotary4');
     assert.deepEqual(r.good.profile.pivot, [0, 5, 12]);
     assert.deepEqual(r.good.profile.axis_limits.A, [-60, 60]);
