@@ -170,7 +170,8 @@ export class MachineView {
     const nozzle = (this.profile && this.profile.nozzle) || {};
     const half = THREE.MathUtils.degToRad(Number(nozzle.cone_half_angle_deg) || 40);
     const length = Number(nozzle.cone_length) || 25;
-    const carriage = Array.isArray(nozzle.carriage) && nozzle.carriage.length === 3 ? nozzle.carriage.map(Number) : [60, 60, 40];
+    const size = nozzle.carriage_size;
+    const carriage = Array.isArray(size) && size.length === 3 ? size.map(Number) : [60, 60, 40];
     const group = this.#fixed(new THREE.Group(), 'machine-nozzle');
     // Cone: apex at the tip (local origin), opening along local +Z (the nozzle axis).
     const cone = new THREE.ConeGeometry(length * Math.tan(half), length, 32, 1, false).rotateX(-Math.PI / 2).translate(0, 0, length / 2);

@@ -1,12 +1,19 @@
 // SPDX-License-Identifier: MIT
 // App wiring: file input and drag-and-drop -> slicer.loadMesh; Slice/Cancel -> slicer.slice with
-// progress; result -> viewer (model + tool-path preview), report figures and G-code download.
+// progress; result -> viewer (model + tool-path preview), report figures and program download
+// (G-code, robot CSV or URScript, by the result's programExtension); the machine panel (built-in
+// machine, flavour, a user's profile file checked by the core); the machine animation
+// (MachineView: the articulated machine moving the part, driven by preview.machine).
 // All heavy work runs in the engine's worker; the main thread only moves typed arrays around.
 // The page's state is mirrored on <body data-state> (starting, loading, ready, slicing, done,
 // error, cancelled) and <body data-slice-count>, which the end-to-end tests wait on.
 import { Viewer } from './viewer.js';
 import { ToolpathPreview, FEATURES, featureCss } from './preview.js';
-import { SettingsModel, History, createSettingsPanel, PLACEMENT_KEYS } from './settings-panel.js';
+import {
+  SettingsModel, History, SetSettingCommand, createSettingsPanel, PLACEMENT_KEYS, selectedMachineKind,
+} from './settings-panel.js';
+import { MachineView } from './machine-view.js';
+import { machineAxisNames } from './machine-kinematics.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
@@ -31,6 +38,16 @@ const app = {
   placementDirty: false,
   sliceCount: 0,
   progress: { stage: '', fraction: 0, overall: 0, pending: false },
+  machineFiles: new Map(), // machine_json text -> file name it was loaded from (undo may bring any back)
+  machineView: null, // MachineView of app.result while the machine toggle is on
+  machinePlay: 0,    // requestAnimationFrame id while playing
+};
+
+/** Program kinds by file extension: download MIME type and button text. */
+const PROGRAM_KINDS = {
+  gcode: { mime: 'text/x-gcode', label: 'G-code' },
+  csv: { mime: 'text/csv', label: 'robot CSV' },
+  script: { mime: 'text/plain', label: 'URScript' },
 };
 
 /** Run fn as one measured step (performance.measure 'omnislice:<name>'), for the tests' long-task check. */
@@ -174,12 +191,40 @@ function showReport(report) {
   const total = t && (Number.isFinite(t.total) ? t.total
     : Object.values(t).filter(Number.isFinite).reduce((a, b) => a + b, 0));
   $('report-took').textContent = t ? `${(total / 1000).toFixed(2)} s in the engine` : '—';
+  $('report-machine').textContent = r.machine ? `${r.machine}${r.machine_kind && r.machine_kind !== r.machine ? ` (${r.machine_kind})` : ''}` : '—';
+  $('report-program').textContent = r.program_format || r.program_extension || '—';
+  const motion = r.motion && typeof r.motion === 'object' ? r.motion : null;
+  $('report-motion').hidden = !motion;
+  for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
+    'max_joint_step', 'pose_cost', 'min_singularity']) {
+    let text = '—';
+    if (motion && key === 'pose_cost' && Number.isFinite(motion.pose_cost)) {
+      text = `${formatFigure(motion.pose_cost)}${Number.isFinite(motion.greedy_pose_cost) ? ` (${formatFigure(motion.greedy_pose_cost)})` : ''}`;
+    } else if (motion && motion[key] !== undefined && motion[key] !== null) {
+      text = formatFigure(motion[key]);
+    }
+    $(`motion-${key}`).textContent = text;
+  }
+}
+
+/** A report figure: integers as they are, other numbers to 4 significant digits. */
+function formatFigure(x) {
+  if (typeof x !== 'number') return String(x);
+  if (!Number.isFinite(x)) return '—';
+  return Number.isInteger(x) ? x.toLocaleString('en') : String(Number(x.toPrecision(4)));
 }
 
 function clearReport() {
   showReport(null);
   app.result = null;
   $('download-program').disabled = true;
+  setDownloadLabel('gcode');
+  closeMachineView();
+}
+
+function setDownloadLabel(extension) {
+  const kind = PROGRAM_KINDS[extension] || PROGRAM_KINDS.gcode;
+  $('download-program').textContent = `Download ${kind.label}`;
 }
 
 // ---- layer range ------------------------------------------------------------------------------
@@ -235,6 +280,7 @@ function updateButtons() {
   $('slice-button').disabled = !app.slicer || !app.mesh || !!app.busy;
   $('cancel-button').disabled = app.busy !== 'slicing';
   $('download-program').disabled = !app.result || !!app.busy;
+  $('machine-toggle').disabled = !app.result || !!app.busy;
 }
 
 /** Load mesh bytes; on failure the previous model stays loaded. Returns true on success. */
@@ -314,7 +360,7 @@ async function slice() {
   const started = performance.now();
   performance.mark('omnislice:slice-start');
   try {
-    const result = await app.slicer.slice(app.mesh.meshId, app.model.toSettings(), {
+    const result = await app.slicer.slice(app.mesh.meshId, app.model.toSliceSettings(), {
       onProgress,
       signal: app.abort.signal,
     });
@@ -325,6 +371,7 @@ async function slice() {
     timed('show-report', () => {
       app.result = result;
       showReport(result.report);
+      setDownloadLabel(result.programExtension);
       const bed = parseVector(result.report && result.report.settings && result.report.settings.bed_size);
       if (bed && app.viewer && bed.some((x, i) => x !== app.viewer.bedSize[i])) app.viewer.setBed(bed);
       if (result.info) showInfo(app.mesh.name, result.info);
@@ -335,6 +382,7 @@ async function slice() {
     await nextFrame();
     await setPreview(result);
     performance.mark('omnislice:preview-built');
+    if ($('machine-toggle').checked) timed('machine-view', () => openMachineView());
     app.sliceCount += 1;
     document.body.dataset.sliceCount = String(app.sliceCount);
     const wall = ((performance.now() - started) / 1000).toFixed(2);
@@ -367,15 +415,163 @@ function cancelSlice() {
 function download() {
   if (!app.result || !(app.result.programBytes instanceof Uint8Array)) return;
   const base = (app.mesh ? app.mesh.name : 'model').replace(/\.[^.]*$/, '') || 'model';
-  // The Blob is made only now, from the bytes: the G-code is never decoded on the main thread.
-  const url = URL.createObjectURL(new Blob([app.result.programBytes], { type: 'text/x-gcode' }));
+  const extension = PROGRAM_KINDS[app.result.programExtension] ? app.result.programExtension : 'gcode';
+  // The Blob is made only now, from the bytes: the program is never decoded on the main thread.
+  const url = URL.createObjectURL(new Blob([app.result.programBytes], { type: PROGRAM_KINDS[extension].mime }));
   const a = document.createElement('a');
   a.href = url;
-  a.download = `${base}.gcode`;
+  a.download = `${base}.${extension}`;
   document.body.append(a);
   a.click();
   a.remove();
   setTimeout(() => URL.revokeObjectURL(url), 30000);
+}
+
+// ---- machine profile ------------------------------------------------------------------------
+
+/** Load a user's machine profile: the core checks it; errors show with their code. */
+async function loadMachineFile(file) {
+  if (!file || !app.slicer) return;
+  clearError();
+  let text;
+  try {
+    text = await file.text();
+  } catch (err) {
+    showError({ code: 'io_error', message: `cannot read ${file.name}: ${err.message}` });
+    return;
+  }
+  try {
+    const { profile, json } = await app.slicer.parseMachine(text);
+    const kind = profile.kind;
+    if (!['cartesian3', 'rotary4', 'table5', 'robot6'].includes(kind)) {
+      throw { code: 'invalid_option', message: `machine JSON: unknown kind "${kind}" (cartesian3, rotary4, table5, robot6)` };
+    }
+    app.machineFiles.set(json, file.name);
+    app.history.execute(new SetSettingCommand(app.model, 'machine_json', json));
+  } catch (err) {
+    showError({ code: (err && err.code) || 'parse_error', message: `${file.name}: ${(err && err.message) || err}` });
+  }
+}
+
+/** Download the selected built-in profile as JSON (a template for a user's own profile file). */
+async function saveBuiltinProfile() {
+  if (!app.slicer) return;
+  try {
+    const name = app.model.get('machine');
+    const list = await app.slicer.machines({ nozzle: app.model.get('nozzle') });
+    const found = list.find((x) => x.name === name);
+    if (!found) throw { code: 'invalid_option', message: `no built-in machine ${name}` };
+    const url = URL.createObjectURL(new Blob([`${JSON.stringify(found.profile, null, 2)}\n`], { type: 'application/json' }));
+    const a = document.createElement('a');
+    a.href = url;
+    a.download = `${name}.json`;
+    document.body.append(a);
+    a.click();
+    a.remove();
+    setTimeout(() => URL.revokeObjectURL(url), 30000);
+  } catch (err) {
+    showError(err);
+  }
+}
+
+/** The machine panel follows the settings: which profile is used, the built-in select's state. */
+function showMachineProfile() {
+  const json = app.model.get('machine_json');
+  const fromFile = !!json;
+  $('machine').disabled = fromFile;
+  $('machine-builtin').hidden = !fromFile;
+  const kind = selectedMachineKind(app.model.values);
+  $('machine-profile').textContent = fromFile
+    ? `profile ${app.machineFiles.get(json) || 'from a file'} (${kind})`
+    : `built-in profile ${app.model.get('machine')}`;
+  $('machine-profile').dataset.kind = kind;
+}
+
+// ---- machine animation ----------------------------------------------------------------------
+
+/** Build the machine view of the current result and show it in place of the part view. */
+function openMachineView() {
+  closeMachineView();
+  const r = app.result;
+  if (!r || !app.viewer) return;
+  const profile = r.report && r.report.machine_profile;
+  try {
+    if (!profile || !r.preview || !r.preview.machine || r.preview.machine.length === 0) {
+      throw { code: 'internal', message: 'this result has no machine motion to animate (report.machine_profile, preview.machine)' };
+    }
+    app.machineView = new MachineView(profile, r.preview, r.mesh);
+  } catch (err) {
+    showError({ code: err.code || 'internal', message: `machine view: ${err.message}` });
+    $('machine-toggle').checked = false;
+    return;
+  }
+  const slider = $('machine-step');
+  slider.max = String(Math.max(app.machineView.stepCount - 1, 0));
+  slider.value = String(app.machineView.stepCount - 1);
+  $('machine-bar').hidden = false;
+  app.viewer.setMachine(app.machineView.object);
+  showMachineStep(app.machineView.stepCount - 1);
+}
+
+function closeMachineView() {
+  stopMachinePlay();
+  if (app.machineView) {
+    if (app.viewer) app.viewer.setMachine(null);
+    app.machineView.dispose();
+    app.machineView = null;
+  }
+  $('machine-bar').hidden = true;
+  delete $('machine-step').dataset.tipError;
+}
+
+/** Pose the machine at move s; the texts and data-tip-error (mm) follow. */
+function showMachineStep(s) {
+  const view = app.machineView;
+  if (!view) return;
+  const { step, values, tipError } = view.setStep(s);
+  const slider = $('machine-step');
+  slider.value = String(step);
+  slider.dataset.tipError = String(tipError);
+  slider.dataset.step = String(step);
+  $('machine-step-text').textContent = `move ${step + 1} of ${view.stepCount}`;
+  const names = machineAxisNames(view.kind);
+  $('machine-values').textContent = values.map((v, i) => {
+    const angle = view.kind === 'robot6' ? `${((v * 180) / Math.PI).toFixed(1)}°` : i >= 3 ? `${v.toFixed(2)}°` : v.toFixed(2);
+    return `${names[i]} ${angle}`;
+  }).join('  ');
+  $('machine-tip-error').textContent = `tip error ${tipError.toExponential(1)} mm`;
+  app.viewer.requestRender();
+}
+
+function stopMachinePlay() {
+  if (app.machinePlay) cancelAnimationFrame(app.machinePlay);
+  app.machinePlay = 0;
+  $('machine-play').textContent = '▶';
+  $('machine-play').setAttribute('aria-pressed', 'false');
+}
+
+/** Play from the current move (from the start when at the end); about 20 s for a whole program. */
+function toggleMachinePlay() {
+  const view = app.machineView;
+  if (!view) return;
+  if (app.machinePlay) {
+    stopMachinePlay();
+    return;
+  }
+  let step = view.step >= view.stepCount - 1 ? 0 : view.step;
+  const perFrame = Math.max(1, Math.round(view.stepCount / (20 * 60)));
+  $('machine-play').textContent = '❚❚';
+  $('machine-play').setAttribute('aria-pressed', 'true');
+  const tick = () => {
+    step = Math.min(step + perFrame, view.stepCount - 1);
+    showMachineStep(step);
+    if (step >= view.stepCount - 1 || app.machineView !== view) {
+      stopMachinePlay();
+      return;
+    }
+    app.machinePlay = requestAnimationFrame(tick);
+  };
+  app.machinePlay = requestAnimationFrame(tick);
 }
 
 // ---- placement edits ----------------------------------------------------------------------
@@ -424,8 +620,28 @@ async function applyPlacement() {
 // ---- start-up -----------------------------------------------------------------------------------
 
 function wireUi() {
-  createSettingsPanel(document.getElementById('settings-panel'), app.model, app.history);
+  createSettingsPanel(document.getElementById('settings-panel'), app.model, app.history,
+    { groupHosts: { Machine: document.getElementById('machine-fields') } });
   app.model.addEventListener('change', onSettingChange);
+  app.model.addEventListener('change', showMachineProfile);
+  showMachineProfile();
+  $('machine-file').addEventListener('change', (e) => {
+    const file = e.target.files && e.target.files[0];
+    loadMachineFile(file).finally(() => { e.target.value = ''; });
+  });
+  $('machine-save').addEventListener('click', () => saveBuiltinProfile());
+  $('machine-builtin').addEventListener('click', () => {
+    app.history.execute(new SetSettingCommand(app.model, 'machine_json', ''));
+  });
+  $('machine-toggle').addEventListener('change', (e) => {
+    if (e.target.checked) openMachineView();
+    else closeMachineView();
+  });
+  $('machine-step').addEventListener('input', (e) => {
+    stopMachinePlay();
+    showMachineStep(Number(e.target.value));
+  });
+  $('machine-play').addEventListener('click', () => toggleMachinePlay());
   buildLegend();
   $('file-input').addEventListener('change', (e) => {
     const file = e.target.files && e.target.files[0];
@@ -512,6 +728,12 @@ window.omnislice = {
   get drawnSegments() { return app.preview ? app.preview.drawnSegments() : [0, 0]; },
   get settings() { return app.model.toSettings(); },
   get history() { return app.history.serialize(); },
+  get programExtension() { return app.result ? app.result.programExtension : null; },
+  /** The machine animation: {kind, step, steps, tipError (mm, measured in the scene)} or null. */
+  get machine() {
+    const v = app.machineView;
+    return v ? { kind: v.kind, step: v.step, steps: v.stepCount, tipError: v.tipError } : null;
+  },
 };
 
 start();

@@ -24,11 +24,45 @@ function round4(x) {
   return Math.round(x * 1e4) / 1e4;
 }
 
+/** Built-in machine profiles (names of core/program/machine.h builtinMachineNames()). */
+export const MACHINE_CHOICES = [
+  { label: 'cartesian3 (XYZ)', value: 'cartesian3' },
+  { label: 'rotary4 (XYZ A)', value: 'rotary4' },
+  { label: 'table5 (XYZ B C)', value: 'table5' },
+  { label: 'robot6-ur5 (UR5 arm)', value: 'robot6-ur5' },
+];
+
+/**
+ * The machine kind the settings select: the kind of the user's profile (machine_json) when one is
+ * loaded, else that of the built-in machine ('robot6-ur5' -> 'robot6').
+ */
+export function selectedMachineKind(values) {
+  if (values.machine_json) {
+    try {
+      const kind = JSON.parse(values.machine_json).kind;
+      if (typeof kind === 'string') return kind.startsWith('robot6') ? 'robot6' : kind;
+    } catch { /* checked when set */ }
+  }
+  return String(values.machine || '').startsWith('robot6') ? 'robot6' : values.machine;
+}
+
+const isRobot = (values) => selectedMachineKind(values) === 'robot6';
+
 /**
  * Field schema: key (the facade's setting key), label, type, default and bounds. Units in labels.
- * Groups render as sub-headings.
+ * Groups render as sub-headings. Optional: testid (instead of setting-<key>), showIf(values)
+ * (the row is hidden when false), hidden (never rendered; set by code, e.g. a loaded file).
  */
 export const SETTINGS_SCHEMA = [
+  { group: 'Machine', key: 'machine', label: 'machine', type: 'select', value: 'cartesian3', testid: 'machine',
+    options: MACHINE_CHOICES },
+  { group: 'Machine', key: 'gcode_flavor', label: 'G-code flavour', type: 'select', value: 'marlin', testid: 'gcode-flavor',
+    options: [{ label: 'Marlin', value: 'marlin' }, { label: 'RepRapFirmware', value: 'reprap' }, { label: 'Klipper', value: 'klipper' }],
+    showIf: (v) => !isRobot(v) },
+  { group: 'Machine', key: 'robot_format', label: 'robot program', type: 'select', value: 'csv', testid: 'robot-format',
+    options: [{ label: 'joint CSV (.csv)', value: 'csv' }, { label: 'URScript (.script)', value: 'urscript' }],
+    showIf: isRobot },
+  { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', value: '', hidden: true },
   { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', type: 'number', value: 0.2, min: 0.02, max: 2, step: 0.01 },
   { group: 'Slicing', key: 'nozzle', label: 'nozzle (mm)', type: 'number', value: 0.4, min: 0.1, max: 2, step: 0.05 },
   { group: 'Slicing', key: 'line_width', label: 'line width (mm, 0 = auto)', type: 'number', value: 0, min: 0, max: 3, step: 0.01 },
@@ -50,6 +84,11 @@ export const SETTINGS_SCHEMA = [
   { group: 'Placement', key: 'rotate_y_deg', label: 'rotate Y (°)', type: 'number', value: 0, min: -360, max: 360, step: 15 },
   { group: 'Placement', key: 'rotate_z_deg', label: 'rotate Z (°)', type: 'number', value: 0, min: -360, max: 360, step: 15 },
   { group: 'Placement', key: 'center', label: 'centre on the plate', type: 'checkbox', value: true },
+  { group: 'Motion', key: 'motion.free_rotation_samples', label: 'free-rotation samples (robot)', type: 'integer', value: 30, min: 1, max: 360, step: 1,
+    showIf: isRobot },
+  { group: 'Motion', key: 'motion.smooth_orientations', label: 'smooth orientations', type: 'checkbox', value: true },
+  { group: 'Motion', key: 'motion.filter_deg', label: 'orientation filter above (°)', type: 'number', value: 10, min: 0, max: 180, step: 1 },
+  { group: 'Motion', key: 'motion.chord_tolerance', label: 'chord tolerance (mm)', type: 'number', value: 0.01, min: 0.0001, max: 10, step: 0.001 },
 ];
 
 /** Keys that change the placement (the model must be placed again). */
@@ -83,6 +122,19 @@ export function normaliseValue(field, value) {
       return value;
     case 'checkbox':
       return !!value;
+    case 'json': {
+      // '' (none) or one line of JSON object text (it travels as one `key=value` setting line).
+      if (value === '' || value === null || value === undefined) return '';
+      const text = String(value);
+      let parsed;
+      try {
+        parsed = JSON.parse(text);
+      } catch (err) {
+        throw new RangeError(`${field.label}: not JSON (${err.message})`);
+      }
+      if (!parsed || typeof parsed !== 'object' || Array.isArray(parsed)) throw new RangeError(`${field.label}: not a JSON object`);
+      return /[\n\r]/.test(text) ? JSON.stringify(parsed) : text;
+    }
     case 'direction': {
       const d = parseDirection(value);
       if (!d) throw new RangeError(`${field.label}: give three numbers x,y,z (not all zero)`);
@@ -119,9 +171,24 @@ export class SettingsModel extends EventTarget {
     this.dispatchEvent(new CustomEvent('change', { detail: { key, value: v } }));
   }
 
-  /** Settings object for slicer.slice(): every key of the schema. */
+  /** Settings object for slicer.slice(): every key of the schema (machine_json only when set). */
   toSettings() {
-    return { ...this.values };
+    const out = { ...this.values };
+    if (!out.machine_json) delete out.machine_json;
+    return out;
+  }
+
+  /**
+   * Settings object for slicer.slice(): the placement keys (they override the placement the mesh
+   * was loaded with) and the other values that differ from the schema's defaults (which are the
+   * core's defaults, tests/js/wasm-machine.test.mjs), so the request names what the user chose
+   * and the core's defaults apply to the rest.
+   */
+  toSliceSettings() {
+    return Object.fromEntries(this.schema
+      .filter((f) => PLACEMENT_KEYS.includes(f.key)
+        || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])))
+      .map((f) => [f.key, this.values[f.key]]));
   }
 
   /** Placement object for slicer.loadMesh(). */
@@ -191,11 +258,13 @@ export class History extends EventTarget {
 }
 
 /**
- * Render the panel into `host`. Inputs carry data-testid="setting-<key>" (the direction's free text
- * is "setting-direction-custom"). Edits go through history.execute(new SetSettingCommand(...)).
+ * Render the panel into `host`. Inputs carry data-testid="setting-<key>" (or the field's testid; the
+ * direction's free text is "setting-direction-custom"). Edits go through
+ * history.execute(new SetSettingCommand(...)). groupHosts: {group name: element} renders that
+ * group's rows into another element (without a sub-heading).
  * @returns {{refresh: () => void}}
  */
-export function createSettingsPanel(host, model, history) {
+export function createSettingsPanel(host, model, history, { groupHosts = {} } = {}) {
   host.replaceChildren();
   const title = document.createElement('h2');
   title.textContent = 'Settings';
@@ -212,14 +281,20 @@ export function createSettingsPanel(host, model, history) {
   problem.hidden = true;
 
   const inputs = new Map();
+  const rows = [];
   let group = null;
   for (const field of model.schema) {
+    if (field.hidden) continue;
+    const target = groupHosts[field.group] || host;
     if (field.group !== group) {
       group = field.group;
-      const h = document.createElement('h3');
-      h.textContent = group;
-      host.append(h);
+      if (target === host) {
+        const h = document.createElement('h3');
+        h.textContent = group;
+        host.append(h);
+      }
     }
+    const testid = field.testid || `setting-${field.key}`;
     const row = document.createElement('label');
     row.className = 'field';
     const name = document.createElement('span');
@@ -239,7 +314,7 @@ export function createSettingsPanel(host, model, history) {
     };
     if (field.type === 'select') {
       const sel = document.createElement('select');
-      sel.dataset.testid = `setting-${field.key}`;
+      sel.dataset.testid = testid;
       for (const o of field.options) sel.append(new Option(o.label, o.value));
       sel.addEventListener('change', () => edit(sel.value, sel));
       row.append(sel);
@@ -247,7 +322,7 @@ export function createSettingsPanel(host, model, history) {
     } else if (field.type === 'checkbox') {
       const box = document.createElement('input');
       box.type = 'checkbox';
-      box.dataset.testid = `setting-${field.key}`;
+      box.dataset.testid = testid;
       box.addEventListener('change', () => edit(box.checked, box));
       row.classList.add('check');
       row.append(box);
@@ -284,7 +359,7 @@ export function createSettingsPanel(host, model, history) {
     } else {
       const num = document.createElement('input');
       num.type = 'number';
-      num.dataset.testid = `setting-${field.key}`;
+      num.dataset.testid = testid;
       num.min = field.min;
       num.max = field.max;
       num.step = field.step;
@@ -292,12 +367,14 @@ export function createSettingsPanel(host, model, history) {
       row.append(num);
       inputs.set(field.key, { refresh: (v) => { num.value = String(v); } });
     }
-    host.append(row);
+    if (field.showIf) rows.push([row, field.showIf]);
+    target.append(row);
   }
   host.append(problem);
 
   const refresh = () => {
     for (const [key, input] of inputs) input.refresh(model.get(key));
+    for (const [row, showIf] of rows) row.hidden = !showIf(model.values);
     undoBtn.disabled = history.done.length === 0;
     redoBtn.disabled = history.undone.length === 0;
   };

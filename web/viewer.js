@@ -35,6 +35,7 @@ export class Viewer {
     this.bed = null;
     this.model = null;
     this.preview = null;
+    this.machine = null;   // machine animation object (shown instead of bed, model and preview)
     this.modelVisible = true;
     this.renderPending = false;
 
@@ -134,6 +135,18 @@ export class Viewer {
     this.requestRender();
   }
 
+  /**
+   * Show a machine model (a THREE.Object3D, e.g. MachineView.object; its owner disposes it) in
+   * place of the bed, the model and the preview, and frame it; null returns to the part view.
+   */
+  setMachine(object) {
+    if (this.machine) this.scene.remove(this.machine);
+    this.machine = object || null;
+    if (this.machine) this.scene.add(this.machine);
+    this.applyModelLook();
+    this.frame();
+  }
+
   /** Model drawn solid alone, faint when a preview is shown, or hidden. */
   setModelVisible(visible) {
     this.modelVisible = visible;
@@ -142,9 +155,12 @@ export class Viewer {
   }
 
   applyModelLook() {
+    const partView = !this.machine;
+    if (this.bed) this.bed.visible = partView;
+    if (this.preview) this.preview.visible = partView;
     if (!this.model) return;
     const m = this.model.material;
-    this.model.visible = this.modelVisible;
+    this.model.visible = this.modelVisible && partView;
     const ghost = !!this.preview;
     m.transparent = ghost;
     m.opacity = ghost ? 0.18 : 1;
@@ -155,7 +171,8 @@ export class Viewer {
   /** Point the camera at the model's bounding box (or the bed when nothing is loaded). */
   frame() {
     const box = new THREE.Box3();
-    if (this.model) box.setFromObject(this.model);
+    if (this.machine) box.setFromObject(this.machine);
+    else if (this.model) box.setFromObject(this.model);
     else if (this.preview) box.setFromObject(this.preview);
     if (box.isEmpty()) box.set(new THREE.Vector3(-60, -60, 0), new THREE.Vector3(60, 60, 40));
     const center = box.getCenter(new THREE.Vector3());
