@@ -49,12 +49,12 @@ std::array<Eigen::Matrix4d, 7> armFrames(const DhTable& dh, const JointValues& q
 }
 
 namespace {
-// Wrap an angle to (-pi, pi].
+// Wrap an angle to (-pi, pi]. The inverse's angles are sums of a few atan2/acos values, so a
+// couple of subtractions suffice (cheaper than std::remainder in the inner loop).
 inline double wrapPi(double a) {
-  if (a > kPi || a <= -kPi) {
-    a = std::remainder(a, kTwoPi);  // [-pi, pi]
-    if (a <= -kPi) a += kTwoPi;
-  }
+  if (!(std::abs(a) < 64 * kPi)) return std::isfinite(a) ? std::remainder(a, kTwoPi) : a;
+  while (a > kPi) a -= kTwoPi;
+  while (a <= -kPi) a += kTwoPi;
   return a;
 }
 
@@ -118,31 +118,36 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
     }
   }
   const double p5[3] = {p[0] - d6 * z6[0], p[1] - d6 * z6[1], p[2] - d6 * z6[2]};
-  const double r = std::hypot(p5[0], p5[1]);
+  const double r = std::sqrt(p5[0] * p5[0] + p5[1] * p5[1]);  // hypot() is slow
   // Shoulder singularity: the wrist point on the base axis (only reachable when d4 = 0); joint 1
   // is then free and 0 is the consistent choice.
   double s14 = 0;
-  double phi = 0;
+  double phi = 0, cphi = 1, sphi = 0;
   if (r > 1e-12) {
     s14 = d4 / r;
     if (!clampUnit(s14)) return 0;
     phi = std::atan2(p5[1], p5[0]);
+    cphi = p5[0] / r;
+    sphi = p5[1] / r;
   } else if (std::abs(d4) > 1e-12) {
     return 0;
   }
   const double as = std::asin(s14);
+  const double cas = std::sqrt(std::max(0.0, 1 - s14 * s14));
   const double off[6] = {dh[0].thetaOffset, dh[1].thetaOffset, dh[2].thetaOffset,
                          dh[3].thetaOffset, dh[4].thetaOffset, dh[5].thetaOffset};
   const double a2sq = a2 * a2, a3sq = a3 * a3, twoA2A3 = 2 * a2 * a3;
   int n = 0;
   for (int shoulder = 0; shoulder < 2; ++shoulder) {
+    // cos and sin of t1 from those of phi and asin(d4 / r), without calling cos/sin.
     const double t1 = shoulder == 0 ? phi + as : phi + kPi - as;
-    const double c1 = std::cos(t1), s1 = std::sin(t1);
+    const double c1 = shoulder == 0 ? cphi * cas - sphi * s14 : -(cphi * cas + sphi * s14);
+    const double s1 = shoulder == 0 ? sphi * cas + cphi * s14 : -(sphi * cas - cphi * s14);
     // z1 = (s1, -c1, 0)
     const double x6z1 = x6[0] * s1 - x6[1] * c1;
     const double y6z1 = y6[0] * s1 - y6[1] * c1;
     const double c5 = z6[0] * s1 - z6[1] * c1;
-    const double s5abs = std::hypot(x6z1, y6z1);
+    const double s5abs = std::sqrt(x6z1 * x6z1 + y6z1 * y6z1);
     const double t5abs = std::atan2(s5abs, c5);
     double t6base = 0, c6base = 1, s6base = 0;
     if (s5abs > 1e-12) {
@@ -150,6 +155,7 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       s6base = -y6z1 / s5abs;
       t6base = std::atan2(s6base, c6base);
     }
+    double t234base = 0;
     for (int wrist = 0; wrist < 2; ++wrist) {
       // Wrist 1: s5 -> -s5 flips (c6, s6), i.e. t6 + pi.
       const double sign = wrist == 0 ? 1.0 : -1.0;
@@ -165,7 +171,9 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       const double o4[3] = {p5[0] - d5 * z4[0], p5[1] - d5 * z4[1], p5[2] - d5 * z4[2]};
       const double px = o4[0] * c1 + o4[1] * s1;  // (o4 - o1) . x1
       const double py = o4[2] - d1;               // (o4 - o1) . y1
-      const double t234 = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
+      // x4 flips sign with the wrist branch (every term does), so t234 just gains pi.
+      if (wrist == 0) t234base = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
+      const double t234 = wrist == 0 ? t234base : t234base + kPi;
       double c3 = (px * px + py * py - a2sq - a3sq) / twoA2A3;
       if (!clampUnit(c3)) continue;
       const double t3abs = std::acos(c3);

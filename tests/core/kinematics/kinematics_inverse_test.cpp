@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -363,6 +363,30 @@ TEST(KinematicsInverse, Robot6Ur5ReachesTheBuildVolume) {
               worstAxis.x(), worstAxis.y(), worstAxis.z());
   EXPECT_EQ(unreachable, 0);
   EXPECT_GT(minBest, 0.05);
+}
+
+// Speed is benchmarked, not tested: print the cost of one robot6 inverseMap() with 30 free-rotation
+// samples (the unit of the lead's 100k-sample benchmark).
+TEST(KinematicsInverse, Robot6Timing) {
+  const MachineProfile m = builtin("robot6-ur5");
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> ux(-50, 50), uz(0, 100), ut(-0.8, 0.8);
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poses;
+  for (int i = 0; i < 2000; ++i) {
+    poses.emplace_back(Eigen::Vector3d(ux(rng), ux(rng), uz(rng)),
+                       Eigen::Vector3d(ut(rng), ut(rng), 1).normalized());
+  }
+  size_t total = 0;
+  MachineValues ref{0.5, -1.5, 1.5, -1.5, -1.5, 0};
+  IkOptions o;
+  o.reference = &ref;
+  const std::clock_t t0 = std::clock();  // CPU time: the machine is shared
+  for (const auto& p : poses) total += inverseMap(m, p.first, p.second, o).candidates.size();
+  const std::clock_t t1 = std::clock();
+  const double us = (double(t1 - t0) / CLOCKS_PER_SEC * 1e6) / poses.size();
+  std::printf("robot6 inverseMap (30 samples): %.1f us per call, %.1f candidates per call\n", us,
+              double(total) / poses.size());
+  EXPECT_GT(total, poses.size());
 }
 
 }  // namespace
