@@ -126,6 +126,15 @@ IkResult inverseRotary(const MachineProfile& machine, const Eigen::Vector3d& tip
     nearestAlias(a, 360.0, target, la, v);
     aliases.push_back(v);
   }
+  if (step > 0) {
+    // A stepper counts whole steps: an alias is reachable only when it is a step multiple too
+    // (360 need not be one).
+    aliases.erase(std::remove_if(aliases.begin(), aliases.end(),
+                                 [&](double v) {
+                                   return std::abs(v - step * std::round(v / step)) > 1e-6;
+                                 }),
+                  aliases.end());
+  }
   if (aliases.empty()) {
     r.orientationFeasible = false;
     r.outOfLimits = 1;

@@ -148,6 +148,18 @@ TEST(KinematicsInverse, Rotary4ReportsInfeasibleOrientations) {
   const IkResult offStep = inverseMap(m, {1, 2, 3}, {0, std::sin(off), std::cos(off)});
   EXPECT_FALSE(offStep.orientationFeasible);
   EXPECT_TRUE(offStep.candidates.empty());
+  // Step 7 degrees with wide limits: 28 degrees is on a step, its alias 388 is not (360 is not a
+  // multiple of 7), -332 neither; a 1.8 degree step keeps every alias.
+  m.axisLimits["A"] = {-400, 400};
+  m.stepAngleDegrees = 7;
+  const double a28 = 28 * kPi / 180;
+  const IkResult seven = inverseMap(m, {1, 2, 3}, {0, std::sin(a28), std::cos(a28)});
+  ASSERT_EQ(seven.candidates.size(), 1u);
+  EXPECT_NEAR(seven.candidates[0].values[3], 28, 1e-12);
+  m.stepAngleDegrees = 1.8;
+  const double a36 = 36 * kPi / 180;
+  const IkResult fine = inverseMap(m, {1, 2, 3}, {0, std::sin(a36), std::cos(a36)});
+  EXPECT_EQ(fine.candidates.size(), 3u);  // 36, 396, -324
 }
 
 TEST(KinematicsInverse, Table5EveryBranchRoundTripsAndRecoversTheOriginal) {
