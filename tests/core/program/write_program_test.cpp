@@ -1,0 +1,343 @@
+// SPDX-License-Identifier: MIT
+// Writers of every kind and dialect, read back: the part-frame moves, headers and planned
+// durations come back from the text.
+#include <gtest/gtest.h>
+
+#include <map>
+#include <random>
+#include <sstream>
+
+#include "machine_paths.h"
+#include "program/machine_json.h"
+#include "program/read_program.h"
+#include "program/write_gcode.h"
+
+namespace omnislice {
+namespace {
+
+ProgramInfo infoFor(const MachineProfile& machine) {
+  ProgramInfo info;
+  info.isoDate = "2026-11-21T12:00:00Z";
+  info.method = "test";
+  info.machine = machine;
+  info.layerHeight = 0.2;
+  info.lineWidth = 0.45;
+  info.placement << 0, -1, 0, 3, 1, 0, 0, -4, 0, 0, 1, 0.5, 0, 0, 0, 1;
+  info.settings = {{"walls", "2"}};
+  return info;
+}
+
+MachineProfile gcodeMachine(const std::string& kind) {
+  MachineProfile m;
+  m.kind = kind;
+  m.name = kind + "-test";
+  m.axisLimits = {{"X", {-150, 150}}, {"Y", {-150, 150}}, {"Z", {0, 200}}};
+  if (kind == "rotary4") {
+    m.pivot = {0, 0, 20};
+    m.axisLimits["A"] = {-60, 60};
+  }
+  if (kind == "table5") {
+    m.pivot = {5, -3, 10};
+    m.axisLimits["B"] = {-90, 90};
+    m.axisLimits["C"] = {-360, 360};
+  }
+  m.nozzle.coneHalfAngleDegrees = 35;
+  m.nozzle.coneLength = 20;
+  return m;
+}
+
+// Square loop of side 8 around (cx, cy) at part-frame height z, printed at fixed rotary angles.
+void loop(test::MachinePathBuilder& b, double cx, double cy, double z, double a1, double a2,
+          Feature f) {
+  const MachineProfile& m = b.path.machine;
+  const Eigen::Vector3d c[4] = {{cx - 4, cy - 4, z}, {cx + 4, cy - 4, z}, {cx + 4, cy + 4, z},
+                                {cx - 4, cy + 4, z}};
+  b.go(test::gcodeValues(m, c[0], a1, a2), MoveKind::Travel, 0, 150);
+  b.unretract();
+  for (int k = 1; k <= 4; ++k) {
+    b.go(test::gcodeValues(m, c[k % 4], a1, a2), MoveKind::Print, test::MachinePathBuilder::bead(8),
+         40, f);
+  }
+  b.retract();
+}
+
+// Two parts: part 0 (two layers at the first angles, then a print move turning the rotary axes
+// while moving), a safe rotation (retract, lift, rotate, lower), part 1 at other angles.
+MachinePath twoPartPath(const std::string& kind) {
+  const MachineProfile m = gcodeMachine(kind);
+  const double a0 = 0, c0 = kind == "table5" ? 30 : 0;
+  test::MachinePathBuilder b(m, test::gcodeValues(m, {0, 0, 30}, a0, c0));
+  b.retract();
+  for (int l = 0; l < 2; ++l) {
+    b.layer = l;
+    loop(b, 0, 0, 0.2 * (l + 1), a0, c0 + 15 * l, l ? Feature::WallInner : Feature::WallOuter);
+  }
+  // A curved move: the rotary values change while printing (curved-layer style).
+  b.layer = 2;
+  b.go(test::gcodeValues(m, {-4, -4, 0.6}, a0, c0), MoveKind::Travel, 0, 150);
+  b.unretract();
+  const double turn1 = kind == "rotary4" ? 12 : kind == "table5" ? 8 : 0;
+  const double turn2 = kind == "table5" ? 40 : 0;
+  b.go(test::gcodeValues(m, {4, 3, 0.6}, a0 + turn1, c0 + turn2), MoveKind::Print,
+       test::MachinePathBuilder::bead(10), 30, Feature::Infill);
+  b.retract();
+  // Safe rotation to part 1.
+  const double a1 = kind == "rotary4" ? -35 : kind == "table5" ? 25 : 0;
+  const double c1 = kind == "table5" ? 120 : 0;
+  MachineValues lift = b.current();
+  lift[2] = 40;
+  b.go(lift, MoveKind::Travel, 0, 150);
+  b.part = 1;
+  MachineValues rotated = lift;
+  rotated[3] = a1;
+  if (kind == "table5") rotated[4] = c1;
+  b.go(rotated, MoveKind::Travel, 0, 150);
+  for (int l = 3; l < 5; ++l) {
+    b.layer = l;
+    const MachineValues over = test::gcodeValues(m, {2, 1, 0.2 * l}, a1, c1);
+    MachineValues above = over;
+    above[2] = 40;
+    if (l == 3) b.go(above, MoveKind::Travel, 0, 150);
+    loop(b, 2, 1, 0.2 * l, a1, c1, Feature::Skin);
+  }
+  return b.path;
+}
+
+std::vector<std::string> lines(const std::string& text) {
+  std::vector<std::string> out;
+  std::istringstream in(text);
+  for (std::string l; std::getline(in, l);) out.push_back(l);
+  return out;
+}
+
+// Groups of parsed pieces by source line, in order.
+std::vector<std::vector<const ProgramMove*>> groups(const ParsedProgram& p) {
+  std::vector<std::vector<const ProgramMove*>> g;
+  for (const ProgramMove& m : p.moves) {
+    if (g.empty() || g.back().front()->line != m.line) g.emplace_back();
+    g.back().push_back(&m);
+  }
+  return g;
+}
+
+// Checks the parsed pieces of a program written from `path`: one group per moving move (after
+// `skip` leading groups), tips and axes at the ends, filament sums, every piece on the replayed
+// path (piece ends are the forward map of their values; the values' midpoint is within 0.01 mm of
+// the chord). Returns the groups for further checks.
+std::vector<std::vector<const ProgramMove*>> checkRoundTrip(const MachinePath& path,
+                                                            const ParsedProgram& p, size_t skip,
+                                                            double filamentTolerance) {
+  const auto g = groups(p);
+  size_t k = skip;
+  Eigen::Vector3d prevTip;
+  Eigen::Vector3d unused;
+  forwardMap(path.machine, path.start, prevTip, unused);
+  MachineValues prevValues = path.start;
+  for (size_t i = 0; i < path.moves.size(); ++i) {
+    const MachineMove& m = path.moves[i];
+    if (m.values == prevValues && m.filament == 0) continue;
+    EXPECT_LT(k, g.size());
+    if (k >= g.size()) break;
+    const auto& grp = g[k++];
+    EXPECT_LT((grp.front()->from - prevTip).norm(), 1e-3) << "move " << i;
+    EXPECT_LT((grp.back()->to - m.tip).norm(), 1e-3) << "move " << i;
+    EXPECT_LT((grp.back()->axis - m.axis).norm(), 1e-6) << "move " << i;
+    double filament = 0;
+    const ProgramMove* prev = nullptr;
+    for (const ProgramMove* piece : grp) {
+      filament += piece->filament;
+      MachineValues v{};
+      std::copy(piece->axes.begin(), piece->axes.end(), v.begin());
+      Eigen::Vector3d tip, axis;
+      EXPECT_TRUE(forwardMap(p.machine, v, tip, axis));
+      EXPECT_LT((tip - piece->to).norm(), 1e-9);
+      EXPECT_LT((axis - piece->axis).norm(), 1e-9);
+      if (prev) {
+        EXPECT_LT((piece->from - prev->to).norm(), 1e-12);
+        MachineValues a{};
+        std::copy(prev->axes.begin(), prev->axes.end(), a.begin());
+        Eigen::Vector3d mid;
+        forwardMap(p.machine, lerpValues(a, v, 0.5), mid, axis);
+        const Eigen::Vector3d ab = piece->to - piece->from;
+        const double t = ab.squaredNorm() > 0
+                             ? std::clamp((mid - piece->from).dot(ab) / ab.squaredNorm(), 0.0, 1.0)
+                             : 0.0;
+        EXPECT_LE((piece->from + t * ab - mid).norm(), 0.0101) << "move " << i;
+      }
+      prev = piece;
+    }
+    EXPECT_NEAR(filament, m.filament, filamentTolerance) << "move " << i;
+    prevTip = m.tip;
+    prevValues = m.values;
+  }
+  return g;
+}
+
+TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
+  for (const std::string kind : {"cartesian3", "rotary4", "table5"}) {
+    const MachinePath path = twoPartPath(kind);
+    for (GcodeDialect dialect : {GcodeDialect::Marlin, GcodeDialect::RepRap, GcodeDialect::Klipper}) {
+      SCOPED_TRACE(kind + " " + gcodeDialectName(dialect));
+      ProgramInfo info = infoFor(path.machine);
+      info.dialect = dialect;
+      const WriteProgramResult w = writeProgram(path, info);
+      ASSERT_TRUE(w.ok()) << w.message;
+      EXPECT_EQ(w.layers, 5);
+      const ParsedProgram p = readProgram(w.text);
+      ASSERT_TRUE(p.ok()) << p.message;
+      // Header facts.
+      EXPECT_EQ(p.format, "gcode");
+      EXPECT_EQ(p.method, "test");
+      EXPECT_EQ(p.feedSemantics, dialect == GcodeDialect::RepRap ? "combined" : "xyz");
+      EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
+      EXPECT_EQ(p.machine.pivot, path.machine.pivot);
+      EXPECT_EQ(p.machine.axisLimits, path.machine.axisLimits);
+      EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
+      EXPECT_TRUE(p.absoluteExtrusion);
+      EXPECT_EQ(p.layerHeight, 0.2);
+      EXPECT_EQ(p.lineWidth, 0.45);
+      EXPECT_EQ(p.layerCount, 5);
+      // Start code per dialect.
+      const auto ls = lines(w.text);
+      auto has = [&](const std::string& prefix) {
+        return std::any_of(ls.begin(), ls.end(),
+                           [&](const std::string& l) { return l.rfind(prefix, 0) == 0; });
+      };
+      EXPECT_EQ(has("G21"), dialect != GcodeDialect::Klipper);
+      EXPECT_EQ(has("T0"), dialect == GcodeDialect::RepRap);
+      EXPECT_TRUE(has("M109 S210") && has("M190 S60") && has("G28") && has("M82"));
+      EXPECT_TRUE(has("; omnislice:part 0 direction [") && has("; omnislice:part 1 direction ["));
+      EXPECT_TRUE(has(";TYPE:WALL-OUTER") && has("; omnislice:feature skin"));
+      // Moves: the park travel from home first, then one group per moving path move.
+      const auto g = checkRoundTrip(path, p, 1, 1.1e-5);
+      // F gives back the planned durations (to the rounding of the written values and of F).
+      const std::vector<std::string> names = machineAxisNames(kind);
+      size_t k = 1;
+      MachineValues prevValues = path.start;
+      std::vector<double> prevAxes = g[0].back()->axes;
+      for (size_t i = 0; i < path.moves.size(); ++i) {
+        const MachineMove& m = path.moves[i];
+        if (m.values == prevValues && m.filament == 0) continue;
+        const auto& grp = g[k++];
+        const std::vector<double>& end = grp.back()->axes;
+        double lin = 0, rot = 0;
+        for (size_t a = 0; a < end.size(); ++a) {
+          const double d = end[a] - prevAxes[a];
+          (a < 3 ? lin : rot) += d * d;
+        }
+        double dist = dialect == GcodeDialect::RepRap ? std::sqrt(lin + rot)
+                      : lin > 0                       ? std::sqrt(lin)
+                                                      : std::sqrt(rot);
+        if (dist == 0) {
+          double e = 0;
+          for (const ProgramMove* piece : grp) e += piece->filament;
+          dist = std::abs(e);
+        }
+        const double duration = dist / grp.back()->feedMmPerMin * 60.0;
+        EXPECT_NEAR(duration, m.durationS, 0.01 * m.durationS) << "move " << i;
+        // The E word carries the filament of the move; the reader splits it over the pieces.
+        prevAxes = end;
+        prevValues = m.values;
+      }
+      // Rotating moves were cut into pieces.
+      if (kind != "cartesian3") EXPECT_GT(p.moves.size(), g.size() + 10);
+      if (kind == "cartesian3") EXPECT_EQ(p.moves.size(), g.size());
+      // End code: retract was already done; a lift.
+      EXPECT_EQ(g.size(), k + 1);
+    }
+  }
+}
+
+TEST(WriteProgram, RefusesRotationBetweenPartsWithoutRetractOrLift) {
+  const MachineProfile m = gcodeMachine("table5");
+  ProgramInfo info = infoFor(m);
+  auto build = [&](bool retract, double liftZ) {
+    test::MachinePathBuilder b(m, test::gcodeValues(m, {0, 0, 30}, 0, 0));
+    loop(b, 0, 0, 0.2, 0, 0, Feature::WallOuter);
+    b.unretract();  // the loop ends retracted; undo that for the faulty case
+    if (retract) b.retract();
+    MachineValues v = b.current();
+    v[2] = liftZ;
+    b.go(v, MoveKind::Travel, 0, 100);
+    b.part = 1;
+    v[3] = 30;
+    b.go(v, MoveKind::Travel, 0, 100);
+    return b.path;
+  };
+  EXPECT_TRUE(writeProgram(build(true, 40), info).ok());
+  const WriteProgramResult noRetract = writeProgram(build(false, 40), info);
+  EXPECT_EQ(noRetract.status, Status::InvalidOption);
+  EXPECT_NE(noRetract.message.find("without a retract"), std::string::npos) << noRetract.message;
+  // Below the top of the printed loop (machine Z 0.2).
+  const WriteProgramResult low = writeProgram(build(true, 0.1), info);
+  EXPECT_EQ(low.status, Status::InvalidOption);
+  EXPECT_NE(low.message.find("safe height"), std::string::npos) << low.message;
+  // Within a part, rotations while printing are allowed (curved layers): see the round trip.
+}
+
+TEST(WriteProgram, RefusesInconsistentOrNonFinitePaths) {
+  MachinePath path = twoPartPath("rotary4");
+  const ProgramInfo info = infoFor(path.machine);
+  ASSERT_TRUE(writeProgram(path, info).ok());
+  MachinePath wrongTip = path;
+  wrongTip.moves[5].tip.x() += 0.01;
+  EXPECT_EQ(writeProgram(wrongTip, info).status, Status::InvalidOption);
+  MachinePath nan = path;
+  nan.moves[3].values[3] = std::nan("");
+  EXPECT_EQ(writeProgram(nan, info).status, Status::InvalidOption);
+  MachinePath negative = path;
+  negative.moves[2].durationS = -1;
+  EXPECT_EQ(writeProgram(negative, info).status, Status::InvalidOption);
+  MachinePath unknown = path;
+  unknown.machine.kind = "delta";
+  EXPECT_EQ(writeProgram(unknown, info).status, Status::InvalidOption);
+  MachinePath failed = path;
+  failed.status = Status::InvalidOption;
+  EXPECT_EQ(writeProgram(failed, info).status, Status::InvalidOption);
+}
+
+TEST(WriteProgram, NamesAndExtensions) {
+  GcodeDialect d;
+  EXPECT_TRUE(parseGcodeDialect("klipper", d));
+  EXPECT_EQ(d, GcodeDialect::Klipper);
+  EXPECT_TRUE(parseGcodeDialect(gcodeDialectName(GcodeDialect::RepRap), d));
+  EXPECT_EQ(d, GcodeDialect::RepRap);
+  EXPECT_FALSE(parseGcodeDialect("grbl", d));
+  RobotFormat f;
+  EXPECT_TRUE(parseRobotFormat("urscript", f));
+  EXPECT_EQ(f, RobotFormat::UrScript);
+  EXPECT_FALSE(parseRobotFormat("krl", f));
+  EXPECT_STREQ(robotFormatName(RobotFormat::Csv), "csv");
+  EXPECT_STREQ(programExtension("table5", RobotFormat::Csv), "gcode");
+  EXPECT_STREQ(programExtension("robot6", RobotFormat::Csv), "csv");
+  EXPECT_STREQ(programExtension("robot6", RobotFormat::UrScript), "script");
+}
+
+TEST(WriteProgram, MutatedGcodeOfEveryKindNeverCrashes) {
+  std::mt19937 rng(99);
+  for (const std::string kind : {"rotary4", "table5"}) {
+    const MachinePath path = twoPartPath(kind);
+    const WriteProgramResult w = writeProgram(path, infoFor(path.machine));
+    ASSERT_TRUE(w.ok());
+    int errors = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+      std::string text = w.text;
+      std::uniform_int_distribution<size_t> at(0, text.size() - 1);
+      for (int k = 0; k < 1 + trial % 5; ++k) text[at(rng)] = "GXABCE;{[0.-e9\n #"[rng() % 18];
+      if (trial % 4 == 3) text.resize(at(rng));
+      const ParsedProgram p = readProgram(text);
+      if (!p.ok()) {
+        ++errors;
+        EXPECT_NE(p.message.find("line "), std::string::npos) << p.message;
+        EXPECT_TRUE(p.moves.empty());
+      }
+      for (const ProgramMove& m : p.moves) {
+        EXPECT_TRUE(m.from.allFinite() && m.to.allFinite() && m.axis.allFinite());
+      }
+    }
+    EXPECT_GT(errors, 0);
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
