@@ -248,6 +248,133 @@ TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
   }
 }
 
+
+// robot6: two parts on the UR5 test machine; part 0 flat (with a support loop and a move that
+// tilts the platform while printing), part 1 tilted 30 degrees about x.
+MachinePath robotPath() {
+  const MachineProfile m = test::ur5TestMachine();
+  MachineValues v{};
+  const Eigen::Matrix3d flat = Eigen::Matrix3d::Identity();
+  EXPECT_TRUE(test::robotStart(m, {0, 0, 30}, flat, v));
+  test::MachinePathBuilder b(m, v);
+  auto to = [&](const Eigen::Vector3d& q, const Eigen::Matrix3d& rot, MoveKind kind, double speed,
+                Feature f) {
+    MachineValues next{};
+    EXPECT_TRUE(test::robotValues(m, q, rot, b.current(), next));
+    Eigen::Vector3d from, axis;
+    forwardMap(m, b.current(), from, axis);
+    const double filament =
+        kind == MoveKind::Travel ? 0.0 : test::MachinePathBuilder::bead((q - from).norm());
+    b.go(next, kind, filament, speed, f);
+  };
+  auto square = [&](double z, const Eigen::Matrix3d& rot, MoveKind kind, Feature f) {
+    const Eigen::Vector3d c[4] = {{-4, -4, z}, {4, -4, z}, {4, 4, z}, {-4, 4, z}};
+    to(c[0], rot, MoveKind::Travel, 150, Feature::None);
+    b.unretract();
+    for (int k = 1; k <= 4; ++k) to(c[k % 4], rot, kind, 40, f);
+    b.retract();
+  };
+  b.retract();
+  b.layer = 0;
+  square(0.2, flat, MoveKind::Support, Feature::Support);
+  b.layer = 1;
+  square(0.4, flat, MoveKind::Print, Feature::WallOuter);
+  b.layer = 2;
+  to({-4, 0, 0.6}, flat, MoveKind::Travel, 150, Feature::None);
+  b.unretract();
+  to({4, 0, 0.6}, test::rotDeg(0, 10).transpose(), MoveKind::Print, 30, Feature::Infill);
+  b.retract();
+  b.part = 1;
+  const Eigen::Matrix3d tilted = test::rotDeg(0, 30).transpose();
+  to({0, 0, 20}, tilted, MoveKind::Travel, 150, Feature::None);
+  for (int l = 3; l < 5; ++l) {
+    b.layer = l;
+    square(0.2 * l, tilted, MoveKind::Print, Feature::Skin);
+  }
+  return b.path;
+}
+
+TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
+  const MachinePath path = robotPath();
+  ASSERT_GT(path.moves.size(), 30u);
+  for (RobotFormat format : {RobotFormat::Csv, RobotFormat::UrScript}) {
+    SCOPED_TRACE(robotFormatName(format));
+    ProgramInfo info = infoFor(path.machine);
+    info.robotFormat = format;
+    info.extruderAnalogPerMmS = 0.25;
+    const WriteProgramResult w = writeProgram(path, info);
+    ASSERT_TRUE(w.ok()) << w.message;
+    EXPECT_EQ(w.layers, 5);
+    const ParsedProgram p = readProgram(w.text);
+    ASSERT_TRUE(p.ok()) << p.message;
+    EXPECT_EQ(p.format, robotFormatName(format));
+    EXPECT_EQ(p.feedSemantics, "part_tip");
+    EXPECT_FALSE(p.absoluteExtrusion);
+    EXPECT_EQ(p.machine.kind, "robot6");
+    EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
+    EXPECT_TRUE(p.machine.flangeToPlatform.isApprox(path.machine.flangeToPlatform, 1e-12));
+    EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
+    EXPECT_EQ(p.layerCount, 5);
+    const auto ls = lines(w.text);
+    ASSERT_GT(ls.size(), 20u);
+    EXPECT_EQ(ls[0], std::string("# omnislice ") + OMNISLICE_VERSION + " test 2026-11-21T12:00:00Z");
+    if (format == RobotFormat::Csv) {
+      EXPECT_NE(std::find(ls.begin(), ls.end(), "# q1,q2,q3,q4,q5,q6,e,f,kind"), ls.end());
+      EXPECT_NE(w.text.find(",support\n"), std::string::npos);
+    } else {
+      EXPECT_NE(std::find(ls.begin(), ls.end(), "def omnislice_program():"), ls.end());
+      EXPECT_EQ(ls[ls.size() - 2], "end");
+      EXPECT_EQ(ls.back(), "omnislice_program()");
+      EXPECT_NE(w.text.find("set_analog_out(0, "), std::string::npos);
+    }
+    // The first row / target is the start pose: no group for it.
+    const auto g = checkRoundTrip(path, p, 0, 1e-5);
+    // f gives back the planned durations: part-frame length / speed.
+    size_t k = 0;
+    MachineValues prevValues = path.start;
+    for (size_t i = 0; i < path.moves.size() && k < g.size(); ++i) {
+      const MachineMove& m = path.moves[i];
+      if (m.values == prevValues && m.filament == 0) continue;
+      const auto& grp = g[k++];
+      prevValues = m.values;
+      double len = 0;
+      for (const ProgramMove* piece : grp) len += (piece->to - piece->from).norm();
+      if (len < 1e-6) continue;  // no tip motion: no speed to give back
+      const double duration = len / (grp.back()->feedMmPerMin / 60.0);
+      EXPECT_NEAR(duration, m.durationS, 0.01 * m.durationS) << "move " << i;
+    }
+    EXPECT_EQ(k, g.size());
+  }
+}
+
+TEST(WriteProgram, MutatedRobotProgramsNeverCrash) {
+  const MachinePath path = robotPath();
+  std::mt19937 rng(7);
+  for (RobotFormat format : {RobotFormat::Csv, RobotFormat::UrScript}) {
+    ProgramInfo info = infoFor(path.machine);
+    info.robotFormat = format;
+    const WriteProgramResult w = writeProgram(path, info);
+    ASSERT_TRUE(w.ok());
+    int errors = 0;
+    for (int trial = 0; trial < 200; ++trial) {
+      std::string text = w.text;
+      std::uniform_int_distribution<size_t> at(0, text.size() - 1);
+      for (int k = 0; k < 1 + trial % 5; ++k) text[at(rng)] = "q,#[]()=t0.-e9\n "[rng() % 17];
+      if (trial % 4 == 3) text.resize(at(rng));
+      const ParsedProgram p = readProgram(text);
+      if (!p.ok()) {
+        ++errors;
+        EXPECT_NE(p.message.find("line "), std::string::npos) << p.message;
+        EXPECT_TRUE(p.moves.empty());
+      }
+      for (const ProgramMove& m : p.moves) {
+        EXPECT_TRUE(m.from.allFinite() && m.to.allFinite() && m.axis.allFinite());
+      }
+    }
+    EXPECT_GT(errors, 0);
+  }
+}
+
 TEST(WriteProgram, RefusesRotationBetweenPartsWithoutRetractOrLift) {
   const MachineProfile m = gcodeMachine("table5");
   ProgramInfo info = infoFor(m);

@@ -4,6 +4,7 @@
 // that should catch it fail, on more than one machine kind.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <functional>
 
 #include "../program/machine_paths.h"
@@ -61,6 +62,7 @@ VerifyReport verifyPath(const MachinePath& path) {
 
 void expectPasses(const VerifyReport& r) {
   ASSERT_TRUE(r.ok()) << r.message;
+  std::printf("%s\n", verifyReportJson(r).c_str());
   EXPECT_GE(r.inside, 0.99);
   EXPECT_GE(r.coverage, 0.95);
   EXPECT_GE(r.supported, 0.99);
@@ -196,6 +198,73 @@ TEST(SeededFaults, Rotary4CorrectAndFaultyPrograms) {
   const VerifyReport lim = verifyPath(rotary4Box({}, [](int l) { return l == 5 ? 61.0 : 0.0; }, zero));
   ASSERT_TRUE(lim.ok());
   EXPECT_GT(lim.limitViolations, 10u);
+}
+
+}  // namespace
+}  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// ---- robot6 (UR5): the platform held flat (or tilted) under the fixed nozzle ----
+
+struct RobotFault {
+  std::function<double(int)> tiltDegrees = [](int) { return 0.0; };   // platform tilt about y
+  std::function<double(int)> q1Offset = [](int) { return 0.0; };      // added to q1 as written
+  std::function<bool(int)> wrapQ6 = [](int) { return false; };         // q6 +- 2 pi (same pose)
+};
+
+MachinePath robotBox(const test::BoxPathOptions& o, const RobotFault& fault = {}) {
+  const MachineProfile m = test::ur5TestMachine();
+  bool first = true;
+  MachineValues solved{};
+  return mapToolpath(
+      test::boxToolpath(o), m,
+      [&](const Eigen::Vector3d& q, int layer, const MachineValues&, MachineValues& out) {
+        const Eigen::Matrix3d rot = test::rotDeg(1, fault.tiltDegrees(layer)).transpose();
+        bool ok = first ? test::robotStart(m, q, rot, solved)
+                        : test::robotValues(m, q, rot, solved, solved);
+        first = false;
+        out = solved;
+        out[0] += fault.q1Offset(layer);
+        if (fault.wrapQ6(layer)) out[5] += out[5] >= 0 ? 2 * M_PI : -2 * M_PI;
+        return ok;
+      });
+}
+
+TEST(SeededFaults, Robot6CorrectBoxPasses) {
+  const MachinePath path = robotBox({});
+  ASSERT_GT(path.moves.size(), 1000u);
+  expectPasses(verifyPath(path));
+}
+
+TEST(SeededFaults, Robot6Faults) {
+  RobotFault inside;
+  inside.q1Offset = [](int l) { return l >= 20 && l < 30 ? 0.03 : 0.0; };
+  const VerifyReport ri = verifyPath(robotBox({}, inside));
+  ASSERT_TRUE(ri.ok()) << ri.message;
+  EXPECT_LT(ri.inside, 0.9);
+
+  test::BoxPathOptions floating;
+  floating.keepLayer = [](int l) { return l >= 25 && l < 30; };
+  const VerifyReport rf = verifyPath(robotBox(floating));
+  ASSERT_TRUE(rf.ok()) << rf.message;
+  EXPECT_LT(rf.supported, 0.85);
+
+  RobotFault tilt;
+  tilt.tiltDegrees = [](int l) { return l >= 45 ? 60.0 : 0.0; };
+  const VerifyReport rc = verifyPath(robotBox({}, tilt));
+  ASSERT_TRUE(rc.ok()) << rc.message;
+  EXPECT_GT(rc.collisions, 100u);
+  EXPECT_GE(rc.inside, 0.99);
+
+  RobotFault wrap;
+  wrap.wrapQ6 = [](int l) { return l == 10 || l == 11; };
+  const VerifyReport rl = verifyPath(robotBox({}, wrap));
+  ASSERT_TRUE(rl.ok()) << rl.message;
+  EXPECT_GT(rl.limitViolations, 20u);
+  EXPECT_GE(rl.inside, 0.99);
+  EXPECT_EQ(rl.collisions, 0u);
 }
 
 }  // namespace
