@@ -312,6 +312,28 @@ void Reader::comment(const std::string& c, bool first) {
 
 void Reader::emit(const MachineValues& a, const MachineValues& b, double filament,
                   double feedMmPerMin, double durationS) {
+  bool angular = false;
+  for (int i = 0; i < n_; ++i) angular = angular || (isAngularAxis(r_.machine.kind, i) && a[i] != b[i]);
+  if (!angular) {
+    // Straight tip path: one piece, no interpolation buffers (the common case of 3-axis moves).
+    ProgramMove m;
+    Eigen::Vector3d axisA;
+    if (!forwardMap(r_.machine, a, m.from, axisA) || !forwardMap(r_.machine, b, m.to, m.axis)) {
+      return fail(Status::ParseError, "machine values cannot be mapped to the part frame");
+    }
+    m.filament = filament;
+    m.feedMmPerMin = feedMmPerMin >= 0 ? feedMmPerMin
+                     : durationS > 0   ? (m.to - m.from).norm() / durationS * 60.0
+                                       : 0.0;
+    m.layer = layer_;
+    m.part = part_;
+    m.feature = feature_;
+    m.axes.assign(b.begin(), b.begin() + n_);
+    m.line = lineNo_;
+    r_.moves.push_back(std::move(m));
+    sawMoves_ = true;
+    return;
+  }
   const MoveInterpolation pieces = interpolateMachineMove(r_.machine, a, b);
   if (!pieces.ok()) return fail(Status::ParseError, pieces.message);
   const double feed = feedMmPerMin >= 0 ? feedMmPerMin

@@ -3,6 +3,8 @@
 // durations come back from the text.
 #include <gtest/gtest.h>
 
+#include <chrono>
+#include <cstdio>
 #include <map>
 #include <random>
 #include <sstream>
@@ -464,6 +466,37 @@ TEST(WriteProgram, MutatedGcodeOfEveryKindNeverCrashes) {
     }
     EXPECT_GT(errors, 0);
   }
+}
+
+}  // namespace
+}  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// Times of writing and reading large programs (printed; speed is benchmarked, not asserted).
+TEST(WriteProgram, LargeProgramTimes) {
+  const MachineProfile m = gcodeMachine("table5");
+  test::MachinePathBuilder b(m, test::gcodeValues(m, {0, 0, 5}, 0, 0));
+  for (int k = 0; k < 200000; ++k) {
+    const int layer = k / 2000;
+    b.layer = layer;
+    const double a = 2 * M_PI * (k % 2000) / 2000.0;
+    b.push(test::gcodeValues(m, {20 * std::cos(a), 20 * std::sin(a), 0.2 * (layer + 1)}, 0,
+                             layer * 3.0),
+           MoveKind::Print, 0.002, 0.0016, Feature::WallOuter);
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  const WriteProgramResult w = writeProgram(b.path, infoFor(m));
+  const auto t1 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(w.ok()) << w.message;
+  const ParsedProgram p = readProgram(w.text);
+  const auto t2 = std::chrono::steady_clock::now();
+  ASSERT_TRUE(p.ok()) << p.message;
+  EXPECT_GE(p.moves.size(), 200000u);
+  std::printf("table5 200k moves: write %.2f s (%zu MB), read %.2f s (%zu pieces)\n",
+              std::chrono::duration<double>(t1 - t0).count(), w.text.size() >> 20,
+              std::chrono::duration<double>(t2 - t1).count(), p.moves.size());
 }
 
 }  // namespace
