@@ -97,6 +97,8 @@ struct Word {
 
 enum class Format { Gcode, Csv, UrScript };
 
+constexpr size_t kMaxPieces = 20000000;  // replayed pieces per program (about 4 GB of moves)
+
 class Reader {
  public:
   explicit Reader(const std::string& text) : text_(text) {}
@@ -288,7 +290,9 @@ void Reader::comment(const std::string& c, bool first) {
     for (char ch : c) {
       if (!std::isspace(static_cast<unsigned char>(ch))) cols += ch;
     }
-    if (startsWith(cols, "q1,") && cols != "q1,q2,q3,q4,q5,q6,e,f,kind") {
+    const bool columnLine = cols.size() > 2 && cols[0] == 'q' &&
+                            std::isdigit(static_cast<unsigned char>(cols[1])) && cols[2] == ',';
+    if (columnLine && cols != "q1,q2,q3,q4,q5,q6,e,f,kind") {
       return fail(Status::UnsupportedFormat, "CSV columns must be q1,q2,q3,q4,q5,q6,e,f,kind");
     }
     return;
@@ -334,8 +338,19 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
     sawMoves_ = true;
     return;
   }
+  // Broken input must not make the replay explode: a move turns at most 10 turns per value
+  // (degrees or radians), and the whole program at most kMaxPieces pieces.
+  const double turn = r_.machine.kind == "robot6" ? 2 * 3.14159265358979323846 : 360.0;
+  for (int i = 0; i < n_; ++i) {
+    if (isAngularAxis(r_.machine.kind, i) && std::abs(b[i] - a[i]) > 10 * turn) {
+      return fail(Status::ParseError, "a move turns an angular value by more than 10 turns");
+    }
+  }
   const MoveInterpolation pieces = interpolateMachineMove(r_.machine, a, b);
   if (!pieces.ok()) return fail(Status::ParseError, pieces.message);
+  if (r_.moves.size() + pieces.t.size() > kMaxPieces) {
+    return fail(Status::ParseError, "the program replays into more than 20 million pieces");
+  }
   const double feed = feedMmPerMin >= 0 ? feedMmPerMin
                       : durationS > 0   ? pieces.length / durationS * 60.0
                                         : 0.0;

@@ -501,3 +501,72 @@ TEST(WriteProgram, LargeProgramTimes) {
 
 }  // namespace
 }  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// Each malformed robot / rotary construct gives its status and names its line.
+TEST(WriteProgram, MalformedRobotAndRotaryLines) {
+  const MachinePath path = robotPath();
+  ProgramInfo info = infoFor(path.machine);
+  const std::string csv = writeProgram(path, info).text;
+  info.robotFormat = RobotFormat::UrScript;
+  const std::string script = writeProgram(path, info).text;
+  auto lineOf = [](const std::string& text, const std::string& what) {
+    const size_t at = text.find(what);
+    return 1 + std::count(text.begin(), text.begin() + at, '\n');
+  };
+  auto expectError = [](const std::string& text, Status s, long line) {
+    const ParsedProgram p = readProgram(text);
+    EXPECT_EQ(p.status, s) << p.message;
+    EXPECT_NE(p.message.find("line " + std::to_string(line) + ":"), std::string::npos) << p.message;
+  };
+  // CSV: a row with 8 fields, an unknown kind, a non-numeric joint.
+  {
+    const size_t row = csv.find(",print\n");
+    const size_t start = csv.rfind('\n', row) + 1;
+    const long line = lineOf(csv, csv.substr(start, row - start));
+    std::string t = csv;
+    t.replace(row, 7, ",,print\n");
+    expectError(t, Status::ParseError, line);
+    t = csv;
+    t.replace(row, 7, ",drill\n");
+    expectError(t, Status::ParseError, line);
+    t = csv;
+    t.replace(start, 1, "x");
+    expectError(t, Status::ParseError, line);
+    // Columns in another order are not guessed.
+    t = csv;
+    t.replace(t.find("# q1,q2"), 7, "# q2,q1");
+    expectError(t, Status::UnsupportedFormat, lineOf(csv, "# q1,q2"));
+  }
+  // URScript: movel, a movej without its list, an unknown statement, a missing end.
+  {
+    const size_t mv = script.find("movej([", script.find("t="));
+    const long line = lineOf(script, script.substr(mv, 40));
+    std::string t = script;
+    t.replace(mv, 5, "movel");
+    expectError(t, Status::UnsupportedFormat, line);
+    t = script;
+    t.replace(mv, 7, "movej((");
+    expectError(t, Status::ParseError, line);
+    t = script;
+    t.replace(mv, 5, "spinj");
+    expectError(t, Status::ParseError, line);
+    t = script.substr(0, script.rfind("end\n"));
+    const ParsedProgram p = readProgram(t);
+    EXPECT_EQ(p.status, Status::ParseError);
+  }
+  // G-code: a rotation of more than 10 turns in one move.
+  {
+    const MachinePath g = twoPartPath("rotary4");
+    std::string t = writeProgram(g, infoFor(g.machine)).text;
+    const size_t a = t.find(" A", t.find("G1 X"));
+    const long line = lineOf(t, t.substr(t.rfind('\n', a) + 1, a - t.rfind('\n', a) - 1));
+    t.insert(a + 2, "9999");
+    expectError(t, Status::ParseError, line);
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
