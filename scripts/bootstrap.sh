@@ -9,7 +9,7 @@ cd "$(dirname "$0")/.."
 APT_PACKAGES=(
   g++ cmake ninja-build ccache pkg-config dpkg-dev
   libeigen3-dev libcgal-dev libgmp-dev libmpfr-dev libboost-dev libglm-dev
-  libopenmesh-dev libpolyclipping-dev nlohmann-json3-dev libgtest-dev
+  libopenmesh-dev libpolyclipping-dev nlohmann-json3-dev libgtest-dev liborocos-kdl-dev
   emscripten chromium
 )
 

@@ -1,12 +1,16 @@
 // SPDX-License-Identifier: MIT
 #include "kinematics/robot_arm.h"
 
+#include <Eigen/Geometry>
+#include <Eigen/SVD>
+#include <algorithm>
 #include <cmath>
 
 namespace omnislice {
 
 namespace {
 constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2 * kPi;
 
 // Standard DH link transform: Rz(theta) Tz(d) Tx(a) Rx(alpha).
 Eigen::Matrix4d dhLink(const DhRow& row, double q) {
@@ -42,6 +46,181 @@ std::array<Eigen::Matrix4d, 7> armFrames(const DhTable& dh, const JointValues& q
   frames[0] = Eigen::Matrix4d::Identity();
   for (int i = 0; i < 6; ++i) frames[i + 1] = frames[i] * dhLink(dh[i], q[i]);
   return frames;
+}
+
+namespace {
+// Wrap an angle to (-pi, pi]. The inverse's angles are sums of a few atan2/acos values, so a
+// couple of subtractions suffice (cheaper than std::remainder in the inner loop).
+inline double wrapPi(double a) {
+  if (!(std::abs(a) < 64 * kPi)) return std::isfinite(a) ? std::remainder(a, kTwoPi) : a;
+  while (a > kPi) a -= kTwoPi;
+  while (a <= -kPi) a += kTwoPi;
+  return a;
+}
+
+// Clamp a cosine/sine that roundoff pushed slightly beyond [-1, 1]; false when it is truly out.
+inline bool clampUnit(double& v) {
+  constexpr double kSlack = 1e-9;
+  if (v > 1) {
+    if (v > 1 + kSlack) return false;
+    v = 1;
+  } else if (v < -1) {
+    if (v < -1 - kSlack) return false;
+    v = -1;
+  }
+  return true;
+}
+}  // namespace
+
+bool isUrFamily(const DhTable& dh) {
+  constexpr double eps = 1e-9;
+  const double alpha[6] = {kPi / 2, 0, 0, kPi / 2, -kPi / 2, 0};
+  for (int i = 0; i < 6; ++i) {
+    const DhRow& r = dh[i];
+    if (!std::isfinite(r.thetaOffset) || !std::isfinite(r.d) || !std::isfinite(r.a) ||
+        !std::isfinite(r.alpha)) {
+      return false;
+    }
+    if (std::abs(r.alpha - alpha[i]) > eps) return false;
+  }
+  return std::abs(dh[0].a) <= eps && std::abs(dh[3].a) <= eps && std::abs(dh[4].a) <= eps &&
+         std::abs(dh[5].a) <= eps && std::abs(dh[1].d) <= eps && std::abs(dh[2].d) <= eps &&
+         std::abs(dh[1].a) > eps && std::abs(dh[2].a) > eps && std::abs(dh[5].d) > eps;
+}
+
+// Derivation (theta_i = q_i + thetaOffset_i; R = [x6 y6 z6], p = flange origin):
+//  * Joints 2, 3, 4 are parallel to z1 = (sin t1, -cos t1, 0). Every translation from frame 1 to
+//    the wrist point p5 = p - d6 z6 (origin of frame 5) lies in the plane normal to z1 except d4,
+//    so p5 . z1 = d4: r sin(t1 - phi) = d4 with (r, phi) the polar form of p5's x, y. Shoulder bit:
+//    t1 = phi + asin(d4 / r) or phi + pi - asin(d4 / r).
+//  * z1 is (0, 1, 0) in frame 4 and (s5 c6, -s5 s6, c5) in frame 6 (z5 = z6), so
+//    c5 = z6 . z1, s5 = +-|(x6 . z1, y6 . z1)| (wrist bit: the sign) and
+//    (c6, s6) = (x6 . z1, -y6 . z1) / s5. Reading t5 with atan2 from the orientation keeps it
+//    accurate near the wrist singularity; the position constraint p . z1 = d4 + d6 c5 holds by the
+//    choice of t1. At s5 = 0 joint 6 is parallel to joints 2-4 and t6 is free: t6 = 0. The other
+//    wrist branch is (-t5, t6 + pi).
+//  * In the base frame z4 = -s6 x6 - c6 y6 and x4 = c5 c6 x6 - c5 s6 y6 - s5 z6; the origin of
+//    frame 4 is o4 = p5 - d5 z4. In frame 1 (origin (0, 0, d1), x1 = (c1, s1, 0), y1 = (0, 0, 1))
+//    o4 = (a2 c2 + a3 c23, a2 s2 + a3 s23) and x4 = (cos t234, sin t234): a planar two-link arm.
+//    Elbow bit selects the sign of t3 = +-acos((x^2 + y^2 - a2^2 - a3^2) / (2 a2 a3)).
+int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solutions[8],
+              int branches[8]) {
+  const double d1 = dh[0].d, a2 = dh[1].a, a3 = dh[2].a, d4 = dh[3].d, d5 = dh[4].d,
+               d6 = dh[5].d;
+  const double x6[3] = {flange(0, 0), flange(1, 0), flange(2, 0)};
+  const double y6[3] = {flange(0, 1), flange(1, 1), flange(2, 1)};
+  const double z6[3] = {flange(0, 2), flange(1, 2), flange(2, 2)};
+  const double p[3] = {flange(0, 3), flange(1, 3), flange(2, 3)};
+  for (int i = 0; i < 3; ++i) {
+    if (!std::isfinite(x6[i]) || !std::isfinite(y6[i]) || !std::isfinite(z6[i]) ||
+        !std::isfinite(p[i])) {
+      return 0;
+    }
+  }
+  const double p5[3] = {p[0] - d6 * z6[0], p[1] - d6 * z6[1], p[2] - d6 * z6[2]};
+  const double r = std::sqrt(p5[0] * p5[0] + p5[1] * p5[1]);  // hypot() is slow
+  // Shoulder singularity: the wrist point on the base axis (only reachable when d4 = 0); joint 1
+  // is then free and 0 is the consistent choice.
+  double s14 = 0;
+  double phi = 0, cphi = 1, sphi = 0;
+  if (r > 1e-12) {
+    s14 = d4 / r;
+    if (!clampUnit(s14)) return 0;
+    phi = std::atan2(p5[1], p5[0]);
+    cphi = p5[0] / r;
+    sphi = p5[1] / r;
+  } else if (std::abs(d4) > 1e-12) {
+    return 0;
+  }
+  const double as = std::asin(s14);
+  const double cas = std::sqrt(std::max(0.0, 1 - s14 * s14));
+  const double off[6] = {dh[0].thetaOffset, dh[1].thetaOffset, dh[2].thetaOffset,
+                         dh[3].thetaOffset, dh[4].thetaOffset, dh[5].thetaOffset};
+  const double a2sq = a2 * a2, a3sq = a3 * a3, twoA2A3 = 2 * a2 * a3;
+  int n = 0;
+  for (int shoulder = 0; shoulder < 2; ++shoulder) {
+    // cos and sin of t1 from those of phi and asin(d4 / r), without calling cos/sin.
+    const double t1 = shoulder == 0 ? phi + as : phi + kPi - as;
+    const double c1 = shoulder == 0 ? cphi * cas - sphi * s14 : -(cphi * cas + sphi * s14);
+    const double s1 = shoulder == 0 ? sphi * cas + cphi * s14 : -(sphi * cas - cphi * s14);
+    // z1 = (s1, -c1, 0)
+    const double x6z1 = x6[0] * s1 - x6[1] * c1;
+    const double y6z1 = y6[0] * s1 - y6[1] * c1;
+    const double c5 = z6[0] * s1 - z6[1] * c1;
+    const double s5abs = std::sqrt(x6z1 * x6z1 + y6z1 * y6z1);
+    const double t5abs = std::atan2(s5abs, c5);
+    double t6base = 0, c6base = 1, s6base = 0;
+    if (s5abs > 1e-12) {
+      c6base = x6z1 / s5abs;
+      s6base = -y6z1 / s5abs;
+      t6base = std::atan2(s6base, c6base);
+    }
+    double t234base = 0;
+    for (int wrist = 0; wrist < 2; ++wrist) {
+      // Wrist 1: s5 -> -s5 flips (c6, s6), i.e. t6 + pi.
+      const double sign = wrist == 0 ? 1.0 : -1.0;
+      const double t5 = sign * t5abs, s5 = sign * s5abs;
+      const double c6 = sign * c6base, s6 = sign * s6base;
+      const double t6 = wrist == 0 ? t6base : t6base + kPi;
+      // z4, x4 in the base frame.
+      double z4[3], x4[3];
+      for (int i = 0; i < 3; ++i) {
+        z4[i] = -s6 * x6[i] - c6 * y6[i];
+        x4[i] = c5 * c6 * x6[i] - c5 * s6 * y6[i] - s5 * z6[i];
+      }
+      const double o4[3] = {p5[0] - d5 * z4[0], p5[1] - d5 * z4[1], p5[2] - d5 * z4[2]};
+      const double px = o4[0] * c1 + o4[1] * s1;  // (o4 - o1) . x1
+      const double py = o4[2] - d1;               // (o4 - o1) . y1
+      // x4 flips sign with the wrist branch (every term does), so t234 just gains pi.
+      if (wrist == 0) t234base = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
+      const double t234 = wrist == 0 ? t234base : t234base + kPi;
+      double c3 = (px * px + py * py - a2sq - a3sq) / twoA2A3;
+      if (!clampUnit(c3)) continue;
+      const double t3abs = std::acos(c3);
+      const double s3abs = std::sqrt(std::max(0.0, 1 - c3 * c3));
+      const double base = std::atan2(py, px);
+      const double beta = std::atan2(a3 * s3abs, a2 + a3 * c3);
+      for (int elbow = 0; elbow < 2; ++elbow) {
+        const double t3 = elbow == 0 ? t3abs : -t3abs;
+        const double t2 = elbow == 0 ? base - beta : base + beta;
+        const double t4 = t234 - t2 - t3;
+        JointValues& q = solutions[n];
+        q[0] = wrapPi(t1 - off[0]);
+        q[1] = wrapPi(t2 - off[1]);
+        q[2] = wrapPi(t3 - off[2]);
+        q[3] = wrapPi(t4 - off[3]);
+        q[4] = wrapPi(t5 - off[4]);
+        q[5] = wrapPi(t6 - off[5]);
+        branches[n] = shoulder | (wrist << 1) | (elbow << 2);
+        ++n;
+      }
+    }
+  }
+  return n;
+}
+
+Eigen::Matrix<double, 6, 6> armJacobian(const DhTable& dh, const JointValues& q) {
+  const std::array<Eigen::Matrix4d, 7> f = armFrames(dh, q);
+  const Eigen::Vector3d pe = f[6].topRightCorner<3, 1>();
+  Eigen::Matrix<double, 6, 6> j;
+  for (int i = 0; i < 6; ++i) {
+    const Eigen::Vector3d z = f[i].block<3, 1>(0, 2);
+    const Eigen::Vector3d o = f[i].topRightCorner<3, 1>();
+    j.block<3, 1>(0, i) = z.cross(pe - o) * 1e-3;  // mm -> m per radian
+    j.block<3, 1>(3, i) = z;
+  }
+  return j;
+}
+
+double singularityMeasure(const Eigen::Matrix<double, 6, 6>& jacobian) {
+  if (!jacobian.allFinite()) return 0;
+  const Eigen::JacobiSVD<Eigen::Matrix<double, 6, 6>> svd(jacobian);
+  const auto s = svd.singularValues();  // descending
+  if (!(s[0] > 0)) return 0;
+  double prod = 1;
+  for (int i = 0; i < 6; ++i) prod *= std::max(0.0, s[i]);
+  // sqrt(prod) / (sqrt(s1) / sqrt(s6)) = sqrt(prod * s6 / s1)
+  return std::sqrt(prod * std::max(0.0, s[5]) / s[0]);
 }
 
 }  // namespace omnislice

@@ -1,13 +1,33 @@
 // SPDX-License-Identifier: MIT
 #include "program/machine.h"
 
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "kinematics/robot_arm.h"
 #include "program/machine_json.h"
 
 namespace omnislice {
+
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+
+// Defaults of the G-code kinds' axes (docs/MACHINES.md): a desktop printer's gantry and a
+// geared stepper platform.
+void gcodeDynamics(MachineProfile& m) {
+  m.axisDynamics["X"] = {200, 3000, 100000};
+  m.axisDynamics["Y"] = {200, 3000, 100000};
+  m.axisDynamics["Z"] = {20, 500, 10000};
+}
+
+// The tilting kinds put part points below the pivot height when they tilt: Z may go down to
+// -bedSize.z / 2 (docs/MACHINES.md).
+void tiltingLinearLimits(MachineProfile& m, const Eigen::Vector3d& bedSize) {
+  m.axisLimits["Z"] = {-0.5 * bedSize.z(), bedSize.z()};
+}
+}  // namespace
 
 MachineProfile cartesian3Profile(const Eigen::Vector3d& bedSize, double nozzleDiameter) {
   MachineProfile m;
@@ -19,6 +39,80 @@ MachineProfile cartesian3Profile(const Eigen::Vector3d& bedSize, double nozzleDi
   return m;
 }
 
+// UR5 placement (docs/MACHINES.md): the nozzle points straight down (axis +Z: tip -> hot end) at a
+// fixed tip 522 mm from the base axis, 300 mm above the base; the platform plate is 50 mm beyond
+// the flange along flange z, facing the nozzle when the wrist points up. Chosen by a grid search
+// over tip positions for the largest worst-case singularity measure over a 100 mm cube of tips
+// tilted up to 60 degrees (flat around 0.09-0.105 between 400 and 700 mm from the base axis); the
+// test KinematicsInverse.Robot6Ur5ReachesTheBuildVolume checks it.
+namespace {
+const double kUr5PlateOffset = 50;  // mm
+const Eigen::Vector3d kUr5NozzleTip{-500, 150, 300};  // mm, robot base frame
+
+MachineProfile ur5Profile(double nozzleDiameter) {
+  MachineProfile m;
+  m.kind = "robot6";
+  m.name = "robot6-ur5";
+  m.dh = ur5DhTable();
+  for (int i = 0; i < 6; ++i) {
+    m.jointLimits[i] = {-2 * kPi, 2 * kPi};
+    // Paper 003 Table 1.
+    m.jointDynamics[i] = {kPi / 6, kPi / 2, kPi};
+  }
+  m.flangeToPlatform = Eigen::Matrix4d::Identity();
+  m.flangeToPlatform(2, 3) = kUr5PlateOffset;
+  m.nozzleTip = kUr5NozzleTip;
+  m.nozzleAxis = Eigen::Vector3d::UnitZ();
+  m.nozzle.diameter = nozzleDiameter;
+  return m;
+}
+}  // namespace
+
+MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,
+                                    double nozzleDiameter) {
+  MachineProfileResult r;
+  MachineProfile& m = r.machine;
+  if (name == "cartesian3") {
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    gcodeDynamics(m);
+  } else if (name == "rotary4") {
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    m.kind = m.name = "rotary4";
+    tiltingLinearLimits(m, bedSize);
+    m.pivot = {0, 0, 0};
+    m.axisLimits["A"] = {-60, 60};  // paper 000's stepper platform range
+    gcodeDynamics(m);
+    m.axisDynamics["A"] = {90, 900, 9000};
+  } else if (name == "table5") {
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    m.kind = m.name = "table5";
+    tiltingLinearLimits(m, bedSize);
+    m.pivot = {0, 0, 0};
+    m.axisLimits["B"] = {-90, 90};
+    m.axisLimits["C"] = {-360, 360};
+    gcodeDynamics(m);
+    m.axisDynamics["B"] = {90, 900, 9000};
+    m.axisDynamics["C"] = {90, 900, 9000};
+  } else if (name == "robot6-ur5" || name == "robot6") {
+    m = ur5Profile(nozzleDiameter);
+  } else {
+    r.status = Status::InvalidOption;
+    r.message = "unknown machine \"" + name + "\"; built-in machines:";
+    for (const std::string& n : builtinMachineNames()) r.message += " " + n;
+    return r;
+  }
+  if (!(nozzleDiameter > 0) || !std::isfinite(nozzleDiameter) || !bedSize.allFinite() ||
+      !(bedSize.minCoeff() > 0)) {
+    r.status = Status::InvalidOption;
+    r.message = "builtinMachine: bed size and nozzle diameter must be positive";
+  }
+  return r;
+}
+
+std::vector<std::string> builtinMachineNames() {
+  return {"cartesian3", "rotary4", "table5", "robot6-ur5"};
+}
+
 std::vector<std::string> machineAxisLetters(const std::string& kind) {
   if (kind == "cartesian3") return {"X", "Y", "Z"};
   if (kind == "rotary4") return {"X", "Y", "Z", "A"};
@@ -26,82 +120,279 @@ std::vector<std::string> machineAxisLetters(const std::string& kind) {
   return {};
 }
 
-std::string machineJson(const MachineProfile& machine) {
-  // ordered_json keeps the key order of the format page (kind first).
-  nlohmann::ordered_json j;
-  j["kind"] = machine.kind;
-  if (machine.kind != "cartesian3") {
-    j["pivot"] = {machine.pivot.x(), machine.pivot.y(), machine.pivot.z()};
-  }
-  nlohmann::ordered_json limits = nlohmann::ordered_json::object();
-  // Axis letters of the kind first in their natural order, then any others alphabetically.
-  std::vector<std::string> order = machineAxisLetters(machine.kind);
-  for (const auto& kv : machine.axisLimits) {
+namespace {
+using OJson = nlohmann::ordered_json;
+
+// Letters of the kind in their natural order, then any others of `keys` alphabetically.
+template <typename Map>
+std::vector<std::string> letterOrder(const std::string& kind, const Map& keys) {
+  std::vector<std::string> order = machineAxisLetters(kind);
+  for (const auto& kv : keys) {
     if (std::find(order.begin(), order.end(), kv.first) == order.end()) order.push_back(kv.first);
   }
-  for (const std::string& axis : order) {
-    auto it = machine.axisLimits.find(axis);
-    if (it != machine.axisLimits.end()) limits[axis] = {it->second.first, it->second.second};
+  return order;
+}
+
+OJson dynamicsJson(const AxisDynamics& d) {
+  return OJson{{"velocity", d.velocity}, {"acceleration", d.acceleration}, {"jerk", d.jerk}};
+}
+
+const NozzleGeometry kDefaultNozzle{};
+}  // namespace
+
+std::string machineJson(const MachineProfile& machine) {
+  // ordered_json keeps the key order of the format page (kind first). Optional keys are written
+  // when they differ from their defaults (docs/MACHINES.md), so the planar header stays short.
+  OJson j;
+  j["kind"] = machine.kind;
+  if (machine.name != machine.kind) j["name"] = machine.name;
+  const bool pivoting = machine.kind == "rotary4" || machine.kind == "table5";
+  if (pivoting || !machine.pivot.isZero(0)) {
+    j["pivot"] = {machine.pivot.x(), machine.pivot.y(), machine.pivot.z()};
   }
-  j["axis_limits"] = limits;
-  j["nozzle"] = {{"diameter", machine.nozzle.diameter},
-                 {"cone_half_angle_deg", machine.nozzle.coneHalfAngleDegrees},
-                 {"cone_length", machine.nozzle.coneLength}};
+  if (!machine.axisLimits.empty() || machine.kind != "robot6") {
+    OJson limits = OJson::object();
+    for (const std::string& axis : letterOrder(machine.kind, machine.axisLimits)) {
+      auto it = machine.axisLimits.find(axis);
+      if (it != machine.axisLimits.end()) limits[axis] = {it->second.first, it->second.second};
+    }
+    j["axis_limits"] = limits;
+  }
+  if (!machine.axisDynamics.empty()) {
+    OJson dyn = OJson::object();
+    for (const std::string& axis : letterOrder(machine.kind, machine.axisDynamics)) {
+      auto it = machine.axisDynamics.find(axis);
+      if (it != machine.axisDynamics.end()) dyn[axis] = dynamicsJson(it->second);
+    }
+    j["dynamics"] = dyn;
+  }
+  if (machine.stepAngleDegrees != 0) j["step_angle_deg"] = machine.stepAngleDegrees;
+  if (machine.safeZ != 0) j["safe_z"] = machine.safeZ;
+  if (machine.kind == "robot6") {
+    OJson dh = OJson::array();
+    for (const DhRow& r : machine.dh) dh.push_back({r.thetaOffset, r.d, r.a, r.alpha});
+    j["dh"] = dh;
+    OJson limits = OJson::array();
+    for (const auto& l : machine.jointLimits) limits.push_back({l.first, l.second});
+    j["joint_limits"] = limits;
+    OJson dyn = OJson::array();
+    for (const AxisDynamics& d : machine.jointDynamics) dyn.push_back(dynamicsJson(d));
+    j["joint_dynamics"] = dyn;
+    OJson t = OJson::array();
+    for (int r = 0; r < 4; ++r) {
+      for (int c = 0; c < 4; ++c) t.push_back(machine.flangeToPlatform(r, c));
+    }
+    j["flange_to_platform"] = t;
+    j["nozzle_tip"] = {machine.nozzleTip.x(), machine.nozzleTip.y(), machine.nozzleTip.z()};
+    j["nozzle_axis"] = {machine.nozzleAxis.x(), machine.nozzleAxis.y(), machine.nozzleAxis.z()};
+  }
+  OJson nozzle = {{"diameter", machine.nozzle.diameter},
+                  {"cone_half_angle_deg", machine.nozzle.coneHalfAngleDegrees},
+                  {"cone_length", machine.nozzle.coneLength}};
+  if (machine.nozzle.carriageSize != kDefaultNozzle.carriageSize) {
+    const Eigen::Vector3d& c = machine.nozzle.carriageSize;
+    nozzle["carriage_size"] = {c.x(), c.y(), c.z()};
+  }
+  j["nozzle"] = nozzle;
   return j.dump();
 }
 
 namespace {
-bool finiteNumber(const nlohmann::json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
+using Json = nlohmann::json;
+
+bool finiteNumber(const Json& v) { return v.is_number() && std::isfinite(v.get<double>()); }
+
+// Reads an array of n finite numbers.
+bool readNumbers(const Json& v, size_t n, double* out) {
+  if (!v.is_array() || v.size() != n) return false;
+  for (size_t i = 0; i < n; ++i) {
+    if (!finiteNumber(v[i])) return false;
+    out[i] = v[i].get<double>();
+  }
+  return true;
+}
+
+// {"velocity":..,"acceleration":..,"jerk":..}, each optional, finite and >= 0.
+bool readDynamics(const Json& v, AxisDynamics& d) {
+  if (!v.is_object()) return false;
+  const std::pair<const char*, double*> keys[3] = {
+      {"velocity", &d.velocity}, {"acceleration", &d.acceleration}, {"jerk", &d.jerk}};
+  for (const auto& k : keys) {
+    auto it = v.find(k.first);
+    if (it == v.end()) continue;
+    if (!finiteNumber(*it) || it->get<double>() < 0) return false;
+    *k.second = it->get<double>();
+  }
+  return true;
+}
+
+struct Parser {
+  MachineParseResult r;
+  bool failed = false;
+  void fail(const std::string& msg) {
+    if (failed) return;
+    failed = true;
+    r.status = Status::ParseError;
+    r.message = "machine JSON: " + msg;
+  }
+
+  void parse(const Json& j) {
+    MachineProfile& m = r.machine;
+    if (!j.is_object()) return fail("not a JSON object");
+    auto kind = j.find("kind");
+    if (kind == j.end() || !kind->is_string()) return fail("missing \"kind\"");
+    m.kind = kind->get<std::string>();
+    m.name = m.kind;
+    if (auto it = j.find("name"); it != j.end()) {
+      if (!it->is_string()) return fail("\"name\" must be a string");
+      m.name = it->get<std::string>();
+    }
+    if (auto it = j.find("pivot"); it != j.end()) {
+      double p[3];
+      if (!readNumbers(*it, 3, p)) return fail("\"pivot\" must be 3 finite numbers");
+      m.pivot = {p[0], p[1], p[2]};
+    }
+    if (auto it = j.find("axis_limits"); it != j.end()) {
+      if (!it->is_object()) return fail("\"axis_limits\" must be an object");
+      for (auto a = it->begin(); a != it->end(); ++a) {
+        double l[2];
+        if (!readNumbers(a.value(), 2, l)) {
+          return fail("limit of axis " + a.key() + " must be [min, max] finite numbers");
+        }
+        if (l[0] > l[1]) return fail("limit of axis " + a.key() + " has min > max");
+        m.axisLimits[a.key()] = {l[0], l[1]};
+      }
+    }
+    if (auto it = j.find("dynamics"); it != j.end()) {
+      if (!it->is_object()) return fail("\"dynamics\" must be an object");
+      for (auto a = it->begin(); a != it->end(); ++a) {
+        AxisDynamics d;
+        if (!readDynamics(a.value(), d)) {
+          return fail("dynamics of axis " + a.key() +
+                      " must be {velocity, acceleration, jerk} finite numbers >= 0");
+        }
+        m.axisDynamics[a.key()] = d;
+      }
+    }
+    if (auto it = j.find("step_angle_deg"); it != j.end()) {
+      if (!finiteNumber(*it) || it->get<double>() < 0) {
+        return fail("\"step_angle_deg\" must be a finite number >= 0");
+      }
+      m.stepAngleDegrees = it->get<double>();
+    }
+    if (auto it = j.find("safe_z"); it != j.end()) {
+      if (!finiteNumber(*it)) return fail("\"safe_z\" must be a finite number");
+      m.safeZ = it->get<double>();
+    }
+    parseRobot(j);
+    if (failed) return;
+    if (auto it = j.find("nozzle"); it != j.end()) {
+      if (!it->is_object()) return fail("\"nozzle\" must be an object");
+      const std::pair<const char*, double*> keys[3] = {
+          {"diameter", &m.nozzle.diameter},
+          {"cone_half_angle_deg", &m.nozzle.coneHalfAngleDegrees},
+          {"cone_length", &m.nozzle.coneLength}};
+      for (const auto& k : keys) {
+        auto v = it->find(k.first);
+        if (v == it->end()) continue;
+        if (!finiteNumber(*v) || v->get<double>() <= 0) {
+          return fail("nozzle sizes must be positive finite numbers");
+        }
+        *k.second = v->get<double>();
+      }
+      if (m.nozzle.coneHalfAngleDegrees >= 90) {
+        return fail("nozzle cone_half_angle_deg must be below 90");
+      }
+      if (auto c = it->find("carriage_size"); c != it->end()) {
+        double s[3];
+        if (!readNumbers(*c, 3, s) || !(s[0] > 0 && s[1] > 0 && s[2] > 0)) {
+          return fail("nozzle carriage_size must be 3 positive finite numbers");
+        }
+        m.nozzle.carriageSize = {s[0], s[1], s[2]};
+      }
+    }
+  }
+
+  void parseRobot(const Json& j) {
+    MachineProfile& m = r.machine;
+    const bool robot = m.kind == "robot6";
+    auto dh = j.find("dh");
+    if (dh == j.end()) {
+      if (robot) fail("a robot6 machine needs \"dh\" (6 rows [theta_offset, d, a, alpha])");
+    } else {
+      if (!dh->is_array() || dh->size() != 6) return fail("\"dh\" must have 6 rows");
+      for (size_t i = 0; i < 6; ++i) {
+        double row[4];
+        if (!readNumbers((*dh)[i], 4, row)) {
+          return fail("\"dh\" rows must be [theta_offset, d, a, alpha] finite numbers");
+        }
+        m.dh[i] = DhRow{row[0], row[1], row[2], row[3]};
+      }
+    }
+    if (auto it = j.find("joint_limits"); it != j.end()) {
+      if (!it->is_array() || it->size() != 6) return fail("\"joint_limits\" must have 6 pairs");
+      for (size_t i = 0; i < 6; ++i) {
+        double l[2];
+        if (!readNumbers((*it)[i], 2, l)) {
+          return fail("\"joint_limits\" entries must be [min, max] finite numbers");
+        }
+        if (l[0] > l[1]) return fail("joint limit " + std::to_string(i + 1) + " has min > max");
+        m.jointLimits[i] = {l[0], l[1]};
+      }
+    }
+    if (auto it = j.find("joint_dynamics"); it != j.end()) {
+      if (!it->is_array() || it->size() != 6) return fail("\"joint_dynamics\" must have 6 entries");
+      for (size_t i = 0; i < 6; ++i) {
+        if (!readDynamics((*it)[i], m.jointDynamics[i])) {
+          return fail("\"joint_dynamics\" entries must be {velocity, acceleration, jerk} >= 0");
+        }
+      }
+    }
+    if (auto it = j.find("flange_to_platform"); it != j.end()) {
+      double t[16];
+      if (!readNumbers(*it, 16, t)) return fail("\"flange_to_platform\" must be 16 finite numbers");
+      Eigen::Matrix4d f;
+      for (int i = 0; i < 16; ++i) f(i / 4, i % 4) = t[i];
+      const Eigen::Matrix3d rot = f.topLeftCorner<3, 3>();
+      const bool rigid = (rot.transpose() * rot - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() <
+                             1e-6 &&
+                         rot.determinant() > 0 && f(3, 0) == 0 && f(3, 1) == 0 && f(3, 2) == 0 &&
+                         f(3, 3) == 1;
+      if (!rigid) return fail("\"flange_to_platform\" must be a rigid transform (rotation, translation)");
+      m.flangeToPlatform = f;
+    }
+    if (auto it = j.find("nozzle_tip"); it != j.end()) {
+      double p[3];
+      if (!readNumbers(*it, 3, p)) return fail("\"nozzle_tip\" must be 3 finite numbers");
+      m.nozzleTip = {p[0], p[1], p[2]};
+    }
+    if (auto it = j.find("nozzle_axis"); it != j.end()) {
+      double p[3];
+      if (!readNumbers(*it, 3, p)) return fail("\"nozzle_axis\" must be 3 finite numbers");
+      const Eigen::Vector3d a(p[0], p[1], p[2]);
+      const double n = a.norm();
+      if (!(n > 1e-12) || !std::isfinite(n)) return fail("\"nozzle_axis\" must not be zero");
+      // Unit axes are kept bit for bit (round trip); others are normalised.
+      m.nozzleAxis = std::abs(n - 1) < 1e-15 ? a : Eigen::Vector3d(a / n);
+    }
+  }
+};
 }  // namespace
 
 MachineParseResult machineFromJson(const std::string& text) {
-  MachineParseResult r;
-  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
-  auto fail = [&](const std::string& msg) {
-    r.status = Status::ParseError;
-    r.message = "machine JSON: " + msg;
-    return r;
-  };
-  if (j.is_discarded() || !j.is_object()) return fail("not a JSON object");
-  if (!j.contains("kind") || !j["kind"].is_string()) return fail("missing \"kind\"");
-  r.machine.kind = j["kind"].get<std::string>();
-  if (j.contains("pivot")) {
-    const auto& p = j["pivot"];
-    if (!p.is_array() || p.size() != 3 || !finiteNumber(p[0]) || !finiteNumber(p[1]) ||
-        !finiteNumber(p[2])) {
-      return fail("\"pivot\" must be 3 finite numbers");
+  Parser p;
+  try {
+    const Json j = Json::parse(text, nullptr, false);
+    if (j.is_discarded()) {
+      p.fail("malformed JSON");
+    } else {
+      p.parse(j);
     }
-    r.machine.pivot = {p[0].get<double>(), p[1].get<double>(), p[2].get<double>()};
+  } catch (const std::exception& e) {  // never escapes the core (nlohmann type errors)
+    p.fail(std::string("malformed machine: ") + e.what());
   }
-  if (j.contains("axis_limits")) {
-    const auto& l = j["axis_limits"];
-    if (!l.is_object()) return fail("\"axis_limits\" must be an object");
-    for (auto it = l.begin(); it != l.end(); ++it) {
-      const auto& v = it.value();
-      if (!v.is_array() || v.size() != 2 || !finiteNumber(v[0]) || !finiteNumber(v[1])) {
-        return fail("limit of axis " + it.key() + " must be [min, max] finite numbers");
-      }
-      const double lo = v[0].get<double>(), hi = v[1].get<double>();
-      if (lo > hi) return fail("limit of axis " + it.key() + " has min > max");
-      r.machine.axisLimits[it.key()] = {lo, hi};
-    }
-  }
-  if (j.contains("nozzle")) {
-    const auto& n = j["nozzle"];
-    if (!n.is_object()) return fail("\"nozzle\" must be an object");
-    auto read = [&](const char* key, double& out) {
-      if (!n.contains(key)) return true;
-      if (!finiteNumber(n[key]) || n[key].get<double>() <= 0) return false;
-      out = n[key].get<double>();
-      return true;
-    };
-    if (!read("diameter", r.machine.nozzle.diameter) ||
-        !read("cone_half_angle_deg", r.machine.nozzle.coneHalfAngleDegrees) ||
-        !read("cone_length", r.machine.nozzle.coneLength)) {
-      return fail("nozzle sizes must be positive finite numbers");
-    }
-  }
-  return r;
+  if (p.failed) p.r.machine = MachineProfile{};
+  return p.r;
 }
 
 }  // namespace omnislice
