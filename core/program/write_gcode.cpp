@@ -29,6 +29,7 @@
 #include <set>
 
 #include "kinematics/kinematics.h"
+#include "motion/plan_motion.h"
 #include "program/machine_json.h"
 #include "program/program_text.h"
 
@@ -479,35 +480,14 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
                   " has a nozzle axis other than +Z, which a cartesian3 machine cannot print");
     }
   }
-  // cartesian3 maps every move to itself (values = position, axis +Z); durations at the requested
-  // speed, the time estimate of toolpathStats().
-  MachinePath path;
-  path.machine = info.machine;
-  path.start = {toolpath.start.x(), toolpath.start.y(), toolpath.start.z(), 0, 0, 0};
-  path.layerCount = toolpath.layerCount;
-  Eigen::Vector3d prev = toolpath.start;
-  for (size_t i = 0; i < toolpath.moves.size(); ++i) {
-    const Move& m = toolpath.moves[i];
-    MachineMove mm;
-    mm.values = {m.position.x(), m.position.y(), m.position.z(), 0, 0, 0};
-    mm.tip = m.position;
-    mm.axis = Eigen::Vector3d::UnitZ();
-    mm.filament = m.filament;
-    const double len = (m.position - prev).norm();
-    const double d = len > 0 ? len : std::abs(m.filament);
-    mm.durationS = m.speed > 0 ? d / m.speed : 0.0;
-    mm.tipSpeed = len > 0 ? m.speed : 0.0;
-    mm.width = m.width;
-    mm.height = m.height;
-    mm.kind = m.kind;
-    mm.feature = m.feature;
-    mm.part = m.part;
-    mm.layer = m.layer;
-    mm.source = uint32_t(i);
-    path.moves.push_back(mm);
-    prev = m.position;
+  MotionOptions options;
+  options.acceleration = info.acceleration;
+  const MachinePath path = planMachineMotion(toolpath, info.machine, options);
+  if (!path.ok()) {
+    r.status = path.status;
+    r.message = path.message;
+    return r;
   }
-  path.stats.estimatedTimeS = toolpathStats(toolpath, info.acceleration).estimatedTimeS;
   return writeProgram(path, info);
 }
 
