@@ -150,7 +150,7 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
         if (!pieces.ok()) return fail("move " + std::to_string(k) + ": " + pieces.message);
         f = pieces.length / m.durationS;
       }
-      line(q + "," + formatNumber("%.6f", m.filament) + "," + formatNumber("%.6f", f) + "," +
+      line(q + "," + formatNumber("%.8f", m.filament) + "," + formatNumber("%.6f", f) + "," +
            rowKind(m.kind));
     }
     written = next;

@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "machine_paths.h"
+#include "test_toolpaths.h"
+#include "motion/plan_motion.h"
 #include "program/machine_json.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
@@ -565,6 +567,60 @@ TEST(WriteProgram, MalformedRobotAndRotaryLines) {
     const long line = lineOf(t, t.substr(t.rfind('\n', a) + 1, a - t.rfind('\n', a) - 1));
     t.insert(a + 2, "9999");
     expectError(t, Status::ParseError, line);
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// A two-part 3+2 tool-path planned by planMachineMotion on rotary4 and table5: the planner's
+// safe rotations (retract, lift, rotate) pass the writer's 3+2 check, and the part markers carry
+// each part's direction.
+TEST(WriteProgram, PlannedThreePlusTwoPassesTheWriterCheck) {
+  test::BoxPathOptions o;
+  o.height = 1;
+  Toolpath tp = test::boxToolpath(o);
+  const size_t first = tp.moves.size();
+  const Toolpath top = test::boxToolpath(o);
+  const Eigen::Vector3d tilted(0, -std::sin(M_PI / 6), std::cos(M_PI / 6));
+  for (Move m : top.moves) {
+    m.part = 1;
+    m.layer += 5;
+    m.position.z() += 1.0;
+    // The retract that ends part 0 keeps part 0's axis; part 1 starts with its travel. (A retract
+    // carrying the new axis is planned as a rotation in place, which the writer refuses.)
+    if (tp.moves.size() > first || m.kind != MoveKind::Retract) m.axis = tilted;
+    tp.moves.push_back(m);
+  }
+  tp.layerCount = 10;
+  for (const std::string name : {"rotary4", "table5"}) {
+    const MachineProfileResult machine = builtinMachine(name, {220, 220, 250}, 0.4);
+    ASSERT_TRUE(machine.ok());
+    const MachinePath path = planMachineMotion(tp, machine.machine);
+    ASSERT_TRUE(path.ok()) << path.message;
+    const WriteProgramResult w = writeProgram(path, infoFor(machine.machine));
+    ASSERT_TRUE(w.ok()) << name << ": " << w.message;
+    const ParsedProgram p = readProgram(w.text);
+    ASSERT_TRUE(p.ok()) << p.message;
+    const size_t marker = w.text.find("; omnislice:part 1 direction [");
+    ASSERT_NE(marker, std::string::npos) << name;
+    Eigen::Vector3d direction;
+    ASSERT_EQ(std::sscanf(w.text.c_str() + marker, "; omnislice:part 1 direction [%lf,%lf,%lf]",
+                          &direction.x(), &direction.y(), &direction.z()),
+              3);
+    EXPECT_LT((direction - tilted).norm(), 1e-6) << name;
+    // The tilted part is printed with the tilted part-frame axis.
+    size_t tiltedPrints = 0;
+    for (const ProgramMove& m : p.moves) {
+      if (m.part == 1 && m.filament > 0 && (m.to - m.from).norm() > 0) {
+        EXPECT_LT((m.axis - tilted).norm(), 1e-4);
+        ++tiltedPrints;
+      }
+    }
+    EXPECT_GT(tiltedPrints, 10u);
   }
 }
 
