@@ -79,6 +79,21 @@ std::string formatNumber(const char* format, double v) {
   return buf;
 }
 
+std::string fixedNumber(double v, int significant) {
+  if (!std::isfinite(v)) return "0";
+  const double mag = v != 0 ? std::floor(std::log10(std::abs(v))) : 0.0;
+  const int decimals = int(std::clamp(double(significant) - 1.0 - mag, 0.0, 12.0));
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string out = buf;
+  if (out.find('.') != std::string::npos) {
+    while (!out.empty() && out.back() == '0') out.pop_back();
+    if (!out.empty() && out.back() == '.') out.pop_back();
+  }
+  if (out == "-0") out = "0";
+  return out;
+}
+
 std::string durationText(double seconds) {
   long s = std::lround(std::max(0.0, seconds));
   const long h = s / 3600, m = (s % 3600) / 60;
@@ -301,12 +316,15 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     if (combined) return std::sqrt(lin + rot);
     return lin > 0 ? std::sqrt(lin) : std::sqrt(rot);
   };
-  double lastF = -1;  // mm/min last written
+  std::string lastF;  // F text last written
   auto feedWord = [&](double f) -> std::string {
-    f = std::round(f * 1000.0) / 1000.0;
-    if (!(f > 0) || f == lastF) return "";
-    lastF = f;
-    return " F" + formatNumber("%.10g", f);
+    // 7 significant digits: the planned time comes back to 1e-7 even for the slow XYZ feeds of
+    // mostly rotary moves ("xyz" semantics).
+    if (!(f > 0) || !std::isfinite(f)) return "";
+    const std::string text = fixedNumber(f, 7);
+    if (text == lastF) return "";
+    lastF = text;
+    return " F" + text;
   };
 
   // Travel to the start values (the park pose of the plan) at the F of the first travel.

@@ -212,6 +212,12 @@ TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
       EXPECT_TRUE(has("M109 S210") && has("M190 S60") && has("G28") && has("M82"));
       EXPECT_TRUE(has("; omnislice:part 0 direction [") && has("; omnislice:part 1 direction ["));
       EXPECT_TRUE(has(";TYPE:WALL-OUTER") && has("; omnislice:feature skin"));
+      // Numbers in fixed notation only (firmware does not read exponents).
+      for (const std::string& l : ls) {
+        if (l.rfind("G0 ", 0) == 0 || l.rfind("G1 ", 0) == 0) {
+          EXPECT_EQ(l.find_first_of("e+;"), std::string::npos) << l;
+        }
+      }
       // Moves: the park travel from home first, then one group per moving path move.
       const auto g = checkRoundTrip(path, p, 1, 1.1e-5);
       // F gives back the planned durations (to the rounding of the written values and of F).
@@ -330,6 +336,11 @@ TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
       EXPECT_EQ(ls[ls.size() - 2], "end");
       EXPECT_EQ(ls.back(), "omnislice_program()");
       EXPECT_NE(w.text.find("set_analog_out(0, "), std::string::npos);
+      for (const std::string& l : ls) {
+        const size_t open = l.find('(');
+        if (l[0] == '#' || open == std::string::npos) continue;
+        EXPECT_EQ(l.find_first_of("eE+", open), std::string::npos) << l;  // no exponents
+      }
     }
     // The first row / target is the start pose: no group for it.
     const auto g = checkRoundTrip(path, p, 0, 1e-5);
