@@ -367,8 +367,8 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     if (m.part != currentPart) {
       currentPart = m.part;
       const Eigen::Vector3d d = partDirection[m.part];
-      line("; omnislice:part " + std::to_string(m.part) + " direction [" + num(d.x()) + "," +
-           num(d.y()) + "," + num(d.z()) + "]");
+      line("; omnislice:part " + std::to_string(m.part) + " direction [" + fixedNumber(d.x(), 10) + "," +
+           fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
       currentLayer = INT32_MIN;  // every part restates its layer
     }
     if (m.layer != currentLayer) {

@@ -109,8 +109,8 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
     if (m.part != currentPart) {
       currentPart = m.part;
       const Eigen::Vector3d d = partDirection[m.part];
-      line(indent + "# omnislice:part " + std::to_string(m.part) + " direction [" + num(d.x()) +
-           "," + num(d.y()) + "," + num(d.z()) + "]");
+      line(indent + "# omnislice:part " + std::to_string(m.part) + " direction [" +
+           fixedNumber(d.x(), 10) + "," + fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
       currentLayer = INT32_MIN;
     }
     if (m.layer != currentLayer) {
