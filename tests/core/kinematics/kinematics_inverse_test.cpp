@@ -87,6 +87,10 @@ TEST(KinematicsInverse, BadInputsGiveInvalidOption) {
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, 0, 2}).status, Status::InvalidOption);
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, 0, 0}).status, Status::InvalidOption);
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, nan, 1}).status, Status::InvalidOption);
+  // A robot6 profile whose DH table is not of the UR family has no analytic inverse here.
+  MachineProfile arm = builtin("robot6");
+  arm.dh[3].a = 10;
+  EXPECT_EQ(inverseMap(arm, {0, 0, 0}, Eigen::Vector3d::UnitZ()).status, Status::InvalidOption);
   MachineProfile unknown = m;
   unknown.kind = "hexapod";
   EXPECT_EQ(inverseMap(unknown, {0, 0, 0}, Eigen::Vector3d::UnitZ()).status,
