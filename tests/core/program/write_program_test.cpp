@@ -512,6 +512,39 @@ TEST(WriteProgram, LargeProgramTimes) {
               std::chrono::duration<double>(t2 - t1).count(), p.moves.size());
 }
 
+TEST(WriteProgram, LargeRobotProgramTimes) {
+  // 100k joint-space moves of a smooth motion (not a print: timing only).
+  const MachineProfile m = test::ur5TestMachine();
+  MachineValues q0{};
+  ASSERT_TRUE(test::robotStart(m, {0, 0, 5}, Eigen::Matrix3d::Identity(), q0));
+  test::MachinePathBuilder b(m, q0);
+  for (int k = 0; k < 100000; ++k) {
+    b.layer = k / 1000;
+    MachineValues q = q0;
+    const double s = 2 * M_PI * k / 1000.0;
+    q[0] += 0.02 * std::sin(s);
+    q[1] += 0.01 * std::cos(s);
+    q[5] += 0.02 * std::cos(s);
+    b.push(q, MoveKind::Print, 0.002, 0.01, Feature::WallOuter);
+  }
+  for (RobotFormat format : {RobotFormat::Csv, RobotFormat::UrScript}) {
+    ProgramInfo info = infoFor(m);
+    info.robotFormat = format;
+    const auto t0 = std::chrono::steady_clock::now();
+    const WriteProgramResult w = writeProgram(b.path, info);
+    const auto t1 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(w.ok()) << w.message;
+    const ParsedProgram p = readProgram(w.text);
+    const auto t2 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(p.ok()) << p.message;
+    EXPECT_GE(p.moves.size(), 100000u);
+    std::printf("robot6 100k moves %s: write %.2f s (%zu MB), read %.2f s (%zu pieces)\n",
+                robotFormatName(format), std::chrono::duration<double>(t1 - t0).count(),
+                w.text.size() >> 20, std::chrono::duration<double>(t2 - t1).count(),
+                p.moves.size());
+  }
+}
+
 }  // namespace
 }  // namespace omnislice
 
