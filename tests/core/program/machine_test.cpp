@@ -231,6 +231,15 @@ TEST(MachineProfile, MalformedJsonGivesParseError) {
   EXPECT_EQ(d.machine.nozzle.coneHalfAngleDegrees, 40);
   EXPECT_EQ(d.machine.nozzle.coneLength, 25);
   EXPECT_EQ(d.machine.name, "delta");
+  // The minimal user profile of docs/MACHINES.md.
+  const MachineParseResult u = machineFromJson(
+      R"({"kind":"table5","pivot":[0,0,-30],"axis_limits":{"X":[-100,100],"Y":[-100,100],)"
+      R"("Z":[-80,200],"B":[-120,120],"C":[-720,720]},"nozzle":{"diameter":0.6}})");
+  ASSERT_TRUE(u.ok()) << u.message;
+  EXPECT_EQ(u.machine.pivot, Eigen::Vector3d(0, 0, -30));
+  EXPECT_EQ(u.machine.axisLimits.at("C"), std::make_pair(-720.0, 720.0));
+  EXPECT_EQ(u.machine.nozzle.diameter, 0.6);
+  EXPECT_EQ(u.machine.nozzle.carriageSize, Eigen::Vector3d(60, 60, 40));
 }
 
 // Mutated profiles (bytes deleted, replaced, duplicated, truncated) never crash: either a valid
