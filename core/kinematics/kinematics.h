@@ -41,6 +41,8 @@ struct IkOptions {
                                              // wraps (C +- 360, A +- 360) to the nearest values
   double axisTolerance = 1e-9;           // rotary4: |u.x| above this is infeasible;
                                          // cartesian3: |(u.x, u.y)| above this is infeasible
+  int branchMask = 0xff;                 // robot6: urInverse() branches to keep (bit b = branch
+                                         // b, see robot_arm.h); 0xff = all 8
 };
 
 struct IkCandidate {

@@ -105,6 +105,18 @@ bool isUrFamily(const DhTable& dh) {
 //    Elbow bit selects the sign of t3 = +-acos((x^2 + y^2 - a2^2 - a3^2) / (2 a2 a3)).
 int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solutions[8],
               int branches[8]) {
+  return urInverseBranches(dh, flange, 0xff, solutions, branches);
+}
+
+int urInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
+                      JointValues solutions[8], int branches[8]) {
+  // Branches wanted per shoulder (bits 0, 2, 4, 6 are shoulder 0) and per shoulder + wrist.
+  auto wanted = [branchMask](int fixedBits, int fixedValue) {
+    for (int b = 0; b < 8; ++b) {
+      if ((branchMask >> b & 1) && (b & fixedBits) == fixedValue) return true;
+    }
+    return false;
+  };
   const double d1 = dh[0].d, a2 = dh[1].a, a3 = dh[2].a, d4 = dh[3].d, d5 = dh[4].d,
                d6 = dh[5].d;
   const double x6[3] = {flange(0, 0), flange(1, 0), flange(2, 0)};
@@ -139,6 +151,7 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
   const double a2sq = a2 * a2, a3sq = a3 * a3, twoA2A3 = 2 * a2 * a3;
   int n = 0;
   for (int shoulder = 0; shoulder < 2; ++shoulder) {
+    if (!wanted(1, shoulder)) continue;
     // cos and sin of t1 from those of phi and asin(d4 / r), without calling cos/sin.
     const double t1 = shoulder == 0 ? phi + as : phi + kPi - as;
     const double c1 = shoulder == 0 ? cphi * cas - sphi * s14 : -(cphi * cas + sphi * s14);
@@ -156,7 +169,9 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       t6base = std::atan2(s6base, c6base);
     }
     double t234base = 0;
+    bool haveT234 = false;
     for (int wrist = 0; wrist < 2; ++wrist) {
+      if (!wanted(3, shoulder | wrist << 1)) continue;
       // Wrist 1: s5 -> -s5 flips (c6, s6), i.e. t6 + pi.
       const double sign = wrist == 0 ? 1.0 : -1.0;
       const double t5 = sign * t5abs, s5 = sign * s5abs;
@@ -172,8 +187,14 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       const double px = o4[0] * c1 + o4[1] * s1;  // (o4 - o1) . x1
       const double py = o4[2] - d1;               // (o4 - o1) . y1
       // x4 flips sign with the wrist branch (every term does), so t234 just gains pi.
-      if (wrist == 0) t234base = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
-      const double t234 = wrist == 0 ? t234base : t234base + kPi;
+      double t234;
+      if (!haveT234) {
+        t234 = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
+        t234base = wrist == 0 ? t234 : t234 - kPi;
+        haveT234 = true;
+      } else {
+        t234 = t234base + kPi;  // wrist 1 after wrist 0
+      }
       double c3 = (px * px + py * py - a2sq - a3sq) / twoA2A3;
       if (!clampUnit(c3)) continue;
       const double t3abs = std::acos(c3);
@@ -181,6 +202,8 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       const double base = std::atan2(py, px);
       const double beta = std::atan2(a3 * s3abs, a2 + a3 * c3);
       for (int elbow = 0; elbow < 2; ++elbow) {
+        const int b = shoulder | (wrist << 1) | (elbow << 2);
+        if (!(branchMask >> b & 1)) continue;
         const double t3 = elbow == 0 ? t3abs : -t3abs;
         const double t2 = elbow == 0 ? base - beta : base + beta;
         const double t4 = t234 - t2 - t3;
@@ -191,7 +214,7 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
         q[3] = wrapPi(t4 - off[3]);
         q[4] = wrapPi(t5 - off[4]);
         q[5] = wrapPi(t6 - off[5]);
-        branches[n] = shoulder | (wrist << 1) | (elbow << 2);
+        branches[n] = b;
         ++n;
       }
     }

@@ -2,6 +2,8 @@
 #include "motion/plan_motion.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -45,6 +47,21 @@ double trapezoidTime(double length, double speed, double accel) {
   if (length >= accelDist) return length / speed + speed / accel;
   return 2.0 * std::sqrt(length / accel);
 }
+
+}  // namespace
+
+double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& j) {
+  // Singular values of J are the square roots of the eigenvalues of J^T J; prod(s) = |det J|.
+  const Eigen::Matrix<double, 6, 6> g = j.transpose() * j;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(g, Eigen::EigenvaluesOnly);
+  const auto& l = es.eigenvalues();  // ascending
+  const double smax = std::sqrt(std::max(l(5), 0.0));
+  const double smin = std::sqrt(std::max(l(0), 0.0));
+  if (!(smax > 0)) return 0;
+  return std::sqrt(std::abs(j.determinant())) * std::sqrt(smin / smax);
+}
+
+namespace {
 
 double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                             const Eigen::Vector3d& b) {
@@ -108,6 +125,7 @@ bool Planner::validate() {
   robot_ = m_.kind == "robot6";
   gcodeRotary_ = m_.kind == "rotary4" || m_.kind == "table5";
   auto bad = [](double v) { return !std::isfinite(v); };
+  if (o_.maxKeptPoses < 0) return fail(Status::InvalidOption, "maxKeptPoses must be >= 0");
   if (o_.freeRotationSamples < 1 || o_.freeRotationSamples > 3600) {
     return fail(Status::InvalidOption, "freeRotationSamples must be in [1, 3600]");
   }
@@ -222,9 +240,22 @@ PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
       return info;
     }
   }
-  info.measure = singularityMeasure(armJacobian(m_.dh, q));
-  if (o_.singularityThreshold > 0 && info.measure < o_.singularityThreshold) {
-    info.penalty = o_.singularityPenalty * (1.0 - info.measure / o_.singularityThreshold);
+  // Penalty below singularityThreshold. Bounds decide most poses without an eigen-solve: with
+  // s1 <= |J|_F and s6 >= 1 / |J^-1|_F, w = sqrt(|det J|) sqrt(s6 / s1) is at least
+  // sqrt(|det J| / (|J|_F |J^-1|_F)), within a factor sqrt(6) of the truth. The measure itself
+  // is computed only when that bound is below the threshold or a tie needs it (measure = NaN).
+  if (o_.singularityThreshold > 0 && o_.singularityPenalty > 0) {
+    const Eigen::Matrix<double, 6, 6> j = armJacobian(m_.dh, q);
+    const Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> lu(j);
+    const double det = std::abs(lu.determinant());
+    double lower = 0;
+    if (det > 1e-300) lower = std::sqrt(det / (j.norm() * lu.inverse().norm()));
+    if (!(lower >= o_.singularityThreshold)) {
+      info.measure = fastSingularityMeasure(j);
+      if (info.measure < o_.singularityThreshold) {
+        info.penalty = o_.singularityPenalty * (1.0 - info.measure / o_.singularityThreshold);
+      }
+    }
   }
   return info;
 }
@@ -269,7 +300,9 @@ bool Planner::choose() {
   IkOptions io;
   io.freeRotationSamples = o_.freeRotationSamples;
   const double total = static_cast<double>(layers);
-  auto candidates = [&](size_t layer, const MachineValues* ref, std::vector<MachineValues>& c) {
+  const int samples = o_.freeRotationSamples;
+  auto candidates = [&](size_t layer, const MachineValues* ref, std::vector<MachineValues>& c,
+                        std::vector<int32_t>& keys) {
     if ((layer & 63) == 0 && !reportProgress(progress_, kStage, 0.8 * layer / total)) return false;
     io.reference = ref;
     const IkResult r = inverseMap(m_, layerPos_[layer], layerAxis_[layer], io);
@@ -278,14 +311,27 @@ bool Planner::choose() {
       return false;
     }
     c.reserve(r.candidates.size());
-    for (const IkCandidate& k : r.candidates) c.push_back(k.values);
+    for (const IkCandidate& k : r.candidates) {
+      c.push_back(k.values);
+      if (robot_) {
+        // Track key: index of the free-rotation sample (freeAngle = -pi + 2 pi i / samples).
+        const long i = std::lround((k.freeAngle + kPi) * samples / (2 * kPi));
+        keys.push_back(static_cast<int32_t>(((i % samples + samples) % samples) * 8 + (k.branch & 7)));
+      }
+    }
     return true;
   };
   auto info = [&](const MachineValues& q) {
     if (robot_) return robotInfo(q);
     return PoseNodeInfo{};
   };
-  PoseChoice pc = choosePoses(layers, metric_, candidates, info);
+  auto measure = [&](const MachineValues& q) {
+    return robot_ ? fastSingularityMeasure(armJacobian(m_.dh, q)) : 0.0;
+  };
+  PoseChoiceOptions pco;
+  pco.maxKept = static_cast<size_t>(o_.maxKeptPoses);
+  pco.slack = robot_ ? o_.poseSlack : 0.0;
+  PoseChoice pc = choosePoses(layers, metric_, candidates, info, measure, pco);
   if (!ikError.empty()) return fail(Status::InvalidOption, "inverse kinematics: " + ikError);
   if (pc.status == Status::Cancelled) return fail(Status::Cancelled, "cancelled");
   if (!pc.ok()) {
@@ -305,7 +351,15 @@ bool Planner::choose() {
   out_.stats.greedyPosePenalty = pc.greedyPenalty;
   if (robot_) {
     double mn = std::numeric_limits<double>::infinity();
-    for (double w : pc.chosenMeasure) mn = std::min(mn, w);
+    const MachineValues* worst = nullptr;
+    for (const MachineValues& q : pc.chosen) {
+      const double w = fastSingularityMeasure(armJacobian(m_.dh, q));
+      if (w < mn) {
+        mn = w;
+        worst = &q;
+      }
+    }
+    if (worst) mn = singularityMeasure(armJacobian(m_.dh, *worst));  // the reference SVD value
     out_.stats.minSingularity = mn;
   }
   layerValues_ = std::move(pc.chosen);

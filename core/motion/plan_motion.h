@@ -5,6 +5,8 @@
 // part-frame path, and feed rates limited by axis / joint velocity, acceleration and jerk
 // (paper 003 Eq. 7-9), with the time estimate that follows.
 #pragma once
+#include <Eigen/Core>
+
 #include "common/progress.h"
 #include "motion/machine_path.h"
 #include "program/machine.h"
@@ -31,6 +33,11 @@ struct MotionOptions {
                                        // a penalty in the pose choice
   double singularityPenalty = 0.1;  // robot6: penalty (rad of L1 joint change) at measure 0,
                                     // falling linearly to 0 at singularityThreshold
+  int maxKeptPoses = 0;// pose choice: 0 = exact shortest path; else at most this
+                                    // many non-dominated candidates per sample are kept (plus
+                                    // the greedy one, so the result is never worse than greedy)
+  double poseSlack = 0.05;// robot6 with maxKeptPoses > 0: rad; a candidate within this
+                                    // of being dominated is dropped to make room for distinct ones
   double armClearance = 10;         // robot6: mm an arm frame origin keeps from the extruder
                                     // cylinder and below which it may not go under the base plane
 };
@@ -52,6 +59,10 @@ struct MotionOptions {
 // InvalidOption for an unknown kind, a non-finite or zero-length axis, or a point no candidate of
 // the inverse kinematics reaches within the limits ("move 123 at (x, y, z) axis (...) is out of
 // reach of machine 'robot6-ur5'"); Cancelled when progress returns false.
+// Paper 003 Eq. (5) (singularityMeasure() in robot_arm.h) from the eigenvalues of J^T J instead
+// of an SVD: the same value up to rounding, several times faster (used inside the pose choice).
+double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& jacobian);
+
 MachinePath planMachineMotion(const Toolpath& toolpath, const MachineProfile& machine,
                               const MotionOptions& options = {}, const ProgressFn& progress = {});
 

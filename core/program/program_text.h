@@ -13,6 +13,10 @@ namespace omnislice {
 // printf-style formatting of one number.
 std::string formatNumber(const char* format, double v);
 
+// v in fixed notation (never an exponent, which firmware and URScript do not read) with about
+// `significant` significant digits, at most 12 decimals, trailing zeros removed ("2400", "0.0125").
+std::string fixedNumber(double v, int significant);
+
 // "1h 2m 3s" with leading zero units left out ("2m 3s", "3s").
 std::string durationText(double seconds);
 

@@ -29,6 +29,7 @@
 #include <set>
 
 #include "kinematics/kinematics.h"
+#include "motion/plan_motion.h"
 #include "program/machine_json.h"
 #include "program/program_text.h"
 
@@ -76,6 +77,21 @@ std::string formatNumber(const char* format, double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, format, v);
   return buf;
+}
+
+std::string fixedNumber(double v, int significant) {
+  if (!std::isfinite(v)) return "0";
+  const double mag = v != 0 ? std::floor(std::log10(std::abs(v))) : 0.0;
+  const int decimals = int(std::clamp(double(significant) - 1.0 - mag, 0.0, 12.0));
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string out = buf;
+  if (out.find('.') != std::string::npos) {
+    while (!out.empty() && out.back() == '0') out.pop_back();
+    if (!out.empty() && out.back() == '.') out.pop_back();
+  }
+  if (out == "-0") out = "0";
+  return out;
 }
 
 std::string durationText(double seconds) {
@@ -300,12 +316,15 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     if (combined) return std::sqrt(lin + rot);
     return lin > 0 ? std::sqrt(lin) : std::sqrt(rot);
   };
-  double lastF = -1;  // mm/min last written
+  std::string lastF;  // F text last written
   auto feedWord = [&](double f) -> std::string {
-    f = std::round(f * 1000.0) / 1000.0;
-    if (!(f > 0) || f == lastF) return "";
-    lastF = f;
-    return " F" + formatNumber("%.10g", f);
+    // 7 significant digits: the planned time comes back to 1e-7 even for the slow XYZ feeds of
+    // mostly rotary moves ("xyz" semantics).
+    if (!(f > 0) || !std::isfinite(f)) return "";
+    const std::string text = fixedNumber(f, 7);
+    if (text == lastF) return "";
+    lastF = text;
+    return " F" + text;
   };
 
   // Travel to the start values (the park pose of the plan) at the F of the first travel.
@@ -348,8 +367,8 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     if (m.part != currentPart) {
       currentPart = m.part;
       const Eigen::Vector3d d = partDirection[m.part];
-      line("; omnislice:part " + std::to_string(m.part) + " direction [" + num(d.x()) + "," +
-           num(d.y()) + "," + num(d.z()) + "]");
+      line("; omnislice:part " + std::to_string(m.part) + " direction [" + fixedNumber(d.x(), 10) + "," +
+           fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
       currentLayer = INT32_MIN;  // every part restates its layer
     }
     if (m.layer != currentLayer) {
@@ -479,35 +498,14 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
                   " has a nozzle axis other than +Z, which a cartesian3 machine cannot print");
     }
   }
-  // cartesian3 maps every move to itself (values = position, axis +Z); durations at the requested
-  // speed, the time estimate of toolpathStats().
-  MachinePath path;
-  path.machine = info.machine;
-  path.start = {toolpath.start.x(), toolpath.start.y(), toolpath.start.z(), 0, 0, 0};
-  path.layerCount = toolpath.layerCount;
-  Eigen::Vector3d prev = toolpath.start;
-  for (size_t i = 0; i < toolpath.moves.size(); ++i) {
-    const Move& m = toolpath.moves[i];
-    MachineMove mm;
-    mm.values = {m.position.x(), m.position.y(), m.position.z(), 0, 0, 0};
-    mm.tip = m.position;
-    mm.axis = Eigen::Vector3d::UnitZ();
-    mm.filament = m.filament;
-    const double len = (m.position - prev).norm();
-    const double d = len > 0 ? len : std::abs(m.filament);
-    mm.durationS = m.speed > 0 ? d / m.speed : 0.0;
-    mm.tipSpeed = len > 0 ? m.speed : 0.0;
-    mm.width = m.width;
-    mm.height = m.height;
-    mm.kind = m.kind;
-    mm.feature = m.feature;
-    mm.part = m.part;
-    mm.layer = m.layer;
-    mm.source = uint32_t(i);
-    path.moves.push_back(mm);
-    prev = m.position;
+  MotionOptions options;
+  options.acceleration = info.acceleration;
+  const MachinePath path = planMachineMotion(toolpath, info.machine, options);
+  if (!path.ok()) {
+    r.status = path.status;
+    r.message = path.message;
+    return r;
   }
-  path.stats.estimatedTimeS = toolpathStats(toolpath, info.acceleration).estimatedTimeS;
   return writeProgram(path, info);
 }
 

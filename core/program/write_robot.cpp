@@ -80,7 +80,7 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
   };
   double rate = 0;  // URScript: current analog value
   auto setRate = [&](double filamentPerS) {
-    const std::string v = formatNumber("%.9g", filamentPerS * info.extruderAnalogPerMmS);
+    const std::string v = fixedNumber(filamentPerS * info.extruderAnalogPerMmS, 9);
     const double value = std::strtod(v.c_str(), nullptr);
     if (value == rate) return;
     rate = value;
@@ -109,8 +109,8 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
     if (m.part != currentPart) {
       currentPart = m.part;
       const Eigen::Vector3d d = partDirection[m.part];
-      line(indent + "# omnislice:part " + std::to_string(m.part) + " direction [" + num(d.x()) +
-           "," + num(d.y()) + "," + num(d.z()) + "]");
+      line(indent + "# omnislice:part " + std::to_string(m.part) + " direction [" +
+           fixedNumber(d.x(), 10) + "," + fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
       currentLayer = INT32_MIN;
     }
     if (m.layer != currentLayer) {
@@ -132,10 +132,10 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
       if (!moved) {
         const double t = m.durationS > 0 ? m.durationS : std::abs(m.filament) / 35.0;
         setRate(m.filament / t);
-        line(indent + "sleep(" + formatNumber("%.9g", t) + ")");
+        line(indent + "sleep(" + fixedNumber(t, 9) + ")");
       } else if (m.durationS > 0) {
         setRate(m.filament / m.durationS);
-        line(indent + "movej([" + q + "], t=" + formatNumber("%.9g", m.durationS) + ")");
+        line(indent + "movej([" + q + "], t=" + fixedNumber(m.durationS, 9) + ")");
       } else {
         if (m.filament != 0) {
           return fail("move " + std::to_string(k) + " feeds filament without a planned duration");
@@ -150,7 +150,7 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
         if (!pieces.ok()) return fail("move " + std::to_string(k) + ": " + pieces.message);
         f = pieces.length / m.durationS;
       }
-      line(q + "," + formatNumber("%.6f", m.filament) + "," + formatNumber("%.6f", f) + "," +
+      line(q + "," + formatNumber("%.8f", m.filament) + "," + fixedNumber(f, 9) + "," +
            rowKind(m.kind));
     }
     written = next;

@@ -87,6 +87,10 @@ TEST(KinematicsInverse, BadInputsGiveInvalidOption) {
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, 0, 2}).status, Status::InvalidOption);
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, 0, 0}).status, Status::InvalidOption);
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, nan, 1}).status, Status::InvalidOption);
+  // A robot6 profile whose DH table is not of the UR family has no analytic inverse here.
+  MachineProfile arm = builtin("robot6");
+  arm.dh[3].a = 10;
+  EXPECT_EQ(inverseMap(arm, {0, 0, 0}, Eigen::Vector3d::UnitZ()).status, Status::InvalidOption);
   MachineProfile unknown = m;
   unknown.kind = "hexapod";
   EXPECT_EQ(inverseMap(unknown, {0, 0, 0}, Eigen::Vector3d::UnitZ()).status,
@@ -398,6 +402,20 @@ TEST(KinematicsInverse, Robot6Timing) {
   const double us = (double(t1 - t0) / CLOCKS_PER_SEC * 1e6) / poses.size();
   std::printf("robot6 inverseMap (30 samples): %.1f us per call, %.1f candidates per call\n", us,
               double(total) / poses.size());
+  // One branch only (the reference's configuration): the cost the motion planner pays when it
+  // tracks a configuration.
+  o.branchMask = 1 << 4;  // branch 4: shoulder 0, wrist 0, elbow 1
+  size_t one = 0;
+  const std::clock_t t2 = std::clock();
+  for (const auto& p : poses) {
+    const IkResult ik = inverseMap(m, p.first, p.second, o);
+    for (const IkCandidate& c : ik.candidates) EXPECT_EQ(c.branch, 4);
+    one += ik.candidates.size();
+  }
+  const std::clock_t t3 = std::clock();
+  std::printf("robot6 inverseMap (30 samples, 1 branch): %.1f us per call, %.1f candidates\n",
+              double(t3 - t2) / CLOCKS_PER_SEC * 1e6 / poses.size(), double(one) / poses.size());
+  EXPECT_GT(one, 0u);
   EXPECT_GT(total, poses.size());
 }
 

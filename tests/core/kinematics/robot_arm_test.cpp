@@ -132,6 +132,32 @@ TEST(RobotArm, InverseEveryBranchRoundTrips) {
   }
 }
 
+// urInverseBranches() returns exactly urInverse()'s solutions of the masked branches.
+TEST(RobotArm, MaskedInverseIsASubset) {
+  const DhTable dh = offsetTable();
+  std::mt19937 rng(16);
+  for (int i = 0; i < 500; ++i) {
+    const Eigen::Matrix4d f = armForward(dh, randomJoints(rng));
+    JointValues all[8], some[8];
+    int brAll[8], brSome[8];
+    const int n = urInverse(dh, f, all, brAll);
+    const int mask = static_cast<int>(rng() % 256);
+    const int m = urInverseBranches(dh, f, mask, some, brSome);
+    int expected = 0;
+    for (int s = 0; s < n; ++s) expected += mask >> brAll[s] & 1;
+    ASSERT_EQ(m, expected) << "mask " << mask;
+    for (int s = 0; s < m; ++s) {
+      EXPECT_TRUE(mask >> brSome[s] & 1);
+      int match = -1;
+      for (int t = 0; t < n; ++t) {
+        if (brAll[t] == brSome[s]) match = t;
+      }
+      ASSERT_GE(match, 0);
+      for (int j = 0; j < 6; ++j) EXPECT_NEAR(some[s][j], all[match][j], 1e-12);
+    }
+  }
+}
+
 // A branch keeps its index along a continuous motion away from singularities.
 TEST(RobotArm, BranchIndexIsStableAlongAMotion) {
   const DhTable dh = ur5DhTable();

@@ -71,6 +71,12 @@ TEST(PlanMotionRobot, HelixIsContinuous) {
   MotionOptions o;
   const MachinePath mp = planMachineMotion(tp, m, o);
   checkRobotPlan(tp, mp, o);
+  MotionOptions exact = o;
+  exact.maxKeptPoses = 0;
+  const MachinePath me = planMachineMotion(tp, m, exact);
+  checkRobotPlan(tp, me, exact);
+  EXPECT_LE(me.stats.poseCost + me.stats.posePenalty,
+            mp.stats.poseCost + mp.stats.posePenalty + 1e-9);
 }
 
 TEST(PlanMotionRobot, CrestIsContinuous) {
@@ -80,24 +86,54 @@ TEST(PlanMotionRobot, CrestIsContinuous) {
   const MachinePath mp = planMachineMotion(tp, m, o);
   checkRobotPlan(tp, mp, o);
   EXPECT_GT(mp.stats.filteredOrientations, 0u);
+  // The exact shortest path (no cap on the kept nodes) is never worse than the capped one.
+  MotionOptions exact = o;
+  exact.maxKeptPoses = 0;
+  const MachinePath me = planMachineMotion(tp, m, exact);
+  checkRobotPlan(tp, me, exact);
+  EXPECT_LE(me.stats.poseCost + me.stats.posePenalty,
+            mp.stats.poseCost + mp.stats.posePenalty + 1e-9);
 }
 
 // The benchmark figure of issue 3 (UR5 IK + pose continuity of 100k samples): printed only.
-TEST(PlanMotionRobot, TimeOf100kSamples) {
-  const double kSamples = 5000;  // 100000 once the planner is fast enough
-  const Toolpath tp = test::helixToolpath(30, 2, 0.05, kSamples / (2 * test::kMotionPi * 30), 1.0, 15);
-  const MachineProfile m = ur5();
+// 100k samples with the capped pose choice (maxKeptPoses = 16), and 10k with the exact default.
+double timePlan(double samples, int maxKept, MachinePath& mp) {
+  const Toolpath tp =
+      test::helixToolpath(30, 2, 0.05, samples / (2 * test::kMotionPi * 30), 1.0, 15);
   MotionOptions o;
+  o.maxKeptPoses = maxKept;
   const auto t0 = std::chrono::steady_clock::now();
-  const MachinePath mp = planMachineMotion(tp, m, o);
+  mp = planMachineMotion(tp, ur5(), o);
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  ASSERT_TRUE(mp.ok()) << mp.message;
-  std::printf("[ robot6 ] planMachineMotion of %zu samples (%zu moves out): %.3f s native; "
-              "pose cost %.3f rad, greedy %.3f rad, max joint step %.4f rad\n",
-              mp.stats.samples, mp.moves.size(), s, mp.stats.poseCost, mp.stats.greedyPoseCost,
-              mp.stats.maxJointStep);
-  EXPECT_GE(mp.stats.samples, static_cast<size_t>(kSamples));
-  EXPECT_LE(mp.stats.maxJointStep, kJointStepBound);
+  std::printf("[ robot6 ] planMachineMotion of %zu samples (maxKeptPoses %d, %zu moves out): "
+              "%.3f s native; pose cost %.3f rad, greedy %.3f rad, max joint step %.4f rad\n",
+              mp.stats.samples, maxKept, mp.moves.size(), s, mp.stats.poseCost,
+              mp.stats.greedyPoseCost, mp.stats.maxJointStep);
+  return s;
+}
+
+TEST(PlanMotionRobot, TimeOf100kSamples) {
+  {
+    // The inverse kinematics alone (30 free-rotation samples x 8 branches per point).
+    const Toolpath tp = test::helixToolpath(30, 2, 0.05, 100000 / (2 * test::kMotionPi * 30), 1.0, 15);
+    const MachineProfile m = ur5();
+    size_t candidates = 0;
+    const auto t0 = std::chrono::steady_clock::now();
+    for (const Move& mv : tp.moves) candidates += inverseMap(m, mv.position, mv.axis).candidates.size();
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    std::printf("[ robot6 ] inverseMap alone for %zu samples: %.3f s native (%zu candidates)\n",
+                tp.moves.size(), s, candidates);
+  }
+  MachinePath capped, exact;
+  timePlan(100000, 16, capped);
+  ASSERT_TRUE(capped.ok()) << capped.message;
+  EXPECT_GE(capped.stats.samples, 100000u);
+  EXPECT_LE(capped.stats.maxJointStep, kJointStepBound);
+  EXPECT_LE(capped.stats.poseCost + capped.stats.posePenalty,
+            capped.stats.greedyPoseCost + capped.stats.greedyPosePenalty + 1e-6);
+  timePlan(10000, 0, exact);
+  ASSERT_TRUE(exact.ok()) << exact.message;
+  EXPECT_LE(exact.stats.maxJointStep, kJointStepBound);
 }
 
 }  // namespace

@@ -60,11 +60,16 @@ TEST(PoseContinuity, EqualsBruteForceOnRandomGraphs) {
       ni.measure = v[3];
       return ni;
     };
-    auto cands = [&](size_t l, const MachineValues*, std::vector<MachineValues>& out) {
+    // Keys (tracks) on every other trial: the result must not depend on them.
+    auto cands = [&](size_t l, const MachineValues*, std::vector<MachineValues>& out,
+                     std::vector<int32_t>& keys) {
       out = layers[l];
+      if (trial % 2 == 0) {
+        for (size_t i = 0; i < out.size(); ++i) keys.push_back(static_cast<int32_t>((i * 7 + l) % 5));
+      }
       return true;
     };
-    const PoseChoice r = choosePoses(nl, metric, cands, info);
+    const PoseChoice r = choosePoses(nl, metric, cands, info, [](const MachineValues& v) { return v[3]; });
     const double brute = bruteForce(layers, metric, info);
     if (!std::isfinite(brute)) {
       EXPECT_EQ(r.status, Status::InvalidOption);

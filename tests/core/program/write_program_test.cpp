@@ -10,6 +10,8 @@
 #include <sstream>
 
 #include "machine_paths.h"
+#include "test_toolpaths.h"
+#include "motion/plan_motion.h"
 #include "program/machine_json.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
@@ -210,6 +212,12 @@ TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
       EXPECT_TRUE(has("M109 S210") && has("M190 S60") && has("G28") && has("M82"));
       EXPECT_TRUE(has("; omnislice:part 0 direction [") && has("; omnislice:part 1 direction ["));
       EXPECT_TRUE(has(";TYPE:WALL-OUTER") && has("; omnislice:feature skin"));
+      // Numbers in fixed notation only (firmware does not read exponents).
+      for (const std::string& l : ls) {
+        if (l.rfind("G0 ", 0) == 0 || l.rfind("G1 ", 0) == 0) {
+          EXPECT_EQ(l.find_first_of("e+;"), std::string::npos) << l;
+        }
+      }
       // Moves: the park travel from home first, then one group per moving path move.
       const auto g = checkRoundTrip(path, p, 1, 1.1e-5);
       // F gives back the planned durations (to the rounding of the written values and of F).
@@ -328,6 +336,11 @@ TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
       EXPECT_EQ(ls[ls.size() - 2], "end");
       EXPECT_EQ(ls.back(), "omnislice_program()");
       EXPECT_NE(w.text.find("set_analog_out(0, "), std::string::npos);
+      for (const std::string& l : ls) {
+        const size_t open = l.find('(');
+        if (l[0] == '#' || open == std::string::npos) continue;
+        EXPECT_EQ(l.find_first_of("eE+", open), std::string::npos) << l;  // no exponents
+      }
     }
     // The first row / target is the start pose: no group for it.
     const auto g = checkRoundTrip(path, p, 0, 1e-5);
@@ -499,6 +512,39 @@ TEST(WriteProgram, LargeProgramTimes) {
               std::chrono::duration<double>(t2 - t1).count(), p.moves.size());
 }
 
+TEST(WriteProgram, LargeRobotProgramTimes) {
+  // 100k joint-space moves of a smooth motion (not a print: timing only).
+  const MachineProfile m = test::ur5TestMachine();
+  MachineValues q0{};
+  ASSERT_TRUE(test::robotStart(m, {0, 0, 5}, Eigen::Matrix3d::Identity(), q0));
+  test::MachinePathBuilder b(m, q0);
+  for (int k = 0; k < 100000; ++k) {
+    b.layer = k / 1000;
+    MachineValues q = q0;
+    const double s = 2 * M_PI * k / 1000.0;
+    q[0] += 0.02 * std::sin(s);
+    q[1] += 0.01 * std::cos(s);
+    q[5] += 0.02 * std::cos(s);
+    b.push(q, MoveKind::Print, 0.002, 0.01, Feature::WallOuter);
+  }
+  for (RobotFormat format : {RobotFormat::Csv, RobotFormat::UrScript}) {
+    ProgramInfo info = infoFor(m);
+    info.robotFormat = format;
+    const auto t0 = std::chrono::steady_clock::now();
+    const WriteProgramResult w = writeProgram(b.path, info);
+    const auto t1 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(w.ok()) << w.message;
+    const ParsedProgram p = readProgram(w.text);
+    const auto t2 = std::chrono::steady_clock::now();
+    ASSERT_TRUE(p.ok()) << p.message;
+    EXPECT_GE(p.moves.size(), 100000u);
+    std::printf("robot6 100k moves %s: write %.2f s (%zu MB), read %.2f s (%zu pieces)\n",
+                robotFormatName(format), std::chrono::duration<double>(t1 - t0).count(),
+                w.text.size() >> 20, std::chrono::duration<double>(t2 - t1).count(),
+                p.moves.size());
+  }
+}
+
 }  // namespace
 }  // namespace omnislice
 
@@ -565,6 +611,60 @@ TEST(WriteProgram, MalformedRobotAndRotaryLines) {
     const long line = lineOf(t, t.substr(t.rfind('\n', a) + 1, a - t.rfind('\n', a) - 1));
     t.insert(a + 2, "9999");
     expectError(t, Status::ParseError, line);
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// A two-part 3+2 tool-path planned by planMachineMotion on rotary4 and table5: the planner's
+// safe rotations (retract, lift, rotate) pass the writer's 3+2 check, and the part markers carry
+// each part's direction.
+TEST(WriteProgram, PlannedThreePlusTwoPassesTheWriterCheck) {
+  test::BoxPathOptions o;
+  o.height = 1;
+  Toolpath tp = test::boxToolpath(o);
+  const size_t first = tp.moves.size();
+  const Toolpath top = test::boxToolpath(o);
+  const Eigen::Vector3d tilted(0, -std::sin(M_PI / 6), std::cos(M_PI / 6));
+  for (Move m : top.moves) {
+    m.part = 1;
+    m.layer += 5;
+    m.position.z() += 1.0;
+    // The retract that ends part 0 keeps part 0's axis; part 1 starts with its travel. (A retract
+    // carrying the new axis is planned as a rotation in place, which the writer refuses.)
+    if (tp.moves.size() > first || m.kind != MoveKind::Retract) m.axis = tilted;
+    tp.moves.push_back(m);
+  }
+  tp.layerCount = 10;
+  for (const std::string name : {"rotary4", "table5"}) {
+    const MachineProfileResult machine = builtinMachine(name, {220, 220, 250}, 0.4);
+    ASSERT_TRUE(machine.ok());
+    const MachinePath path = planMachineMotion(tp, machine.machine);
+    ASSERT_TRUE(path.ok()) << path.message;
+    const WriteProgramResult w = writeProgram(path, infoFor(machine.machine));
+    ASSERT_TRUE(w.ok()) << name << ": " << w.message;
+    const ParsedProgram p = readProgram(w.text);
+    ASSERT_TRUE(p.ok()) << p.message;
+    const size_t marker = w.text.find("; omnislice:part 1 direction [");
+    ASSERT_NE(marker, std::string::npos) << name;
+    Eigen::Vector3d direction;
+    ASSERT_EQ(std::sscanf(w.text.c_str() + marker, "; omnislice:part 1 direction [%lf,%lf,%lf]",
+                          &direction.x(), &direction.y(), &direction.z()),
+              3);
+    EXPECT_LT((direction - tilted).norm(), 1e-6) << name;
+    // The tilted part is printed with the tilted part-frame axis.
+    size_t tiltedPrints = 0;
+    for (const ProgramMove& m : p.moves) {
+      if (m.part == 1 && m.filament > 0 && (m.to - m.from).norm() > 0) {
+        EXPECT_LT((m.axis - tilted).norm(), 1e-4);
+        ++tiltedPrints;
+      }
+    }
+    EXPECT_GT(tiltedPrints, 10u);
   }
 }
 
