@@ -3,7 +3,9 @@
 // Native CLI vs wasm (in Node) per pipeline stage. Writes build/bench.json: a list of rows
 // {case, stage, native_ms, wasm_ms, ratio} (ratio = wasm / native), prints them as a table and
 // checks the targets: wasm/native <= 1.5 on planar slicing, 1M-triangle binary STL
-// read+validate <= 1 s native, a 100k-triangle model sliced at 0.2 mm in <= 2 s in wasm.
+// read+validate <= 1 s native, a 100k-triangle model sliced at 0.2 mm in <= 2 s in wasm; machines
+// (issue 3): UR5 IK + pose continuity (the `motion` stage) <= 1 s per 100k samples in wasm, and
+// verification of a >= 500k-move program <= 10 s in wasm.
 // Env: BENCH_REPS (default 3: best of N per stage), BENCH_SLICE_1M=1 (also slice the 1M mesh).
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -16,7 +18,7 @@ const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const CLI = process.env.OMNISLICE_CLI || path.join(ROOT, 'build/native/omnislice');
 const WASM_DIR = process.env.OMNISLICE_WASM_DIR || path.join(ROOT, 'build/wasm');
 const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 3);
-const STAGES = ['read', 'validate', 'place', 'slice', 'toolpath', 'program'];
+const STAGES = ['read', 'validate', 'place', 'slice', 'toolpath', 'motion', 'program'];
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-bench-'));
 
 for (const f of [CLI, path.join(WASM_DIR, 'omnislice.mjs')]) {
@@ -68,9 +70,11 @@ function withTotals(timings, wall) {
   return { ...timings, total, wall };
 }
 
+let robotSamples = 0;
 function wasmRun(mode, bytes, name, settings) {
   const t0 = performance.now();
   const r = mode === 'slice' ? wasm.slice(bytes, name, settings) : wasm.info(bytes, name, settings);
+  if (mode === 'slice' && settings.machine === 'robot6-ur5') robotSamples = r.report.motion.samples;
   const wall = performance.now() - t0;
   const timings = mode === 'slice' ? r.report.timings_ms : r.info.timings_ms;
   return withTotals(timings, wall);
@@ -95,6 +99,9 @@ const cases = [
 if (process.env.BENCH_SLICE_1M === '1') {
   cases.push({ case: 'sphere-1m slice 0.2mm', mode: 'slice', file: models['sphere-1m.stl'], settings: { layer_height: 0.2 } });
 }
+// UR5: ~100k tool-path samples through IK (30 free-rotation samples x 8 branches) + pose continuity.
+cases.push({ case: 'torus-100k robot6-ur5 0.4mm', mode: 'slice', file: models['torus-100k.stl'],
+  settings: { layer_height: 0.4, machine: 'robot6-ur5' } });
 const bunny = path.resolve(ROOT, '../shared/models/compas_bunny_closed_high_res.stl');
 if (fs.existsSync(bunny)) {
   cases.push({ case: 'bunny-70k (shared) slice 0.2mm fit 100', mode: 'slice', file: bunny,
@@ -115,6 +122,32 @@ for (const c of cases) {
     const ratio = native_ms > 0 && wasm_ms !== null ? wasm_ms / native_ms : null;
     rows.push({ case: c.case, stage, native_ms, wasm_ms, ratio });
   }
+}
+
+// Verification of a large program (>= 500k moves): native CLI wall vs wasm call.
+const verifyCase = 'torus-100k verify 0.08mm program';
+{
+  const file = models['torus-100k.stl'];
+  const program = path.join(tmp, 'big.gcode');
+  const report = path.join(tmp, 'big.json');
+  execFileSync(CLI, ['slice', file, '-o', program, '--report', report, '--set', 'layer_height=0.08'], { stdio: 'ignore' });
+  const moves = JSON.parse(fs.readFileSync(report, 'utf8')).moves;
+  const text = fs.readFileSync(program, 'utf8');
+  const meshBytes = fs.readFileSync(file);
+  console.error(`[bench] ${verifyCase} (${moves} moves): native...`);
+  let native_ms = Infinity, wasm_ms = Infinity;
+  for (let i = 0; i < REPS; ++i) {
+    const t0 = performance.now();
+    execFileSync(CLI, ['verify', program, '--mesh', file], { stdio: 'ignore' });
+    native_ms = Math.min(native_ms, performance.now() - t0);
+  }
+  console.error(`[bench] ${verifyCase}: wasm...`);
+  for (let i = 0; i < REPS; ++i) {
+    const t0 = performance.now();
+    wasm.verify(text, meshBytes, 'torus-100k.stl');
+    wasm_ms = Math.min(wasm_ms, performance.now() - t0);
+  }
+  rows.push({ case: verifyCase, stage: 'verify', native_ms, wasm_ms, ratio: wasm_ms / native_ms, moves });
 }
 
 const round = (v, d = 1) => (v === null || v === undefined ? null : Number(v.toFixed(d)));
@@ -143,6 +176,15 @@ if (rv.every(Boolean)) {
 }
 const planarWall = get('torus-100k slice 0.2mm', 'wall');
 if (planarWall) checks.push(['100k-triangle slice at 0.2 mm in wasm (wall, marshalling included) <= 2000 ms', planarWall.wasm_ms, planarWall.wasm_ms <= 2000]);
+const robotCase = 'torus-100k robot6-ur5 0.4mm';
+const robotMotion = get(robotCase, 'motion');
+if (robotMotion) {
+  const samples = robotSamples;
+  const per100k = robotMotion.wasm_ms * 100000 / samples;
+  checks.push([`UR5 IK + pose continuity in wasm per 100k samples (${samples} samples) <= 1000 ms`, round(per100k), per100k <= 1000]);
+}
+const verifyRow = get(verifyCase, 'verify');
+if (verifyRow) checks.push([`verify a ${verifyRow.moves}-move program in wasm <= 10000 ms`, verifyRow.wasm_ms, verifyRow.wasm_ms <= 10000]);
 console.log('\ntargets:');
 for (const [what, value, ok] of checks) console.log(`  ${ok ? 'PASS' : 'MISS'}  ${what}: ${value}`);
 console.log(`\nwrote ${path.join(ROOT, 'build/bench.json')}`);

@@ -18,6 +18,7 @@
 #include "common/status.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
+#include "program/machine.h"
 
 namespace {
 
@@ -26,14 +27,18 @@ using namespace omnislice;
 const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
-    "  omnislice slice MESH -o OUT.gcode [--method planar] [--machine cartesian3]\n"
+    "  omnislice slice MESH -o OUT [--method planar] [--machine NAME] [--machine-file JSON]\n"
+    "                 [--gcode-flavor marlin|reprap|klipper] [--robot-format csv|urscript]\n"
     "                 [--layer-height MM] [--nozzle MM] [--walls N] [--infill PCT]\n"
     "                 [--direction X,Y,Z] [--scale S] [--fit-mm MM] [--up AXIS]\n"
     "                 [--set KEY=VALUE ...] [--report REPORT.json] [--progress]\n"
     "  omnislice verify PROGRAM --mesh MESH [-o REPORT.json]\n"
     "  omnislice settings            (every setting with its default, as JSON)\n"
+    "  omnislice machines            (the built-in machine profiles, as JSON)\n"
     "  omnislice --version | --help\n"
-    "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF. AXIS: z, -z, y, -y, x, -x.\n";
+    "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF. AXIS: z, -z, y, -y, x, -x.\n"
+    "Machines: cartesian3, rotary4, table5, robot6-ur5 (G-code; robot6 writes joint CSV or\n"
+    "URScript). A profile file (docs/MACHINES.md) overrides --machine.\n";
 
 struct CliError {
   Status status;
@@ -124,7 +129,12 @@ void applyOptions(const Args& a, Settings& s) {
   static const std::map<std::string, std::string> named = {
       {"--method", "method"},   {"--machine", "machine"}, {"--layer-height", "layer_height"},
       {"--nozzle", "nozzle_diameter"}, {"--walls", "walls"}, {"--infill", "infill"},
-      {"--direction", "direction"}, {"--scale", "scale"}, {"--fit-mm", "fit_mm"}, {"--up", "up"}};
+      {"--direction", "direction"}, {"--scale", "scale"}, {"--fit-mm", "fit_mm"}, {"--up", "up"},
+      {"--gcode-flavor", "gcode_flavor"}, {"--robot-format", "robot_format"}};
+  if (a.has("--machine-file")) {
+    const std::vector<uint8_t> bytes = readFile(a.get("--machine-file"));
+    check(setSetting(s, "machine_json", std::string(bytes.begin(), bytes.end())));
+  }
   for (const auto& [opt, key] : named) {
     auto range = a.options.equal_range(opt);
     for (auto it = range.first; it != range.second; ++it) check(setSetting(s, key, it->second));
@@ -169,11 +179,11 @@ int cmdSlice(int argc, char** argv) {
   Args a = parseArgs(argc, argv, 2,
                      {"-o", "--output", "--method", "--machine", "--layer-height", "--nozzle",
                       "--walls", "--infill", "--direction", "--scale", "--fit-mm", "--up", "--set",
-                      "--report"},
+                      "--report", "--machine-file", "--gcode-flavor", "--robot-format"},
                      {"--progress"});
   if (a.positional.size() != 1) fail(Status::InvalidOption, "slice takes one MESH argument");
   std::string outPath = a.has("-o") ? a.get("-o") : a.get("--output");
-  if (outPath.empty()) fail(Status::InvalidOption, "slice needs -o OUT.gcode");
+  if (outPath.empty()) fail(Status::InvalidOption, "slice needs -o OUT (.gcode, .csv or .script)");
   Settings s;
   applyOptions(a, s);
   const std::vector<uint8_t> bytes = readFile(a.positional[0]);
@@ -199,6 +209,19 @@ int cmdVerify(int argc, char** argv) {
   const std::string outPath = a.has("-o") ? a.get("-o") : a.get("--output");
   if (!outPath.empty()) writeFileAtomic(outPath, out.verifyJson + "\n");
   std::cout << out.verifyJson << "\n";
+  return 0;
+}
+
+int cmdMachines() {
+  std::cout << "{";
+  bool first = true;
+  for (const std::string& name : builtinMachineNames()) {
+    MachineProfileResult m = builtinMachine(name, Settings{}.bedSize, Settings{}.nozzleDiameter);
+    check(m);
+    std::cout << (first ? "" : ",") << "\"" << name << "\":" << machineJson(m.machine);
+    first = false;
+  }
+  std::cout << "}\n";
   return 0;
 }
 
@@ -236,6 +259,7 @@ int main(int argc, char** argv) {
     if (cmd == "slice") return cmdSlice(argc, argv);
     if (cmd == "verify") return cmdVerify(argc, argv);
     if (cmd == "settings") return cmdSettings();
+    if (cmd == "machines") return cmdMachines();
     fail(Status::InvalidOption, "unknown command '" + cmd + "' (try --help)");
   } catch (const CliError& e) {
     std::fprintf(stderr, "error: %s: %s\n", statusCode(e.status), e.message.c_str());

@@ -39,7 +39,10 @@ struct IkOptions {
                                          // axis over [-pi, pi) (paper 001 Section 5.3 uses 30)
   const MachineValues* reference = nullptr;  // resolves free axes (table5 C at B = 0) and angle
                                              // wraps (C +- 360, A +- 360) to the nearest values
-  double axisTolerance = 1e-9;           // rotary4: |u.x| above this is infeasible
+  double axisTolerance = 1e-9;           // rotary4: |u.x| above this is infeasible;
+                                         // cartesian3: |(u.x, u.y)| above this is infeasible
+  int branchMask = 0xff;                 // robot6: urInverse() branches to keep (bit b = branch
+                                         // b, see robot_arm.h); 0xff = all 8
 };
 
 struct IkCandidate {

@@ -43,10 +43,11 @@ inline bool inside(double v, const std::pair<double, double>& l) {
 bool nearestAlias(double v, double period, double target, const std::pair<double, double>& l,
                   double& out) {
   if (!std::isfinite(l.first) || !std::isfinite(l.second)) {
-    out = v + period * std::round((target - v) / period);
+    out = std::abs(target - v) <= 0.5 * period ? v : v + period * std::round((target - v) / period);
     return true;
   }
-  const double k0 = std::round((target - v) / period);
+  // Fast path: v itself is the nearest alias (urInverse values in (-pi, pi], target 0).
+  const double k0 = std::abs(target - v) <= 0.5 * period ? 0.0 : std::round((target - v) / period);
   double best = 0;
   double bestDist = std::numeric_limits<double>::infinity();
   // The alias nearest the target, or, when it is outside, the nearest one inside the limits
@@ -125,6 +126,15 @@ IkResult inverseRotary(const MachineProfile& machine, const Eigen::Vector3d& tip
     double v = 0;
     nearestAlias(a, 360.0, target, la, v);
     aliases.push_back(v);
+  }
+  if (step > 0) {
+    // A stepper counts whole steps: an alias is reachable only when it is a step multiple too
+    // (360 need not be one).
+    aliases.erase(std::remove_if(aliases.begin(), aliases.end(),
+                                 [&](double v) {
+                                   return std::abs(v - step * std::round(v / step)) > 1e-6;
+                                 }),
+                  aliases.end());
   }
   if (aliases.empty()) {
     r.orientationFeasible = false;
@@ -248,7 +258,7 @@ IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
     Eigen::Matrix4d f = Eigen::Matrix4d::Identity();
     f.topLeftCorner<3, 3>() = rw * tRt;
     f.topRightCorner<3, 1>() = rw * tInvP + pw;
-    const int ns = urInverse(machine.dh, f, sol, br);
+    const int ns = urInverseBranches(machine.dh, f, options.branchMask & 0xff, sol, br);
     for (int s = 0; s < ns; ++s) {
       any = true;
       IkCandidate c;

@@ -49,12 +49,12 @@ std::array<Eigen::Matrix4d, 7> armFrames(const DhTable& dh, const JointValues& q
 }
 
 namespace {
-// Wrap an angle to (-pi, pi].
+// Wrap an angle to (-pi, pi]. The inverse's angles are sums of a few atan2/acos values, so a
+// couple of subtractions suffice (cheaper than std::remainder in the inner loop).
 inline double wrapPi(double a) {
-  if (a > kPi || a <= -kPi) {
-    a = std::remainder(a, kTwoPi);  // [-pi, pi]
-    if (a <= -kPi) a += kTwoPi;
-  }
+  if (!(std::abs(a) < 64 * kPi)) return std::isfinite(a) ? std::remainder(a, kTwoPi) : a;
+  while (a > kPi) a -= kTwoPi;
+  while (a <= -kPi) a += kTwoPi;
   return a;
 }
 
@@ -105,6 +105,18 @@ bool isUrFamily(const DhTable& dh) {
 //    Elbow bit selects the sign of t3 = +-acos((x^2 + y^2 - a2^2 - a3^2) / (2 a2 a3)).
 int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solutions[8],
               int branches[8]) {
+  return urInverseBranches(dh, flange, 0xff, solutions, branches);
+}
+
+int urInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
+                      JointValues solutions[8], int branches[8]) {
+  // Branches wanted per shoulder (bits 0, 2, 4, 6 are shoulder 0) and per shoulder + wrist.
+  auto wanted = [branchMask](int fixedBits, int fixedValue) {
+    for (int b = 0; b < 8; ++b) {
+      if ((branchMask >> b & 1) && (b & fixedBits) == fixedValue) return true;
+    }
+    return false;
+  };
   const double d1 = dh[0].d, a2 = dh[1].a, a3 = dh[2].a, d4 = dh[3].d, d5 = dh[4].d,
                d6 = dh[5].d;
   const double x6[3] = {flange(0, 0), flange(1, 0), flange(2, 0)};
@@ -118,31 +130,37 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
     }
   }
   const double p5[3] = {p[0] - d6 * z6[0], p[1] - d6 * z6[1], p[2] - d6 * z6[2]};
-  const double r = std::hypot(p5[0], p5[1]);
+  const double r = std::sqrt(p5[0] * p5[0] + p5[1] * p5[1]);  // hypot() is slow
   // Shoulder singularity: the wrist point on the base axis (only reachable when d4 = 0); joint 1
   // is then free and 0 is the consistent choice.
   double s14 = 0;
-  double phi = 0;
+  double phi = 0, cphi = 1, sphi = 0;
   if (r > 1e-12) {
     s14 = d4 / r;
     if (!clampUnit(s14)) return 0;
     phi = std::atan2(p5[1], p5[0]);
+    cphi = p5[0] / r;
+    sphi = p5[1] / r;
   } else if (std::abs(d4) > 1e-12) {
     return 0;
   }
   const double as = std::asin(s14);
+  const double cas = std::sqrt(std::max(0.0, 1 - s14 * s14));
   const double off[6] = {dh[0].thetaOffset, dh[1].thetaOffset, dh[2].thetaOffset,
                          dh[3].thetaOffset, dh[4].thetaOffset, dh[5].thetaOffset};
   const double a2sq = a2 * a2, a3sq = a3 * a3, twoA2A3 = 2 * a2 * a3;
   int n = 0;
   for (int shoulder = 0; shoulder < 2; ++shoulder) {
+    if (!wanted(1, shoulder)) continue;
+    // cos and sin of t1 from those of phi and asin(d4 / r), without calling cos/sin.
     const double t1 = shoulder == 0 ? phi + as : phi + kPi - as;
-    const double c1 = std::cos(t1), s1 = std::sin(t1);
+    const double c1 = shoulder == 0 ? cphi * cas - sphi * s14 : -(cphi * cas + sphi * s14);
+    const double s1 = shoulder == 0 ? sphi * cas + cphi * s14 : -(sphi * cas - cphi * s14);
     // z1 = (s1, -c1, 0)
     const double x6z1 = x6[0] * s1 - x6[1] * c1;
     const double y6z1 = y6[0] * s1 - y6[1] * c1;
     const double c5 = z6[0] * s1 - z6[1] * c1;
-    const double s5abs = std::hypot(x6z1, y6z1);
+    const double s5abs = std::sqrt(x6z1 * x6z1 + y6z1 * y6z1);
     const double t5abs = std::atan2(s5abs, c5);
     double t6base = 0, c6base = 1, s6base = 0;
     if (s5abs > 1e-12) {
@@ -150,7 +168,10 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       s6base = -y6z1 / s5abs;
       t6base = std::atan2(s6base, c6base);
     }
+    double t234base = 0;
+    bool haveT234 = false;
     for (int wrist = 0; wrist < 2; ++wrist) {
+      if (!wanted(3, shoulder | wrist << 1)) continue;
       // Wrist 1: s5 -> -s5 flips (c6, s6), i.e. t6 + pi.
       const double sign = wrist == 0 ? 1.0 : -1.0;
       const double t5 = sign * t5abs, s5 = sign * s5abs;
@@ -165,7 +186,15 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       const double o4[3] = {p5[0] - d5 * z4[0], p5[1] - d5 * z4[1], p5[2] - d5 * z4[2]};
       const double px = o4[0] * c1 + o4[1] * s1;  // (o4 - o1) . x1
       const double py = o4[2] - d1;               // (o4 - o1) . y1
-      const double t234 = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
+      // x4 flips sign with the wrist branch (every term does), so t234 just gains pi.
+      double t234;
+      if (!haveT234) {
+        t234 = std::atan2(x4[2], x4[0] * c1 + x4[1] * s1);
+        t234base = wrist == 0 ? t234 : t234 - kPi;
+        haveT234 = true;
+      } else {
+        t234 = t234base + kPi;  // wrist 1 after wrist 0
+      }
       double c3 = (px * px + py * py - a2sq - a3sq) / twoA2A3;
       if (!clampUnit(c3)) continue;
       const double t3abs = std::acos(c3);
@@ -173,6 +202,8 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
       const double base = std::atan2(py, px);
       const double beta = std::atan2(a3 * s3abs, a2 + a3 * c3);
       for (int elbow = 0; elbow < 2; ++elbow) {
+        const int b = shoulder | (wrist << 1) | (elbow << 2);
+        if (!(branchMask >> b & 1)) continue;
         const double t3 = elbow == 0 ? t3abs : -t3abs;
         const double t2 = elbow == 0 ? base - beta : base + beta;
         const double t4 = t234 - t2 - t3;
@@ -183,7 +214,7 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
         q[3] = wrapPi(t4 - off[3]);
         q[4] = wrapPi(t5 - off[4]);
         q[5] = wrapPi(t6 - off[5]);
-        branches[n] = shoulder | (wrist << 1) | (elbow << 2);
+        branches[n] = b;
         ++n;
       }
     }

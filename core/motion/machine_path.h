@@ -38,8 +38,12 @@ struct MotionStats {
   double maxJointStep = 0;         // largest change of one angular value between moves (deg or rad)
   double poseCost = 0;             // robot6 / table5: summed L1 change of the angular values
   double greedyPoseCost = 0;       // same for the greedy choice (nearest candidate each step)
+  double posePenalty = 0;          // robot6: singularity penalties on the chosen path (same unit)
+  double greedyPosePenalty = 0;    // the same on the greedy path; poseCost + posePenalty <=
+                                   // greedyPoseCost + greedyPosePenalty always
   double minSingularity = 0;       // robot6: smallest singularityMeasure() on the chosen poses
-  double estimatedTimeS = 0;       // sum of durations plus retraction times
+  double estimatedTimeS = 0;       // sum of durations (retractions included) plus the
+                                   // acceleration term of G-code kinds
 };
 
 struct MachinePath : Outcome {

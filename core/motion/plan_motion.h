@@ -5,6 +5,8 @@
 // part-frame path, and feed rates limited by axis / joint velocity, acceleration and jerk
 // (paper 003 Eq. 7-9), with the time estimate that follows.
 #pragma once
+#include <Eigen/Core>
+
 #include "common/progress.h"
 #include "motion/machine_path.h"
 #include "program/machine.h"
@@ -25,12 +27,42 @@ struct MotionOptions {
   double safeLift = 10;             // mm above the part's highest machine Z for 3+2 rotations
   double rotationThresholdDegrees = 5;  // a travel whose rotary values change more than this is
                                         // done as a safe rotation (retract, lift, rotate, lower)
+  double safeRetract = 1.0;         // mm of filament retracted for a safe rotation when the
+                                    // tool-path has not just retracted (unretracted after lowering)
+  double singularityThreshold = 0.02;  // robot6: poses with singularityMeasure() below this pay
+                                       // a penalty in the pose choice
+  double singularityPenalty = 0.1;  // robot6: penalty (rad of L1 joint change) at measure 0,
+                                    // falling linearly to 0 at singularityThreshold
+  int maxKeptPoses = 0;// pose choice: 0 = exact shortest path; else at most this
+                                    // many non-dominated candidates per sample are kept (plus
+                                    // the greedy one, so the result is never worse than greedy)
+  double poseSlack = 0.05;// robot6 with maxKeptPoses > 0: rad; a candidate within this
+                                    // of being dominated is dropped to make room for distinct ones
+  double armClearance = 10;         // robot6: mm an arm frame origin keeps from the extruder
+                                    // cylinder and below which it may not go under the base plane
 };
 
-// Plan the machine motion of a tool-path. Errors (Status, message naming the first bad move):
+// Plan the machine motion of a tool-path. Steps: (1) low-pass filter of the axes of printing
+// samples that differ from a neighbour by more than filterThresholdDegrees, then subdivision
+// (slerp of the axis, linear positions, filament split in equal shares) so consecutive axes
+// differ by at most maxAxisStepDegrees (printing moves; every move for robot6); rotary4 with a
+// step angle keeps its axes. (2) inverse kinematics of every sample, (3) pose choice by shortest
+// path (pose_continuity.h), unwrapped within the limits; robot6 candidates whose arm frame
+// origins enter the extruder cylinder or go below the base plane are excluded. (4) G-code
+// kinds: travels whose rotary values change by more than rotationThresholdDegrees become
+// retract, lift to safe Z, rotate, move over, lower, unretract. (5) moves split at part-frame
+// midpoints until the tip of the interpolated machine motion stays within chordTolerance.
+// (6) durations under the velocity / acceleration / jerk limits (feed_limits.h); the time
+// estimate adds, for G-code kinds, the trapezoidal term of `acceleration` per move as
+// toolpathStats() does, and retract time |filament| / speed (the move's speed, else retractSpeed).
+// Errors (Status, message naming the first bad move):
 // InvalidOption for an unknown kind, a non-finite or zero-length axis, or a point no candidate of
 // the inverse kinematics reaches within the limits ("move 123 at (x, y, z) axis (...) is out of
 // reach of machine 'robot6-ur5'"); Cancelled when progress returns false.
+// Paper 003 Eq. (5) (singularityMeasure() in robot_arm.h) from the eigenvalues of J^T J instead
+// of an SVD: the same value up to rounding, several times faster (used inside the pose choice).
+double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& jacobian);
+
 MachinePath planMachineMotion(const Toolpath& toolpath, const MachineProfile& machine,
                               const MotionOptions& options = {}, const ProgressFn& progress = {});
 

@@ -11,11 +11,14 @@
 
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
+#include "motion/plan_motion.h"
 #include "program/machine.h"
+#include "program/machine_json.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
+#include "kinematics/kinematics.h"
 #include "toolpath/toolpath.h"
 #include "verify/verify_program.h"
 
@@ -72,26 +75,31 @@ struct StageClock {
   }
 };
 
-PreviewBuffers makePreview(const Toolpath& path) {
+// Preview segments from the planned machine path: the part-frame tip path of every move that
+// deposits or travels, with the machine values at each segment's end for the machine animation.
+PreviewBuffers makePreview(const MachinePath& path) {
   PreviewBuffers p;
   const size_t n = path.moves.size();
   p.positions.reserve(n * 6);
   p.features.reserve(n);
   p.layers.reserve(n);
-  Eigen::Vector3d prev = path.start;
-  for (const Move& m : path.moves) {
+  p.machine.reserve(n * 6);
+  Eigen::Vector3d prev, prevAxis;
+  if (!forwardMap(path.machine, path.start, prev, prevAxis)) prev = Eigen::Vector3d::Zero();
+  for (const MachineMove& m : path.moves) {
     const bool draws = m.kind == MoveKind::Print || m.kind == MoveKind::Support ||
                        m.kind == MoveKind::Travel;
-    if (draws && (m.position - prev).squaredNorm() > 0) {
-      for (const Eigen::Vector3d& q : {prev, m.position}) {
+    if (draws && (m.tip - prev).squaredNorm() > 0) {
+      for (const Eigen::Vector3d& q : {prev, m.tip}) {
         p.positions.push_back(static_cast<float>(q.x()));
         p.positions.push_back(static_cast<float>(q.y()));
         p.positions.push_back(static_cast<float>(q.z()));
       }
       p.features.push_back(m.kind == MoveKind::Travel ? 0 : static_cast<uint8_t>(m.feature));
       p.layers.push_back(static_cast<uint32_t>(std::max(0, m.layer)));
+      for (double v : m.values) p.machine.push_back(static_cast<float>(v));
     }
-    prev = m.position;
+    prev = m.tip;
   }
   return p;
 }
@@ -165,6 +173,26 @@ Json infoObject(const PreparedInput& in) {
   return info;
 }
 
+// The machine of the settings: the user's profile (machine_json) or a built-in by name. The
+// nozzle diameter setting is the one truth for the nozzle size.
+MachineProfileResult resolveMachine(const Settings& settings) {
+  MachineProfileResult r;
+  if (!settings.machineJson.empty()) {
+    MachineParseResult parsed = machineFromJson(settings.machineJson);
+    if (!parsed.ok()) return failed<MachineProfileResult>(Status::InvalidOption, parsed.message);
+    r.machine = parsed.machine;
+    if (machineAxisCount(r.machine.kind) == 0) {
+      return failed<MachineProfileResult>(Status::InvalidOption,
+                                          "machine kind '" + r.machine.kind + "' is not supported");
+    }
+  } else {
+    r = builtinMachine(settings.machine, settings.bedSize, settings.nozzleDiameter);
+    if (!r.ok()) return r;
+  }
+  r.machine.nozzle.diameter = settings.nozzleDiameter;
+  return r;
+}
+
 }  // namespace
 
 SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
@@ -187,9 +215,15 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
 
     const BoundingBox box = boundingBox(in.placed.mesh);
     const Eigen::Vector3d extent = box.max - box.min;
-    const MachineProfile machine = cartesian3Profile(settings.bedSize, settings.nozzleDiameter);
-    for (int a = 0; a < 3; ++a) {
-      const auto& lim = machine.axisLimits.at(std::string(1, "XYZ"[a]));
+    MachineProfileResult resolved = resolveMachine(settings);
+    if (!resolved.ok()) return failed<SliceOutput>(resolved);
+    const MachineProfile& machine = resolved.machine;
+    // G-code kinds print the planar layers with every rotary axis at 0, where the machine frame is
+    // the part frame: the part must fit the linear axes' travel.
+    for (int a = 0; a < 3 && machine.kind != "robot6"; ++a) {
+      auto it = machine.axisLimits.find(std::string(1, "XYZ"[a]));
+      if (it == machine.axisLimits.end()) continue;
+      const auto& lim = it->second;
       if (box.min[a] < lim.first - 1e-9 || box.max[a] > lim.second + 1e-9) {
         char msg[256];
         std::snprintf(msg, sizeof msg,
@@ -218,6 +252,17 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     if (!plan.ok()) return failed<SliceOutput>(plan);
     clock.done("toolpath");
 
+    MotionOptions motionOptions;
+    motionOptions.freeRotationSamples = settings.freeRotationSamples;
+    motionOptions.smoothOrientations = settings.smoothOrientations;
+    motionOptions.filterThresholdDegrees = settings.orientationFilterDegrees;
+    motionOptions.chordTolerance = settings.chordTolerance;
+    motionOptions.acceleration = settings.acceleration;
+    motionOptions.retractSpeed = settings.retractSpeed;
+    MachinePath motion = planMachineMotion(plan.toolpath, machine, motionOptions, progress);
+    if (!motion.ok()) return failed<SliceOutput>(motion);
+    clock.done("motion");
+
     if (!reportProgress(progress, "program", 0)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
     ProgramInfo pinfo;
     pinfo.method = settings.method;
@@ -230,7 +275,11 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     pinfo.bedTemperature = settings.bedTemperature;
     pinfo.acceleration = settings.acceleration;
     pinfo.settings = listSettings(settings);
-    WriteProgramResult written = writeGcode(plan.toolpath, pinfo);
+    if (!parseGcodeDialect(settings.gcodeFlavor, pinfo.dialect) ||
+        !parseRobotFormat(settings.robotFormat, pinfo.robotFormat)) {
+      return failed<SliceOutput>(Status::InvalidOption, "unknown G-code flavour or robot format");
+    }
+    WriteProgramResult written = writeProgram(motion, pinfo);
     if (!written.ok()) return failed<SliceOutput>(written);
     clock.done("program");
     if (!reportProgress(progress, "program", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
@@ -242,13 +291,17 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     // Layers that deposit material (a sliver thinner than a bead at the top prints nothing); the
     // program has one layer marker for each.
     out.layers = written.layers;
-    out.preview = makePreview(plan.toolpath);
+    out.preview = makePreview(motion);
     out.partMesh = std::move(in.placed.mesh);
     out.program = std::move(written.text);
+    out.programExtension = programExtension(machine.kind, pinfo.robotFormat);
 
     Json report;
     report["method"] = settings.method;
-    report["machine"] = settings.machine;
+    report["machine"] = machine.name;
+    report["machine_kind"] = machine.kind;
+    report["program_format"] = machine.kind != "robot6" ? "gcode" : settings.robotFormat;
+    report["program_extension"] = out.programExtension;
     report["layers"] = out.layers;
     report["sliced_layers"] = slices.layers.size();
     report["path_mm"] = finite(stats.pathMm);
@@ -257,6 +310,19 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     report["retractions"] = stats.retractions;
     report["estimated_time_s"] = finite(written.estimatedTimeS);
     report["moves"] = plan.toolpath.moves.size();
+    const MotionStats& ms = motion.stats;
+    report["motion"] = {{"samples", ms.samples},
+                        {"machine_moves", motion.moves.size()},
+                        {"subdivisions", ms.subdivisions},
+                        {"filtered_orientations", ms.filteredOrientations},
+                        {"feed_limited_moves", ms.feedLimitedMoves},
+                        {"safe_rotations", ms.safeRotations},
+                        {"max_joint_step", finite(ms.maxJointStep)},
+                        {"pose_cost", finite(ms.poseCost)},
+                        {"greedy_pose_cost", finite(ms.greedyPoseCost)},
+                        {"min_singularity", finite(ms.minSingularity)},
+                        {"estimated_time_s", finite(ms.estimatedTimeS)}};
+    report["machine_profile"] = Json::parse(machineJson(machine));
     report["direction"] = {d.x(), d.y(), d.z()};
     report["placement"] = matrixJson(pinfo.placement);
     report["open_chains"] = slices.openChains;

@@ -9,6 +9,9 @@
 #include <map>
 #include <sstream>
 
+#include "program/machine.h"
+#include "program/machine_json.h"
+
 namespace omnislice {
 
 namespace {
@@ -119,6 +122,10 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.placement.rotateYDegrees; }, -360, 360, "degrees"}},
       {"rotate_z_deg",
        {[](Settings& s) -> double& { return s.placement.rotateZDegrees; }, -360, 360, "degrees"}},
+      {"motion.filter_deg",
+       {[](Settings& s) -> double& { return s.orientationFilterDegrees; }, 0.1, 180, "degrees"}},
+      {"motion.chord_tolerance",
+       {[](Settings& s) -> double& { return s.chordTolerance; }, 0.0001, 1, "mm"}},
   };
   return specs;
 }
@@ -128,6 +135,8 @@ const std::map<std::string, IntSpec>& intSpecs() {
       {"walls", {[](Settings& s) -> int& { return s.walls; }, 0, 50}},
       {"top_layers", {[](Settings& s) -> int& { return s.topLayers; }, 0, 200}},
       {"bottom_layers", {[](Settings& s) -> int& { return s.bottomLayers; }, 0, 200}},
+      {"motion.free_rotation_samples",
+       {[](Settings& s) -> int& { return s.freeRotationSamples; }, 1, 360}},
   };
   return specs;
 }
@@ -143,6 +152,8 @@ std::string canonicalKey(std::string key) {
       {"placement.center", "center"}, {"placement.rotate_x_deg", "rotate_x_deg"},
       {"placement.rotate_y_deg", "rotate_y_deg"}, {"placement.rotate_z_deg", "rotate_z_deg"},
       {"perimeters", "walls"},       {"direction_d", "direction"},
+      {"gcode_dialect", "gcode_flavor"}, {"flavor", "gcode_flavor"},
+      {"free_rotation_samples", "motion.free_rotation_samples"},
   };
   auto it = aliases.find(key);
   return it == aliases.end() ? key : it->second;
@@ -182,10 +193,46 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
     return {};
   }
   if (key == "machine") {
-    if (value != "cartesian3") {
-      return invalid(key, "'" + value + "' is not available in this build (available: cartesian3)");
+    const std::vector<std::string> names = builtinMachineNames();
+    bool known = false;
+    std::string list;
+    for (const std::string& n : names) {
+      known = known || n == value;
+      list += (list.empty() ? "" : ", ") + n;
+    }
+    if (!known && value != "robot6") {
+      return invalid(key, "'" + value + "' is not a built-in machine (" + list +
+                              "; a profile file goes in machine_json)");
     }
     settings.machine = value;
+    return {};
+  }
+  if (key == "machine_json") {
+    if (!value.empty()) {
+      MachineParseResult m = machineFromJson(value);
+      if (!m.ok()) return invalid(key, m.message);
+    }
+    settings.machineJson = value;
+    return {};
+  }
+  if (key == "gcode_flavor") {
+    if (value != "marlin" && value != "reprap" && value != "klipper") {
+      return invalid(key, "'" + value + "' is not a G-code flavour (marlin, reprap, klipper)");
+    }
+    settings.gcodeFlavor = value;
+    return {};
+  }
+  if (key == "robot_format") {
+    if (value != "csv" && value != "urscript") {
+      return invalid(key, "'" + value + "' is not a robot program format (csv, urscript)");
+    }
+    settings.robotFormat = value;
+    return {};
+  }
+  if (key == "motion.smooth_orientations") {
+    bool b = false;
+    if (!parseBool(value, b)) return invalid(key, "expected true or false");
+    settings.smoothOrientations = b;
     return {};
   }
   if (key == "direction") {
@@ -264,6 +311,10 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
   out.emplace_back("up", upAxisName(s.placement.up));
   out.emplace_back("center", s.placement.center ? "true" : "false");
   out.emplace_back("bed_size", formatVector(s.bedSize));
+  out.emplace_back("gcode_flavor", s.gcodeFlavor);
+  out.emplace_back("robot_format", s.robotFormat);
+  out.emplace_back("motion.smooth_orientations", s.smoothOrientations ? "true" : "false");
+  // machine_json is not listed: the program header and the report carry the resolved profile.
   return out;
 }
 

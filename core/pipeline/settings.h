@@ -26,7 +26,15 @@ struct PlacementSettings {
 
 struct Settings {
   std::string method = "planar";       // planar (later: multidir, voxel, geodesic, isoplanar)
-  std::string machine = "cartesian3";  // machine profile name
+  std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
+  std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
+                                       // `machine` when not empty
+  std::string gcodeFlavor = "marlin";  // G-code kinds: marlin | reprap | klipper
+  std::string robotFormat = "csv";     // robot6: csv | urscript
+  int freeRotationSamples = 30;        // robot6: samples of the rotation about the nozzle axis
+  bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter
+  double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more
+  double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
   PlacementSettings placement;
   Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
 

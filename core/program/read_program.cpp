@@ -1,43 +1,33 @@
 // SPDX-License-Identifier: MIT
+// Reader of every program kind of PROGRAM-FORMAT.md.
+// - G-code (first content line not starting with '#'): cartesian3, rotary4, table5 by the header's
+//   machine (cartesian3 without one); axis words from machineAxisLetters().
+// - Robot joint CSV and URScript (first content line starting with '#'): robot6; URScript is told
+//   apart by its `def` line. CSV rows are moves from the previous row's pose (the first row is the
+//   start pose). URScript: movej / servoj joint targets with `t=` seconds, the extruder rate from
+//   set_analog_out(port, v) / per_mm_s of the `# omnislice:extruder` header, sleep(t) feeds
+//   filament without motion; movel (tool-space interpolation) is refused as UnsupportedFormat.
+// Every move is replayed through forwardMap(); moves whose angular values change are cut by
+// interpolateMachineMove() (chords within 0.01 mm, axis steps within 2 degrees), each piece with
+// its share of the filament (E is linear in the move parameter like every axis) and the machine
+// values at its end.
 #include "program/read_program.h"
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdlib>
-#include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
+#include "kinematics/kinematics.h"
+#include "program/interpolate_machine_move.h"
 #include "program/machine_json.h"
 
 namespace omnislice {
 
 namespace {
-
-// Forward-map plug-in per machine kind: machine axis values -> part-frame tip and nozzle axis.
-// cartesian3 is m = q with u = +Z; the machines issue adds rotary4 / table5 / robot6 here.
-struct KindReplay {
-  std::vector<std::string> letters;  // G-code axis words, in ProgramMove::axes order
-  std::function<void(const MachineProfile&, const std::vector<double>& axes, Eigen::Vector3d& tip,
-                     Eigen::Vector3d& axis)>
-      toPart;
-};
-
-const KindReplay* replayFor(const std::string& kind) {
-  static const std::map<std::string, KindReplay> kinds = {
-      {"cartesian3",
-       {{"X", "Y", "Z"},
-        [](const MachineProfile&, const std::vector<double>& a, Eigen::Vector3d& tip,
-           Eigen::Vector3d& axis) {
-          tip = {a[0], a[1], a[2]};
-          axis = Eigen::Vector3d::UnitZ();
-        }}},
-  };
-  auto it = kinds.find(kind);
-  return it == kinds.end() ? nullptr : &it->second;
-}
 
 std::string trim(const std::string& s) {
   size_t b = 0, e = s.size();
@@ -66,6 +56,18 @@ bool parseInt(const std::string& text, int& out) {
   return true;
 }
 
+std::vector<std::string> split(const std::string& s, char sep) {
+  std::vector<std::string> out;
+  size_t p = 0;
+  while (true) {
+    const size_t q = s.find(sep, p);
+    out.push_back(s.substr(p, q == std::string::npos ? std::string::npos : q - p));
+    if (q == std::string::npos) break;
+    p = q + 1;
+  }
+  return out;
+}
+
 // Feature names of other slicers' `;TYPE:` lines mapped to the format's names.
 std::string featureFromType(std::string type) {
   std::string up;
@@ -80,8 +82,7 @@ std::string featureFromType(std::string type) {
       {"INTERNAL INFILL", "infill"},      {"SPARSE INFILL", "infill"},
       {"SUPPORT", "support"},             {"SUPPORT-INTERFACE", "support"},
       {"SUPPORT MATERIAL", "support"},    {"SUPPORT MATERIAL INTERFACE", "support"},
-      {"BRIDGE", "bridge"},               {"BRIDGE INFILL", "bridge"},
-      {"WALL-OUTER", "wall-outer"}};
+      {"BRIDGE", "bridge"},               {"BRIDGE INFILL", "bridge"}};
   auto it = names.find(up);
   if (it != names.end()) return it->second;
   std::string low;
@@ -94,334 +95,603 @@ struct Word {
   double value;
 };
 
-}  // namespace
+enum class Format { Gcode, Csv, UrScript };
 
-ParsedProgram readProgram(const std::string& text) {
-  ParsedProgram r;
-  int lineNo = 0;
-  if (trim(text).empty()) {
-    r.status = Status::EmptyInput;
-    r.message = "program text is empty";
-    return r;
+constexpr size_t kMaxPieces = 20000000;  // replayed pieces per program (about 4 GB of moves)
+
+class Reader {
+ public:
+  explicit Reader(const std::string& text) : text_(text) {}
+
+  ParsedProgram run();
+
+ private:
+  bool failed() const { return status_ != Status::Ok; }
+  void fail(Status s, const std::string& msg) {
+    if (failed()) return;
+    status_ = s;
+    message_ = "line " + std::to_string(lineNo_) + ": " + msg;
   }
-  auto fail = [&](Status s, const std::string& msg) {
-    ParsedProgram f;
-    f.status = s;
-    f.message = "line " + std::to_string(lineNo) + ": " + msg;
-    return f;
+  void comment(const std::string& body, bool first);
+  void gcodeLine(const std::string& lineText);
+  void csvRow(const std::string& lineText);
+  void scriptLine(const std::string& lineText);
+  bool setMachine(const std::string& json);
+  // Replays the move a -> b (first n values) with `filament`; feedMmPerMin < 0 derives the feed
+  // from durationS and the part-frame length.
+  void emit(const MachineValues& a, const MachineValues& b, double filament, double feedMmPerMin,
+            double durationS);
+
+  const std::string& text_;
+  ParsedProgram r_;
+  Status status_ = Status::Ok;
+  std::string message_;
+  int lineNo_ = 0;
+  Format format_ = Format::Gcode;
+  int n_ = 3;  // values of the machine kind
+  bool haveMachine_ = false, haveExtrusionMode_ = false, haveLayerHeight_ = false;
+  bool haveLineWidth_ = false, haveNozzle_ = false, haveFilament_ = false;
+  double plainLayerHeight_ = 0;  // `;Layer height:` of other slicers
+  bool sawMoves_ = false;
+  int layer_ = -1, part_ = 0;
+  std::string feature_;
+  std::set<int> layers_;
+  // G-code state
+  std::vector<std::string> letters_{"X", "Y", "Z"};
+  MachineValues values_{};
+  double e_ = 0, feed_ = 0;
+  bool relativeAll_ = false, relativeE_ = false;
+  // robot state
+  bool sawRow_ = false, inDef_ = false, defEnded_ = false, called_ = false;
+  double analogScale_ = 0;  // per mm/s of filament, from the extruder header
+  int analogPort_ = 0;
+  double analog_ = 0;       // current analog value
+};
+
+bool Reader::setMachine(const std::string& json) {
+  if (sawMoves_) {
+    fail(Status::ParseError, "machine header after the first move");
+    return false;
+  }
+  MachineParseResult m = machineFromJson(json);
+  if (!m.ok()) {
+    fail(Status::ParseError, m.message);
+    return false;
+  }
+  const int n = machineAxisCount(m.machine.kind);
+  if (n == 0) {
+    fail(Status::UnsupportedFormat,
+         "machine kind '" + m.machine.kind + "' cannot be replayed by this build");
+    return false;
+  }
+  if (format_ == Format::Gcode && m.machine.kind == "robot6") {
+    fail(Status::UnsupportedFormat, "robot6 programs are joint CSV or URScript, not G-code");
+    return false;
+  }
+  if (format_ != Format::Gcode && m.machine.kind != "robot6") {
+    fail(Status::ParseError, "a robot program needs a robot6 machine, not '" + m.machine.kind + "'");
+    return false;
+  }
+  r_.machine = m.machine;
+  n_ = n;
+  if (format_ == Format::Gcode) letters_ = machineAxisLetters(m.machine.kind);
+  values_ = MachineValues{};
+  haveMachine_ = true;
+  return true;
+}
+
+void Reader::comment(const std::string& c, bool first) {
+  if (first && startsWith(c, "omnislice ")) {
+    // "omnislice <version> <method> <date>"
+    std::vector<std::string> parts;
+    for (const std::string& p : split(c, ' ')) {
+      if (!p.empty()) parts.push_back(p);
+    }
+    if (parts.size() >= 3) r_.method = parts[2];
+    return;
+  }
+  if (startsWith(c, "omnislice:")) {
+    const std::string rest = c.substr(10);
+    const size_t sp = rest.find_first_of(" \t");
+    const std::string key = rest.substr(0, sp);
+    const std::string value = sp == std::string::npos ? "" : trim(rest.substr(sp));
+    if (key == "machine") {
+      setMachine(value);
+    } else if (key == "placement") {
+      nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
+      if (j.is_discarded() || !j.is_array() || j.size() != 16) {
+        return fail(Status::ParseError, "placement must be a JSON array of 16 numbers");
+      }
+      for (int i = 0; i < 16; ++i) {
+        if (!j[i].is_number() || !std::isfinite(j[i].get<double>())) {
+          return fail(Status::ParseError,
+                      "placement entry " + std::to_string(i) + " is not a finite number");
+        }
+        r_.placement(i / 4, i % 4) = j[i].get<double>();
+      }
+    } else if (key == "extrusion") {
+      nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
+      if (j.is_discarded() || !j.is_object() || !j.contains("mode") || !j["mode"].is_string()) {
+        return fail(Status::ParseError, "extrusion header must be {\"mode\":...}");
+      }
+      const std::string mode = j["mode"].get<std::string>();
+      if (mode != "absolute" && mode != "relative") {
+        return fail(Status::ParseError, "extrusion mode must be absolute or relative");
+      }
+      r_.absoluteExtrusion = mode == "absolute";
+      relativeE_ = !r_.absoluteExtrusion;
+      haveExtrusionMode_ = true;
+      if (j.contains("filament_diameter")) {
+        const auto& f = j["filament_diameter"];
+        if (!f.is_number() || !std::isfinite(f.get<double>()) || f.get<double>() <= 0) {
+          return fail(Status::ParseError, "filament_diameter must be a positive number");
+        }
+        r_.filamentDiameter = f.get<double>();
+        haveFilament_ = true;
+      }
+    } else if (key == "feed") {
+      nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
+      if (j.is_discarded() || !j.is_object()) {
+        return fail(Status::ParseError, "feed header must be a JSON object");
+      }
+      if (j.contains("semantics")) {
+        if (!j["semantics"].is_string()) return fail(Status::ParseError, "feed semantics must be text");
+        r_.feedSemantics = j["semantics"].get<std::string>();
+      }
+    } else if (key == "extruder") {
+      nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
+      if (j.is_discarded() || !j.is_object() || !j.contains("per_mm_s") ||
+          !j["per_mm_s"].is_number() || !std::isfinite(j["per_mm_s"].get<double>()) ||
+          j["per_mm_s"].get<double>() <= 0) {
+        return fail(Status::ParseError, "extruder header needs a positive per_mm_s");
+      }
+      analogScale_ = j["per_mm_s"].get<double>();
+      if (j.contains("port")) {
+        if (!j["port"].is_number_integer()) return fail(Status::ParseError, "extruder port must be an integer");
+        analogPort_ = j["port"].get<int>();
+      }
+    } else if (key == "setting") {
+      const size_t eq = value.find('=');
+      if (eq == std::string::npos) return fail(Status::ParseError, "setting without '='");
+      const std::string name = trim(value.substr(0, eq));
+      const std::string v = trim(value.substr(eq + 1));
+      // The first value of a key is the effective one (writers put resolved values first).
+      struct Numeric {
+        const char* name;
+        double* target;
+        bool* seen;
+      } numerics[] = {{"layer_height", &r_.layerHeight, &haveLayerHeight_},
+                      {"line_width", &r_.lineWidth, &haveLineWidth_},
+                      {"nozzle_diameter", &r_.nozzleDiameter, &haveNozzle_},
+                      {"filament_diameter", &r_.filamentDiameter, &haveFilament_}};
+      for (Numeric& num : numerics) {
+        if (name != num.name || *num.seen) continue;
+        double x = 0;
+        if (!parseNumber(v, x) || x <= 0) {
+          return fail(Status::ParseError, "setting " + name + " must be a positive number");
+        }
+        *num.target = x;
+        *num.seen = true;
+      }
+    } else if (key == "layer") {
+      if (!parseInt(value, layer_)) return fail(Status::ParseError, "bad layer index");
+      layers_.insert(layer_);
+    } else if (key == "feature") {
+      feature_ = value;
+    } else if (key == "part") {
+      const std::string idx = value.substr(0, value.find(' '));
+      if (!parseInt(idx, part_)) return fail(Status::ParseError, "bad part index");
+    }
+    // Other omnislice: keys (dialect, end, future additions) carry no replay facts.
+    return;
+  }
+  if (format_ == Format::Csv) {
+    std::string cols;
+    for (char ch : c) {
+      if (!std::isspace(static_cast<unsigned char>(ch))) cols += ch;
+    }
+    const bool columnLine = cols.size() > 2 && cols[0] == 'q' &&
+                            std::isdigit(static_cast<unsigned char>(cols[1])) && cols[2] == ',';
+    if (columnLine && cols != "q1,q2,q3,q4,q5,q6,e,f,kind") {
+      return fail(Status::UnsupportedFormat, "CSV columns must be q1,q2,q3,q4,q5,q6,e,f,kind");
+    }
+    return;
+  }
+  if (startsWith(c, "LAYER:")) {
+    if (!parseInt(c.substr(6), layer_)) return fail(Status::ParseError, "bad ;LAYER: index");
+    layers_.insert(layer_);
+  } else if (c == "LAYER_CHANGE") {
+    layer_ = layer_ < 0 ? 0 : layer_ + 1;
+    layers_.insert(layer_);
+  } else if (startsWith(c, "TYPE:")) {
+    feature_ = featureFromType(c.substr(5));
+  } else if (startsWith(c, "Layer height:")) {
+    double x = 0;
+    if (parseNumber(c.substr(13), x) && x > 0) plainLayerHeight_ = x;
+  } else if (startsWith(c, "layer_height =")) {
+    double x = 0;
+    if (parseNumber(c.substr(14), x) && x > 0 && plainLayerHeight_ == 0) plainLayerHeight_ = x;
+  }
+}
+
+void Reader::emit(const MachineValues& a, const MachineValues& b, double filament,
+                  double feedMmPerMin, double durationS) {
+  bool angular = false;
+  for (int i = 0; i < n_; ++i) angular = angular || (isAngularAxis(r_.machine.kind, i) && a[i] != b[i]);
+  if (!angular) {
+    // Straight tip path: one piece, no interpolation buffers (the common case of 3-axis moves).
+    ProgramMove m;
+    Eigen::Vector3d axisA;
+    if (!forwardMap(r_.machine, a, m.from, axisA) || !forwardMap(r_.machine, b, m.to, m.axis)) {
+      return fail(Status::ParseError, "machine values cannot be mapped to the part frame");
+    }
+    m.filament = filament;
+    m.feedMmPerMin = feedMmPerMin >= 0 ? feedMmPerMin
+                     : durationS > 0   ? (m.to - m.from).norm() / durationS * 60.0
+                                       : 0.0;
+    m.layer = layer_;
+    m.part = part_;
+    m.feature = feature_;
+    m.axes.assign(b.begin(), b.begin() + n_);
+    m.line = lineNo_;
+    r_.moves.push_back(std::move(m));
+    sawMoves_ = true;
+    return;
+  }
+  // Broken input must not make the replay explode: a move turns at most 10 turns per value
+  // (degrees or radians), and the whole program at most kMaxPieces pieces.
+  const double turn = r_.machine.kind == "robot6" ? 2 * 3.14159265358979323846 : 360.0;
+  for (int i = 0; i < n_; ++i) {
+    if (isAngularAxis(r_.machine.kind, i) && std::abs(b[i] - a[i]) > 10 * turn) {
+      return fail(Status::ParseError, "a move turns an angular value by more than 10 turns");
+    }
+  }
+  const MoveInterpolation pieces = interpolateMachineMove(r_.machine, a, b);
+  if (!pieces.ok()) return fail(Status::ParseError, pieces.message);
+  if (r_.moves.size() + pieces.t.size() > kMaxPieces) {
+    return fail(Status::ParseError, "the program replays into more than 20 million pieces");
+  }
+  const double feed = feedMmPerMin >= 0 ? feedMmPerMin
+                      : durationS > 0   ? pieces.length / durationS * 60.0
+                                        : 0.0;
+  for (size_t i = 1; i < pieces.t.size(); ++i) {
+    ProgramMove m;
+    m.from = pieces.tips[i - 1];
+    m.to = pieces.tips[i];
+    m.axis = pieces.axes[i];
+    m.filament = pieces.t.size() == 2 ? filament : filament * (pieces.t[i] - pieces.t[i - 1]);
+    m.feedMmPerMin = feed;
+    m.layer = layer_;
+    m.part = part_;
+    m.feature = feature_;
+    const MachineValues v = lerpValues(a, b, pieces.t[i]);
+    m.axes.assign(v.begin(), v.begin() + n_);
+    m.line = lineNo_;
+    r_.moves.push_back(std::move(m));
+  }
+  sawMoves_ = true;
+}
+
+void Reader::gcodeLine(const std::string& lineText) {
+  std::string code = lineText.substr(0, lineText.find(';'));
+  const size_t paren = code.find('(');
+  if (paren != std::string::npos) code = code.substr(0, paren);
+  code = trim(code);
+  if (code.empty()) return;
+  // Line numbers "N123 ... *cs" of host protocols.
+  if (code[0] == 'N' || code[0] == 'n') {
+    size_t p = 1;
+    while (p < code.size() && std::isdigit(static_cast<unsigned char>(code[p]))) ++p;
+    code = trim(code.substr(p));
+  }
+  const size_t star = code.find('*');
+  if (star != std::string::npos) code = trim(code.substr(0, star));
+  if (code.empty()) return;
+  const char cmdLetter = static_cast<char>(std::toupper(static_cast<unsigned char>(code[0])));
+  size_t p = 1;
+  while (p < code.size() && (std::isdigit(static_cast<unsigned char>(code[p])) || code[p] == '.')) ++p;
+  int cmdNumber = 0;
+  if (cmdLetter != 'G' && cmdLetter != 'M') return;  // T0 etc.: nothing to replay
+  if (!parseInt(code.substr(1, p - 1), cmdNumber)) return;  // G29.1, M600.1: nothing to replay
+  const bool isMove = cmdLetter == 'G' && (cmdNumber == 0 || cmdNumber == 1);
+  const bool isG92 = cmdLetter == 'G' && cmdNumber == 92;
+  const bool isG28 = cmdLetter == 'G' && cmdNumber == 28;
+  if (cmdLetter == 'G' && (cmdNumber == 2 || cmdNumber == 3)) {
+    return fail(Status::UnsupportedFormat, "arc moves (G2/G3) are not supported");
+  }
+  if (cmdLetter == 'G' && cmdNumber == 20) {
+    return fail(Status::UnsupportedFormat, "inch units (G20) are not supported");
+  }
+  if (cmdLetter == 'G' && cmdNumber == 90) relativeAll_ = false;
+  if (cmdLetter == 'G' && cmdNumber == 91) relativeAll_ = true;
+  if (cmdLetter == 'M' && cmdNumber == 82) relativeE_ = false;
+  if (cmdLetter == 'M' && cmdNumber == 83) relativeE_ = true;
+  if (!isMove && !isG92 && !isG28) return;
+
+  std::vector<Word> words;
+  while (p < code.size()) {
+    if (std::isspace(static_cast<unsigned char>(code[p]))) {
+      ++p;
+      continue;
+    }
+    const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(code[p])));
+    if (!std::isalpha(static_cast<unsigned char>(letter))) {
+      return fail(Status::ParseError, std::string("unexpected character '") + code[p] + "'");
+    }
+    ++p;
+    const char* begin = code.c_str() + p;
+    char* end = nullptr;
+    const double v = std::strtod(begin, &end);
+    if (end == begin) {
+      if (isG28) {  // "G28 X Y" homes the named axes
+        words.push_back({letter, 0.0});
+        continue;
+      }
+      return fail(Status::ParseError, std::string("word ") + letter + " has no number");
+    }
+    if (!std::isfinite(v)) return fail(Status::ParseError, std::string("word ") + letter + " is not finite");
+    p += static_cast<size_t>(end - begin);
+    words.push_back({letter, v});
+  }
+  auto axisIndex = [&](char letter) -> int {
+    for (size_t i = 0; i < letters_.size(); ++i) {
+      if (letters_[i][0] == letter) return static_cast<int>(i);
+    }
+    return -1;
   };
+  if (isG28) {
+    // Homing: positions become unknown to a replay; the convention here is 0.
+    if (words.empty()) values_ = MachineValues{};
+    for (const Word& w : words) {
+      const int i = axisIndex(w.letter);
+      if (i >= 0) values_[i] = 0.0;
+    }
+    return;
+  }
+  if (isG92) {
+    if (words.empty()) {
+      values_ = MachineValues{};
+      e_ = 0;
+    }
+    for (const Word& w : words) {
+      if (w.letter == 'E') e_ = w.value;
+      const int i = axisIndex(w.letter);
+      if (i >= 0) values_[i] = w.value;
+    }
+    return;
+  }
+  // G0 / G1
+  MachineValues next = values_;
+  double filament = 0;
+  bool motionWord = false, eWord = false;
+  for (const Word& w : words) {
+    if (w.letter == 'F') {
+      if (w.value <= 0) return fail(Status::ParseError, "feed F must be positive");
+      feed_ = w.value;
+      continue;
+    }
+    if (w.letter == 'E') {
+      eWord = true;
+      if (relativeAll_ || relativeE_) {
+        filament = w.value;
+        e_ += w.value;
+      } else {
+        filament = w.value - e_;
+        e_ = w.value;
+      }
+      continue;
+    }
+    const int i = axisIndex(w.letter);
+    if (i < 0) continue;  // words of axes this kind does not have (e.g. A on cartesian3)
+    motionWord = true;
+    next[i] = relativeAll_ ? values_[i] + w.value : w.value;
+    if (!std::isfinite(next[i])) return fail(Status::ParseError, "axis value is not finite");
+  }
+  if (!motionWord && !eWord) return;  // feed-only line
+  const bool moved = next != values_;
+  if (!moved && filament == 0) return;
+  if (filament > 0 && !haveExtrusionMode_) {
+    // Without a header, the mode of the first extruding move is the program's mode.
+    r_.absoluteExtrusion = !(relativeAll_ || relativeE_);
+    haveExtrusionMode_ = true;
+  }
+  emit(values_, next, filament, feed_, 0);
+  values_ = next;
+}
 
-  bool haveMachine = false, haveExtrusionMode = false, haveLayerHeight = false;
-  bool haveLineWidth = false, haveNozzle = false, haveFilament = false;
-  double plainLayerHeight = 0;  // `;Layer height:` of other slicers
-  const KindReplay* replay = replayFor("cartesian3");
-  std::vector<double> axes(replay->letters.size(), 0.0);
-  double e = 0, feed = 0;
-  bool relativeAll = false;   // G91
-  bool relativeE = false;     // M83 (kept across G90, as Marlin does)
-  bool sawMoves = false;
-  int layer = -1, part = 0;
-  std::string feature;
-  std::set<int> layers;
+void Reader::csvRow(const std::string& lineText) {
+  if (!haveMachine_) return fail(Status::ParseError, "joint row before the machine header");
+  const std::vector<std::string> f = split(lineText, ',');
+  if (f.size() != 9) return fail(Status::ParseError, "a joint row has 9 fields q1..q6,e,f,kind");
+  MachineValues q{};
+  for (int i = 0; i < 6; ++i) {
+    if (!parseNumber(f[i], q[i])) return fail(Status::ParseError, "joint q" + std::to_string(i + 1) + " is not a number");
+  }
+  double e = 0, speed = 0;
+  if (!parseNumber(f[6], e)) return fail(Status::ParseError, "e is not a number");
+  if (!parseNumber(f[7], speed) || speed < 0) return fail(Status::ParseError, "f must be a number >= 0");
+  const std::string kind = trim(f[8]);
+  if (kind != "print" && kind != "travel" && kind != "support") {
+    return fail(Status::ParseError, "kind must be print, travel or support");
+  }
+  if (!sawRow_) {
+    values_ = q;  // the first row is the start pose
+    sawRow_ = true;
+  }
+  if (q == values_ && e == 0) return;
+  emit(values_, q, e, speed * 60.0, 0);
+  values_ = q;
+}
+
+void Reader::scriptLine(const std::string& lineText) {
+  if (startsWith(lineText, "def ")) {
+    if (inDef_ || defEnded_) return fail(Status::ParseError, "a second def");
+    inDef_ = true;
+    return;
+  }
+  if (lineText == "end") {
+    if (!inDef_) return fail(Status::ParseError, "end without def");
+    inDef_ = false;
+    defEnded_ = true;
+    return;
+  }
+  if (!inDef_) {
+    if (defEnded_ && !called_ && lineText.size() > 2 && lineText.compare(lineText.size() - 2, 2, "()") == 0) {
+      called_ = true;
+      return;
+    }
+    return fail(Status::ParseError, "statement outside the program definition");
+  }
+  const size_t open = lineText.find('(');
+  if (open == std::string::npos || lineText.back() != ')') {
+    return fail(Status::ParseError, "unsupported URScript statement");
+  }
+  const std::string name = trim(lineText.substr(0, open));
+  const std::string args = lineText.substr(open + 1, lineText.size() - open - 2);
+  if (!haveMachine_) return fail(Status::ParseError, "statement before the machine header");
+  if (name == "movej" || name == "servoj") {
+    const size_t lb = args.find('['), rb = args.find(']');
+    if (lb == std::string::npos || rb == std::string::npos || rb < lb || trim(args.substr(0, lb)) != "") {
+      return fail(Status::ParseError, name + " needs a joint list [q1, ..., q6]");
+    }
+    const std::vector<std::string> qs = split(args.substr(lb + 1, rb - lb - 1), ',');
+    if (qs.size() != 6) return fail(Status::ParseError, name + " needs 6 joint values");
+    MachineValues q{};
+    for (int i = 0; i < 6; ++i) {
+      if (!parseNumber(qs[i], q[i])) return fail(Status::ParseError, "joint value is not a number");
+    }
+    double t = 0;
+    const std::string rest = trim(args.substr(rb + 1));
+    if (!rest.empty()) {
+      if (rest[0] != ',') return fail(Status::ParseError, "bad arguments after the joint list");
+      for (const std::string& a : split(rest.substr(1), ',')) {
+        const size_t eq = a.find('=');
+        if (eq == std::string::npos) return fail(Status::ParseError, "only named arguments (t=...) are read");
+        const std::string key = trim(a.substr(0, eq));
+        double v = 0;
+        if (!parseNumber(a.substr(eq + 1), v) || v < 0) return fail(Status::ParseError, "argument " + key + " must be a number >= 0");
+        if (key == "t") t = v;
+      }
+    }
+    const double filament = analog_ != 0 ? analog_ / analogScale_ * t : 0.0;
+    if (analog_ != 0 && t == 0) return fail(Status::ParseError, "extruding move without t");
+    if (!sawRow_) {
+      sawRow_ = true;
+      values_ = q;  // the first target is the start pose (the arm is there when the program runs)
+      if (filament == 0) return;
+    }
+    if (q == values_ && filament == 0) return;
+    emit(values_, q, filament, -1, t);
+    values_ = q;
+    return;
+  }
+  if (name == "movel" || name == "movec" || name == "movep") {
+    return fail(Status::UnsupportedFormat, name + " interpolates in tool space; Omnislice replays joint-space moves (movej, servoj)");
+  }
+  if (name == "set_analog_out" || name == "set_standard_analog_out") {
+    const std::vector<std::string> a = split(args, ',');
+    int port = 0;
+    double v = 0;
+    if (a.size() != 2 || !parseInt(a[0], port) || !parseNumber(a[1], v)) {
+      return fail(Status::ParseError, name + "(port, value) expected");
+    }
+    if (port != analogPort_) return;  // another output
+    if (v != 0 && analogScale_ <= 0) return fail(Status::ParseError, "extruder output without an `omnislice:extruder` header");
+    analog_ = v;
+    return;
+  }
+  if (name == "sleep") {
+    double t = 0;
+    if (!parseNumber(args, t) || t < 0) return fail(Status::ParseError, "sleep(t) expects t >= 0");
+    const double filament = analog_ != 0 ? analog_ / analogScale_ * t : 0.0;
+    if (filament != 0) {
+      if (!sawRow_) {
+        sawRow_ = true;  // no pose yet: filament at the origin pose of the values
+      }
+      emit(values_, values_, filament, 0, t);
+    }
+    return;
+  }
+  if (name == "textmsg" || name == "popup" || name == "sync") return;
+  return fail(Status::ParseError, "unsupported URScript statement '" + name + "'");
+}
+
+ParsedProgram Reader::run() {
+  if (trim(text_).empty()) {
+    r_.status = Status::EmptyInput;
+    r_.message = "program text is empty";
+    return r_;
+  }
   bool firstContentLine = true;
-
   size_t pos = 0;
-  while (pos <= text.size()) {
-    size_t nl = text.find('\n', pos);
-    if (nl == std::string::npos) nl = text.size();
-    std::string raw = text.substr(pos, nl - pos);
+  while (pos <= text_.size() && !failed()) {
+    size_t nl = text_.find('\n', pos);
+    if (nl == std::string::npos) nl = text_.size();
+    std::string raw = text_.substr(pos, nl - pos);
     pos = nl + 1;
-    ++lineNo;
+    ++lineNo_;
     if (!raw.empty() && raw.back() == '\r') raw.pop_back();
     const std::string lineText = trim(raw);
     if (lineText.empty()) {
-      if (nl == text.size()) break;
+      if (nl == text_.size()) break;
       continue;
     }
     const bool first = firstContentLine;
     firstContentLine = false;
-
-    if (lineText[0] == ';') {
-      const std::string c = trim(lineText.substr(1));
-      if (first && startsWith(c, "omnislice ")) {
-        // "; omnislice <version> <method> <date>"
-        std::vector<std::string> parts;
-        size_t p = 0;
-        while (p < c.size()) {
-          size_t q = c.find(' ', p);
-          if (q == std::string::npos) q = c.size();
-          if (q > p) parts.push_back(c.substr(p, q - p));
-          p = q + 1;
-        }
-        if (parts.size() >= 3) r.method = parts[2];
-      } else if (startsWith(c, "omnislice:")) {
-        const std::string rest = c.substr(10);
-        const size_t sp = rest.find_first_of(" \t");
-        const std::string key = rest.substr(0, sp);
-        const std::string value = sp == std::string::npos ? "" : trim(rest.substr(sp));
-        if (key == "machine") {
-          if (sawMoves) return fail(Status::ParseError, "machine header after the first move");
-          MachineParseResult m = machineFromJson(value);
-          if (!m.ok()) return fail(Status::ParseError, m.message);
-          replay = replayFor(m.machine.kind);
-          if (!replay) {
-            return fail(Status::UnsupportedFormat,
-                        "machine kind '" + m.machine.kind + "' cannot be replayed by this build");
-          }
-          r.machine = m.machine;
-          axes.assign(replay->letters.size(), 0.0);
-          haveMachine = true;
-        } else if (key == "placement") {
-          nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
-          if (j.is_discarded() || !j.is_array() || j.size() != 16) {
-            return fail(Status::ParseError, "placement must be a JSON array of 16 numbers");
-          }
-          for (int i = 0; i < 16; ++i) {
-            if (!j[i].is_number() || !std::isfinite(j[i].get<double>())) {
-              return fail(Status::ParseError, "placement entry " + std::to_string(i) +
-                                                  " is not a finite number");
-            }
-            r.placement(i / 4, i % 4) = j[i].get<double>();
-          }
-        } else if (key == "extrusion") {
-          nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
-          if (j.is_discarded() || !j.is_object() || !j.contains("mode") ||
-              !j["mode"].is_string()) {
-            return fail(Status::ParseError, "extrusion header must be {\"mode\":...}");
-          }
-          const std::string mode = j["mode"].get<std::string>();
-          if (mode != "absolute" && mode != "relative") {
-            return fail(Status::ParseError, "extrusion mode must be absolute or relative");
-          }
-          r.absoluteExtrusion = mode == "absolute";
-          relativeE = !r.absoluteExtrusion;
-          haveExtrusionMode = true;
-          if (j.contains("filament_diameter")) {
-            const auto& f = j["filament_diameter"];
-            if (!f.is_number() || !std::isfinite(f.get<double>()) || f.get<double>() <= 0) {
-              return fail(Status::ParseError, "filament_diameter must be a positive number");
-            }
-            r.filamentDiameter = f.get<double>();
-            haveFilament = true;
-          }
-        } else if (key == "feed") {
-          nlohmann::json j = nlohmann::json::parse(value, nullptr, false);
-          if (j.is_discarded() || !j.is_object()) {
-            return fail(Status::ParseError, "feed header must be a JSON object");
-          }
-        } else if (key == "setting") {
-          const size_t eq = value.find('=');
-          if (eq == std::string::npos) return fail(Status::ParseError, "setting without '='");
-          const std::string name = trim(value.substr(0, eq));
-          const std::string v = trim(value.substr(eq + 1));
-          // The first value of a key is the effective one (writers put resolved values first).
-          struct Numeric {
-            const char* name;
-            double* target;
-            bool* seen;
-          } numerics[] = {{"layer_height", &r.layerHeight, &haveLayerHeight},
-                          {"line_width", &r.lineWidth, &haveLineWidth},
-                          {"nozzle_diameter", &r.nozzleDiameter, &haveNozzle},
-                          {"filament_diameter", &r.filamentDiameter, &haveFilament}};
-          for (Numeric& n : numerics) {
-            if (name != n.name || *n.seen) continue;
-            double x = 0;
-            if (!parseNumber(v, x) || x <= 0) {
-              return fail(Status::ParseError, "setting " + name + " must be a positive number");
-            }
-            *n.target = x;
-            *n.seen = true;
-          }
-        } else if (key == "layer") {
-          if (!parseInt(value, layer)) return fail(Status::ParseError, "bad layer index");
-          layers.insert(layer);
-        } else if (key == "feature") {
-          feature = value;
-        } else if (key == "part") {
-          const std::string idx = value.substr(0, value.find(' '));
-          if (!parseInt(idx, part)) return fail(Status::ParseError, "bad part index");
-        }
-        // Other omnislice: keys (end, future additions) carry no replay facts.
-      } else if (startsWith(c, "LAYER:")) {
-        if (!parseInt(c.substr(6), layer)) return fail(Status::ParseError, "bad ;LAYER: index");
-        layers.insert(layer);
-      } else if (c == "LAYER_CHANGE") {
-        layer = layer < 0 ? 0 : layer + 1;
-        layers.insert(layer);
-      } else if (startsWith(c, "TYPE:")) {
-        feature = featureFromType(c.substr(5));
-      } else if (startsWith(c, "Layer height:")) {
-        double x = 0;
-        if (parseNumber(c.substr(13), x) && x > 0) plainLayerHeight = x;
-      } else if (startsWith(c, "layer_height =")) {
-        double x = 0;
-        if (parseNumber(c.substr(14), x) && x > 0 && plainLayerHeight == 0) plainLayerHeight = x;
+    if (first && lineText[0] == '#') {
+      format_ = Format::Csv;  // until a `def` line says URScript
+      r_.format = "csv";
+      r_.absoluteExtrusion = false;
+      n_ = 6;
+    }
+    if (format_ == Format::Gcode) {
+      if (lineText[0] == ';') {
+        comment(trim(lineText.substr(1)), first);
+      } else {
+        gcodeLine(lineText);
       }
       continue;
     }
-
-    // ---- command line: strip comments, split words ----
-    std::string code = lineText.substr(0, lineText.find(';'));
-    const size_t paren = code.find('(');
-    if (paren != std::string::npos) code = code.substr(0, paren);
-    code = trim(code);
-    if (code.empty()) continue;
-    // Line numbers "N123 ... *cs" of host protocols.
-    if (code[0] == 'N' || code[0] == 'n') {
-      size_t p = 1;
-      while (p < code.size() && std::isdigit(static_cast<unsigned char>(code[p]))) ++p;
-      code = trim(code.substr(p));
-    }
-    const size_t star = code.find('*');
-    if (star != std::string::npos) code = trim(code.substr(0, star));
-    if (code.empty()) continue;
-    const char cmdLetter = static_cast<char>(std::toupper(static_cast<unsigned char>(code[0])));
-    size_t p = 1;
-    while (p < code.size() && (std::isdigit(static_cast<unsigned char>(code[p])) || code[p] == '.'))
-      ++p;
-    int cmdNumber = 0;
-    if (cmdLetter != 'G' && cmdLetter != 'M') continue;  // T0 etc.: nothing to replay
-    if (!parseInt(code.substr(1, p - 1), cmdNumber)) {
-      // Sub-codes like G29.1 or M600.1: nothing this reader replays.
+    if (lineText[0] == '#') {
+      comment(trim(lineText.substr(1)), first);
       continue;
     }
-    const bool isMove = cmdLetter == 'G' && (cmdNumber == 0 || cmdNumber == 1);
-    const bool isG92 = cmdLetter == 'G' && cmdNumber == 92;
-    const bool isG28 = cmdLetter == 'G' && cmdNumber == 28;
-    if (cmdLetter == 'G' && (cmdNumber == 2 || cmdNumber == 3)) {
-      return fail(Status::UnsupportedFormat, "arc moves (G2/G3) are not supported");
+    if (format_ == Format::Csv && !sawRow_ && startsWith(lineText, "def ")) {
+      format_ = Format::UrScript;
+      r_.format = "urscript";
     }
-    if (cmdLetter == 'G' && cmdNumber == 20) {
-      return fail(Status::UnsupportedFormat, "inch units (G20) are not supported");
+    if (format_ == Format::Csv) {
+      csvRow(lineText);
+    } else {
+      scriptLine(lineText);
     }
-    if (cmdLetter == 'G' && cmdNumber == 90) relativeAll = false;
-    if (cmdLetter == 'G' && cmdNumber == 91) relativeAll = true;
-    if (cmdLetter == 'M' && cmdNumber == 82) relativeE = false;
-    if (cmdLetter == 'M' && cmdNumber == 83) relativeE = true;
-    if (!isMove && !isG92 && !isG28) continue;
-
-    std::vector<Word> words;
-    while (p < code.size()) {
-      if (std::isspace(static_cast<unsigned char>(code[p]))) {
-        ++p;
-        continue;
-      }
-      const char letter = static_cast<char>(std::toupper(static_cast<unsigned char>(code[p])));
-      if (!std::isalpha(static_cast<unsigned char>(letter))) {
-        return fail(Status::ParseError, std::string("unexpected character '") + code[p] + "'");
-      }
-      ++p;
-      const char* begin = code.c_str() + p;
-      char* end = nullptr;
-      const double v = std::strtod(begin, &end);
-      if (end == begin) {
-        if (isG28) {  // "G28 X Y" homes the named axes
-          words.push_back({letter, 0.0});
-          continue;
-        }
-        return fail(Status::ParseError, std::string("word ") + letter + " has no number");
-      }
-      if (!std::isfinite(v)) {
-        return fail(Status::ParseError, std::string("word ") + letter + " is not finite");
-      }
-      p += static_cast<size_t>(end - begin);
-      words.push_back({letter, v});
-    }
-    auto axisIndex = [&](char letter) -> int {
-      for (size_t i = 0; i < replay->letters.size(); ++i) {
-        if (replay->letters[i][0] == letter) return static_cast<int>(i);
-      }
-      return -1;
-    };
-
-    if (isG28) {
-      // Homing: positions become unknown to a replay; the convention here is 0.
-      if (words.empty()) std::fill(axes.begin(), axes.end(), 0.0);
-      for (const Word& w : words) {
-        const int i = axisIndex(w.letter);
-        if (i >= 0) axes[i] = 0.0;
-      }
-      continue;
-    }
-    if (isG92) {
-      if (words.empty()) {
-        std::fill(axes.begin(), axes.end(), 0.0);
-        e = 0;
-      }
-      for (const Word& w : words) {
-        if (w.letter == 'E') e = w.value;
-        const int i = axisIndex(w.letter);
-        if (i >= 0) axes[i] = w.value;
-      }
-      continue;
-    }
-
-    // G0 / G1
-    std::vector<double> next = axes;
-    double filament = 0;
-    bool motionWord = false, eWord = false;
-    for (const Word& w : words) {
-      if (w.letter == 'F') {
-        if (w.value <= 0) return fail(Status::ParseError, "feed F must be positive");
-        feed = w.value;
-        continue;
-      }
-      if (w.letter == 'E') {
-        eWord = true;
-        if (relativeAll || relativeE) {
-          filament = w.value;
-          e += w.value;
-        } else {
-          filament = w.value - e;
-          e = w.value;
-        }
-        continue;
-      }
-      const int i = axisIndex(w.letter);
-      if (i < 0) continue;  // words of axes this kind does not have (e.g. A on cartesian3)
-      motionWord = true;
-      next[i] = relativeAll ? axes[i] + w.value : w.value;
-    }
-    if (!motionWord && !eWord) continue;  // feed-only line
-    const bool moved = next != axes;
-    if (!moved && filament == 0) {
-      axes = next;
-      continue;
-    }
-    ProgramMove m;
-    Eigen::Vector3d axisUnused;
-    replay->toPart(r.machine, axes, m.from, axisUnused);
-    replay->toPart(r.machine, next, m.to, m.axis);
-    m.filament = filament;
-    m.feedMmPerMin = feed;
-    m.layer = layer;
-    m.part = part;
-    m.feature = feature;
-    m.axes = next;
-    m.line = lineNo;
-    r.moves.push_back(std::move(m));
-    if (filament > 0 && !haveExtrusionMode) {
-      // Without a header, the mode of the first extruding move is the program's mode.
-      r.absoluteExtrusion = !(relativeAll || relativeE);
-      haveExtrusionMode = true;
-    }
-    sawMoves = true;
-    axes = next;
   }
-
-  if (!haveMachine) {
-    r.machine = MachineProfile{};  // cartesian3, no declared limits
-    if (haveNozzle) r.machine.nozzle.diameter = r.nozzleDiameter;
+  if (!failed() && format_ == Format::UrScript && (inDef_ || !defEnded_)) {
+    fail(Status::ParseError, "URScript program without its closing `end`");
   }
-  if (!haveNozzle) r.nozzleDiameter = r.machine.nozzle.diameter;
-  if (!haveLineWidth) r.lineWidth = 1.125 * r.nozzleDiameter;  // usual default width
-  if (!haveLayerHeight) {
-    if (plainLayerHeight > 0) {
-      r.layerHeight = plainLayerHeight;
+  if (!failed() && format_ != Format::Gcode && !haveMachine_) {
+    fail(Status::ParseError, "robot program without an `omnislice:machine` header");
+  }
+  if (failed()) {
+    ParsedProgram f;
+    f.status = status_;
+    f.message = message_;
+    f.format = r_.format;
+    return f;
+  }
+  if (!haveMachine_) {
+    r_.machine = MachineProfile{};  // cartesian3, no declared limits
+    if (haveNozzle_) r_.machine.nozzle.diameter = r_.nozzleDiameter;
+  }
+  if (!haveNozzle_) r_.nozzleDiameter = r_.machine.nozzle.diameter;
+  if (!haveLineWidth_) r_.lineWidth = 1.125 * r_.nozzleDiameter;  // usual default width
+  if (!haveLayerHeight_) {
+    if (plainLayerHeight_ > 0) {
+      r_.layerHeight = plainLayerHeight_;
     } else {
       // From the steps between the Z levels of extruding moves (median step).
       std::vector<double> zs;
-      for (const ProgramMove& m : r.moves) {
+      for (const ProgramMove& m : r_.moves) {
         if (m.filament > 0 && (m.to - m.from).norm() > 0) zs.push_back(std::round(m.to.z() * 1e4) / 1e4);
       }
       std::sort(zs.begin(), zs.end());
@@ -430,15 +700,19 @@ ParsedProgram readProgram(const std::string& text) {
       for (size_t i = 1; i < zs.size(); ++i) steps.push_back(zs[i] - zs[i - 1]);
       if (!steps.empty()) {
         std::nth_element(steps.begin(), steps.begin() + steps.size() / 2, steps.end());
-        r.layerHeight = steps[steps.size() / 2];
+        r_.layerHeight = steps[steps.size() / 2];
       } else if (!zs.empty() && zs.front() > 0) {
-        r.layerHeight = zs.front();
+        r_.layerHeight = zs.front();
       }
     }
   }
-  r.layerCount = static_cast<int>(layers.size());
-  if (r.method.empty()) r.method = "unknown";
-  return r;
+  r_.layerCount = static_cast<int>(layers_.size());
+  if (r_.method.empty()) r_.method = "unknown";
+  return std::move(r_);
 }
+
+}  // namespace
+
+ParsedProgram readProgram(const std::string& text) { return Reader(text).run(); }
 
 }  // namespace omnislice

@@ -1,12 +1,37 @@
 // SPDX-License-Identifier: MIT
+// G-code writer (cartesian3, rotary4, table5) and the parts shared with the robot writer.
+//
+// Dialects (PROGRAM-FORMAT.md leaves start code to the writer; the differences are kept small):
+//   marlin  : G21, G90, M82, M140/M104 then M190/M109, G28, G92 E0; feed semantics "xyz".
+//   reprap  : as marlin with T0 first (RepRapFirmware extrudes only with a selected tool);
+//             feed semantics "combined".
+//   klipper : as marlin without G21 (Klipper is always in millimetres and does not know G21);
+//             standard commands only (no PRINT_START macro, whose name and arguments are the
+//             user's); feed semantics "xyz".
+// Feed: F = distance / planned duration, the distance measured on the values as written (so a
+// reader recovers the planned time to the rounding of F): "xyz" = machine XYZ length, or the
+// rotary change in degrees for pure rotations; "combined" = sqrt(XYZ^2 + rotary^2) with degrees
+// counted as mm; moves without axis motion (retracts) use |E|.
+// 3+2 check: between the last extruding move of one part and the first extruding move of the
+// next, a move that changes a rotary value must start and end with the filament retracted and
+// the machine Z at or above the safe height (machine.safeZ when declared, otherwise the highest
+// machine Z of the extruding moves written so far); writeProgram refuses the path otherwise.
+// Rotations within a part (curved layers) are not restricted.
 #include "program/write_gcode.h"
 
-#include <cmath>
-#include <cstdio>
-#include <ctime>
 #include <algorithm>
 #include <climits>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <map>
 #include <set>
+
+#include "kinematics/kinematics.h"
+#include "motion/plan_motion.h"
+#include "program/machine_json.h"
+#include "program/program_text.h"
 
 namespace omnislice {
 
@@ -28,14 +53,8 @@ const char* typeName(Feature f) {
   return "";
 }
 
-std::string fmt(const char* format, double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, v);
-  return buf;
-}
-
 // Shortest round-trippable-enough text for header numbers.
-std::string num(double v) { return fmt("%.10g", v); }
+std::string num(double v) { return formatNumber("%.10g", v); }
 
 std::string utcNow() {
   std::time_t t = std::time(nullptr);
@@ -46,7 +65,35 @@ std::string utcNow() {
   return buf;
 }
 
-// "1h 2m 3s" with leading zero units left out ("2m 3s", "3s").
+bool finite3(const Eigen::Vector3d& v) { return v.allFinite(); }
+
+bool extrudingKind(MoveKind k) { return k == MoveKind::Print || k == MoveKind::Support; }
+
+}  // namespace
+
+// ---------------------------------------------------------------- shared helpers
+
+std::string formatNumber(const char* format, double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, format, v);
+  return buf;
+}
+
+std::string fixedNumber(double v, int significant) {
+  if (!std::isfinite(v)) return "0";
+  const double mag = v != 0 ? std::floor(std::log10(std::abs(v))) : 0.0;
+  const int decimals = int(std::clamp(double(significant) - 1.0 - mag, 0.0, 12.0));
+  char buf[400];
+  std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
+  std::string out = buf;
+  if (out.find('.') != std::string::npos) {
+    while (!out.empty() && out.back() == '0') out.pop_back();
+    if (!out.empty() && out.back() == '.') out.pop_back();
+  }
+  if (out == "-0") out = "0";
+  return out;
+}
+
 std::string durationText(double seconds) {
   long s = std::lround(std::max(0.0, seconds));
   const long h = s / 3600, m = (s % 3600) / 60;
@@ -58,9 +105,373 @@ std::string durationText(double seconds) {
   return out;
 }
 
-bool finite3(const Eigen::Vector3d& v) { return v.allFinite(); }
+std::string programHeader(const ProgramInfo& info, const MachineProfile& machine,
+                          const std::string& prefix, const char* extrusionMode,
+                          const char* feedSemantics, double estimatedTimeS, double filamentMm) {
+  std::string out;
+  auto line = [&](const std::string& s) {
+    out += prefix;
+    out += s;
+    out += '\n';
+  };
+  line("omnislice " + info.version + " " + info.method + " " +
+       (info.isoDate.empty() ? utcNow() : info.isoDate));
+  line("omnislice:machine " + machineJson(machine));
+  std::string placement = "omnislice:placement [";
+  for (int row = 0; row < 4; ++row) {
+    for (int col = 0; col < 4; ++col) {
+      if (row || col) placement += ",";
+      placement += num(info.placement(row, col));
+    }
+  }
+  line(placement + "]");
+  line(std::string("omnislice:extrusion {\"mode\":\"") + extrusionMode +
+       "\",\"filament_diameter\":" + num(info.filamentDiameter) + "}");
+  line(std::string("omnislice:feed {\"semantics\":\"") + feedSemantics + "\"}");
+  // The four settings every checker needs come first, from the resolved values; the remaining
+  // user settings follow (a duplicate key there is skipped: the first value is the effective one).
+  const std::set<std::string> required = {"layer_height", "line_width", "nozzle_diameter",
+                                          "filament_diameter"};
+  line("omnislice:setting layer_height = " + num(info.layerHeight));
+  line("omnislice:setting line_width = " + num(info.lineWidth));
+  line("omnislice:setting nozzle_diameter = " + num(machine.nozzle.diameter));
+  line("omnislice:setting filament_diameter = " + num(info.filamentDiameter));
+  for (const auto& kv : info.settings) {
+    if (required.count(kv.first)) continue;
+    std::string key = kv.first, value = kv.second;
+    for (std::string* s : {&key, &value}) {
+      for (char& c : *s) {
+        if (c == '\n' || c == '\r') c = ' ';
+      }
+    }
+    line("omnislice:setting " + key + " = " + value);
+  }
+  line("estimated printing time (normal mode) = " + durationText(estimatedTimeS));
+  line("filament used [mm] = " + formatNumber("%.2f", filamentMm));
+  const double filamentArea = kPi * 0.25 * info.filamentDiameter * info.filamentDiameter;
+  line("filament used [cm3] = " + formatNumber("%.2f", filamentMm * filamentArea / 1000.0));
+  return out;
+}
+
+Outcome checkMachinePath(const MachinePath& path, const ProgramInfo& info) {
+  Outcome r;
+  auto fail = [&](const std::string& msg) {
+    r.status = Status::InvalidOption;
+    r.message = msg;
+    return r;
+  };
+  if (!path.ok()) return fail("machine path was not planned: " + path.message);
+  const MachineProfile& machine = path.machine;
+  const int n = machineAxisCount(machine.kind);
+  if (n == 0) return fail("unknown machine kind '" + machine.kind + "'");
+  if (!info.placement.allFinite()) return fail("placement matrix has non-finite entries");
+  const double headerValues[] = {info.filamentDiameter, info.layerHeight, info.lineWidth,
+                                 machine.nozzle.diameter};
+  for (double v : headerValues) {
+    if (!std::isfinite(v) || v <= 0) {
+      return fail("filament diameter, layer height, line width and nozzle diameter must be > 0");
+    }
+  }
+  if (!std::isfinite(info.nozzleTemperature) || !std::isfinite(info.bedTemperature) ||
+      !std::isfinite(info.acceleration) || info.acceleration < 0 ||
+      !std::isfinite(info.extruderAnalogPerMmS) || info.extruderAnalogPerMmS <= 0) {
+    return fail("temperatures and acceleration must be finite (acceleration >= 0), the extruder "
+                "analog scale > 0");
+  }
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(path.start[i])) return fail("start values are not finite");
+  }
+  for (size_t k = 0; k < path.moves.size(); ++k) {
+    const MachineMove& m = path.moves[k];
+    const std::string at = "move " + std::to_string(k);
+    for (int i = 0; i < n; ++i) {
+      if (!std::isfinite(m.values[i])) return fail(at + " has a non-finite machine value");
+    }
+    if (!finite3(m.tip) || !finite3(m.axis) || !std::isfinite(m.filament) ||
+        !std::isfinite(m.durationS) || m.durationS < 0) {
+      return fail(at + " has a non-finite tip, axis, filament or duration");
+    }
+    Eigen::Vector3d tip, axis;
+    if (!forwardMap(machine, m.values, tip, axis)) {
+      return fail(at + ": the forward map cannot take its machine values");
+    }
+    const double tipError = (tip - m.tip).norm();
+    const double axisError = (axis - m.axis.normalized()).norm();
+    if (tipError > 1e-3 || axisError > 1e-4) {
+      return fail(at + ": its tip / axis differ from the forward map of its machine values by " +
+                  formatNumber("%.3g", tipError) + " mm / " + formatNumber("%.3g", axisError));
+    }
+  }
+  return r;
+}
+
+void pathTotals(const MachinePath& path, double& timeS, double& filamentMm) {
+  double sum = 0;
+  filamentMm = 0;
+  for (const MachineMove& m : path.moves) {
+    sum += m.durationS;
+    if (m.filament > 0) filamentMm += m.filament;
+  }
+  timeS = path.stats.estimatedTimeS > 0 ? path.stats.estimatedTimeS : sum;
+}
+
+// ---------------------------------------------------------------- names
+
+const char* gcodeDialectName(GcodeDialect d) {
+  switch (d) {
+    case GcodeDialect::Marlin: return "marlin";
+    case GcodeDialect::RepRap: return "reprap";
+    case GcodeDialect::Klipper: return "klipper";
+  }
+  return "marlin";
+}
+
+bool parseGcodeDialect(const std::string& text, GcodeDialect& out) {
+  for (GcodeDialect d : {GcodeDialect::Marlin, GcodeDialect::RepRap, GcodeDialect::Klipper}) {
+    if (text == gcodeDialectName(d)) {
+      out = d;
+      return true;
+    }
+  }
+  return false;
+}
+
+const char* robotFormatName(RobotFormat f) { return f == RobotFormat::UrScript ? "urscript" : "csv"; }
+
+bool parseRobotFormat(const std::string& text, RobotFormat& out) {
+  if (text == "csv") {
+    out = RobotFormat::Csv;
+    return true;
+  }
+  if (text == "urscript") {
+    out = RobotFormat::UrScript;
+    return true;
+  }
+  return false;
+}
+
+const char* programExtension(const std::string& kind, RobotFormat robotFormat) {
+  if (kind == "robot6") return robotFormat == RobotFormat::UrScript ? "script" : "csv";
+  return "gcode";
+}
+
+// ---------------------------------------------------------------- G-code
+
+namespace {
+
+WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo& info) {
+  WriteProgramResult r;
+  auto fail = [&](const std::string& msg) {
+    WriteProgramResult f;
+    f.status = Status::InvalidOption;
+    f.message = msg;
+    return f;
+  };
+  const MachineProfile& machine = path.machine;
+  const std::vector<std::string> letters = machineAxisLetters(machine.kind);
+  const int n = int(letters.size());
+  const bool combined = info.dialect == GcodeDialect::RepRap;
+  pathTotals(path, r.estimatedTimeS, r.filamentMm);
+
+  std::string& out = r.text;
+  out.reserve(1024 + path.moves.size() * (40 + 12 * n));
+  auto line = [&](const std::string& s) {
+    out += s;
+    out += '\n';
+  };
+  out += programHeader(info, machine, "; ", "absolute", combined ? "combined" : "xyz",
+                       r.estimatedTimeS, r.filamentMm);
+  line(std::string("; omnislice:dialect ") + gcodeDialectName(info.dialect));
+
+  // ---- start code ----
+  if (info.dialect != GcodeDialect::Klipper) line("G21 ; millimetres");
+  line("G90 ; absolute positioning");
+  line("M82 ; absolute extrusion");
+  if (info.dialect == GcodeDialect::RepRap) line("T0 ; select the tool");
+  if (info.bedTemperature > 0) line("M140 S" + formatNumber("%.0f", info.bedTemperature));
+  if (info.nozzleTemperature > 0) line("M104 S" + formatNumber("%.0f", info.nozzleTemperature));
+  if (info.bedTemperature > 0) line("M190 S" + formatNumber("%.0f", info.bedTemperature));
+  if (info.nozzleTemperature > 0) line("M109 S" + formatNumber("%.0f", info.nozzleTemperature));
+  line("G28 ; home");
+  line("G92 E0");
+
+  // Values as written (re-read from their text), so F matches what a reader measures.
+  MachineValues written{};
+  auto words = [&](const MachineValues& v, MachineValues& as) {
+    std::string s;
+    for (int i = 0; i < n; ++i) {
+      const std::string t = formatNumber(i < 3 ? "%.3f" : "%.5f", v[i]);
+      as[i] = std::strtod(t.c_str(), nullptr);
+      if (as[i] == 0) as[i] = 0;  // no "-0.000" distinctions
+      s += " " + letters[i] + (t == "-0.000" || t == "-0.00000" ? t.substr(1) : t);
+    }
+    return s;
+  };
+  auto distance = [&](const MachineValues& a, const MachineValues& b) {
+    double lin = 0, rot = 0;
+    for (int i = 0; i < n; ++i) {
+      const double d = b[i] - a[i];
+      (i < 3 ? lin : rot) += d * d;
+    }
+    if (combined) return std::sqrt(lin + rot);
+    return lin > 0 ? std::sqrt(lin) : std::sqrt(rot);
+  };
+  std::string lastF;  // F text last written
+  auto feedWord = [&](double f) -> std::string {
+    // 7 significant digits: the planned time comes back to 1e-7 even for the slow XYZ feeds of
+    // mostly rotary moves ("xyz" semantics).
+    if (!(f > 0) || !std::isfinite(f)) return "";
+    const std::string text = fixedNumber(f, 7);
+    if (text == lastF) return "";
+    lastF = text;
+    return " F" + text;
+  };
+
+  // Travel to the start values (the park pose of the plan) at the F of the first travel.
+  {
+    double travelF = 150 * 60;
+    MachineValues prev = path.start, scratch{};
+    words(path.start, prev);
+    for (const MachineMove& m : path.moves) {
+      MachineValues w{};
+      words(m.values, w);
+      const double d = distance(prev, w);
+      if (m.kind == MoveKind::Travel && m.durationS > 0 && d > 0) {
+        travelF = d / m.durationS * 60;
+        break;
+      }
+      prev = w;
+    }
+    line("G0" + words(path.start, written) + feedWord(travelF));
+    (void)scratch;
+  }
+
+  // Nozzle direction of each part: the part-frame axis of its first extruding move.
+  std::map<int32_t, Eigen::Vector3d> partDirection;
+  for (const MachineMove& m : path.moves) {
+    if (extrudingKind(m.kind)) partDirection.emplace(m.part, m.axis.normalized());
+  }
+  for (const MachineMove& m : path.moves) partDirection.emplace(m.part, m.axis.normalized());
+
+  std::set<int> layersSeen;
+  int currentLayer = INT32_MIN;
+  int currentPart = INT32_MIN;
+  Feature currentFeature = Feature::None;
+  bool retracted = false;
+  bool printed = false;
+  int32_t lastPrintedPart = 0;
+  double maxPrintedZ = -std::numeric_limits<double>::infinity();
+  double e = 0;  // absolute E, accumulated
+  for (size_t k = 0; k < path.moves.size(); ++k) {
+    const MachineMove& m = path.moves[k];
+    if (m.part != currentPart) {
+      currentPart = m.part;
+      const Eigen::Vector3d d = partDirection[m.part];
+      line("; omnislice:part " + std::to_string(m.part) + " direction [" + fixedNumber(d.x(), 10) + "," +
+           fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
+      currentLayer = INT32_MIN;  // every part restates its layer
+    }
+    if (m.layer != currentLayer) {
+      currentLayer = m.layer;
+      layersSeen.insert(m.layer);
+      line("; omnislice:layer " + std::to_string(m.layer));
+      currentFeature = Feature::None;  // a new layer restates its first feature
+    }
+    const bool extruding = extrudingKind(m.kind);
+    if (extruding && m.feature != Feature::None && m.feature != currentFeature) {
+      currentFeature = m.feature;
+      line(std::string("; omnislice:feature ") + featureName(m.feature));
+      line(std::string(";TYPE:") + typeName(m.feature));
+    }
+    MachineValues next{};
+    const std::string axisWords = words(m.values, next);
+    bool moved = false, rotated = false;
+    for (int i = 0; i < n; ++i) {
+      if (next[i] != written[i]) {
+        moved = true;
+        if (i >= 3) rotated = true;
+      }
+    }
+    // 3+2 rule between parts (see the file comment).
+    if (rotated && printed && m.part != lastPrintedPart) {
+      const double safe = machine.safeZ > 0 ? machine.safeZ : maxPrintedZ;
+      if (!retracted || std::min(written[2], next[2]) < safe - 1e-3) {
+        return fail("move " + std::to_string(k) + " rotates between parts " +
+                    std::to_string(lastPrintedPart) + " and " + std::to_string(m.part) +
+                    (retracted ? " below the safe height " + formatNumber("%.3f", safe) + " mm"
+                               : " without a retract first"));
+      }
+    }
+    const double dist = distance(written, next);
+    double f = -1;
+    if (m.durationS > 0) {
+      const double d = dist > 0 ? dist : std::abs(m.filament);
+      if (d > 0) f = d / m.durationS * 60.0;
+    } else if (!moved && (m.kind == MoveKind::Retract || m.kind == MoveKind::Unretract)) {
+      f = 35 * 60;  // no planned time: a usual retraction speed
+    }
+    const std::string feed = f > 0 ? feedWord(f) : std::string();
+    switch (m.kind) {
+      case MoveKind::Travel:
+        if (moved) line("G0" + axisWords + feed);
+        break;
+      case MoveKind::Print:
+      case MoveKind::Support:
+        if (!moved && m.filament == 0) break;
+        e += m.filament;
+        line("G1" + (moved ? axisWords : std::string()) + " E" + formatNumber("%.5f", e) + feed);
+        break;
+      case MoveKind::Retract:
+      case MoveKind::Unretract:
+        if (!moved && m.filament == 0) break;
+        e += m.filament;
+        line("G1" + (moved ? axisWords : std::string()) + " E" + formatNumber("%.5f", e) + feed);
+        break;
+    }
+    if (m.filament < 0) retracted = true;
+    if (m.filament > 0) retracted = false;
+    if (extruding && m.filament > 0) {
+      printed = true;
+      lastPrintedPart = m.part;
+      maxPrintedZ = std::max(maxPrintedZ, next[2]);
+    }
+    written = next;
+  }
+
+  // ---- end code: retract, lift, heaters off, motors off ----
+  line("; omnislice:end");
+  if (!retracted) {
+    e -= 1.0;
+    line("G1 E" + formatNumber("%.5f", e) + feedWord(40 * 60));
+  }
+  double liftZ = written[2] + 10.0;
+  auto zl = machine.axisLimits.find("Z");
+  if (zl != machine.axisLimits.end()) liftZ = std::min(liftZ, zl->second.second);
+  liftZ = std::max(liftZ, written[2]);
+  MachineValues lifted = written;
+  lifted[2] = liftZ;
+  MachineValues unused{};
+  line("G0" + words(lifted, unused) + feedWord(10 * 60));
+  line("M104 S0");
+  line("M140 S0");
+  line("M84");
+  r.layers = static_cast<int>(layersSeen.size());
+  return r;
+}
 
 }  // namespace
+
+WriteProgramResult writeProgram(const MachinePath& path, const ProgramInfo& info) {
+  const Outcome check = checkMachinePath(path, info);
+  if (!check.ok()) {
+    WriteProgramResult r;
+    r.status = check.status;
+    r.message = check.message;
+    return r;
+  }
+  if (path.machine.kind == "robot6") return writeRobotProgram(path, info);
+  return writeGcodeProgram(path, info);
+}
 
 WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info) {
   WriteProgramResult r;
@@ -74,18 +485,6 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
     return fail("writeGcode writes cartesian3 programs only, machine kind is '" +
                 info.machine.kind + "'");
   }
-  if (!info.placement.allFinite()) return fail("placement matrix has non-finite entries");
-  const double headerValues[] = {info.filamentDiameter, info.layerHeight, info.lineWidth,
-                                 info.machine.nozzle.diameter};
-  for (double v : headerValues) {
-    if (!std::isfinite(v) || v <= 0) {
-      return fail("filament diameter, layer height, line width and nozzle diameter must be > 0");
-    }
-  }
-  if (!std::isfinite(info.nozzleTemperature) || !std::isfinite(info.bedTemperature) ||
-      !std::isfinite(info.acceleration) || info.acceleration < 0) {
-    return fail("temperatures and acceleration must be finite (acceleration >= 0)");
-  }
   if (!finite3(toolpath.start)) return fail("tool-path start is not finite");
   for (size_t i = 0; i < toolpath.moves.size(); ++i) {
     const Move& m = toolpath.moves[i];
@@ -93,158 +492,21 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
         m.speed < 0) {
       return fail("move " + std::to_string(i) + " has a non-finite position, filament or speed");
     }
-    if ((m.kind == MoveKind::Print || m.kind == MoveKind::Support) &&
+    if (extrudingKind(m.kind) &&
         (!m.axis.allFinite() || (m.axis.normalized() - Eigen::Vector3d::UnitZ()).norm() > 1e-6)) {
       return fail("move " + std::to_string(i) +
                   " has a nozzle axis other than +Z, which a cartesian3 machine cannot print");
     }
   }
-
-  const ToolpathStats stats = toolpathStats(toolpath, info.acceleration);
-  r.estimatedTimeS = stats.estimatedTimeS;
-  r.filamentMm = stats.filamentMm;
-
-  std::string& out = r.text;
-  out.reserve(64 + toolpath.moves.size() * 48);
-  auto line = [&](const std::string& s) {
-    out += s;
-    out += '\n';
-  };
-
-  // ---- header (PROGRAM-FORMAT.md "Header") ----
-  line("; omnislice " + info.version + " " + info.method + " " +
-       (info.isoDate.empty() ? utcNow() : info.isoDate));
-  line("; omnislice:machine " + machineJson(info.machine));
-  std::string placement = "; omnislice:placement [";
-  for (int row = 0; row < 4; ++row) {
-    for (int col = 0; col < 4; ++col) {
-      if (row || col) placement += ",";
-      placement += num(info.placement(row, col));
-    }
+  MotionOptions options;
+  options.acceleration = info.acceleration;
+  const MachinePath path = planMachineMotion(toolpath, info.machine, options);
+  if (!path.ok()) {
+    r.status = path.status;
+    r.message = path.message;
+    return r;
   }
-  line(placement + "]");
-  line("; omnislice:extrusion {\"mode\":\"absolute\",\"filament_diameter\":" +
-       num(info.filamentDiameter) + "}");
-  line("; omnislice:feed {\"semantics\":\"xyz\"}");
-  // The four settings every checker needs come first, from the resolved values; the remaining
-  // user settings follow (a duplicate key there is skipped: the first value is the effective one).
-  const std::set<std::string> required = {"layer_height", "line_width", "nozzle_diameter",
-                                          "filament_diameter"};
-  line("; omnislice:setting layer_height = " + num(info.layerHeight));
-  line("; omnislice:setting line_width = " + num(info.lineWidth));
-  line("; omnislice:setting nozzle_diameter = " + num(info.machine.nozzle.diameter));
-  line("; omnislice:setting filament_diameter = " + num(info.filamentDiameter));
-  for (const auto& kv : info.settings) {
-    if (required.count(kv.first)) continue;
-    std::string value = kv.second;
-    for (char& c : value) {
-      if (c == '\n' || c == '\r') c = ' ';
-    }
-    line("; omnislice:setting " + kv.first + " = " + value);
-  }
-  line("; estimated printing time (normal mode) = " + durationText(stats.estimatedTimeS));
-  line("; filament used [mm] = " + fmt("%.2f", stats.filamentMm));
-  const double filamentArea = kPi * 0.25 * info.filamentDiameter * info.filamentDiameter;
-  line("; filament used [cm3] = " + fmt("%.2f", stats.filamentMm * filamentArea / 1000.0));
-
-  // ---- start code ----
-  line("G21 ; millimetres");
-  line("G90 ; absolute positioning");
-  line("M82 ; absolute extrusion");
-  if (info.bedTemperature > 0) line("M140 S" + fmt("%.0f", info.bedTemperature));
-  if (info.nozzleTemperature > 0) line("M104 S" + fmt("%.0f", info.nozzleTemperature));
-  if (info.bedTemperature > 0) line("M190 S" + fmt("%.0f", info.bedTemperature));
-  if (info.nozzleTemperature > 0) line("M109 S" + fmt("%.0f", info.nozzleTemperature));
-  line("G28 ; home");
-  line("G92 E0");
-
-  double e = 0;           // absolute E, accumulated
-  double lastF = -1;      // mm/min last written
-  auto feedWord = [&](double speedMmS) -> std::string {
-    const double f = std::round(speedMmS * 60.0 * 1000.0) / 1000.0;
-    if (f <= 0 || f == lastF) return "";
-    lastF = f;
-    return " F" + fmt("%.10g", f);
-  };
-  auto xyz = [&](const Eigen::Vector3d& p) {
-    return " X" + fmt("%.3f", p.x()) + " Y" + fmt("%.3f", p.y()) + " Z" + fmt("%.3f", p.z());
-  };
-  // Travel to the tool-path's start position (the park position of the plan).
-  {
-    double travelSpeed = 0;
-    for (const Move& m : toolpath.moves) {
-      if (m.kind == MoveKind::Travel && m.speed > 0) {
-        travelSpeed = m.speed;
-        break;
-      }
-    }
-    line("G0" + xyz(toolpath.start) + feedWord(travelSpeed > 0 ? travelSpeed : 150));
-  }
-
-  std::set<int> layersSeen;
-  int currentLayer = INT32_MIN;
-  Feature currentFeature = Feature::None;
-  int currentPart = toolpath.moves.empty() ? 0 : toolpath.moves.front().part;
-  bool retracted = false;
-  Eigen::Vector3d pos = toolpath.start;
-  for (const Move& m : toolpath.moves) {
-    if (m.part != currentPart) {
-      currentPart = m.part;
-      const Eigen::Vector3d d = m.axis.normalized();
-      line("; omnislice:part " + std::to_string(m.part) + " direction [" + num(d.x()) + "," +
-           num(d.y()) + "," + num(d.z()) + "]");
-    }
-    if (m.layer != currentLayer) {
-      currentLayer = m.layer;
-      layersSeen.insert(m.layer);
-      line("; omnislice:layer " + std::to_string(m.layer));
-      currentFeature = Feature::None;  // a new layer restates its first feature
-    }
-    const bool extruding = m.kind == MoveKind::Print || m.kind == MoveKind::Support;
-    if (extruding && m.feature != Feature::None && m.feature != currentFeature) {
-      currentFeature = m.feature;
-      line(std::string("; omnislice:feature ") + featureName(m.feature));
-      line(std::string(";TYPE:") + typeName(m.feature));
-    }
-    const bool moved = (m.position - pos).norm() > 0;
-    switch (m.kind) {
-      case MoveKind::Travel:
-        line("G0" + xyz(m.position) + feedWord(m.speed));
-        break;
-      case MoveKind::Print:
-      case MoveKind::Support:
-        e += m.filament;
-        line("G1" + xyz(m.position) + " E" + fmt("%.5f", e) + feedWord(m.speed));
-        break;
-      case MoveKind::Retract:
-      case MoveKind::Unretract:
-        e += m.filament;
-        line(std::string("G1") + (moved ? xyz(m.position) : std::string()) + " E" +
-             fmt("%.5f", e) + feedWord(m.speed));
-        break;
-    }
-    if (m.kind == MoveKind::Retract) retracted = true;
-    if (m.kind == MoveKind::Unretract || extruding) retracted = false;
-    pos = m.position;
-  }
-
-  // ---- end code: retract, lift, heaters off, motors off ----
-  line("; omnislice:end");
-  if (!retracted) {
-    e -= 1.0;
-    line("G1 E" + fmt("%.5f", e) + feedWord(40));
-  }
-  double liftZ = pos.z() + 10.0;
-  auto zl = info.machine.axisLimits.find("Z");
-  if (zl != info.machine.axisLimits.end()) liftZ = std::min(liftZ, zl->second.second);
-  liftZ = std::max(liftZ, pos.z());
-  line("G0 X" + fmt("%.3f", pos.x()) + " Y" + fmt("%.3f", pos.y()) + " Z" + fmt("%.3f", liftZ) +
-       feedWord(10));
-  line("M104 S0");
-  line("M140 S0");
-  line("M84");
-  r.layers = static_cast<int>(layersSeen.size());
-  return r;
+  return writeProgram(path, info);
 }
 
 }  // namespace omnislice

@@ -33,7 +33,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/aabb_tree.h"
-#include "program/machine_json.h"
+#include "kinematics/kinematics.h"
 
 namespace omnislice {
 
@@ -132,17 +132,21 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   if (!reportProgress(progressFn, "verify", 0)) return fail(Status::Cancelled, "verify cancelled");
 
   // ---- limits, extrusion, segments ----
-  const std::vector<std::string> letters = machineAxisLetters(program.machine.kind);
+  // Limits by value index (machineLimits(): axis letters of G-code kinds, joint limits of robot6).
+  // A move cut into pieces by the reader counts once, by its end (its last piece): the values
+  // change linearly, so a move within limits at both ends is within them all along.
+  const std::vector<std::pair<double, double>> limits = machineLimits(program.machine);
   std::vector<Segment> segments;
   int bead = -1;
   bool prevExtruding = false;
   Eigen::Vector3d prevEnd(0, 0, 0);
   double beadS = 0;
-  for (const ProgramMove& m : program.moves) {
-    for (size_t i = 0; i < letters.size() && i < m.axes.size(); ++i) {
-      auto it = program.machine.axisLimits.find(letters[i]);
-      if (it == program.machine.axisLimits.end()) continue;
-      if (m.axes[i] < it->second.first - 1e-9 || m.axes[i] > it->second.second + 1e-9) {
+  for (size_t mi = 0; mi < program.moves.size(); ++mi) {
+    const ProgramMove& m = program.moves[mi];
+    const bool lastPiece = m.line <= 0 || mi + 1 == program.moves.size() ||
+                           program.moves[mi + 1].line != m.line;
+    for (size_t i = 0; lastPiece && i < limits.size() && i < m.axes.size(); ++i) {
+      if (m.axes[i] < limits[i].first - 1e-9 || m.axes[i] > limits[i].second + 1e-9) {
         ++rep.limitViolations;
         break;
       }

@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -87,6 +87,10 @@ TEST(KinematicsInverse, BadInputsGiveInvalidOption) {
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, 0, 2}).status, Status::InvalidOption);
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, 0, 0}).status, Status::InvalidOption);
   EXPECT_EQ(inverseMap(m, {0, 0, 0}, {0, nan, 1}).status, Status::InvalidOption);
+  // A robot6 profile whose DH table is not of the UR family has no analytic inverse here.
+  MachineProfile arm = builtin("robot6");
+  arm.dh[3].a = 10;
+  EXPECT_EQ(inverseMap(arm, {0, 0, 0}, Eigen::Vector3d::UnitZ()).status, Status::InvalidOption);
   MachineProfile unknown = m;
   unknown.kind = "hexapod";
   EXPECT_EQ(inverseMap(unknown, {0, 0, 0}, Eigen::Vector3d::UnitZ()).status,
@@ -148,6 +152,18 @@ TEST(KinematicsInverse, Rotary4ReportsInfeasibleOrientations) {
   const IkResult offStep = inverseMap(m, {1, 2, 3}, {0, std::sin(off), std::cos(off)});
   EXPECT_FALSE(offStep.orientationFeasible);
   EXPECT_TRUE(offStep.candidates.empty());
+  // Step 7 degrees with wide limits: 28 degrees is on a step, its alias 388 is not (360 is not a
+  // multiple of 7), -332 neither; a 1.8 degree step keeps every alias.
+  m.axisLimits["A"] = {-400, 400};
+  m.stepAngleDegrees = 7;
+  const double a28 = 28 * kPi / 180;
+  const IkResult seven = inverseMap(m, {1, 2, 3}, {0, std::sin(a28), std::cos(a28)});
+  ASSERT_EQ(seven.candidates.size(), 1u);
+  EXPECT_NEAR(seven.candidates[0].values[3], 28, 1e-12);
+  m.stepAngleDegrees = 1.8;
+  const double a36 = 36 * kPi / 180;
+  const IkResult fine = inverseMap(m, {1, 2, 3}, {0, std::sin(a36), std::cos(a36)});
+  EXPECT_EQ(fine.candidates.size(), 3u);  // 36, 396, -324
 }
 
 TEST(KinematicsInverse, Table5EveryBranchRoundTripsAndRecoversTheOriginal) {
@@ -363,6 +379,44 @@ TEST(KinematicsInverse, Robot6Ur5ReachesTheBuildVolume) {
               worstAxis.x(), worstAxis.y(), worstAxis.z());
   EXPECT_EQ(unreachable, 0);
   EXPECT_GT(minBest, 0.05);
+}
+
+// Speed is benchmarked, not tested: print the cost of one robot6 inverseMap() with 30 free-rotation
+// samples (the unit of the lead's 100k-sample benchmark).
+TEST(KinematicsInverse, Robot6Timing) {
+  const MachineProfile m = builtin("robot6-ur5");
+  std::mt19937 rng(6);
+  std::uniform_real_distribution<double> ux(-50, 50), uz(0, 100), ut(-0.8, 0.8);
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> poses;
+  for (int i = 0; i < 2000; ++i) {
+    poses.emplace_back(Eigen::Vector3d(ux(rng), ux(rng), uz(rng)),
+                       Eigen::Vector3d(ut(rng), ut(rng), 1).normalized());
+  }
+  size_t total = 0;
+  MachineValues ref{0.5, -1.5, 1.5, -1.5, -1.5, 0};
+  IkOptions o;
+  o.reference = &ref;
+  const std::clock_t t0 = std::clock();  // CPU time: the machine is shared
+  for (const auto& p : poses) total += inverseMap(m, p.first, p.second, o).candidates.size();
+  const std::clock_t t1 = std::clock();
+  const double us = (double(t1 - t0) / CLOCKS_PER_SEC * 1e6) / poses.size();
+  std::printf("robot6 inverseMap (30 samples): %.1f us per call, %.1f candidates per call\n", us,
+              double(total) / poses.size());
+  // One branch only (the reference's configuration): the cost the motion planner pays when it
+  // tracks a configuration.
+  o.branchMask = 1 << 4;  // branch 4: shoulder 0, wrist 0, elbow 1
+  size_t one = 0;
+  const std::clock_t t2 = std::clock();
+  for (const auto& p : poses) {
+    const IkResult ik = inverseMap(m, p.first, p.second, o);
+    for (const IkCandidate& c : ik.candidates) EXPECT_EQ(c.branch, 4);
+    one += ik.candidates.size();
+  }
+  const std::clock_t t3 = std::clock();
+  std::printf("robot6 inverseMap (30 samples, 1 branch): %.1f us per call, %.1f candidates\n",
+              double(t3 - t2) / CLOCKS_PER_SEC * 1e6 / poses.size(), double(one) / poses.size());
+  EXPECT_GT(one, 0u);
+  EXPECT_GT(total, poses.size());
 }
 
 }  // namespace

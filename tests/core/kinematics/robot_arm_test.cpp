@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include <chrono>
+#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <kdl/chain.hpp>
@@ -132,6 +132,32 @@ TEST(RobotArm, InverseEveryBranchRoundTrips) {
   }
 }
 
+// urInverseBranches() returns exactly urInverse()'s solutions of the masked branches.
+TEST(RobotArm, MaskedInverseIsASubset) {
+  const DhTable dh = offsetTable();
+  std::mt19937 rng(16);
+  for (int i = 0; i < 500; ++i) {
+    const Eigen::Matrix4d f = armForward(dh, randomJoints(rng));
+    JointValues all[8], some[8];
+    int brAll[8], brSome[8];
+    const int n = urInverse(dh, f, all, brAll);
+    const int mask = static_cast<int>(rng() % 256);
+    const int m = urInverseBranches(dh, f, mask, some, brSome);
+    int expected = 0;
+    for (int s = 0; s < n; ++s) expected += mask >> brAll[s] & 1;
+    ASSERT_EQ(m, expected) << "mask " << mask;
+    for (int s = 0; s < m; ++s) {
+      EXPECT_TRUE(mask >> brSome[s] & 1);
+      int match = -1;
+      for (int t = 0; t < n; ++t) {
+        if (brAll[t] == brSome[s]) match = t;
+      }
+      ASSERT_GE(match, 0);
+      for (int j = 0; j < 6; ++j) EXPECT_NEAR(some[s][j], all[match][j], 1e-12);
+    }
+  }
+}
+
 // A branch keeps its index along a continuous motion away from singularities.
 TEST(RobotArm, BranchIndexIsStableAlongAMotion) {
   const DhTable dh = ur5DhTable();
@@ -185,7 +211,9 @@ TEST(RobotArm, InverseAtSingularPosesIsFinite) {
       found = found || d < 1e-6;
     }
     // Away from the wrist singularity (where q4 and q6 trade off) the original is recovered.
-    if (std::abs(std::sin(q[4])) > 0.1) EXPECT_TRUE(found);
+    if (std::abs(std::sin(q[4])) > 0.1) {
+      EXPECT_TRUE(found);
+    }
   }
   // Out of reach: nothing, and a non-finite pose: nothing.
   Eigen::Matrix4d far = Eigen::Matrix4d::Identity();
@@ -264,13 +292,13 @@ TEST(RobotArm, InverseTiming) {
   int br[8];
   long total = 0;
   const int reps = 500;
-  const auto t0 = std::chrono::steady_clock::now();
+  const std::clock_t t0 = std::clock();  // CPU time: the machine is shared
   for (int r = 0; r < reps; ++r) {
     for (const Eigen::Matrix4d& f : poses) total += urInverse(dh, f, sol, br);
   }
-  const auto t1 = std::chrono::steady_clock::now();
+  const std::clock_t t1 = std::clock();
   const double ns =
-      std::chrono::duration<double, std::nano>(t1 - t0).count() / (reps * poses.size());
+      (double(t1 - t0) / CLOCKS_PER_SEC * 1e9) / (reps * poses.size());
   std::printf("urInverse: %.1f ns per call (%.2f solutions per call)\n", ns,
               double(total) / (reps * poses.size()));
   EXPECT_GT(total, 0);

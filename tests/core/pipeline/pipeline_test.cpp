@@ -179,7 +179,8 @@ TEST(Pipeline, ProgressAndCancel) {
     return true;
   });
   ASSERT_TRUE(out.ok()) << out.message;
-  const std::vector<std::string> order = {"read", "validate", "place", "slice", "toolpath", "program"};
+  const std::vector<std::string> order = {"read",     "validate", "place", "slice",
+                                          "toolpath", "motion",   "program"};
   std::vector<std::string> seen;
   for (const auto& st : stages) {
     if (seen.empty() || seen.back() != st) seen.push_back(st);

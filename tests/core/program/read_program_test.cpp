@@ -66,7 +66,9 @@ TEST(ReadProgram, RoundTripKeepsEveryMoveAndHeaderFact) {
     EXPECT_NEAR(pm.filament, m.filament, 1.1e-5) << "move " << i;
     EXPECT_EQ(pm.axis, Eigen::Vector3d::UnitZ());
     EXPECT_EQ(pm.layer, m.layer) << "move " << i;
-    EXPECT_NEAR(pm.feedMmPerMin, m.speed * 60, 1e-9) << "move " << i;
+    // F reproduces the planned duration on the coordinates as written (rounded to 0.001 mm), so
+    // it differs from the requested speed by that rounding only.
+    EXPECT_NEAR(pm.feedMmPerMin, m.speed * 60, 0.01 * m.speed * 60) << "move " << i;
     if (m.kind == MoveKind::Print) {
       EXPECT_EQ(pm.feature, featureName(m.feature)) << "move " << i;
     }
@@ -104,7 +106,7 @@ TEST(ReadProgram, MalformedHeadersGiveParseErrorWithLine) {
   EXPECT_NE(p.message.find("line 5"), std::string::npos) << p.message;
 
   p = readProgram(head +
-                  "; omnislice:machine {\"kind\":\"table5\",\"pivot\":[0,0,0],\"axis_limits\":"
+                  "; omnislice:machine {\"kind\":\"delta\",\"pivot\":[0,0,0],\"axis_limits\":"
                   "{\"B\":[-90,90]}}\n");
   EXPECT_EQ(p.status, Status::UnsupportedFormat);
   EXPECT_EQ(readProgram("").status, Status::EmptyInput);

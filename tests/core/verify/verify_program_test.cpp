@@ -9,6 +9,7 @@
 #include "../program/test_toolpaths.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
+#include "program/machine_json.h"
 #include "program/write_gcode.h"
 
 namespace omnislice {
@@ -198,13 +199,29 @@ TEST(VerifyProgram, TopDownOrderCollidesEverywhereAndStaysFast) {
 }
 
 TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
+  // The planner refuses points beyond the bed, so the program is written for a wider bed and its
+  // header then declares the real one (X in [-110, 110]): the verifier counts the moves beyond it.
   Toolpath tp = test::boxToolpath({});
+  size_t beyond = 0;
   for (Move& m : tp.moves) {
-    if (m.layer == 3 && m.kind == MoveKind::Print) m.position.x() = 120;  // bed is X in [-110, 110]
+    if (m.layer == 3 && m.kind == MoveKind::Print) {
+      m.position.x() = 120;
+      ++beyond;
+    }
   }
-  const VerifyReport r = verifyProgram(throughGcode(tp), box10());
+  ProgramInfo info;
+  info.isoDate = "2026-11-21T12:00:00Z";
+  info.machine = cartesian3Profile({300, 220, 250}, 0.4);
+  const WriteProgramResult w = writeGcode(tp, info);
+  ASSERT_TRUE(w.ok()) << w.message;
+  std::string text = w.text;
+  const std::string wide = machineJson(info.machine);
+  const std::string real = machineJson(cartesian3Profile({220, 220, 250}, 0.4));
+  ASSERT_NE(text.find(wide), std::string::npos);
+  text.replace(text.find(wide), wide.size(), real);
+  const VerifyReport r = verifyProgram(readProgram(text), box10());
   ASSERT_TRUE(r.ok()) << r.message;
-  EXPECT_GT(r.limitViolations, 0u);
+  EXPECT_EQ(r.limitViolations, beyond);
   EXPECT_EQ(verifyBox({}).limitViolations, 0u);
 }
 

@@ -1,0 +1,157 @@
+// SPDX-License-Identifier: MIT
+#include "motion/feed_limits.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace omnislice {
+
+namespace {
+
+struct Chain {
+  const FeedInput& in;
+  std::vector<double>& t;
+
+  double dq(size_t k, int i) const { return in.values[k + 1][i] - in.values[k][i]; }
+  bool motion(size_t k) const { return k < t.size() && t[k] > 0; }
+
+  // Largest |a_i| / amax_i at the junction of moves k, k+1 (both moving), 0 when unlimited.
+  double accelRatio(size_t k) const {
+    if (!motion(k) || !motion(k + 1)) return 0;
+    double r = 0;
+    const double tau = 0.5 * (t[k] + t[k + 1]);
+    for (int i = 0; i < in.axes; ++i) {
+      const double amax = in.dynamics[i].acceleration;
+      if (amax <= 0) continue;
+      const double a = (dq(k + 1, i) / t[k + 1] - dq(k, i) / t[k]) / tau;
+      r = std::max(r, std::abs(a) / amax);
+    }
+    return r;
+  }
+  double accel(size_t k, int i) const {
+    const double tau = 0.5 * (t[k] + t[k + 1]);
+    return (dq(k + 1, i) / t[k + 1] - dq(k, i) / t[k]) / tau;
+  }
+  // Largest |j_i| / jmax_i over moves k, k+1, k+2 (all moving).
+  double jerkRatio(size_t k) const {
+    if (!motion(k) || !motion(k + 1) || !motion(k + 2)) return 0;
+    double r = 0;
+    for (int i = 0; i < in.axes; ++i) {
+      const double jmax = in.dynamics[i].jerk;
+      if (jmax <= 0) continue;
+      const double j = (accel(k + 1, i) - accel(k, i)) / t[k + 1];
+      r = std::max(r, std::abs(j) / jmax);
+    }
+    return r;
+  }
+  double velocityRatio(size_t k) const {
+    if (!motion(k)) return 0;
+    double r = 0;
+    for (int i = 0; i < in.axes; ++i) {
+      const double vmax = in.dynamics[i].velocity;
+      if (vmax > 0) r = std::max(r, std::abs(dq(k, i)) / t[k] / vmax);
+    }
+    return r;
+  }
+};
+
+constexpr double kSlack = 1e-6;  // scale a little beyond the limit so rounding cannot exceed it
+
+}  // namespace
+
+FeedResult limitFeeds(const FeedInput& in) {
+  FeedResult r;
+  const size_t n = in.length.size();
+  r.duration.assign(n, 0.0);
+  std::vector<double>& t = r.duration;
+  for (size_t k = 0; k < n; ++k) {
+    double tk = 0;
+    if (in.length[k] > 0 && in.speed[k] > 0) tk = in.length[k] / in.speed[k];
+    bool moves = in.length[k] > 0;
+    double fallback = 0;
+    for (int i = 0; i < in.axes; ++i) {
+      const double d = std::abs(in.values[k + 1][i] - in.values[k][i]);
+      if (d <= 1e-12) continue;
+      moves = true;
+      if (in.dynamics[i].velocity > 0) tk = std::max(tk, d / in.dynamics[i].velocity);
+      if (in.fallbackVelocity[i] > 0) fallback = std::max(fallback, d / in.fallbackVelocity[i]);
+    }
+    if (moves && tk <= 0) tk = fallback > 0 ? fallback : 1e-3;
+    t[k] = tk;
+  }
+  Chain c{in, t};
+  // Raise durations until acceleration and jerk are within the limits: scaling the durations of
+  // the moves a difference spans by s divides a by s^2 and j by s^3. A work list re-checks the
+  // neighbours of every scaled window; every scale only slows down, so it converges (to rest in
+  // the limit). The cap on the work only guards against pathological inputs.
+  bool any = false;
+  for (int i = 0; i < in.axes; ++i) {
+    any = any || in.dynamics[i].acceleration > 0 || in.dynamics[i].jerk > 0;
+  }
+  if (any && n >= 2) {
+    std::vector<size_t> queue;
+    std::vector<char> queued(n, 1);
+    queue.reserve(n);
+    for (size_t k = n; k-- > 0;) queue.push_back(k);  // popped from the back: k = 0 first
+    size_t work = 0;
+    const size_t cap = 200 * n + 1000;
+    while (!queue.empty() && work++ < cap) {
+      const size_t k = queue.back();
+      queue.pop_back();
+      queued[k] = 0;
+      bool scaled = false;
+      if (k + 1 < n) {
+        const double ra = c.accelRatio(k);
+        if (ra > 1 + 1e-9) {
+          const double f = std::sqrt(ra) * (1 + kSlack);
+          t[k] *= f;
+          t[k + 1] *= f;
+          scaled = true;
+        }
+      }
+      if (k + 2 < n) {
+        const double rj = c.jerkRatio(k);
+        if (rj > 1 + 1e-9) {
+          const double f = std::cbrt(rj) * (1 + kSlack);
+          t[k] *= f;
+          t[k + 1] *= f;
+          t[k + 2] *= f;
+          scaled = true;
+        }
+      }
+      if (scaled) {
+        const size_t lo = k >= 3 ? k - 3 : 0, hi = std::min(n - 1, k + 3);
+        for (size_t j = hi + 1; j-- > lo;) {
+          if (!queued[j]) {
+            queued[j] = 1;
+            queue.push_back(j);
+          }
+        }
+      }
+    }
+  }
+  for (size_t k = 0; k + 1 < n; ++k) {
+    if (c.accelRatio(k) > 1 + 1e-6 || (k + 2 < n && c.jerkRatio(k) > 1 + 1e-6)) ++r.violations;
+  }
+  for (size_t k = 0; k < n; ++k) {
+    if (in.length[k] > 0 && in.speed[k] > 0 && t[k] > in.length[k] / in.speed[k] * (1 + 1e-9)) {
+      ++r.limitedMoves;
+    }
+  }
+  return r;
+}
+
+std::array<double, 3> feedLimitRatios(const FeedInput& in, const std::vector<double>& duration) {
+  std::vector<double> t = duration;
+  Chain c{in, t};
+  std::array<double, 3> r{0, 0, 0};
+  const size_t n = t.size();
+  for (size_t k = 0; k < n; ++k) {
+    r[0] = std::max(r[0], c.velocityRatio(k));
+    if (k + 1 < n) r[1] = std::max(r[1], c.accelRatio(k));
+    if (k + 2 < n) r[2] = std::max(r[2], c.jerkRatio(k));
+  }
+  return r;
+}
+
+}  // namespace omnislice

@@ -1,0 +1,637 @@
+// SPDX-License-Identifier: MIT
+#include "motion/plan_motion.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+
+#include "kinematics/kinematics.h"
+#include "kinematics/robot_arm.h"
+#include "motion/feed_limits.h"
+#include "motion/orientation_smoothing.h"
+#include "motion/pose_continuity.h"
+
+namespace omnislice {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr const char* kStage = "motion";
+
+bool isExtruding(MoveKind k) { return k == MoveKind::Print || k == MoveKind::Support; }
+
+std::string fmtVec(const Eigen::Vector3d& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", v.x(), v.y(), v.z());
+  return buf;
+}
+
+// A target sample: the end of a (possibly subdivided) tool-path move.
+struct Piece {
+  Eigen::Vector3d pos, axis;
+  uint32_t source = 0;
+  double filament = 0;
+  size_t layer = 0;  // pose-graph layer (shared with the previous piece when it is the same pose)
+};
+
+// Time of a move of length L at speed v with acceleration a from rest to rest (as toolpathStats).
+double trapezoidTime(double length, double speed, double accel) {
+  if (length <= 0 || speed <= 0) return 0;
+  if (accel <= 0) return length / speed;
+  const double accelDist = speed * speed / accel;
+  if (length >= accelDist) return length / speed + speed / accel;
+  return 2.0 * std::sqrt(length / accel);
+}
+
+}  // namespace
+
+double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& j) {
+  // Singular values of J are the square roots of the eigenvalues of J^T J; prod(s) = |det J|.
+  const Eigen::Matrix<double, 6, 6> g = j.transpose() * j;
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(g, Eigen::EigenvaluesOnly);
+  const auto& l = es.eigenvalues();  // ascending
+  const double smax = std::sqrt(std::max(l(5), 0.0));
+  const double smin = std::sqrt(std::max(l(0), 0.0));
+  if (!(smax > 0)) return 0;
+  return std::sqrt(std::abs(j.determinant())) * std::sqrt(smin / smax);
+}
+
+namespace {
+
+double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                            const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double l2 = ab.squaredNorm();
+  double t = l2 > 0 ? (p - a).dot(ab) / l2 : 0;
+  t = std::clamp(t, 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+class Planner {
+ public:
+  Planner(const Toolpath& tp, const MachineProfile& m, const MotionOptions& o, const ProgressFn& p)
+      : tp_(tp), m_(m), o_(o), progress_(p) {}
+
+  MachinePath run();
+
+ private:
+  bool fail(Status s, const std::string& msg) {
+    out_.status = s;
+    out_.message = msg;
+    return false;
+  }
+  bool validate();
+  void buildPieces();
+  bool choose();
+  bool emit();
+  void finishTimes();
+
+  PoseNodeInfo robotInfo(const MachineValues& q) const;
+  bool solveNear(const Eigen::Vector3d& pos, const Eigen::Vector3d& axis, const MachineValues& qa,
+                 const MachineValues& qb, const MachineValues& qm, MachineValues& out) const;
+  void refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
+              const MachineValues& qb, const Eigen::Vector3d& pb, const Eigen::Vector3d& ub,
+              int depth, std::vector<MachineValues>& values, std::vector<Eigen::Vector3d>& pos);
+  void push(const MachineValues& v, const Move& src, uint32_t source, double filament,
+            MoveKind kind);
+  bool rotaryChanges(const MachineValues& a, const MachineValues& b, double degrees) const;
+
+  const Toolpath& tp_;
+  const MachineProfile& m_;
+  const MotionOptions& o_;
+  const ProgressFn& progress_;
+  MachinePath out_;
+  int n_ = 0;
+  bool robot_ = false, gcodeRotary_ = false;
+  PoseMetric metric_;
+  std::vector<std::pair<double, double>> limits_;
+  std::vector<Eigen::Vector3d> axes_;
+  std::vector<Piece> pieces_;
+  std::vector<Eigen::Vector3d> layerPos_, layerAxis_;
+  std::vector<size_t> layerPiece_;  // first piece of each layer (SIZE_MAX for the start layer)
+  std::vector<MachineValues> layerValues_;
+  std::vector<double> speeds_;      // requested speed of every output move
+  double safeZ_ = 0;
+};
+
+bool Planner::validate() {
+  n_ = machineAxisCount(m_.kind);
+  if (n_ == 0) return fail(Status::InvalidOption, "unknown machine kind '" + m_.kind + "'");
+  robot_ = m_.kind == "robot6";
+  gcodeRotary_ = m_.kind == "rotary4" || m_.kind == "table5";
+  auto bad = [](double v) { return !std::isfinite(v); };
+  if (o_.maxKeptPoses < 0) return fail(Status::InvalidOption, "maxKeptPoses must be >= 0");
+  if (o_.freeRotationSamples < 1 || o_.freeRotationSamples > 3600) {
+    return fail(Status::InvalidOption, "freeRotationSamples must be in [1, 3600]");
+  }
+  if (bad(o_.maxAxisStepDegrees) || o_.maxAxisStepDegrees < 0.01) {
+    return fail(Status::InvalidOption, "maxAxisStepDegrees must be >= 0.01");
+  }
+  if (bad(o_.filterThresholdDegrees) || o_.filterThresholdDegrees < 0) {
+    return fail(Status::InvalidOption, "filterThresholdDegrees must be >= 0");
+  }
+  if (bad(o_.chordTolerance) || o_.chordTolerance < 1e-6) {
+    return fail(Status::InvalidOption, "chordTolerance must be >= 1e-6 mm");
+  }
+  if (bad(o_.acceleration) || o_.acceleration < 0 || bad(o_.retractSpeed) || o_.retractSpeed <= 0 ||
+      bad(o_.safeLift) || o_.safeLift < 0 || bad(o_.rotationThresholdDegrees) ||
+      o_.rotationThresholdDegrees < 0 || bad(o_.safeRetract) || o_.safeRetract < 0 ||
+      bad(o_.singularityThreshold) || o_.singularityThreshold < 0 ||
+      bad(o_.singularityPenalty) || o_.singularityPenalty < 0 || bad(o_.armClearance)) {
+    return fail(Status::InvalidOption, "motion options must be finite and non-negative "
+                                       "(retractSpeed positive)");
+  }
+  if (!tp_.start.allFinite()) return fail(Status::InvalidOption, "the start position is not finite");
+  axes_.resize(tp_.moves.size());
+  for (size_t i = 0; i < tp_.moves.size(); ++i) {
+    const Move& mv = tp_.moves[i];
+    if (!mv.position.allFinite()) {
+      return fail(Status::InvalidOption, "move " + std::to_string(i) + " has a non-finite position");
+    }
+    const double len = mv.axis.norm();
+    if (!mv.axis.allFinite() || !(len > 1e-9)) {
+      return fail(Status::InvalidOption, "move " + std::to_string(i) + " at " +
+                                             fmtVec(mv.position) +
+                                             " has a non-finite or zero-length axis");
+    }
+    if (!std::isfinite(mv.filament) || !std::isfinite(mv.speed) || mv.speed < 0) {
+      return fail(Status::InvalidOption,
+                  "move " + std::to_string(i) + " has a non-finite filament or speed");
+    }
+    axes_[i] = mv.axis / len;
+  }
+  limits_ = machineLimits(m_);
+  metric_.begin = robot_ ? 0 : 3;
+  metric_.end = robot_ ? 6 : n_;
+  const double turn = robot_ ? 2 * kPi : 360.0;
+  for (int i = metric_.begin; i < metric_.end; ++i) {
+    const double span = limits_[i].second - limits_[i].first;
+    metric_.period[i] = span >= turn - 1e-9 ? turn : 0.0;
+  }
+  return true;
+}
+
+void Planner::buildPieces() {
+  const bool stepped = m_.kind == "rotary4" && m_.stepAngleDegrees > 0;
+  const bool smooth = o_.smoothOrientations && m_.kind != "cartesian3" && !stepped;
+  if (smooth) {
+    std::vector<int> run(tp_.moves.size(), -1);
+    int id = -1;
+    for (size_t i = 0; i < tp_.moves.size(); ++i) {
+      if (!isExtruding(tp_.moves[i].kind)) continue;
+      if (i == 0 || !isExtruding(tp_.moves[i - 1].kind)) ++id;
+      run[i] = id;
+    }
+    out_.stats.filteredOrientations = filterOrientations(axes_, run, o_.filterThresholdDegrees);
+  }
+  Eigen::Vector3d prevPos = tp_.start;
+  Eigen::Vector3d prevAxis = axes_.empty() ? Eigen::Vector3d::UnitZ() : axes_[0];
+  pieces_.reserve(tp_.moves.size());
+  for (size_t i = 0; i < tp_.moves.size(); ++i) {
+    const Move& mv = tp_.moves[i];
+    size_t sub = 1;
+    if (smooth && (isExtruding(mv.kind) || robot_)) {
+      const double angle = axisAngleDegrees(prevAxis, axes_[i]);
+      sub = std::max<size_t>(1, static_cast<size_t>(std::ceil(angle / o_.maxAxisStepDegrees - 1e-9)));
+    }
+    double given = 0;
+    for (size_t k = 1; k <= sub; ++k) {
+      const double t = static_cast<double>(k) / static_cast<double>(sub);
+      Piece p;
+      p.pos = k == sub ? mv.position : Eigen::Vector3d(prevPos + t * (mv.position - prevPos));
+      p.axis = k == sub ? axes_[i] : slerpAxis(prevAxis, axes_[i], t);
+      p.source = static_cast<uint32_t>(i);
+      // Equal pieces of a straight move have equal lengths: equal shares keep the volume per
+      // length; the last share takes the rounding so the sum is exact.
+      p.filament = k == sub ? mv.filament - given : mv.filament / static_cast<double>(sub);
+      given += p.filament;
+      pieces_.push_back(p);
+    }
+    out_.stats.subdivisions += sub - 1;
+    prevPos = mv.position;
+    prevAxis = axes_[i];
+  }
+}
+
+PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
+  PoseNodeInfo info;
+  const auto frames = armFrames(m_.dh, q);
+  const Eigen::Vector3d& n = m_.nozzleTip;
+  const Eigen::Vector3d u = m_.nozzleAxis.normalized();
+  const double height = m_.nozzle.coneLength + m_.nozzle.carriageSize.z();
+  const double radius =
+      0.5 * std::max(m_.nozzle.carriageSize.x(), m_.nozzle.carriageSize.y()) + o_.armClearance;
+  for (int f = 1; f <= 6; ++f) {
+    const Eigen::Vector3d p = frames[f].topRightCorner<3, 1>();
+    // Environment: the base plane (the table the robot stands on).
+    if (p.z() < o_.armClearance - 1e-9 && f > 1) {
+      info.feasible = false;
+      return info;
+    }
+    // The extruder (cone and carriage) as a cylinder above the tip along the nozzle axis.
+    const double axial = (p - n).dot(u);
+    if (axial > 0 && axial < height + o_.armClearance && (p - n - axial * u).norm() < radius) {
+      info.feasible = false;
+      return info;
+    }
+  }
+  // Penalty below singularityThreshold. Bounds decide most poses without an eigen-solve: with
+  // s1 <= |J|_F and s6 >= 1 / |J^-1|_F, w = sqrt(|det J|) sqrt(s6 / s1) is at least
+  // sqrt(|det J| / (|J|_F |J^-1|_F)), within a factor sqrt(6) of the truth. The measure itself
+  // is computed only when that bound is below the threshold or a tie needs it (measure = NaN).
+  if (o_.singularityThreshold > 0 && o_.singularityPenalty > 0) {
+    const Eigen::Matrix<double, 6, 6> j = armJacobian(m_.dh, q);
+    const Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> lu(j);
+    const double det = std::abs(lu.determinant());
+    double lower = 0;
+    if (det > 1e-300) lower = std::sqrt(det / (j.norm() * lu.inverse().norm()));
+    if (!(lower >= o_.singularityThreshold)) {
+      info.measure = fastSingularityMeasure(j);
+      if (info.measure < o_.singularityThreshold) {
+        info.penalty = o_.singularityPenalty * (1.0 - info.measure / o_.singularityThreshold);
+      }
+    }
+  }
+  return info;
+}
+
+bool Planner::choose() {
+  // Layers: 0 = the start (park) pose, then one per distinct piece pose.
+  const Eigen::Vector3d startAxis = pieces_.empty() ? Eigen::Vector3d::UnitZ() : pieces_[0].axis;
+  Eigen::Vector3d startPos = tp_.start;
+  size_t startPiece = SIZE_MAX;
+  {
+    IkOptions io;
+    io.freeRotationSamples = o_.freeRotationSamples;
+    const IkResult r = inverseMap(m_, startPos, startAxis, io);
+    // A park position the machine cannot reach: park at the first point instead.
+    if (!r.ok() || r.candidates.empty()) {
+      if (pieces_.empty()) {
+        return fail(Status::InvalidOption, "the start position " + fmtVec(startPos) +
+                                               " is out of reach of machine '" + m_.name + "'");
+      }
+      startPos = pieces_[0].pos;
+      startPiece = 0;
+    }
+  }
+  layerPos_.push_back(startPos);
+  layerAxis_.push_back(startAxis);
+  layerPiece_.push_back(startPiece);
+  for (size_t i = 0; i < pieces_.size(); ++i) {
+    Piece& p = pieces_[i];
+    const bool same = (p.pos - layerPos_.back()).squaredNorm() < 1e-24 &&
+                      (p.axis - layerAxis_.back()).squaredNorm() < 1e-24;
+    if (!same) {
+      layerPos_.push_back(p.pos);
+      layerAxis_.push_back(p.axis);
+      layerPiece_.push_back(i);
+    }
+    p.layer = layerPos_.size() - 1;
+  }
+  const size_t layers = layerPos_.size();
+  out_.stats.samples = layers - 1;
+
+  std::string ikError;
+  IkOptions io;
+  io.freeRotationSamples = o_.freeRotationSamples;
+  const double total = static_cast<double>(layers);
+  const int samples = o_.freeRotationSamples;
+  auto candidates = [&](size_t layer, const MachineValues* ref, std::vector<MachineValues>& c,
+                        std::vector<int32_t>& keys) {
+    if ((layer & 63) == 0 && !reportProgress(progress_, kStage, 0.8 * layer / total)) return false;
+    io.reference = ref;
+    const IkResult r = inverseMap(m_, layerPos_[layer], layerAxis_[layer], io);
+    if (!r.ok()) {
+      ikError = r.message;
+      return false;
+    }
+    c.reserve(r.candidates.size());
+    for (const IkCandidate& k : r.candidates) {
+      c.push_back(k.values);
+      if (robot_) {
+        // Track key: index of the free-rotation sample (freeAngle = -pi + 2 pi i / samples).
+        const long i = std::lround((k.freeAngle + kPi) * samples / (2 * kPi));
+        keys.push_back(static_cast<int32_t>(((i % samples + samples) % samples) * 8 + (k.branch & 7)));
+      }
+    }
+    return true;
+  };
+  auto info = [&](const MachineValues& q) {
+    if (robot_) return robotInfo(q);
+    return PoseNodeInfo{};
+  };
+  auto measure = [&](const MachineValues& q) {
+    return robot_ ? fastSingularityMeasure(armJacobian(m_.dh, q)) : 0.0;
+  };
+  PoseChoiceOptions pco;
+  pco.maxKept = static_cast<size_t>(o_.maxKeptPoses);
+  pco.slack = robot_ ? o_.poseSlack : 0.0;
+  PoseChoice pc = choosePoses(layers, metric_, candidates, info, measure, pco);
+  if (!ikError.empty()) return fail(Status::InvalidOption, "inverse kinematics: " + ikError);
+  if (pc.status == Status::Cancelled) return fail(Status::Cancelled, "cancelled");
+  if (!pc.ok()) {
+    const size_t l = pc.failedLayer;
+    if (layerPiece_[l] == SIZE_MAX) {
+      return fail(Status::InvalidOption, "the start position " + fmtVec(layerPos_[l]) +
+                                             " is out of reach of machine '" + m_.name + "'");
+    }
+    const Piece& p = pieces_[layerPiece_[l]];
+    return fail(Status::InvalidOption, "move " + std::to_string(p.source) + " at " +
+                                           fmtVec(p.pos) + " axis " + fmtVec(p.axis) +
+                                           " is out of reach of machine '" + m_.name + "'");
+  }
+  out_.stats.poseCost = pc.cost;
+  out_.stats.greedyPoseCost = pc.greedyCost;
+  out_.stats.posePenalty = pc.penalty;
+  out_.stats.greedyPosePenalty = pc.greedyPenalty;
+  if (robot_) {
+    double mn = std::numeric_limits<double>::infinity();
+    const MachineValues* worst = nullptr;
+    for (const MachineValues& q : pc.chosen) {
+      const double w = fastSingularityMeasure(armJacobian(m_.dh, q));
+      if (w < mn) {
+        mn = w;
+        worst = &q;
+      }
+    }
+    if (worst) mn = singularityMeasure(armJacobian(m_.dh, *worst));  // the reference SVD value
+    out_.stats.minSingularity = mn;
+  }
+  layerValues_ = std::move(pc.chosen);
+  unwrapPoses(layerValues_, metric_, limits_);
+  return true;
+}
+
+bool Planner::rotaryChanges(const MachineValues& a, const MachineValues& b, double degrees) const {
+  for (int i = 3; i < n_; ++i) {
+    if (std::abs(a[i] - b[i]) > degrees) return true;
+  }
+  return false;
+}
+
+// Machine values for (pos, axis) nearest qm (the linear interpolation of qa and qb).
+bool Planner::solveNear(const Eigen::Vector3d& pos, const Eigen::Vector3d& axis,
+                        const MachineValues& qa, const MachineValues& qb, const MachineValues& qm,
+                        MachineValues& out) const {
+  std::vector<MachineValues> cands;
+  if (robot_) {
+    // The free rotation about the nozzle axis is interpolated too: slerp of the platform
+    // rotations of the two ends, corrected by the smallest rotation that aligns the axis.
+    const Eigen::Matrix4d wa = robotPlatformPose(m_, qa), wb = robotPlatformPose(m_, qb);
+    const Eigen::Quaterniond ra(Eigen::Matrix3d(wa.topLeftCorner<3, 3>()));
+    const Eigen::Quaterniond rb(Eigen::Matrix3d(wb.topLeftCorner<3, 3>()));
+    Eigen::Matrix3d r = ra.slerp(0.5, rb).toRotationMatrix();
+    const Eigen::Vector3d ub = m_.nozzleAxis.normalized();
+    r = Eigen::Quaterniond::FromTwoVectors(r * axis, ub).toRotationMatrix() * r;
+    Eigen::Matrix4d w = Eigen::Matrix4d::Identity();
+    w.topLeftCorner<3, 3>() = r;
+    w.topRightCorner<3, 1>() = m_.nozzleTip - r * pos;
+    const Eigen::Matrix4d flange = w * m_.flangeToPlatform.inverse();
+    JointValues sols[8];
+    int branches[8];
+    const int count = urInverse(m_.dh, flange, sols, branches);
+    for (int i = 0; i < count; ++i) cands.push_back(sols[i]);
+  } else {
+    IkOptions io;
+    io.reference = &qm;
+    const IkResult r = inverseMap(m_, pos, axis, io);
+    if (!r.ok()) return false;
+    for (const IkCandidate& c : r.candidates) cands.push_back(c.values);
+  }
+  double best = std::numeric_limits<double>::infinity();
+  bool found = false;
+  for (MachineValues c : cands) {
+    // Unwrap next to qm, then require the limits.
+    for (int i = metric_.begin; i < metric_.end; ++i) {
+      const double p = metric_.period[i];
+      if (p <= 0) continue;
+      double d = std::fmod(c[i] - qm[i], p);
+      if (d > 0.5 * p) d -= p;
+      if (d <= -0.5 * p) d += p;
+      c[i] = qm[i] + d;
+    }
+    if (!withinLimits(m_, c, 1e-9)) continue;
+    const double d = poseDistance(metric_, c, qm);
+    if (d < best) {
+      best = d;
+      out = c;
+      found = true;
+    }
+  }
+  return found;
+}
+
+void Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
+                     const MachineValues& qb, const Eigen::Vector3d& pb, const Eigen::Vector3d& ub,
+                     int depth, std::vector<MachineValues>& values,
+                     std::vector<Eigen::Vector3d>& pos) {
+  bool angular = false;
+  for (int i = metric_.begin; i < metric_.end; ++i) angular = angular || std::abs(qb[i] - qa[i]) > 1e-12;
+  if (angular && depth < 24) {
+    MachineValues qm{};
+    for (int i = 0; i < 6; ++i) qm[i] = 0.5 * (qa[i] + qb[i]);
+    Eigen::Vector3d tip, axis;
+    if (forwardMap(m_, qm, tip, axis) && pointSegmentDistance(tip, pa, pb) > o_.chordTolerance) {
+      const Eigen::Vector3d pm = 0.5 * (pa + pb);
+      const Eigen::Vector3d um = slerpAxis(ua, ub, 0.5);
+      MachineValues qs;
+      if (solveNear(pm, um, qa, qb, qm, qs)) {
+        refine(qa, pa, ua, qs, pm, um, depth + 1, values, pos);
+        refine(qs, pm, um, qb, pb, ub, depth + 1, values, pos);
+        return;
+      }
+    }
+  }
+  values.push_back(qb);
+  pos.push_back(pb);
+}
+
+void Planner::push(const MachineValues& v, const Move& src, uint32_t source, double filament,
+                   MoveKind kind) {
+  MachineMove mm;
+  mm.values = v;
+  mm.filament = filament;
+  mm.kind = kind;
+  mm.width = src.width;
+  mm.height = src.height;
+  mm.feature = src.feature;
+  mm.part = src.part;
+  mm.layer = src.layer;
+  mm.source = source;
+  forwardMap(m_, v, mm.tip, mm.axis);
+  out_.moves.push_back(mm);
+  speeds_.push_back(src.speed);
+}
+
+bool Planner::emit() {
+  out_.start = layerValues_[0];
+  if (gcodeRotary_) {
+    if (m_.safeZ > 0) {
+      safeZ_ = m_.safeZ;
+    } else {
+      double top = -std::numeric_limits<double>::infinity();
+      for (const MachineValues& v : layerValues_) top = std::max(top, v[2]);
+      safeZ_ = top + o_.safeLift;
+    }
+    auto z = m_.axisLimits.find("Z");
+    if (z != m_.axisLimits.end()) safeZ_ = std::min(safeZ_, z->second.second);
+  }
+  out_.moves.reserve(pieces_.size() + pieces_.size() / 8);
+  MachineValues prev = layerValues_[0];
+  Eigen::Vector3d prevPos = layerPos_[0], prevAxis = layerAxis_[0];
+  bool retracted = false;
+  std::vector<MachineValues> vals;
+  std::vector<Eigen::Vector3d> poss;
+  for (size_t i = 0; i < pieces_.size(); ++i) {
+    if ((i & 1023) == 0 &&
+        !reportProgress(progress_, kStage, 0.8 + 0.15 * i / static_cast<double>(pieces_.size()))) {
+      return fail(Status::Cancelled, "cancelled");
+    }
+    const Piece& p = pieces_[i];
+    const Move& src = tp_.moves[p.source];
+    const MachineValues& v = layerValues_[p.layer];
+    if (gcodeRotary_ && src.kind == MoveKind::Travel &&
+        rotaryChanges(prev, v, o_.rotationThresholdDegrees)) {
+      // 3+2 safe rotation: retract, lift, rotate at safe height, move over, lower, unretract.
+      const bool ownRetract = !retracted && o_.safeRetract > 0;
+      if (ownRetract) push(prev, src, p.source, -o_.safeRetract, MoveKind::Retract);
+      const double zs = std::max({safeZ_, prev[2], v[2]});
+      MachineValues a = prev;
+      a[2] = zs;
+      push(a, src, p.source, 0, MoveKind::Travel);
+      for (int k = 3; k < n_; ++k) a[k] = v[k];
+      push(a, src, p.source, 0, MoveKind::Travel);
+      a[0] = v[0];
+      a[1] = v[1];
+      push(a, src, p.source, 0, MoveKind::Travel);
+      push(v, src, p.source, p.filament, MoveKind::Travel);
+      if (ownRetract) push(v, src, p.source, o_.safeRetract, MoveKind::Unretract);
+      out_.stats.subdivisions += 3;
+      ++out_.stats.safeRotations;
+    } else if (p.layer == 0 || (i > 0 && pieces_[i - 1].layer == p.layer)) {
+      push(v, src, p.source, p.filament, src.kind);  // same pose: retract, unretract, dwell
+    } else {
+      vals.clear();
+      poss.clear();
+      refine(prev, prevPos, prevAxis, v, p.pos, p.axis, 0, vals, poss);
+      // Filament proportional to the part-frame length of each piece (exact sum).
+      const double len = (p.pos - prevPos).norm();
+      double given = 0;
+      Eigen::Vector3d a = prevPos;
+      for (size_t k = 0; k < vals.size(); ++k) {
+        double f = p.filament - given;
+        if (k + 1 < vals.size()) {
+          f = len > 0 ? p.filament * (poss[k] - a).norm() / len
+                      : p.filament / static_cast<double>(vals.size());
+        }
+        given += f;
+        a = poss[k];
+        push(vals[k], src, p.source, f, src.kind);
+      }
+      out_.stats.subdivisions += vals.size() - 1;
+    }
+    if (src.kind == MoveKind::Retract) retracted = true;
+    if (src.kind == MoveKind::Unretract || isExtruding(src.kind)) retracted = false;
+    prev = v;
+    prevPos = p.pos;
+    prevAxis = p.axis;
+  }
+  return true;
+}
+
+void Planner::finishTimes() {
+  const size_t n = out_.moves.size();
+  FeedInput in;
+  in.axes = n_;
+  in.values.reserve(n + 1);
+  in.values.push_back(out_.start);
+  in.length.resize(n);
+  in.speed.resize(n);
+  Eigen::Vector3d tip, axis;
+  forwardMap(m_, out_.start, tip, axis);
+  for (size_t k = 0; k < n; ++k) {
+    const MachineMove& mm = out_.moves[k];
+    in.values.push_back(mm.values);
+    in.length[k] = (mm.tip - tip).norm();
+    in.speed[k] = speeds_[k];
+    tip = mm.tip;
+  }
+  if (robot_) {
+    in.dynamics = m_.jointDynamics;
+    in.fallbackVelocity.fill(0.5);  // rad/s, only for reorientations with no limit declared
+  } else {
+    const auto names = machineAxisNames(m_.kind);
+    for (int i = 0; i < n_; ++i) {
+      auto it = m_.axisDynamics.find(names[i]);
+      if (it != m_.axisDynamics.end()) in.dynamics[i] = it->second;
+      in.fallbackVelocity[i] = i < 3 ? 50.0 : 90.0;  // mm/s, deg/s
+    }
+  }
+  FeedResult fr = limitFeeds(in);
+  double time = 0;
+  double maxStep = 0;
+  MachineValues prev = out_.start;
+  for (size_t k = 0; k < n; ++k) {
+    MachineMove& mm = out_.moves[k];
+    double t = fr.duration[k];
+    const double l = in.length[k];
+    if (mm.filament != 0 && !(l > 0)) {
+      const double fs = speeds_[k] > 0 ? speeds_[k] : o_.retractSpeed;
+      t = std::max(t, std::abs(mm.filament) / fs);
+    }
+    mm.durationS = t;
+    mm.tipSpeed = l > 0 && t > 0 ? l / t : speeds_[k];
+    time += t;
+    if (!robot_ && l > 0 && t > 0) {
+      // Firmware accelerates each move from and to rest (the foundation's estimate).
+      time += trapezoidTime(l, mm.tipSpeed, o_.acceleration) - l / mm.tipSpeed;
+    }
+    for (int i = metric_.begin; i < metric_.end; ++i) {
+      maxStep = std::max(maxStep, std::abs(mm.values[i] - prev[i]));
+    }
+    prev = mm.values;
+  }
+  out_.stats.feedLimitedMoves = fr.limitedMoves;
+  out_.stats.estimatedTimeS = time;
+  out_.stats.maxJointStep = maxStep;
+}
+
+MachinePath Planner::run() {
+  out_.machine = m_;
+  out_.layerCount = tp_.layerCount;
+  if (!validate()) return std::move(out_);
+  if (!reportProgress(progress_, kStage, 0)) {
+    fail(Status::Cancelled, "cancelled");
+    return std::move(out_);
+  }
+  buildPieces();
+  if (!choose()) {
+    out_.moves.clear();
+    return std::move(out_);
+  }
+  if (!emit()) {
+    out_.moves.clear();
+    return std::move(out_);
+  }
+  finishTimes();
+  if (!reportProgress(progress_, kStage, 1)) {
+    out_.moves.clear();
+    fail(Status::Cancelled, "cancelled");
+  }
+  return std::move(out_);
+}
+
+}  // namespace
+
+MachinePath planMachineMotion(const Toolpath& toolpath, const MachineProfile& machine,
+                              const MotionOptions& options, const ProgressFn& progress) {
+  Planner planner(toolpath, machine, options, progress);
+  return planner.run();
+}
+
+}  // namespace omnislice

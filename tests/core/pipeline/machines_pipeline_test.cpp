@@ -1,0 +1,191 @@
+// SPDX-License-Identifier: MIT
+// Issue 3's "done when": every machine kind sliced with the planar slicer (d = +Z in the part frame,
+// mapped through the machine) writes a program that `verify` replays through the same machine and
+// passes; the preview's machine values reproduce the part-frame path through the forward map; the
+// report carries the motion figures; bad machine input is a Status.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "../test_support.h"
+#include "kinematics/kinematics.h"
+#include "pipeline/pipeline.h"
+#include "pipeline_fixtures.h"
+#include "program/machine.h"
+#include "program/machine_json.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::json;
+
+struct Case {
+  const char* machine;
+  const char* flavor;
+  const char* robotFormat;
+  const char* extension;
+  const char* firstLine;  // how the program starts
+};
+
+// A 16 x 12 x 5 mm box (25 layers of 0.2 mm).
+std::vector<uint8_t> testPart() { return test::binaryStl(test::makeBox(0, 0, 0, 16, 12, 5)); }
+
+Settings settingsFor(const Case& c) {
+  Settings s;
+  EXPECT_TRUE(setSetting(s, "infill", "100").ok());
+  EXPECT_TRUE(setSetting(s, "machine", c.machine).ok());
+  EXPECT_TRUE(setSetting(s, "gcode_flavor", c.flavor).ok());
+  EXPECT_TRUE(setSetting(s, "robot_format", c.robotFormat).ok());
+  return s;
+}
+
+class MachinesPipeline : public ::testing::TestWithParam<Case> {};
+
+TEST_P(MachinesPipeline, SlicesVerifiesAndReplays) {
+  const Case c = GetParam();
+  const auto bytes = testPart();
+  const Settings s = settingsFor(c);
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "part.stl", s);
+  ASSERT_TRUE(out.ok()) << out.message;
+  EXPECT_EQ(out.programExtension, c.extension);
+  EXPECT_EQ(out.program.rfind(c.firstLine, 0), 0u) << out.program.substr(0, 80);
+
+  const Json report = Json::parse(out.reportJson);
+  MachineProfileResult builtin = builtinMachine(c.machine, s.bedSize, s.nozzleDiameter);
+  ASSERT_TRUE(builtin.ok()) << builtin.message;
+  EXPECT_EQ(report["machine_kind"], builtin.machine.kind);
+  EXPECT_EQ(report["layers"].get<int>(), 25);
+  for (const char* key : {"samples", "subdivisions", "filtered_orientations", "feed_limited_moves",
+                          "safe_rotations", "max_joint_step", "pose_cost", "greedy_pose_cost",
+                          "min_singularity"}) {
+    EXPECT_TRUE(report["motion"].contains(key)) << key;
+  }
+  EXPECT_GT(report["motion"]["samples"].get<double>(), 100);
+  EXPECT_LE(report["motion"]["pose_cost"].get<double>(),
+            report["motion"]["greedy_pose_cost"].get<double>() + 1e-9);
+  EXPECT_TRUE(report["timings_ms"].contains("motion"));
+  // The report's machine profile is the header's, and it parses back.
+  MachineParseResult parsed = machineFromJson(report["machine_profile"].dump());
+  ASSERT_TRUE(parsed.ok()) << parsed.message;
+  EXPECT_EQ(parsed.machine.kind, builtin.machine.kind);
+
+  // The animation data: forwardMap of every preview row lands on the segment's end point.
+  const size_t segments = out.preview.features.size();
+  ASSERT_EQ(out.preview.machine.size(), 6 * segments);
+  double worst = 0;
+  for (size_t i = 0; i < segments; ++i) {
+    MachineValues v{};
+    for (int k = 0; k < 6; ++k) v[k] = out.preview.machine[6 * i + k];
+    Eigen::Vector3d tip, axis;
+    ASSERT_TRUE(forwardMap(parsed.machine, v, tip, axis));
+    const Eigen::Vector3d end(out.preview.positions[6 * i + 3], out.preview.positions[6 * i + 4],
+                              out.preview.positions[6 * i + 5]);
+    worst = std::max(worst, (tip - end).norm());
+  }
+  // Float32 preview: joint angles in float lose ~1e-7 rad, ~1e-4 mm at the arm's reach.
+  EXPECT_LT(worst, 5e-3) << "forward map of the preview's machine values vs its path";
+
+  // Verification by simulation through the declared machine.
+  VerifyOutput v = runVerify(out.program, bytes.data(), bytes.size(), "part.stl");
+  ASSERT_TRUE(v.ok()) << v.message;
+  const Json vr = Json::parse(v.verifyJson);
+  EXPECT_GE(vr["inside"].get<double>(), 0.99) << vr.dump();
+  EXPECT_GE(vr["coverage"].get<double>(), 0.95) << vr.dump();
+  EXPECT_GE(vr["supported"].get<double>(), 0.99) << vr.dump();
+  EXPECT_EQ(vr["collisions"].get<int>(), 0) << vr.dump();
+  EXPECT_EQ(vr["limits"].get<int>(), 0) << vr.dump();
+  EXPECT_EQ(vr["layers"].get<int>(), 25) << vr.dump();
+  EXPECT_NEAR(vr["extrusion_mm"].get<double>(), report["extrusion_mm"].get<double>(),
+              2e-3 * report["extrusion_mm"].get<double>());
+  EXPECT_NEAR(vr["path_mm"].get<double>(), report["path_mm"].get<double>(),
+              2e-3 * report["path_mm"].get<double>());
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Kinds, MachinesPipeline,
+    ::testing::Values(Case{"cartesian3", "marlin", "csv", "gcode", "; omnislice "},
+                      Case{"rotary4", "marlin", "csv", "gcode", "; omnislice "},
+                      Case{"rotary4", "reprap", "csv", "gcode", "; omnislice "},
+                      Case{"table5", "klipper", "csv", "gcode", "; omnislice "},
+                      Case{"table5", "marlin", "csv", "gcode", "; omnislice "},
+                      Case{"robot6-ur5", "marlin", "csv", "csv", "# omnislice "},
+                      Case{"robot6-ur5", "marlin", "urscript", "script", "# omnislice "}),
+    [](const ::testing::TestParamInfo<Case>& i) {
+      std::string n = std::string(i.param.machine) + "_" + i.param.flavor + "_" + i.param.robotFormat;
+      for (char& ch : n) {
+        if (!std::isalnum(static_cast<unsigned char>(ch))) ch = '_';
+      }
+      return n;
+    });
+
+// The robot's joint speed limits (paper 003 Table 1: pi/6 rad/s) make the same print slower than on
+// a 3-axis printer, and the report's time is the planned one.
+TEST(MachinesPipelineTime, RobotLimitsLengthenTheEstimate) {
+  const auto bytes = testPart();
+  Settings cart = settingsFor({"cartesian3", "marlin", "csv", "", ""});
+  Settings robot = settingsFor({"robot6-ur5", "marlin", "csv", "", ""});
+  SliceOutput a = runSlice(bytes.data(), bytes.size(), "part.stl", cart);
+  SliceOutput b = runSlice(bytes.data(), bytes.size(), "part.stl", robot);
+  ASSERT_TRUE(a.ok() && b.ok()) << a.message << b.message;
+  const Json ra = Json::parse(a.reportJson), rb = Json::parse(b.reportJson);
+  EXPECT_NEAR(ra["path_mm"].get<double>(), rb["path_mm"].get<double>(), 1e-6 * ra["path_mm"].get<double>());
+  EXPECT_GE(rb["estimated_time_s"].get<double>(), ra["estimated_time_s"].get<double>());
+}
+
+TEST(MachinesPipelineErrors, BadMachineInputIsAStatus) {
+  Settings s;
+  Outcome o = setSetting(s, "machine", "delta7");
+  EXPECT_EQ(o.status, Status::InvalidOption);
+  EXPECT_NE(o.message.find("robot6-ur5"), std::string::npos) << o.message;
+  EXPECT_EQ(setSetting(s, "machine_json", "{\"kind\":").status, Status::InvalidOption);
+  EXPECT_EQ(setSetting(s, "machine_json", "[1,2]").status, Status::InvalidOption);
+  EXPECT_EQ(setSetting(s, "gcode_flavor", "sailfish").status, Status::InvalidOption);
+  EXPECT_EQ(setSetting(s, "robot_format", "krl").status, Status::InvalidOption);
+  EXPECT_EQ(setSetting(s, "motion.free_rotation_samples", "0").status, Status::InvalidOption);
+
+  // A user profile of an unknown kind is refused when slicing, with a message.
+  ASSERT_TRUE(setSetting(s, "machine_json", "{\"kind\":\"hexapod\"}").ok());
+  const auto bytes = testPart();
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "part.stl", s);
+  EXPECT_EQ(out.status, Status::InvalidOption);
+  EXPECT_NE(out.message.find("hexapod"), std::string::npos) << out.message;
+
+  // A part far larger than the robot's reach: InvalidOption naming the unreachable move.
+  Settings big;
+  ASSERT_TRUE(setSetting(big, "machine", "robot6-ur5").ok());
+  for (const auto& [k, v] : {std::pair<const char*, const char*>{"layer_height", "0.4"},
+                             {"nozzle_diameter", "0.8"}, {"bed_size", "9000,9000,100"},
+                             {"infill", "0"}, {"walls", "1"}, {"top_layers", "0"},
+                             {"bottom_layers", "0"}}) {
+    ASSERT_TRUE(setSetting(big, k, v).ok()) << k;
+  }
+  // 4 m wide: its corners are farther from the platform centre than the UR5 can bring them to the
+  // nozzle, whatever the platform's rotation.
+  const auto huge = test::binaryStl(test::makeBox(0, 0, 0, 4000, 4000, 2));
+  SliceOutput far = runSlice(huge.data(), huge.size(), "huge.stl", big);
+  EXPECT_EQ(far.status, Status::InvalidOption) << far.message;
+  EXPECT_NE(far.message.find("reach"), std::string::npos) << far.message;
+}
+
+// A user's profile: a rotary4 machine whose A axis is limited to +-30 degrees, given as JSON.
+TEST(MachinesPipelineProfile, UserProfileIsUsedAndRecorded) {
+  MachineProfileResult base = builtinMachine("rotary4", {220, 220, 250}, 0.4);
+  ASSERT_TRUE(base.ok());
+  MachineProfile m = base.machine;
+  m.name = "my-rotary";
+  m.axisLimits["A"] = {-30, 30};
+  Settings s;
+  ASSERT_TRUE(setSetting(s, "machine_json", machineJson(m)).ok());
+  const auto bytes = testPart();
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "part.stl", s);
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json report = Json::parse(out.reportJson);
+  EXPECT_EQ(report["machine"], "my-rotary");
+  EXPECT_EQ(report["machine_profile"]["axis_limits"]["A"][1].get<double>(), 30);
+  EXPECT_NE(out.program.find("\"A\":[-30"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace omnislice

@@ -1,0 +1,259 @@
+// SPDX-License-Identifier: MIT
+// End-to-end tests of the machine side of the page in headless Chromium (playwright-core), against
+// the real worker and wasm module served by scripts/serve.mjs on a free port:
+//   - the machine panel: the four built-in machines, the G-code flavour shown for G-code machines
+//     and the robot program format only for the robot;
+//   - robot6-ur5 on the demo: the report names the machine and shows the motion figures, the
+//     download is a .csv joint program, then a .script URScript program after choosing urscript;
+//   - the machine animation: the machine-step slider moved over the program and play/pause; at
+//     every step shown, the tip error measured in the drawn scene (platform matrix applied to the
+//     move's part-frame end point vs the drawn nozzle tip) stays under 0.01 mm;
+//   - table5 with the Klipper flavour writes B and C axis words;
+//   - a broken machine profile file shows parse_error with the core's message; a valid rotary4
+//     profile file is used for the next slice (A axis words) until "use built-in".
+// Screenshots go to build/e2e/machine-*.png.
+import { test, before, after } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+import { startServer } from '../../scripts/serve.mjs';
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
+const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
+const OUT_DIR = path.join(ROOT, 'build', 'e2e');
+const SLICE_TIMEOUT = 180_000;
+const TIP_TOLERANCE_MM = 0.01;
+
+let server;
+let context;
+let page;
+let userDataDir;
+let tmpDir;
+const pageErrors = [];
+
+const tid = (id) => `[data-testid="${id}"]`;
+
+function missingPrerequisite() {
+  const needed = [
+    [path.join(ROOT, 'build', 'wasm', 'omnislice.mjs'), 'build/wasm/omnislice.mjs (bash scripts/build-wasm.sh)'],
+    [path.join(ROOT, 'node_modules', 'three', 'build', 'three.module.js'), 'node_modules/three (npm ci)'],
+    [CHROMIUM, CHROMIUM],
+  ];
+  const missing = needed.filter(([p]) => !fs.existsSync(p)).map(([, what]) => what);
+  return missing.length ? `missing: ${missing.join(', ')}` : null;
+}
+
+async function waitState(state, { minSlices, timeout = SLICE_TIMEOUT } = {}) {
+  await page.waitForFunction(
+    ([s, n]) => document.body.dataset.state === s && (n === null || Number(document.body.dataset.sliceCount || 0) >= n),
+    [state, minSlices ?? null],
+    { timeout },
+  );
+}
+
+async function slice() {
+  const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
+  await page.click(tid('slice-button'));
+  await page.waitForFunction((n) => ['done', 'error'].includes(document.body.dataset.state)
+    && (document.body.dataset.state === 'error' || Number(document.body.dataset.sliceCount || 0) > n), before, { timeout: SLICE_TIMEOUT });
+  const state = await page.evaluate(() => document.body.dataset.state);
+  if (state !== 'done') assert.fail(`slice failed: ${await page.textContent(tid('error-message'))}`);
+  return page.evaluate(() => window.omnislice.report);
+}
+
+async function download() {
+  const [d] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
+  const file = path.join(tmpDir, `dl-${Date.now()}-${d.suggestedFilename()}`);
+  await d.saveAs(file);
+  return { name: d.suggestedFilename(), text: fs.readFileSync(file, 'utf8') };
+}
+
+/** Move the step slider to s; returns the animation state the page reports. */
+async function stepTo(s) {
+  await page.locator(tid('machine-step')).fill(String(s));
+  return page.evaluate(() => ({
+    step: Number(document.querySelector('[data-testid="machine-step"]').dataset.step),
+    tipError: Number(document.querySelector('[data-testid="machine-step"]').dataset.tipError),
+    machine: window.omnislice.machine,
+  }));
+}
+
+/** Open the machine view and sweep the slider over the program; returns the worst tip error. */
+async function sweepMachine(label) {
+  await page.check(tid('machine-toggle'));
+  await page.waitForSelector(`${tid('machine-bar')}:not([hidden])`);
+  const { steps } = await page.evaluate(() => window.omnislice.machine);
+  const segments = await page.evaluate(() => window.omnislice.previewSegments);
+  assert.equal(steps, segments, `${label}: one animation step per preview segment`);
+  let worst = 0;
+  const picks = [0, 1, Math.floor(steps / 7), Math.floor(steps / 3), Math.floor(steps / 2), Math.floor((2 * steps) / 3), steps - 2, steps - 1];
+  for (let k = 0; k < 25; k++) picks.push(Math.floor(((k + 0.5) * steps) / 25));
+  for (const s of picks) {
+    const r = await stepTo(s);
+    assert.equal(r.step, s, `${label}: slider at ${s}`);
+    assert.equal(r.machine.step, s);
+    assert.ok(Number.isFinite(r.tipError), `${label}: tip error at ${s} is a number`);
+    worst = Math.max(worst, r.tipError);
+  }
+  assert.ok(worst < TIP_TOLERANCE_MM, `${label}: worst tip error ${worst} mm over ${picks.length} steps`);
+  return { steps, worst };
+}
+
+before(async () => {
+  const missing = missingPrerequisite();
+  if (missing) throw new Error(`e2e prerequisites ${missing}`);
+  tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-e2e-machine-'));
+  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-chromium-'));
+  fs.mkdirSync(OUT_DIR, { recursive: true });
+  server = await startServer({ port: 0, root: ROOT });
+  context = await chromium.launchPersistentContext(userDataDir, {
+    executablePath: CHROMIUM,
+    headless: true,
+    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+    viewport: { width: 1280, height: 800 },
+    acceptDownloads: true,
+  });
+  page = context.pages()[0] || (await context.newPage());
+  page.on('pageerror', (e) => pageErrors.push(e.message));
+  await page.goto(server.url);
+  await waitState('done', { minSlices: 1 });
+});
+
+after(async () => {
+  if (context) await context.close();
+  if (server) await server.close();
+  for (const d of [userDataDir, tmpDir]) if (d) fs.rmSync(d, { recursive: true, force: true });
+});
+
+test('the machine panel lists the built-in machines; flavour for G-code, format for the robot', async () => {
+  const options = await page.$$eval(`${tid('machine')} option`, (os) => os.map((o) => o.value));
+  assert.deepEqual(options, ['cartesian3', 'rotary4', 'table5', 'robot6-ur5']);
+  assert.equal(await page.isVisible(tid('gcode-flavor')), true);
+  assert.equal(await page.isVisible(tid('robot-format')), false);
+  await page.selectOption(tid('machine'), 'robot6-ur5');
+  assert.equal(await page.isVisible(tid('gcode-flavor')), false);
+  assert.equal(await page.isVisible(tid('robot-format')), true);
+  assert.equal(await page.evaluate(() => window.omnislice.settings.machine), 'robot6-ur5');
+  // The select lists exactly the core's built-ins; "save JSON" downloads the selected profile.
+  const names = await page.evaluate(async () => (await (await import('/workers/engine.js')).createSlicer()
+    .then(async (s) => { const list = await s.machines(); s.dispose(); return list.map((x) => x.name); })));
+  assert.deepEqual(options, names);
+  const [d] = await Promise.all([page.waitForEvent('download'), page.click(tid('machine-save'))]);
+  assert.equal(d.suggestedFilename(), 'robot6-ur5.json');
+  const file = path.join(tmpDir, 'saved-robot6-ur5.json');
+  await d.saveAs(file);
+  const saved = JSON.parse(fs.readFileSync(file, 'utf8'));
+  assert.equal(saved.kind, 'robot6');
+  assert.equal(saved.dh.length, 6);
+});
+
+test('robot6-ur5: report and motion figures, .csv then .script downloads, animation on the nozzle', async (t) => {
+  await page.selectOption(tid('machine'), 'robot6-ur5');
+  await page.selectOption(tid('robot-format'), 'csv');
+  const report = await slice();
+  assert.equal(report.machine_kind, 'robot6');
+  assert.match(await page.textContent(tid('report-machine')), /robot6/);
+  assert.equal(await page.isVisible(tid('report-motion')), true);
+  assert.match(await page.textContent(tid('motion-samples')), /^[\d,]+$/);
+  assert.ok(report.motion.samples > 0, JSON.stringify(report.motion));
+  assert.equal(await page.evaluate(() => window.omnislice.programExtension), 'csv');
+  const csv = await download();
+  assert.equal(csv.name, 'demo-overhang.csv');
+  assert.match(csv.text, /^# /m, 'CSV header comments');
+  assert.match(csv.text, /^-?[\d.]+(,-?[\d.eE+-]+){7},(print|travel|support)$/m, 'joint rows');
+
+  const { steps, worst } = await sweepMachine('robot6-ur5');
+  t.diagnostic(`robot6-ur5: ${steps} steps, worst tip error ${worst.toExponential(2)} mm`);
+  await page.waitForTimeout(400);
+  await page.screenshot({ path: path.join(OUT_DIR, 'machine-robot6.png') });
+
+  // Play, then pause: the step advances and the tip stays on the point.
+  const start = await stepTo(0);
+  await page.click(tid('machine-play'));
+  assert.equal(await page.getAttribute(tid('machine-play'), 'aria-pressed'), 'true');
+  await page.waitForFunction(() => window.omnislice.machine.step > 3, null, { timeout: 20_000 });
+  await page.click(tid('machine-play'));
+  assert.equal(await page.getAttribute(tid('machine-play'), 'aria-pressed'), 'false');
+  const paused = await page.evaluate(() => window.omnislice.machine);
+  assert.ok(paused.step > start.step, `played from ${start.step} to ${paused.step}`);
+  assert.ok(paused.tipError < TIP_TOLERANCE_MM, `tip error after playing ${paused.tipError}`);
+  await page.waitForTimeout(200);
+  assert.equal((await page.evaluate(() => window.omnislice.machine)).step, paused.step, 'paused');
+
+  // URScript: a new slice (the machine view follows it) and a .script download.
+  await page.selectOption(tid('robot-format'), 'urscript');
+  await slice();
+  assert.equal(await page.evaluate(() => window.omnislice.programExtension), 'script');
+  const script = await download();
+  assert.equal(script.name, 'demo-overhang.script');
+  assert.match(script.text, /^def \w+\(\):/m);
+  assert.match(script.text, /^end$/m);
+  const after = await stepTo(Math.floor(steps / 2));
+  assert.ok(after.tipError < TIP_TOLERANCE_MM, `after re-slicing: ${after.tipError}`);
+  await page.uncheck(tid('machine-toggle'));
+  assert.equal(await page.isVisible(tid('machine-bar')), false);
+});
+
+test('table5 with the Klipper flavour: B and C axis words; the animation keeps the tip on the point', async (t) => {
+  await page.selectOption(tid('machine'), 'table5');
+  await page.selectOption(tid('gcode-flavor'), 'klipper');
+  const report = await slice();
+  assert.equal(report.machine_kind, 'table5');
+  const g = await download();
+  assert.equal(g.name, 'demo-overhang.gcode');
+  assert.match(g.text, /^G[01] .* B-?[\d.]+/m);
+  assert.match(g.text, /^G[01] .* C-?[\d.]+/m);
+  const { steps, worst } = await sweepMachine('table5');
+  t.diagnostic(`table5: ${steps} steps, worst tip error ${worst.toExponential(2)} mm`);
+  await page.waitForTimeout(400);
+  await page.screenshot({ path: path.join(OUT_DIR, 'machine-table5.png') });
+  await page.uncheck(tid('machine-toggle'));
+  await page.selectOption(tid('gcode-flavor'), 'marlin');
+});
+
+test('machine profile files: a broken one shows parse_error; a rotary4 one is used until "use built-in"', async () => {
+  const broken = path.join(tmpDir, 'broken-machine.json');
+  fs.writeFileSync(broken, '{"kind": "rotary4", "pivot": [0, 0');
+  await page.setInputFiles(tid('machine-file'), broken);
+  await page.waitForSelector(`${tid('error-message')}:not([hidden])`);
+  assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'parse_error');
+  assert.match(await page.textContent(tid('error-message')), /^parse_error: broken-machine\.json: machine JSON: \S/);
+
+  const limits = path.join(tmpDir, 'inverted-limits.json');
+  fs.writeFileSync(limits, JSON.stringify({ kind: 'rotary4', axis_limits: { A: [60, -60] } }));
+  await page.setInputFiles(tid('machine-file'), limits);
+  await page.waitForFunction(() => /inverted-limits/.test(document.querySelector('[data-testid="error-message"]').textContent));
+  assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'parse_error');
+
+  const good = path.join(tmpDir, 'my-rotary.json');
+  fs.writeFileSync(good, JSON.stringify({
+    kind: 'rotary4', pivot: [0, 0, 0], axis_limits: { X: [-150, 150], Y: [-150, 150], Z: [-50, 250], A: [-90, 90] },
+    nozzle: { diameter: 0.4, cone_half_angle_deg: 40, cone_length: 25 },
+  }, null, 2));
+  await page.setInputFiles(tid('machine-file'), good);
+  await page.waitForFunction(() => /my-rotary\.json/.test(document.querySelector('[data-testid="machine-profile"]').textContent));
+  assert.equal(await page.isDisabled(tid('machine')), true, 'the built-in select is off while a file profile is used');
+  assert.equal(await page.isVisible(tid('gcode-flavor')), true);
+  assert.ok(JSON.parse(await page.evaluate(() => window.omnislice.settings.machine_json)).kind === 'rotary4');
+  const report = await slice();
+  assert.equal(report.machine_kind, 'rotary4');
+  const g = await download();
+  assert.equal(g.name, 'demo-overhang.gcode');
+  assert.match(g.text, /^G[01] .* A-?[\d.]+/m, 'A axis words');
+  const { worst } = await sweepMachine('rotary4 (profile file)');
+  assert.ok(worst < TIP_TOLERANCE_MM);
+  await page.uncheck(tid('machine-toggle'));
+
+  await page.click(tid('machine-builtin'));
+  assert.equal(await page.isDisabled(tid('machine')), false);
+  assert.equal(await page.evaluate(() => window.omnislice.settings.machine_json), undefined);
+  assert.match(await page.textContent(tid('machine-profile')), /built-in profile table5/);
+});
+
+test('the page raised no uncaught error', () => {
+  assert.deepEqual(pageErrors, []);
+});

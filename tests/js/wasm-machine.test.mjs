@@ -1,0 +1,142 @@
+// SPDX-License-Identifier: MIT
+// The wasm module's machine output in Node, tied to the page's animation: the demo model sliced
+// for every machine kind gives preview.machine with 6 values per preview segment, and the page's
+// JS forward map (web/machine-kinematics.js) of every row, with the report's machine_profile,
+// reproduces the segment's part-frame end point within 1e-3 mm (so the animation puts the nozzle
+// on the deposition point). Also: the program extension and the header's format per machine and
+// setting, and the page's settings schema defaults equal the core's (listSettings).
+import { before, describe, test } from 'node:test';
+import assert from 'node:assert/strict';
+import fs from 'node:fs';
+import path from 'node:path';
+import { CI, REPO, loadShipped, wasmUnavailable } from './wasm-support.mjs';
+import { UR5_DH, forwardMap, machineAxisCount, machineKind, tipError, platformTransform, transformPoint4 } from '../../web/machine-kinematics.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
+
+const why = wasmUnavailable();
+if (why && CI) throw new Error(`wasm tests cannot run under CI: ${why}`);
+
+const DEMO = path.join(REPO, 'web', 'models', 'demo-overhang.stl');
+
+describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${why}` : false }, () => {
+  let m;
+  let demo;
+  before(async () => {
+    ({ module: m } = await loadShipped());
+    demo = fs.readFileSync(DEMO);
+  });
+
+  test('the page\'s settings schema defaults are the core\'s defaults', (t) => {
+    const { values } = m.defaultSettings();
+    // The page's key -> the key listSettings() writes (setSetting accepts both).
+    const listed = { nozzle: 'nozzle_diameter' };
+    const unlisted = [];
+    let compared = 0;
+    for (const field of SETTINGS_SCHEMA) {
+      if (field.hidden) continue;
+      const key = listed[field.key] || field.key;
+      if (!(key in values)) {
+        unlisted.push(key);
+        continue;
+      }
+      let page = field.value;
+      // line_width 0 means automatic; the core lists the resolved width (1.125 x nozzle).
+      if (field.key === 'line_width' && page === 0) page = 1.125 * SETTINGS_SCHEMA.find((f) => f.key === 'nozzle').value;
+      const core = values[key];
+      if (typeof page === 'number') assert.ok(Math.abs(Number(core) - page) < 1e-9, `${field.key}: core ${core}, page ${page}`);
+      else if (typeof page === 'boolean') assert.equal(core, String(page), field.key);
+      else if (field.type === 'direction') assert.deepEqual(core.split(',').map(Number), page.split(',').map(Number), field.key);
+      else assert.equal(core, page, field.key);
+      compared++;
+    }
+    t.diagnostic(`${compared} defaults compared; not listed by the core: ${unlisted.join(', ') || 'none'}`);
+    assert.ok(compared >= 20);
+  });
+
+  const cases = [
+    ['cartesian3', {}, 'gcode'],
+    ['rotary4', {}, 'gcode'],
+    ['table5', { gcode_flavor: 'klipper' }, 'gcode'],
+    ['robot6-ur5', { robot_format: 'csv' }, 'csv'],
+    ['robot6-ur5', { robot_format: 'urscript' }, 'script'],
+  ];
+  for (const [machine, extra, extension] of cases) {
+    test(`${machine} ${JSON.stringify(extra)}: every preview.machine row maps onto its segment end`, (t) => {
+      const t0 = performance.now();
+      const r = m.slice(demo, 'demo-overhang.stl', { machine, ...extra });
+      const ms = performance.now() - t0;
+      const { positions, features, machine: values } = r.preview;
+      const S = features.length;
+      assert.ok(S > 1000, `${S} segments`);
+      assert.ok(values instanceof Float32Array);
+      assert.equal(values.length, 6 * S, 'preview.machine: 6 values per segment');
+      assert.equal(r.programExtension, extension);
+      assert.equal(r.report.program_extension, extension);
+      const profile = r.report.machine_profile;
+      assert.ok(profile && typeof profile === 'object', 'report.machine_profile');
+      const kind = machineKind(profile);
+      assert.equal(kind, machineKind(machine));
+      assert.equal(r.report.machine_kind, kind);
+      // The header carries the same profile.
+      const header = r.program.split('\n').find((l) => /omnislice:machine /.test(l));
+      assert.ok(header, 'machine header line');
+      assert.deepEqual(JSON.parse(header.slice(header.indexOf('{'))), profile, 'header machine = report.machine_profile');
+      // Unused trailing values are 0.
+      const n = machineAxisCount(kind);
+      let worst = 0;
+      let worstAt = -1;
+      for (let s = 0; s < S; s++) {
+        const row = Array.from(values.subarray(6 * s, 6 * s + 6));
+        for (let k = n; k < 6; k++) assert.equal(row[k], 0, `segment ${s}: value ${k} unused`);
+        const end = [positions[6 * s + 3], positions[6 * s + 4], positions[6 * s + 5]];
+        const e = tipError(profile, row, end);
+        if (e > worst) {
+          worst = e;
+          worstAt = s;
+        }
+      }
+      t.diagnostic(`${machine}: ${S} segments, worst |forward(machine) - segment end| = ${worst.toExponential(2)} mm at ${worstAt}; slice ${ms.toFixed(0)} ms`);
+      assert.ok(worst <= 1e-3, `${machine}: segment ${worstAt} is ${worst} mm off its machine values`);
+      // A sample of rows through the part-frame forward map too (the inverse direction).
+      for (let s = 0; s < S; s += Math.ceil(S / 50)) {
+        const { tip } = forwardMap(profile, Array.from(values.subarray(6 * s, 6 * s + 6)));
+        const end = [positions[6 * s + 3], positions[6 * s + 4], positions[6 * s + 5]];
+        assert.ok(Math.hypot(tip[0] - end[0], tip[1] - end[1], tip[2] - end[2]) <= 1e-3, `segment ${s}`);
+      }
+      if (kind !== 'cartesian3') {
+        // Not a trivial map: the platform really moves over the program.
+        const first = platformTransform(profile, Array.from(values.subarray(0, 6)));
+        let moved = 0;
+        for (let s = 0; s < S; s += 97) {
+          const W = platformTransform(profile, Array.from(values.subarray(6 * s, 6 * s + 6)));
+          const a = transformPoint4(W, [10, 0, 0]);
+          const b = transformPoint4(first, [10, 0, 0]);
+          moved = Math.max(moved, Math.hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]));
+        }
+        t.diagnostic(`${machine}: a part point 10 mm off the origin moves up to ${moved.toFixed(1)} mm in the machine frame`);
+        if (kind === 'robot6') assert.ok(moved > 1, 'the robot moves the platform');
+      }
+    });
+  }
+
+  test('machines(): the built-ins in display order; each parses back to itself; UR5 DH as PROGRAM-FORMAT.md', () => {
+    const list = m.machines();
+    assert.deepEqual(list.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'robot6-ur5']);
+    for (const { name, profile, json } of list) {
+      assert.equal(machineKind(profile), machineKind(name), name);
+      assert.deepEqual(m.parseMachine(json).profile, profile, `${name}: parseMachine(machineJson) is itself`);
+      assert.equal(profile.nozzle.diameter, 0.4, `${name}: default nozzle`);
+    }
+    const ur5 = list.find((x) => x.name === 'robot6-ur5').profile;
+    assert.equal(ur5.dh.length, 6);
+    ur5.dh.forEach((row, i) => row.forEach((v, k) => assert.ok(Math.abs(v - UR5_DH[i][k]) < 1e-12, `dh[${i}][${k}] = ${v}`)));
+    assert.equal(ur5.flange_to_platform.length, 16);
+    assert.equal(ur5.nozzle_tip.length, 3);
+    // Sized by the settings: a 300 mm bed gives X limits of +-150 mm, a 0.6 mm nozzle its diameter.
+    const big = m.machines({ bed_size: '300,300,300', nozzle: 0.6 });
+    const c3 = big.find((x) => x.name === 'cartesian3').profile;
+    assert.deepEqual(c3.axis_limits.X, [-150, 150]);
+    assert.equal(c3.nozzle.diameter, 0.6);
+    assert.throws(() => m.machines({ no_such_key: 1 }), (e) => e.code === 'invalid_option');
+  });
+});
