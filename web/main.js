@@ -195,11 +195,16 @@ function showReport(report) {
   $('report-program').textContent = r.program_format || r.program_extension || '—';
   const motion = r.motion && typeof r.motion === 'object' ? r.motion : null;
   $('report-motion').hidden = !motion;
+  // Angular figures are radians for a robot's joints, degrees for the A, B, C axes.
+  const unit = r.machine_kind === 'robot6' ? ' rad' : '°';
   for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
     'max_joint_step', 'pose_cost', 'min_singularity']) {
     let text = '—';
     if (motion && key === 'pose_cost' && Number.isFinite(motion.pose_cost)) {
-      text = `${formatFigure(motion.pose_cost)}${Number.isFinite(motion.greedy_pose_cost) ? ` (${formatFigure(motion.greedy_pose_cost)})` : ''}`;
+      text = `${formatFigure(motion.pose_cost)}${unit}${Number.isFinite(motion.greedy_pose_cost) ? ` (${formatFigure(motion.greedy_pose_cost)}${unit})` : ''}`;
+    } else if (motion && key === 'max_joint_step' && Number.isFinite(motion.max_joint_step)) {
+      text = `${formatFigure(motion.max_joint_step)}${unit}`;
+      if (r.machine_kind === 'robot6') text += ` (${formatFigure((motion.max_joint_step * 180) / Math.PI)}°)`;
     } else if (motion && motion[key] !== undefined && motion[key] !== null) {
       text = formatFigure(motion[key]);
     }

@@ -159,7 +159,11 @@ test('robot6-ur5: report and motion figures, .csv then .script downloads, animat
   assert.match(await page.textContent(tid('report-machine')), /robot6/);
   assert.equal(await page.isVisible(tid('report-motion')), true);
   assert.match(await page.textContent(tid('motion-samples')), /^[\d,]+$/);
+  assert.match(await page.textContent(tid('motion-max_joint_step')), /^[\d.]+ rad \([\d.]+°\)$/);
+  assert.match(await page.textContent(tid('motion-pose_cost')), /^[\d.,]+ rad \([\d.,]+ rad\)$/);
   assert.ok(report.motion.samples > 0, JSON.stringify(report.motion));
+  assert.equal(await page.textContent(tid('motion-samples')), report.motion.samples.toLocaleString('en'));
+  assert.equal(await page.textContent(tid('motion-subdivisions')), report.motion.subdivisions.toLocaleString('en'));
   assert.equal(await page.evaluate(() => window.omnislice.programExtension), 'csv');
   const csv = await download();
   assert.equal(csv.name, 'demo-overhang.csv');

@@ -58,7 +58,8 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
     ['rotary4', {}, 'gcode'],
     ['table5', { gcode_flavor: 'klipper' }, 'gcode'],
     ['robot6-ur5', { robot_format: 'csv' }, 'csv'],
-    ['robot6-ur5', { robot_format: 'urscript' }, 'script'],
+    // (coarser layers: the same checks, half the robot planning time)
+    ['robot6-ur5', { robot_format: 'urscript', layer_height: 0.4 }, 'script'],
   ];
   for (const [machine, extra, extension] of cases) {
     test(`${machine} ${JSON.stringify(extra)}: every preview.machine row maps onto its segment end`, (t) => {
