@@ -12,6 +12,7 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   emscripten::function("_verify", &verifyJs);
   emscripten::function("_parseMachine", &parseMachineJs);
   emscripten::function("_machines", &machinesJs);
+  emscripten::function("_replay", &replayJs);
   emscripten::function("_defaultSettings", &defaultSettingsJs);
   emscripten::function("_abortForTest", &abortForTest);
 }

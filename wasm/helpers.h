@@ -33,6 +33,12 @@ emscripten::val verifyJs(const std::string& program, const emscripten::val& mesh
 // (machineJson). Returns {status, message, json (one line, when ok)}.
 emscripten::val parseMachineJs(const std::string& json);
 
+// Replay a program of any kind (readProgram): its machine and its moves as preview buffers for the
+// machine animation, one segment per replayed piece that moves the tip. Returns {status, message,
+// machine (machineJson), format ("gcode" | "csv" | "urscript"), layers, preview: {positions,
+// features, layers, machine}}.
+emscripten::val replayJs(const std::string& program);
+
 // Built-in machine profiles (builtinMachineNames(), builtinMachine() sized by the settings'
 // bed_size and nozzle). settingsLines: "key=value" lines. Returns {status, message,
 // machines: [{name, json (machineJson, one line)}...]} in display order.

@@ -85,6 +85,9 @@ export class Omnislice {
        options?: { onProgress?: (p: Progress) => boolean | void }): { info: Record<string, any>; mesh: MeshBuffers };
   verify(program: string, meshBytes: ArrayBuffer | Uint8Array, meshName: string,
          options?: { onProgress?: (p: Progress) => boolean | void }): Record<string, any>;
+  /** Replay a program through its declared machine: its profile and moves as preview buffers. */
+  replay(program: string): { profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number;
+                             preview: PreviewBuffers };
   /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
   machines(settings?: Settings): { name: string; profile: MachineProfileJson; json: string }[];
   /** Check a machine profile JSON with the core's parser; throws OmnisliceError 'parse_error'. */

@@ -200,6 +200,19 @@ export class Omnislice {
   }
 
   /**
+   * Replay a program (G-code, robot CSV or URScript written by Omnislice) through its declared
+   * machine, for the machine animation.
+   * @param {string} program the program text
+   * @returns {{profile: object, format: string, layers: number, preview: {positions: Float32Array,
+   *   features: Uint8Array, layers: Uint32Array, machine: Float32Array}}}
+   */
+  replay(program) {
+    if (typeof program !== 'string') throw new OmnisliceError('invalid_option', 'program must be a string');
+    const out = this.#call(() => this.raw._replay(program));
+    return { profile: parseJson(out.machine, 'machine JSON'), format: out.format, layers: out.layers, preview: out.preview };
+  }
+
+  /**
    * The built-in machine profiles, in display order, sized by the settings' bed_size and nozzle.
    * @param {object} [settings] setting key -> value
    * @returns {{name: string, profile: object, json: string}[]}

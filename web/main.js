@@ -39,7 +39,8 @@ const app = {
   sliceCount: 0,
   progress: { stage: '', fraction: 0, overall: 0, pending: false },
   machineFiles: new Map(), // machine_json text -> file name it was loaded from (undo may bring any back)
-  machineView: null, // MachineView of app.result while the machine toggle is on
+  machineView: null, // MachineView of app.replay or app.result while the machine toggle is on
+  replay: null,      // {name, profile, preview} of a replayed program file (shown instead of the result)
   machinePlay: 0,    // requestAnimationFrame id while playing
 };
 
@@ -222,6 +223,7 @@ function formatFigure(x) {
 function clearReport() {
   showReport(null);
   app.result = null;
+  app.replay = null;
   $('download-program').disabled = true;
   setDownloadLabel('gcode');
   closeMachineView();
@@ -285,7 +287,7 @@ function updateButtons() {
   $('slice-button').disabled = !app.slicer || !app.mesh || !!app.busy;
   $('cancel-button').disabled = app.busy !== 'slicing';
   $('download-program').disabled = !app.result || !!app.busy;
-  $('machine-toggle').disabled = !app.result || !!app.busy;
+  $('machine-toggle').disabled = !(app.result || app.replay) || !!app.busy;
 }
 
 /** Load mesh bytes; on failure the previous model stays loaded. Returns true on success. */
@@ -375,6 +377,7 @@ async function slice() {
     await nextFrame();
     timed('show-report', () => {
       app.result = result;
+      app.replay = null;
       showReport(result.report);
       setDownloadLabel(result.programExtension);
       const bed = parseVector(result.report && result.report.settings && result.report.settings.bed_size);
@@ -458,6 +461,22 @@ async function loadMachineFile(file) {
   }
 }
 
+/** Replay a program file (G-code, robot CSV, URScript) through its declared machine, animated. */
+async function replayProgramFile(file) {
+  if (!file || !app.slicer || app.busy) return;
+  clearError();
+  try {
+    const text = await file.text();
+    const r = await app.slicer.replay(text);
+    app.replay = { name: file.name, profile: r.profile, preview: r.preview };
+    $('machine-toggle').checked = true;
+    updateButtons();
+    openMachineView();
+  } catch (err) {
+    showError({ code: (err && err.code) || 'io_error', message: `${file.name}: ${(err && err.message) || err}` });
+  }
+}
+
 /** Download the selected built-in profile as JSON (a template for a user's own profile file). */
 async function saveBuiltinProfile() {
   if (!app.slicer) return;
@@ -494,17 +513,20 @@ function showMachineProfile() {
 
 // ---- machine animation ----------------------------------------------------------------------
 
-/** Build the machine view of the current result and show it in place of the part view. */
+/**
+ * Build the machine view of the replayed program, else of the current result, and show it in
+ * place of the part view.
+ */
 function openMachineView() {
   closeMachineView();
-  const r = app.result;
+  const r = app.replay || app.result;
   if (!r || !app.viewer) return;
-  const profile = r.report && r.report.machine_profile;
+  const profile = app.replay ? app.replay.profile : r.report && r.report.machine_profile;
   try {
     if (!profile || !r.preview || !r.preview.machine || r.preview.machine.length === 0) {
       throw { code: 'internal', message: 'this result has no machine motion to animate (report.machine_profile, preview.machine)' };
     }
-    app.machineView = new MachineView(profile, r.preview, r.mesh);
+    app.machineView = new MachineView(profile, r.preview, app.replay ? null : r.mesh);
   } catch (err) {
     showError({ code: err.code || 'internal', message: `machine view: ${err.message}` });
     $('machine-toggle').checked = false;
@@ -538,7 +560,7 @@ function showMachineStep(s) {
   slider.value = String(step);
   slider.dataset.tipError = String(tipError);
   slider.dataset.step = String(step);
-  $('machine-step-text').textContent = `move ${step + 1} of ${view.stepCount}`;
+  $('machine-step-text').textContent = `${app.replay ? `${app.replay.name}: ` : ''}move ${step + 1} of ${view.stepCount}`;
   const names = machineAxisNames(view.kind);
   $('machine-values').textContent = values.map((v, i) => {
     const angle = view.kind === 'robot6' ? `${((v * 180) / Math.PI).toFixed(1)}°` : i >= 3 ? `${v.toFixed(2)}°` : v.toFixed(2);
@@ -635,6 +657,10 @@ function wireUi() {
     loadMachineFile(file).finally(() => { e.target.value = ''; });
   });
   $('machine-save').addEventListener('click', () => saveBuiltinProfile());
+  $('program-file').addEventListener('change', (e) => {
+    const file = e.target.files && e.target.files[0];
+    replayProgramFile(file).finally(() => { e.target.value = ''; });
+  });
   $('machine-builtin').addEventListener('click', () => {
     app.history.execute(new SetSettingCommand(app.model, 'machine_json', ''));
   });
@@ -737,7 +763,7 @@ window.omnislice = {
   /** The machine animation: {kind, step, steps, tipError (mm, measured in the scene)} or null. */
   get machine() {
     const v = app.machineView;
-    return v ? { kind: v.kind, step: v.step, steps: v.stepCount, tipError: v.tipError } : null;
+    return v ? { kind: v.kind, step: v.step, steps: v.stepCount, tipError: v.tipError, replay: app.replay ? app.replay.name : null } : null;
   },
 };
 

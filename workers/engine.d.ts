@@ -29,6 +29,9 @@ export interface Slicer {
     Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;
   verify(program: string, meshIdOrFile: MeshRef,
          options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }): Promise<Record<string, any>>;
+  /** Replay a program through its declared machine (for the machine animation). */
+  replay(program: string, options?: { signal?: AbortSignal }):
+    Promise<{ profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number; preview: PreviewBuffers }>;
   /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
   machines(settings?: Settings): Promise<{ name: string; profile: MachineProfileJson; json: string }[]>;
   /** Check a machine profile JSON with the core's parser; rejects with code 'parse_error'. */

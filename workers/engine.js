@@ -239,6 +239,16 @@ class Slicer {
   }
 
   /**
+   * Replay a program (G-code, robot CSV or URScript) through its declared machine. Resolves with
+   * {profile, format, layers, preview: {positions, features, layers, machine}} for the machine
+   * animation; rejects with the reader's code (parse_error with the line, unsupported_format).
+   */
+  async replay(program, { signal } = {}) {
+    if (typeof program !== 'string') throw new OmnisliceError('invalid_option', 'program must be a string');
+    return this.#cancellable(signal, () => this.#send(Request.REPLAY, { program }));
+  }
+
+  /**
    * The built-in machine profiles in display order: [{name, profile, json}], sized by the
    * settings' bed_size and nozzle (defaults when not given).
    */

@@ -40,6 +40,10 @@ export const Request = Object.freeze({
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */
   VERIFY: 'verify',
+  /** payload {program: string}: replay a program through its declared machine. Reply: `result`
+   *  {profile: object, format, layers, preview: {positions, features, layers, machine}} (buffers
+   *  transferred). */
+  REPLAY: 'replay',
   /** payload {settings?: object}: the built-in machine profiles. Reply: `result` {machines:
    *  [{name, profile: object, json: string}...]} in display order. */
   MACHINES: 'machines',

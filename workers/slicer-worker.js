@@ -120,6 +120,13 @@ const handlers = {
     post({ id, type: Reply.RESULT, result: { report } });
   },
 
+  async [Request.REPLAY](id, payload) {
+    const e = await engine();
+    const r = e.replay(String(payload.program ?? ''));
+    post({ id, type: Reply.RESULT, result: r },
+      transferList(r.preview.positions, r.preview.features, r.preview.layers, r.preview.machine));
+  },
+
   async [Request.MACHINES](id, payload) {
     const e = await engine();
     post({ id, type: Reply.RESULT, result: { machines: e.machines(payload.settings || {}) } });

@@ -8,6 +8,8 @@
 //   - the machine animation: the machine-step slider moved over the program and play/pause; at
 //     every step shown, the tip error measured in the drawn scene (platform matrix applied to the
 //     move's part-frame end point vs the drawn nozzle tip) stays under 0.01 mm;
+//   - the downloaded robot CSV replayed through its declared machine (the program-file input)
+//     animates with the tip on the point too; a broken program shows parse_error;
 //   - table5 with the Klipper flavour writes B and C axis words;
 //   - a broken machine profile file shows parse_error with the core's message; a valid rotary4
 //     profile file is used for the next slice (A axis words) until "use built-in".
@@ -172,6 +174,31 @@ test('robot6-ur5: report and motion figures, .csv then .script downloads, animat
 
   const { steps, worst } = await sweepMachine('robot6-ur5');
   t.diagnostic(`robot6-ur5: ${steps} steps, worst tip error ${worst.toExponential(2)} mm`);
+  await page.uncheck(tid('machine-toggle'));
+
+  // Replay the downloaded CSV through its declared machine: the animation shows the file.
+  const csvFile = path.join(tmpDir, 'replay-me.csv');
+  fs.writeFileSync(csvFile, csv.text);
+  await page.setInputFiles(tid('program-file'), csvFile);
+  await page.waitForFunction(() => window.omnislice.machine && window.omnislice.machine.replay === 'replay-me.csv');
+  assert.equal(await page.isChecked(tid('machine-toggle')), true);
+  assert.match(await page.textContent(tid('machine-step-text')), /^replay-me\.csv: move /);
+  const replayed = await page.evaluate(() => window.omnislice.machine);
+  assert.equal(replayed.kind, 'robot6');
+  assert.ok(replayed.steps >= steps * 0.9, `replayed ${replayed.steps} pieces, sliced ${steps} segments`);
+  let worstReplay = 0;
+  for (const s of [0, Math.floor(replayed.steps / 4), Math.floor(replayed.steps / 2), replayed.steps - 1]) {
+    worstReplay = Math.max(worstReplay, (await stepTo(s)).tipError);
+  }
+  assert.ok(worstReplay < TIP_TOLERANCE_MM, `replayed CSV: tip error ${worstReplay}`);
+  // A broken program shows the reader's error code.
+  const badFile = path.join(tmpDir, 'bad.csv');
+  fs.writeFileSync(badFile, csv.text.split('\n').slice(0, 40).join('\n') + '\n1,2,oops\n');
+  await page.setInputFiles(tid('program-file'), badFile);
+  await page.waitForSelector(`${tid('error-message')}:not([hidden])`);
+  assert.match(await page.textContent(tid('error-message')), /^parse_error: bad\.csv: /);
+  await page.uncheck(tid('machine-toggle'));
+  await page.check(tid('machine-toggle'));
   await page.waitForTimeout(400);
   await page.screenshot({ path: path.join(OUT_DIR, 'machine-robot6.png') });
 

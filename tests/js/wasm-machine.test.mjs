@@ -104,6 +104,23 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
         const end = [positions[6 * s + 3], positions[6 * s + 4], positions[6 * s + 5]];
         assert.ok(Math.hypot(tip[0] - end[0], tip[1] - end[1], tip[2] - end[2]) <= 1e-3, `segment ${s}`);
       }
+      // Replaying the written program through its declared machine (the core's reader) gives
+      // pieces whose machine values map onto their part-frame ends as well, with the same profile.
+      const replay = m.replay(r.program);
+      assert.deepEqual(replay.profile, profile, 'replayed machine = report.machine_profile');
+      assert.equal(replay.format, { gcode: 'gcode', csv: 'csv', script: 'urscript' }[extension]);
+      assert.equal(replay.layers, r.report.layers);
+      const R = replay.preview.features.length;
+      assert.equal(replay.preview.machine.length, 6 * R);
+      assert.ok(R >= 0.9 * S, `replayed ${R} pieces for ${S} segments`);
+      let worstReplay = 0;
+      for (let s = 0; s < R; s++) {
+        const row = Array.from(replay.preview.machine.subarray(6 * s, 6 * s + 6));
+        const p = replay.preview.positions;
+        worstReplay = Math.max(worstReplay, tipError(profile, row, [p[6 * s + 3], p[6 * s + 4], p[6 * s + 5]]));
+      }
+      t.diagnostic(`${machine}: replay ${R} pieces, worst ${worstReplay.toExponential(2)} mm`);
+      assert.ok(worstReplay <= 1e-3, `replay: ${worstReplay} mm`);
       if (kind !== 'cartesian3') {
         // Not a trivial map: the platform really moves over the program.
         const first = platformTransform(profile, Array.from(values.subarray(0, 6)));
