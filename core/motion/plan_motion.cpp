@@ -571,7 +571,10 @@ void Planner::finishTimes() {
     const auto names = machineAxisNames(m_.kind);
     for (int i = 0; i < n_; ++i) {
       auto it = m_.axisDynamics.find(names[i]);
-      if (it != m_.axisDynamics.end()) in.dynamics[i] = it->second;
+      // G-code firmware plans its own junctions and ramps (the trapezoid term below estimates
+      // them): only the axis velocity caps the feed here. The finite-difference acceleration and
+      // jerk of Eq. 7 at polyline corners would slow every corner of a planar print to a crawl.
+      if (it != m_.axisDynamics.end()) in.dynamics[i].velocity = it->second.velocity;
       in.fallbackVelocity[i] = i < 3 ? 50.0 : 90.0;  // mm/s, deg/s
     }
   }
