@@ -22,6 +22,9 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr const char* kStage = "motion";
+// At most 2^12 pieces per move: each halving divides the chord error by about 4, so 12 levels
+// reduce it by ~10^7; a move that still fails (a branch flip inside it) is left as it is.
+constexpr int kMaxChordDepth = 12;
 
 bool isExtruding(MoveKind k) { return k == MoveKind::Print || k == MoveKind::Support; }
 
@@ -432,7 +435,7 @@ void Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const E
                      std::vector<Eigen::Vector3d>& pos) {
   bool angular = false;
   for (int i = metric_.begin; i < metric_.end; ++i) angular = angular || std::abs(qb[i] - qa[i]) > 1e-12;
-  if (angular && depth < 24) {
+  if (angular && depth < kMaxChordDepth) {
     MachineValues qm{};
     for (int i = 0; i < 6; ++i) qm[i] = 0.5 * (qa[i] + qb[i]);
     Eigen::Vector3d tip, axis;
@@ -568,7 +571,10 @@ void Planner::finishTimes() {
     const auto names = machineAxisNames(m_.kind);
     for (int i = 0; i < n_; ++i) {
       auto it = m_.axisDynamics.find(names[i]);
-      if (it != m_.axisDynamics.end()) in.dynamics[i] = it->second;
+      // G-code firmware plans its own junctions and ramps (the trapezoid term below estimates
+      // them): only the axis velocity caps the feed here. The finite-difference acceleration and
+      // jerk of Eq. 7 at polyline corners would slow every corner of a planar print to a crawl.
+      if (it != m_.axisDynamics.end()) in.dynamics[i].velocity = it->second.velocity;
       in.fallbackVelocity[i] = i < 3 ? 50.0 : 90.0;  // mm/s, deg/s
     }
   }

@@ -33,13 +33,14 @@ struct MotionOptions {
                                        // a penalty in the pose choice
   double singularityPenalty = 0.1;  // robot6: penalty (rad of L1 joint change) at measure 0,
                                     // falling linearly to 0 at singularityThreshold
-  int maxKeptPoses = 0;// pose choice: 0 = exact shortest path; else at most this
-                                    // many non-dominated candidates per sample are kept (plus
-                                    // the greedy one, so the result is never worse than greedy)
-  double poseSlack = 0.05;// robot6 with maxKeptPoses > 0: rad; a candidate within this
+  int maxKeptPoses = 0;             // pose choice: 0 = exact shortest path (robot6: ~0.8 ms per
+                                    // sample natively); else at most this many non-dominated
+                                    // candidates per sample are kept (plus the greedy one, so the
+                                    // result is never worse than greedy; 16: ~0.1 ms per sample)
+  double poseSlack = 0.05;          // rad, robot6 with maxKeptPoses > 0: a candidate within this
                                     // of being dominated is dropped to make room for distinct ones
-  double armClearance = 10;         // robot6: mm an arm frame origin keeps from the extruder
-                                    // cylinder and below which it may not go under the base plane
+  double armClearance = 10;         // mm, robot6: arm frame origins must stay this far above the
+                                    // base plane (z = 0) and outside the extruder cylinder
 };
 
 // Plan the machine motion of a tool-path. Steps: (1) low-pass filter of the axes of printing
@@ -52,18 +53,20 @@ struct MotionOptions {
 // kinds: travels whose rotary values change by more than rotationThresholdDegrees become
 // retract, lift to safe Z, rotate, move over, lower, unretract. (5) moves split at part-frame
 // midpoints until the tip of the interpolated machine motion stays within chordTolerance.
-// (6) durations under the velocity / acceleration / jerk limits (feed_limits.h); the time
+// (6) durations under the velocity / acceleration / jerk limits (feed_limits.h; robot6 joints
+// take all three, G-code kinds only the axis velocities because their firmware plans junctions
+// and ramps itself); the time
 // estimate adds, for G-code kinds, the trapezoidal term of `acceleration` per move as
 // toolpathStats() does, and retract time |filament| / speed (the move's speed, else retractSpeed).
 // Errors (Status, message naming the first bad move):
 // InvalidOption for an unknown kind, a non-finite or zero-length axis, or a point no candidate of
 // the inverse kinematics reaches within the limits ("move 123 at (x, y, z) axis (...) is out of
 // reach of machine 'robot6-ur5'"); Cancelled when progress returns false.
+MachinePath planMachineMotion(const Toolpath& toolpath, const MachineProfile& machine,
+                              const MotionOptions& options = {}, const ProgressFn& progress = {});
+
 // Paper 003 Eq. (5) (singularityMeasure() in robot_arm.h) from the eigenvalues of J^T J instead
 // of an SVD: the same value up to rounding, several times faster (used inside the pose choice).
 double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& jacobian);
-
-MachinePath planMachineMotion(const Toolpath& toolpath, const MachineProfile& machine,
-                              const MotionOptions& options = {}, const ProgressFn& progress = {});
 
 }  // namespace omnislice

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
@@ -63,6 +64,18 @@ void checkRobotPlan(const Toolpath& tp, const MachinePath& mp, const MotionOptio
   EXPECT_LE(r[0], 1 + 1e-6);
   EXPECT_LE(r[1], 1 + 1e-4);
   EXPECT_LE(r[2], 1 + 1e-4);
+}
+
+TEST(PlanMotionRobot, FastSingularityMeasureMatchesSvd) {
+  const MachineProfile m = ur5();
+  std::srand(11);
+  for (int i = 0; i < 2000; ++i) {
+    JointValues q;
+    for (double& v : q) v = (std::rand() / double(RAND_MAX) * 2 - 1) * 3.14159;
+    if (i % 10 == 0) q[4] = 1e-4 * i;  // near the wrist singularity too
+    const auto j = armJacobian(m.dh, q);
+    EXPECT_NEAR(fastSingularityMeasure(j), singularityMeasure(j), 1e-7) << i;
+  }
 }
 
 TEST(PlanMotionRobot, HelixIsContinuous) {

@@ -284,6 +284,15 @@ TEST(PlanMotion, Errors) {
   MotionOptions o;
   o.chordTolerance = 0;
   EXPECT_EQ(planMachineMotion(tp, table5TestProfile(), o).status, Status::InvalidOption);
+
+  // An empty tool-path is fine: only the park pose.
+  Toolpath empty;
+  empty.start = {1, 2, 3};
+  const MachinePath e = planMachineMotion(empty, table5TestProfile());
+  ASSERT_TRUE(e.ok()) << e.message;
+  EXPECT_TRUE(e.moves.empty());
+  EXPECT_NEAR(e.start[2], 3, 1e-9);
+  EXPECT_EQ(e.stats.estimatedTimeS, 0);
 }
 
 TEST(PlanMotion, CancelsQuickly) {
