@@ -125,9 +125,11 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.ok(n > 0);
     assert.equal(r.preview.positions.length, 6 * n);
     assert.equal(r.preview.layers.length, n);
+    assert.equal(r.preview.machine.length, 6 * n, 'machine values per segment');
+    assert.equal(r.programExtension, 'gcode');
     assert.equal(Math.max(...r.preview.layers), r.report.layers - 1);
     assert.equal(r.mesh.indices.length, 3 * 2 * 96 * 32);
-    for (const a of [r.preview.positions, r.preview.features, r.preview.layers, r.mesh.positions, r.mesh.indices]) {
+    for (const a of [r.preview.positions, r.preview.features, r.preview.layers, r.preview.machine, r.mesh.positions, r.mesh.indices]) {
       assert.equal(a.byteOffset, 0);
       assert.equal(a.buffer.byteLength, a.byteLength, 'own buffer, not a view of the wasm heap');
     }
@@ -137,8 +139,10 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.ok(zmax <= 12 + 0.3 + 1e-3, `preview z max ${zmax}`);
     // A later slice that grows the heap leaves earlier results intact.
     const before = Array.from(r.preview.positions.subarray(0, 60));
+    const machineBefore = Array.from(r.preview.machine.subarray(0, 60));
     m.slice(sphereStl(40, 300, 150), 'big.stl', { layer_height: 0.4 });
     assert.deepEqual(Array.from(r.preview.positions.subarray(0, 60)), before);
+    assert.deepEqual(Array.from(r.preview.machine.subarray(0, 60)), machineBefore);
   });
 
   // ---- status codes from bad input -------------------------------------------------------------

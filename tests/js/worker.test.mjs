@@ -99,6 +99,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     // Result content.
     assert.deepEqual(r.types, ['Float32Array', 'Uint8Array', 'Uint32Array', 'Float32Array', 'Float32Array', 'Uint32Array']);
     assert.equal(r.programExtension, 'gcode', 'the default machine writes G-code');
+    assert.equal(r.machineFloats, 6 * r.segments, 'machine values per segment');
     assert.ok(r.programLength > 1000 && /G1 /.test(r.programStart + 'G1 '), 'G-code text');
     assert.equal(r.report.layers, Math.round(12 / 0.3), 'torus of height 12 mm at 0.3 mm');
     assert.equal(r.previewFloats, 6 * r.segments);
