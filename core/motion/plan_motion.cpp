@@ -571,10 +571,14 @@ void Planner::finishTimes() {
     const auto names = machineAxisNames(m_.kind);
     for (int i = 0; i < n_; ++i) {
       auto it = m_.axisDynamics.find(names[i]);
-      // G-code firmware plans its own junctions and ramps (the trapezoid term below estimates
-      // them): only the axis velocity caps the feed here. The finite-difference acceleration and
-      // jerk of Eq. 7 at polyline corners would slow every corner of a planar print to a crawl.
-      if (it != m_.axisDynamics.end()) in.dynamics[i].velocity = it->second.velocity;
+      // G-code firmware plans the junctions and ramps of its linear axes itself (the trapezoid
+      // term below estimates them): X Y Z take only their velocity cap here; the finite-difference
+      // acceleration and jerk of Eq. 7 at polyline corners would slow every corner of a planar
+      // print to a crawl. Rotary axes (A, B, C) keep all three limits (paper 003 Eq. 7-9).
+      if (it != m_.axisDynamics.end()) {
+        in.dynamics[i] = it->second;
+        if (i < 3) in.dynamics[i].acceleration = in.dynamics[i].jerk = 0;
+      }
       in.fallbackVelocity[i] = i < 3 ? 50.0 : 90.0;  // mm/s, deg/s
     }
   }

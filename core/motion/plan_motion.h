@@ -54,8 +54,8 @@ struct MotionOptions {
 // retract, lift to safe Z, rotate, move over, lower, unretract. (5) moves split at part-frame
 // midpoints until the tip of the interpolated machine motion stays within chordTolerance.
 // (6) durations under the velocity / acceleration / jerk limits (feed_limits.h; robot6 joints
-// take all three, G-code kinds only the axis velocities because their firmware plans junctions
-// and ramps itself); the time
+// and rotary axes take all three, the linear axes X Y Z only their velocity because firmware
+// plans their junctions and ramps itself); the time
 // estimate adds, for G-code kinds, the trapezoidal term of `acceleration` per move as
 // toolpathStats() does, and retract time |filament| / speed (the move's speed, else retractSpeed).
 // Errors (Status, message naming the first bad move):

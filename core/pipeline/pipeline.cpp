@@ -259,6 +259,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     motionOptions.chordTolerance = settings.chordTolerance;
     motionOptions.acceleration = settings.acceleration;
     motionOptions.retractSpeed = settings.retractSpeed;
+    motionOptions.maxKeptPoses = 16;
     MachinePath motion = planMachineMotion(plan.toolpath, machine, motionOptions, progress);
     if (!motion.ok()) return failed<SliceOutput>(motion);
     clock.done("motion");
@@ -319,7 +320,8 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
                         {"safe_rotations", ms.safeRotations},
                         {"max_joint_step", finite(ms.maxJointStep)},
                         {"pose_cost", finite(ms.poseCost)},
-                        {"greedy_pose_cost", finite(ms.greedyPoseCost)},
+                        {"greedy_pose_cost", ms.greedyPoseCost >= 0 ? Json(finite(ms.greedyPoseCost))
+                                                                    : Json(nullptr)},
                         {"min_singularity", finite(ms.minSingularity)},
                         {"estimated_time_s", finite(ms.estimatedTimeS)}};
     report["machine_profile"] = Json::parse(machineJson(machine));
