@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -67,6 +68,63 @@ double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& j) {
 
 namespace {
 
+// Cholesky factor L of G = J^T J (6 x 6, lower triangle, row-major); false when G is not
+// positive definite (J singular to rounding).
+bool gramCholesky(const Eigen::Matrix<double, 6, 6>& j, double l[6][6]) {
+  double g[6][6];
+  for (int a = 0; a < 6; ++a) {
+    for (int b = 0; b <= a; ++b) g[a][b] = j.col(a).dot(j.col(b));
+  }
+  for (int a = 0; a < 6; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      double v = g[a][b];
+      for (int c = 0; c < b; ++c) v -= l[a][c] * l[b][c];
+      if (a == b) {
+        if (!(v > 0)) return false;
+        l[a][a] = std::sqrt(v);
+      } else {
+        l[a][b] = v / l[b][b];
+      }
+    }
+  }
+  return true;
+}
+
+// |det J| from the Cholesky factor of J^T J: det(G) = det(J)^2 = prod(diag L)^2.
+double absDeterminant(const Eigen::Matrix<double, 6, 6>& j) {
+  double l[6][6];
+  if (!gramCholesky(j, l)) return std::abs(j.determinant());
+  double d = 1;
+  for (int a = 0; a < 6; ++a) d *= l[a][a];
+  return d;
+}
+
+// Lower bound of paper 003's measure w = sqrt(|det J|) sqrt(s6 / s1): s1 <= |J|_F and
+// s6 >= 1 / |J^-1|_F give w >= sqrt(|det J| / (|J|_F |J^-1|_F)), within a factor sqrt(6) of w.
+// |J^-1|_F^2 = trace(G^-1) = |L^-1|_F^2 (G = J^T J = L L^T), all from one 6 x 6 Cholesky.
+double singularityLowerBound(const Eigen::Matrix<double, 6, 6>& j) {
+  double l[6][6];
+  if (!gramCholesky(j, l)) return 0;
+  double det = 1, trG = 0;
+  for (int a = 0; a < 6; ++a) {
+    det *= l[a][a];
+    trG += j.col(a).squaredNorm();
+  }
+  // Columns of L^-1 by forward substitution; accumulate the squared Frobenius norm.
+  double inv2 = 0;
+  for (int c = 0; c < 6; ++c) {
+    double x[6] = {0, 0, 0, 0, 0, 0};
+    for (int a = c; a < 6; ++a) {
+      double v = a == c ? 1.0 : 0.0;
+      for (int b = c; b < a; ++b) v -= l[a][b] * x[b];
+      x[a] = v / l[a][a];
+      inv2 += x[a] * x[a];
+    }
+  }
+  if (!(det > 1e-300) || !(inv2 > 0)) return 0;
+  return std::sqrt(det / (std::sqrt(trG) * std::sqrt(inv2)));
+}
+
 double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                             const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
@@ -117,6 +175,7 @@ class Planner {
   bool robot_ = false, gcodeRotary_ = false;
   PoseMetric metric_;
   std::vector<std::pair<double, double>> limits_;
+  double dhCos_[6] = {1, 1, 1, 1, 1, 1}, dhSin_[6] = {0, 0, 0, 0, 0, 0};  // of the DH twists
   std::vector<Eigen::Vector3d> axes_;
   std::vector<Piece> pieces_;
   std::vector<Eigen::Vector3d> layerPos_, layerAxis_;
@@ -179,6 +238,10 @@ bool Planner::validate() {
     axes_[i] = mv.axis / len;
   }
   limits_ = machineLimits(m_);
+  for (int i = 0; i < 6; ++i) {
+    dhCos_[i] = std::cos(m_.dh[i].alpha);
+    dhSin_[i] = std::sin(m_.dh[i].alpha);
+  }
   metric_.begin = robot_ ? 0 : 3;
   metric_.end = robot_ ? 6 : n_;
   const double turn = robot_ ? 2 * kPi : 360.0;
@@ -233,7 +296,21 @@ void Planner::buildPieces() {
 
 PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
   PoseNodeInfo info;
-  const auto frames = armFrames(m_.dh, q);
+  // armFrames() with the cosines and sines of the DH twists computed once (the same values).
+  std::array<Eigen::Matrix4d, 7> frames;
+  frames[0] = Eigen::Matrix4d::Identity();
+  for (int i = 0; i < 6; ++i) {
+    const DhRow& row = m_.dh[i];
+    const double th = q[i] + row.thetaOffset;
+    const double ct = std::cos(th), st = std::sin(th);
+    const double ca = dhCos_[i], sa = dhSin_[i];
+    Eigen::Matrix4d t;
+    t << ct, -st * ca, st * sa, row.a * ct,  //
+        st, ct * ca, -ct * sa, row.a * st,   //
+        0, sa, ca, row.d,                    //
+        0, 0, 0, 1;
+    frames[i + 1] = frames[i] * t;
+  }
   const Eigen::Vector3d& n = m_.nozzleTip;
   const Eigen::Vector3d u = m_.nozzleAxis.normalized();
   const double height = m_.nozzle.coneLength + m_.nozzle.carriageSize.z();
@@ -267,10 +344,7 @@ PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
       j.block<3, 1>(0, i) = z.cross(pe - o) * 1e-3;
       j.block<3, 1>(3, i) = z;
     }
-    const Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> lu(j);
-    const double det = std::abs(lu.determinant());
-    double lower = 0;
-    if (det > 1e-300) lower = std::sqrt(det / (j.norm() * lu.inverse().norm()));
+    const double lower = singularityLowerBound(j);
     if (!(lower >= o_.singularityThreshold)) {
       info.measure = fastSingularityMeasure(j);
       if (info.measure < o_.singularityThreshold) {
@@ -383,7 +457,7 @@ double Planner::minSingularity(const std::vector<MachineValues>& poses) const {
     if (anchored) {
       const double d = (j - ja).norm();
       if (s6a > d) {
-        const double det = std::abs(j.determinant());
+        const double det = absDeterminant(j);
         const double bound = std::sqrt(det * (s6a - d) / (s1a + d)) * (1 - 1e-9);
         if (bound >= mn) continue;
       }

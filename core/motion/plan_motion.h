@@ -38,7 +38,7 @@ struct MotionOptions {
                                     // false = choosePoses() on all candidates (pose_continuity.h)
   double trackSlack = 0.3;          // rad, track DP: nodes costlier than the sample's best by
                                     // more than this are dropped
-  int trackMaxAlive = 8;            // track DP: at most this many alive nodes per sample (the
+  int trackMaxAlive = 4;            // track DP: at most this many alive nodes per sample (the
                                     // cheapest; 0 = no cap)
   double trackRestartStep = 0.5;    // rad, track DP: evaluate every candidate (branch changes
                                     // allowed) when the best successor's L1 joint step exceeds

@@ -44,7 +44,7 @@ struct TrackOptions {
                              // dropped (0 = keep only the best node and its ties)
   double restartStep = 0.5;  // rad: a full evaluation when the best successor's L1 step is
                              // above this (0 = only when no alive node has a feasible successor)
-  size_t maxAlive = 8;       // > 0: at most this many alive nodes per sample (the cheapest)
+  size_t maxAlive = 4;       // > 0: at most this many alive nodes per sample (the cheapest)
   size_t uncappedLayers = 500;  // maxAlive applies from this layer on: at layer 0 every node
                                 // costs 0, and which tracks are worth keeping shows only later
   double tieEpsilon = 1e-9;  // costs closer than this are ties (broken by the larger measure)

@@ -180,6 +180,7 @@ TEST(TrackPoses, SlackAndGreedyFallback) {
     o.slack = trial % 2 ? 0.0 : 0.3;
     o.restartStep = trial % 3 ? 0.5 : 0.0;
     o.maxAlive = trial % 4 ? 8 : 2;
+    o.uncappedLayers = trial % 5 ? 0 : 500;  // the cap from the first layer on, mostly
     o.compareGreedy = true;
     size_t calls = 0;
     const TrackChoice r = chooseTrackPoses(layers, metric, gridIk(g, &calls), gridInfo, {}, o);
