@@ -203,6 +203,41 @@ TEST(TrackPoses, SlackAndGreedyFallback) {
   std::printf("[ track ] greedy fallback used in %d of %d random grids\n", greedyUsed, solved);
 }
 
+// Two branches whose labels swap at layer 6 (as UR branches do through a wrist singularity):
+// following the label costs a jump of ~pi in two values; restartStep sees the large step, does
+// a full evaluation and continues on the other label.
+TEST(TrackPoses, RestartStepFollowsSwappedBranches) {
+  Grid g;
+  g.S = 1;
+  g.layers = 12;
+  g.present.assign(g.layers, std::vector<char>(8, 0));
+  g.values.assign(g.layers, std::vector<MachineValues>(8));
+  for (size_t l = 0; l < g.layers; ++l) {
+    MachineValues a{0.5 + 0.01 * l, 0.2, 0.1, 0.3, 0.4 + 0.01 * l, 0.3};
+    MachineValues b = a;
+    b[3] += 3.0;
+    b[5] -= 3.0;
+    g.values[l][0] = l < 6 ? a : b;
+    g.values[l][1] = l < 6 ? b : a;
+    g.present[l][0] = g.present[l][1] = 1;
+  }
+  const PoseMetric metric = wrappedMetric();
+  auto info = [](const MachineValues&) { return PoseNodeInfo{}; };
+  TrackOptions o;
+  o.samples = 1;
+  o.slack = 0;  // only the best node stays alive: no other track to switch to
+  o.restartStep = 0;
+  const TrackChoice follow = chooseTrackPoses(g.layers, metric, gridIk(g), info, {}, o);
+  o.restartStep = 0.5;
+  const TrackChoice restart = chooseTrackPoses(g.layers, metric, gridIk(g), info, {}, o);
+  ASSERT_TRUE(follow.ok() && restart.ok());
+  std::printf("[ track ] swapped branches: cost %.4f following the label, %.4f with restarts "
+              "(%zu)\n", follow.cost, restart.cost, restart.restarts);
+  EXPECT_GT(follow.cost, 5.9);
+  EXPECT_NEAR(restart.cost, 11 * 0.02, 1e-9);
+  EXPECT_EQ(restart.restarts, 2u);
+}
+
 TEST(TrackPoses, CancelsAndEmpty) {
   std::mt19937 rng(9);
   const Grid g = randomGrid(rng, 4, 20);
