@@ -533,8 +533,9 @@ bool Planner::chooseTrack(size_t layers) {
   auto measure = [&](const MachineValues& q) {
     return fastSingularityMeasure(armJacobian(m_.dh, q));
   };
+  const double passes = o_.compareGreedy ? 2.0 : 1.0;  // the greedy pass numbers layers on
   auto layerStart = [&](size_t layer) {
-    return (layer & 63) != 0 || reportProgress(progress_, kStage, 0.8 * layer / total);
+    return (layer & 63) != 0 || reportProgress(progress_, kStage, 0.8 * layer / (passes * total));
   };
   TrackOptions to;
   to.samples = samples;

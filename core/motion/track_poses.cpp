@@ -260,7 +260,7 @@ TrackChoice chooseTrackPoses(size_t layers, const PoseMetric& metric, const Trac
   std::vector<Node> all;
   double gl1 = 0, gpen = 0;
   for (size_t layer = 0; layer < layers; ++layer) {
-    if (layerStart && !layerStart(layer)) {
+    if (layerStart && !layerStart(layers + layer)) {
       r.status = Status::Cancelled;
       r.message = "cancelled";
       return r;

@@ -35,7 +35,8 @@ namespace omnislice {
 // their branch numbers (0..7), returns how many.
 using TrackIkFn = std::function<int(size_t layer, int k, int branchMask, MachineValues values[8],
                                     int branches[8])>;
-// Called at the start of every layer; return false to cancel.
+// Called at the start of every layer (the greedy pass of compareGreedy calls it with
+// layers + layer, so the index keeps increasing); return false to cancel.
 using TrackLayerFn = std::function<bool(size_t layer)>;
 
 struct TrackOptions {

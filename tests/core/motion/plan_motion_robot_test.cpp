@@ -89,9 +89,10 @@ TEST(PlanMotionRobot, FastSingularityMeasureMatchesSvd) {
 // Default options (track DP) with compareGreedy: never worse than greedy by construction; the
 // track DP's own result (no fallback taken) is already below greedy; the exact choosePoses() on
 // the same path is at most a few percent cheaper.
-void compareWithGreedyAndExact(const Toolpath& tp, const char* name, double& ratio) {
+void compareWithGreedyAndExact(const Toolpath& tp, const char* name, double& ratio,
+                               const MotionOptions& base = {}) {
   const MachineProfile m = ur5();
-  MotionOptions o;
+  MotionOptions o = base;
   o.compareGreedy = true;
   const MachinePath mp = planMachineMotion(tp, m, o);
   checkRobotPlan(tp, mp, o);
@@ -99,7 +100,7 @@ void compareWithGreedyAndExact(const Toolpath& tp, const char* name, double& rat
   ASSERT_GE(mp.stats.greedyPoseCost, 0);
   // The fallback was not needed: the returned path is the track DP's.
   EXPECT_FALSE(mp.stats.greedyPoseUsed);
-  MotionOptions plain;  // no greedy pass: same track path, greedy not reported
+  MotionOptions plain = base;  // no greedy pass: same track path, greedy not reported
   const MachinePath mt = planMachineMotion(tp, m, plain);
   ASSERT_TRUE(mt.ok()) << mt.message;
   EXPECT_EQ(mt.stats.greedyPoseCost, -1);
@@ -145,6 +146,56 @@ TEST(PlanMotionRobot, CrestIsContinuous) {
 TEST(PlanMotionRobot, TiltedHelixNearExact) {
   double ratio = 0;
   compareWithGreedyAndExact(test::helixToolpath(35, 5, 0.5, 3, 1.0, 35), "tilted helix", ratio);
+}
+
+// Penalties in play: a singularity threshold above the measure of most poses of the path (w is
+// about 0.085-0.1 there) makes every pose pay a penalty that varies along the tracks.
+TEST(PlanMotionRobot, PenaltiesNearExact) {
+  MotionOptions o;
+  o.singularityThreshold = 0.11;
+  o.singularityPenalty = 0.05;
+  double ratio = 0;
+  const Toolpath tp = test::helixToolpath(35, 5, 0.5, 3, 1.0, 35);
+  compareWithGreedyAndExact(tp, "tilted helix with penalties", ratio, o);
+  const MachinePath mp = planMachineMotion(tp, ur5(), o);
+  EXPECT_GT(mp.stats.posePenalty, 0);
+}
+
+// An empty tool-path: only the park pose, the one of largest measure among the candidates at
+// the start (all cost 0); progress stays monotonic with the greedy pass and cancels.
+TEST(PlanMotionRobot, EmptyPathAndProgress) {
+  Toolpath empty;
+  empty.start = {10, 20, 5};
+  const MachinePath e = planMachineMotion(empty, ur5());
+  ASSERT_TRUE(e.ok()) << e.message;
+  EXPECT_TRUE(e.moves.empty());
+  Eigen::Vector3d tip, axis;
+  ASSERT_TRUE(forwardMap(e.machine, e.start, tip, axis));
+  EXPECT_LT((tip - empty.start).norm(), 1e-6);
+  const IkResult all = inverseMap(e.machine, empty.start, Eigen::Vector3d::UnitZ());
+  double best = 0;
+  for (const IkCandidate& c : all.candidates) {
+    best = std::max(best, fastSingularityMeasure(armJacobian(e.machine.dh, c.values)));
+  }
+  EXPECT_NEAR(fastSingularityMeasure(armJacobian(e.machine.dh, e.start)), best, 1e-12);
+
+  const Toolpath tp = test::helixToolpath(25, 2, 1, 1, 0.5, 20);
+  MotionOptions o;
+  o.compareGreedy = true;
+  double last = -1;
+  bool monotonic = true;
+  const MachinePath mp = planMachineMotion(tp, ur5(), o, [&](const char*, double f) {
+    monotonic = monotonic && f >= last;
+    last = f;
+    return true;
+  });
+  ASSERT_TRUE(mp.ok()) << mp.message;
+  EXPECT_TRUE(monotonic);
+  EXPECT_EQ(last, 1.0);
+  int calls = 0;
+  const MachinePath c = planMachineMotion(tp, ur5(), o, [&](const char*, double) { return ++calls < 3; });
+  EXPECT_EQ(c.status, Status::Cancelled);
+  EXPECT_TRUE(c.moves.empty());
 }
 
 // The capped choosePoses() still works for robot6 (trackPoses = false).
