@@ -63,7 +63,8 @@ struct MotionOptions {
 // (slerp of the axis, linear positions, filament split in equal shares) so consecutive axes
 // differ by at most maxAxisStepDegrees (printing moves; every move for robot6); rotary4 with a
 // step angle keeps its axes. (2) inverse kinematics of every sample, (3) pose choice by shortest
-// path (pose_continuity.h), unwrapped within the limits; robot6 candidates whose arm frame
+// path (pose_continuity.h; robot6: the track DP of track_poses.h, which runs the inverse
+// kinematics lazily itself), unwrapped within the limits; robot6 candidates whose arm frame
 // origins enter the extruder cylinder or go below the base plane are excluded. (4) G-code
 // kinds: travels whose rotary values change by more than rotationThresholdDegrees become
 // retract, lift to safe Z, rotate, move over, lower, unretract. (5) moves split at part-frame
