@@ -198,6 +198,26 @@ TEST(PlanMotionRobot, EmptyPathAndProgress) {
   EXPECT_TRUE(c.moves.empty());
 }
 
+// A sample beyond the arm's reach: InvalidOption naming the move, from the track DP's full
+// evaluation (the same message as choosePoses()).
+TEST(PlanMotionRobot, OutOfReachNamesTheMove) {
+  Toolpath tp = test::helixToolpath(25, 2, 1, 0.5, 1.0, 20);
+  const size_t bad = tp.moves.size() / 2;
+  tp.moves[bad].position = {3000, 0, 5};
+  for (const bool track : {true, false}) {
+    MotionOptions o;
+    o.trackPoses = track;
+    const MachinePath mp = planMachineMotion(tp, ur5(), o);
+    EXPECT_EQ(mp.status, Status::InvalidOption);
+    EXPECT_NE(mp.message.find("move " + std::to_string(bad) + " "), std::string::npos) << mp.message;
+    EXPECT_NE(mp.message.find("out of reach"), std::string::npos) << mp.message;
+    EXPECT_TRUE(mp.moves.empty());
+  }
+  MotionOptions o;
+  o.trackSlack = -1;
+  EXPECT_EQ(planMachineMotion(tp, ur5(), o).status, Status::InvalidOption);
+}
+
 // The capped choosePoses() still works for robot6 (trackPoses = false).
 TEST(PlanMotionRobot, CappedChoosePosesStillWorks) {
   const Toolpath tp = test::helixToolpath(25, 2, 1, 1, 1.0, 20);
