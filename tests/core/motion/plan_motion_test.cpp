@@ -150,8 +150,9 @@ TEST(PlanMotion, Table5FeedLimitsHold) {
   for (int i = 0; i < 3; ++i) dyn[i].acceleration = dyn[i].jerk = 0;
   const auto r = test::recomputeFeedRatios(mp, 5, dyn);
   EXPECT_LE(r[0], 1 + 1e-6);
-  // G-code kinds: only the axis velocities cap the feed (the firmware plans junctions and ramps
-  // itself), so the finite-difference acceleration and jerk are not bounded here.
+  // Rotary axes B and C keep the acceleration and jerk limits of Eq. 7-9.
+  EXPECT_LE(r[1], 1 + 1e-4);
+  EXPECT_LE(r[2], 1 + 1e-4);
   EXPECT_GT(mp.stats.feedLimitedMoves, 0u);
   // Never faster than requested, and durations add up to the estimate (plus acceleration).
   double sum = 0;
