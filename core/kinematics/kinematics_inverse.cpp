@@ -7,33 +7,19 @@
 #include <limits>
 
 #include "kinematics/kinematics.h"
+#include "kinematics/axis_rotations.h"
 #include "kinematics/robot_arm.h"
 
 namespace omnislice {
 
 namespace {
+using detail::rotX;
+using detail::rotY;
+using detail::rotZ;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kLimitSlack = 1e-9;  // value units (mm, degrees, radians)
 
-Eigen::Matrix3d rotX(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << 1, 0, 0, 0, c, -s, 0, s, c;
-  return r;
-}
-Eigen::Matrix3d rotY(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << c, 0, s, 0, 1, 0, -s, 0, c;
-  return r;
-}
-Eigen::Matrix3d rotZ(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << c, -s, 0, s, c, 0, 0, 0, 1;
-  return r;
-}
 
 inline bool inside(double v, const std::pair<double, double>& l) {
   return v >= l.first - kLimitSlack && v <= l.second + kLimitSlack;
