@@ -6,31 +6,16 @@
 #include <cmath>
 #include <limits>
 
+#include "kinematics/axis_rotations.h"
 #include "kinematics/robot_arm.h"
 
 namespace omnislice {
 
 namespace {
-constexpr double kDeg = 3.14159265358979323846 / 180.0;
+using detail::rotX;
+using detail::rotY;
+using detail::rotZ;
 
-Eigen::Matrix3d rotX(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << 1, 0, 0, 0, c, -s, 0, s, c;
-  return r;
-}
-Eigen::Matrix3d rotY(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << c, 0, s, 0, 1, 0, -s, 0, c;
-  return r;
-}
-Eigen::Matrix3d rotZ(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << c, -s, 0, s, c, 0, 0, 0, 1;
-  return r;
-}
 }  // namespace
 
 int machineAxisCount(const std::string& kind) {

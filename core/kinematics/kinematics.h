@@ -67,6 +67,29 @@ struct IkResult : Outcome {
 IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
                     const Eigen::Vector3d& axis, const IkOptions& options = {});
 
+// robot6: the parts of the flange pose for (tip, axis) that do not depend on the free rotation
+// about the nozzle axis (precomputed once per sample, then robotFlangeForFreeAngle() per angle).
+struct RobotFreeRotation {
+  Eigen::Matrix3d rH = Eigen::Matrix3d::Identity();    // platform +Z onto the nozzle axis
+  Eigen::Matrix3d rMin = Eigen::Matrix3d::Identity();  // part-frame axis onto platform +Z
+  Eigen::Matrix3d tRt = Eigen::Matrix3d::Identity();   // rotation of flangeToPlatform^-1
+  Eigen::Vector3d tInvP{0, 0, 0};                      // translation of flangeToPlatform^-1, mm
+  Eigen::Vector3d tip{0, 0, 0};                        // part-frame tip, mm
+  Eigen::Vector3d nozzleTip{0, 0, 0};                  // machine.nozzleTip, mm
+};
+
+// Precomputation of robotFlangeForFreeAngle() for a part-frame tip and unit axis (robot6).
+RobotFreeRotation robotFreeRotation(const MachineProfile& machine, const Eigen::Vector3d& tip,
+                                    const Eigen::Vector3d& axis);
+
+// Flange pose (robot base frame, mm) that puts the tip at the nozzle with the axis along the
+// nozzle axis, turned by `angle` (rad) about the nozzle axis: exactly the pose inverseMap() gives
+// urInverse() for free-rotation sample k at angle robotFreeAngle(k, samples).
+Eigen::Matrix4d robotFlangeForFreeAngle(const RobotFreeRotation& frame, double angle);
+
+// Angle of free-rotation sample k of `samples` over [-pi, pi): -pi + 2 pi k / samples.
+double robotFreeAngle(int k, int samples);
+
 // robot6: platform pose W in the robot base frame for joint values q (W = FK(q) T).
 Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineValues& q);
 

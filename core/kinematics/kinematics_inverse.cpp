@@ -7,33 +7,19 @@
 #include <limits>
 
 #include "kinematics/kinematics.h"
+#include "kinematics/axis_rotations.h"
 #include "kinematics/robot_arm.h"
 
 namespace omnislice {
 
 namespace {
+using detail::rotX;
+using detail::rotY;
+using detail::rotZ;
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kLimitSlack = 1e-9;  // value units (mm, degrees, radians)
 
-Eigen::Matrix3d rotX(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << 1, 0, 0, 0, c, -s, 0, s, c;
-  return r;
-}
-Eigen::Matrix3d rotY(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << c, 0, s, 0, 1, 0, -s, 0, c;
-  return r;
-}
-Eigen::Matrix3d rotZ(double deg) {
-  const double c = std::cos(deg * kDeg), s = std::sin(deg * kDeg);
-  Eigen::Matrix3d r;
-  r << c, -s, 0, s, c, 0, 0, 0, 1;
-  return r;
-}
 
 inline bool inside(double v, const std::pair<double, double>& l) {
   return v >= l.first - kLimitSlack && v <= l.second + kLimitSlack;
@@ -231,16 +217,7 @@ IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
     return r;
   }
   const int samples = std::max(1, options.freeRotationSamples);
-  const Eigen::Vector3d n = machine.nozzleAxis.normalized();
-  // Platform rotation R with R u = n: R = Rh Rz(g) Rmin, where Rmin takes u onto the platform's
-  // +Z (smooth in u except for u = -Z, which no printable orientation uses) and Rh takes the
-  // platform's +Z onto the nozzle axis; Rh Rz(g) = Rn(g) Rh is the free rotation about the nozzle.
-  const Eigen::Matrix3d rMin = rotationBetween(u, Eigen::Vector3d::UnitZ());
-  const Eigen::Matrix3d rH = rotationBetween(Eigen::Vector3d::UnitZ(), n);
-  const Eigen::Matrix4d& t = machine.flangeToPlatform;
-  // inverse(T) of a rigid transform.
-  const Eigen::Matrix3d tRt = t.topLeftCorner<3, 3>().transpose();
-  const Eigen::Vector3d tInvP = -tRt * t.topRightCorner<3, 1>();
+  const RobotFreeRotation frame = robotFreeRotation(machine, tip, u);
   const auto limits = machineLimits(machine);
   const MachineValues* ref = options.reference;
   r.candidates.reserve(static_cast<size_t>(8 * samples));
@@ -248,16 +225,8 @@ IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
   int br[8];
   bool any = false;
   for (int k = 0; k < samples; ++k) {
-    const double g = -kPi + 2 * kPi * k / samples;
-    const double cg = std::cos(g), sg = std::sin(g);
-    Eigen::Matrix3d rz;
-    rz << cg, -sg, 0, sg, cg, 0, 0, 0, 1;
-    const Eigen::Matrix3d rw = rH * rz * rMin;
-    const Eigen::Vector3d pw = machine.nozzleTip - rw * tip;
-    // Flange F = W T^-1.
-    Eigen::Matrix4d f = Eigen::Matrix4d::Identity();
-    f.topLeftCorner<3, 3>() = rw * tRt;
-    f.topRightCorner<3, 1>() = rw * tInvP + pw;
+    const double g = robotFreeAngle(k, samples);
+    const Eigen::Matrix4d f = robotFlangeForFreeAngle(frame, g);
     const int ns = urInverseBranches(machine.dh, f, options.branchMask & 0xff, sol, br);
     for (int s = 0; s < ns; ++s) {
       any = true;
@@ -281,6 +250,38 @@ IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
   return r;
 }
 }  // namespace
+
+RobotFreeRotation robotFreeRotation(const MachineProfile& machine, const Eigen::Vector3d& tip,
+                                    const Eigen::Vector3d& axis) {
+  // Platform rotation R with R u = n: R = Rh Rz(g) Rmin, where Rmin takes u onto the platform's
+  // +Z (smooth in u except for u = -Z, which no printable orientation uses) and Rh takes the
+  // platform's +Z onto the nozzle axis; Rh Rz(g) = Rn(g) Rh is the free rotation about the nozzle.
+  RobotFreeRotation f;
+  f.rMin = rotationBetween(axis, Eigen::Vector3d::UnitZ());
+  f.rH = rotationBetween(Eigen::Vector3d::UnitZ(), machine.nozzleAxis.normalized());
+  const Eigen::Matrix4d& t = machine.flangeToPlatform;
+  // inverse(T) of a rigid transform.
+  f.tRt = t.topLeftCorner<3, 3>().transpose();
+  f.tInvP = -f.tRt * t.topRightCorner<3, 1>();
+  f.tip = tip;
+  f.nozzleTip = machine.nozzleTip;
+  return f;
+}
+
+Eigen::Matrix4d robotFlangeForFreeAngle(const RobotFreeRotation& frame, double angle) {
+  const double cg = std::cos(angle), sg = std::sin(angle);
+  Eigen::Matrix3d rz;
+  rz << cg, -sg, 0, sg, cg, 0, 0, 0, 1;
+  const Eigen::Matrix3d rw = frame.rH * rz * frame.rMin;
+  const Eigen::Vector3d pw = frame.nozzleTip - rw * frame.tip;
+  // Flange F = W T^-1.
+  Eigen::Matrix4d f = Eigen::Matrix4d::Identity();
+  f.topLeftCorner<3, 3>() = rw * frame.tRt;
+  f.topRightCorner<3, 1>() = rw * frame.tInvP + pw;
+  return f;
+}
+
+double robotFreeAngle(int k, int samples) { return -kPi + 2 * kPi * k / samples; }
 
 IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
                     const Eigen::Vector3d& axis, const IkOptions& options) {

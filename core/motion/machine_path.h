@@ -37,10 +37,18 @@ struct MotionStats {
   size_t safeRotations = 0;        // 3+2 rotations done after retract and lift
   double maxJointStep = 0;         // largest change of one angular value between moves (deg or rad)
   double poseCost = 0;             // robot6 / table5: summed L1 change of the angular values
-  double greedyPoseCost = 0;       // same for the greedy choice (nearest candidate each step)
+  double greedyPoseCost = 0;       // same for the greedy choice (nearest candidate each step);
+                                   // -1 when not computed (robot6 track DP without
+                                   // MotionOptions::compareGreedy)
   double posePenalty = 0;          // robot6: singularity penalties on the chosen path (same unit)
-  double greedyPosePenalty = 0;    // the same on the greedy path; poseCost + posePenalty <=
-                                   // greedyPoseCost + greedyPosePenalty always
+  double greedyPosePenalty = 0;    // the same on the greedy path (-1 when not computed); when
+                                   // computed, poseCost + posePenalty <= greedyPoseCost +
+                                   // greedyPosePenalty
+  bool greedyPoseUsed = false;     // robot6 track DP with compareGreedy: greedy was cheaper and
+                                   // is the returned choice
+  size_t poseIkCalls = 0;          // robot6 track DP: urInverse calls of the pose choice
+  size_t poseRestarts = 0;         // robot6 track DP: full evaluations (first sample included)
+  size_t poseAliveNodes = 0;       // robot6 track DP: alive nodes summed over the samples
   double minSingularity = 0;       // robot6: smallest singularityMeasure() on the chosen poses
   double estimatedTimeS = 0;       // sum of durations (retractions included) plus the
                                    // acceleration term of G-code kinds

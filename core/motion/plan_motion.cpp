@@ -5,6 +5,7 @@
 #include <Eigen/Eigenvalues>
 #include <Eigen/LU>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -15,6 +16,7 @@
 #include "motion/feed_limits.h"
 #include "motion/orientation_smoothing.h"
 #include "motion/pose_continuity.h"
+#include "motion/track_poses.h"
 
 namespace omnislice {
 
@@ -66,6 +68,63 @@ double fastSingularityMeasure(const Eigen::Matrix<double, 6, 6>& j) {
 
 namespace {
 
+// Cholesky factor L of G = J^T J (6 x 6, lower triangle, row-major); false when G is not
+// positive definite (J singular to rounding).
+bool gramCholesky(const Eigen::Matrix<double, 6, 6>& j, double l[6][6]) {
+  double g[6][6];
+  for (int a = 0; a < 6; ++a) {
+    for (int b = 0; b <= a; ++b) g[a][b] = j.col(a).dot(j.col(b));
+  }
+  for (int a = 0; a < 6; ++a) {
+    for (int b = 0; b <= a; ++b) {
+      double v = g[a][b];
+      for (int c = 0; c < b; ++c) v -= l[a][c] * l[b][c];
+      if (a == b) {
+        if (!(v > 0)) return false;
+        l[a][a] = std::sqrt(v);
+      } else {
+        l[a][b] = v / l[b][b];
+      }
+    }
+  }
+  return true;
+}
+
+// |det J| from the Cholesky factor of J^T J: det(G) = det(J)^2 = prod(diag L)^2.
+double absDeterminant(const Eigen::Matrix<double, 6, 6>& j) {
+  double l[6][6];
+  if (!gramCholesky(j, l)) return std::abs(j.determinant());
+  double d = 1;
+  for (int a = 0; a < 6; ++a) d *= l[a][a];
+  return d;
+}
+
+// Lower bound of paper 003's measure w = sqrt(|det J|) sqrt(s6 / s1): s1 <= |J|_F and
+// s6 >= 1 / |J^-1|_F give w >= sqrt(|det J| / (|J|_F |J^-1|_F)), within a factor sqrt(6) of w.
+// |J^-1|_F^2 = trace(G^-1) = |L^-1|_F^2 (G = J^T J = L L^T), all from one 6 x 6 Cholesky.
+double singularityLowerBound(const Eigen::Matrix<double, 6, 6>& j) {
+  double l[6][6];
+  if (!gramCholesky(j, l)) return 0;
+  double det = 1, trG = 0;
+  for (int a = 0; a < 6; ++a) {
+    det *= l[a][a];
+    trG += j.col(a).squaredNorm();
+  }
+  // Columns of L^-1 by forward substitution; accumulate the squared Frobenius norm.
+  double inv2 = 0;
+  for (int c = 0; c < 6; ++c) {
+    double x[6] = {0, 0, 0, 0, 0, 0};
+    for (int a = c; a < 6; ++a) {
+      double v = a == c ? 1.0 : 0.0;
+      for (int b = c; b < a; ++b) v -= l[a][b] * x[b];
+      x[a] = v / l[a][a];
+      inv2 += x[a] * x[a];
+    }
+  }
+  if (!(det > 1e-300) || !(inv2 > 0)) return 0;
+  return std::sqrt(det / (std::sqrt(trG) * std::sqrt(inv2)));
+}
+
 double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                             const Eigen::Vector3d& b) {
   const Eigen::Vector3d ab = b - a;
@@ -91,10 +150,13 @@ class Planner {
   bool validate();
   void buildPieces();
   bool choose();
+  bool chooseTrack(size_t layers);
+  bool outOfReach(size_t layer);
   bool emit();
   void finishTimes();
 
   PoseNodeInfo robotInfo(const MachineValues& q) const;
+  double minSingularity(const std::vector<MachineValues>& poses) const;
   bool solveNear(const Eigen::Vector3d& pos, const Eigen::Vector3d& axis, const MachineValues& qa,
                  const MachineValues& qb, const MachineValues& qm, MachineValues& out) const;
   void refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
@@ -113,6 +175,7 @@ class Planner {
   bool robot_ = false, gcodeRotary_ = false;
   PoseMetric metric_;
   std::vector<std::pair<double, double>> limits_;
+  double dhCos_[6] = {1, 1, 1, 1, 1, 1}, dhSin_[6] = {0, 0, 0, 0, 0, 0};  // of the DH twists
   std::vector<Eigen::Vector3d> axes_;
   std::vector<Piece> pieces_;
   std::vector<Eigen::Vector3d> layerPos_, layerAxis_;
@@ -128,7 +191,13 @@ bool Planner::validate() {
   robot_ = m_.kind == "robot6";
   gcodeRotary_ = m_.kind == "rotary4" || m_.kind == "table5";
   auto bad = [](double v) { return !std::isfinite(v); };
-  if (o_.maxKeptPoses < 0) return fail(Status::InvalidOption, "maxKeptPoses must be >= 0");
+  if (o_.maxKeptPoses < 0 || o_.trackMaxAlive < 0) {
+    return fail(Status::InvalidOption, "maxKeptPoses and trackMaxAlive must be >= 0");
+  }
+  if (bad(o_.trackSlack) || o_.trackSlack < 0 || bad(o_.trackRestartStep) ||
+      o_.trackRestartStep < 0) {
+    return fail(Status::InvalidOption, "trackSlack and trackRestartStep must be finite and >= 0");
+  }
   if (o_.freeRotationSamples < 1 || o_.freeRotationSamples > 3600) {
     return fail(Status::InvalidOption, "freeRotationSamples must be in [1, 3600]");
   }
@@ -169,6 +238,10 @@ bool Planner::validate() {
     axes_[i] = mv.axis / len;
   }
   limits_ = machineLimits(m_);
+  for (int i = 0; i < 6; ++i) {
+    dhCos_[i] = std::cos(m_.dh[i].alpha);
+    dhSin_[i] = std::sin(m_.dh[i].alpha);
+  }
   metric_.begin = robot_ ? 0 : 3;
   metric_.end = robot_ ? 6 : n_;
   const double turn = robot_ ? 2 * kPi : 360.0;
@@ -223,7 +296,21 @@ void Planner::buildPieces() {
 
 PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
   PoseNodeInfo info;
-  const auto frames = armFrames(m_.dh, q);
+  // armFrames() with the cosines and sines of the DH twists computed once (the same values).
+  std::array<Eigen::Matrix4d, 7> frames;
+  frames[0] = Eigen::Matrix4d::Identity();
+  for (int i = 0; i < 6; ++i) {
+    const DhRow& row = m_.dh[i];
+    const double th = q[i] + row.thetaOffset;
+    const double ct = std::cos(th), st = std::sin(th);
+    const double ca = dhCos_[i], sa = dhSin_[i];
+    Eigen::Matrix4d t;
+    t << ct, -st * ca, st * sa, row.a * ct,  //
+        st, ct * ca, -ct * sa, row.a * st,   //
+        0, sa, ca, row.d,                    //
+        0, 0, 0, 1;
+    frames[i + 1] = frames[i] * t;
+  }
   const Eigen::Vector3d& n = m_.nozzleTip;
   const Eigen::Vector3d u = m_.nozzleAxis.normalized();
   const double height = m_.nozzle.coneLength + m_.nozzle.carriageSize.z();
@@ -248,11 +335,16 @@ PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
   // sqrt(|det J| / (|J|_F |J^-1|_F)), within a factor sqrt(6) of the truth. The measure itself
   // is computed only when that bound is below the threshold or a tie needs it (measure = NaN).
   if (o_.singularityThreshold > 0 && o_.singularityPenalty > 0) {
-    const Eigen::Matrix<double, 6, 6> j = armJacobian(m_.dh, q);
-    const Eigen::PartialPivLU<Eigen::Matrix<double, 6, 6>> lu(j);
-    const double det = std::abs(lu.determinant());
-    double lower = 0;
-    if (det > 1e-300) lower = std::sqrt(det / (j.norm() * lu.inverse().norm()));
+    // armJacobian() from the frames already at hand (the same values).
+    Eigen::Matrix<double, 6, 6> j;
+    const Eigen::Vector3d pe = frames[6].topRightCorner<3, 1>();
+    for (int i = 0; i < 6; ++i) {
+      const Eigen::Vector3d z = frames[i].block<3, 1>(0, 2);
+      const Eigen::Vector3d o = frames[i].topRightCorner<3, 1>();
+      j.block<3, 1>(0, i) = z.cross(pe - o) * 1e-3;
+      j.block<3, 1>(3, i) = z;
+    }
+    const double lower = singularityLowerBound(j);
     if (!(lower >= o_.singularityThreshold)) {
       info.measure = fastSingularityMeasure(j);
       if (info.measure < o_.singularityThreshold) {
@@ -299,6 +391,8 @@ bool Planner::choose() {
   const size_t layers = layerPos_.size();
   out_.stats.samples = layers - 1;
 
+  if (robot_ && o_.trackPoses) return chooseTrack(layers);
+
   std::string ikError;
   IkOptions io;
   io.freeRotationSamples = o_.freeRotationSamples;
@@ -337,35 +431,132 @@ bool Planner::choose() {
   PoseChoice pc = choosePoses(layers, metric_, candidates, info, measure, pco);
   if (!ikError.empty()) return fail(Status::InvalidOption, "inverse kinematics: " + ikError);
   if (pc.status == Status::Cancelled) return fail(Status::Cancelled, "cancelled");
-  if (!pc.ok()) {
-    const size_t l = pc.failedLayer;
-    if (layerPiece_[l] == SIZE_MAX) {
-      return fail(Status::InvalidOption, "the start position " + fmtVec(layerPos_[l]) +
-                                             " is out of reach of machine '" + m_.name + "'");
-    }
-    const Piece& p = pieces_[layerPiece_[l]];
-    return fail(Status::InvalidOption, "move " + std::to_string(p.source) + " at " +
-                                           fmtVec(p.pos) + " axis " + fmtVec(p.axis) +
-                                           " is out of reach of machine '" + m_.name + "'");
-  }
+  if (!pc.ok()) return outOfReach(pc.failedLayer);
   out_.stats.poseCost = pc.cost;
   out_.stats.greedyPoseCost = pc.greedyCost;
   out_.stats.posePenalty = pc.penalty;
   out_.stats.greedyPosePenalty = pc.greedyPenalty;
-  if (robot_) {
-    double mn = std::numeric_limits<double>::infinity();
-    const MachineValues* worst = nullptr;
-    for (const MachineValues& q : pc.chosen) {
-      const double w = fastSingularityMeasure(armJacobian(m_.dh, q));
-      if (w < mn) {
-        mn = w;
-        worst = &q;
+  if (robot_) out_.stats.minSingularity = minSingularity(pc.chosen);
+  layerValues_ = std::move(pc.chosen);
+  unwrapPoses(layerValues_, metric_, limits_);
+  return true;
+}
+
+double Planner::minSingularity(const std::vector<MachineValues>& poses) const {
+  // Weyl: singular values move by at most ||dJ||_2 <= ||dJ||_F, so from the exact s1, s6 of an
+  // anchor pose, a pose with Jacobian J has w = sqrt(|det J| s6 / s1) >= sqrt(|det J| (s6a - d) /
+  // (s1a + d)), d = ||J - Ja||_F. Only poses whose bound is below the smallest w found so far
+  // are solved exactly (and become the anchor): along a smooth path that is a small fraction.
+  double mn = std::numeric_limits<double>::infinity();
+  const MachineValues* worst = nullptr;
+  Eigen::Matrix<double, 6, 6> ja;
+  double s1a = 0, s6a = 0;
+  bool anchored = false;
+  for (const MachineValues& q : poses) {
+    const Eigen::Matrix<double, 6, 6> j = armJacobian(m_.dh, q);
+    if (anchored) {
+      const double d = (j - ja).norm();
+      if (s6a > d) {
+        const double det = absDeterminant(j);
+        const double bound = std::sqrt(det * (s6a - d) / (s1a + d)) * (1 - 1e-9);
+        if (bound >= mn) continue;
       }
     }
-    if (worst) mn = singularityMeasure(armJacobian(m_.dh, *worst));  // the reference SVD value
-    out_.stats.minSingularity = mn;
+    const Eigen::Matrix<double, 6, 6> g = j.transpose() * j;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(g, Eigen::EigenvaluesOnly);
+    s1a = std::sqrt(std::max(es.eigenvalues()(5), 0.0));
+    s6a = std::sqrt(std::max(es.eigenvalues()(0), 0.0));
+    ja = j;
+    anchored = true;
+    const double w = s1a > 0 ? std::sqrt(std::abs(j.determinant())) * std::sqrt(s6a / s1a) : 0.0;
+    if (w < mn) {
+      mn = w;
+      worst = &q;
+    }
   }
-  layerValues_ = std::move(pc.chosen);
+  if (worst) mn = singularityMeasure(armJacobian(m_.dh, *worst));  // the reference SVD value
+  return mn;
+}
+
+bool Planner::outOfReach(size_t l) {
+  if (layerPiece_[l] == SIZE_MAX) {
+    return fail(Status::InvalidOption, "the start position " + fmtVec(layerPos_[l]) +
+                                           " is out of reach of machine '" + m_.name + "'");
+  }
+  const Piece& p = pieces_[layerPiece_[l]];
+  return fail(Status::InvalidOption, "move " + std::to_string(p.source) + " at " +
+                                         fmtVec(p.pos) + " axis " + fmtVec(p.axis) +
+                                         " is out of reach of machine '" + m_.name + "'");
+}
+
+// Nearest alias of a wrapped joint value inside [lo, hi] (the value itself when inside).
+static bool aliasInside(double v, const std::pair<double, double>& l, double& out) {
+  constexpr double tol = 1e-9;
+  if (v >= l.first - tol && v <= l.second + tol) {
+    out = v;
+    return true;
+  }
+  for (int m = 1; m <= 4; ++m) {
+    for (const double a : {v + m * 2 * kPi, v - m * 2 * kPi}) {
+      if (a >= l.first - tol && a <= l.second + tol) {
+        out = a;
+        return true;
+      }
+    }
+  }
+  return false;
+}
+
+bool Planner::chooseTrack(size_t layers) {
+  const int samples = o_.freeRotationSamples;
+  size_t frameLayer = SIZE_MAX;
+  RobotFreeRotation frame;
+  const double total = static_cast<double>(layers);
+  auto ik = [&](size_t layer, int k, int mask, MachineValues values[8], int branches[8]) {
+    if (layer != frameLayer) {
+      frame = robotFreeRotation(m_, layerPos_[layer], layerAxis_[layer]);
+      frameLayer = layer;
+    }
+    const Eigen::Matrix4d f = robotFlangeForFreeAngle(frame, robotFreeAngle(k, samples));
+    JointValues sol[8];
+    int br[8];
+    const int n = urInverseBranches(m_.dh, f, mask, sol, br);
+    int count = 0;
+    for (int i = 0; i < n; ++i) {
+      bool ok = true;
+      for (int j = 0; j < 6 && ok; ++j) ok = aliasInside(sol[i][j], limits_[j], values[count][j]);
+      if (ok) branches[count++] = br[i];
+    }
+    return count;
+  };
+  auto info = [&](const MachineValues& q) { return robotInfo(q); };
+  auto measure = [&](const MachineValues& q) {
+    return fastSingularityMeasure(armJacobian(m_.dh, q));
+  };
+  const double passes = o_.compareGreedy ? 2.0 : 1.0;  // the greedy pass numbers layers on
+  auto layerStart = [&](size_t layer) {
+    return (layer & 63) != 0 || reportProgress(progress_, kStage, 0.8 * layer / (passes * total));
+  };
+  TrackOptions to;
+  to.samples = samples;
+  to.slack = o_.trackSlack;
+  to.restartStep = o_.trackRestartStep;
+  to.maxAlive = static_cast<size_t>(o_.trackMaxAlive);
+  to.compareGreedy = o_.compareGreedy;
+  TrackChoice tc = chooseTrackPoses(layers, metric_, ik, info, measure, to, layerStart);
+  if (tc.status == Status::Cancelled) return fail(Status::Cancelled, "cancelled");
+  if (tc.status == Status::InvalidOption) return outOfReach(tc.failedLayer);
+  if (!tc.ok()) return fail(tc.status, tc.message);
+  out_.stats.poseCost = tc.cost;
+  out_.stats.posePenalty = tc.penalty;
+  out_.stats.greedyPoseCost = tc.greedyCost;
+  out_.stats.greedyPosePenalty = tc.greedyPenalty;
+  out_.stats.greedyPoseUsed = tc.greedyUsed;
+  out_.stats.poseIkCalls = tc.ikCalls;
+  out_.stats.poseRestarts = tc.restarts;
+  out_.stats.poseAliveNodes = tc.aliveNodes;
+  out_.stats.minSingularity = minSingularity(tc.chosen);
+  layerValues_ = std::move(tc.chosen);
   unwrapPoses(layerValues_, metric_, limits_);
   return true;
 }

@@ -33,12 +33,27 @@ struct MotionOptions {
                                        // a penalty in the pose choice
   double singularityPenalty = 0.1;  // robot6: penalty (rad of L1 joint change) at measure 0,
                                     // falling linearly to 0 at singularityThreshold
-  int maxKeptPoses = 0;             // pose choice: 0 = exact shortest path (robot6: ~0.8 ms per
+  bool trackPoses = true;           // robot6: pose choice by the track DP with lazy inverse
+                                    // kinematics (track_poses.h, ~3 us per sample natively);
+                                    // false = choosePoses() on all candidates (pose_continuity.h)
+  double trackSlack = 0.3;          // rad, track DP: nodes costlier than the sample's best by
+                                    // more than this are dropped
+  int trackMaxAlive = 4;            // track DP: at most this many alive nodes per sample (the
+                                    // cheapest; 0 = no cap)
+  double trackRestartStep = 0.5;    // rad, track DP: evaluate every candidate (branch changes
+                                    // allowed) when the best successor's L1 joint step exceeds
+                                    // this (0 = only when no successor is feasible)
+  bool compareGreedy = false;       // track DP: also compute the greedy choice on all candidates
+                                    // (as slow as choosePoses' inverse kinematics) and return it
+                                    // when cheaper; false: stats.greedyPoseCost / Penalty = -1
+  int maxKeptPoses = 0;             // choosePoses() (table5, rotary4, robot6 without
+                                    // trackPoses): 0 = exact shortest path (robot6: ~0.8 ms per
                                     // sample natively); else at most this many non-dominated
                                     // candidates per sample are kept (plus the greedy one, so the
                                     // result is never worse than greedy; 16: ~0.1 ms per sample)
-  double poseSlack = 0.05;          // rad, robot6 with maxKeptPoses > 0: a candidate within this
-                                    // of being dominated is dropped to make room for distinct ones
+  double poseSlack = 0.05;          // rad, robot6 choosePoses() with maxKeptPoses > 0: a
+                                    // candidate within this of being dominated is dropped to make
+                                    // room for distinct ones
   double armClearance = 10;         // mm, robot6: arm frame origins must stay this far above the
                                     // base plane (z = 0) and outside the extruder cylinder
 };
@@ -48,7 +63,8 @@ struct MotionOptions {
 // (slerp of the axis, linear positions, filament split in equal shares) so consecutive axes
 // differ by at most maxAxisStepDegrees (printing moves; every move for robot6); rotary4 with a
 // step angle keeps its axes. (2) inverse kinematics of every sample, (3) pose choice by shortest
-// path (pose_continuity.h), unwrapped within the limits; robot6 candidates whose arm frame
+// path (pose_continuity.h; robot6: the track DP of track_poses.h, which runs the inverse
+// kinematics lazily itself), unwrapped within the limits; robot6 candidates whose arm frame
 // origins enter the extruder cylinder or go below the base plane are excluded. (4) G-code
 // kinds: travels whose rotary values change by more than rotationThresholdDegrees become
 // retract, lift to safe Z, rotate, move over, lower, unretract. (5) moves split at part-frame

@@ -259,7 +259,6 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     motionOptions.chordTolerance = settings.chordTolerance;
     motionOptions.acceleration = settings.acceleration;
     motionOptions.retractSpeed = settings.retractSpeed;
-    motionOptions.maxKeptPoses = 16;
     MachinePath motion = planMachineMotion(plan.toolpath, machine, motionOptions, progress);
     if (!motion.ok()) return failed<SliceOutput>(motion);
     clock.done("motion");

@@ -150,6 +150,7 @@ TEST(PlanMotion, Table5FeedLimitsHold) {
   for (int i = 0; i < 3; ++i) dyn[i].acceleration = dyn[i].jerk = 0;
   const auto r = test::recomputeFeedRatios(mp, 5, dyn);
   EXPECT_LE(r[0], 1 + 1e-6);
+  // Rotary axes B and C keep the acceleration and jerk limits of Eq. 7-9.
   EXPECT_LE(r[1], 1 + 1e-4);
   EXPECT_LE(r[2], 1 + 1e-4);
   EXPECT_GT(mp.stats.feedLimitedMoves, 0u);
