@@ -124,13 +124,14 @@ for (const c of cases) {
   }
 }
 
-// Verification of a large program (>= 500k moves): native CLI wall vs wasm call.
-const verifyCase = 'torus-100k verify 0.08mm program';
+// Verification of a large program (~500k moves; the torus scaled to 150 mm so the coverage grid
+// at 0.2 mm stays within its cap): native CLI wall vs wasm call.
+const verifyCase = 'torus-100k fit 150 verify 0.2mm program';
 {
   const file = models['torus-100k.stl'];
   const program = path.join(tmp, 'big.gcode');
   const report = path.join(tmp, 'big.json');
-  execFileSync(CLI, ['slice', file, '-o', program, '--report', report, '--set', 'layer_height=0.08'], { stdio: 'ignore' });
+  execFileSync(CLI, ['slice', file, '-o', program, '--report', report, '--fit-mm', '150'], { stdio: 'ignore' });
   const moves = JSON.parse(fs.readFileSync(report, 'utf8')).moves;
   const text = fs.readFileSync(program, 'utf8');
   const meshBytes = fs.readFileSync(file);

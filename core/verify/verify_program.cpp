@@ -27,6 +27,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <limits>
 #include <unordered_map>
 #include <vector>
 
@@ -389,6 +390,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     };
     Bits interior(n), covered(n);
     const double half = 0.5 * w;
+    constexpr int64_t kRun = 8;  // column points admitted by one distance query deep inside
     std::vector<ColumnCrossing> xs;
     size_t column = 0;
     const size_t columns = size_t(nx * ny);
@@ -404,11 +406,22 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           wind += xs[m].sign;
           if (wind == 0) continue;
           const double zLo = xs[m].z + half, zHi = xs[m + 1].z - half;
-          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g)));
-               k <= std::min(k1, int64_t(std::floor(zHi / g))); ++k) {
+          const int64_t kEnd = std::min(k1, int64_t(std::floor(zHi / g)));
+          int64_t nextRun = std::numeric_limits<int64_t>::min();
+          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g))); k <= kEnd;) {
             const Eigen::Vector3d p(x, y, double(k) * g);
-            if (tree.anyWithin(p, half * (1 - 1e-9))) continue;
-            interior.set(index(i, j, k));
+            // The distance to the surface is 1-Lipschitz: no triangle within w/2 + R g of p
+            // means the next R points of the column are all at least w/2 away (one query for R + 1
+            // points deep inside; after a miss, points are tested one by one for R steps).
+            if (k >= nextRun && k + kRun <= kEnd) {
+              if (!tree.anyWithin(p, half * (1 - 1e-9) + double(kRun) * g)) {
+                for (const int64_t last = k + kRun; k <= last; ++k) interior.set(index(i, j, k));
+                continue;
+              }
+              nextRun = k + kRun;
+            }
+            if (!tree.anyWithin(p, half * (1 - 1e-9))) interior.set(index(i, j, k));
+            ++k;
           }
         }
       }
