@@ -8,8 +8,8 @@
 //   klipper : as marlin without G21 (Klipper is always in millimetres and does not know G21);
 //             standard commands only (no PRINT_START macro, whose name and arguments are the
 //             user's); feed semantics "xyz".
-// Feed: F = distance / planned duration, the distance measured on the values as written (so a
-// reader recovers the planned time to the rounding of F): "xyz" = machine XYZ length, or the
+// Feed: F = distance / planned duration, the distance measured on the planned values (a reader
+// measuring on the written values recovers the planned time to the rounding of the coordinates): "xyz" = machine XYZ length, or the
 // rotary change in degrees for pure rotations; "combined" = sqrt(XYZ^2 + rotary^2) with degrees
 // counted as mm; moves without axis motion (retracts) use |E|.
 // 3+2 check: between the last extruding move of one part and the first extruding move of the
@@ -79,10 +79,46 @@ std::string formatNumber(const char* format, double v) {
   return buf;
 }
 
+double appendFixed(std::string& out, double v, int decimals) {
+  static const double kPow10[] = {1, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9};
+  decimals = std::clamp(decimals, 0, 9);
+  const double scale = kPow10[decimals];
+  if (!std::isfinite(v) || !(std::abs(v) * scale < 9e15)) {  // out of the exact integer range
+    char buf[400];
+    std::snprintf(buf, sizeof buf, "%.*f", decimals, std::isfinite(v) ? v : 0.0);
+    out += buf;
+    return std::strtod(buf, nullptr);
+  }
+  const long long q = std::llround(v * scale);
+  unsigned long long a = q < 0 ? 0ULL - static_cast<unsigned long long>(q) : q;
+  char digits[32];
+  int n = 0;
+  do {
+    digits[n++] = char('0' + a % 10);
+    a /= 10;
+  } while (a > 0 || n <= decimals);
+  if (q < 0) out += '-';
+  for (int i = n - 1; i >= 0; --i) {
+    out += digits[i];
+    if (i == decimals && decimals > 0) out += '.';
+  }
+  return q == 0 ? 0.0 : double(q) / scale;
+}
+
 std::string fixedNumber(double v, int significant) {
   if (!std::isfinite(v)) return "0";
   const double mag = v != 0 ? std::floor(std::log10(std::abs(v))) : 0.0;
   const int decimals = int(std::clamp(double(significant) - 1.0 - mag, 0.0, 12.0));
+  if (decimals <= 9 && std::abs(v) < 1e12) {
+    std::string out;
+    appendFixed(out, v, decimals);
+    if (out.find('.') != std::string::npos) {
+      while (!out.empty() && out.back() == '0') out.pop_back();
+      if (!out.empty() && out.back() == '.') out.pop_back();
+    }
+    if (out == "-0") out = "0";
+    return out;
+  }
   char buf[400];
   std::snprintf(buf, sizeof buf, "%.*f", decimals, v);
   std::string out = buf;
@@ -300,10 +336,9 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   auto words = [&](const MachineValues& v, MachineValues& as) {
     std::string s;
     for (int i = 0; i < n; ++i) {
-      const std::string t = formatNumber(i < 3 ? "%.3f" : "%.5f", v[i]);
-      as[i] = std::strtod(t.c_str(), nullptr);
-      if (as[i] == 0) as[i] = 0;  // no "-0.000" distinctions
-      s += " " + letters[i] + (t == "-0.000" || t == "-0.00000" ? t.substr(1) : t);
+      s += ' ';
+      s += letters[i];
+      as[i] = appendFixed(s, v[i], i < 3 ? 3 : 5);  // "-0.000" comes out as "0.000"
     }
     return s;
   };
@@ -316,12 +351,24 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     if (combined) return std::sqrt(lin + rot);
     return lin > 0 ? std::sqrt(lin) : std::sqrt(rot);
   };
-  std::string lastF;  // F text last written
+  MachineValues writtenRaw = path.start;  // planned values of the last move written
+  std::string lastF;      // F text last written
+  double lastFValue = 0;  // the feed it was written for
+  auto eText = [](double value) {
+    std::string t;
+    appendFixed(t, value, 5);
+    return t;
+  };
   auto feedWord = [&](double f) -> std::string {
     // 7 significant digits: the planned time comes back to 1e-7 even for the slow XYZ feeds of
     // mostly rotary moves ("xyz" semantics).
     if (!(f > 0) || !std::isfinite(f)) return "";
+    // A feed within 1e-5 of the last one written keeps it (the planned time changes by at most
+    // that share): planned durations differ from move to move only by the rounding of the
+    // written coordinates, and repeating F on every line doubles the writing time.
+    if (lastFValue > 0 && std::abs(f - lastFValue) <= 1e-5 * lastFValue) return "";
     const std::string text = fixedNumber(f, 7);
+    lastFValue = f;
     if (text == lastF) return "";
     lastF = text;
     return " F" + text;
@@ -402,7 +449,10 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
                                : " without a retract first"));
       }
     }
-    const double dist = distance(written, next);
+    // F from the planned (unrounded) values: equal planned speeds give equal F words ("F1200",
+    // not "F1199.744"); the rounding of the written coordinates changes the time a reader
+    // derives by at most its share of the move length.
+    const double dist = distance(writtenRaw, m.values);
     double f = -1;
     if (m.durationS > 0) {
       const double d = dist > 0 ? dist : std::abs(m.filament);
@@ -419,13 +469,13 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
       case MoveKind::Support:
         if (!moved && m.filament == 0) break;
         e += m.filament;
-        line("G1" + (moved ? axisWords : std::string()) + " E" + formatNumber("%.5f", e) + feed);
+        line("G1" + (moved ? axisWords : std::string()) + " E" + eText(e) + feed);
         break;
       case MoveKind::Retract:
       case MoveKind::Unretract:
         if (!moved && m.filament == 0) break;
         e += m.filament;
-        line("G1" + (moved ? axisWords : std::string()) + " E" + formatNumber("%.5f", e) + feed);
+        line("G1" + (moved ? axisWords : std::string()) + " E" + eText(e) + feed);
         break;
     }
     if (m.filament < 0) retracted = true;
@@ -436,6 +486,7 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
       maxPrintedZ = std::max(maxPrintedZ, next[2]);
     }
     written = next;
+    writtenRaw = m.values;
   }
 
   // ---- end code: retract, lift, heaters off, motors off ----

@@ -71,10 +71,8 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
   auto joints = [&](const MachineValues& v, MachineValues& as, const char* sep) {
     std::string s;
     for (int i = 0; i < 6; ++i) {
-      const std::string t = formatNumber("%.9f", v[i]);
-      as[i] = std::strtod(t.c_str(), nullptr);
       if (i) s += sep;
-      s += t;
+      as[i] = appendFixed(s, v[i], 9);
     }
     return s;
   };
