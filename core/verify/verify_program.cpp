@@ -250,16 +250,61 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         pieceBead.push_back(s.bead);
       }
     }
-    std::unordered_map<int64_t, std::vector<uint32_t>> hash;
-    auto insert = [&](uint32_t pi) {
-      const Piece& p = pieces[pi];
+    // Pieces in print order, bucketed once into a dense cell grid (CSR): a piece is listed in
+    // every cell its R-expanded box touches, in increasing index, so a sample scans the list of its
+    // own cell while the index is below nextPiece (the prefix laid before it).
+    Eigen::Vector3d glo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+    Eigen::Vector3d ghi = -glo;
+    for (const Piece& p : pieces) {
       const Eigen::Vector3d lo = p.a.cwiseMin(p.b).array() - R, hi = p.a.cwiseMax(p.b).array() + R;
-      for (int64_t x = int64_t(std::floor(lo.x() / cs)); x <= int64_t(std::floor(hi.x() / cs)); ++x)
-        for (int64_t y = int64_t(std::floor(lo.y() / cs)); y <= int64_t(std::floor(hi.y() / cs)); ++y)
-          for (int64_t z = int64_t(std::floor(lo.z() / cs)); z <= int64_t(std::floor(hi.z() / cs)); ++z)
-            hash[cellKey(x, y, z)].push_back(pi);
+      glo = glo.cwiseMin(lo);
+      ghi = ghi.cwiseMax(hi);
+    }
+    double gs = cs;  // cell size: grows until the grid has at most ~4 cells per piece
+    int64_t dims[3] = {0, 0, 0};
+    const double maxCells = std::max(double(1 << 20), 4.0 * double(pieces.size()));
+    for (;;) {
+      double cells = 1;
+      for (int a = 0; a < 3; ++a) {
+        dims[a] = pieces.empty() ? 0 : int64_t(std::floor((ghi[a] - glo[a]) / gs)) + 1;
+        cells *= double(std::max<int64_t>(dims[a], 0));
+      }
+      if (cells <= maxCells) break;
+      gs *= 1.5;
+    }
+    auto cellRange = [&](double lo, double hi, int a, int64_t& c0, int64_t& c1) {
+      c0 = std::clamp(int64_t(std::floor((lo - glo[a]) / gs)), int64_t(0), dims[a] - 1);
+      c1 = std::clamp(int64_t(std::floor((hi - glo[a]) / gs)), int64_t(0), dims[a] - 1);
     };
-    size_t nextPiece = 0;  // pieces [0, nextPiece) are in the hash
+    const size_t cellCount = size_t(dims[0] * dims[1] * dims[2]);
+    std::vector<uint32_t> offsets(cellCount + 1, 0), entries;
+    for (int pass = 0; pass < 2; ++pass) {
+      std::vector<uint32_t> fill;
+      if (pass == 1) {
+        for (size_t c = 0; c < cellCount; ++c) offsets[c + 1] += offsets[c];
+        if (offsets[cellCount] > std::numeric_limits<uint32_t>::max() / 2) {
+          return fail(Status::InvalidOption, "too many centre-line pieces to check support");
+        }
+        entries.resize(offsets[cellCount]);
+        fill.assign(offsets.begin(), offsets.end() - 1);
+      }
+      for (uint32_t pi = 0; pi < pieces.size(); ++pi) {
+        const Piece& p = pieces[pi];
+        const Eigen::Vector3d lo = p.a.cwiseMin(p.b).array() - R, hi = p.a.cwiseMax(p.b).array() + R;
+        int64_t x0, x1, y0, y1, z0, z1;
+        cellRange(lo.x(), hi.x(), 0, x0, x1);
+        cellRange(lo.y(), hi.y(), 1, y0, y1);
+        cellRange(lo.z(), hi.z(), 2, z0, z1);
+        for (int64_t z = z0; z <= z1; ++z)
+          for (int64_t y = y0; y <= y1; ++y)
+            for (int64_t x = x0; x <= x1; ++x) {
+              const size_t c = size_t((z * dims[1] + y) * dims[0] + x);
+              if (pass == 0) ++offsets[c + 1];
+              else entries[fill[c]++] = pi;
+            }
+      }
+    }
+    size_t nextPiece = 0;  // pieces [0, nextPiece) were laid before the current sample
     size_t supportedSurface = 0, surfaceCount = 0, supportedAll = 0;
     for (size_t i = 0; i < samples.size(); ++i) {
       if (!progress.tick(i, samples.size(), 0.3, 0.5)) return fail(Status::Cancelled, "verify cancelled");
@@ -270,7 +315,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       while (nextPiece < pieces.size() &&
              (pieceBead[nextPiece] < myBead ||
               (pieceBead[nextPiece] == myBead && pieces[nextPiece].s1 <= cutoff))) {
-        insert(uint32_t(nextPiece++));
+        ++nextPiece;
       }
       bool ok = smp.p.z() <= R;  // the platform z = 0
       if (!ok && nextPiece < pieces.size() && pieceBead[nextPiece] == myBead &&
@@ -280,13 +325,19 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         const double t = (cutoff - p.s0) / (p.s1 - p.s0);
         ok = segmentDistance2(smp.p, p.a, p.a + t * (p.b - p.a)) <= R * R;
       }
-      if (!ok) {
-        auto it = hash.find(cellKey(int64_t(std::floor(smp.p.x() / cs)),
-                                    int64_t(std::floor(smp.p.y() / cs)),
-                                    int64_t(std::floor(smp.p.z() / cs))));
-        if (it != hash.end()) {
-          for (uint32_t pi : it->second) {
-            if (segmentDistance2(smp.p, pieces[pi].a, pieces[pi].b) <= R * R) {
+      if (!ok && cellCount > 0) {
+        bool inGrid = true;
+        int64_t cx[3];
+        for (int a = 0; a < 3; ++a) {
+          const double f = std::floor((smp.p[a] - glo[a]) / gs);
+          inGrid = inGrid && f >= 0 && f < double(dims[a]);
+          cx[a] = inGrid ? int64_t(f) : 0;
+        }
+        if (inGrid) {
+          const size_t c = size_t((cx[2] * dims[1] + cx[1]) * dims[0] + cx[0]);
+          for (uint32_t e = offsets[c]; e < offsets[c + 1] && entries[e] < nextPiece; ++e) {
+            const Piece& p = pieces[entries[e]];
+            if (segmentDistance2(smp.p, p.a, p.b) <= R * R) {
               ok = true;
               break;
             }
