@@ -5,20 +5,13 @@
 #include <Eigen/Geometry>
 #include <cmath>
 
+#include "geometry/segment.h"
+
 namespace omnislice {
 
 namespace {
 
 constexpr int32_t kLeafSize = 4;
-
-Eigen::Vector3d closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                 const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (len2 <= 0) return a;
-  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return a + t * ab;
-}
 
 double boxDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   double d2 = 0;
@@ -56,8 +49,8 @@ Eigen::Vector3d closestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Ve
   const Eigen::Vector3d ab = b - a, ac = c - a;
   if (ab.cross(ac).squaredNorm() <= 1e-30 * std::max(1.0, ab.squaredNorm() * ac.squaredNorm())) {
     // Degenerate (needle or point): nearest of the three edges.
-    Eigen::Vector3d best = closestOnSegment(p, a, b);
-    for (const Eigen::Vector3d& q : {closestOnSegment(p, b, c), closestOnSegment(p, c, a)}) {
+    Eigen::Vector3d best = closestPointOnSegment(p, a, b);
+    for (const Eigen::Vector3d& q : {closestPointOnSegment(p, b, c), closestPointOnSegment(p, c, a)}) {
       if ((q - p).squaredNorm() < (best - p).squaredNorm()) best = q;
     }
     return best;

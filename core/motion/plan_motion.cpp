@@ -12,6 +12,7 @@
 #include <string>
 
 #include "kinematics/kinematics.h"
+#include "geometry/segment.h"
 #include "kinematics/robot_arm.h"
 #include "motion/feed_limits.h"
 #include "motion/orientation_smoothing.h"
@@ -123,15 +124,6 @@ double singularityLowerBound(const Eigen::Matrix<double, 6, 6>& j) {
   }
   if (!(det > 1e-300) || !(inv2 > 0)) return 0;
   return std::sqrt(det / (std::sqrt(trG) * std::sqrt(inv2)));
-}
-
-double pointSegmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                            const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double l2 = ab.squaredNorm();
-  double t = l2 > 0 ? (p - a).dot(ab) / l2 : 0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
 }
 
 class Planner {
@@ -630,7 +622,7 @@ void Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const E
     MachineValues qm{};
     for (int i = 0; i < 6; ++i) qm[i] = 0.5 * (qa[i] + qb[i]);
     Eigen::Vector3d tip, axis;
-    if (forwardMap(m_, qm, tip, axis) && pointSegmentDistance(tip, pa, pb) > o_.chordTolerance) {
+    if (forwardMap(m_, qm, tip, axis) && std::sqrt(pointSegmentDistance2(tip, pa, pb)) > o_.chordTolerance) {
       const Eigen::Vector3d pm = 0.5 * (pa + pb);
       const Eigen::Vector3d um = slerpAxis(ua, ub, 0.5);
       MachineValues qs;

@@ -10,28 +10,6 @@ namespace omnislice {
 
 namespace {
 
-inline double wrapped(double d, double period) {
-  d = std::abs(d);
-  if (period <= 0) return d;
-  if (d > period) {
-    // Values stay within a few turns of each other: subtract instead of fmod (much faster).
-    d -= period;
-    if (d > period) d = std::fmod(d, period);
-  }
-  return std::min(d, period - d);
-}
-
-// Distance, stopping early once it exceeds `bound` (the result is then > bound, not exact).
-inline double distanceBounded(const PoseMetric& m, const MachineValues& a, const MachineValues& b,
-                              double bound) {
-  double s = 0;
-  for (int i = m.begin; i < m.end; ++i) {
-    s += wrapped(a[i] - b[i], m.period[i]);
-    if (s > bound) return s;
-  }
-  return s;
-}
-
 struct Kept {
   MachineValues values;
   double cost;     // path cost to here including penalties
@@ -50,7 +28,7 @@ struct Scored {
 }  // namespace
 
 double poseDistance(const PoseMetric& metric, const MachineValues& a, const MachineValues& b) {
-  return distanceBounded(metric, a, b, std::numeric_limits<double>::infinity());
+  return poseDistanceBounded(metric, a, b, std::numeric_limits<double>::infinity());
 }
 
 PoseChoice choosePoses(size_t layers, const PoseMetric& metric, const PoseCandidateFn& candidates,
@@ -168,7 +146,7 @@ PoseChoice choosePoses(size_t layers, const PoseMetric& metric, const PoseCandid
       for (size_t u = pb; u < pe; ++u) {
         Kept& ku = kept[u];
         if (ku.cost > best + eps) break;  // sorted by cost: nothing cheaper follows
-        const double d = distanceBounded(metric, ku.values, cand[v], best + eps - ku.cost);
+        const double d = poseDistanceBounded(metric, ku.values, cand[v], best + eps - ku.cost);
         const double c = ku.cost + d;
         const bool better = c < best - eps;
         const bool tieWin = !better && c <= best + eps && back >= 0 &&
@@ -212,7 +190,7 @@ PoseChoice choosePoses(size_t layers, const PoseMetric& metric, const PoseCandid
       for (size_t w = kb; w < kept.size() && !dominated; ++w) {
         if (kept[w].cost > reach) break;
         dominated = kept[w].cost +
-                        distanceBounded(metric, kept[w].values, v, reach - kept[w].cost) <=
+                        poseDistanceBounded(metric, kept[w].values, v, reach - kept[w].cost) <=
                     reach;
       }
       if (dominated) continue;
@@ -223,7 +201,7 @@ PoseChoice choosePoses(size_t layers, const PoseMetric& metric, const PoseCandid
         for (size_t w = kb; w < kept.size() && !dominated; ++w) {
           if (kept[w].cost > cost) break;
           dominated =
-              kept[w].cost + distanceBounded(metric, kept[w].values, v, cost - kept[w].cost) <=
+              kept[w].cost + poseDistanceBounded(metric, kept[w].values, v, cost - kept[w].cost) <=
               cost;
         }
         if (dominated) continue;

@@ -13,7 +13,9 @@
 // switch of free-rotation sample straight from the previous best node is cheaper than via any
 // other node, so such nodes are never dominated); PoseChoiceOptions::maxKept bounds the work.
 #pragma once
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -31,6 +33,31 @@ struct PoseMetric {
   std::array<double, 6> period{};         // > 0: the value lives on a circle of this period and
                                           // differences are wrapped to (-period/2, period/2]
 };
+
+// |d| of one value difference under a period (> 0: on a circle, the shorter way round). Inline:
+// it sits in the inner loops of both pose choosers.
+inline double wrappedDistance(double d, double period) {
+  d = std::abs(d);
+  if (period <= 0) return d;
+  if (d > period) {
+    // Values stay within a few turns of each other: subtract instead of fmod (much faster).
+    d -= period;
+    if (d > period) d = std::fmod(d, period);
+  }
+  return std::min(d, period - d);
+}
+
+// L1 distance between two value sets under the metric, stopping early once the sum exceeds
+// `bound` (the result is then > bound, not exact).
+inline double poseDistanceBounded(const PoseMetric& m, const MachineValues& a,
+                                  const MachineValues& b, double bound) {
+  double s = 0;
+  for (int i = m.begin; i < m.end; ++i) {
+    s += wrappedDistance(a[i] - b[i], m.period[i]);
+    if (s > bound) return s;
+  }
+  return s;
+}
 
 // L1 distance between two value sets under the metric.
 double poseDistance(const PoseMetric& metric, const MachineValues& a, const MachineValues& b);

@@ -11,27 +11,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-inline double wrappedAbs(double d, double period) {
-  d = std::abs(d);
-  if (period <= 0) return d;
-  if (d > period) {
-    d -= period;
-    if (d > period) d = std::fmod(d, period);
-  }
-  return std::min(d, period - d);
-}
-
-// poseDistance(), stopping early once the sum exceeds `bound` (the result is then > bound).
-inline double distanceBounded(const PoseMetric& m, const MachineValues& a, const MachineValues& b,
-                              double bound) {
-  double s = 0;
-  for (int i = m.begin; i < m.end; ++i) {
-    s += wrappedAbs(a[i] - b[i], m.period[i]);
-    if (s > bound) return s;
-  }
-  return s;
-}
-
 struct Node {
   MachineValues q{};
   double cost = kInf;  // path cost to here, penalties included
@@ -98,7 +77,7 @@ TrackChoice chooseTrackPoses(size_t layers, const PoseMetric& metric, const Trac
     cand.clear();
   };
   auto relax = [&](Node& c, const Node& u, int32_t ui) {
-    const double d = distanceBounded(metric, u.q, c.q, c.cost - u.cost);
+    const double d = poseDistanceBounded(metric, u.q, c.q, c.cost - u.cost);
     const double cost = u.cost + d;
     if (cost < c.cost) {
       c.cost = cost;

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "geometry/segment.h"
 #include "kinematics/kinematics.h"
 
 namespace omnislice {
@@ -13,13 +14,6 @@ namespace omnislice {
 namespace {
 
 constexpr double kPi = 3.14159265358979323846;
-
-double segmentDistance(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 double angleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
@@ -105,14 +99,14 @@ MoveInterpolation interpolateMachineMove(const MachineProfile& machine, const Ma
           return fail("machine values cannot be mapped to the part frame");
         }
         split = angleBetween(start.axis, stop.axis) > axisStep ||
-                segmentDistance(mid.tip, start.tip, stop.tip) > options.chordTolerance;
+                std::sqrt(pointSegmentDistance2(mid.tip, start.tip, stop.tip)) > options.chordTolerance;
         for (double q : {0.25, 0.75}) {
           if (split) break;
           Point p;
           if (!eval(start.t + q * (stop.t - start.t), p)) {
             return fail("machine values cannot be mapped to the part frame");
           }
-          split = segmentDistance(p.tip, start.tip, stop.tip) > options.chordTolerance;
+          split = std::sqrt(pointSegmentDistance2(p.tip, start.tip, stop.tip)) > options.chordTolerance;
         }
       }
       if (split) {

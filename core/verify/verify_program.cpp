@@ -34,6 +34,7 @@
 #include <nlohmann/json.hpp>
 
 #include "geometry/aabb_tree.h"
+#include "geometry/segment.h"
 #include "kinematics/kinematics.h"
 
 namespace omnislice {
@@ -55,15 +56,6 @@ struct Sample {
   int segment = 0;
   double beadS = 0;  // arc length within its bead
 };
-
-double segmentDistance2(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                        const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  double t = len2 > 0 ? (p - a).dot(ab) / len2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return (a + t * ab - p).squaredNorm();
-}
 
 int64_t cellKey(int64_t x, int64_t y, int64_t z) {
   const int64_t o = 1 << 20;
@@ -323,7 +315,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         // The piece straddling the cut-off, clipped to the part laid before it.
         const Piece& p = pieces[nextPiece];
         const double t = (cutoff - p.s0) / (p.s1 - p.s0);
-        ok = segmentDistance2(smp.p, p.a, p.a + t * (p.b - p.a)) <= R * R;
+        ok = pointSegmentDistance2(smp.p, p.a, p.a + t * (p.b - p.a)) <= R * R;
       }
       if (!ok && cellCount > 0) {
         bool inGrid = true;
@@ -337,7 +329,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           const size_t c = size_t((cx[2] * dims[1] + cx[1]) * dims[0] + cx[0]);
           for (uint32_t e = offsets[c]; e < offsets[c + 1] && entries[e] < nextPiece; ++e) {
             const Piece& p = pieces[entries[e]];
-            if (segmentDistance2(smp.p, p.a, p.b) <= R * R) {
+            if (pointSegmentDistance2(smp.p, p.a, p.b) <= R * R) {
               ok = true;
               break;
             }

@@ -362,6 +362,30 @@ TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
   }
 }
 
+// 200 mutations of a valid program (characters from `alphabet` or NUL written over random places,
+// every fourth one also truncated): each parses or fails with a line number and no moves, moves
+// are always finite, and some mutations do fail.
+void expectMutationsFailCleanly(const std::string& valid, const std::string& alphabet,
+                                std::mt19937& rng) {
+  int errors = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    std::string text = valid;
+    std::uniform_int_distribution<size_t> at(0, text.size() - 1);
+    for (int k = 0; k < 1 + trial % 5; ++k) text[at(rng)] = alphabet.c_str()[rng() % (alphabet.size() + 1)];  // NUL too
+    if (trial % 4 == 3) text.resize(at(rng));
+    const ParsedProgram p = readProgram(text);
+    if (!p.ok()) {
+      ++errors;
+      EXPECT_NE(p.message.find("line "), std::string::npos) << p.message;
+      EXPECT_TRUE(p.moves.empty());
+    }
+    for (const ProgramMove& m : p.moves) {
+      EXPECT_TRUE(m.from.allFinite() && m.to.allFinite() && m.axis.allFinite());
+    }
+  }
+  EXPECT_GT(errors, 0);
+}
+
 TEST(WriteProgram, MutatedRobotProgramsNeverCrash) {
   const MachinePath path = robotPath();
   std::mt19937 rng(7);
@@ -370,23 +394,7 @@ TEST(WriteProgram, MutatedRobotProgramsNeverCrash) {
     info.robotFormat = format;
     const WriteProgramResult w = writeProgram(path, info);
     ASSERT_TRUE(w.ok());
-    int errors = 0;
-    for (int trial = 0; trial < 200; ++trial) {
-      std::string text = w.text;
-      std::uniform_int_distribution<size_t> at(0, text.size() - 1);
-      for (int k = 0; k < 1 + trial % 5; ++k) text[at(rng)] = "q,#[]()=t0.-e9\n "[rng() % 17];
-      if (trial % 4 == 3) text.resize(at(rng));
-      const ParsedProgram p = readProgram(text);
-      if (!p.ok()) {
-        ++errors;
-        EXPECT_NE(p.message.find("line "), std::string::npos) << p.message;
-        EXPECT_TRUE(p.moves.empty());
-      }
-      for (const ProgramMove& m : p.moves) {
-        EXPECT_TRUE(m.from.allFinite() && m.to.allFinite() && m.axis.allFinite());
-      }
-    }
-    EXPECT_GT(errors, 0);
+    expectMutationsFailCleanly(w.text, "q,#[]()=t0.-e9\n ", rng);
   }
 }
 
@@ -461,23 +469,7 @@ TEST(WriteProgram, MutatedGcodeOfEveryKindNeverCrashes) {
     const MachinePath path = twoPartPath(kind);
     const WriteProgramResult w = writeProgram(path, infoFor(path.machine));
     ASSERT_TRUE(w.ok());
-    int errors = 0;
-    for (int trial = 0; trial < 200; ++trial) {
-      std::string text = w.text;
-      std::uniform_int_distribution<size_t> at(0, text.size() - 1);
-      for (int k = 0; k < 1 + trial % 5; ++k) text[at(rng)] = "GXABCE;{[0.-e9\n #"[rng() % 18];
-      if (trial % 4 == 3) text.resize(at(rng));
-      const ParsedProgram p = readProgram(text);
-      if (!p.ok()) {
-        ++errors;
-        EXPECT_NE(p.message.find("line "), std::string::npos) << p.message;
-        EXPECT_TRUE(p.moves.empty());
-      }
-      for (const ProgramMove& m : p.moves) {
-        EXPECT_TRUE(m.from.allFinite() && m.to.allFinite() && m.axis.allFinite());
-      }
-    }
-    EXPECT_GT(errors, 0);
+    expectMutationsFailCleanly(w.text, "GXABCE;{[0.-e9\n #", rng);
   }
 }
 
