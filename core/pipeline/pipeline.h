@@ -21,6 +21,16 @@ struct PreviewBuffers {
   std::vector<uint32_t> layers;   // #S: layer index
   std::vector<float> machine;     // #S*6: machine values at each segment's end (machine kinds'
                                   // units: mm, deg; robot6 rad), for the machine animation
+  std::vector<float> axes;        // #S*3: part-frame nozzle axis (unit) at each segment's end
+
+  // Curved-layer methods (voxel, geodesic): every layer's regions merged into one triangle soup.
+  std::vector<float> surfacePositions;    // #V*3, part frame, mm
+  std::vector<uint32_t> surfaceTriangles; // #T*3 vertex indices
+  std::vector<uint32_t> surfaceLayers;    // #T layer index per triangle
+  // Voxel method: centres of missed voxels and of support cells, and the voxel width.
+  std::vector<float> missedVoxels;        // #M*3, part frame, mm
+  std::vector<float> supportVoxels;       // #K*3, part frame, mm
+  float voxelWidth = 0;                   // mm, 0 for other methods
 };
 
 struct SliceOutput : Outcome {

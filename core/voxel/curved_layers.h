@@ -1,0 +1,42 @@
+// SPDX-License-Identifier: MIT
+// Curved layers of paper 001 Section 4.5 (Eq. 2): iso-surfaces of the growing field G at values
+// g_i, extracted from the voxel-centre (dual) grid with G extended one ring beyond the printable
+// cells so every surface reaches past the solid, then trimmed by the input solid (and support
+// cells) so each layer's boundary lies on the part's surface, and split into connected regions.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "mesh/mesh.h"
+#include "surface/surface_layers.h"
+#include "voxel/voxel_grid.h"
+
+namespace omnislice {
+
+struct CurvedLayersOptions {
+  // Iso-value step in G units; 0 = Eq. 2's w/d (voxel width over nozzle diameter). g_i =
+  // (i - 1/2) * step, i = 1 .. ceil(max G / step).
+  double isoStep = 0;
+  double nozzleDiameter = 0.4;   // d, mm (for Eq. 2)
+  double trimTolerance = 0.005;  // mm, trimmed boundary points lie within this of the surface
+  double minRegionArea = 0.05;   // mm^2, drop smaller connected regions (slivers of trimming)
+};
+
+struct CurvedLayersResult : Outcome {
+  std::vector<CurvedLayer> layers;  // in print order (increasing g_i); empty layers dropped
+  size_t regionCount = 0;
+  size_t triangleCount = 0;
+  ThicknessStats thickness;
+  double extractionMs = 0, trimmingMs = 0, thicknessMs = 0;
+};
+
+// grid and g (GrowthField::g, per cell; <= 0 means no value) as produced by growField; solid is
+// the placed input solid (part frame) the layers are trimmed by. Progress stage "layers".
+CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<int32_t>& g,
+                                       const Mesh& solid, const CurvedLayersOptions& options,
+                                       const ProgressFn& progress = {});
+
+
+}  // namespace omnislice

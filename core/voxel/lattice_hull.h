@@ -1,0 +1,55 @@
+// SPDX-License-Identifier: MIT
+// Exact 3D convex hull of integer lattice points (voxel indices) for the convex-front of paper 001
+// Section 4.2-4.4. Coordinates are cell indices, so every orientation test is exact in int64 and
+// the many coplanar lattice points need no epsilon. Containment with a margin eps (in cell widths)
+// realises Definitions 2-3: a point is inside when its distance to every facet plane is >= eps on
+// the inner side.
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <vector>
+
+namespace omnislice {
+
+class LatticeHull {
+ public:
+  // Facet plane n.x <= offset (n integer, not normalised; invNorm = 1/|n|).
+  struct Plane {
+    int64_t nx = 0, ny = 0, nz = 0, offset = 0;
+    double invNorm = 0;
+    // Signed distance in cell widths: > 0 outside, < 0 inside.
+    double distance(const Eigen::Vector3i& p) const {
+      return static_cast<double>(nx * p.x() + ny * p.y() + nz * p.z() - offset) * invNorm;
+    }
+  };
+
+  LatticeHull() = default;
+  // Hull of points (duplicates, coplanar and collinear sets allowed). Degenerate sets (fewer than
+  // 4 non-coplanar points) give a flat hull: dimension() < 3 and containment is then
+  // "within eps of the affine hull's convex hull".
+  explicit LatticeHull(const std::vector<Eigen::Vector3i>& points);
+
+  // Hull of this hull's vertices plus more points (the incremental C(C_prev U L_c U T)).
+  LatticeHull extended(const std::vector<Eigen::Vector3i>& points) const;
+
+  int dimension() const { return dimension_; }  // 0..3; -1 when empty
+  const std::vector<Eigen::Vector3i>& vertices() const { return vertices_; }
+  const std::vector<Plane>& planes() const { return planes_; }  // distinct facet planes
+  // Triangulated facets (vertex indices into vertices(), counter-clockwise from outside).
+  const std::vector<Eigen::Vector3i>& facets() const { return facets_; }
+
+  // Definition 3 "inside": distance to every facet plane <= -eps (eps in cell widths, >= 0).
+  // hint: index of the plane to test first (the last separating plane found), updated on exit.
+  bool inside(const Eigen::Vector3i& p, double eps, int* hint = nullptr) const;
+  // Signed distance of p to the hull boundary in cell widths (> 0 outside, < 0 inside; the
+  // outside value is the largest plane distance, a lower bound of the Euclidean distance).
+  double signedDistance(const Eigen::Vector3i& p) const;
+
+ private:
+  int dimension_ = -1;
+  std::vector<Eigen::Vector3i> vertices_;
+  std::vector<Plane> planes_;
+  std::vector<Eigen::Vector3i> facets_;
+};
+
+}  // namespace omnislice
