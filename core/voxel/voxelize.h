@@ -2,7 +2,9 @@
 // Conservative voxelisation of a closed solid (paper 001 Section 4.1, H subset of H~): a cell is
 // Solid when its closed cube meets the solid (its centre is inside, or a surface triangle
 // overlaps the cube: exact separating-axis triangle/box test). The platform T is one layer of
-// Platform cells directly below every Solid cell of the lowest part layer (the part's footprint).
+// Platform cells directly below the part: the footprint (below every Solid cell of the lowest part
+// layer), or a disc of platformRadius around the footprint's centre (a real build plate, as
+// VoxelMultiAxisAM adds its platform solid to every hull; ../shared/models/voxelmaam_platform.obj).
 #pragma once
 #include "common/progress.h"
 #include "common/status.h"
@@ -14,6 +16,7 @@ namespace omnislice {
 struct VoxelizeOptions {
   double width = 0.32;     // voxel width w, mm (paper: 0.8 x nozzle diameter), > 0
   int margin = 2;          // empty cells kept around everything, >= 2
+  double platformRadius = 0;  // mm; 0 = footprint only, else a disc (plus the footprint)
   size_t maxCells = 400000000;  // refuse grids with more cells (InvalidOption, message says why)
 };
 
