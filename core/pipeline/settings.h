@@ -24,8 +24,22 @@ struct PlacementSettings {
   bool center = true;          // centre the bbox on (0,0) in XY (else keep XY as read)
 };
 
+// The voxel method (paper 001): voxelisation, growing field, curved layers, Fermat spirals.
+struct VoxelSettings {
+  double widthMm = 0;                  // voxel width w, mm; 0 = 0.8 x nozzle (paper Section 6.2.1)
+  std::string strategy = "pg-sp-gcfa"; // gcfa | sp-gcfa | pg-gcfa | pg-sp-gcfa
+  std::string shadow = "recursive";    // shadow prevention scheme: incremental | recursive
+  double peelStep = 1;                 // delta f of Algorithm 1, peeling sheets
+  double epsilon = -1;                 // Definitions 2-3, voxel widths; < 0 = the field's default
+  bool supports = false;               // add supports under missed voxels and grow again
+  double isoStep = 0;                  // curved-layer iso step in G units; 0 = Eq. 2 (w/d)
+  double platformRadiusMm = 0;         // platform disc radius; 0 = the part's footprint
+  double maxVoxels = 3e6;              // refuse grids with more solid voxels
+};
+
 struct Settings {
-  std::string method = "planar";       // planar (later: multidir, voxel, geodesic, isoplanar)
+  std::string method = "planar";       // planar | voxel (later: multidir, geodesic, isoplanar)
+  VoxelSettings voxel;
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty

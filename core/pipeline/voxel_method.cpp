@@ -1,0 +1,233 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/voxel_method.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "surface/curved_toolpath.h"
+#include "surface/fermat_spiral.h"
+#include "voxel/curved_layers.h"
+#include "voxel/growth_field.h"
+#include "voxel/voxelize.h"
+
+namespace omnislice {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+VoxelMethodOutput failure(Status s, std::string message) {
+  VoxelMethodOutput out;
+  out.status = s;
+  out.message = std::move(message);
+  return out;
+}
+
+VoxelMethodOutput failure(const Outcome& o) { return failure(o.status, o.message); }
+
+void pushPoint(std::vector<float>& out, const Eigen::Vector3d& p) {
+  out.push_back(static_cast<float>(p.x()));
+  out.push_back(static_cast<float>(p.y()));
+  out.push_back(static_cast<float>(p.z()));
+}
+
+}  // namespace
+
+VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
+                                 const ProgressFn& progress) {
+  VoxelMethodOutput out;
+  const double nozzle = settings.nozzleDiameter;
+  const double w = settings.voxel.widthMm > 0 ? settings.voxel.widthMm : 0.8 * nozzle;
+  const BoundingBox box = boundingBox(part);
+  const Eigen::Vector3d extent = box.max - box.min;
+  // Refuse before allocating: the bounding box holds at least the solid voxels.
+  const double boxCells = (extent.x() / w + 5) * (extent.y() / w + 5) * (extent.z() / w + 5);
+  if (!(boxCells < 2e9)) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg,
+                  "the voxel grid would have %.3g cells at voxel width %.3g mm; raise "
+                  "voxel.width_mm or scale the model down",
+                  boxCells, w);
+    return failure(Status::InvalidOption, msg);
+  }
+
+  // 1. Voxelisation (Section 4.1).
+  Clock::time_point t0 = Clock::now();
+  VoxelizeOptions vopt;
+  vopt.width = w;
+  vopt.platformRadius = settings.voxel.platformRadiusMm;
+  vopt.maxCells = static_cast<size_t>(std::min(2e9, std::max(1e6, settings.voxel.maxVoxels * 40)));
+  VoxelizeResult vox = voxelizeSolid(part, vopt, progress);
+  if (!vox.ok()) return failure(vox);
+  if (static_cast<double>(vox.solidCount) > settings.voxel.maxVoxels) {
+    char msg[220];
+    std::snprintf(msg, sizeof msg,
+                  "the model needs %zu voxels at voxel width %.3g mm, more than voxel.max_voxels "
+                  "(%.0f); raise voxel.width_mm or voxel.max_voxels",
+                  vox.solidCount, w, settings.voxel.maxVoxels);
+    return failure(Status::InvalidOption, msg);
+  }
+  out.timingsMs.emplace_back("voxelize", msSince(t0));
+  VoxelGrid grid = std::move(vox.grid);
+
+  // 2. Growing field (Section 4.2-4.4, Algorithm 1), supports under missed voxels (Fig. 14c).
+  t0 = Clock::now();
+  GrowthOptions gopt;
+  if (!parseGrowthStrategy(settings.voxel.strategy, gopt.strategy) ||
+      !parseShadowScheme(settings.voxel.shadow, gopt.shadowScheme)) {
+    return failure(Status::InvalidOption, "unknown voxel.strategy or voxel.shadow");
+  }
+  gopt.peelStep = settings.voxel.peelStep;
+  if (settings.voxel.epsilon >= 0) gopt.epsilon = settings.voxel.epsilon;
+  GrowthField field = growField(grid, gopt, progress);
+  if (!field.ok()) return failure(field);
+  const size_t missedBeforeSupports = field.missed;
+  size_t supportCells = 0;
+  int supportRounds = 0;
+  double peelingMs = field.peelingMs, shadowMs = field.shadowMs;
+  while (settings.voxel.supports && field.missed > 0 && supportRounds < 3) {
+    std::vector<uint8_t> missed(grid.cellCount(), 0);
+    for (size_t i = 0; i < grid.cellCount(); ++i) missed[i] = field.g[i] < 0 ? 1 : 0;
+    const size_t added = addSupportColumns(grid, missed);
+    ++supportRounds;
+    if (added == 0) break;
+    supportCells += added;
+    field = growField(grid, gopt, progress);
+    if (!field.ok()) return failure(field);
+    peelingMs += field.peelingMs;
+    shadowMs += field.shadowMs;
+  }
+  const double fieldMs = msSince(t0);
+  out.timingsMs.emplace_back("peeling", peelingMs);
+  out.timingsMs.emplace_back("growth", std::max(0.0, fieldMs - peelingMs));
+
+  // 3. Curved layers (Section 4.5, Eq. 2).
+  t0 = Clock::now();
+  CurvedLayersOptions lopt;
+  lopt.isoStep = settings.voxel.isoStep;
+  lopt.nozzleDiameter = nozzle;
+  CurvedLayersResult layers = extractCurvedLayers(grid, field.g, part, lopt, progress);
+  if (!layers.ok()) return failure(layers);
+  out.timingsMs.emplace_back("layers", msSince(t0));
+
+  // 4. Fermat spirals on every region (Section 5.1) and the tool-path (Section 5.2).
+  t0 = Clock::now();
+  const double lineWidth = settings.effectiveLineWidth();
+  SpiralOptions sopt;
+  sopt.spacing = lineWidth;
+  std::vector<std::vector<std::vector<SurfacePath>>> paths(layers.layers.size());
+  size_t regionCount = 0, pathCount = 0, unfilledRegions = 0;
+  for (size_t l = 0; l < layers.layers.size(); ++l) {
+    const CurvedLayer& layer = layers.layers[l];
+    paths[l].resize(layer.regions.size());
+    for (size_t r = 0; r < layer.regions.size(); ++r) {
+      ++regionCount;
+      SpiralResult spiral = fermatSpiralPaths(layer.regions[r].mesh, sopt);
+      if (!spiral.ok() || spiral.paths.empty()) {
+        ++unfilledRegions;
+        continue;
+      }
+      pathCount += spiral.paths.size();
+      paths[l][r] = std::move(spiral.paths);
+    }
+    if (!reportProgress(progress, "toolpath", 0.8 * (l + 1) / layers.layers.size())) {
+      return failure(Status::Cancelled, "cancelled");
+    }
+  }
+  const double spiralMs = msSince(t0);
+  CurvedToolpathOptions topt;
+  topt.lineWidth = lineWidth;
+  topt.nominalHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
+  topt.filamentDiameter = settings.filamentDiameter;
+  topt.printSpeed = settings.printSpeed;
+  topt.firstLayerSpeed = settings.firstLayerSpeed;
+  topt.travelSpeed = settings.travelSpeed;
+  topt.retractLength = settings.retractLength;
+  topt.retractMinTravel = settings.retractMinTravel;
+  CurvedToolpathResult tp = buildCurvedToolpath(layers.layers, paths, topt, progress);
+  if (!tp.ok()) return failure(tp);
+  out.timingsMs.emplace_back("toolpath", msSince(t0));
+  out.toolpath = std::move(tp.toolpath);
+  out.layerHeight = topt.nominalHeight;
+  int printedLayers = 0;
+  for (const auto& layer : paths) {
+    bool any = false;
+    for (const auto& region : layer) any = any || !region.empty();
+    printedLayers += any ? 1 : 0;
+  }
+  out.layers = printedLayers;
+
+  // Preview: layer surfaces, missed and support voxels.
+  PreviewBuffers& p = out.preview;
+  for (size_t l = 0; l < layers.layers.size(); ++l) {
+    for (const LayerRegion& region : layers.layers[l].regions) {
+      const uint32_t base = static_cast<uint32_t>(p.surfacePositions.size() / 3);
+      for (double v : region.mesh.positions) p.surfacePositions.push_back(static_cast<float>(v));
+      for (uint32_t i : region.mesh.triangles) p.surfaceTriangles.push_back(base + i);
+      p.surfaceLayers.insert(p.surfaceLayers.end(), region.mesh.faceCount(),
+                             static_cast<uint32_t>(l));
+    }
+  }
+  size_t solid = 0, support = 0;
+  for (size_t i = 0; i < grid.cellCount(); ++i) {
+    const Eigen::Vector3i c = grid.cell(i);
+    if (grid.state[i] == static_cast<uint8_t>(VoxelState::Solid)) ++solid;
+    if (grid.state[i] == static_cast<uint8_t>(VoxelState::Support)) {
+      ++support;
+      pushPoint(p.supportVoxels, grid.center(c.x(), c.y(), c.z()));
+    }
+    if (field.g[i] < 0) pushPoint(p.missedVoxels, grid.center(c.x(), c.y(), c.z()));
+  }
+  p.voxelWidth = static_cast<float>(w);
+
+  const ThicknessStats& th = layers.thickness;
+  Json hist = {{"min_mm", th.histogramMin}, {"bin_mm", th.histogramBin}, {"counts", th.histogram}};
+  Json timings = {{"voxelize", out.timingsMs[0].second},
+                  {"peeling", peelingMs},
+                  {"shadow", shadowMs},
+                  {"growth", std::max(0.0, fieldMs - peelingMs)},
+                  {"extraction", out.timingsMs[3].second},
+                  {"spirals", spiralMs},
+                  {"toolpaths", out.timingsMs[4].second}};
+  Json report = {{"voxels", solid + support},
+                 {"solid_voxels", solid},
+                 {"support_voxels", support},
+                 {"missed_voxels", field.missed},
+                 {"missed_before_supports", missedBeforeSupports},
+                 {"support_rounds", supportRounds},
+                 {"field_layers", field.layers},
+                 {"layers", out.layers},
+                 {"surface_layers", layers.layers.size()},
+                 {"regions", regionCount},
+                 {"unfilled_regions", unfilledRegions},
+                 {"paths", pathCount},
+                 {"strategy", growthStrategyName(gopt.strategy)},
+                 {"shadow_scheme", shadowSchemeName(gopt.shadowScheme)},
+                 {"epsilon", gopt.epsilon},
+                 {"peel_step", gopt.peelStep},
+                 {"voxel_width_mm", w},
+                 {"iso_step", settings.voxel.isoStep > 0 ? settings.voxel.isoStep : w / nozzle},
+                 {"thickness",
+                  {{"samples", th.samples},
+                   {"mean_mm", th.mean},
+                   {"std_mm", th.stddev},
+                   {"max_deviation_mm", th.maxDeviation},
+                   {"histogram", hist}}},
+                 {"timings_ms", timings},
+                 {"shadow_checks", field.shadowChecks},
+                 {"hull_builds", field.hullBuilds},
+                 {"orientation_fallbacks", tp.orientationFallbacks}};
+  (void)supportCells;
+  out.reportJson = report.dump();
+  return out;
+}
+
+}  // namespace omnislice
