@@ -438,6 +438,11 @@ TEST(Voxelize, BadInputReturnsStatus) {
   EXPECT_EQ(voxelizeSolid(box, o).status, Status::InvalidOption);
   o.platformRadius = std::nan("");
   EXPECT_EQ(voxelizeSolid(box, o).status, Status::InvalidOption);
+  // A platform disc far larger than the part: refused by the cell count of the final grid.
+  o.platformRadius = 1e5;
+  const VoxelizeResult disc = voxelizeSolid(box, o);
+  EXPECT_EQ(disc.status, Status::InvalidOption);
+  EXPECT_NE(disc.message.find("maxCells"), std::string::npos) << disc.message;
   Mesh bad = box;
   bad.positions[4] = std::nan("");
   EXPECT_EQ(voxelizeSolid(bad, {}).status, Status::NonFiniteVertex);
@@ -489,6 +494,7 @@ TEST(VoxelizeModels, BunnyKittenFertilityAreConservative) {
       {"compas_bunny_closed_high_res.stl", UpAxis::PosZ, 0, 0.8},
       {"pymdp_kitten.off", UpAxis::PosY, 0, 0.8},
       {"nestedcages_fertility.off", UpAxis::PosZ, 120, 0.8},
+      {"nestedcages_fertility.off", UpAxis::PosZ, 86, 0.8},  // ~ the paper's 77k voxels (Fig. 14)
       {"compas_bunny_closed_low_res.obj", UpAxis::PosZ, 60, 0.32},
   };
   for (const Case& c : cases) {
