@@ -46,6 +46,7 @@ Mesh mergeLayer(const CurvedLayer& layer) {
 struct Sample {
   Vector3d axis{0, 0, 1};
   double height = 0;
+  double distance = std::numeric_limits<double>::infinity();  // |q - c_q|
   bool fallback = false;
 };
 
@@ -117,7 +118,9 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
   // layer that reaches down to the platform is oriented and sized against it.
   // hint: the axis of the path's previous point (+Z for the first), the side the normal is flipped
   // to where q - c_q is too short to give a direction.
-  auto sampleAt = [&](size_t l, const Vector3d& q, Vector3d n, const Vector3d& hint) {
+  // bound: an upper bound of |q - c_q| (the previous point's distance plus the step, by the
+  // triangle inequality; infinity for the first point), which prunes the tree searches.
+  auto sampleAt = [&](size_t l, const Vector3d& q, Vector3d n, const Vector3d& hint, double bound) {
     Sample s;
     if (l == 0) {
       s.axis = Vector3d::UnitZ();
@@ -127,14 +130,16 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     double best = std::max(0.0, q.z());
     Vector3d c(q.x(), q.y(), 0);
     const size_t first = l > size_t(o.earlierLayers) ? l - size_t(o.earlierLayers) : 0;
-    for (size_t k = first; k < l; ++k) {
+    const double limit = bound * (1 + 1e-12) + 1e-12;
+    for (size_t k = l; k-- > first;) {  // the layer just below first: it is usually the closest
       if (!trees[k] || trees[k]->triangleCount() == 0) continue;
-      const ClosestPoint cp = trees[k]->closest(q, best);
+      const ClosestPoint cp = trees[k]->closest(q, std::min(best, limit));
       if (cp.distance < best) {
         best = cp.distance;
         c = cp.point;
       }
     }
+    s.distance = best;
     s.height = std::clamp(best, hMin, hMax);
     const Vector3d t = q - c;
     const double d = t.norm();
@@ -255,7 +260,9 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
         const bool haveNormals = path.normals.size() == np;
         for (size_t i = 0; i < np; ++i) {
           Vector3d nrm = haveNormals && path.normals[i].allFinite() ? path.normals[i] : Vector3d::Zero();
-          samples[i] = sampleAt(l, path.points[i], nrm, i > 0 ? samples[i - 1].axis : Vector3d::UnitZ());
+          const double bound = i > 0 ? samples[i - 1].distance + (path.points[i] - path.points[i - 1]).norm()
+                                     : std::numeric_limits<double>::infinity();
+          samples[i] = sampleAt(l, path.points[i], nrm, i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(), bound);
           result.orientationFallbacks += samples[i].fallback;
         }
         orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();

@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "geometry/aabb_tree.h"
@@ -413,6 +415,54 @@ TEST(CurvedToolpath, BadInputAndCancellation) {
         return ++calls < 2;
       });
   EXPECT_EQ(c.status, Status::Cancelled);
+}
+
+}  // namespace
+}  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// Measurement (printed): 60 spherical-cap layers of ~19k triangles each, a dense spiral path
+// (turns 0.45 mm apart, points 1 mm apart) per layer. Asserts the radial axes only.
+TEST(CurvedToolpath, SixtyDenseLayersMeasurement) {
+  const Vector3d c(0, 0, -10);
+  const double r0 = 20, h = 0.3;
+  std::vector<CurvedLayer> layers;
+  std::vector<std::vector<std::vector<SurfacePath>>> paths;
+  size_t points = 0;
+  for (int l = 0; l < 60; ++l) {
+    const double r = r0 + l * h;
+    CurvedLayer layer;
+    layer.regions.push_back(capRegion(c, r, 45 * kPi / 180, 40, 240));
+    SurfacePath p;
+    // Archimedean spiral in (theta, phi): theta grows 0.45 mm per turn.
+    double th = 0.5 / r, ph = 0;
+    while (th < 40 * kPi / 180) {
+      const Vector3d u(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      p.points.push_back(c + r * u);
+      p.normals.push_back(u);
+      const double dph = 1.0 / (r * std::sin(th));
+      ph += dph;
+      th += 0.45 / r * dph / (2 * kPi);
+    }
+    points += p.points.size();
+    layers.push_back(layer);
+    paths.push_back({{p}});
+  }
+  CurvedToolpathOptions o;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CurvedToolpathResult r = buildCurvedToolpath(layers, paths, o);
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  expectWellFormed(r, o);
+  double worst = 0;
+  for (const Move& m : r.toolpath.moves) {
+    if (m.kind != MoveKind::Print || m.layer == 0) continue;
+    worst = std::max(worst, std::acos(std::min(1.0, m.axis.dot((m.position - c).normalized()))) * 180 / kPi);
+  }
+  EXPECT_LT(worst, 1.5);
+  std::printf("60 layers, %zu path points, %zu moves: %.0f ms (orientation %.0f ms), worst radial "
+              "deviation %.2f deg\n", points, r.toolpath.moves.size(), ms, r.orientationMs, worst);
 }
 
 }  // namespace
