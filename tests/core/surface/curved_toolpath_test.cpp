@@ -350,6 +350,35 @@ TEST(CurvedToolpath, FallsBackToTheFlippedNormal) {
   }
 }
 
+// Eq. 3 searches the previous earlierLayers layers (and the platform plane): layer 2 sits 0.3 mm
+// above layer 0 while layer 1 lies far away. With 3 earlier layers the height is 0.3; with 1 only
+// layer 1 and the platform (5.3 mm below) count, so the height is clamped to the maximum.
+TEST(CurvedToolpath, SearchesOnlyTheEarlierLayerWindow) {
+  std::vector<CurvedLayer> layers(3);
+  layers[0].regions.push_back(discRegion(0, 0, 5.0, 10));
+  layers[1].regions.push_back(discRegion(100, 0, 5.2, 10));
+  layers[2].regions.push_back(discRegion(0, 0, 5.3, 10));
+  std::vector<std::vector<std::vector<SurfacePath>>> paths = {
+      {{zigzag(0, 0, 5.0, 10, 2, Vector3d::UnitZ())}},
+      {{zigzag(100, 0, 5.2, 10, 2, Vector3d::UnitZ())}},
+      {{zigzag(0, 0, 5.3, 10, 2, Vector3d::UnitZ())}}};
+  for (int window : {3, 2, 1}) {
+    SCOPED_TRACE(window);
+    CurvedToolpathOptions o;
+    o.earlierLayers = window;
+    const CurvedToolpathResult r = buildCurvedToolpath(layers, paths, o);
+    expectWellFormed(r, o);
+    size_t checked = 0;
+    for (const Move& m : r.toolpath.moves) {
+      if (m.kind != MoveKind::Print || m.layer != 2) continue;
+      ++checked;
+      EXPECT_NEAR((m.axis - Vector3d::UnitZ()).norm(), 0, 1e-12);
+      EXPECT_NEAR(m.height, window >= 2 ? 0.3 : o.maxHeightFactor * o.nominalHeight, 1e-9);
+    }
+    EXPECT_GT(checked, 50u);
+  }
+}
+
 TEST(CurvedToolpath, SupportRegionsPrintAsSupport) {
   DiscStack s = discStack(2, 0.16, 0.32);
   s.layers[1].regions[2].support = true;
