@@ -259,6 +259,11 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
         samples.resize(np);
         const bool haveNormals = path.normals.size() == np;
         for (size_t i = 0; i < np; ++i) {
+          // Long paths: keep cancellation within a few milliseconds (~10 us per point).
+          if ((i & 1023) == 1023 &&
+              !reportProgress(progress, stage, (double(l) + double(n) / double(nr)) / double(layers.size()))) {
+            return fail(Status::Cancelled, "cancelled");
+          }
           Vector3d nrm = haveNormals && path.normals[i].allFinite() ? path.normals[i] : Vector3d::Zero();
           const double bound = i > 0 ? samples[i - 1].distance + (path.points[i] - path.points[i - 1]).norm()
                                      : std::numeric_limits<double>::infinity();

@@ -490,6 +490,18 @@ TEST(CurvedToolpath, SixtyDenseLayersMeasurement) {
     worst = std::max(worst, std::acos(std::min(1.0, m.axis.dot((m.position - c).normalized()))) * 180 / kPi);
   }
   EXPECT_LT(worst, 1.5);
+  // Progress is reported within long paths too (every 1024 points), monotone, and cancels there.
+  int calls = 0;
+  double last = -1;
+  bool monotone = true;
+  const CurvedToolpathResult cut = buildCurvedToolpath(layers, paths, o, [&](const char*, double f) {
+    monotone = monotone && f >= last;
+    last = f;
+    return ++calls < 70;  // past the 60 per-layer reports only if paths report too
+  });
+  EXPECT_EQ(cut.status, Status::Cancelled);
+  EXPECT_TRUE(monotone);
+  EXPECT_LT(last, 0.5);
   std::printf("60 layers, %zu path points, %zu moves: %.0f ms (orientation %.0f ms), worst radial "
               "deviation %.2f deg\n", points, r.toolpath.moves.size(), ms, r.orientationMs, worst);
 }
