@@ -47,6 +47,7 @@ struct Sample {
   Vector3d axis{0, 0, 1};
   double height = 0;
   double distance = std::numeric_limits<double>::infinity();  // |q - c_q|
+  int64_t layer = -1, triangle = -1;  // where c_q lies (-1: the platform)
   bool fallback = false;
 };
 
@@ -109,6 +110,7 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
   // One AABB tree per layer, built when the layer is first needed as an "earlier" layer and kept
   // for the next earlierLayers layers.
   std::vector<std::unique_ptr<AabbTree>> trees(layers.size());
+  std::vector<Mesh> merged(layers.size());
   const double hMin = o.minHeightFactor * o.nominalHeight, hMax = o.maxHeightFactor * o.nominalHeight;
   const double tinyDistance = 0.1 * o.nominalHeight;
   const double cosLimit = std::cos(80.0 * 3.14159265358979323846 / 180.0);
@@ -118,9 +120,9 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
   // layer that reaches down to the platform is oriented and sized against it.
   // hint: the axis of the path's previous point (+Z for the first), the side the normal is flipped
   // to where q - c_q is too short to give a direction.
-  // bound: an upper bound of |q - c_q| (the previous point's distance plus the step, by the
-  // triangle inequality; infinity for the first point), which prunes the tree searches.
-  auto sampleAt = [&](size_t l, const Vector3d& q, Vector3d n, const Vector3d& hint, double bound) {
+  // prev: the path's previous sample (nullptr for the first): the triangle its c_q lies on gives
+  // a near-tight first candidate, so the tree searches prune early.
+  auto sampleAt = [&](size_t l, const Vector3d& q, Vector3d n, const Vector3d& hint, const Sample* prev) {
     Sample s;
     if (l == 0) {
       s.axis = Vector3d::UnitZ();
@@ -130,13 +132,27 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     double best = std::max(0.0, q.z());
     Vector3d c(q.x(), q.y(), 0);
     const size_t first = l > size_t(o.earlierLayers) ? l - size_t(o.earlierLayers) : 0;
-    const double limit = bound * (1 + 1e-12) + 1e-12;
+    if (prev && prev->triangle >= 0) {
+      const Mesh& m = merged[size_t(prev->layer)];
+      const size_t t = size_t(prev->triangle);
+      const Vector3d p = closestPointOnTriangle(q, m.vertex(m.triangles[3 * t]), m.vertex(m.triangles[3 * t + 1]),
+                                                m.vertex(m.triangles[3 * t + 2]));
+      const double d = (p - q).norm();
+      if (d < best) {
+        best = d;
+        c = p;
+        s.layer = prev->layer;
+        s.triangle = prev->triangle;
+      }
+    }
     for (size_t k = l; k-- > first;) {  // the layer just below first: it is usually the closest
       if (!trees[k] || trees[k]->triangleCount() == 0) continue;
-      const ClosestPoint cp = trees[k]->closest(q, std::min(best, limit));
+      const ClosestPoint cp = trees[k]->closest(q, best);
       if (cp.distance < best) {
         best = cp.distance;
         c = cp.point;
+        s.layer = int64_t(k);
+        s.triangle = cp.triangle;
       }
     }
     s.distance = best;
@@ -218,9 +234,14 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     const auto t0 = Clock::now();
     if (l > 0) {
       const size_t first = l > size_t(o.earlierLayers) ? l - size_t(o.earlierLayers) : 0;
-      for (size_t k = 0; k < first; ++k) trees[k].reset();
+      for (size_t k = 0; k < first; ++k) {
+        trees[k].reset();
+        merged[k] = Mesh();
+      }
       for (size_t k = first; k < l; ++k) {
-        if (!trees[k]) trees[k] = std::make_unique<AabbTree>(mergeLayer(layers[k]));
+        if (trees[k]) continue;
+        merged[k] = mergeLayer(layers[k]);
+        trees[k] = std::make_unique<AabbTree>(merged[k]);
       }
     }
     orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
@@ -265,9 +286,8 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
             return fail(Status::Cancelled, "cancelled");
           }
           Vector3d nrm = haveNormals && path.normals[i].allFinite() ? path.normals[i] : Vector3d::Zero();
-          const double bound = i > 0 ? samples[i - 1].distance + (path.points[i] - path.points[i - 1]).norm()
-                                     : std::numeric_limits<double>::infinity();
-          samples[i] = sampleAt(l, path.points[i], nrm, i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(), bound);
+          samples[i] = sampleAt(l, path.points[i], nrm, i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(),
+                                i > 0 ? &samples[i - 1] : nullptr);
           result.orientationFallbacks += samples[i].fallback;
         }
         orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
