@@ -156,7 +156,8 @@ VoxelizeResult voxelizeSolid(const Mesh& mesh, const VoxelizeOptions& options,
     }
   }
 
-  // 2. Cells whose open cube a surface triangle meets: rasterise each triangle over its bbox.
+  // 2. Cells whose open cube a surface triangle meets: rasterise each triangle over the cells of
+  // its bounding box near its plane.
   const size_t nf = mesh.faceCount();
   const Vector3d shift(iLo, jLo, 0);
   for (size_t f = 0; f < nf; ++f) {
@@ -177,13 +178,42 @@ VoxelizeResult voxelizeSolid(const Mesh& mesh, const VoxelizeOptions& options,
       if (r1[d] < r0[d]) emptyRange = true;
     }
     if (emptyRange) continue;
-    for (int k = r0[2]; k <= r1[2]; ++k) {
-      for (int j = r0[1]; j <= r1[1]; ++j) {
-        for (int i = r0[0]; i <= r1[0]; ++i) {
-          uint8_t& s = part[pidx(i, j, k)];
-          if (s == solid) continue;
-          const Vector3d centre(i + 0.5, j + 0.5, k + 0.5);
-          if (triangleMeetsOpenBox(a - centre, b - centre, c - centre, 0.5)) s = solid;
+    auto test = [&](int i, int j, int k) {
+      uint8_t& s = part[pidx(i, j, k)];
+      if (s == solid) return;
+      const Vector3d centre(i + 0.5, j + 0.5, k + 0.5);
+      if (triangleMeetsOpenBox(a - centre, b - centre, c - centre, 0.5)) s = solid;
+    };
+    const Vector3d nrm = (b - a).cross(c - a);
+    int d = 0;
+    if (std::abs(nrm.y()) > std::abs(nrm[d])) d = 1;
+    if (std::abs(nrm.z()) > std::abs(nrm[d])) d = 2;
+    if (nrm[d] == 0) {  // degenerate (zero-area) triangle: every cell of its bounding box
+      for (int k = r0[2]; k <= r1[2]; ++k)
+        for (int j = r0[1]; j <= r1[1]; ++j)
+          for (int i = r0[0]; i <= r1[0]; ++i) test(i, j, k);
+      continue;
+    }
+    // Walk the cells along the two other axes; along the dominant axis d only the cells the
+    // triangle's plane crosses over that square (at most ~3, as |n_d| is the largest component),
+    // widened by one cell against rounding. The exact test decides.
+    const int ax = (d + 1) % 3, ay = (d + 2) % 3;
+    const double gx = -nrm[ax] / nrm[d], gy = -nrm[ay] / nrm[d];  // plane: x_d = a_d + gx dx + gy dy
+    int cell[3];
+    for (int u = r0[ax]; u <= r1[ax]; ++u) {
+      for (int v = r0[ay]; v <= r1[ay]; ++v) {
+        const double dx0 = u - a[ax], dx1 = u + 1 - a[ax], dy0 = v - a[ay], dy1 = v + 1 - a[ay];
+        const double z00 = gx * dx0 + gy * dy0, z01 = gx * dx0 + gy * dy1, z10 = gx * dx1 + gy * dy0,
+                     z11 = gx * dx1 + gy * dy1;
+        const double zlo = std::max(tlo[d], a[d] + std::min({z00, z01, z10, z11}));
+        const double zhi = std::min(thi[d], a[d] + std::max({z00, z01, z10, z11}));
+        const int k0 = std::max(r0[d], static_cast<int>(std::floor(zlo)) - 1);
+        const int k1 = std::min(r1[d], static_cast<int>(std::ceil(zhi)));
+        cell[ax] = u;
+        cell[ay] = v;
+        for (int k = k0; k <= k1; ++k) {
+          cell[d] = k;
+          test(cell[0], cell[1], cell[2]);
         }
       }
     }

@@ -319,6 +319,25 @@ TEST(Voxelize, TorusAndRotatedBoxAreConservativeAndTight) {
   }
 }
 
+// Large slanted triangles (a CAD-like rotated cube: 12 faces, each spanning ~100 cells per side)
+// must not cost a triangle/box test per cell of their bounding boxes.
+TEST(Voxelize, LargeSlantedTrianglesAreFast) {
+  Mesh box = test::makeBox(-15, -15, -15, 15, 15, 15);
+  const Eigen::Matrix3d rot = (Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized())).toRotationMatrix();
+  for (size_t v = 0; v < box.vertexCount(); ++v) {
+    const Vector3d p = rot * box.vertex(v);
+    for (int d = 0; d < 3; ++d) box.positions[3 * v + d] = p[d];
+  }
+  const Mesh m = placed(box);
+  const auto t0 = std::chrono::steady_clock::now();
+  const VoxelizeResult r = voxelizeSolid(m, {0.25});
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(r.ok()) << r.message;
+  std::printf("rotated 30 mm cube at w 0.25: %zu solid cells of %zu, %.0f ms\n", r.solidCount, r.grid.cellCount(), ms);
+  EXPECT_LT(ms, 1000);
+  checkConservative(m, 0.25, 2000, 23);
+}
+
 // ---- platform --------------------------------------------------------------------------------
 
 TEST(Voxelize, PlatformDiscAroundFootprintCentre) {
