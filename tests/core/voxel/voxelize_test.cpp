@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -336,6 +337,30 @@ TEST(Voxelize, LargeSlantedTrianglesAreFast) {
   std::printf("rotated 30 mm cube at w 0.25: %zu solid cells of %zu, %.0f ms\n", r.solidCount, r.grid.cellCount(), ms);
   EXPECT_LT(ms, 1000);
   checkConservative(m, 0.25, 2000, 23);
+}
+
+// Inside-ness uses the non-zero winding rule, and the triangle test does not care about order:
+// an inward-oriented copy with shuffled faces gives the same grid.
+TEST(Voxelize, IndependentOfOrientationAndFaceOrder) {
+  const Mesh m = placed(test::makeTorus(10, 3.3, 48, 24));
+  Mesh flipped = m;
+  const size_t nf = m.faceCount();
+  std::vector<size_t> order(nf);
+  for (size_t f = 0; f < nf; ++f) order[f] = f;
+  std::shuffle(order.begin(), order.end(), std::mt19937(3));
+  for (size_t f = 0; f < nf; ++f) {
+    const size_t g = order[f];
+    flipped.triangles[3 * f] = m.triangles[3 * g];
+    flipped.triangles[3 * f + 1] = m.triangles[3 * g + 2];
+    flipped.triangles[3 * f + 2] = m.triangles[3 * g + 1];
+  }
+  ASSERT_LT(test::meshVolume(flipped), 0);
+  const VoxelizeResult a = voxelizeSolid(m, {0.41}), b = voxelizeSolid(flipped, {0.41});
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_GT(a.solidCount, 1000u);
+  EXPECT_EQ(a.grid.dims, b.grid.dims);
+  EXPECT_EQ(a.grid.origin, b.grid.origin);
+  EXPECT_TRUE(a.grid.state == b.grid.state);
 }
 
 // ---- platform --------------------------------------------------------------------------------
