@@ -44,12 +44,18 @@ class LatticeHull {
   // Signed distance of p to the hull boundary in cell widths (> 0 outside, < 0 inside; the
   // outside value is the largest plane distance, a lower bound of the Euclidean distance).
   double signedDistance(const Eigen::Vector3i& p) const;
+  // Exact test (integers, no epsilon): p inside or on the hull (3D hulls only; false otherwise).
+  // hint as for inside().
+  bool insideOrOn(const Eigen::Vector3i& p, int* hint = nullptr) const;
+  // Per triangulated facet: index of its (distinct) plane in planes() (3D hulls).
+  const std::vector<int>& facetPlanes() const { return facetPlane_; }
 
  private:
   int dimension_ = -1;
   std::vector<Eigen::Vector3i> vertices_;
   std::vector<Plane> planes_;
   std::vector<Eigen::Vector3i> facets_;
+  std::vector<int> facetPlane_;
 };
 
 }  // namespace omnislice
