@@ -399,6 +399,174 @@ void trimSurface(const LayerSurface& in, InsideTest& inside, const AabbTree& tre
   }
 }
 
+// Collapses edges shorter than minLength, shortest first: an interior endpoint moves onto the
+// other (boundary vertices keep their exact positions on the surface); a boundary edge may drop
+// one of its two boundary vertices when that vertex lies within flatness of the new boundary
+// chord. Only when the link condition holds (the endpoints share
+// exactly the opposite vertices, so the mesh stays edge-manifold) and no surrounding triangle
+// turns over. Marching tetrahedra leave clusters of vertices near lattice points and trimming leaves
+// crossing points next to kept vertices; this removes those slivers without moving any vertex
+// off the iso-surface.
+void collapseShortEdges(LayerSurface& s, double minLength, double flatness, KeyMap& edgeMap) {
+  const size_t nv = s.positions.size(), nt = s.triangles.size();
+  if (nt == 0 || !(minLength > 0)) return;
+  const double min2 = minLength * minLength;
+  // Open-boundary vertices (edges used once) are pinned like trimmed-boundary vertices.
+  std::vector<uint8_t> pinned(s.boundary);
+  {
+    edgeMap.clear();
+    std::vector<uint32_t> uses;
+    for (const auto& t : s.triangles)
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t a = t[e], b = t[(e + 1) % 3];
+        const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+        bool added = false;
+        const uint32_t id = edgeMap.getOrAdd(key, static_cast<uint32_t>(uses.size()), added);
+        if (added) uses.push_back(0);
+        ++uses[id];
+      }
+    for (const auto& t : s.triangles)
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t a = t[e], b = t[(e + 1) % 3];
+        const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+        bool added = false;
+        if (uses[edgeMap.getOrAdd(key, 0, added)] != 2) pinned[a] = pinned[b] = 1;
+      }
+  }
+  struct Candidate {
+    double len2;
+    uint32_t a, b;
+  };
+  std::vector<Candidate> candidates;
+  for (const auto& t : s.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (a > b) continue;  // each edge once per triangle side (a boundary edge has one)
+      const double l2 = (s.positions[a] - s.positions[b]).squaredNorm();
+      if (l2 < min2) candidates.push_back({l2, a, b});
+    }
+  if (candidates.empty()) return;
+  std::sort(candidates.begin(), candidates.end(),
+            [](const Candidate& x, const Candidate& y) { return x.len2 < y.len2; });
+  // Vertex -> triangles (CSR start, then per-vertex growth lists only for kept vertices).
+  std::vector<std::vector<uint32_t>> vt(nv);
+  for (uint32_t f = 0; f < nt; ++f)
+    for (uint32_t v : s.triangles[f]) vt[v].push_back(f);
+  std::vector<uint8_t> deadTri(nt, 0), removed(nv, 0);
+  std::vector<uint32_t> ringK, ringR, shared;
+  auto normal = [&](const std::array<uint32_t, 3>& t) {
+    return Eigen::Vector3d((s.positions[t[1]] - s.positions[t[0]])
+                               .cross(s.positions[t[2]] - s.positions[t[0]]));
+  };
+  for (const Candidate& c : candidates) {
+    if (removed[c.a] || removed[c.b]) continue;
+    uint32_t k = c.a, r = c.b;  // keep k, remove r (r pinned only when both are)
+    if (pinned[r]) std::swap(k, r);
+    const bool alongBoundary = pinned[r] != 0;
+    if ((s.positions[k] - s.positions[r]).squaredNorm() >= min2) continue;
+    shared.clear();
+    ringR.clear();
+    ringK.clear();
+    Eigen::Vector3d average = Eigen::Vector3d::Zero();
+    for (uint32_t f : vt[r]) {
+      if (deadTri[f]) continue;
+      const auto& t = s.triangles[f];
+      average += normal(t);
+      if (t[0] == k || t[1] == k || t[2] == k) shared.push_back(f);
+      for (uint32_t v : t)
+        if (v != r) ringR.push_back(v);
+    }
+    // An interior r: its edge to k has two triangles. Two pinned ends: only a boundary edge (one
+    // triangle) may collapse, r leaving the boundary polyline (both ends lie on the surface).
+    if (shared.size() != (alongBoundary ? 1u : 2u)) continue;
+    for (uint32_t f : vt[k]) {
+      if (deadTri[f]) continue;
+      for (uint32_t v : s.triangles[f])
+        if (v != k) ringK.push_back(v);
+    }
+    std::sort(ringR.begin(), ringR.end());
+    ringR.erase(std::unique(ringR.begin(), ringR.end()), ringR.end());
+    std::sort(ringK.begin(), ringK.end());
+    ringK.erase(std::unique(ringK.begin(), ringK.end()), ringK.end());
+    size_t common = 0;
+    for (size_t i = 0, j = 0; i < ringR.size() && j < ringK.size();) {
+      if (ringR[i] < ringK[j]) ++i;
+      else if (ringK[j] < ringR[i]) ++j;
+      else {
+        ++common;
+        ++i;
+        ++j;
+      }
+    }
+    if (common != shared.size()) continue;  // link condition: only the opposite vertices
+    if (alongBoundary) {
+      // r must lie within flatness of the chord from its other boundary neighbour to k (keeps
+      // corners of the trimmed outline and the outline on the surface).
+      int other = -1, open = 0;
+      for (uint32_t v : ringR) {
+        int uses = 0;
+        for (uint32_t f : vt[r]) {
+          if (deadTri[f]) continue;
+          const auto& t = s.triangles[f];
+          uses += (t[0] == v || t[1] == v || t[2] == v);
+        }
+        if (uses == 1 && v != k) {
+          other = static_cast<int>(v);
+          ++open;
+        }
+      }
+      if (open != 1) continue;
+      const Eigen::Vector3d& p = s.positions[static_cast<size_t>(other)];
+      const Eigen::Vector3d& q = s.positions[k];
+      const Eigen::Vector3d d = q - p;
+      const double len2 = d.squaredNorm();
+      const Eigen::Vector3d x = s.positions[r] - p;
+      const double off2 = len2 > 0 ? (x - d * (x.dot(d) / len2)).squaredNorm() : x.squaredNorm();
+      if (off2 > flatness * flatness) continue;
+    }
+    bool ok = true;
+    const double avgNorm = average.norm();
+    for (uint32_t f : vt[r]) {
+      if (deadTri[f] || std::find(shared.begin(), shared.end(), f) != shared.end()) continue;
+      std::array<uint32_t, 3> t = s.triangles[f];
+      for (uint32_t& v : t)
+        if (v == r) v = k;
+      const Eigen::Vector3d n = normal(t);
+      if (!(n.dot(average) > 0.3 * n.norm() * avgNorm)) {
+        ok = false;
+        break;
+      }
+    }
+    if (!ok) continue;
+    for (uint32_t f : shared) deadTri[f] = 1;
+    for (uint32_t f : vt[r]) {
+      if (deadTri[f]) continue;
+      for (uint32_t& v : s.triangles[f])
+        if (v == r) v = k;
+      vt[k].push_back(f);
+    }
+    vt[r].clear();
+    removed[r] = 1;
+  }
+  // Compact.
+  std::vector<uint32_t> remap(nv, UINT32_MAX);
+  LayerSurface out;
+  for (uint32_t f = 0; f < nt; ++f) {
+    if (deadTri[f]) continue;
+    std::array<uint32_t, 3> t = s.triangles[f];
+    for (uint32_t& v : t) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<uint32_t>(out.positions.size());
+        out.positions.push_back(s.positions[v]);
+        out.boundary.push_back(s.boundary[v]);
+      }
+      v = remap[v];
+    }
+    out.triangles.push_back(t);
+  }
+  s = std::move(out);
+}
+
 // Splits a trimmed layer into connected regions (triangles sharing vertices).
 void splitRegions(const LayerSurface& s, const InsideTest& inside,
                   double minArea, CurvedLayer& layer) {
@@ -486,8 +654,9 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     return fail(Status::InvalidOption, "curved layers: isoStep must be >= 0 (0 = w/d with nozzleDiameter > 0)");
   }
   if (!(options.trimTolerance > 0) || !std::isfinite(options.trimTolerance) ||
-      !(options.minRegionArea >= 0) || !std::isfinite(options.minRegionArea)) {
-    return fail(Status::InvalidOption, "curved layers: trimTolerance must be > 0 and minRegionArea >= 0");
+      !(options.minRegionArea >= 0) || !std::isfinite(options.minRegionArea) ||
+      !(options.collapseRatio >= 0 && options.collapseRatio < 1)) {
+    return fail(Status::InvalidOption, "curved layers: trimTolerance must be > 0, minRegionArea >= 0, collapseRatio in [0, 1)");
   }
   if (solid.empty()) return fail(Status::EmptyInput, "curved layers: the solid has no triangles");
   for (double x : solid.positions)
@@ -571,6 +740,7 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     if (raw.triangles.empty()) continue;
     const auto tt = Clock::now();
     trimSurface(raw, inside, tree, solid, options.trimTolerance, edgeMap, trimmed);
+    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance, edgeMap);
     CurvedLayer layer;
     layer.isoValue = iso;
     splitRegions(trimmed, inside, options.minRegionArea, layer);

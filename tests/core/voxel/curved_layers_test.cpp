@@ -243,6 +243,62 @@ TEST(CurvedLayers, FlatGrowthGivesPlanesAtPredictedHeights) {
   EXPECT_EQ(res.regionCount, res.layers.size());
 }
 
+// Triangles whose smallest angle is under 5 degrees.
+size_t sliverCount(const CurvedLayersResult& res) {
+  size_t n = 0;
+  for (const CurvedLayer& layer : res.layers)
+    for (const LayerRegion& r : layer.regions)
+      for (size_t f = 0; f < r.mesh.faceCount(); ++f) {
+        const Eigen::Vector3d p[3] = {r.mesh.vertex(r.mesh.triangles[3 * f]),
+                                      r.mesh.vertex(r.mesh.triangles[3 * f + 1]),
+                                      r.mesh.vertex(r.mesh.triangles[3 * f + 2])};
+        double minAngle = M_PI;
+        for (int k = 0; k < 3; ++k) {
+          const Eigen::Vector3d u = p[(k + 1) % 3] - p[k], v = p[(k + 2) % 3] - p[k];
+          minAngle = std::min(minAngle, std::atan2(u.cross(v).norm(), u.dot(v)));
+        }
+        n += minAngle < 5 * M_PI / 180;
+      }
+  return n;
+}
+
+TEST(CurvedLayers, ShortEdgeCollapseKeepsPlanesAndAreasAndRemovesSlivers) {
+  const double w = 0.5;
+  const Mesh box = makeBox(0.2, 0.1, 0, 5.3, 4.4, 6.2);
+  const VoxelGrid grid = voxelGridOf(box, w);
+  CurvedLayersOptions on;
+  on.isoStep = 0.8;  // every fifth plane passes through lattice centres (clamped slivers)
+  CurvedLayersOptions off = on;
+  off.collapseRatio = 0;
+  const CurvedLayersResult a = extractCurvedLayers(grid, flatField(grid), box, on);
+  const CurvedLayersResult b = extractCurvedLayers(grid, flatField(grid), box, off);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a.layers.size(), b.layers.size());
+  for (size_t l = 0; l < a.layers.size(); ++l) {
+    ASSERT_EQ(a.layers[l].regions.size(), 1u);
+    ASSERT_EQ(b.layers[l].regions.size(), 1u);
+    // Collapsing inside a plane re-triangulates the same polygon; boundary vertices are dropped
+    // only within trimTolerance of the new chord, so the outline moves by at most that.
+    const double perimeter = 2 * (5.3 - 0.2 + 4.4 - 0.1);
+    EXPECT_NEAR(a.layers[l].regions[0].area, b.layers[l].regions[0].area,
+                perimeter * on.trimTolerance);
+    // Planes stay planar; an iso-value equal to the centres' G puts the plane 1e-4 w below them
+    // (edge parameters are kept in [1e-4, 1 - 1e-4]).
+    const Mesh& m = a.layers[l].regions[0].mesh;
+    const double z = m.positions[2];
+    EXPECT_NEAR(z, flatHeight(a.layers[l].isoValue, w), 1.01e-4 * w);
+    for (size_t v = 0; v < m.vertexCount(); ++v) ASSERT_NEAR(m.positions[3 * v + 2], z, 1e-9);
+    expectRegionManifold(a.layers[l].regions[0], "collapsed");
+  }
+  const size_t sliversOff = sliverCount(b);
+  const size_t sliversOn = sliverCount(a);
+  std::printf("collapse: %zu -> %zu triangles, slivers (< 5 deg) %zu -> %zu\n", b.triangleCount,
+              a.triangleCount, sliversOff, sliversOn);
+  EXPECT_LT(a.triangleCount, 0.8 * b.triangleCount);
+  EXPECT_LT(sliversOn, sliversOff / 2 + 1);
+  expectTrimmed(a, box, on.trimTolerance);
+}
+
 TEST(CurvedLayers, DefaultStepIsVoxelWidthOverNozzle) {
   const double w = 0.4;
   const Mesh box = makeBox(0, 0, 0, 3, 3, 3.1);
