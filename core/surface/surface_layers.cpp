@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "geometry/aabb_tree.h"
 
@@ -73,9 +74,16 @@ ThicknessStats layerThicknessStats(const std::vector<CurvedLayer>& layers, doubl
     }
     if (previous.empty()) continue;
     const AabbTree tree(previous);
+    // Consecutive samples are close together, so the previous distance (plus the spacing) bounds
+    // the search first; a full search only when nothing lies that close.
+    double hint = std::numeric_limits<double>::infinity();
     samplePoints(layers[i], sampleSpacing, counter, [&](const Eigen::Vector3d& p) {
-      const ClosestPoint cp = tree.closest(p);
-      if (std::isfinite(cp.distance)) distances.push_back(cp.distance);
+      ClosestPoint cp = tree.closest(p, 1.5 * hint + sampleSpacing);
+      if (!std::isfinite(cp.distance)) cp = tree.closest(p);
+      if (std::isfinite(cp.distance)) {
+        distances.push_back(cp.distance);
+        hint = cp.distance;
+      }
     });
   }
   if (distances.empty()) return stats;

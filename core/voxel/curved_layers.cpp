@@ -123,6 +123,22 @@ class InsideTest {
     ++rayCasts;
     return tree_.inside(p);
   }
+  // True when p is inside and no surface lies within clearance of it (conservatively, via its
+  // cell: inside and no surface within clearance + half the cell diagonal of the centre).
+  bool deep(const Eigen::Vector3d& p, double clearance) {
+    const Eigen::Vector3d q = (p - grid_.origin) / grid_.width;
+    const int i = static_cast<int>(std::floor(q.x())), j = static_cast<int>(std::floor(q.y())),
+              k = static_cast<int>(std::floor(q.z()));
+    if (!grid_.inRange(i, j, k)) return false;
+    const size_t c = grid_.index(i, j, k);
+    if (deepClass_.empty()) deepClass_.assign(grid_.cellCount(), 0);
+    uint8_t& cls = deepClass_[c];
+    if (cls == 0) {
+      const Eigen::Vector3d centre = grid_.center(i, j, k);
+      cls = (*this)(centre) && !tree_.anyWithin(centre, clearance + radius_) ? 1 : 2;
+    }
+    return cls == 1;
+  }
   bool inSupport(const Eigen::Vector3d& p) const {
     const Eigen::Vector3d q = (p - grid_.origin) / grid_.width;
     const int i = static_cast<int>(std::floor(q.x())), j = static_cast<int>(std::floor(q.y())),
@@ -136,6 +152,7 @@ class InsideTest {
   const VoxelGrid& grid_;
   const AabbTree& tree_;
   std::vector<uint8_t> cellClass_;  // 0 unknown, 1 inside, 2 outside, 3 near the surface
+  std::vector<uint8_t> deepClass_;  // 0 unknown, 1 deep, 2 not (allocated on first use)
   double radius_;
 };
 
@@ -316,44 +333,148 @@ void extractIsoSurface(const VoxelGrid& grid, const CentreField& field,
   out.boundary.assign(out.positions.size(), 0);
 }
 
-// Crossing of segment [in, out] with the boundary of the inside set: bisection to tolerance,
-// then, when a solid triangle is that close, the exact intersection with its plane.
+// Intersection parameter s in [0, 1] of segment [p, q] with triangle (a, b, c), edges included
+// (a tiny relative slack), or -1.
+double segmentTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                       const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d n = (b - a).cross(c - a);
+  const double den = n.dot(q - p);
+  if (!(std::abs(den) > 1e-300)) return -1;
+  const double s = n.dot(a - p) / den;
+  if (s < 0 || s > 1) return -1;
+  const Eigen::Vector3d x = p + s * (q - p);
+  const double n2 = n.squaredNorm(), slack = -1e-9 * n2;
+  if ((b - a).cross(x - a).dot(n) < slack || (c - b).cross(x - b).dot(n) < slack ||
+      (a - c).cross(x - c).dot(n) < slack) {
+    return -1;
+  }
+  return s;
+}
+
+// Crossing of segment [in, out] with the boundary of the inside set. The solid triangle nearest
+// the bracket's middle usually holds the crossing: intersect the segment with it exactly (one
+// closest-point query); otherwise halve the bracket by an inside test and try again, down to the
+// tolerance (a support cell's face, or a crossing near a mesh edge, ends there).
 Eigen::Vector3d trimCrossing(Eigen::Vector3d lo, Eigen::Vector3d hi, InsideTest& inside,
                              const AabbTree& tree, const Mesh& solid, double tolerance) {
-  for (int it = 0; it < 64 && (hi - lo).norm() > tolerance; ++it) {
+  for (int it = 0; it < 64; ++it) {
     const Eigen::Vector3d mid = 0.5 * (lo + hi);
+    const double len = (hi - lo).norm();
+    const ClosestPoint cp = tree.closest(mid, 0.5 * len * (1 + 1e-9) + 1e-12);
+    if (cp.triangle >= 0) {
+      const size_t t = static_cast<size_t>(cp.triangle);
+      const double s = segmentTriangle(lo, hi, solid.vertex(solid.triangles[3 * t]),
+                                       solid.vertex(solid.triangles[3 * t + 1]),
+                                       solid.vertex(solid.triangles[3 * t + 2]));
+      if (s >= 0) return lo + s * (hi - lo);
+    }
+    if (len <= tolerance) return mid;
     if (inside(mid)) lo = mid;
     else hi = mid;
   }
-  const Eigen::Vector3d mid = 0.5 * (lo + hi);
-  const double len = (hi - lo).norm();
-  const ClosestPoint cp = tree.closest(mid, len + 1e-12);
-  if (cp.triangle >= 0) {
-    const size_t t = static_cast<size_t>(cp.triangle);
-    const Eigen::Vector3d a = solid.vertex(solid.triangles[3 * t]),
-                          b = solid.vertex(solid.triangles[3 * t + 1]),
-                          c = solid.vertex(solid.triangles[3 * t + 2]);
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double den = n.dot(hi - lo);
-    if (std::abs(den) > 1e-14 * n.norm() * std::max(len, 1e-30)) {
-      const double s = n.dot(cp.point - lo) / den;
-      if (s >= 0 && s <= 1) return lo + s * (hi - lo);
+  return 0.5 * (lo + hi);
+}
+
+// Splits edges whose two ends are inside but whose middle leaves the inside set (the surface
+// crosses a reflex corner of the solid's section between them): each such edge gets a vertex at
+// an outside sample point (1/2, 1/4 or 3/4), and its one or two triangles are re-triangulated, so
+// trimming then cuts the notch out. Edges with an end deep inside, or whose ball holds no surface,
+// are skipped without ray casts. isIn is extended for the new vertices.
+void splitExitingEdges(LayerSurface& s, std::vector<uint8_t>& isIn, InsideTest& inside,
+                       const AabbTree& tree, double maxEdge, KeyMap& edgeMap) {
+  edgeMap.clear();
+  const size_t nv = s.positions.size();
+  std::vector<uint8_t> deep(nv, 2);  // 2 = not computed
+  std::vector<uint32_t> splitVertex;  // per tested edge: the split vertex or UINT32_MAX
+  auto edgeKey = [](uint32_t a, uint32_t b) {
+    return (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
+  };
+  bool anySplit = false;
+  for (const auto& t : s.triangles) {
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = t[e], b = t[(e + 1) % 3];
+      if (!isIn[a] || !isIn[b]) continue;
+      bool added = false;
+      edgeMap.getOrAdd(edgeKey(a, b), static_cast<uint32_t>(splitVertex.size()), added);
+      if (!added) continue;
+      splitVertex.push_back(UINT32_MAX);
+      for (uint32_t v : {a, b})
+        if (deep[v] == 2) deep[v] = inside.deep(s.positions[v], maxEdge) ? 1 : 0;
+      if (deep[a] || deep[b]) continue;
+      const Eigen::Vector3d pa = s.positions[a], pb = s.positions[b];
+      if (!tree.anyWithin(0.5 * (pa + pb), 0.5 * (pb - pa).norm())) continue;
+      for (double u : {0.5, 0.25, 0.75}) {
+        const Eigen::Vector3d x = pa + u * (pb - pa);
+        if (inside(x)) continue;
+        splitVertex.back() = static_cast<uint32_t>(s.positions.size());
+        s.positions.push_back(x);
+        s.boundary.push_back(0);
+        isIn.push_back(0);
+        anySplit = true;
+        break;
+      }
     }
   }
-  return mid;
+  if (!anySplit) return;
+  auto splitOf = [&](uint32_t a, uint32_t b) -> uint32_t {
+    if (!isIn[a] || !isIn[b] || a >= nv || b >= nv) return UINT32_MAX;
+    bool added = false;
+    const uint32_t idx = edgeMap.getOrAdd(edgeKey(a, b), 0, added);
+    return added ? UINT32_MAX : splitVertex[idx];
+  };
+  std::vector<std::array<uint32_t, 3>> out;
+  out.reserve(s.triangles.size() + 16);
+  for (const auto& t : s.triangles) {
+    uint32_t m[3];  // m[e]: split vertex of edge t[e] - t[e+1]
+    int count = 0;
+    for (int e = 0; e < 3; ++e) {
+      m[e] = splitOf(t[e], t[(e + 1) % 3]);
+      count += m[e] != UINT32_MAX;
+    }
+    if (count == 0) {
+      out.push_back(t);
+      continue;
+    }
+    if (count == 3) {
+      out.push_back({t[0], m[0], m[2]});
+      out.push_back({m[0], t[1], m[1]});
+      out.push_back({m[2], m[1], t[2]});
+      out.push_back({m[0], m[1], m[2]});
+      continue;
+    }
+    // Rotate so that edge 0 is split and (for two splits) edge 1 too: the unsplit edges follow.
+    int r = 0;
+    for (int e = 0; e < 3; ++e) {
+      const bool here = m[e] != UINT32_MAX, next = m[(e + 1) % 3] != UINT32_MAX;
+      const bool prev = m[(e + 2) % 3] != UINT32_MAX;
+      if (count == 1 ? here : (here && next && !prev)) r = e;
+    }
+    const uint32_t a = t[r], b = t[(r + 1) % 3], c = t[(r + 2) % 3];
+    const uint32_t mab = m[r], mbc = m[(r + 1) % 3];
+    if (count == 1) {
+      out.push_back({a, mab, c});
+      out.push_back({mab, b, c});
+    } else {
+      out.push_back({mab, b, mbc});
+      out.push_back({a, mab, mbc});
+      out.push_back({a, mbc, c});
+    }
+  }
+  s.triangles.swap(out);
 }
 
 // Keeps the inside part of a surface: triangles with every vertex inside stay, crossing
 // triangles are cut at the welded crossing point of each crossing edge (boundary vertices).
-void trimSurface(const LayerSurface& in, InsideTest& inside, const AabbTree& tree,
-                 const Mesh& solid, double tolerance, KeyMap& edgeMap, LayerSurface& out) {
+void trimSurface(LayerSurface& in, InsideTest& inside, const AabbTree& tree, const Mesh& solid,
+                 double tolerance, double maxEdge, KeyMap& edgeMap, LayerSurface& out) {
   out.positions.clear();
   out.triangles.clear();
   out.boundary.clear();
+  std::vector<uint8_t> isIn(in.positions.size());
+  for (size_t v = 0; v < isIn.size(); ++v) isIn[v] = inside(in.positions[v]) ? 1 : 0;
+  splitExitingEdges(in, isIn, inside, tree, maxEdge, edgeMap);
   edgeMap.clear();
   const size_t nv = in.positions.size();
-  std::vector<uint8_t> isIn(nv);
-  for (size_t v = 0; v < nv; ++v) isIn[v] = inside(in.positions[v]) ? 1 : 0;
   std::vector<uint32_t> remap(nv, UINT32_MAX);
   auto keep = [&](uint32_t v) {
     if (remap[v] == UINT32_MAX) {
@@ -739,7 +860,8 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     result.extractionMs += msSince(te);
     if (raw.triangles.empty()) continue;
     const auto tt = Clock::now();
-    trimSurface(raw, inside, tree, solid, options.trimTolerance, edgeMap, trimmed);
+    trimSurface(raw, inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
+                edgeMap, trimmed);
     collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance, edgeMap);
     CurvedLayer layer;
     layer.isoValue = iso;
