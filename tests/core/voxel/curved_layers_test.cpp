@@ -16,6 +16,7 @@
 
 #include "geometry/aabb_tree.h"
 #include "mesh/read_mesh.h"
+#include "voxel/voxelize.h"
 #include "test_support.h"
 
 namespace omnislice {
@@ -552,6 +553,59 @@ TEST(CurvedLayers, BunnyFlatLayersAreTrimmedOnTheSurface) {
   EXPECT_NEAR(modeCentre, 2 * w, res.thickness.histogramBin);
   EXPECT_GE(*mode, res.thickness.samples / 2);
   EXPECT_GE(res.thickness.mean, 2 * w - 1e-6);
+}
+
+// Exact area of the cross-section of a closed, outward-oriented mesh by the plane z = h: each
+// crossing triangle contributes its section segment, directed along z x n so the section runs
+// counter-clockwise seen from above; shoelace sum.
+double sectionArea(const Mesh& m, double h) {
+  double area = 0;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const Eigen::Vector3d p[3] = {m.vertex(m.triangles[3 * f]), m.vertex(m.triangles[3 * f + 1]),
+                                  m.vertex(m.triangles[3 * f + 2])};
+    std::vector<Eigen::Vector3d> x;
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d &a = p[k], &b = p[(k + 1) % 3];
+      if ((a.z() < h) != (b.z() < h)) x.push_back(a + (h - a.z()) / (b.z() - a.z()) * (b - a));
+    }
+    if (x.size() != 2) continue;
+    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+    const Eigen::Vector3d d = Eigen::Vector3d::UnitZ().cross(n);
+    if ((x[1] - x[0]).dot(d) < 0) std::swap(x[0], x[1]);
+    area += 0.5 * (x[0].x() * x[1].y() - x[0].y() * x[1].x());
+  }
+  return area;
+}
+
+// With the project's conservative voxelisation (H inside H~), flat layers cover the whole
+// cross-section of the solid: every layer's area matches the exact section area of the mesh.
+TEST(CurvedLayers, VoxelizedBunnyLayersCoverTheExactSections) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const Mesh bunny = loadBunny(40);
+  VoxelizeOptions vopt;
+  vopt.width = 0.5;
+  const VoxelizeResult vox = voxelizeSolid(bunny, vopt);
+  ASSERT_TRUE(vox.ok()) << vox.message;
+  const VoxelGrid& grid = vox.grid;
+  CurvedLayersOptions opt;
+  opt.isoStep = 3.3;
+  const CurvedLayersResult res = extractCurvedLayers(grid, flatField(grid), bunny, opt);
+  ASSERT_TRUE(res.ok()) << res.message;
+  ASSERT_GE(res.layers.size(), 20u);
+  double worstRel = 0;
+  for (const CurvedLayer& layer : res.layers) {
+    const double z = flatHeight(layer.isoValue, grid.width);
+    double area = 0;
+    for (const LayerRegion& r : layer.regions) area += r.area;
+    const double exact = sectionArea(bunny, z);
+    ASSERT_GT(exact, 0);
+    worstRel = std::max(worstRel, std::abs(area - exact) / exact);
+    // Chords between exact crossing points cut the section's corners: under 1%.
+    EXPECT_NEAR(area, exact, 0.01 * exact) << "z " << z;
+  }
+  std::printf("voxelized bunny: %zu voxels, %zu layers, worst section area error %.3f%%\n",
+              vox.solidCount, res.layers.size(), 100 * worstRel);
+  expectTrimmed(res, bunny, opt.trimTolerance, 0.1 * grid.width);
 }
 
 // Extracts the flat-growth layers of the Bunny at voxel width w and prints the timings.
