@@ -22,6 +22,9 @@ struct CurvedLayersOptions {
   double nozzleDiameter = 0.4;   // d, mm (for Eq. 2)
   double trimTolerance = 0.005;  // mm, trimmed boundary points lie within this of the surface
   double minRegionArea = 0.05;   // mm^2, drop smaller connected regions (slivers of trimming)
+  double collapseRatio = 0.3;    // x voxel width: interior edges shorter than this are collapsed
+                                 // (manifold-safe) after trimming, removing the slivers of
+                                 // marching tetrahedra; 0 = off
 };
 
 struct CurvedLayersResult : Outcome {
