@@ -11,8 +11,14 @@
 
 namespace omnislice {
 
+// Boundary condition of the heat step. Average (default) blends the Neumann solution (heat
+// source = the boundary curve, no flux through it) and the Dirichlet one (boundary held at 1),
+// each scaled to mean 1 on the boundary, as Crane et al. recommend near boundaries.
+enum class HeatBoundaryCondition { Average, Neumann, Dirichlet };
+
 struct BoundaryDistanceOptions {
-  double timeFactor = 1.0;  // t = timeFactor * (mean edge length)^2
+  double timeFactor = 1.0;  // t = timeFactor * (mean edge length)^2, > 0
+  HeatBoundaryCondition boundaryCondition = HeatBoundaryCondition::Average;
 };
 
 struct BoundaryDistance : Outcome {
