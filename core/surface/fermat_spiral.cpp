@@ -28,6 +28,7 @@
 //     oriented consistently by a breadth-first walk, majority orientation kept).
 #include "surface/fermat_spiral.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -603,6 +604,59 @@ SurfacePath resamplePath(const std::vector<PathPoint>& raw, double step, const A
   return out;
 }
 
+// Fraction of points (every spacing/4 along the paths) that come closer than 0.6 spacing to a part
+// of a path more than 2 spacing away along it: the self-overlap measure used to pick the levels.
+double selfOverlapFraction(const std::vector<std::vector<PathPoint>>& paths, double spacing) {
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<double> arc;
+  double offset = 0;
+  const double step = spacing / 4;
+  for (const auto& path : paths) {
+    double a = offset;
+    for (size_t i = 0; i + 1 < path.size(); ++i) {
+      const double len = (path[i + 1].p - path[i].p).norm();
+      const int n = std::max(1, static_cast<int>(std::ceil(len / step)));
+      for (int k = 0; k < n; ++k) {
+        pts.push_back(path[i].p + (path[i + 1].p - path[i].p) * (static_cast<double>(k) / n));
+        arc.push_back(a + len * k / n);
+      }
+      a += len;
+    }
+    offset = a + 1e9;
+  }
+  if (pts.empty()) return 0;
+  const double r = 0.6 * spacing;
+  auto coord = [&](double x) { return static_cast<int64_t>(std::floor(x / r)); };
+  auto pack = [](int64_t x, int64_t y, int64_t z) {
+    return (static_cast<uint64_t>(x & 0x1FFFFF) << 42) | (static_cast<uint64_t>(y & 0x1FFFFF) << 21) |
+           static_cast<uint64_t>(z & 0x1FFFFF);
+  };
+  std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
+  cells.reserve(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) {
+    cells[pack(coord(pts[i].x()), coord(pts[i].y()), coord(pts[i].z()))].push_back(static_cast<uint32_t>(i));
+  }
+  size_t bad = 0;
+  for (size_t i = 0; i < pts.size(); ++i) {
+    const int64_t cx = coord(pts[i].x()), cy = coord(pts[i].y()), cz = coord(pts[i].z());
+    bool hit = false;
+    for (int64_t dx = -1; dx <= 1 && !hit; ++dx)
+      for (int64_t dy = -1; dy <= 1 && !hit; ++dy)
+        for (int64_t dz = -1; dz <= 1 && !hit; ++dz) {
+          auto it = cells.find(pack(cx + dx, cy + dy, cz + dz));
+          if (it == cells.end()) continue;
+          for (uint32_t j : it->second) {
+            if (std::abs(arc[j] - arc[i]) > 2 * spacing && (pts[j] - pts[i]).squaredNorm() < r * r) {
+              hit = true;
+              break;
+            }
+          }
+        }
+    if (hit) ++bad;
+  }
+  return static_cast<double>(bad) / static_cast<double>(pts.size());
+}
+
 SpiralResult fail(Status s, std::string message) {
   SpiralResult r;
   r.status = s;
@@ -653,220 +707,253 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
     edgeSum += (mesh.vertex(edges.keys[e] >> 32) - mesh.vertex(edges.keys[e] & 0xFFFFFFFFu)).norm();
   }
   const double h = edgeSum / static_cast<double>(std::max<size_t>(edges.edgeCount(), 1));
-  std::vector<double> levels;
-  for (int k = 0;; ++k) {
-    const double v = s / 2 + k * s;
-    if (v >= D) break;
-    levels.push_back(v);
+  // Levels spacing/2 + k * step. The step is adjusted (within 15 %) so the last level lies
+  // spacing/2 below the highest ridge: a level just under a ridge plateau would break into
+  // specks around the field's noise and leave a loop thinner than one bead.
+  // Candidate level steps: the bead spacing, and the step (within 15 %) that puts the last level
+  // spacing/2 below the highest ridge (a level just under a ridge plateau breaks into specks
+  // around the field's noise, or leaves a loop thinner than one bead). Each candidate is built;
+  // the one whose path overlaps itself least is kept (ridges of other heights favour either).
+  std::vector<double> steps{s};
+  if (D - s > 0) {
+    const double span = D - s;
+    const double up = span / std::ceil(span / s), down = span / std::max(1.0, std::floor(span / s));
+    if (up >= 0.85 * s && std::abs(up - s) > 1e-6 * s) steps.push_back(up);
+    if (down <= 1.05 * s && std::abs(down - s) > 1e-6 * s) steps.push_back(down);
   }
-  const bool narrow = levels.empty();
-  if (narrow) {
-    if (!(D > s / 4)) {
-      result.contourMs = msSince(t1);
-      return result;  // narrower than half a bead: nothing to print
-    }
-    levels.push_back(0.8 * D);  // a thin loop around the ridge, collapsed to one side below
+  // Narrower than about 1.5 beads (a single level would give a loop thinner than half a bead):
+  // one centre line instead.
+  const bool narrow = D < 0.75 * s;
+  if (narrow && !(D > s / 4)) {
+    result.contourMs = msSince(t1);
+    return result;  // narrower than half a bead: nothing to print
   }
-  ContourSet set = extractContours(mesh, edges, phi, levels);
-  for (Contour& c : set.contours) orientUpLeft(c, mesh, phi, faceNormal);
-  result.contours = static_cast<int>(set.contours.size());
-  result.contourMs = msSince(t1);
-  const auto t2 = std::chrono::steady_clock::now();
   const AabbTree tree(mesh);
-  Builder B{mesh, phi, faceNormal, tree, s, std::max(0.25 * s, 0.5 * h), std::move(set.contours), {}};
-  std::vector<Contour>& C = B.contours;
-  std::vector<std::vector<PathPoint>> raw;
+  // Contours at levels, connected into paths (raw); returns the number of contours.
+  auto build = [&](const std::vector<double>& levels, std::vector<std::vector<PathPoint>>& raw) {
+    const auto tc = std::chrono::steady_clock::now();
+    ContourSet set = extractContours(mesh, edges, phi, levels);
+    for (Contour& c : set.contours) orientUpLeft(c, mesh, phi, faceNormal);
+    const int count = static_cast<int>(set.contours.size());
+    result.contourMs += msSince(tc);
+    Builder B{mesh, phi, faceNormal, tree, s, std::max(0.25 * s, 0.5 * h), std::move(set.contours), {}};
+    std::vector<Contour>& C = B.contours;
 
-  if (narrow) {
-    // Centre line: each ridge loop cut at its two tips (farthest points), one side kept.
-    for (const Contour& c : C) {
-      if (c.length() < s / 2) continue;
-      size_t a = 0, b = 0;
-      for (size_t i = 0; i < c.size(); ++i) {
-        if ((c.pts[i] - c.pts[0]).squaredNorm() > (c.pts[a] - c.pts[0]).squaredNorm()) a = i;
-      }
-      for (size_t i = 0; i < c.size(); ++i) {
-        if ((c.pts[i] - c.pts[a]).squaredNorm() > (c.pts[b] - c.pts[a]).squaredNorm()) b = i;
-      }
-      std::vector<PathPoint> path;
-      for (size_t i = a;; i = (i + 1) % c.size()) {
-        path.push_back({c.pts[i], path.empty() ? -1 : c.tri[(i + c.size() - 1) % c.size()]});
-        if (i == b) break;
-      }
-      raw.push_back(std::move(path));
-    }
-  } else {
-    // Pieces and the contours bounding them.
-    std::vector<std::vector<int>> pieceContours(set.pieces);
-    for (size_t i = 0; i < C.size(); ++i) {
-      if (C[i].length() < s) {
-        C[i].dropped = true;  // a speck around a tiny field bump: its neighbours' beads cover it
-        continue;
-      }
-      pieceContours[C[i].lower].push_back(static_cast<int>(i));
-      if (C[i].upper != C[i].lower) pieceContours[C[i].upper].push_back(static_cast<int>(i));
-    }
-    std::vector<uint8_t> pieceUsed(set.pieces, 0);
-    auto isBottom = [&](int piece) { return set.pieceBand[piece] == 0; };
-    struct Branch {
-      int piece;
-      int entry;
-    };
-    std::deque<Branch> branches;
-    // Build the chain starting at contour start coming from piece back; orient its contours.
-    auto buildChain = [&](int start, int back) {
-      const int id = static_cast<int>(B.chains.size());
-      B.chains.emplace_back();
-      int cur = start;
-      while (true) {
-        Contour& c = C[cur];
-        c.chain = id;
-        B.chains[id].contours.push_back(cur);
-        const int fwd = c.lower == back ? c.upper : c.lower;
-        c.forward = fwd;
-        if (fwd == c.lower && c.lower != c.upper) c.reverse();  // forward piece on the left
-        c.gap = B.gapOf(c);
-        if (isBottom(fwd) || pieceUsed[fwd]) break;
-        pieceUsed[fwd] = 1;
-        std::vector<int> others;
-        for (int o : pieceContours[fwd]) {
-          if (o != cur && C[o].chain < 0) others.push_back(o);
+    if (narrow) {
+      // Centre line: each ridge loop cut at its two tips (farthest points), one side kept.
+      for (const Contour& c : C) {
+        if (c.length() < s / 2) continue;
+        size_t a = 0, b = 0;
+        for (size_t i = 0; i < c.size(); ++i) {
+          if ((c.pts[i] - c.pts[0]).squaredNorm() > (c.pts[a] - c.pts[0]).squaredNorm()) a = i;
         }
-        if (others.empty()) break;
-        if (others.size() == 1) {
-          back = fwd;
-          cur = others[0];
-          continue;
+        for (size_t i = 0; i < c.size(); ++i) {
+          if ((c.pts[i] - c.pts[a]).squaredNorm() > (c.pts[b] - c.pts[a]).squaredNorm()) b = i;
         }
-        branches.push_back({fwd, cur});
-        break;
+        std::vector<PathPoint> path;
+        for (size_t i = a;; i = (i + 1) % c.size()) {
+          path.push_back({c.pts[i], path.empty() ? -1 : c.tri[(i + c.size() - 1) % c.size()]});
+          if (i == b) break;
+        }
+        raw.push_back(std::move(path));
       }
-      return id;
-    };
-    // Cut line: break points by successive closest points from the first contour's break.
-    auto placeBreaks = [&](int chainId, double firstBreak) {
-      const Chain& ch = B.chains[chainId];
-      C[ch.contours[0]].breakPos = firstBreak;
-      for (size_t j = 1; j < ch.contours.size(); ++j) {
-        const Contour& prev = C[ch.contours[j - 1]];
-        C[ch.contours[j]].breakPos = C[ch.contours[j]].closestPosition(prev.at(prev.breakPos));
-      }
-    };
-    // Splice point on host for child: the host vertex closest to the child, away from the gaps
-    // already cut in the host.
-    auto chooseSplice = [&](int host, int child, const PointGrid& childGrid) {
-      const Contour& H = C[host];
-      std::vector<double> cuts{H.breakPos};
-      for (const Splice& sp : H.splices) cuts.push_back(sp.pos);
-      const double clearance = 2 * H.gap + 2 * s;
-      double best = std::numeric_limits<double>::infinity(), bestFree = best;
-      size_t bestIdx = 0, bestFreeIdx = 0;
-      for (size_t i = 0; i < H.size(); ++i) {
-        const double d = childGrid.nearest(H.pts[i]).first;
-        bool free = true;
-        for (double q : cuts) {
-          double a = std::fmod(std::abs(H.cum[i] - q), H.length());
-          a = std::min(a, H.length() - a);
-          if (a < clearance) free = false;
-        }
-        if (d < best) {
-          best = d;
-          bestIdx = i;
-        }
-        if (free && d < bestFree) {
-          bestFree = d;
-          bestFreeIdx = i;
-        }
-      }
-      (void)child;
-      return std::isfinite(bestFree) ? H.cum[bestFreeIdx] : H.cum[bestIdx];
-    };
-    auto processBranches = [&]() {
-      while (!branches.empty()) {
-        const Branch br = branches.front();
-        branches.pop_front();
-        std::vector<int> members{br.entry};
-        for (int o : pieceContours[br.piece]) {
-          if (o != br.entry && C[o].chain < 0) members.push_back(o);
-        }
-        const size_t m = members.size();
-        std::vector<PointGrid> grids;
-        grids.reserve(m);
-        for (int c : members) grids.emplace_back(C[c].pts, 2 * s);
-        // Pairwise contour distances (min over the points of the first).
-        std::vector<double> dist(m * m, std::numeric_limits<double>::infinity());
-        for (size_t i = 0; i < m; ++i) {
-          for (size_t j = i + 1; j < m; ++j) {
-            double d = std::numeric_limits<double>::infinity();
-            const Contour& a = C[members[i]].size() <= C[members[j]].size() ? C[members[i]] : C[members[j]];
-            const PointGrid& g = C[members[i]].size() <= C[members[j]].size() ? grids[j] : grids[i];
-            for (const Eigen::Vector3d& p : a.pts) d = std::min(d, g.nearest(p).first);
-            dist[i * m + j] = dist[j * m + i] = d;
-          }
-        }
-        // Prim from the entry contour; each new member is spliced into its tree parent.
-        std::vector<uint8_t> inTree(m, 0);
-        std::vector<double> key(m, std::numeric_limits<double>::infinity());
-        std::vector<size_t> parent(m, 0);
-        inTree[0] = 1;
-        for (size_t j = 1; j < m; ++j) key[j] = dist[j];
-        for (size_t step = 1; step < m; ++step) {
-          size_t next = 0;
-          double bestKey = std::numeric_limits<double>::infinity();
-          for (size_t j = 1; j < m; ++j) {
-            if (!inTree[j] && key[j] <= bestKey) {
-              bestKey = key[j];
-              next = j;
-            }
-          }
-          if (next == 0) break;
-          inTree[next] = 1;
-          const int host = members[parent[next]], child = members[next];
-          const double q = chooseSplice(host, child, grids[next]);
-          const int chainId = buildChain(child, br.piece);
-          // Child oriented now: its break is the point closest to the host's splice point.
-          placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
-          const int side = C[host].forward == br.piece ? 1 : -1;
-          C[host].splices.push_back({q, chainId, side});
-          for (size_t j = 1; j < m; ++j) {
-            if (!inTree[j] && dist[next * m + j] < key[j]) {
-              key[j] = dist[next * m + j];
-              parent[j] = next;
-            }
-          }
-        }
-      }
-    };
-    // Roots: one per component, the longest contour next to the boundary band first.
-    while (true) {
-      int root = -1;
+    } else {
+      // Pieces and the contours bounding them.
+      std::vector<std::vector<int>> pieceContours(set.pieces);
       for (size_t i = 0; i < C.size(); ++i) {
-        if (C[i].dropped || C[i].chain >= 0) continue;
-        const bool touches = isBottom(C[i].lower) || isBottom(C[i].upper);
-        if (root < 0) {
-          root = static_cast<int>(i);
+        if (C[i].length() < s) {
+          C[i].dropped = true;  // a speck around a tiny field bump: its neighbours' beads cover it
           continue;
         }
-        const bool rootTouches = isBottom(C[root].lower) || isBottom(C[root].upper);
-        if ((touches && !rootTouches) || (touches == rootTouches && C[i].length() > C[root].length())) {
-          root = static_cast<int>(i);
-        }
+        pieceContours[C[i].lower].push_back(static_cast<int>(i));
+        if (C[i].upper != C[i].lower) pieceContours[C[i].upper].push_back(static_cast<int>(i));
       }
-      if (root < 0) break;
-      const int back = C[root].lower;  // the boundary side: the spiral starts at the outside
-      const int chainId = buildChain(root, back);
-      placeBreaks(chainId, 0.0);
-      processBranches();
-      std::vector<PathPoint> path;
-      B.emitChain(chainId, path);
-      raw.push_back(std::move(path));
+      std::vector<uint8_t> pieceUsed(set.pieces, 0);
+      auto isBottom = [&](int piece) { return set.pieceBand[piece] == 0; };
+      struct Branch {
+        int piece;
+        int entry;
+      };
+      std::deque<Branch> branches;
+      // Build the chain starting at contour start coming from piece back; orient its contours.
+      auto buildChain = [&](int start, int back) {
+        const int id = static_cast<int>(B.chains.size());
+        B.chains.emplace_back();
+        int cur = start;
+        while (true) {
+          Contour& c = C[cur];
+          c.chain = id;
+          B.chains[id].contours.push_back(cur);
+          const int fwd = c.lower == back ? c.upper : c.lower;
+          c.forward = fwd;
+          if (fwd == c.lower && c.lower != c.upper) c.reverse();  // forward piece on the left
+          c.gap = B.gapOf(c);
+          if (isBottom(fwd) || pieceUsed[fwd]) break;
+          pieceUsed[fwd] = 1;
+          std::vector<int> others;
+          for (int o : pieceContours[fwd]) {
+            if (o != cur && C[o].chain < 0) others.push_back(o);
+          }
+          if (others.empty()) break;
+          if (others.size() == 1) {
+            back = fwd;
+            cur = others[0];
+            continue;
+          }
+          branches.push_back({fwd, cur});
+          break;
+        }
+        return id;
+      };
+      // Cut line: break points by successive closest points from the first contour's break.
+      auto placeBreaks = [&](int chainId, double firstBreak) {
+        const Chain& ch = B.chains[chainId];
+        C[ch.contours[0]].breakPos = firstBreak;
+        for (size_t j = 1; j < ch.contours.size(); ++j) {
+          const Contour& prev = C[ch.contours[j - 1]];
+          C[ch.contours[j]].breakPos = C[ch.contours[j]].closestPosition(prev.at(prev.breakPos));
+        }
+      };
+      // Splice point on host for child: the host vertex closest to the child, away from the gaps
+      // already cut in the host.
+      auto chooseSplice = [&](int host, int child, const PointGrid& childGrid) {
+        const Contour& H = C[host];
+        std::vector<double> cuts{H.breakPos};
+        for (const Splice& sp : H.splices) cuts.push_back(sp.pos);
+        const double clearance = 2 * H.gap + 2 * s;
+        double best = std::numeric_limits<double>::infinity(), bestFree = best;
+        size_t bestIdx = 0, bestFreeIdx = 0;
+        for (size_t i = 0; i < H.size(); ++i) {
+          const double d = childGrid.nearest(H.pts[i]).first;
+          bool free = true;
+          for (double q : cuts) {
+            double a = std::fmod(std::abs(H.cum[i] - q), H.length());
+            a = std::min(a, H.length() - a);
+            if (a < clearance) free = false;
+          }
+          if (d < best) {
+            best = d;
+            bestIdx = i;
+          }
+          if (free && d < bestFree) {
+            bestFree = d;
+            bestFreeIdx = i;
+          }
+        }
+        (void)child;
+        return std::isfinite(bestFree) ? H.cum[bestFreeIdx] : H.cum[bestIdx];
+      };
+      auto processBranches = [&]() {
+        while (!branches.empty()) {
+          const Branch br = branches.front();
+          branches.pop_front();
+          std::vector<int> members{br.entry};
+          for (int o : pieceContours[br.piece]) {
+            if (o != br.entry && C[o].chain < 0) members.push_back(o);
+          }
+          const size_t m = members.size();
+          std::vector<PointGrid> grids;
+          grids.reserve(m);
+          for (int c : members) grids.emplace_back(C[c].pts, 2 * s);
+          // Pairwise contour distances (min over the points of the first).
+          std::vector<double> dist(m * m, std::numeric_limits<double>::infinity());
+          for (size_t i = 0; i < m; ++i) {
+            for (size_t j = i + 1; j < m; ++j) {
+              double d = std::numeric_limits<double>::infinity();
+              const Contour& a = C[members[i]].size() <= C[members[j]].size() ? C[members[i]] : C[members[j]];
+              const PointGrid& g = C[members[i]].size() <= C[members[j]].size() ? grids[j] : grids[i];
+              for (const Eigen::Vector3d& p : a.pts) d = std::min(d, g.nearest(p).first);
+              dist[i * m + j] = dist[j * m + i] = d;
+            }
+          }
+          // Prim from the entry contour; each new member is spliced into its tree parent.
+          std::vector<uint8_t> inTree(m, 0);
+          std::vector<double> key(m, std::numeric_limits<double>::infinity());
+          std::vector<size_t> parent(m, 0);
+          inTree[0] = 1;
+          for (size_t j = 1; j < m; ++j) key[j] = dist[j];
+          for (size_t step = 1; step < m; ++step) {
+            size_t next = 0;
+            double bestKey = std::numeric_limits<double>::infinity();
+            for (size_t j = 1; j < m; ++j) {
+              if (!inTree[j] && key[j] <= bestKey) {
+                bestKey = key[j];
+                next = j;
+              }
+            }
+            if (next == 0) break;
+            inTree[next] = 1;
+            const int host = members[parent[next]], child = members[next];
+            const double q = chooseSplice(host, child, grids[next]);
+            const int chainId = buildChain(child, br.piece);
+            // Child oriented now: its break is the point closest to the host's splice point.
+            placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
+            const int side = C[host].forward == br.piece ? 1 : -1;
+            C[host].splices.push_back({q, chainId, side});
+            for (size_t j = 1; j < m; ++j) {
+              if (!inTree[j] && dist[next * m + j] < key[j]) {
+                key[j] = dist[next * m + j];
+                parent[j] = next;
+              }
+            }
+          }
+        }
+      };
+      // Roots: one per component, the longest contour next to the boundary band first.
+      while (true) {
+        int root = -1;
+        for (size_t i = 0; i < C.size(); ++i) {
+          if (C[i].dropped || C[i].chain >= 0) continue;
+          const bool touches = isBottom(C[i].lower) || isBottom(C[i].upper);
+          if (root < 0) {
+            root = static_cast<int>(i);
+            continue;
+          }
+          const bool rootTouches = isBottom(C[root].lower) || isBottom(C[root].upper);
+          if ((touches && !rootTouches) || (touches == rootTouches && C[i].length() > C[root].length())) {
+            root = static_cast<int>(i);
+          }
+        }
+        if (root < 0) break;
+        const int back = C[root].lower;  // the boundary side: the spiral starts at the outside
+        const int chainId = buildChain(root, back);
+        placeBreaks(chainId, 0.0);
+        processBranches();
+        std::vector<PathPoint> path;
+        B.emitChain(chainId, path);
+        raw.push_back(std::move(path));
+      }
+  }
+    return count;
+  };
+  std::vector<std::vector<PathPoint>> raw;
+  if (narrow) {
+    result.contours = build({0.8 * D}, raw);  // a thin loop around the ridge, collapsed to one side
+  } else {
+    double bestScore = std::numeric_limits<double>::infinity();
+    for (double step : steps) {
+      std::vector<double> levels;
+      for (int k = 0;; ++k) {
+        const double v = s / 2 + k * step;
+        if (v >= D - 1e-9 * s) break;
+        levels.push_back(v);
+      }
+      std::vector<std::vector<PathPoint>> candidate;
+      const int count = build(levels, candidate);
+      const double score = selfOverlapFraction(candidate, s) + 0.01 * static_cast<double>(candidate.size());
+      if (score < bestScore) {
+        bestScore = score;
+        raw.swap(candidate);
+        result.contours = count;
+      }
     }
   }
+
   for (const auto& path : raw) {
     SurfacePath sp = resamplePath(path, options.resample, tree, faceNormal);
     if (sp.points.size() >= 2) result.paths.push_back(std::move(sp));
   }
-  result.connectMs = msSince(t2);
+  result.connectMs = msSince(t1) - result.contourMs;
   return result;
 }
 
