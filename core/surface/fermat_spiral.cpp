@@ -676,6 +676,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   const auto t0 = std::chrono::steady_clock::now();
   BoundaryDistanceOptions dopt;
   dopt.timeFactor = options.timeFactor;
+  dopt.boundaryCondition = options.heatBoundary;
   const BoundaryDistance dist = boundaryGeodesicDistance(region, dopt);
   if (!dist.ok()) {
     SpiralResult r;
@@ -950,7 +951,8 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   }
 
   for (const auto& path : raw) {
-    SurfacePath sp = resamplePath(path, options.resample, tree, faceNormal);
+    // 1 % short of the step: projecting hop points onto the surface may lengthen a step slightly.
+    SurfacePath sp = resamplePath(path, 0.99 * options.resample, tree, faceNormal);
     if (sp.points.size() >= 2) result.paths.push_back(std::move(sp));
   }
   result.connectMs = msSince(t1) - result.contourMs;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <string>
 
 #include "surface/surface_test_meshes.h"
 #include "test_support.h"
@@ -83,19 +84,24 @@ void expectAccurate(const ErrorStats& s) {
   EXPECT_LT(s.meanRel, 0.05);
 }
 
+// All three heat boundary conditions, each held to the same bound; returns the default's stats.
+ErrorStats compareAll(const std::string& name, const Mesh& m, const std::vector<double>& exact) {
+  BoundaryDistanceOptions o;
+  o.boundaryCondition = HeatBoundaryCondition::Neumann;
+  expectAccurate(compare((name + " Neumann").c_str(), m, exact, o));
+  o.boundaryCondition = HeatBoundaryCondition::Dirichlet;
+  expectAccurate(compare((name + " Dirichlet").c_str(), m, exact, o));
+  const ErrorStats s = compare((name + " average").c_str(), m, exact);
+  expectAccurate(s);
+  return s;
+}
+
 TEST(BoundaryDistance, FlatDiscMatchesRadiusMinusR) {
   const double R = 10;
   const Mesh m = test::makeDisc(R, 0.4);
   std::vector<double> exact(m.vertexCount());
   for (size_t v = 0; v < m.vertexCount(); ++v) exact[v] = R - m.vertex(v).head<2>().norm();
-  const ErrorStats s = compare("disc R10", m, exact);
-  expectAccurate(s);
-  // The three boundary conditions, for the record (the default averages the first two).
-  BoundaryDistanceOptions o;
-  o.boundaryCondition = HeatBoundaryCondition::Neumann;
-  compare("disc R10 Neumann", m, exact, o);
-  o.boundaryCondition = HeatBoundaryCondition::Dirichlet;
-  compare("disc R10 Dirichlet", m, exact, o);
+  const ErrorStats s = compareAll("disc R10", m, exact);
   // Refinement lowers the worst error (the mean stays near 0.02 mm: with t = h^2 the heat method's
   // smoothing error does not vanish with h, as Crane et al. note).
   const Mesh fine = test::makeDisc(R, 0.2);
@@ -113,14 +119,14 @@ TEST(BoundaryDistance, FlatRectangleMatchesNearestSide) {
   for (size_t v = 0; v < m.vertexCount(); ++v) {
     exact[v] = std::max(0.0, -boxSdf(m.vertex(v).head<2>(), {0, 0}, {w, hgt}));
   }
-  expectAccurate(compare("rectangle 20x12", m, exact));
+  compareAll("rectangle 20x12", m, exact);
 }
 
 TEST(BoundaryDistance, LShapeMatchesEuclideanDistanceToBoundary) {
   // In a planar domain the nearest boundary point is always visible, so the geodesic distance to
   // the boundary equals the Euclidean distance to the boundary polyline, also at the reflex corner.
   const Mesh m = test::makeLShape(8, 0.4);
-  expectAccurate(compare("L shape a=8", m, exactToBoundaryPolyline(m)));
+  compareAll("L shape a=8", m, exactToBoundaryPolyline(m));
 }
 
 TEST(BoundaryDistance, DevelopableCylinderPatchMatchesUnrolledDistance) {
@@ -135,7 +141,7 @@ TEST(BoundaryDistance, DevelopableCylinderPatchMatchesUnrolledDistance) {
   for (size_t v = 0; v < m.vertexCount(); ++v) {
     exact[v] = std::max(0.0, -boxSdf(flat.vertex(v).head<2>(), {0, 0}, {w, hgt}));
   }
-  expectAccurate(compare("cylinder patch r=6", m, exact));
+  compareAll("cylinder patch r=6", m, exact);
 }
 
 TEST(BoundaryDistance, SphericalCapMatchesGeodesicDistanceToRim) {
@@ -146,7 +152,7 @@ TEST(BoundaryDistance, SphericalCapMatchesGeodesicDistanceToRim) {
     const double polar = std::acos(std::clamp(m.vertex(v).z() / R, -1.0, 1.0));
     exact[v] = rho - R * polar;
   }
-  expectAccurate(compare("spherical cap R12", m, exact));
+  compareAll("spherical cap R12", m, exact);
 }
 
 TEST(BoundaryDistance, DegenerateTrianglesStayFinite) {

@@ -17,6 +17,7 @@
 #include <unordered_map>
 
 #include "geometry/aabb_tree.h"
+#include "mesh/read_mesh.h"
 #include "surface/surface_test_meshes.h"
 #include "test_support.h"
 
@@ -70,7 +71,8 @@ double meshArea(const Mesh& m) {
   return a;
 }
 
-// Exact distance to the boundary polyline of a planar mesh.
+// Euclidean distance to the boundary polyline: exact on planar meshes, a lower bound of the
+// geodesic distance on curved ones.
 DistanceFn planarBoundaryDistance(const Mesh& m) {
   auto edges = test::boundaryEdges(m);
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segs;
@@ -232,6 +234,26 @@ TEST(FermatSpiral, SphericalCapIsOneSpiral) {
   checkSpiral("spherical cap", m, [=](const Eigen::Vector3d& p) {
     return rho - R * std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
   });
+}
+
+TEST(FermatSpiral, InconsistentFaceOrientationStillGivesConsistentNormals) {
+  // Every other triangle flipped: the normals along the path must not flip (checked per step).
+  Mesh m = test::makeDisc(8, 0.4);
+  for (size_t f = 0; f < m.faceCount(); f += 2) std::swap(m.triangles[3 * f + 1], m.triangles[3 * f + 2]);
+  checkSpiral("disc, mixed faces", m, [](const Eigen::Vector3d& p) { return 8 - p.head<2>().norm(); });
+}
+
+// Real open shells from ../shared/models (curved, coarse: several contours cross one triangle).
+TEST(FermatSpiral, RealOpenShells) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  for (const char* name : {"compas_connection3legs_open_low_res.obj", "compas_Y_shape_mesh.obj"}) {
+    const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / name).string());
+    ASSERT_TRUE(read.ok()) << name << ": " << read.message;
+    SpiralOptions o;
+    o.spacing = 2.0;  // the shells are 200+ mm tall: a 2 mm bead keeps the test fast
+    o.resample = 2.0;
+    checkSpiral(name, read.mesh, planarBoundaryDistance(read.mesh), 1, o);
+  }
 }
 
 TEST(FermatSpiral, Timing20kVertexRegion) {
