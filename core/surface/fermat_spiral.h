@@ -4,12 +4,30 @@
 // spacing (first at spacing/2), organised in a contour tree, each nested run of contours turned
 // into a Fermat spiral (in on every other contour, out on the others), runs joined at the tree's
 // branches into one continuous polyline, re-sampled at a fixed step.
+//
+// Details (fermat_spiral.cpp): the contour tree is the bipartite tree of contours and "pieces"
+// (connected components of the bands between consecutive levels). Runs of contours joined by
+// pieces with exactly two contours (nested bands, or the ridge of an annulus) form one spiral;
+// every contour is cut at break points aligned by successive closest points, the in-hops and
+// out-hops run as two families of parallel diagonals through gaps one bead wide, so they never
+// cross. At a branch (a piece bounded by 3+ contours) the contours are joined by a minimum
+// spanning tree of their distances; each child spiral, whose two ends lie one bead apart at its
+// outer contour, is spliced into its host contour through a one-bead gap at the host point
+// closest to the child. Result: one polyline per connected component of {distance >= spacing/2}
+// (more than one only where a neck narrower than one bead separates parts of the region).
+// The level step is the spacing or, if that overlaps itself less, a step within -15 %/+5 % that
+// puts the last level spacing/2 below the highest ridge (the path overlapping itself least is
+// kept). Limitations: gaps near the medial axis (as Zhao et al. report; tests cover >= 97 % of
+// points farther than spacing/2 from the boundary within 0.75 spacing); hops cross the gap zone
+// diagonally (two families 0.7 spacing apart); regions narrower than 1.5 beads get one centre
+// line following only the longest ridge; surfaces of genus > 0 may yield extra polylines.
 #pragma once
 #include <Eigen/Core>
 #include <vector>
 
 #include "common/status.h"
 #include "mesh/mesh.h"
+#include "surface/boundary_distance.h"
 
 namespace omnislice {
 
@@ -17,6 +35,10 @@ struct SpiralOptions {
   double spacing = 0.45;    // bead spacing (line width), mm, > 0
   double resample = 1.0;    // output point spacing along the path, mm (paper: 1 mm), > 0
   double timeFactor = 1.0;  // heat-method t factor (boundary_distance.h)
+  // Heat boundary condition of the distance. Dirichlet-only is as accurate on average and ~35 %
+  // faster, but its ridges are noisier: on the annulus test the top contour broke into more
+  // islands (path 98.1 % overlap-free instead of 99.3 %).
+  HeatBoundaryCondition heatBoundary = HeatBoundaryCondition::Average;
 };
 
 // A polyline on the surface with the surface normal at every point (unit; orientation of the
@@ -32,8 +54,12 @@ struct SpiralResult : Outcome {
   double distanceMs = 0, contourMs = 0, connectMs = 0;
 };
 
-// region: one connected layer region (triangles, with boundary). Regions narrower than one bead
-// give a single centre-line path when possible, else no path (not an error).
+// region: one connected layer region (triangles, with boundary; edge-manifold). Regions narrower
+// than about 1.5 beads (max distance < 0.75 spacing) give a single centre-line path when the max
+// distance exceeds spacing/4, else no path (not an error). Points lie on the region (contour
+// points on its edges, hops projected onto it), consecutive points at most `resample` apart,
+// corners kept within 0.05 mm. Statuses: those of boundaryGeodesicDistance, InvalidOption for
+// spacing/resample <= 0 or not finite, or a spacing too small for the region (> 20000 levels).
 SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options);
 
 }  // namespace omnislice
