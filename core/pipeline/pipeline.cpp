@@ -257,7 +257,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     double layerHeight = settings.layerHeight;
     VoxelMethodOutput voxelOut;
     if (voxel) {
-      voxelOut = runVoxelMethod(in.placed.mesh, settings, progress);
+      voxelOut = runVoxelMethod(in.placed.mesh, settings, machine, progress);
       if (!voxelOut.ok()) return failed<SliceOutput>(voxelOut);
       for (const auto& [stage, ms] : voxelOut.timingsMs) clock.timings[stage] = ms;
       clock.t0 = Clock::now();

@@ -134,6 +134,8 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.voxel.isoStep; }, 0, 100, "field units (0 = w/d)"}},
       {"voxel.platform_radius_mm",
        {[](Settings& s) -> double& { return s.voxel.platformRadiusMm; }, 0, 5000, "mm (0 = footprint)"}},
+      {"voxel.max_tilt_deg",
+       {[](Settings& s) -> double& { return s.voxel.maxTiltDegrees; }, 0, 180, "degrees (0 = machine)"}},
       {"voxel.max_voxels",
        {[](Settings& s) -> double& { return s.voxel.maxVoxels; }, 1000, 1e9, "voxels"}},
       {"motion.chord_tolerance",

@@ -35,6 +35,8 @@ struct VoxelSettings {
   double isoStep = 0;                  // curved-layer iso step in G units; 0 = Eq. 2 (w/d)
   double platformRadiusMm = 0;         // platform disc radius; 0 = the part's footprint
   double maxVoxels = 3e6;              // refuse grids with more solid voxels
+  double maxTiltDegrees = 0;           // nozzle axes lean at most this far from +Z; 0 = the
+                                       // machine's (table5: its B range; robot6: 90)
 };
 
 struct Settings {

@@ -41,8 +41,26 @@ void pushPoint(std::vector<float>& out, const Eigen::Vector3d& p) {
 
 }  // namespace
 
+namespace {
+
+// How far the machine can lean the nozzle from the part's +Z: a table's B range (tilting beyond it
+// is out of reach), 90 degrees for a robot holding the platform (beyond, the arm must hold the
+// part upside down, which a UR5 under a fixed nozzle reaches only in part of its workspace).
+double machineTiltDegrees(const Settings& settings, const MachineProfile& machine) {
+  if (settings.voxel.maxTiltDegrees > 0) return settings.voxel.maxTiltDegrees;
+  if (machine.kind == "table5") {
+    auto it = machine.axisLimits.find("B");
+    if (it != machine.axisLimits.end()) {
+      return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
+    }
+  }
+  return 90;
+}
+
+}  // namespace
+
 VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
-                                 const ProgressFn& progress) {
+                                 const MachineProfile& machine, const ProgressFn& progress) {
   VoxelMethodOutput out;
   const double nozzle = settings.nozzleDiameter;
   const double w = settings.voxel.widthMm > 0 ? settings.voxel.widthMm : 0.8 * nozzle;
@@ -152,6 +170,8 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   topt.travelSpeed = settings.travelSpeed;
   topt.retractLength = settings.retractLength;
   topt.retractMinTravel = settings.retractMinTravel;
+  topt.retractSpeed = settings.retractSpeed;
+  topt.maxTiltDegrees = machineTiltDegrees(settings, machine);
   CurvedToolpathResult tp = buildCurvedToolpath(layers.layers, paths, topt, progress);
   if (!tp.ok()) return failure(tp);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
@@ -224,7 +244,9 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
                  {"timings_ms", timings},
                  {"shadow_checks", field.shadowChecks},
                  {"hull_builds", field.hullBuilds},
-                 {"orientation_fallbacks", tp.orientationFallbacks}};
+                 {"orientation_fallbacks", tp.orientationFallbacks},
+                 {"max_tilt_deg", topt.maxTiltDegrees},
+                 {"tilt_clamped", tp.tiltClamped}};
   (void)supportCells;
   out.reportJson = report.dump();
   return out;

@@ -12,6 +12,7 @@
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
+#include "program/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {
@@ -28,7 +29,8 @@ struct VoxelMethodOutput : Outcome {
 
 // part: the placed, validated solid (min z = 0). Progress stages "voxelize", "peeling", "growth",
 // "layers", "toolpath".
+// machine: the resolved profile (its tilt range bounds the nozzle axes).
 VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
-                                 const ProgressFn& progress);
+                                 const MachineProfile& machine, const ProgressFn& progress);
 
 }  // namespace omnislice

@@ -18,9 +18,52 @@ namespace {
 
 using Json = nlohmann::json;
 
-// A sphere resting on the platform: its whole lower half overhangs, which planar layers cannot
-// print without supports and curved layers grown from the contact point can.
-std::vector<uint8_t> sphereBytes() { return test::binaryStl(test::makeSphere(7, 24, 48, 0, 0, 7)); }
+// Closed solid of revolution about Z from a profile of (radius, z) points going up, first and last
+// on the axis (radius 0), with `segments` facets around.
+Mesh makeRevolved(const std::vector<std::pair<double, double>>& profile, int segments) {
+  Mesh m;
+  std::vector<std::vector<uint32_t>> rings;
+  for (const auto& [r, z] : profile) {
+    std::vector<uint32_t> ring;
+    const int n = r > 0 ? segments : 1;
+    for (int k = 0; k < n; ++k) {
+      const double a = 2 * M_PI * k / segments;
+      m.positions.insert(m.positions.end(), {r * std::cos(a), r * std::sin(a), z});
+      ring.push_back(static_cast<uint32_t>(m.vertexCount() - 1));
+    }
+    rings.push_back(ring);
+  }
+  for (size_t i = 0; i + 1 < rings.size(); ++i) {
+    const auto& a = rings[i];
+    const auto& b = rings[i + 1];
+    for (int k = 0; k < segments; ++k) {
+      const int k1 = (k + 1) % segments;
+      if (a.size() == 1) {
+        m.triangles.insert(m.triangles.end(), {a[0], b[k1], b[k]});
+      } else if (b.size() == 1) {
+        m.triangles.insert(m.triangles.end(), {a[k], a[k1], b[0]});
+      } else {
+        m.triangles.insert(m.triangles.end(), {a[k], a[k1], b[k1]});
+        m.triangles.insert(m.triangles.end(), {a[k], b[k1], b[k]});
+      }
+    }
+  }
+  return m;
+}
+
+// A mushroom: a 3 mm stem, a cap widening at 60 degrees from vertical (an overhang planar layers
+// print only with supports), a rounded top. Curved layers grown up the stem lean outward over it.
+std::vector<uint8_t> mushroomBytes() {
+  std::vector<std::pair<double, double>> profile = {{0, 0}, {3, 0}, {3, 4}};
+  for (int i = 1; i <= 6; ++i) profile.emplace_back(3 + 1.0 * i * std::tan(M_PI / 3), 4 + 1.0 * i);
+  const double rTop = profile.back().first, zTop = profile.back().second;
+  for (int i = 1; i <= 6; ++i) {
+    const double a = M_PI / 2 * i / 6;
+    profile.emplace_back(rTop * std::cos(a), zTop + 3 * std::sin(a));
+  }
+  profile.back().first = 0;
+  return test::binaryStl(makeRevolved(profile, 48));
+}
 
 Settings voxelSettings(const char* machine) {
   Settings s;
@@ -48,10 +91,10 @@ void expectVerified(const SliceOutput& out, const std::vector<uint8_t>& bytes, c
 
 class VoxelPipeline : public ::testing::TestWithParam<const char*> {};
 
-TEST_P(VoxelPipeline, SphereOnTheBedPrintsWithCurvedLayersAndVerifies) {
-  const auto bytes = sphereBytes();
+TEST_P(VoxelPipeline, MushroomPrintsWithCurvedLayersAndVerifies) {
+  const auto bytes = mushroomBytes();
   const Settings s = voxelSettings(GetParam());
-  SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "mushroom.stl", s);
   ASSERT_TRUE(out.ok()) << out.message;
   const Json report = Json::parse(out.reportJson);
   ASSERT_TRUE(report.contains("voxel")) << report.dump();
@@ -62,9 +105,9 @@ TEST_P(VoxelPipeline, SphereOnTheBedPrintsWithCurvedLayersAndVerifies) {
   }
   EXPECT_EQ(vx["missed_voxels"].get<int>(), 0) << vx.dump();
   EXPECT_EQ(vx["strategy"], "pg-sp-gcfa");
-  // A 14 mm sphere at 0.64 mm voxels: about (4/3 pi 7^3) / 0.64^3 = 5,500 voxels.
-  EXPECT_GT(vx["voxels"].get<int>(), 4000);
-  EXPECT_LT(vx["voxels"].get<int>(), 9000);
+  // Stem 113 mm^3, cap frustum 2,170 mm^3, dome ~1,900 mm^3 at 0.64 mm voxels: ~16,000 voxels.
+  EXPECT_GT(vx["voxels"].get<int>(), 12000);
+  EXPECT_LT(vx["voxels"].get<int>(), 24000);
   EXPECT_GT(vx["layers"].get<int>(), 8);
   const double mean = vx["thickness"]["mean_mm"].get<double>();
   EXPECT_GT(mean, 0.3);
@@ -91,7 +134,7 @@ TEST_P(VoxelPipeline, SphereOnTheBedPrintsWithCurvedLayersAndVerifies) {
   EXPECT_EQ(out.preview.missedVoxels.size(), 3 * vx["missed_voxels"].get<size_t>());
   EXPECT_GT(out.preview.voxelWidth, 0.6f);
 
-  expectVerified(out, bytes, "sphere.stl");
+  expectVerified(out, bytes, "mushroom.stl");
 }
 
 INSTANTIATE_TEST_SUITE_P(Machines, VoxelPipeline, ::testing::Values("table5", "robot6-ur5"),
@@ -104,18 +147,18 @@ INSTANTIATE_TEST_SUITE_P(Machines, VoxelPipeline, ::testing::Values("table5", "r
                          });
 
 TEST(VoxelPipelineErrors, ThreeAxisMachineIsRefusedWithAReason) {
-  const auto bytes = sphereBytes();
+  const auto bytes = mushroomBytes();
   Settings s = voxelSettings("cartesian3");
-  SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "mushroom.stl", s);
   EXPECT_EQ(out.status, Status::InvalidOption);
   EXPECT_NE(out.message.find("table5"), std::string::npos) << out.message;
 }
 
 TEST(VoxelPipelineErrors, TooManyVoxelsIsRefusedBeforeWork) {
-  const auto bytes = sphereBytes();
+  const auto bytes = mushroomBytes();
   Settings s = voxelSettings("table5");
   ASSERT_TRUE(setSetting(s, "voxel.max_voxels", "1000").ok());
-  SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "mushroom.stl", s);
   EXPECT_EQ(out.status, Status::InvalidOption);
   EXPECT_NE(out.message.find("voxel"), std::string::npos) << out.message;
 }
@@ -133,10 +176,10 @@ TEST(VoxelPipelineErrors, BadVoxelSettingsAreStatuses) {
 }
 
 TEST(VoxelPipelineCancel, CancelDuringTheFieldStopsWithCancelled) {
-  const auto bytes = sphereBytes();
+  const auto bytes = mushroomBytes();
   const Settings s = voxelSettings("table5");
   bool sawGrowth = false;
-  SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s,
+  SliceOutput out = runSlice(bytes.data(), bytes.size(), "mushroom.stl", s,
                              [&](const char* stage, double) {
                                if (std::string(stage) == "growth") sawGrowth = true;
                                return !sawGrowth;
