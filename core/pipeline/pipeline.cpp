@@ -343,7 +343,11 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     report["sliced_layers"] = slicedLayers;
     report["layer_height_mm"] = layerHeight;
     report["path_mm"] = finite(stats.pathMm);
-    report["extrusion_mm"] = finite(stats.filamentMm);
+    // What the program extrudes (unretracts of the motion planner's safe rotations included), the
+    // figure `verify` measures.
+    double programFilament = 0;
+    for (const MachineMove& m : motion.moves) programFilament += std::max(0.0, m.filament);
+    report["extrusion_mm"] = finite(programFilament);
     report["travel_mm"] = finite(stats.travelMm);
     report["retractions"] = stats.retractions;
     report["estimated_time_s"] = finite(written.estimatedTimeS);

@@ -131,7 +131,9 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
       {"voxel.epsilon",
        {[](Settings& s) -> double& { return s.voxel.epsilon; }, -1, 2, "voxel widths (-1 = default)"}},
       {"voxel.iso_step",
-       {[](Settings& s) -> double& { return s.voxel.isoStep; }, 0, 100, "field units (0 = w/d)"}},
+       {[](Settings& s) -> double& { return s.voxel.isoStep; }, 0, 100, "field units (0 = from voxel.layer_mm)"}},
+      {"voxel.layer_mm",
+       {[](Settings& s) -> double& { return s.voxel.layerMm; }, 0, 5, "mm (0 = voxel width)"}},
       {"voxel.platform_radius_mm",
        {[](Settings& s) -> double& { return s.voxel.platformRadiusMm; }, 0, 5000, "mm (0 = footprint)"}},
       {"voxel.max_tilt_deg",
@@ -220,6 +222,13 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
       return invalid(key, "'" + value + "' is not a shadow scheme (incremental, recursive)");
     }
     settings.voxel.shadow = value;
+    return {};
+  }
+  if (key == "voxel.layer_field") {
+    if (value != "steps" && value != "generations") {
+      return invalid(key, "'" + value + "' is not a layer field (steps, generations)");
+    }
+    settings.voxel.layerField = value;
     return {};
   }
   if (key == "voxel.supports") {
@@ -354,6 +363,7 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
     out.emplace_back("voxel.strategy", s.voxel.strategy);
     out.emplace_back("voxel.shadow", s.voxel.shadow);
     out.emplace_back("voxel.supports", s.voxel.supports ? "true" : "false");
+    out.emplace_back("voxel.layer_field", s.voxel.layerField);
   }
   // machine_json is not listed: the program header and the report carry the resolved profile.
   return out;

@@ -32,7 +32,12 @@ struct VoxelSettings {
   double peelStep = 1;                 // delta f of Algorithm 1, peeling sheets
   double epsilon = -1;                 // Definitions 2-3, voxel widths; < 0 = the field's default
   bool supports = false;               // add supports under missed voxels and grow again
-  double isoStep = 0;                  // curved-layer iso step in G units; 0 = Eq. 2 (w/d)
+  std::string layerField = "steps";    // curved layers are iso-surfaces of: steps (G, the growth
+                                       // step of each voxel) | generations (fronts counted from
+                                       // the platform through AM-stable neighbours)
+  double isoStep = 0;                  // curved-layer iso step in G units; 0 = from layerMm
+  double layerMm = 0;                  // target curved-layer thickness, mm; 0 = w (0.8 x nozzle,
+                                       // the paper's calibrated layer of Section 6.2.1)
   double platformRadiusMm = 0;         // platform disc radius; 0 = the part's footprint
   double maxVoxels = 3e6;              // refuse grids with more solid voxels
   double maxTiltDegrees = 0;           // nozzle axes lean at most this far from +Z; 0 = the

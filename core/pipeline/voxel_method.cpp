@@ -57,6 +57,85 @@ double machineTiltDegrees(const Settings& settings, const MachineProfile& machin
   return 90;
 }
 
+// The layer field: G counts growth steps (time), and a step of the field-governed growth may add
+// only a thin sliver of voxels, so iso-values of G bunch up where the front waited and spread where
+// it ran. The generation 1 + max over the voxel's AM-stable neighbours added at earlier steps
+// counts fronts instead: one unit per face- or edge-neighbour step (paper 001 Section 6.2.1: "the
+// field value is increased by one in both cases", 1.25 w per unit). For neighbouring voxels it
+// orders exactly as G does (a voxel added later than its neighbour has a larger generation), so
+// the layers keep the growth's order locally; every voxel has a neighbour one generation below.
+std::vector<int32_t> generationField(const VoxelGrid& grid, const std::vector<int32_t>& g) {
+  int32_t maxG = 0;
+  for (int32_t v : g) maxG = std::max(maxG, v);
+  std::vector<uint32_t> count(static_cast<size_t>(maxG) + 2, 0);
+  for (int32_t v : g) {
+    if (v >= 1) ++count[static_cast<size_t>(v)];
+  }
+  std::vector<uint32_t> start(count.size() + 1, 0);
+  for (size_t i = 0; i < count.size(); ++i) start[i + 1] = start[i] + count[i];
+  std::vector<uint32_t> order(start.back());
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g[i] >= 1) order[fill[static_cast<size_t>(g[i])]++] = static_cast<uint32_t>(i);
+  }
+  std::vector<int32_t> gen(g.size());
+  for (size_t i = 0; i < g.size(); ++i) gen[i] = g[i] >= 1 ? 0 : g[i];
+  const auto& offsets = amStableOffsets();
+  for (uint32_t idx : order) {
+    const Eigen::Vector3i c = grid.cell(idx);
+    int32_t best = 0;
+    for (const Eigen::Vector3i& o : offsets) {
+      const Eigen::Vector3i n = c + o;
+      if (!grid.inRange(n.x(), n.y(), n.z())) continue;
+      const size_t ni = grid.index(n.x(), n.y(), n.z());
+      if (g[ni] >= 1 && g[ni] < g[idx]) best = std::max(best, gen[ni]);
+    }
+    gen[idx] = best + 1;
+  }
+  return gen;
+}
+
+// Millimetres per field unit: the median over grown voxels of 1 / |grad G| (central differences
+// over valued face neighbours). The growth advances G by one per front step, but how far a step
+// reaches depends on the strategy (the field-governed growth takes thinner steps), so curved
+// layers of a given thickness need the iso step in field units measured, not assumed (Eq. 2
+// assumes the paper's ratio of 1.25 w per unit, Section 6.2.1).
+double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>& g) {
+  std::vector<float> spacing;
+  spacing.reserve(grid.cellCount() / 8);
+  auto valued = [&](int i, int j, int k, double& v) {
+    if (!grid.inRange(i, j, k)) return false;
+    const int32_t x = g[grid.index(i, j, k)];
+    if (x <= 0) return false;
+    v = x;
+    return true;
+  };
+  for (size_t idx = 0; idx < grid.cellCount(); ++idx) {
+    if (g[idx] <= 0) continue;
+    const Eigen::Vector3i c = grid.cell(idx);
+    double grad2 = 0;
+    bool any = false;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3i lo = c, hi = c;
+      lo[a] -= 1;
+      hi[a] += 1;
+      double vl = 0, vh = 0;
+      const bool hasL = valued(lo.x(), lo.y(), lo.z(), vl), hasH = valued(hi.x(), hi.y(), hi.z(), vh);
+      double d = 0;
+      if (hasL && hasH) d = 0.5 * (vh - vl);
+      else if (hasL) d = g[idx] - vl;
+      else if (hasH) d = vh - g[idx];
+      else continue;
+      any = true;
+      grad2 += d * d;
+    }
+    if (any && grad2 > 1e-12) spacing.push_back(static_cast<float>(grid.width / std::sqrt(grad2)));
+  }
+  if (spacing.empty()) return grid.width;
+  std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+  return spacing[spacing.size() / 2];
+}
+
 }  // namespace
 
 VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
@@ -130,9 +209,13 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   // 3. Curved layers (Section 4.5, Eq. 2).
   t0 = Clock::now();
   CurvedLayersOptions lopt;
-  lopt.isoStep = settings.voxel.isoStep;
+  const std::vector<int32_t> layerField =
+      settings.voxel.layerField == "generations" ? generationField(grid, field.g) : field.g;
+  const double mmPerUnit = millimetresPerFieldUnit(grid, layerField);
+  const double targetLayer = settings.voxel.layerMm > 0 ? settings.voxel.layerMm : w;
+  lopt.isoStep = settings.voxel.isoStep > 0 ? settings.voxel.isoStep : targetLayer / mmPerUnit;
   lopt.nozzleDiameter = nozzle;
-  CurvedLayersResult layers = extractCurvedLayers(grid, field.g, part, lopt, progress);
+  CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
   if (!layers.ok()) return failure(layers);
   out.timingsMs.emplace_back("layers", msSince(t0));
 
@@ -224,6 +307,8 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
                  {"missed_before_supports", missedBeforeSupports},
                  {"support_rounds", supportRounds},
                  {"field_layers", field.layers},
+                 {"layer_field", settings.voxel.layerField},
+                 {"layer_field_max", *std::max_element(layerField.begin(), layerField.end())},
                  {"layers", out.layers},
                  {"surface_layers", layers.layers.size()},
                  {"regions", regionCount},
@@ -234,7 +319,9 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
                  {"epsilon", gopt.epsilon},
                  {"peel_step", gopt.peelStep},
                  {"voxel_width_mm", w},
-                 {"iso_step", settings.voxel.isoStep > 0 ? settings.voxel.isoStep : w / nozzle},
+                 {"iso_step", lopt.isoStep},
+                 {"mm_per_field_unit", mmPerUnit},
+                 {"target_layer_mm", targetLayer},
                  {"thickness",
                   {{"samples", th.samples},
                    {"mean_mm", th.mean},

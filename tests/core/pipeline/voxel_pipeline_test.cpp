@@ -189,4 +189,5 @@ TEST(VoxelPipelineCancel, CancelDuringTheFieldStopsWithCancelled) {
 }
 
 }  // namespace
+std::vector<uint8_t> mushroomBytesDbg() { return mushroomBytes(); }
 }  // namespace omnislice
