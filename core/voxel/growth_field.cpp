@@ -126,6 +126,7 @@ class PlaneRegistry {
       if (it == ids_.end()) {
         it = ids_.emplace(k, static_cast<int32_t>(stamp_.size())).first;
         stamp_.push_back(0);
+        plane_.push_back(p);
       }
       a.ids.push_back(it->second);
     }
@@ -137,10 +138,12 @@ class PlaneRegistry {
     for (int32_t id : a.ids) stamp_[id] = current_;
   }
   bool alive(int32_t id) const { return id >= 0 && stamp_[id] == current_; }
+  const LatticeHull::Plane& plane(int32_t id) const { return plane_[id]; }
   size_t size() const { return stamp_.size(); }
   void clear() {
     ids_.clear();
     stamp_.clear();
+    plane_.clear();
   }
 
  private:
@@ -159,6 +162,7 @@ class PlaneRegistry {
   };
   std::unordered_map<Key, int32_t, Hash> ids_;
   std::vector<uint32_t> stamp_;
+  std::vector<LatticeHull::Plane> plane_;
   uint32_t current_ = 0;
 };
 
@@ -256,11 +260,14 @@ class Grower {
             next.push_back(w);
           }
         if (sp_ && !next.empty()) {
+          // No sacrifice here: a stuck front first re-seeds from the whole frontier and raises
+          // f_tau; shadows are only accepted when nothing else can grow (below).
           const auto ts = Clock::now();
-          next = preventShadows(cC, next, cNext);
-          havePrepared = true;
+          next = preventShadows(cC, next, cNext, false);
+          havePrepared = !next.empty();
           out_.shadowMs += msSince(ts);
         }
+        if (next.empty()) --tau;
         for (int32_t w : next) g_[w] = tau;
         grown += next.size();
         cPrev = std::move(cC);
@@ -302,14 +309,19 @@ class Grower {
         fTau += opt_.peelStep;
         continue;
       }
-      ++tau;
       if (sp_) {
         const auto ts = Clock::now();
         updateAlive(cPrev);
-        seeds = preventShadows(cPrev, seeds, cNext);
-        havePrepared = true;
+        const bool last = !pg || fTau > peelMax_;
+        seeds = preventShadows(cPrev, seeds, cNext, last);
+        havePrepared = !seeds.empty();
         out_.shadowMs += msSince(ts);
+        if (seeds.empty()) {
+          fTau += opt_.peelStep;
+          continue;
+        }
       }
+      ++tau;
       for (int32_t w : seeds) g_[w] = tau;
       grown += seeds.size();
       layer = std::move(seeds);
@@ -381,7 +393,7 @@ class Grower {
   // hullOut receives C(C_c U result).
   std::vector<int32_t> preventShadows(const PlaneRegistry::Active& cC,
                                       const std::vector<int32_t>& next,
-                                      PlaneRegistry::Active& hullOut) {
+                                      PlaneRegistry::Active& hullOut, bool allowSacrifice) {
     ++markStamp_;
     for (int32_t v : next) mark_[v] = markStamp_;
     PlaneRegistry::Active cP = planes_.make(cC.hull.extended(positions(next)));
@@ -396,25 +408,70 @@ class Grower {
     }
     std::vector<int32_t> accepted;
     PlaneRegistry::Active base = cC;
-    auto shadowFree = [&](const std::vector<int32_t>& sub, PlaneRegistry::Active& h) {
-      h = planes_.make(base.hull.extended(positions(sub)));
+    std::vector<int32_t> pending;  // accepted voxels not yet built into base
+    // Each voxel of S_p keeps a supporting half-space of base U pending it lies within eps of
+    // (initially its separating plane of C_c). A subset that crosses none of a voxel's half-space
+    // cannot shadow it, so only the voxels whose half-space is crossed need the built hull C_t.
+    std::vector<int32_t> halfSpace(sP.size());  // registry plane id
+    planes_.activate(cC);
+    for (size_t i = 0; i < sP.size(); ++i) {
+      insideActive(cC, sP[i]);  // not inside C_c: finds (or keeps) a separating plane of C_c
+      halfSpace[i] = sep_[sP[i]];
+    }
+    std::vector<int32_t> crossedByPending, failing;
+    std::unordered_map<int32_t, char> crossedCache;
+    auto crosses = [&](int32_t id, const std::vector<int32_t>& list) {
+      const LatticeHull::Plane& h = planes_.plane(id);
+      for (int32_t v : list) {
+        const V3& x = vox_.pos[v];
+        if (h.nx * x.x() + h.ny * x.y() + h.nz * x.z() > h.offset) return true;
+      }
+      return false;
+    };
+    std::unordered_map<int32_t, char> pendingCrossed;  // plane id -> crossed by pending
+    auto tryAdd = [&](const std::vector<int32_t>& sub) {
+      crossedCache.clear();
+      failing.clear();
+      for (size_t i = 0; i < sP.size(); ++i) {
+        const int32_t id = halfSpace[i];
+        auto it = crossedCache.find(id);
+        if (it == crossedCache.end()) {
+          auto pc = pendingCrossed.find(id);
+          if (pc == pendingCrossed.end()) pc = pendingCrossed.emplace(id, crosses(id, pending)).first;
+          it = crossedCache.emplace(id, pc->second || crosses(id, sub)).first;
+        }
+        if (it->second) failing.push_back(static_cast<int32_t>(i));
+      }
+      if (failing.empty()) {
+        for (auto& pc : pendingCrossed)
+          if (!pc.second) pc.second = crosses(pc.first, sub);
+        pending.insert(pending.end(), sub.begin(), sub.end());
+        accepted.insert(accepted.end(), sub.begin(), sub.end());
+        return true;
+      }
+      std::vector<V3> pts = positions(pending);
+      for (int32_t v : sub) pts.push_back(vox_.pos[v]);
+      PlaneRegistry::Active h = planes_.make(base.hull.extended(pts));
       ++out_.hullBuilds;
       planes_.activate(h);
-      for (int32_t v : sP)
-        if (insideActive(h, v)) return false;
+      for (int32_t i : failing)
+        if (insideActive(h, sP[i])) return false;
+      for (int32_t i : failing) halfSpace[i] = sep_[sP[i]];  // a plane of the new base
+      accepted.insert(accepted.end(), sub.begin(), sub.end());
+      base = std::move(h);
+      pending.clear();
+      pendingCrossed.clear();
       return true;
     };
     if (opt_.shadowScheme == ShadowScheme::RecursivePca) {
       std::vector<std::vector<int32_t>> stack = {next};
+      bool first = true;
       while (!stack.empty()) {
         std::vector<int32_t> sub = std::move(stack.back());
         stack.pop_back();
-        PlaneRegistry::Active h;
-        if (shadowFree(sub, h)) {
-          accepted.insert(accepted.end(), sub.begin(), sub.end());
-          base = std::move(h);
-          continue;
-        }
+        // The whole of L_next is known to shadow (S_p is not empty).
+        if (!first && tryAdd(sub)) continue;
+        first = false;
         if (sub.size() == 1) continue;
         auto halves = splitPca(sub);
         // Depth-first, left half first.
@@ -422,15 +479,14 @@ class Grower {
         stack.push_back(std::move(halves.first));
       }
     } else {
-      for (int32_t v : dijkstraOrder(next)) {
-        PlaneRegistry::Active h;
-        if (shadowFree({v}, h)) {
-          accepted.push_back(v);
-          base = std::move(h);
-        }
-      }
+      for (int32_t v : dijkstraOrder(next)) tryAdd({v});
+    }
+    if (!pending.empty()) {
+      base = planes_.make(base.hull.extended(positions(pending)));
+      ++out_.hullBuilds;
     }
     if (accepted.empty()) {
+      if (!allowSacrifice) return {};
       hullOut = std::move(cP);
       return next;
     }

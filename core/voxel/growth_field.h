@@ -32,7 +32,7 @@ struct GrowthOptions {
   GrowthStrategy strategy = GrowthStrategy::PgSpGcfa;
   ShadowScheme shadowScheme = ShadowScheme::RecursivePca;
   double peelStep = 1;      // delta f of Algorithm 1, in F-bar units (peeling sheets), > 0
-  double epsilon = 0.5;     // eps of Definitions 2-3, in voxel widths, >= 0
+  double epsilon = 1.0;     // eps of Definitions 2-3, in voxel widths, >= 0 (see below)
   uint32_t seed = 1;        // source voxel choice of the incremental scheme (deterministic)
 };
 
