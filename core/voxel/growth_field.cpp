@@ -182,6 +182,7 @@ class Grower {
     inFrontier_.assign(n, 0);
     mark_.assign(n, 0);
     g_.assign(n, -1);
+    blocker_.assign(n, -1);
     const bool pg = opt_.strategy == GrowthStrategy::PgGcfa ||
                     opt_.strategy == GrowthStrategy::PgSpGcfa;
     sp_ = opt_.strategy == GrowthStrategy::SpGcfa || opt_.strategy == GrowthStrategy::PgSpGcfa;
@@ -408,6 +409,9 @@ class Grower {
     }
     std::vector<int32_t> accepted;
     PlaneRegistry::Active base = cC;
+    std::vector<int32_t> free;  // voxels of next not known to shadow an unprocessed voxel
+    for (int32_t v : next)
+      if (blocker_[v] < 0 || state_[blocker_[v]] != Unprocessed) free.push_back(v);
     std::vector<int32_t> pending;  // accepted voxels not yet built into base
     // Each voxel of S_p keeps a supporting half-space of base U pending it lies within eps of
     // (initially its separating plane of C_c). A subset that crosses none of a voxel's half-space
@@ -455,7 +459,10 @@ class Grower {
       ++out_.hullBuilds;
       planes_.activate(h);
       for (int32_t i : failing)
-        if (insideActive(h, sP[i])) return false;
+        if (insideActive(h, sP[i])) {
+          if (sub.size() == 1) blocker_[sub[0]] = sP[i];
+          return false;
+        }
       for (int32_t i : failing) halfSpace[i] = sep_[sP[i]];  // a plane of the new base
       accepted.insert(accepted.end(), sub.begin(), sub.end());
       base = std::move(h);
@@ -464,8 +471,9 @@ class Grower {
       return true;
     };
     if (opt_.shadowScheme == ShadowScheme::RecursivePca) {
-      std::vector<std::vector<int32_t>> stack = {next};
-      bool first = true;
+      std::vector<std::vector<int32_t>> stack;
+      if (!free.empty()) stack.push_back(free);
+      bool first = free.size() == next.size();
       while (!stack.empty()) {
         std::vector<int32_t> sub = std::move(stack.back());
         stack.pop_back();
@@ -479,7 +487,8 @@ class Grower {
         stack.push_back(std::move(halves.first));
       }
     } else {
-      for (int32_t v : dijkstraOrder(next)) tryAdd({v});
+      for (int32_t v : dijkstraOrder(next))
+        if (blocker_[v] < 0 || state_[blocker_[v]] != Unprocessed) tryAdd({v});
     }
     if (!pending.empty()) {
       base = planes_.make(base.hull.extended(positions(pending)));
@@ -570,6 +579,10 @@ class Grower {
   std::vector<uint32_t> mark_;
   uint32_t markStamp_ = 0;
   std::vector<int32_t> g_;
+  // A voxel v that alone shadowed s keeps s here: the hull only grows, so v keeps shadowing s
+  // while s is unprocessed (C(B' U v) contains C(B U v) for B' containing B), and any subset
+  // holding v is rejected without building a hull.
+  std::vector<int32_t> blocker_;
   std::vector<int32_t> peel_;
   int32_t peelMax_ = 0;
   std::vector<int32_t> frontier_;
