@@ -279,7 +279,7 @@ class Grower {
           if (!reportProgress(progress_, "growth", n ? double(grown) / double(n) : 1.0))
             return Status::Cancelled;
         }
-        if (planes_.size() > 4000000) {
+        if (planes_.size() > 500000) {
           // Bound memory: forget cached planes (they are only hints) and restart the registry.
           planes_.clear();
           std::fill(sep_.begin(), sep_.end(), -1);

@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Growing field on the shared real models (Bunny, Kitten, Fertility): missed voxels and timings
-// per strategy (paper 001 Table 1, Figs. 13-14). The grid is built here by centre-inside tests
-// (column crossings of AabbTree) plus a one-cell dilation, after placeMesh as the pipeline does.
+// per strategy (paper 001 Table 1, Figs. 13-14), on grids from voxelizeSolid after placeMesh as the
+// pipeline does.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -9,13 +9,15 @@
 #include <cstdio>
 #include <cstdlib>
 
+#include <sys/resource.h>
+
 #include "../test_support.h"
-#include "geometry/aabb_tree.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "pipeline/settings.h"
 #include "voxel/growth_field.h"
 #include "voxel/lattice_hull.h"
+#include "voxel/voxelize.h"
 
 namespace omnislice {
 namespace {
@@ -32,55 +34,13 @@ Mesh loadPlaced(const std::string& file, const PlacementSettings& placement) {
   return placed.mesh;
 }
 
-// Solid = cells whose centre is inside, dilated by one cell (26-neighbourhood) above the platform;
-// the platform is the footprint of the lowest part layer.
+// The pipeline's conservative voxelisation (voxelizeSolid), platform = footprint.
 VoxelGrid voxelGrid(const Mesh& mesh, double w) {
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
-  for (size_t v = 0; v < mesh.positions.size() / 3; ++v) {
-    lo = lo.cwiseMin(mesh.vertex(v));
-    hi = hi.cwiseMax(mesh.vertex(v));
-  }
-  VoxelGrid g;
-  g.width = w;
-  const int margin = 3;  // 2 empty cells beyond the dilation
-  g.platformK = 2;
-  g.origin = Eigen::Vector3d(lo.x() - margin * w, lo.y() - margin * w, -(g.platformK + 1) * w);
-  g.dims = V3(static_cast<int>(std::ceil((hi.x() - lo.x()) / w)) + 2 * margin,
-              static_cast<int>(std::ceil((hi.y() - lo.y()) / w)) + 2 * margin,
-              static_cast<int>(std::ceil(hi.z() / w)) + g.platformK + 1 + margin);
-  g.state.assign(static_cast<size_t>(g.dims.prod()), 0);
-  const AabbTree tree(mesh);
-  std::vector<ColumnCrossing> xs;
-  std::vector<uint8_t> in(g.state.size(), 0);
-  for (int j = 0; j < g.dims.y(); ++j)
-    for (int i = 0; i < g.dims.x(); ++i) {
-      const Eigen::Vector3d c = g.center(i, j, 0);
-      xs.clear();
-      tree.columnCrossings(c.x(), c.y(), xs);
-      std::sort(xs.begin(), xs.end(), [](const ColumnCrossing& a, const ColumnCrossing& b) { return a.z < b.z; });
-      size_t next = 0;
-      int winding = 0;
-      for (int k = g.platformK + 1; k < g.dims.z(); ++k) {
-        const double z = g.center(i, j, k).z();
-        while (next < xs.size() && xs[next].z < z) winding += xs[next++].sign;
-        if (winding != 0) in[g.index(i, j, k)] = 1;
-      }
-    }
-  for (int k = g.platformK + 1; k < g.dims.z() - 2; ++k)
-    for (int j = 2; j < g.dims.y() - 2; ++j)
-      for (int i = 2; i < g.dims.x() - 2; ++i) {
-        bool any = false;
-        for (int dz = -1; dz <= 1 && !any; ++dz)
-          for (int dy = -1; dy <= 1 && !any; ++dy)
-            for (int dx = -1; dx <= 1 && !any; ++dx)
-              any = in[g.index(i + dx, j + dy, k + dz)] != 0;
-        if (any) g.state[g.index(i, j, k)] = uint8_t(VoxelState::Solid);
-      }
-  for (int j = 0; j < g.dims.y(); ++j)
-    for (int i = 0; i < g.dims.x(); ++i)
-      if (g.at(i, j, g.platformK + 1) == VoxelState::Solid)
-        g.state[g.index(i, j, g.platformK)] = uint8_t(VoxelState::Platform);
-  return g;
+  VoxelizeOptions o;
+  o.width = w;
+  const VoxelizeResult r = voxelizeSolid(mesh, o);
+  EXPECT_TRUE(r.ok()) << r.message;
+  return r.grid;
 }
 
 size_t countPrintable(const VoxelGrid& g) {
@@ -179,12 +139,50 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
   }
 }
 
+// Speed at the large size (~540k voxels, Armadillo-sized): Bunny at w = 0.6 mm.
+// Time and peak memory printed, not asserted.
+TEST(GrowthFieldModels, LargeGridTiming) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  PlacementSettings pl;
+  pl.fitMm = 80;
+  const VoxelGrid grid = voxelGrid(loadPlaced("compas_bunny_closed_high_res.stl", pl), 0.6);
+  std::printf("[ model ] bunny high-res at 0.6 mm: grid %dx%dx%d (%zu cells), %zu voxels\n",
+              grid.dims.x(), grid.dims.y(), grid.dims.z(), grid.cellCount(), countPrintable(grid));
+  const GrowthField f = runCase(grid, "bunny-0.6", GrowthStrategy::PgSpGcfa);
+  struct rusage ru;
+  getrusage(RUSAGE_SELF, &ru);
+  std::printf("[ model ] peak RSS of the test process so far: %.0f MB\n", ru.ru_maxrss / 1024.0);
+  expectFieldInvariants(grid, f, GrowthOptions().epsilon);
+  EXPECT_EQ(f.missed, 0u);
+}
+
+// eps sweep (printed, not asserted; OMNISLICE_EPS_SWEEP=1): missed voxels and time of
+// PG-SP-GCFA per eps on the three models, the measurement behind GrowthOptions::epsilon.
+TEST(GrowthFieldModels, EpsilonSweep) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  if (!std::getenv("OMNISLICE_EPS_SWEEP")) GTEST_SKIP() << "set OMNISLICE_EPS_SWEEP=1";
+  const Case cases[] = {{"nestedcages_fertility.off", UpAxis::PosX, 80, 0.8},
+                        {"pymdp_kitten.off", UpAxis::PosY, 80, 0.8},
+                        {"compas_bunny_closed_low_res.obj", UpAxis::PosZ, 80, 0.8}};
+  for (const Case& c : cases) {
+    PlacementSettings pl;
+    pl.up = c.up;
+    pl.fitMm = c.fitMm;
+    const VoxelGrid grid = voxelGrid(loadPlaced(c.file, pl), c.width);
+    for (double eps : {1.0, 0.75, 0.5, 0.3, 0.1}) {
+      const GrowthField f = runCase(grid, c.file, GrowthStrategy::PgSpGcfa, eps);
+      expectFieldInvariants(grid, f, eps);
+    }
+  }
+}
+
 TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   // Up axis: the one whose lowest voxel layer (the footprint on the platform) is largest, i.e.
-  // the flat stable base; printed below.
+  // the flat stable base; printed below (+X: the statue's base). Longest side 84 mm gives the
+  // paper's ~77k voxels at 0.8 mm with the conservative voxelisation.
   PlacementSettings pl;
-  pl.fitMm = 80;
+  pl.fitMm = 84;
   UpAxis best = UpAxis::PosZ;
   size_t bestFoot = 0;
   const char* names[] = {"+z", "-z", "+y", "-y", "+x", "-x"};
@@ -207,6 +205,18 @@ TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
     const GrowthField f = runCase(grid, "fertility", s);
     expectFieldInvariants(grid, f, GrowthOptions().epsilon);
     if (s == GrowthStrategy::PgSpGcfa) EXPECT_LE(f.missed, 511u) << "paper: 511 of 77,064";
+  }
+  // Fig. 14c loop for the greedy scheme: support columns under missed voxels, grow again.
+  VoxelGrid g = grid;
+  GrowthField f = runCase(g, "fertility", GrowthStrategy::Gcfa);
+  for (int round = 1; round <= 3 && f.missed > 0; ++round) {
+    std::vector<uint8_t> missed(g.cellCount(), 0);
+    for (size_t c = 0; c < g.cellCount(); ++c) missed[c] = f.g[c] < 0;
+    const size_t added = addSupportColumns(g, missed);
+    f = runCase(g, "fertility+supports", GrowthStrategy::Gcfa);
+    std::printf("[ model ] support round %d: %zu support cells, gcfa missed %zu\n", round, added,
+                f.missed);
+    expectFieldInvariants(g, f, GrowthOptions().epsilon);
   }
 }
 
