@@ -79,8 +79,9 @@ double msSince(Clock::time_point t0) {
 
 bool gridConsistent(const VoxelGrid& grid) {
   if (grid.dims.minCoeff() <= 0) return false;
-  const size_t n = static_cast<size_t>(grid.dims.x()) * grid.dims.y() * grid.dims.z();
-  return n == grid.state.size() && n < (size_t(1) << 32);
+  const uint64_t n = static_cast<uint64_t>(grid.dims.x()) * static_cast<uint64_t>(grid.dims.y()) *
+                     static_cast<uint64_t>(grid.dims.z());
+  return n == static_cast<uint64_t>(grid.state.size()) && n < (uint64_t(1) << 32);
 }
 
 // Dense numbering of the printable cells.

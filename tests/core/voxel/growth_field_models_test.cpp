@@ -206,6 +206,17 @@ TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
     expectFieldInvariants(grid, f, GrowthOptions().epsilon);
     if (s == GrowthStrategy::PgSpGcfa) EXPECT_LE(f.missed, 511u) << "paper: 511 of 77,064";
   }
+  {
+    // The incremental (Dijkstra-ordered) scheme on the same grid.
+    GrowthOptions o;
+    o.shadowScheme = ShadowScheme::Incremental;
+    const GrowthField f = growField(grid, o);
+    std::printf("[ model ] fertility  pg-sp-gcfa incremental: missed %zu, layers %d, shadow %.0f ms, "
+                "total %.0f ms, hull builds %zu\n", f.missed, f.layers, f.shadowMs, f.totalMs,
+                f.hullBuilds);
+    expectFieldInvariants(grid, f, o.epsilon);
+    EXPECT_LE(f.missed, 511u);
+  }
   // Fig. 14c loop for the greedy scheme: support columns under missed voxels, grow again.
   VoxelGrid g = grid;
   GrowthField f = runCase(g, "fertility", GrowthStrategy::Gcfa);
