@@ -84,6 +84,10 @@ std::vector<int32_t> inversePeelingField(const VoxelGrid& grid, double epsilon,
 // Rejected voxels of L_next lying inside or on the accepted hull are added back (free).
 // Shadow checks: cached separating planes per voxel (plane registry + hull stamps), S_p computed
 // once per layer, a half-space pre-test before building C_t, and a per-voxel "blocker" memo.
+// Speed (PG-SP-GCFA, eps 1, voxelizeSolid grids of the shared Bunny fitted to 80 mm): 217k voxels
+// (w 0.8) 2.1 s native / 4.4 s wasm (Node 20); 506k voxels (w 0.6) 2.6 s native / 4.4 s wasm,
+// 131 MB peak RSS of the whole wasm run; memory is linear in the grid (per-cell index, per-voxel
+// state) plus hulls and a plane registry capped at 500k planes.
 // Statuses: InvalidOption (grid dims/state mismatch, eps < 0, peelStep <= 0, non-finite),
 // EmptyInput (no printable cell), Cancelled. Printable cells not connected to the platform are
 // missed (g = -1), not an error.
