@@ -266,12 +266,14 @@ class Grower {
           // f_tau; shadows are only accepted when nothing else can grow (below).
           const auto ts = Clock::now();
           next = preventShadows(cC, next, cNext, false);
+          if (cancelled_) return Status::Cancelled;
           havePrepared = !next.empty();
           out_.shadowMs += msSince(ts);
         }
         if (next.empty()) --tau;
         for (int32_t w : next) g_[w] = tau;
         grown += next.size();
+        grownSoFar_ = grown;
         cPrev = std::move(cC);
         layer = std::move(next);
         sinceReport += layer.size();
@@ -316,6 +318,7 @@ class Grower {
         updateAlive(cPrev);
         const bool last = !pg || fTau > peelMax_;
         seeds = preventShadows(cPrev, seeds, cNext, last);
+        if (cancelled_) return Status::Cancelled;
         havePrepared = !seeds.empty();
         out_.shadowMs += msSince(ts);
         if (seeds.empty()) {
@@ -326,6 +329,7 @@ class Grower {
       ++tau;
       for (int32_t w : seeds) g_[w] = tau;
       grown += seeds.size();
+      grownSoFar_ = grown;
       layer = std::move(seeds);
     }
 
@@ -435,6 +439,12 @@ class Grower {
     };
     std::unordered_map<int32_t, char> pendingCrossed;  // plane id -> crossed by pending
     auto tryAdd = [&](const std::vector<int32_t>& sub) {
+      if (cancelled_) return false;
+      if ((++tries_ & 255) == 0 &&
+          !reportProgress(progress_, "growth", double(grownSoFar_) / double(vox_.size()))) {
+        cancelled_ = true;  // unwinds quickly: every later tryAdd rejects
+        return false;
+      }
       crossedCache.clear();
       failing.clear();
       for (size_t i = 0; i < sP.size(); ++i) {
@@ -589,6 +599,9 @@ class Grower {
   std::vector<int32_t> frontier_;
   std::vector<int32_t> alive_;
   int rolling_ = 0;
+  bool cancelled_ = false;
+  size_t tries_ = 0;
+  size_t grownSoFar_ = 0;  // for progress reports from inside shadow prevention
 };
 
 // Euclidean distance band of one hull triangle: calls visit(cell index) for every lattice point

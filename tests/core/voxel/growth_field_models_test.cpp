@@ -130,6 +130,26 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
     const VoxelGrid grid = voxelGrid(loadPlaced(c.file, pl), c.width);
     std::printf("[ model ] %s: grid %dx%dx%d, %zu voxels\n", c.file, grid.dims.x(), grid.dims.y(),
                 grid.dims.z(), countPrintable(grid));
+    {
+      // Cancellation reaches into shadow prevention: SP-GCFA (minutes here) stops promptly.
+      GrowthOptions o;
+      o.strategy = GrowthStrategy::SpGcfa;
+      int calls = 0;
+      double lastCall = 0;
+      const auto t0 = std::chrono::steady_clock::now();
+      auto since = [&] {
+        return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      };
+      const GrowthField f = growField(grid, o, [&](const char*, double) {
+        lastCall = since();
+        return ++calls < 40;
+      });
+      const double stopped = since() - lastCall;
+      std::printf("[ model ] %s sp-gcfa cancelled at call 40 after %.0f ms, returned %.1f ms later\n",
+                  c.file, lastCall, stopped);
+      EXPECT_EQ(f.status, Status::Cancelled);
+      EXPECT_LT(stopped, 1000.0);
+    }
     for (GrowthStrategy s : strategiesToRun()) {
       const GrowthField f = runCase(grid, c.file, s);
       expectFieldInvariants(grid, f, GrowthOptions().epsilon);

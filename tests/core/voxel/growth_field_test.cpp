@@ -222,6 +222,15 @@ TEST(GrowthField, BadInputAndCancellation) {
   ASSERT_FALSE(stages.empty());
   EXPECT_EQ(stages.front(), "peeling");
   EXPECT_EQ(stages.back(), "growth");
+  // Cancelling during growth (SP-GCFA) stops with Cancelled and an empty field.
+  {
+    GrowthOptions sp;
+    sp.strategy = GrowthStrategy::SpGcfa;
+    int calls = 0;
+    const GrowthField g = growField(hookGrid(), sp, [&](const char*, double) { return ++calls < 1; });
+    EXPECT_EQ(g.status, Status::Cancelled);
+    EXPECT_TRUE(g.g.empty());
+  }
   // A part not touching the platform is entirely missed, not an error.
   VoxelGrid floating = makeGrid(6, 6, 6, [](int, int, int k) { return k >= 3; });
   const GrowthField fl = growField(floating, {});
