@@ -159,6 +159,26 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
   }
 }
 
+// A real build plate (a 60 mm disc of Platform cells, as VoxelMultiAxisAM adds its platform
+// solid to every hull): the wide base widens every hull, the greedy front misses more, PG-SP-GCFA
+// still reaches everything.
+TEST(GrowthFieldModels, BunnyOnADiscPlatform) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  PlacementSettings pl;
+  pl.fitMm = 80;
+  VoxelizeOptions vo;
+  vo.width = 0.8;
+  vo.platformRadius = 60;
+  const VoxelizeResult v = voxelizeSolid(loadPlaced("compas_bunny_closed_low_res.obj", pl), vo);
+  ASSERT_TRUE(v.ok()) << v.message;
+  std::printf("[ model ] bunny on a 60 mm disc: %zu platform cells\n", v.platformCount);
+  const GrowthField greedy = runCase(v.grid, "bunny-disc", GrowthStrategy::Gcfa);
+  const GrowthField f = runCase(v.grid, "bunny-disc", GrowthStrategy::PgSpGcfa);
+  expectFieldInvariants(v.grid, f, GrowthOptions().epsilon);
+  EXPECT_EQ(f.missed, 0u);
+  EXPECT_GT(greedy.missed, 0u);
+}
+
 // Speed at the large size (~540k voxels, Armadillo-sized): Bunny at w = 0.6 mm.
 // Time and peak memory printed, not asserted.
 TEST(GrowthFieldModels, LargeGridTiming) {
