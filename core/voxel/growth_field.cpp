@@ -79,8 +79,9 @@ double msSince(Clock::time_point t0) {
 
 bool gridConsistent(const VoxelGrid& grid) {
   if (grid.dims.minCoeff() <= 0) return false;
-  const size_t n = static_cast<size_t>(grid.dims.x()) * grid.dims.y() * grid.dims.z();
-  return n == grid.state.size() && n < (size_t(1) << 32);
+  const uint64_t n = static_cast<uint64_t>(grid.dims.x()) * static_cast<uint64_t>(grid.dims.y()) *
+                     static_cast<uint64_t>(grid.dims.z());
+  return n == static_cast<uint64_t>(grid.state.size()) && n < (uint64_t(1) << 32);
 }
 
 // Dense numbering of the printable cells.
@@ -126,6 +127,7 @@ class PlaneRegistry {
       if (it == ids_.end()) {
         it = ids_.emplace(k, static_cast<int32_t>(stamp_.size())).first;
         stamp_.push_back(0);
+        plane_.push_back(p);
       }
       a.ids.push_back(it->second);
     }
@@ -137,10 +139,12 @@ class PlaneRegistry {
     for (int32_t id : a.ids) stamp_[id] = current_;
   }
   bool alive(int32_t id) const { return id >= 0 && stamp_[id] == current_; }
+  const LatticeHull::Plane& plane(int32_t id) const { return plane_[id]; }
   size_t size() const { return stamp_.size(); }
   void clear() {
     ids_.clear();
     stamp_.clear();
+    plane_.clear();
   }
 
  private:
@@ -159,6 +163,7 @@ class PlaneRegistry {
   };
   std::unordered_map<Key, int32_t, Hash> ids_;
   std::vector<uint32_t> stamp_;
+  std::vector<LatticeHull::Plane> plane_;
   uint32_t current_ = 0;
 };
 
@@ -178,6 +183,7 @@ class Grower {
     inFrontier_.assign(n, 0);
     mark_.assign(n, 0);
     g_.assign(n, -1);
+    blocker_.assign(n, -1);
     const bool pg = opt_.strategy == GrowthStrategy::PgGcfa ||
                     opt_.strategy == GrowthStrategy::PgSpGcfa;
     sp_ = opt_.strategy == GrowthStrategy::SpGcfa || opt_.strategy == GrowthStrategy::PgSpGcfa;
@@ -256,13 +262,18 @@ class Grower {
             next.push_back(w);
           }
         if (sp_ && !next.empty()) {
+          // No sacrifice here: a stuck front first re-seeds from the whole frontier and raises
+          // f_tau; shadows are only accepted when nothing else can grow (below).
           const auto ts = Clock::now();
-          next = preventShadows(cC, next, cNext);
-          havePrepared = true;
+          next = preventShadows(cC, next, cNext, false);
+          if (cancelled_) return Status::Cancelled;
+          havePrepared = !next.empty();
           out_.shadowMs += msSince(ts);
         }
+        if (next.empty()) --tau;
         for (int32_t w : next) g_[w] = tau;
         grown += next.size();
+        grownSoFar_ = grown;
         cPrev = std::move(cC);
         layer = std::move(next);
         sinceReport += layer.size();
@@ -271,7 +282,7 @@ class Grower {
           if (!reportProgress(progress_, "growth", n ? double(grown) / double(n) : 1.0))
             return Status::Cancelled;
         }
-        if (planes_.size() > 4000000) {
+        if (planes_.size() > 500000) {
           // Bound memory: forget cached planes (they are only hints) and restart the registry.
           planes_.clear();
           std::fill(sep_.begin(), sep_.end(), -1);
@@ -302,16 +313,23 @@ class Grower {
         fTau += opt_.peelStep;
         continue;
       }
-      ++tau;
       if (sp_) {
         const auto ts = Clock::now();
         updateAlive(cPrev);
-        seeds = preventShadows(cPrev, seeds, cNext);
-        havePrepared = true;
+        const bool last = !pg || fTau > peelMax_;
+        seeds = preventShadows(cPrev, seeds, cNext, last);
+        if (cancelled_) return Status::Cancelled;
+        havePrepared = !seeds.empty();
         out_.shadowMs += msSince(ts);
+        if (seeds.empty()) {
+          fTau += opt_.peelStep;
+          continue;
+        }
       }
+      ++tau;
       for (int32_t w : seeds) g_[w] = tau;
       grown += seeds.size();
+      grownSoFar_ = grown;
       layer = std::move(seeds);
     }
 
@@ -381,7 +399,7 @@ class Grower {
   // hullOut receives C(C_c U result).
   std::vector<int32_t> preventShadows(const PlaneRegistry::Active& cC,
                                       const std::vector<int32_t>& next,
-                                      PlaneRegistry::Active& hullOut) {
+                                      PlaneRegistry::Active& hullOut, bool allowSacrifice) {
     ++markStamp_;
     for (int32_t v : next) mark_[v] = markStamp_;
     PlaneRegistry::Active cP = planes_.make(cC.hull.extended(positions(next)));
@@ -396,25 +414,83 @@ class Grower {
     }
     std::vector<int32_t> accepted;
     PlaneRegistry::Active base = cC;
-    auto shadowFree = [&](const std::vector<int32_t>& sub, PlaneRegistry::Active& h) {
-      h = planes_.make(base.hull.extended(positions(sub)));
+    std::vector<int32_t> free;  // voxels of next not known to shadow an unprocessed voxel
+    for (int32_t v : next)
+      if (blocker_[v] < 0 || state_[blocker_[v]] != Unprocessed) free.push_back(v);
+    std::vector<int32_t> pending;  // accepted voxels not yet built into base
+    // Each voxel of S_p keeps a supporting half-space of base U pending it lies within eps of
+    // (initially its separating plane of C_c). A subset that crosses none of a voxel's half-space
+    // cannot shadow it, so only the voxels whose half-space is crossed need the built hull C_t.
+    std::vector<int32_t> halfSpace(sP.size());  // registry plane id
+    planes_.activate(cC);
+    for (size_t i = 0; i < sP.size(); ++i) {
+      insideActive(cC, sP[i]);  // not inside C_c: finds (or keeps) a separating plane of C_c
+      halfSpace[i] = sep_[sP[i]];
+    }
+    std::vector<int32_t> crossedByPending, failing;
+    std::unordered_map<int32_t, char> crossedCache;
+    auto crosses = [&](int32_t id, const std::vector<int32_t>& list) {
+      const LatticeHull::Plane& h = planes_.plane(id);
+      for (int32_t v : list) {
+        const V3& x = vox_.pos[v];
+        if (h.nx * x.x() + h.ny * x.y() + h.nz * x.z() > h.offset) return true;
+      }
+      return false;
+    };
+    std::unordered_map<int32_t, char> pendingCrossed;  // plane id -> crossed by pending
+    auto tryAdd = [&](const std::vector<int32_t>& sub) {
+      if (cancelled_) return false;
+      if ((++tries_ & 255) == 0 &&
+          !reportProgress(progress_, "growth", double(grownSoFar_) / double(vox_.size()))) {
+        cancelled_ = true;  // unwinds quickly: every later tryAdd rejects
+        return false;
+      }
+      crossedCache.clear();
+      failing.clear();
+      for (size_t i = 0; i < sP.size(); ++i) {
+        const int32_t id = halfSpace[i];
+        auto it = crossedCache.find(id);
+        if (it == crossedCache.end()) {
+          auto pc = pendingCrossed.find(id);
+          if (pc == pendingCrossed.end()) pc = pendingCrossed.emplace(id, crosses(id, pending)).first;
+          it = crossedCache.emplace(id, pc->second || crosses(id, sub)).first;
+        }
+        if (it->second) failing.push_back(static_cast<int32_t>(i));
+      }
+      if (failing.empty()) {
+        for (auto& pc : pendingCrossed)
+          if (!pc.second) pc.second = crosses(pc.first, sub);
+        pending.insert(pending.end(), sub.begin(), sub.end());
+        accepted.insert(accepted.end(), sub.begin(), sub.end());
+        return true;
+      }
+      std::vector<V3> pts = positions(pending);
+      for (int32_t v : sub) pts.push_back(vox_.pos[v]);
+      PlaneRegistry::Active h = planes_.make(base.hull.extended(pts));
       ++out_.hullBuilds;
       planes_.activate(h);
-      for (int32_t v : sP)
-        if (insideActive(h, v)) return false;
+      for (int32_t i : failing)
+        if (insideActive(h, sP[i])) {
+          if (sub.size() == 1) blocker_[sub[0]] = sP[i];
+          return false;
+        }
+      for (int32_t i : failing) halfSpace[i] = sep_[sP[i]];  // a plane of the new base
+      accepted.insert(accepted.end(), sub.begin(), sub.end());
+      base = std::move(h);
+      pending.clear();
+      pendingCrossed.clear();
       return true;
     };
     if (opt_.shadowScheme == ShadowScheme::RecursivePca) {
-      std::vector<std::vector<int32_t>> stack = {next};
+      std::vector<std::vector<int32_t>> stack;
+      if (!free.empty()) stack.push_back(free);
+      bool first = free.size() == next.size();
       while (!stack.empty()) {
         std::vector<int32_t> sub = std::move(stack.back());
         stack.pop_back();
-        PlaneRegistry::Active h;
-        if (shadowFree(sub, h)) {
-          accepted.insert(accepted.end(), sub.begin(), sub.end());
-          base = std::move(h);
-          continue;
-        }
+        // The whole of L_next is known to shadow (S_p is not empty).
+        if (!first && tryAdd(sub)) continue;
+        first = false;
         if (sub.size() == 1) continue;
         auto halves = splitPca(sub);
         // Depth-first, left half first.
@@ -422,15 +498,15 @@ class Grower {
         stack.push_back(std::move(halves.first));
       }
     } else {
-      for (int32_t v : dijkstraOrder(next)) {
-        PlaneRegistry::Active h;
-        if (shadowFree({v}, h)) {
-          accepted.push_back(v);
-          base = std::move(h);
-        }
-      }
+      for (int32_t v : dijkstraOrder(next))
+        if (blocker_[v] < 0 || state_[blocker_[v]] != Unprocessed) tryAdd({v});
+    }
+    if (!pending.empty()) {
+      base = planes_.make(base.hull.extended(positions(pending)));
+      ++out_.hullBuilds;
     }
     if (accepted.empty()) {
+      if (!allowSacrifice) return {};
       hullOut = std::move(cP);
       return next;
     }
@@ -514,11 +590,18 @@ class Grower {
   std::vector<uint32_t> mark_;
   uint32_t markStamp_ = 0;
   std::vector<int32_t> g_;
+  // A voxel v that alone shadowed s keeps s here: the hull only grows, so v keeps shadowing s
+  // while s is unprocessed (C(B' U v) contains C(B U v) for B' containing B), and any subset
+  // holding v is rejected without building a hull.
+  std::vector<int32_t> blocker_;
   std::vector<int32_t> peel_;
   int32_t peelMax_ = 0;
   std::vector<int32_t> frontier_;
   std::vector<int32_t> alive_;
   int rolling_ = 0;
+  bool cancelled_ = false;
+  size_t tries_ = 0;
+  size_t grownSoFar_ = 0;  // for progress reports from inside shadow prevention
 };
 
 // Euclidean distance band of one hull triangle: calls visit(cell index) for every lattice point

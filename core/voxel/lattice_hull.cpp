@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <numeric>
+#include <tuple>
 #include <unordered_map>
 
 namespace omnislice {
@@ -70,10 +71,12 @@ class Builder {
     int64_t nx, ny, nz;
     bool alive = true;
     int mark = 0;
-    std::vector<int> outside;
+    int outside = -1;  // head of the facet's outside-point list (linked through next_)
   };
 
-  explicit Builder(const std::vector<V3>& pts) : p_(pts) {}
+  explicit Builder(const std::vector<V3>& pts) : p_(pts), next_(pts.size(), -1) {
+    facets_.reserve(64 + 8 * std::min<size_t>(pts.size(), 4096));
+  }
 
   // Returns false when the points do not span 3D (the caller handles flat sets).
   bool run(int s0, int s1, int s2, int s3) {
@@ -85,22 +88,19 @@ class Builder {
     const int f2 = addFacet(s1, s3, s2);
     const int f3 = addFacet(s2, s3, s0);
     linkAll({f0, f1, f2, f3});
-    std::vector<int> all;
-    all.reserve(p_.size());
+    const int initial[4] = {f0, f1, f2, f3};
     for (int i = 0; i < static_cast<int>(p_.size()); ++i)
-      if (i != s0 && i != s1 && i != s2 && i != s3) all.push_back(i);
-    distribute(all, {f0, f1, f2, f3});
+      if (i != s0 && i != s1 && i != s2 && i != s3) assign(i, initial, 4);
     std::vector<int> stack = {f0, f1, f2, f3};
     std::vector<int> visible, horizonA, horizonB, horizonOuter, created;
-    std::vector<int> orphans;
     while (!stack.empty()) {
       const int f = stack.back();
       stack.pop_back();
-      if (!facets_[f].alive || facets_[f].outside.empty()) continue;
+      if (!facets_[f].alive || facets_[f].outside < 0) continue;
       // Farthest point of f's outside set (same normal, so integer comparison is exact).
       int eye = -1;
       Acc best = 0;
-      for (int q : facets_[f].outside) {
+      for (int q = facets_[f].outside; q >= 0; q = next_[q]) {
         const Acc d = eval(f, q);
         if (eye < 0 || d > best) {
           best = d;
@@ -154,16 +154,17 @@ class Builder {
         facets_[nf].nb[1] = next;
         facets_[next].nb[2] = nf;
       }
-      orphans.clear();
       for (int g : visible) {
         facets_[g].alive = false;
-        for (int q : facets_[g].outside)
-          if (q != eye) orphans.push_back(q);
-        std::vector<int>().swap(facets_[g].outside);
+        for (int q = facets_[g].outside; q >= 0;) {
+          const int nq = next_[q];
+          if (q != eye) assign(q, created.data(), static_cast<int>(created.size()));
+          q = nq;
+        }
+        facets_[g].outside = -1;
       }
-      distribute(orphans, created);
       for (int nf : created)
-        if (!facets_[nf].outside.empty()) stack.push_back(nf);
+        if (facets_[nf].outside >= 0) stack.push_back(nf);
     }
     return true;
   }
@@ -217,16 +218,18 @@ class Builder {
            static_cast<Acc>(F.nz) * (p_[q].z() - a.z());
   }
 
-  void distribute(const std::vector<int>& pts, const std::vector<int>& fs) {
-    for (int q : pts)
-      for (int f : fs)
-        if (eval(f, q) > 0) {
-          facets_[f].outside.push_back(q);
-          break;
-        }
+  // Put point q on the outside list of the first facet of fs it is strictly above (else drop it).
+  void assign(int q, const int* fs, int count) {
+    for (int i = 0; i < count; ++i)
+      if (eval(fs[i], q) > 0) {
+        next_[q] = facets_[fs[i]].outside;
+        facets_[fs[i]].outside = q;
+        return;
+      }
   }
 
   const std::vector<V3>& p_;
+  std::vector<int> next_;
   std::vector<int> start_;
   int stamp_ = 0;
 };
@@ -359,7 +362,8 @@ LatticeHull::LatticeHull(const std::vector<Eigen::Vector3i>& input) {
   auto collect = [&](auto& builder) {
     builder.run(s0, s1, s2, s3);
     std::vector<int> remap(n, -1);
-    std::unordered_map<uint64_t, std::vector<int>> planeIndex;
+    std::vector<Normal> normals;
+    std::vector<int> firstVertex;
     for (auto& f : builder.facets_) {
       if (!f.alive) continue;
       Eigen::Vector3i tri;
@@ -372,21 +376,20 @@ LatticeHull::LatticeHull(const std::vector<Eigen::Vector3i>& input) {
         tri[e] = r;
       }
       facets_.push_back(tri);
-      const Normal nn = reduced(Normal{f.nx, f.ny, f.nz});
-      const uint64_t key = static_cast<uint64_t>(nn.x) * 0x9E3779B97F4A7C15ULL ^
-                           static_cast<uint64_t>(nn.y) * 0xC2B2AE3D27D4EB4FULL ^
-                           static_cast<uint64_t>(nn.z) * 0x165667B19E3779F9ULL;
-      std::vector<int>& bucket = planeIndex[key];
-      int found = -1;
-      for (int idx : bucket)
-        if (planes_[idx].nx == nn.x && planes_[idx].ny == nn.y && planes_[idx].nz == nn.z)
-          found = idx;
-      if (found < 0) {
-        found = static_cast<int>(planes_.size());
-        planes_.push_back(makePlane(nn, pts[f.v[0]]));
-        bucket.push_back(found);
-      }
-      facetPlane_.push_back(found);
+      normals.push_back(reduced(Normal{f.nx, f.ny, f.nz}));
+      firstVertex.push_back(f.v[0]);
+    }
+    // Coplanar triangles share one plane: sort by reduced normal and number the runs.
+    std::vector<int> order(normals.size());
+    std::iota(order.begin(), order.end(), 0);
+    auto key = [&](int i) { return std::make_tuple(normals[i].x, normals[i].y, normals[i].z); };
+    std::sort(order.begin(), order.end(), [&](int a, int b) { return key(a) < key(b); });
+    facetPlane_.assign(normals.size(), -1);
+    for (size_t r = 0; r < order.size(); ++r) {
+      const int i = order[r];
+      if (r == 0 || key(order[r - 1]) != key(i))
+        planes_.push_back(makePlane(normals[i], pts[firstVertex[i]]));
+      facetPlane_[i] = static_cast<int>(planes_.size()) - 1;
     }
   };
   dimension_ = 3;

