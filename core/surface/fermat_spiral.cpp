@@ -817,33 +817,35 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
       };
       // Splice point on host for child: the host vertex closest to the child, away from the gaps
       // already cut in the host.
-      auto chooseSplice = [&](int host, int child, const PointGrid& childGrid) {
+      // Splice point on host for a child: the host vertex closest to the child among those far
+      // enough from the gaps already cut in the host (preferably two beads clear, at least so
+      // the gaps do not overlap). -1 when the host has no room left.
+      auto chooseSplice = [&](int host, const PointGrid& childGrid) {
         const Contour& H = C[host];
         std::vector<double> cuts{H.breakPos};
         for (const Splice& sp : H.splices) cuts.push_back(sp.pos);
-        const double clearance = 2 * H.gap + 2 * s;
-        double best = std::numeric_limits<double>::infinity(), bestFree = best;
-        size_t bestIdx = 0, bestFreeIdx = 0;
-        for (size_t i = 0; i < H.size(); ++i) {
-          const double d = childGrid.nearest(H.pts[i]).first;
-          bool free = true;
-          for (double q : cuts) {
-            double a = std::fmod(std::abs(H.cum[i] - q), H.length());
-            a = std::min(a, H.length() - a);
-            if (a < clearance) free = false;
+        for (const double clearance : {2 * H.gap + 2 * s, 2 * H.gap + 0.02 * s}) {
+          double best = std::numeric_limits<double>::infinity();
+          double pos = -1;
+          for (size_t i = 0; i < H.size(); ++i) {
+            bool free = true;
+            for (double q : cuts) {
+              double a = std::fmod(std::abs(H.cum[i] - q), H.length());
+              a = std::min(a, H.length() - a);
+              if (a < clearance) free = false;
+            }
+            if (!free) continue;
+            const double d = childGrid.nearest(H.pts[i]).first;
+            if (d < best) {
+              best = d;
+              pos = H.cum[i];
+            }
           }
-          if (d < best) {
-            best = d;
-            bestIdx = i;
-          }
-          if (free && d < bestFree) {
-            bestFree = d;
-            bestFreeIdx = i;
-          }
+          if (pos >= 0) return pos;
         }
-        (void)child;
-        return std::isfinite(bestFree) ? H.cum[bestFreeIdx] : H.cum[bestIdx];
+        return -1.0;
       };
+      std::vector<int> separateChains;  // children no host had room for: their own polylines
       auto processBranches = [&]() {
         while (!branches.empty()) {
           const Branch br = branches.front();
@@ -885,12 +887,17 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
             if (next == 0) break;
             inTree[next] = 1;
             const int host = members[parent[next]], child = members[next];
-            const double q = chooseSplice(host, child, grids[next]);
+            const double q = chooseSplice(host, grids[next]);
             const int chainId = buildChain(child, br.piece);
-            // Child oriented now: its break is the point closest to the host's splice point.
-            placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
-            const int side = C[host].forward == br.piece ? 1 : -1;
-            C[host].splices.push_back({q, chainId, side});
+            if (q < 0) {
+              placeBreaks(chainId, 0.0);
+              separateChains.push_back(chainId);
+            } else {
+              // Child oriented now: its break is the point closest to the host's splice point.
+              placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
+              const int side = C[host].forward == br.piece ? 1 : -1;
+              C[host].splices.push_back({q, chainId, side});
+            }
             for (size_t j = 1; j < m; ++j) {
               if (!inTree[j] && dist[next * m + j] < key[j]) {
                 key[j] = dist[next * m + j];
@@ -923,6 +930,12 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
         std::vector<PathPoint> path;
         B.emitChain(chainId, path);
         raw.push_back(std::move(path));
+        for (const int extra : separateChains) {
+          std::vector<PathPoint> own;
+          B.emitChain(extra, own);
+          raw.push_back(std::move(own));
+        }
+        separateChains.clear();
       }
   }
     return count;
