@@ -711,16 +711,55 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   // Levels spacing/2 + k * step. The step is adjusted (within 15 %) so the last level lies
   // spacing/2 below the highest ridge: a level just under a ridge plateau would break into
   // specks around the field's noise and leave a loop thinner than one bead.
-  // Candidate level steps: the bead spacing, and the step (within 15 %) that puts the last level
-  // spacing/2 below the highest ridge (a level just under a ridge plateau breaks into specks
-  // around the field's noise, or leaves a loop thinner than one bead). Each candidate is built;
-  // the one whose path overlaps itself least is kept (ridges of other heights favour either).
-  std::vector<double> steps{s};
-  if (D - s > 0) {
-    const double span = D - s;
-    const double up = span / std::ceil(span / s), down = span / std::max(1.0, std::floor(span / s));
-    if (up >= 0.85 * s && std::abs(up - s) > 1e-6 * s) steps.push_back(up);
-    if (down <= 1.05 * s && std::abs(down - s) > 1e-6 * s) steps.push_back(down);
+  // Level step. Uniform levels sit at arbitrary heights under the ridges (medial axis) of the
+  // field; a ridge just above a level gives a loop thinner than half a bead folded on itself
+  // (or specks around the field's noise), a ridge far above the last level leaves a gap. Ridge
+  // vertices (|grad phi| < 0.5: the heat distance is smooth across the medial axis) score each
+  // candidate step in [0.85, 1.05] x spacing: area with the ridge less than 0.3 spacing above the
+  // level below it counts 1, more than 0.8 spacing above it 0.5. The lowest score wins, ties to
+  // the step closest to the spacing.
+  std::vector<double> steps;
+  {
+    std::vector<double> gradSum(mesh.vertexCount(), 0.0);
+    std::vector<double> mass(mesh.vertexCount(), 0.0);
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+      const uint32_t i[3] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]};
+      const Eigen::Vector3d p0 = mesh.vertex(i[0]), p1 = mesh.vertex(i[1]), p2 = mesh.vertex(i[2]);
+      const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+      const double twiceArea = n.norm();
+      if (!(twiceArea > 0)) continue;
+      const Eigen::Vector3d u = n / twiceArea;
+      const Eigen::Vector3d g = (phi[i[0]] * u.cross(p2 - p1) + phi[i[1]] * u.cross(p0 - p2) +
+                                 phi[i[2]] * u.cross(p1 - p0)) / twiceArea;
+      for (uint32_t v : i) {
+        mass[v] += twiceArea / 6;
+        gradSum[v] += g.norm() * twiceArea / 6;
+      }
+    }
+    std::vector<std::pair<double, double>> ridge;  // (phi, mass)
+    for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+      if (mass[v] > 0 && gradSum[v] < 0.5 * mass[v] && phi[v] > s / 2) ridge.push_back({phi[v], mass[v]});
+    }
+    std::vector<std::pair<double, double>> scored;  // (score, step), stable: ties keep order
+    for (const double factor : {1.0, 0.975, 1.025, 0.95, 1.05, 0.925, 0.9, 0.875, 0.85}) {
+      const double t = factor * s;
+      double score = 0;
+      for (const auto& [value, m] : ridge) {
+        const double above = std::fmod(value - s / 2, t);
+        if (above < 0.3 * s) score += m;
+        else if (above > 0.8 * s) score += 0.5 * m;
+      }
+      scored.push_back({score, t});
+    }
+    std::stable_sort(scored.begin(), scored.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first - 1e-12; });
+    for (size_t i = 0; i < std::min<size_t>(2, scored.size()); ++i) steps.push_back(scored[i].second);
+    // And the step putting the last level spacing/2 under the highest ridge.
+    if (D - s > 0) {
+      const double span = D - s;
+      const double up = span / std::ceil(span / s);
+      if (up >= 0.85 * s) steps.push_back(up);
+    }
   }
   // Narrower than about 1.5 beads (a single level would give a loop thinner than half a bead):
   // one centre line instead.
@@ -763,7 +802,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
       std::vector<std::vector<int>> pieceContours(set.pieces);
       for (size_t i = 0; i < C.size(); ++i) {
         if (C[i].length() < s) {
-          C[i].dropped = true;  // a speck around a tiny field bump: its neighbours' beads cover it
+          C[i].dropped = true;  // a speck (diameter under one bead) around a bump of the field
           continue;
         }
         pieceContours[C[i].lower].push_back(static_cast<int>(i));
@@ -886,8 +925,24 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
             }
             if (next == 0) break;
             inTree[next] = 1;
-            const int host = members[parent[next]], child = members[next];
-            const double q = chooseSplice(host, grids[next]);
+            // Host: the tree parent, or (when it has no room left, e.g. a short contour) the
+            // nearest member already joined that has room.
+            std::vector<size_t> hosts{parent[next]};
+            for (size_t j = 0; j < m; ++j) {
+              if (inTree[j] && j != next && j != parent[next]) hosts.push_back(j);
+            }
+            std::sort(hosts.begin() + 1, hosts.end(),
+                      [&](size_t x, size_t y) { return dist[next * m + x] < dist[next * m + y]; });
+            int host = members[parent[next]];
+            double q = -1;
+            for (size_t j : hosts) {
+              q = chooseSplice(members[j], grids[next]);
+              if (q >= 0) {
+                host = members[j];
+                break;
+              }
+            }
+            const int child = members[next];
             const int chainId = buildChain(child, br.piece);
             if (q < 0) {
               placeBreaks(chainId, 0.0);
@@ -944,11 +999,16 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   if (narrow) {
     result.contours = build({0.8 * D}, raw);  // a thin loop around the ridge, collapsed to one side
   } else {
+    // Build the candidates; keep the one whose path overlaps itself least (fewest polylines
+    // first).
     double bestScore = std::numeric_limits<double>::infinity();
-    for (double step : steps) {
+    for (size_t c = 0; c < steps.size(); ++c) {
+      bool seen = false;
+      for (size_t d = 0; d < c; ++d) seen = seen || std::abs(steps[d] - steps[c]) < 1e-9 * s;
+      if (seen) continue;
       std::vector<double> levels;
       for (int k = 0;; ++k) {
-        const double v = s / 2 + k * step;
+        const double v = s / 2 + k * steps[c];
         if (v >= D - 1e-9 * s) break;
         levels.push_back(v);
       }
