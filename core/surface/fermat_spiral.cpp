@@ -1023,6 +1023,13 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
     }
   }
 
+  double rawLength = 0;
+  for (const auto& path : raw) {
+    for (size_t i = 1; i < path.size(); ++i) rawLength += (path[i].p - path[i - 1].p).norm();
+  }
+  if (rawLength / options.resample > 5e7) {
+    return fail(Status::InvalidOption, "fermat spiral: resample step too small for the path length");
+  }
   for (const auto& path : raw) {
     // 1 % short of the step: projecting hop points onto the surface may lengthen a step slightly.
     SurfacePath sp = resamplePath(path, 0.99 * options.resample, tree, faceNormal);

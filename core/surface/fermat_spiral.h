@@ -36,8 +36,8 @@ struct SpiralOptions {
   double resample = 1.0;    // output point spacing along the path, mm (paper: 1 mm), > 0
   double timeFactor = 1.0;  // heat-method t factor (boundary_distance.h)
   // Heat boundary condition of the distance. Dirichlet-only is as accurate on average and ~35 %
-  // faster, but its ridges are noisier: on the annulus test the top contour broke into more
-  // islands (path 98.1 % overlap-free instead of 99.3 %).
+  // faster, but its ridges are noisier: the top contours break into more specks (annulus test
+  // 98.0 % overlap-free, plate with holes 98.8 %, against 99.3 % and 99.2 % with the average).
   HeatBoundaryCondition heatBoundary = HeatBoundaryCondition::Average;
 };
 

@@ -352,6 +352,14 @@ TEST(FermatSpiral, InvalidInputsReturnStatus) {
   o = SpiralOptions{};
   o.spacing = 1e-9;
   EXPECT_EQ(fermatSpiralPaths(test::makeDisc(3, 0.5), o).status, Status::InvalidOption);
+  o = SpiralOptions{};
+  o.resample = 1e-9;  // would be billions of points
+  EXPECT_EQ(fermatSpiralPaths(test::makeDisc(3, 0.5), o).status, Status::InvalidOption);
+  {
+    Mesh m = test::makeDisc(3, 0.5);
+    m.positions[7] = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(fermatSpiralPaths(m, SpiralOptions{}).status, Status::NonFiniteVertex);
+  }
   EXPECT_EQ(fermatSpiralPaths(test::makeBox(0, 0, 0, 1, 1, 1), SpiralOptions{}).status,
             Status::InvalidOption);
   EXPECT_EQ(fermatSpiralPaths(Mesh{}, SpiralOptions{}).status, Status::EmptyInput);
