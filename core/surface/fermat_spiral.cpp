@@ -604,13 +604,15 @@ SurfacePath resamplePath(const std::vector<PathPoint>& raw, double step, const A
   return out;
 }
 
-// Fraction of points (every spacing/4 along the paths) that come closer than 0.6 spacing to a part
+// Fraction of points (every spacing/2 along the paths) that come closer than 0.6 spacing to a part
 // of a path more than 2 spacing away along it: the self-overlap measure used to pick the levels.
+// Points are sorted by a hash cell of twice the radius, so a query visits the 8 cells its ball
+// can touch.
 double selfOverlapFraction(const std::vector<std::vector<PathPoint>>& paths, double spacing) {
   std::vector<Eigen::Vector3d> pts;
   std::vector<double> arc;
   double offset = 0;
-  const double step = spacing / 4;
+  const double step = spacing / 2;
   for (const auto& path : paths) {
     double a = offset;
     for (size_t i = 0; i + 1 < path.size(); ++i) {
@@ -625,33 +627,48 @@ double selfOverlapFraction(const std::vector<std::vector<PathPoint>>& paths, dou
     offset = a + 1e9;
   }
   if (pts.empty()) return 0;
-  const double r = 0.6 * spacing;
-  auto coord = [&](double x) { return static_cast<int64_t>(std::floor(x / r)); };
+  const double r = 0.6 * spacing, cell = 2 * r;
   auto pack = [](int64_t x, int64_t y, int64_t z) {
     return (static_cast<uint64_t>(x & 0x1FFFFF) << 42) | (static_cast<uint64_t>(y & 0x1FFFFF) << 21) |
            static_cast<uint64_t>(z & 0x1FFFFF);
   };
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
-  cells.reserve(pts.size());
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) {
-    cells[pack(coord(pts[i].x()), coord(pts[i].y()), coord(pts[i].z()))].push_back(static_cast<uint32_t>(i));
+    keyed[i] = {pack(static_cast<int64_t>(std::floor(pts[i].x() / cell)),
+                     static_cast<int64_t>(std::floor(pts[i].y() / cell)),
+                     static_cast<int64_t>(std::floor(pts[i].z() / cell))),
+                static_cast<uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> ranges;  // key -> [first, last)
+  ranges.reserve(pts.size() / 2 + 16);
+  for (size_t i = 0; i < keyed.size();) {
+    size_t j = i;
+    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+    ranges[keyed[i].first] = {static_cast<uint32_t>(i), static_cast<uint32_t>(j)};
+    i = j;
   }
   size_t bad = 0;
   for (size_t i = 0; i < pts.size(); ++i) {
-    const int64_t cx = coord(pts[i].x()), cy = coord(pts[i].y()), cz = coord(pts[i].z());
+    int64_t c[3], o[3];
+    for (int k = 0; k < 3; ++k) {
+      const double x = pts[i][k] / cell;
+      c[k] = static_cast<int64_t>(std::floor(x));
+      o[k] = x - static_cast<double>(c[k]) < 0.5 ? -1 : 1;
+    }
     bool hit = false;
-    for (int64_t dx = -1; dx <= 1 && !hit; ++dx)
-      for (int64_t dy = -1; dy <= 1 && !hit; ++dy)
-        for (int64_t dz = -1; dz <= 1 && !hit; ++dz) {
-          auto it = cells.find(pack(cx + dx, cy + dy, cz + dz));
-          if (it == cells.end()) continue;
-          for (uint32_t j : it->second) {
-            if (std::abs(arc[j] - arc[i]) > 2 * spacing && (pts[j] - pts[i]).squaredNorm() < r * r) {
-              hit = true;
-              break;
-            }
-          }
+    for (int m = 0; m < 8 && !hit; ++m) {
+      auto it = ranges.find(pack(c[0] + ((m & 1) ? o[0] : 0), c[1] + ((m & 2) ? o[1] : 0),
+                                 c[2] + ((m & 4) ? o[2] : 0)));
+      if (it == ranges.end()) continue;
+      for (uint32_t q = it->second.first; q < it->second.second; ++q) {
+        const uint32_t j = keyed[q].second;
+        if (std::abs(arc[j] - arc[i]) > 2 * spacing && (pts[j] - pts[i]).squaredNorm() < r * r) {
+          hit = true;
+          break;
         }
+      }
+    }
     if (hit) ++bad;
   }
   return static_cast<double>(bad) / static_cast<double>(pts.size());
