@@ -2,7 +2,8 @@
 // Connected Fermat spirals on a surface region (paper 001 Section 5.1, after the idea of Zhao et
 // al. 2016), written from the idea:
 //  1. boundary geodesic distance phi (heat method, boundary_distance.h);
-//  2. iso-contours of phi at spacing/2 + k*spacing by marching triangles; each contour point lies
+//  2. iso-contours of phi at spacing/2 + k*step by marching triangles (step chosen near the spacing
+//     so no ridge of the field sits just above a level, see fermat_spiral.h); each contour point lies
 //     on a mesh edge, each contour segment inside one triangle. Contours are closed because phi
 //     is 0 on the boundary and every level is > 0;
 //  3. "pieces": connected components of the bands between consecutive levels (cells = the part of
