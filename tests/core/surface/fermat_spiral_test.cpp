@@ -224,6 +224,35 @@ TEST(FermatSpiral, LShapeIsOneSpiral) {
   checkSpiral("L shape", m, planarBoundaryDistance(m));
 }
 
+TEST(FermatSpiral, ResamplingKeepsCornersWithinTolerance) {
+  // The same region re-sampled at 1 mm and at 0.02 mm comes from the same raw polyline; every
+  // dense point (on the raw polyline) must lie within 0.05 mm (+ hop projection slack) of the
+  // 1 mm polyline: corners of the square's and the L's contours are not cut.
+  for (const Mesh& m : {test::makeRectangle(10, 10, 0.4), test::makeLShape(5, 0.4)}) {
+    SpiralOptions coarse, dense;
+    dense.resample = 0.02;
+    const SpiralResult a = fermatSpiralPaths(m, coarse), b = fermatSpiralPaths(m, dense);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(a.paths.size(), 1u);
+    ASSERT_EQ(b.paths.size(), 1u);
+    const auto& P = a.paths[0].points;
+    std::vector<Eigen::Vector3d> mids;
+    for (size_t i = 0; i + 1 < P.size(); ++i) mids.push_back(0.5 * (P[i] + P[i + 1]));
+    const Grid grid(mids, 1.0);
+    double worst = 0;
+    for (const Eigen::Vector3d& q : b.paths[0].points) {
+      double best = std::numeric_limits<double>::infinity();
+      grid.within(q, 1.0, [&](size_t i) { best = std::min(best, test::pointSegmentDistance(q, P[i], P[i + 1])); });
+      worst = std::max(worst, best);
+    }
+    std::printf("[spiral] corner check: %zu coarse points, worst dense-to-coarse distance %.4f mm\n",
+                P.size(), worst);
+    EXPECT_LT(worst, 0.055);
+    // And the coarse path is much shorter in points than the dense one (it did re-sample).
+    EXPECT_LT(P.size() * 10, b.paths[0].points.size());
+  }
+}
+
 TEST(FermatSpiral, DumbbellBranchesAreJoined) {
   // Two discs joined by a 4 mm neck: the contour tree branches where the neck closes.
   const Mesh m = test::makeDumbbell(6, 9, 2, 0.4);
