@@ -1017,8 +1017,8 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   if (narrow) {
     result.contours = build({0.8 * D}, raw);  // a thin loop around the ridge, collapsed to one side
   } else {
-    // Build the candidates; keep the one whose path overlaps itself least (fewest polylines
-    // first).
+    // Build the candidates in rank order; keep the one whose path overlaps itself least (fewest
+    // polylines first), stopping at the first that is clearly fine.
     double bestScore = std::numeric_limits<double>::infinity();
     for (size_t c = 0; c < steps.size(); ++c) {
       bool seen = false;
@@ -1038,6 +1038,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
         raw.swap(candidate);
         result.contours = count;
       }
+      if (bestScore < 0.015) break;  // one polyline, under 0.5 % overlap: good enough, stop early
     }
   }
 

@@ -396,3 +396,46 @@ TEST(FermatSpiral, InvalidInputsReturnStatus) {
 
 }  // namespace
 }  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// Benchmark (run with --gtest_also_run_disabled_tests): spirals on planar cross-sections of the
+// Bunny scaled to 60 mm (~100k voxels at w = 0.8 mm, the paper's Bunny size), sections every w,
+// meshed at w: a stand-in for the curved layers of the voxel method (similar vertex counts).
+// OMNISLICE_BENCH_W overrides w.
+TEST(FermatSpiral, DISABLED_BenchmarkBunnySections) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_low_res.obj").string());
+  ASSERT_TRUE(read.ok()) << read.message;
+  Mesh bunny = read.mesh;
+  for (double& x : bunny.positions) x *= 60.0 / 200.0;
+  const BoundingBox box = boundingBox(bunny);
+  const AabbTree tree(bunny);
+  double totalMs = 0, distanceMs = 0;
+  size_t regions = 0, vertices = 0, paths = 0;
+  const double w = std::getenv("OMNISLICE_BENCH_W") ? std::atof(std::getenv("OMNISLICE_BENCH_W")) : 0.8;
+  for (double z = box.min.z() + w / 2; z < box.max.z(); z += w) {
+    const Mesh section = test::meshImplicit2D(
+        [&](const Eigen::Vector2d& p) {
+          const Eigen::Vector3d q(p.x(), p.y(), z);
+          const double d = tree.closest(q).distance;
+          return tree.inside(q) ? -d : d;
+        },
+        box.min.head<2>() - Eigen::Vector2d(1, 1), box.max.head<2>() + Eigen::Vector2d(1, 1), w);
+    if (section.empty()) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    const SpiralResult r = fermatSpiralPaths(section, SpiralOptions{});
+    totalMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (!r.ok()) continue;
+    distanceMs += r.distanceMs;
+    ++regions;
+    vertices += section.vertexCount();
+    paths += r.paths.size();
+  }
+  std::printf("[spiral] bunny sections at w = %.2f mm: %zu sections, %zu vertices, %zu paths, %.0f ms in all "
+              "(distance %.0f ms)\n", w, regions, vertices, paths, totalMs, distanceMs);
+}
+
+}  // namespace
+}  // namespace omnislice
