@@ -127,6 +127,13 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
     }
     count += p.points.size();
   }
+  // Fermat structure: both ends of the (first) spiral lie at its outside, the start on the first
+  // contour (spacing/2 from the boundary), the end one contour further in.
+  if (expectedPaths == 1 && r.paths.size() == 1) {
+    const double first = exact(r.paths[0].points.front()), last = exact(r.paths[0].points.back());
+    EXPECT_NEAR(first, s / 2, 0.25 * s) << name;
+    EXPECT_LT(last, 2.0 * s) << name;
+  }
   // Dense copy of the path(s) with arc positions (paths apart by a large offset).
   std::vector<Eigen::Vector3d> dense;
   std::vector<double> arc;
