@@ -193,7 +193,9 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
       if (std::abs(arc[j] - arc[i]) > 2 * s) bad = true;
     });
     if (bad) ++overlapping;
-    if (bad && std::getenv("OMNISLICE_DUMP_OVERLAP")) std::printf("overlap %.2f %.2f arc %.1f\n", dense[i].x(), dense[i].y(), arc[i]);
+    if (bad && std::getenv("OMNISLICE_DUMP_OVERLAP")) {  // debug aid: where the path overlaps
+      std::printf("overlap %.2f %.2f %.2f arc %.1f\n", dense[i].x(), dense[i].y(), dense[i].z(), arc[i]);
+    }
   }
   st.overlapFree = 1.0 - static_cast<double>(overlapping) / dense.size();
   st.lengthRatio = length / (area / s);
