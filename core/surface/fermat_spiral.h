@@ -26,7 +26,9 @@
 // on disc, square, annulus, L, dumbbell, plate with 3 holes, 5-arm star, spherical cap and two
 // real open shells; >= 97 % of points farther than spacing/2 from the boundary within 0.75
 // spacing of the path; 98.5-100 % of path points free of overlap; length = area/spacing +-11 %.
-// 20k-vertex region: ~180 ms native (distance ~130 ms, 3 sparse factorisations).
+// 20k-vertex region: 180-300 ms native (distance 130-230 ms: 3 sparse factorisations), ~315 ms
+// in a standalone em++ -O3 build under node. Bunny stand-in (60 mm, planar sections every
+// 0.8 mm meshed at 0.8 mm: 75 regions, 97k vertices): 1.1 s native (DISABLED_ benchmark test).
 // Limitations: gaps and local overlaps near the medial axis (as Zhao et al. report), worst where
 // ridges of very different heights coexist (the star's arms vs its hub); regions narrower than
 // 1.5 beads get one centre line per ridge loop (a branched narrow region is covered along one
