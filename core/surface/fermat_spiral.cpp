@@ -40,6 +40,7 @@
 
 #include "geometry/aabb_tree.h"
 #include "mesh/mesh_topology.h"
+#include "mesh/weld_vertices.h"
 #include "surface/boundary_distance.h"
 
 namespace omnislice {
@@ -691,11 +692,26 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   if (!(options.resample > 0) || !std::isfinite(options.resample)) {
     return fail(Status::InvalidOption, "fermat spiral: resample must be finite and > 0");
   }
+  if (region.positions.size() % 3 != 0 || region.triangles.size() % 3 != 0) {
+    return fail(Status::InvalidOption, "fermat spiral: positions/triangles not multiples of 3");
+  }
+  for (uint32_t v : region.triangles) {
+    if (v >= region.vertexCount()) return fail(Status::InvalidOption, "fermat spiral: triangle index out of range");
+  }
   const auto t0 = std::chrono::steady_clock::now();
+  // Weld bit-identical positions first: an unwelded region (one vertex per corner) would look
+  // like loose triangles, all boundary, and yield no path.
+  Mesh welded;
+  {
+    const WeldResult weld = weldVertices(region, 0);
+    welded.positions = weld.positions;
+    welded.triangles.reserve(region.triangles.size());
+    for (uint32_t v : region.triangles) welded.triangles.push_back(weld.remap[v]);
+  }
   BoundaryDistanceOptions dopt;
   dopt.timeFactor = options.timeFactor;
   dopt.boundaryCondition = options.heatBoundary;
-  const BoundaryDistance dist = boundaryGeodesicDistance(region, dopt);
+  const BoundaryDistance dist = boundaryGeodesicDistance(welded, dopt);
   if (!dist.ok()) {
     SpiralResult r;
     r.status = dist.status;
@@ -707,9 +723,9 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   const auto t1 = std::chrono::steady_clock::now();
   // Same cleaning as the distance: faces repeating a vertex are dropped.
   Mesh mesh;
-  mesh.positions = region.positions;
-  for (size_t f = 0; f < region.faceCount(); ++f) {
-    const uint32_t a = region.triangles[3 * f], b = region.triangles[3 * f + 1], c = region.triangles[3 * f + 2];
+  mesh.positions = welded.positions;
+  for (size_t f = 0; f < welded.faceCount(); ++f) {
+    const uint32_t a = welded.triangles[3 * f], b = welded.triangles[3 * f + 1], c = welded.triangles[3 * f + 2];
     if (a != b && b != c && a != c) mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
   }
   const MeshEdges edges = buildEdges(mesh);

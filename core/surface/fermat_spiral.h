@@ -66,7 +66,8 @@ struct SpiralResult : Outcome {
   double distanceMs = 0, contourMs = 0, connectMs = 0;
 };
 
-// region: one connected layer region (triangles, with boundary; edge-manifold). Regions narrower
+// region: one connected layer region (triangles, with boundary; edge-manifold; bit-identical
+// positions are welded first, so an unwelded region is fine). Regions narrower
 // than about 1.5 beads (max distance < 0.75 spacing) give a single centre-line path when the max
 // distance exceeds spacing/4, else no path (not an error). Points lie on the region (contour
 // points on its edges, hops projected onto it), consecutive points at most `resample` apart,

@@ -312,6 +312,24 @@ TEST(FermatSpiral, SphericalCapIsOneSpiral) {
   });
 }
 
+TEST(FermatSpiral, UnweldedRegionIsWelded) {
+  // One vertex per triangle corner (as STL gives): welded inside, same single spiral.
+  const Mesh welded = test::makeDisc(6, 0.4);
+  Mesh loose;
+  for (uint32_t v : welded.triangles) {
+    const Eigen::Vector3d p = welded.vertex(v);
+    loose.positions.insert(loose.positions.end(), {p.x(), p.y(), p.z()});
+    loose.triangles.push_back(static_cast<uint32_t>(loose.triangles.size()));
+  }
+  const SpiralResult a = fermatSpiralPaths(welded, SpiralOptions{}), b = fermatSpiralPaths(loose, SpiralOptions{});
+  ASSERT_TRUE(a.ok() && b.ok()) << b.message;
+  ASSERT_EQ(b.paths.size(), 1u);
+  ASSERT_EQ(a.paths[0].points.size(), b.paths[0].points.size());
+  for (size_t i = 0; i < a.paths[0].points.size(); ++i) {
+    EXPECT_LT((a.paths[0].points[i] - b.paths[0].points[i]).norm(), 1e-9);
+  }
+}
+
 TEST(FermatSpiral, InconsistentFaceOrientationStillGivesConsistentNormals) {
   // Every other triangle flipped: the normals along the path must not flip (checked per step).
   Mesh m = test::makeDisc(8, 0.4);
