@@ -380,7 +380,6 @@ struct ContourSet {
 ContourSet extractContours(const Mesh& mesh, const MeshEdges& edges, const std::vector<double>& phi,
                            const std::vector<double>& levels) {
   ContourSet out;
-  const int K = static_cast<int>(levels.size());
   auto band = [&](double x) {
     return static_cast<int>(std::upper_bound(levels.begin(), levels.end(), x) - levels.begin());
   };
@@ -500,7 +499,6 @@ ContourSet extractContours(const Mesh& mesh, const MeshEdges& edges, const std::
     c.computeArcLength();
     out.contours.push_back(std::move(c));
   }
-  (void)K;
   return out;
 }
 
