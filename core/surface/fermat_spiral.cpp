@@ -213,7 +213,8 @@ struct Builder {
   // less on short contours so something is left to print.
   double gapOf(const Contour& c) const { return std::min(spacing, c.length() / 8.0); }
 
-  void emitHop(const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::vector<PathPoint>& out) const {
+  // from and to by value: from is usually out.back(), which push_back may move.
+  void emitHop(const Eigen::Vector3d from, const Eigen::Vector3d to, std::vector<PathPoint>& out) const {
     const double len = (to - from).norm();
     const int pieces = static_cast<int>(std::ceil(len / hopStep));
     for (int i = 1; i < pieces; ++i) {
