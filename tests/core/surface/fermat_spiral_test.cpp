@@ -398,6 +398,40 @@ TEST(FermatSpiral, NeckNarrowerThanABeadGivesTwoPaths) {
   EXPECT_EQ(r.paths.size(), 2u);
 }
 
+TEST(FermatSpiral, RandomlyDamagedRegionsGivePathsOnTheSurface) {
+  // Discs with random faces removed (holes, several components, non-manifold vertices), random
+  // bumps and snapped vertices (slivers), random spacing: never an error, every point on the mesh.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Mesh base = test::makeDisc(6, 0.4);
+  for (int trial = 0; trial < 20; ++trial) {
+    Mesh m;
+    m.positions = base.positions;
+    const double keep = 0.6 + 0.4 * u(rng);
+    for (size_t f = 0; f < base.faceCount(); ++f) {
+      if (u(rng) < keep) {
+        for (int k = 0; k < 3; ++k) m.triangles.push_back(base.triangles[3 * f + k]);
+      }
+    }
+    for (size_t v = 0; v < m.vertexCount(); ++v) {
+      if (u(rng) < 0.01) {
+        m.positions[3 * v] = std::round(m.positions[3 * v] * 2) / 2;
+        m.positions[3 * v + 1] = std::round(m.positions[3 * v + 1] * 2) / 2;
+      } else if (u(rng) < 0.2) {
+        m.positions[3 * v + 2] += 0.3 * (u(rng) - 0.5);
+      }
+    }
+    SpiralOptions o;
+    o.spacing = 0.2 + u(rng);
+    const SpiralResult r = fermatSpiralPaths(m, o);
+    ASSERT_TRUE(r.ok()) << "trial " << trial << ": " << r.message;
+    const AabbTree tree(m);
+    for (const SurfacePath& p : r.paths) {
+      for (const Eigen::Vector3d& q : p.points) ASSERT_LT(tree.closest(q).distance, 1e-6) << "trial " << trial;
+    }
+  }
+}
+
 TEST(FermatSpiral, InvalidInputsReturnStatus) {
   SpiralOptions o;
   o.spacing = 0;
