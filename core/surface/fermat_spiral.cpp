@@ -2,7 +2,8 @@
 // Connected Fermat spirals on a surface region (paper 001 Section 5.1, after the idea of Zhao et
 // al. 2016), written from the idea:
 //  1. boundary geodesic distance phi (heat method, boundary_distance.h);
-//  2. iso-contours of phi at spacing/2 + k*spacing by marching triangles; each contour point lies
+//  2. iso-contours of phi at spacing/2 + k*step by marching triangles (step chosen near the spacing
+//     so no ridge of the field sits just above a level, see fermat_spiral.h); each contour point lies
 //     on a mesh edge, each contour segment inside one triangle. Contours are closed because phi
 //     is 0 on the boundary and every level is > 0;
 //  3. "pieces": connected components of the bands between consecutive levels (cells = the part of
@@ -39,6 +40,7 @@
 
 #include "geometry/aabb_tree.h"
 #include "mesh/mesh_topology.h"
+#include "mesh/weld_vertices.h"
 #include "surface/boundary_distance.h"
 
 namespace omnislice {
@@ -211,7 +213,8 @@ struct Builder {
   // less on short contours so something is left to print.
   double gapOf(const Contour& c) const { return std::min(spacing, c.length() / 8.0); }
 
-  void emitHop(const Eigen::Vector3d& from, const Eigen::Vector3d& to, std::vector<PathPoint>& out) const {
+  // from and to by value: from is usually out.back(), which push_back may move.
+  void emitHop(const Eigen::Vector3d from, const Eigen::Vector3d to, std::vector<PathPoint>& out) const {
     const double len = (to - from).norm();
     const int pieces = static_cast<int>(std::ceil(len / hopStep));
     for (int i = 1; i < pieces; ++i) {
@@ -378,7 +381,6 @@ struct ContourSet {
 ContourSet extractContours(const Mesh& mesh, const MeshEdges& edges, const std::vector<double>& phi,
                            const std::vector<double>& levels) {
   ContourSet out;
-  const int K = static_cast<int>(levels.size());
   auto band = [&](double x) {
     return static_cast<int>(std::upper_bound(levels.begin(), levels.end(), x) - levels.begin());
   };
@@ -498,7 +500,6 @@ ContourSet extractContours(const Mesh& mesh, const MeshEdges& edges, const std::
     c.computeArcLength();
     out.contours.push_back(std::move(c));
   }
-  (void)K;
   return out;
 }
 
@@ -604,13 +605,15 @@ SurfacePath resamplePath(const std::vector<PathPoint>& raw, double step, const A
   return out;
 }
 
-// Fraction of points (every spacing/4 along the paths) that come closer than 0.6 spacing to a part
+// Fraction of points (every spacing/2 along the paths) that come closer than 0.6 spacing to a part
 // of a path more than 2 spacing away along it: the self-overlap measure used to pick the levels.
+// Points are sorted by a hash cell of twice the radius, so a query visits the 8 cells its ball
+// can touch.
 double selfOverlapFraction(const std::vector<std::vector<PathPoint>>& paths, double spacing) {
   std::vector<Eigen::Vector3d> pts;
   std::vector<double> arc;
   double offset = 0;
-  const double step = spacing / 4;
+  const double step = spacing / 2;
   for (const auto& path : paths) {
     double a = offset;
     for (size_t i = 0; i + 1 < path.size(); ++i) {
@@ -625,33 +628,48 @@ double selfOverlapFraction(const std::vector<std::vector<PathPoint>>& paths, dou
     offset = a + 1e9;
   }
   if (pts.empty()) return 0;
-  const double r = 0.6 * spacing;
-  auto coord = [&](double x) { return static_cast<int64_t>(std::floor(x / r)); };
+  const double r = 0.6 * spacing, cell = 2 * r;
   auto pack = [](int64_t x, int64_t y, int64_t z) {
     return (static_cast<uint64_t>(x & 0x1FFFFF) << 42) | (static_cast<uint64_t>(y & 0x1FFFFF) << 21) |
            static_cast<uint64_t>(z & 0x1FFFFF);
   };
-  std::unordered_map<uint64_t, std::vector<uint32_t>> cells;
-  cells.reserve(pts.size());
+  std::vector<std::pair<uint64_t, uint32_t>> keyed(pts.size());
   for (size_t i = 0; i < pts.size(); ++i) {
-    cells[pack(coord(pts[i].x()), coord(pts[i].y()), coord(pts[i].z()))].push_back(static_cast<uint32_t>(i));
+    keyed[i] = {pack(static_cast<int64_t>(std::floor(pts[i].x() / cell)),
+                     static_cast<int64_t>(std::floor(pts[i].y() / cell)),
+                     static_cast<int64_t>(std::floor(pts[i].z() / cell))),
+                static_cast<uint32_t>(i)};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> ranges;  // key -> [first, last)
+  ranges.reserve(pts.size() / 2 + 16);
+  for (size_t i = 0; i < keyed.size();) {
+    size_t j = i;
+    while (j < keyed.size() && keyed[j].first == keyed[i].first) ++j;
+    ranges[keyed[i].first] = {static_cast<uint32_t>(i), static_cast<uint32_t>(j)};
+    i = j;
   }
   size_t bad = 0;
   for (size_t i = 0; i < pts.size(); ++i) {
-    const int64_t cx = coord(pts[i].x()), cy = coord(pts[i].y()), cz = coord(pts[i].z());
+    int64_t c[3], o[3];
+    for (int k = 0; k < 3; ++k) {
+      const double x = pts[i][k] / cell;
+      c[k] = static_cast<int64_t>(std::floor(x));
+      o[k] = x - static_cast<double>(c[k]) < 0.5 ? -1 : 1;
+    }
     bool hit = false;
-    for (int64_t dx = -1; dx <= 1 && !hit; ++dx)
-      for (int64_t dy = -1; dy <= 1 && !hit; ++dy)
-        for (int64_t dz = -1; dz <= 1 && !hit; ++dz) {
-          auto it = cells.find(pack(cx + dx, cy + dy, cz + dz));
-          if (it == cells.end()) continue;
-          for (uint32_t j : it->second) {
-            if (std::abs(arc[j] - arc[i]) > 2 * spacing && (pts[j] - pts[i]).squaredNorm() < r * r) {
-              hit = true;
-              break;
-            }
-          }
+    for (int m = 0; m < 8 && !hit; ++m) {
+      auto it = ranges.find(pack(c[0] + ((m & 1) ? o[0] : 0), c[1] + ((m & 2) ? o[1] : 0),
+                                 c[2] + ((m & 4) ? o[2] : 0)));
+      if (it == ranges.end()) continue;
+      for (uint32_t q = it->second.first; q < it->second.second; ++q) {
+        const uint32_t j = keyed[q].second;
+        if (std::abs(arc[j] - arc[i]) > 2 * spacing && (pts[j] - pts[i]).squaredNorm() < r * r) {
+          hit = true;
+          break;
         }
+      }
+    }
     if (hit) ++bad;
   }
   return static_cast<double>(bad) / static_cast<double>(pts.size());
@@ -673,11 +691,26 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   if (!(options.resample > 0) || !std::isfinite(options.resample)) {
     return fail(Status::InvalidOption, "fermat spiral: resample must be finite and > 0");
   }
+  if (region.positions.size() % 3 != 0 || region.triangles.size() % 3 != 0) {
+    return fail(Status::InvalidOption, "fermat spiral: positions/triangles not multiples of 3");
+  }
+  for (uint32_t v : region.triangles) {
+    if (v >= region.vertexCount()) return fail(Status::InvalidOption, "fermat spiral: triangle index out of range");
+  }
   const auto t0 = std::chrono::steady_clock::now();
+  // Weld bit-identical positions first: an unwelded region (one vertex per corner) would look
+  // like loose triangles, all boundary, and yield no path.
+  Mesh welded;
+  {
+    const WeldResult weld = weldVertices(region, 0);
+    welded.positions = weld.positions;
+    welded.triangles.reserve(region.triangles.size());
+    for (uint32_t v : region.triangles) welded.triangles.push_back(weld.remap[v]);
+  }
   BoundaryDistanceOptions dopt;
   dopt.timeFactor = options.timeFactor;
   dopt.boundaryCondition = options.heatBoundary;
-  const BoundaryDistance dist = boundaryGeodesicDistance(region, dopt);
+  const BoundaryDistance dist = boundaryGeodesicDistance(welded, dopt);
   if (!dist.ok()) {
     SpiralResult r;
     r.status = dist.status;
@@ -689,9 +722,9 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   const auto t1 = std::chrono::steady_clock::now();
   // Same cleaning as the distance: faces repeating a vertex are dropped.
   Mesh mesh;
-  mesh.positions = region.positions;
-  for (size_t f = 0; f < region.faceCount(); ++f) {
-    const uint32_t a = region.triangles[3 * f], b = region.triangles[3 * f + 1], c = region.triangles[3 * f + 2];
+  mesh.positions = welded.positions;
+  for (size_t f = 0; f < welded.faceCount(); ++f) {
+    const uint32_t a = welded.triangles[3 * f], b = welded.triangles[3 * f + 1], c = welded.triangles[3 * f + 2];
     if (a != b && b != c && a != c) mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
   }
   const MeshEdges edges = buildEdges(mesh);
@@ -711,16 +744,55 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   // Levels spacing/2 + k * step. The step is adjusted (within 15 %) so the last level lies
   // spacing/2 below the highest ridge: a level just under a ridge plateau would break into
   // specks around the field's noise and leave a loop thinner than one bead.
-  // Candidate level steps: the bead spacing, and the step (within 15 %) that puts the last level
-  // spacing/2 below the highest ridge (a level just under a ridge plateau breaks into specks
-  // around the field's noise, or leaves a loop thinner than one bead). Each candidate is built;
-  // the one whose path overlaps itself least is kept (ridges of other heights favour either).
-  std::vector<double> steps{s};
-  if (D - s > 0) {
-    const double span = D - s;
-    const double up = span / std::ceil(span / s), down = span / std::max(1.0, std::floor(span / s));
-    if (up >= 0.85 * s && std::abs(up - s) > 1e-6 * s) steps.push_back(up);
-    if (down <= 1.05 * s && std::abs(down - s) > 1e-6 * s) steps.push_back(down);
+  // Level step. Uniform levels sit at arbitrary heights under the ridges (medial axis) of the
+  // field; a ridge just above a level gives a loop thinner than half a bead folded on itself
+  // (or specks around the field's noise), a ridge far above the last level leaves a gap. Ridge
+  // vertices (|grad phi| < 0.5: the heat distance is smooth across the medial axis) score each
+  // candidate step in [0.85, 1.05] x spacing: area with the ridge less than 0.3 spacing above the
+  // level below it counts 1, more than 0.8 spacing above it 0.5. The lowest score wins, ties to
+  // the step closest to the spacing.
+  std::vector<double> steps;
+  {
+    std::vector<double> gradSum(mesh.vertexCount(), 0.0);
+    std::vector<double> mass(mesh.vertexCount(), 0.0);
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+      const uint32_t i[3] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]};
+      const Eigen::Vector3d p0 = mesh.vertex(i[0]), p1 = mesh.vertex(i[1]), p2 = mesh.vertex(i[2]);
+      const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+      const double twiceArea = n.norm();
+      if (!(twiceArea > 0)) continue;
+      const Eigen::Vector3d u = n / twiceArea;
+      const Eigen::Vector3d g = (phi[i[0]] * u.cross(p2 - p1) + phi[i[1]] * u.cross(p0 - p2) +
+                                 phi[i[2]] * u.cross(p1 - p0)) / twiceArea;
+      for (uint32_t v : i) {
+        mass[v] += twiceArea / 6;
+        gradSum[v] += g.norm() * twiceArea / 6;
+      }
+    }
+    std::vector<std::pair<double, double>> ridge;  // (phi, mass)
+    for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+      if (mass[v] > 0 && gradSum[v] < 0.5 * mass[v] && phi[v] > s / 2) ridge.push_back({phi[v], mass[v]});
+    }
+    std::vector<std::pair<double, double>> scored;  // (score, step), stable: ties keep order
+    for (const double factor : {1.0, 0.975, 1.025, 0.95, 1.05, 0.925, 0.9, 0.875, 0.85}) {
+      const double t = factor * s;
+      double score = 0;
+      for (const auto& [value, m] : ridge) {
+        const double above = std::fmod(value - s / 2, t);
+        if (above < 0.3 * s) score += m;
+        else if (above > 0.8 * s) score += 0.5 * m;
+      }
+      scored.push_back({score, t});
+    }
+    std::stable_sort(scored.begin(), scored.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first - 1e-12; });
+    for (size_t i = 0; i < std::min<size_t>(2, scored.size()); ++i) steps.push_back(scored[i].second);
+    // And the step putting the last level spacing/2 under the highest ridge.
+    if (D - s > 0) {
+      const double span = D - s;
+      const double up = span / std::ceil(span / s);
+      if (up >= 0.85 * s) steps.push_back(up);
+    }
   }
   // Narrower than about 1.5 beads (a single level would give a loop thinner than half a bead):
   // one centre line instead.
@@ -763,7 +835,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
       std::vector<std::vector<int>> pieceContours(set.pieces);
       for (size_t i = 0; i < C.size(); ++i) {
         if (C[i].length() < s) {
-          C[i].dropped = true;  // a speck around a tiny field bump: its neighbours' beads cover it
+          C[i].dropped = true;  // a speck (diameter under one bead) around a bump of the field
           continue;
         }
         pieceContours[C[i].lower].push_back(static_cast<int>(i));
@@ -817,33 +889,35 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
       };
       // Splice point on host for child: the host vertex closest to the child, away from the gaps
       // already cut in the host.
-      auto chooseSplice = [&](int host, int child, const PointGrid& childGrid) {
+      // Splice point on host for a child: the host vertex closest to the child among those far
+      // enough from the gaps already cut in the host (preferably two beads clear, at least so
+      // the gaps do not overlap). -1 when the host has no room left.
+      auto chooseSplice = [&](int host, const PointGrid& childGrid) {
         const Contour& H = C[host];
         std::vector<double> cuts{H.breakPos};
         for (const Splice& sp : H.splices) cuts.push_back(sp.pos);
-        const double clearance = 2 * H.gap + 2 * s;
-        double best = std::numeric_limits<double>::infinity(), bestFree = best;
-        size_t bestIdx = 0, bestFreeIdx = 0;
-        for (size_t i = 0; i < H.size(); ++i) {
-          const double d = childGrid.nearest(H.pts[i]).first;
-          bool free = true;
-          for (double q : cuts) {
-            double a = std::fmod(std::abs(H.cum[i] - q), H.length());
-            a = std::min(a, H.length() - a);
-            if (a < clearance) free = false;
+        for (const double clearance : {2 * H.gap + 2 * s, 2 * H.gap + 0.02 * s}) {
+          double best = std::numeric_limits<double>::infinity();
+          double pos = -1;
+          for (size_t i = 0; i < H.size(); ++i) {
+            bool free = true;
+            for (double q : cuts) {
+              double a = std::fmod(std::abs(H.cum[i] - q), H.length());
+              a = std::min(a, H.length() - a);
+              if (a < clearance) free = false;
+            }
+            if (!free) continue;
+            const double d = childGrid.nearest(H.pts[i]).first;
+            if (d < best) {
+              best = d;
+              pos = H.cum[i];
+            }
           }
-          if (d < best) {
-            best = d;
-            bestIdx = i;
-          }
-          if (free && d < bestFree) {
-            bestFree = d;
-            bestFreeIdx = i;
-          }
+          if (pos >= 0) return pos;
         }
-        (void)child;
-        return std::isfinite(bestFree) ? H.cum[bestFreeIdx] : H.cum[bestIdx];
+        return -1.0;
       };
+      std::vector<int> separateChains;  // children no host had room for: their own polylines
       auto processBranches = [&]() {
         while (!branches.empty()) {
           const Branch br = branches.front();
@@ -884,13 +958,34 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
             }
             if (next == 0) break;
             inTree[next] = 1;
-            const int host = members[parent[next]], child = members[next];
-            const double q = chooseSplice(host, child, grids[next]);
+            // Host: the tree parent, or (when it has no room left, e.g. a short contour) the
+            // nearest member already joined that has room.
+            std::vector<size_t> hosts{parent[next]};
+            for (size_t j = 0; j < m; ++j) {
+              if (inTree[j] && j != next && j != parent[next]) hosts.push_back(j);
+            }
+            std::sort(hosts.begin() + 1, hosts.end(),
+                      [&](size_t x, size_t y) { return dist[next * m + x] < dist[next * m + y]; });
+            int host = members[parent[next]];
+            double q = -1;
+            for (size_t j : hosts) {
+              q = chooseSplice(members[j], grids[next]);
+              if (q >= 0) {
+                host = members[j];
+                break;
+              }
+            }
+            const int child = members[next];
             const int chainId = buildChain(child, br.piece);
-            // Child oriented now: its break is the point closest to the host's splice point.
-            placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
-            const int side = C[host].forward == br.piece ? 1 : -1;
-            C[host].splices.push_back({q, chainId, side});
+            if (q < 0) {
+              placeBreaks(chainId, 0.0);
+              separateChains.push_back(chainId);
+            } else {
+              // Child oriented now: its break is the point closest to the host's splice point.
+              placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
+              const int side = C[host].forward == br.piece ? 1 : -1;
+              C[host].splices.push_back({q, chainId, side});
+            }
             for (size_t j = 1; j < m; ++j) {
               if (!inTree[j] && dist[next * m + j] < key[j]) {
                 key[j] = dist[next * m + j];
@@ -923,6 +1018,12 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
         std::vector<PathPoint> path;
         B.emitChain(chainId, path);
         raw.push_back(std::move(path));
+        for (const int extra : separateChains) {
+          std::vector<PathPoint> own;
+          B.emitChain(extra, own);
+          raw.push_back(std::move(own));
+        }
+        separateChains.clear();
       }
   }
     return count;
@@ -931,11 +1032,16 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   if (narrow) {
     result.contours = build({0.8 * D}, raw);  // a thin loop around the ridge, collapsed to one side
   } else {
+    // Build the candidates in rank order; keep the one whose path overlaps itself least (fewest
+    // polylines first), stopping at the first that is clearly fine.
     double bestScore = std::numeric_limits<double>::infinity();
-    for (double step : steps) {
+    for (size_t c = 0; c < steps.size(); ++c) {
+      bool seen = false;
+      for (size_t d = 0; d < c; ++d) seen = seen || std::abs(steps[d] - steps[c]) < 1e-9 * s;
+      if (seen) continue;
       std::vector<double> levels;
       for (int k = 0;; ++k) {
-        const double v = s / 2 + k * step;
+        const double v = s / 2 + k * steps[c];
         if (v >= D - 1e-9 * s) break;
         levels.push_back(v);
       }
@@ -947,9 +1053,17 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
         raw.swap(candidate);
         result.contours = count;
       }
+      if (bestScore < 0.015) break;  // one polyline, under 0.5 % overlap: good enough, stop early
     }
   }
 
+  double rawLength = 0;
+  for (const auto& path : raw) {
+    for (size_t i = 1; i < path.size(); ++i) rawLength += (path[i].p - path[i - 1].p).norm();
+  }
+  if (rawLength / options.resample > 5e7) {
+    return fail(Status::InvalidOption, "fermat spiral: resample step too small for the path length");
+  }
   for (const auto& path : raw) {
     // 1 % short of the step: projecting hop points onto the surface may lengthen a step slightly.
     SurfacePath sp = resamplePath(path, 0.99 * options.resample, tree, faceNormal);

@@ -90,7 +90,8 @@ struct SpiralStats {
 };
 
 SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact,
-                        size_t expectedPaths = 1, SpiralOptions options = {}) {
+                        size_t expectedPaths = 1, SpiralOptions options = {},
+                        double minOverlapFree = 0.99) {
   SpiralStats st;
   const SpiralResult r = fermatSpiralPaths(m, options);
   EXPECT_TRUE(r.ok()) << name << ": " << r.message;
@@ -125,6 +126,13 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
       }
     }
     count += p.points.size();
+  }
+  // Fermat structure: both ends of the (first) spiral lie at its outside, the start on the first
+  // contour (spacing/2 from the boundary), the end one contour further in.
+  if (expectedPaths == 1 && r.paths.size() == 1) {
+    const double first = exact(r.paths[0].points.front()), last = exact(r.paths[0].points.back());
+    EXPECT_NEAR(first, s / 2, 0.25 * s) << name;
+    EXPECT_LT(last, 2.0 * s) << name;
   }
   // Dense copy of the path(s) with arc positions (paths apart by a large offset).
   std::vector<Eigen::Vector3d> dense;
@@ -185,6 +193,9 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
       if (std::abs(arc[j] - arc[i]) > 2 * s) bad = true;
     });
     if (bad) ++overlapping;
+    if (bad && std::getenv("OMNISLICE_DUMP_OVERLAP")) {  // debug aid: where the path overlaps
+      std::printf("overlap %.2f %.2f %.2f arc %.1f\n", dense[i].x(), dense[i].y(), dense[i].z(), arc[i]);
+    }
   }
   st.overlapFree = 1.0 - static_cast<double>(overlapping) / dense.size();
   st.lengthRatio = length / (area / s);
@@ -193,7 +204,7 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
               name, m.vertexCount(), r.paths.size(), r.contours, count, length, area / s, st.lengthRatio,
               st.covered, st.overlapFree, r.distanceMs, r.contourMs, r.connectMs);
   EXPECT_GE(st.covered, 0.97) << name;
-  EXPECT_GE(st.overlapFree, 0.99) << name;
+  EXPECT_GE(st.overlapFree, minOverlapFree) << name;
   EXPECT_NEAR(st.lengthRatio, 1.0, 0.15) << name;
   return st;
 }
@@ -222,10 +233,75 @@ TEST(FermatSpiral, LShapeIsOneSpiral) {
   checkSpiral("L shape", m, planarBoundaryDistance(m));
 }
 
+TEST(FermatSpiral, ResamplingKeepsCornersWithinTolerance) {
+  // The same region re-sampled at 1 mm and at 0.02 mm comes from the same raw polyline; every
+  // dense point (on the raw polyline) must lie within 0.05 mm (+ hop projection slack) of the
+  // 1 mm polyline: corners of the square's and the L's contours are not cut.
+  for (const Mesh& m : {test::makeRectangle(10, 10, 0.4), test::makeLShape(5, 0.4)}) {
+    SpiralOptions coarse, dense;
+    dense.resample = 0.02;
+    const SpiralResult a = fermatSpiralPaths(m, coarse), b = fermatSpiralPaths(m, dense);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(a.paths.size(), 1u);
+    ASSERT_EQ(b.paths.size(), 1u);
+    const auto& P = a.paths[0].points;
+    std::vector<Eigen::Vector3d> mids;
+    for (size_t i = 0; i + 1 < P.size(); ++i) mids.push_back(0.5 * (P[i] + P[i + 1]));
+    const Grid grid(mids, 1.0);
+    double worst = 0;
+    for (const Eigen::Vector3d& q : b.paths[0].points) {
+      double best = std::numeric_limits<double>::infinity();
+      grid.within(q, 1.0, [&](size_t i) { best = std::min(best, test::pointSegmentDistance(q, P[i], P[i + 1])); });
+      worst = std::max(worst, best);
+    }
+    std::printf("[spiral] corner check: %zu coarse points, worst dense-to-coarse distance %.4f mm\n",
+                P.size(), worst);
+    EXPECT_LT(worst, 0.055);
+    // And the coarse path is much shorter in points than the dense one (it did re-sample).
+    EXPECT_LT(P.size() * 10, b.paths[0].points.size());
+  }
+}
+
 TEST(FermatSpiral, DumbbellBranchesAreJoined) {
   // Two discs joined by a 4 mm neck: the contour tree branches where the neck closes.
   const Mesh m = test::makeDumbbell(6, 9, 2, 0.4);
   checkSpiral("dumbbell", m, planarBoundaryDistance(m));
+}
+
+TEST(FermatSpiral, PlateWithThreeHolesIsOneSpiral) {
+  // Contours around the holes meet the outer ones at branch pieces with several contours of the
+  // same level: splices onto the first contour of a child run (child on the host's right).
+  const Mesh m = test::meshImplicit2D(
+      [](const Eigen::Vector2d& p) {
+        double d = p.norm() - 12;
+        for (int k = 0; k < 3; ++k) {
+          const double a = 2 * M_PI * k / 3;
+          d = std::max(d, 2.0 - (p - 6.0 * Eigen::Vector2d(std::cos(a), std::sin(a))).norm());
+        }
+        return d;
+      },
+      Eigen::Vector2d(-12.5, -12.5), Eigen::Vector2d(12.5, 12.5), 0.4);
+  checkSpiral("plate, 3 holes", m, planarBoundaryDistance(m));
+}
+
+TEST(FermatSpiral, FiveArmStarIsOneSpiral) {
+  // Five arms around a hub: five children spliced around one host contour.
+  const Mesh m = test::meshImplicit2D(
+      [](const Eigen::Vector2d& p) {
+        double d = p.norm() - 4;
+        for (int k = 0; k < 5; ++k) {
+          const double a = 2 * M_PI * k / 5;
+          const Eigen::Vector2d dir(std::cos(a), std::sin(a));
+          const double along = p.dot(dir), across = std::abs(p.x() * dir.y() - p.y() * dir.x());
+          d = std::min(d, std::max(std::max(across - 1.6, along - 11.0), -along));
+        }
+        return d;
+      },
+      Eigen::Vector2d(-11.5, -11.5), Eigen::Vector2d(11.5, 11.5), 0.3);
+  // Known limitation (medial axis): the arms' ridges lie at another height than the hub's, so no
+  // uniform level step keeps every ridge clear of the levels; thin specks near the arm ridges
+  // are spliced in and overlap locally. Measured 98.5 % overlap-free; asserted >= 98 %.
+  checkSpiral("five-arm star", m, planarBoundaryDistance(m), 1, SpiralOptions{}, 0.98);
 }
 
 TEST(FermatSpiral, SphericalCapIsOneSpiral) {
@@ -234,6 +310,24 @@ TEST(FermatSpiral, SphericalCapIsOneSpiral) {
   checkSpiral("spherical cap", m, [=](const Eigen::Vector3d& p) {
     return rho - R * std::acos(std::clamp(p.z() / p.norm(), -1.0, 1.0));
   });
+}
+
+TEST(FermatSpiral, UnweldedRegionIsWelded) {
+  // One vertex per triangle corner (as STL gives): welded inside, same single spiral.
+  const Mesh welded = test::makeDisc(6, 0.4);
+  Mesh loose;
+  for (uint32_t v : welded.triangles) {
+    const Eigen::Vector3d p = welded.vertex(v);
+    loose.positions.insert(loose.positions.end(), {p.x(), p.y(), p.z()});
+    loose.triangles.push_back(static_cast<uint32_t>(loose.triangles.size()));
+  }
+  const SpiralResult a = fermatSpiralPaths(welded, SpiralOptions{}), b = fermatSpiralPaths(loose, SpiralOptions{});
+  ASSERT_TRUE(a.ok() && b.ok()) << b.message;
+  ASSERT_EQ(b.paths.size(), 1u);
+  ASSERT_EQ(a.paths[0].points.size(), b.paths[0].points.size());
+  for (size_t i = 0; i < a.paths[0].points.size(); ++i) {
+    EXPECT_LT((a.paths[0].points[i] - b.paths[0].points[i]).norm(), 1e-9);
+  }
 }
 
 TEST(FermatSpiral, InconsistentFaceOrientationStillGivesConsistentNormals) {
@@ -304,6 +398,40 @@ TEST(FermatSpiral, NeckNarrowerThanABeadGivesTwoPaths) {
   EXPECT_EQ(r.paths.size(), 2u);
 }
 
+TEST(FermatSpiral, RandomlyDamagedRegionsGivePathsOnTheSurface) {
+  // Discs with random faces removed (holes, several components, non-manifold vertices), random
+  // bumps and snapped vertices (slivers), random spacing: never an error, every point on the mesh.
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(0, 1);
+  const Mesh base = test::makeDisc(6, 0.4);
+  for (int trial = 0; trial < 20; ++trial) {
+    Mesh m;
+    m.positions = base.positions;
+    const double keep = 0.6 + 0.4 * u(rng);
+    for (size_t f = 0; f < base.faceCount(); ++f) {
+      if (u(rng) < keep) {
+        for (int k = 0; k < 3; ++k) m.triangles.push_back(base.triangles[3 * f + k]);
+      }
+    }
+    for (size_t v = 0; v < m.vertexCount(); ++v) {
+      if (u(rng) < 0.01) {
+        m.positions[3 * v] = std::round(m.positions[3 * v] * 2) / 2;
+        m.positions[3 * v + 1] = std::round(m.positions[3 * v + 1] * 2) / 2;
+      } else if (u(rng) < 0.2) {
+        m.positions[3 * v + 2] += 0.3 * (u(rng) - 0.5);
+      }
+    }
+    SpiralOptions o;
+    o.spacing = 0.2 + u(rng);
+    const SpiralResult r = fermatSpiralPaths(m, o);
+    ASSERT_TRUE(r.ok()) << "trial " << trial << ": " << r.message;
+    const AabbTree tree(m);
+    for (const SurfacePath& p : r.paths) {
+      for (const Eigen::Vector3d& q : p.points) ASSERT_LT(tree.closest(q).distance, 1e-6) << "trial " << trial;
+    }
+  }
+}
+
 TEST(FermatSpiral, InvalidInputsReturnStatus) {
   SpiralOptions o;
   o.spacing = 0;
@@ -314,9 +442,60 @@ TEST(FermatSpiral, InvalidInputsReturnStatus) {
   o = SpiralOptions{};
   o.spacing = 1e-9;
   EXPECT_EQ(fermatSpiralPaths(test::makeDisc(3, 0.5), o).status, Status::InvalidOption);
+  o = SpiralOptions{};
+  o.resample = 1e-9;  // would be billions of points
+  EXPECT_EQ(fermatSpiralPaths(test::makeDisc(3, 0.5), o).status, Status::InvalidOption);
+  {
+    Mesh m = test::makeDisc(3, 0.5);
+    m.positions[7] = std::numeric_limits<double>::infinity();
+    EXPECT_EQ(fermatSpiralPaths(m, SpiralOptions{}).status, Status::NonFiniteVertex);
+  }
   EXPECT_EQ(fermatSpiralPaths(test::makeBox(0, 0, 0, 1, 1, 1), SpiralOptions{}).status,
             Status::InvalidOption);
   EXPECT_EQ(fermatSpiralPaths(Mesh{}, SpiralOptions{}).status, Status::EmptyInput);
+}
+
+}  // namespace
+}  // namespace omnislice
+
+namespace omnislice {
+namespace {
+
+// Benchmark (run with --gtest_also_run_disabled_tests): spirals on planar cross-sections of the
+// Bunny scaled to 60 mm (~100k voxels at w = 0.8 mm, the paper's Bunny size), sections every w,
+// meshed at w: a stand-in for the curved layers of the voxel method (similar vertex counts).
+// OMNISLICE_BENCH_W overrides w.
+TEST(FermatSpiral, DISABLED_BenchmarkBunnySections) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_low_res.obj").string());
+  ASSERT_TRUE(read.ok()) << read.message;
+  Mesh bunny = read.mesh;
+  for (double& x : bunny.positions) x *= 60.0 / 200.0;
+  const BoundingBox box = boundingBox(bunny);
+  const AabbTree tree(bunny);
+  double totalMs = 0, distanceMs = 0;
+  size_t regions = 0, vertices = 0, paths = 0;
+  const double w = std::getenv("OMNISLICE_BENCH_W") ? std::atof(std::getenv("OMNISLICE_BENCH_W")) : 0.8;
+  for (double z = box.min.z() + w / 2; z < box.max.z(); z += w) {
+    const Mesh section = test::meshImplicit2D(
+        [&](const Eigen::Vector2d& p) {
+          const Eigen::Vector3d q(p.x(), p.y(), z);
+          const double d = tree.closest(q).distance;
+          return tree.inside(q) ? -d : d;
+        },
+        box.min.head<2>() - Eigen::Vector2d(1, 1), box.max.head<2>() + Eigen::Vector2d(1, 1), w);
+    if (section.empty()) continue;
+    const auto t0 = std::chrono::steady_clock::now();
+    const SpiralResult r = fermatSpiralPaths(section, SpiralOptions{});
+    totalMs += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    if (!r.ok()) continue;
+    distanceMs += r.distanceMs;
+    ++regions;
+    vertices += section.vertexCount();
+    paths += r.paths.size();
+  }
+  std::printf("[spiral] bunny sections at w = %.2f mm: %zu sections, %zu vertices, %zu paths, %.0f ms in all "
+              "(distance %.0f ms)\n", w, regions, vertices, paths, totalMs, distanceMs);
 }
 
 }  // namespace
