@@ -30,33 +30,52 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Open-addressing map uint64 key -> uint32 value (keys never equal kEmpty).
+// Open-addressing map uint64 key -> uint32 value (keys never equal kEmpty), key and value in
+// one slot so a lookup touches one cache line.
 class KeyMap {
  public:
   void clear() {
-    if (size_ > 0) std::fill(keys_.begin(), keys_.end(), kEmpty);
+    if (size_ > 0) {
+      for (Slot& slot : slots_) slot.key = kEmpty;
+    }
     size_ = 0;
   }
+  size_t size() const { return size_; }
   // Value stored under key, or inserts value and returns it; added tells which.
   uint32_t getOrAdd(uint64_t key, uint32_t value, bool& added) {
-    if (2 * (size_ + 1) > keys_.size()) grow();
-    const size_t mask = keys_.size() - 1;
-    for (size_t slot = mix(key) & mask;; slot = (slot + 1) & mask) {
-      if (keys_[slot] == key) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+      Slot& slot = slots_[i];
+      if (slot.key == key) {
         added = false;
-        return values_[slot];
+        return slot.value;
       }
-      if (keys_[slot] == kEmpty) {
-        keys_[slot] = key;
-        values_[slot] = value;
+      if (slot.key == kEmpty) {
+        slot.key = key;
+        slot.value = value;
         ++size_;
         added = true;
         return value;
       }
     }
   }
+  // Value under key, or UINT32_MAX when absent.
+  uint32_t find(uint64_t key) const {
+    if (size_ == 0) return UINT32_MAX;
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+      const Slot& slot = slots_[i];
+      if (slot.key == key) return slot.value;
+      if (slot.key == kEmpty) return UINT32_MAX;
+    }
+  }
 
  private:
+  struct Slot {
+    uint64_t key;
+    uint32_t value;
+  };
   static constexpr uint64_t kEmpty = ~uint64_t(0);
   static uint64_t mix(uint64_t x) {
     x ^= x >> 30;
@@ -66,22 +85,18 @@ class KeyMap {
     return x ^ (x >> 31);
   }
   void grow() {
-    std::vector<uint64_t> oldKeys = std::move(keys_);
-    std::vector<uint32_t> oldValues = std::move(values_);
-    const size_t cap = std::max<size_t>(1024, oldKeys.size() * 2);
-    keys_.assign(cap, kEmpty);
-    values_.assign(cap, 0);
+    std::vector<Slot> old = std::move(slots_);
+    const size_t cap = std::max<size_t>(1024, old.size() * 2);
+    slots_.assign(cap, Slot{kEmpty, 0});
     const size_t mask = cap - 1;
-    for (size_t s = 0; s < oldKeys.size(); ++s) {
-      if (oldKeys[s] == kEmpty) continue;
-      size_t slot = mix(oldKeys[s]) & mask;
-      while (keys_[slot] != kEmpty) slot = (slot + 1) & mask;
-      keys_[slot] = oldKeys[s];
-      values_[slot] = oldValues[s];
+    for (const Slot& s : old) {
+      if (s.key == kEmpty) continue;
+      size_t i = mix(s.key) & mask;
+      while (slots_[i].key != kEmpty) i = (i + 1) & mask;
+      slots_[i] = s;
     }
   }
-  std::vector<uint64_t> keys_;
-  std::vector<uint32_t> values_;
+  std::vector<Slot> slots_;
   size_t size_ = 0;
 };
 
@@ -266,8 +281,12 @@ void extractIsoSurface(const VoxelGrid& grid, const CentreField& field,
     auto corner = [&](int c) {
       return grid.center(bc.x() + (c & 1), bc.y() + ((c >> 1) & 1), bc.z() + ((c >> 2) & 1));
     };
+    uint32_t local[8][8];  // this cube's edge vertices, [lower corner][upper corner]
+    for (auto& row : local)
+      for (uint32_t& x : row) x = UINT32_MAX;
     auto edgeVertex = [&](int p, int r) -> uint32_t {
       if (p > r) std::swap(p, r);  // chain order: corner p's bits are a subset of r's
+      if (local[p][r] != UINT32_MAX) return local[p][r];
       const uint64_t key = static_cast<uint64_t>(base + offset[p]) * 8 + static_cast<uint64_t>(p ^ r);
       bool added = false;
       const uint32_t id = edgeMap.getOrAdd(key, static_cast<uint32_t>(out.positions.size()), added);
@@ -276,6 +295,7 @@ void extractIsoSurface(const VoxelGrid& grid, const CentreField& field,
         const Eigen::Vector3d a = corner(p), b = corner(r);
         out.positions.push_back(a + t * (b - a));
       }
+      local[p][r] = id;
       return id;
     };
     for (const auto& tet : kTets) {
@@ -385,19 +405,14 @@ void splitExitingEdges(LayerSurface& s, std::vector<uint8_t>& isIn, InsideTest& 
   edgeMap.clear();
   const size_t nv = s.positions.size();
   std::vector<uint8_t> deep(nv, 2);  // 2 = not computed
-  std::vector<uint32_t> splitVertex;  // per tested edge: the split vertex or UINT32_MAX
   auto edgeKey = [](uint32_t a, uint32_t b) {
     return (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
   };
-  bool anySplit = false;
+  // The surface is consistently oriented: an interior edge appears once as a -> b with a < b.
   for (const auto& t : s.triangles) {
     for (int e = 0; e < 3; ++e) {
       const uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (!isIn[a] || !isIn[b]) continue;
-      bool added = false;
-      edgeMap.getOrAdd(edgeKey(a, b), static_cast<uint32_t>(splitVertex.size()), added);
-      if (!added) continue;
-      splitVertex.push_back(UINT32_MAX);
+      if (a > b || !isIn[a] || !isIn[b]) continue;
       for (uint32_t v : {a, b})
         if (deep[v] == 2) deep[v] = inside.deep(s.positions[v], maxEdge) ? 1 : 0;
       if (deep[a] || deep[b]) continue;
@@ -406,21 +421,19 @@ void splitExitingEdges(LayerSurface& s, std::vector<uint8_t>& isIn, InsideTest& 
       for (double u : {0.5, 0.25, 0.75}) {
         const Eigen::Vector3d x = pa + u * (pb - pa);
         if (inside(x)) continue;
-        splitVertex.back() = static_cast<uint32_t>(s.positions.size());
+        bool added = false;
+        edgeMap.getOrAdd(edgeKey(a, b), static_cast<uint32_t>(s.positions.size()), added);
         s.positions.push_back(x);
         s.boundary.push_back(0);
         isIn.push_back(0);
-        anySplit = true;
         break;
       }
     }
   }
-  if (!anySplit) return;
+  if (edgeMap.size() == 0) return;
   auto splitOf = [&](uint32_t a, uint32_t b) -> uint32_t {
-    if (!isIn[a] || !isIn[b] || a >= nv || b >= nv) return UINT32_MAX;
-    bool added = false;
-    const uint32_t idx = edgeMap.getOrAdd(edgeKey(a, b), 0, added);
-    return added ? UINT32_MAX : splitVertex[idx];
+    if (a >= nv || b >= nv || !isIn[a] || !isIn[b]) return UINT32_MAX;
+    return edgeMap.find(edgeKey(a, b));
   };
   std::vector<std::array<uint32_t, 3>> out;
   out.reserve(s.triangles.size() + 16);
@@ -528,32 +541,10 @@ void trimSurface(LayerSurface& in, InsideTest& inside, const AabbTree& tree, con
 // turns over. Marching tetrahedra leave clusters of vertices near lattice points and trimming leaves
 // crossing points next to kept vertices; this removes those slivers without moving any vertex
 // off the iso-surface.
-void collapseShortEdges(LayerSurface& s, double minLength, double flatness, KeyMap& edgeMap) {
+void collapseShortEdges(LayerSurface& s, double minLength, double flatness) {
   const size_t nv = s.positions.size(), nt = s.triangles.size();
   if (nt == 0 || !(minLength > 0)) return;
   const double min2 = minLength * minLength;
-  // Open-boundary vertices (edges used once) are pinned like trimmed-boundary vertices.
-  std::vector<uint8_t> pinned(s.boundary);
-  {
-    edgeMap.clear();
-    std::vector<uint32_t> uses;
-    for (const auto& t : s.triangles)
-      for (int e = 0; e < 3; ++e) {
-        const uint32_t a = t[e], b = t[(e + 1) % 3];
-        const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-        bool added = false;
-        const uint32_t id = edgeMap.getOrAdd(key, static_cast<uint32_t>(uses.size()), added);
-        if (added) uses.push_back(0);
-        ++uses[id];
-      }
-    for (const auto& t : s.triangles)
-      for (int e = 0; e < 3; ++e) {
-        const uint32_t a = t[e], b = t[(e + 1) % 3];
-        const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-        bool added = false;
-        if (uses[edgeMap.getOrAdd(key, 0, added)] != 2) pinned[a] = pinned[b] = 1;
-      }
-  }
   struct Candidate {
     double len2;
     uint32_t a, b;
@@ -562,17 +553,31 @@ void collapseShortEdges(LayerSurface& s, double minLength, double flatness, KeyM
   for (const auto& t : s.triangles)
     for (int e = 0; e < 3; ++e) {
       const uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (a > b) continue;  // each edge once per triangle side (a boundary edge has one)
+      if (a > b && s.boundary[a] + s.boundary[b] < 2) continue;  // interior edges: one side
       const double l2 = (s.positions[a] - s.positions[b]).squaredNorm();
       if (l2 < min2) candidates.push_back({l2, a, b});
     }
   if (candidates.empty()) return;
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.len2 < y.len2; });
-  // Vertex -> triangles (CSR start, then per-vertex growth lists only for kept vertices).
+  // Vertex -> triangles.
   std::vector<std::vector<uint32_t>> vt(nv);
   for (uint32_t f = 0; f < nt; ++f)
     for (uint32_t v : s.triangles[f]) vt[v].push_back(f);
+  // Open-boundary vertices are pinned like trimmed-boundary vertices: on a consistently oriented
+  // surface, side a -> b is open when no triangle of b has the side b -> a.
+  std::vector<uint8_t> pinned(s.boundary);
+  for (const auto& t : s.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = t[e], b = t[(e + 1) % 3];
+      bool twin = false;
+      for (uint32_t f : vt[b]) {
+        const auto& u = s.triangles[f];
+        for (int m = 0; m < 3 && !twin; ++m) twin = u[m] == b && u[(m + 1) % 3] == a;
+        if (twin) break;
+      }
+      if (!twin) pinned[a] = pinned[b] = 1;
+    }
   std::vector<uint8_t> deadTri(nt, 0), removed(nv, 0);
   std::vector<uint32_t> ringK, ringR, shared;
   auto normal = [&](const std::array<uint32_t, 3>& t) {
@@ -862,7 +867,7 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     const auto tt = Clock::now();
     trimSurface(raw, inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
                 edgeMap, trimmed);
-    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance, edgeMap);
+    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance);
     CurvedLayer layer;
     layer.isoValue = iso;
     splitRegions(trimmed, inside, options.minRegionArea, layer);
