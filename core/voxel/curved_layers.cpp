@@ -541,7 +541,8 @@ void trimSurface(LayerSurface& in, InsideTest& inside, const AabbTree& tree, con
 // turns over. Marching tetrahedra leave clusters of vertices near lattice points and trimming leaves
 // crossing points next to kept vertices; this removes those slivers without moving any vertex
 // off the iso-surface.
-void collapseShortEdges(LayerSurface& s, double minLength, double flatness) {
+void collapseShortEdges(LayerSurface& s, double minLength, double flatness,
+                        std::vector<std::vector<uint32_t>>& vt) {
   const size_t nv = s.positions.size(), nt = s.triangles.size();
   if (nt == 0 || !(minLength > 0)) return;
   const double min2 = minLength * minLength;
@@ -561,7 +562,8 @@ void collapseShortEdges(LayerSurface& s, double minLength, double flatness) {
   std::sort(candidates.begin(), candidates.end(),
             [](const Candidate& x, const Candidate& y) { return x.len2 < y.len2; });
   // Vertex -> triangles.
-  std::vector<std::vector<uint32_t>> vt(nv);
+  if (vt.size() < nv) vt.resize(nv);  // reused across layers: inner capacities persist
+  for (size_t v = 0; v < nv; ++v) vt[v].clear();
   for (uint32_t f = 0; f < nt; ++f)
     for (uint32_t v : s.triangles[f]) vt[v].push_back(f);
   // Open-boundary vertices are pinned like trimmed-boundary vertices: on a consistently oriented
@@ -846,6 +848,7 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
   cubeRange.clear();
   cubeRange.shrink_to_fit();
   result.extractionMs += msSince(t0);
+  if (!reportProgress(progress, "layers", 0.0)) return fail(Status::Cancelled, "curved layers: cancelled");
 
   const auto t1 = Clock::now();
   const AabbTree tree(solid);
@@ -854,6 +857,7 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
 
   KeyMap edgeMap;
   LayerSurface raw, trimmed;
+  std::vector<std::vector<uint32_t>> vertexTriangles;  // collapse workspace
   for (int i = 1; i <= layerCount; ++i) {
     if (!reportProgress(progress, "layers", static_cast<double>(i - 1) / layerCount)) {
       return fail(Status::Cancelled, "curved layers: cancelled");
@@ -867,7 +871,8 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     const auto tt = Clock::now();
     trimSurface(raw, inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
                 edgeMap, trimmed);
-    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance);
+    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance,
+                       vertexTriangles);
     CurvedLayer layer;
     layer.isoValue = iso;
     splitRegions(trimmed, inside, options.minRegionArea, layer);
