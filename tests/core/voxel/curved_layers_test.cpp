@@ -484,6 +484,70 @@ TEST(CurvedLayers, BadInputReturnsStatus) {
   EXPECT_EQ(extractCurvedLayers(grid, g, box, bad).status, Status::InvalidOption);
   // Empty grid.
   EXPECT_EQ(extractCurvedLayers(VoxelGrid{}, {}, box, opt).status, Status::InvalidOption);
+  // Grid whose state does not match its dims.
+  VoxelGrid shortGrid = grid;
+  shortGrid.state.pop_back();
+  EXPECT_EQ(extractCurvedLayers(shortGrid, g, box, opt).status, Status::InvalidOption);
+  // Non-finite solid vertex.
+  Mesh nan = box;
+  nan.positions[4] = std::nan("");
+  EXPECT_EQ(extractCurvedLayers(grid, g, nan, opt).status, Status::NonFiniteVertex);
+  // Absurd G values: too many iso-values for the step.
+  std::vector<int32_t> huge = g;
+  for (int32_t& v : huge)
+    if (v > 0) v = 2000000000;
+  EXPECT_EQ(extractCurvedLayers(grid, huge, box, opt).status, Status::InvalidOption);
+}
+
+// Missed voxels (G = -1, paper Fig. 14) have no field value: the surfaces stop one ring into
+// them, leaving holes whose rims are not on the solid's surface. The regions stay edge-manifold
+// and consistently oriented, and the layers elsewhere are unchanged.
+TEST(CurvedLayers, MissedVoxelsLeaveHolesButMeshesStayManifold) {
+  const double w = 0.5;
+  const Mesh box = makeBox(0, 0, 0, 6, 6, 5);
+  const VoxelGrid grid = voxelGridOf(box, w);
+  std::vector<int32_t> g = flatField(grid);
+  size_t missed = 0;
+  for (size_t c = 0; c < g.size(); ++c) {
+    const Eigen::Vector3d p = grid.center(grid.cell(c).x(), grid.cell(c).y(), grid.cell(c).z());
+    if (g[c] > 0 && (p - Eigen::Vector3d(3, 3, 2.5)).norm() < 1.6) {
+      g[c] = -1;
+      ++missed;
+    }
+  }
+  ASSERT_GT(missed, 50u);
+  CurvedLayersOptions opt;
+  opt.isoStep = 0.9;
+  const CurvedLayersResult res = extractCurvedLayers(grid, g, box, opt);
+  ASSERT_TRUE(res.ok()) << res.message;
+  size_t withHoles = 0;
+  for (const CurvedLayer& layer : res.layers) {
+    ASSERT_EQ(layer.regions.size(), 1u);
+    const LayerRegion& r = layer.regions[0];
+    std::map<std::pair<uint32_t, uint32_t>, int> directed, undirected;
+    for (size_t f = 0; f < r.mesh.faceCount(); ++f)
+      for (int e = 0; e < 3; ++e) {
+        const uint32_t a = r.mesh.triangles[3 * f + e], b = r.mesh.triangles[3 * f + (e + 1) % 3];
+        const int nd = ++directed[std::make_pair(a, b)];
+        const int nu = ++undirected[std::make_pair(std::min(a, b), std::max(a, b))];
+        ASSERT_EQ(nd, 1);
+        ASSERT_LE(nu, 2);
+      }
+    // Open edges away from the box's sides: the rim of a hole.
+    bool hole = false;
+    for (const auto& [e, n] : undirected) {
+      if (n != 1) continue;
+      const Eigen::Vector3d p = r.mesh.vertex(e.first);
+      if (!r.boundaryVertex[e.first] && (p - Eigen::Vector3d(3, 3, p.z())).norm() < 2.5) hole = true;
+    }
+    withHoles += hole;
+    const double z = flatHeight(layer.isoValue, w);
+    if (std::abs(z - 2.5) > 2.2) {
+      EXPECT_FALSE(hole) << "z " << z;
+      EXPECT_NEAR(r.area, 36.0, 0.2);
+    }
+  }
+  EXPECT_GE(withHoles, 3u);
 }
 
 TEST(CurvedLayers, ProgressAndCancellation) {
