@@ -112,14 +112,42 @@ struct LayerSurface {
   std::vector<uint8_t> boundary;  // per vertex
 };
 
-// Inside test for trimming: the input solid (winding of the AABB tree) or a support cell. Grid
-// cells whose circumscribed sphere holds no surface are classified once (all inside / all
-// outside) so most vertices need no ray cast.
+// Signed crossing of segment [c, p] with triangle (a, b, d): 0 none, -1 / +1 the change of the
+// winding number along the segment (leaving / entering through the triangle's front), 2 when the
+// segment meets the triangle's edge, touches its plane at an end or runs in it (callers then use
+// a ray cast).
+int segmentCrossing(const Eigen::Vector3d& c, const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                    const Eigen::Vector3d& b, const Eigen::Vector3d& d) {
+  const Eigen::Vector3d n = (b - a).cross(d - a);
+  const double n2 = n.squaredNorm();
+  if (!(n2 > 0)) return 0;  // degenerate triangle: no area to cross
+  const double hc = n.dot(c - a), hp = n.dot(p - a);  // signed heights (times |n|)
+  const double eps = 1e-9 * std::sqrt(n2) * std::max((p - c).norm(), (b - a).norm());
+  if ((hc > eps && hp > eps) || (hc < -eps && hp < -eps)) return 0;
+  const bool touch = std::abs(hc) <= eps || std::abs(hp) <= eps;
+  const double den = hc - hp;
+  Eigen::Vector3d x = c;
+  if (std::abs(den) > 0) x = c + (hc / den) * (p - c);
+  const double u = (b - a).cross(x - a).dot(n) / n2, v = (d - b).cross(x - b).dot(n) / n2,
+               w = (a - d).cross(x - d).dot(n) / n2;
+  constexpr double kTol = 1e-9;
+  if (u < -kTol || v < -kTol || w < -kTol) return 0;
+  if (touch || u <= kTol || v <= kTol || w <= kTol) return 2;
+  return hp > hc ? -1 : +1;  // along the normal leaves (winding -1), against it enters
+}
+
+// Inside test for trimming: the input solid (winding number, as AabbTree::winding) or a support
+// cell. Grid cells whose circumscribed sphere holds no surface are classified once (all inside /
+// all outside). In a cell the surface crosses, the winding at p is the cell centre's (one ray
+// cast per cell) plus the signed crossings of the segment centre -> p with the few solid
+// triangles binned to that cell; a ray cast only when that segment grazes an edge.
 class InsideTest {
  public:
-  InsideTest(const VoxelGrid& grid, const AabbTree& tree)
-      : grid_(grid), tree_(tree), cellClass_(grid.cellCount(), 0),
-        radius_(0.5 * std::sqrt(3.0) * grid.width * (1 + 1e-9)) {}
+  InsideTest(const VoxelGrid& grid, const AabbTree& tree, const Mesh& solid)
+      : grid_(grid), tree_(tree), solid_(solid), cellClass_(grid.cellCount(), 0),
+        radius_(0.5 * std::sqrt(3.0) * grid.width * (1 + 1e-9)) {
+    binTriangles();
+  }
 
   bool operator()(const Eigen::Vector3d& p) {
     const Eigen::Vector3d q = (p - grid_.origin) / grid_.width;
@@ -135,8 +163,7 @@ class InsideTest {
     }
     if (cls == 1) return true;
     if (cls == 2) return false;
-    ++rayCasts;
-    return tree_.inside(p);
+    return insideNearSurface(p, c, grid_.center(i, j, k));
   }
   // True when p is inside and no surface lies within clearance of it (conservatively, via its
   // cell: inside and no surface within clearance + half the cell diagonal of the centre).
@@ -164,10 +191,76 @@ class InsideTest {
   size_t rayCasts = 0;
 
  private:
+  static constexpr int32_t kUnknown = INT32_MIN, kUnreliable = INT32_MIN + 1;
+
+  // Bins every solid triangle into the cells of its bounding box whose centre lies within half a
+  // cell diagonal of its plane (a superset of the cells it meets), CSR.
+  void binTriangles() {
+    const size_t nv = solid_.vertexCount();
+    const double w = grid_.width;
+    auto forEachCell = [&](size_t t, auto&& visit) {
+      const uint32_t ia = solid_.triangles[3 * t], ib = solid_.triangles[3 * t + 1],
+                     ic = solid_.triangles[3 * t + 2];
+      if (ia >= nv || ib >= nv || ic >= nv) return;
+      const Eigen::Vector3d a = solid_.vertex(ia), b = solid_.vertex(ib), c = solid_.vertex(ic);
+      const Eigen::Vector3d lo = (a.cwiseMin(b).cwiseMin(c) - grid_.origin) / w;
+      const Eigen::Vector3d hi = (a.cwiseMax(b).cwiseMax(c) - grid_.origin) / w;
+      int l[3], h[3];
+      for (int m = 0; m < 3; ++m) {
+        l[m] = std::max(0, static_cast<int>(std::floor(lo[m] - 1e-9)));
+        h[m] = std::min(grid_.dims[m] - 1, static_cast<int>(std::floor(hi[m] + 1e-9)));
+        if (l[m] > h[m]) return;
+      }
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      const double len = n.norm();
+      if (len > 0) n /= len;
+      for (int k = l[2]; k <= h[2]; ++k)
+        for (int j = l[1]; j <= h[1]; ++j)
+          for (int i = l[0]; i <= h[0]; ++i) {
+            if (len > 0 && std::abs(n.dot(grid_.center(i, j, k) - a)) > radius_) continue;
+            visit(grid_.index(i, j, k));
+          }
+    };
+    binStart_.assign(grid_.cellCount() + 1, 0);
+    for (size_t t = 0; t < solid_.faceCount(); ++t) forEachCell(t, [&](size_t c) { ++binStart_[c + 1]; });
+    for (size_t c = 1; c < binStart_.size(); ++c) binStart_[c] += binStart_[c - 1];
+    binTris_.resize(binStart_.back());
+    std::vector<uint32_t> fill(binStart_.begin(), binStart_.end() - 1);
+    for (size_t t = 0; t < solid_.faceCount(); ++t)
+      forEachCell(t, [&](size_t c) { binTris_[fill[c]++] = static_cast<uint32_t>(t); });
+  }
+
+  bool insideNearSurface(const Eigen::Vector3d& p, size_t cell, const Eigen::Vector3d& centre) {
+    if (centreWinding_.empty()) centreWinding_.assign(grid_.cellCount(), kUnknown);
+    int32_t& wc = centreWinding_[cell];
+    if (wc == kUnknown) {
+      // A centre (almost) on the surface has no reliable winding: ray cast its points instead.
+      wc = tree_.anyWithin(centre, 1e-9 * grid_.width) ? kUnreliable : tree_.winding(centre);
+    }
+    if (wc != kUnreliable) {
+      int32_t w = wc;
+      bool clean = true;
+      for (uint32_t b = binStart_[cell]; b < binStart_[cell + 1] && clean; ++b) {
+        const size_t t = binTris_[b];
+        const int s = segmentCrossing(centre, p, solid_.vertex(solid_.triangles[3 * t]),
+                                      solid_.vertex(solid_.triangles[3 * t + 1]),
+                                      solid_.vertex(solid_.triangles[3 * t + 2]));
+        if (s == 2) clean = false;
+        else w += s;
+      }
+      if (clean) return w != 0;
+    }
+    ++rayCasts;
+    return tree_.inside(p);
+  }
+
   const VoxelGrid& grid_;
   const AabbTree& tree_;
+  const Mesh& solid_;
   std::vector<uint8_t> cellClass_;  // 0 unknown, 1 inside, 2 outside, 3 near the surface
   std::vector<uint8_t> deepClass_;  // 0 unknown, 1 deep, 2 not (allocated on first use)
+  std::vector<int32_t> centreWinding_;  // near-surface cells: winding at the centre
+  std::vector<uint32_t> binStart_, binTris_;
   double radius_;
 };
 
@@ -852,7 +945,7 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
 
   const auto t1 = Clock::now();
   const AabbTree tree(solid);
-  InsideTest inside(grid, tree);
+  InsideTest inside(grid, tree, solid);
   result.trimmingMs += msSince(t1);
 
   KeyMap edgeMap;
