@@ -117,7 +117,7 @@ struct LayerSurface {
 // segment meets the triangle's edge, touches its plane at an end or runs in it (callers then use
 // a ray cast).
 int segmentCrossing(const Eigen::Vector3d& c, const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                    const Eigen::Vector3d& b, const Eigen::Vector3d& d) {
+                    const Eigen::Vector3d& b, const Eigen::Vector3d& d, double* at = nullptr) {
   const Eigen::Vector3d n = (b - a).cross(d - a);
   const double n2 = n.squaredNorm();
   if (!(n2 > 0)) return 0;  // degenerate triangle: no area to cross
@@ -128,6 +128,7 @@ int segmentCrossing(const Eigen::Vector3d& c, const Eigen::Vector3d& p, const Ei
   const double den = hc - hp;
   Eigen::Vector3d x = c;
   if (std::abs(den) > 0) x = c + (hc / den) * (p - c);
+  if (at) *at = std::abs(den) > 0 ? hc / den : 0;
   const double u = (b - a).cross(x - a).dot(n) / n2, v = (d - b).cross(x - b).dot(n) / n2,
                w = (a - d).cross(x - d).dot(n) / n2;
   constexpr double kTol = 1e-9;
@@ -157,13 +158,10 @@ class InsideTest {
     const size_t c = grid_.index(i, j, k);
     if (grid_.state[c] == static_cast<uint8_t>(VoxelState::Support)) return true;
     uint8_t& cls = cellClass_[c];
-    if (cls == 0) {
-      const Eigen::Vector3d centre = grid_.center(i, j, k);
-      cls = tree_.anyWithin(centre, radius_) ? 3 : (tree_.inside(centre) ? 1 : 2);
-    }
+    if (cls == 0) cls = classify(i, j, k);
     if (cls == 1) return true;
     if (cls == 2) return false;
-    return insideNearSurface(p, c, grid_.center(i, j, k));
+    return insideNearSurface(p, i, j, k);
   }
   // True when p is inside and no surface lies within clearance of it (conservatively, via its
   // cell: inside and no surface within clearance + half the cell diagonal of the centre).
@@ -230,25 +228,72 @@ class InsideTest {
       forEachCell(t, [&](size_t c) { binTris_[fill[c]++] = static_cast<uint32_t>(t); });
   }
 
-  bool insideNearSurface(const Eigen::Vector3d& p, size_t cell, const Eigen::Vector3d& centre) {
-    if (centreWinding_.empty()) centreWinding_.assign(grid_.cellCount(), kUnknown);
-    int32_t& wc = centreWinding_[cell];
-    if (wc == kUnknown) {
-      // A centre (almost) on the surface has no reliable winding: ray cast its points instead.
-      wc = tree_.anyWithin(centre, 1e-9 * grid_.width) ? kUnreliable : tree_.winding(centre);
+  static constexpr int kFace[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+                                      {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+  // Class of cell (i, j, k): 3 when surface lies within its circumscribed sphere, else 1 / 2
+  // (inside / outside) taken from a classified surface-free face neighbour (two surface-free cubes
+  // sharing a face lie on the same side), or from one ray cast at the centre.
+  uint8_t classify(int i, int j, int k) {
+    const Eigen::Vector3d centre = grid_.center(i, j, k);
+    if (tree_.anyWithin(centre, radius_)) return 3;
+    for (const auto& e : kFace) {
+      if (!grid_.inRange(i + e[0], j + e[1], k + e[2])) continue;
+      const uint8_t n = cellClass_[grid_.index(i + e[0], j + e[1], k + e[2])];
+      if (n == 1 || n == 2) return n;
     }
+    return tree_.inside(centre) ? 1 : 2;
+  }
+
+  // Sum of the signed crossings of segment [from, to] with the triangles binned to cell, counting
+  // only crossings at segment parameters in [lo, hi); false when a crossing is degenerate.
+  bool crossings(size_t cell, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double lo,
+                 double hi, int32_t& sum) const {
+    for (uint32_t b = binStart_[cell]; b < binStart_[cell + 1]; ++b) {
+      const size_t t = binTris_[b];
+      double at = 0;
+      const int s = segmentCrossing(from, to, solid_.vertex(solid_.triangles[3 * t]),
+                                    solid_.vertex(solid_.triangles[3 * t + 1]),
+                                    solid_.vertex(solid_.triangles[3 * t + 2]), &at);
+      if (s == 0) continue;
+      if (s == 2 || std::abs(at - lo) < 1e-9 || std::abs(at - hi) < 1e-9) return false;
+      if (at >= lo && at < hi) sum += s;
+    }
+    return true;
+  }
+
+  // Winding number at the centre of near-surface cell (i, j, k): from a face neighbour whose
+  // centre winding is known plus the crossings of the segment between the centres (each crossing
+  // lies in one of the two cubes: the first half of the segment in the neighbour's, the second in
+  // this one's), else one ray cast. kUnreliable for a centre on the surface.
+  int32_t centreWinding(int i, int j, int k) {
+    const size_t cell = grid_.index(i, j, k);
+    int32_t& wc = centreWinding_[cell];
+    if (wc != kUnknown) return wc;
+    const Eigen::Vector3d centre = grid_.center(i, j, k);
+    if (tree_.anyWithin(centre, 1e-9 * grid_.width)) return wc = kUnreliable;
+    for (const auto& e : kFace) {
+      if (!grid_.inRange(i + e[0], j + e[1], k + e[2])) continue;
+      const size_t n = grid_.index(i + e[0], j + e[1], k + e[2]);
+      const int32_t wn = centreWinding_[n];
+      if (wn == kUnknown || wn == kUnreliable) continue;
+      const Eigen::Vector3d from = grid_.center(i + e[0], j + e[1], k + e[2]);
+      int32_t sum = wn;
+      if (crossings(n, from, centre, 0.0, 0.5, sum) && crossings(cell, from, centre, 0.5, 1.0, sum)) {
+        return wc = sum;
+      }
+    }
+    ++rayCasts;
+    return wc = tree_.winding(centre);
+  }
+
+  bool insideNearSurface(const Eigen::Vector3d& p, int i, int j, int k) {
+    if (centreWinding_.empty()) centreWinding_.assign(grid_.cellCount(), kUnknown);
+    const int32_t wc = centreWinding(i, j, k);
     if (wc != kUnreliable) {
       int32_t w = wc;
-      bool clean = true;
-      for (uint32_t b = binStart_[cell]; b < binStart_[cell + 1] && clean; ++b) {
-        const size_t t = binTris_[b];
-        const int s = segmentCrossing(centre, p, solid_.vertex(solid_.triangles[3 * t]),
-                                      solid_.vertex(solid_.triangles[3 * t + 1]),
-                                      solid_.vertex(solid_.triangles[3 * t + 2]));
-        if (s == 2) clean = false;
-        else w += s;
-      }
-      if (clean) return w != 0;
+      // The whole segment centre -> p lies in this cell's cube: every crossing is binned here.
+      if (crossings(grid_.index(i, j, k), grid_.center(i, j, k), p, -1.0, 2.0, w)) return w != 0;
     }
     ++rayCasts;
     return tree_.inside(p);
