@@ -82,13 +82,13 @@ Mesh placed(Mesh m) {  // translate so min z = 0
 // cell (26-neighbourhood, not into the platform layer); Platform cells below the lowest part
 // layer. The origin is offset by a non-round fraction of w so no face of the test solids lies on
 // a cell boundary.
-VoxelGrid voxelGridOf(const Mesh& solid, double w) {
+VoxelGrid voxelGridOf(const Mesh& solid, double w, double offsetX = 0.37, double offsetY = 0.61) {
   const BoundingBox bb = boundingBox(solid);
   const int margin = 3;
   VoxelGrid grid;
   grid.width = w;
   grid.platformK = margin;
-  grid.origin = Eigen::Vector3d(bb.min.x() - (margin + 0.37) * w, bb.min.y() - (margin + 0.61) * w,
+  grid.origin = Eigen::Vector3d(bb.min.x() - (margin + offsetX) * w, bb.min.y() - (margin + offsetY) * w,
                                 -w * (grid.platformK + 1));
   grid.dims = Eigen::Vector3i(static_cast<int>(std::ceil((bb.max.x() - bb.min.x()) / w)) + 2 * margin + 2,
                               static_cast<int>(std::ceil((bb.max.y() - bb.min.y()) / w)) + 2 * margin + 2,
@@ -302,6 +302,38 @@ TEST(CurvedLayers, ShortEdgeCollapseKeepsPlanesAndAreasAndRemovesSlivers) {
   EXPECT_LT(a.triangleCount, 0.8 * b.triangleCount);
   EXPECT_LT(sliversOn, sliversOff / 2 + 1);
   expectTrimmed(a, box, on.trimTolerance);
+}
+
+// Degenerate placements: box faces on the planes of cell centres (surface vertices and cell
+// centres exactly on the solid) and on cell faces; iso-planes through the box's top face.
+TEST(CurvedLayers, FacesOnLatticePlanesStayConsistent) {
+  const double w = 0.5;
+  const Mesh box = makeBox(0, 0, 0, 4, 3, 3);
+  for (const double offset : {0.5, 0.0}) {
+    for (const double ratio : {0.3, 0.0}) {
+      const VoxelGrid grid = voxelGridOf(box, w, offset, offset);
+      CurvedLayersOptions opt;
+      opt.isoStep = 1.0;  // planes z = 0, 0.5, ..., 3: on the bottom and top faces too
+      opt.collapseRatio = ratio;
+      const CurvedLayersResult res = extractCurvedLayers(grid, flatField(grid), box, opt);
+      ASSERT_TRUE(res.ok()) << res.message;
+      size_t full = 0;
+      for (const CurvedLayer& layer : res.layers) {
+        const double z = flatHeight(layer.isoValue, w);
+        double area = 0;
+        for (const LayerRegion& r : layer.regions) {
+          area += r.area;
+          expectRegionManifold(r, "offset " + std::to_string(offset));
+        }
+        if (z > 1e-9 && z < 3 - 1e-9) {
+          // Vertices exactly on a face fall on either side: at most a sliver of a corner is lost.
+          EXPECT_NEAR(area, 12.0, 1e-3) << "offset " << offset << " z " << z;
+          ++full;
+        }
+      }
+      EXPECT_EQ(full, 5u) << "offset " << offset;
+    }
+  }
 }
 
 TEST(CurvedLayers, DefaultStepIsVoxelWidthOverNozzle) {
