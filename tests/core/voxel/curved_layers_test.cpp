@@ -336,6 +336,50 @@ TEST(CurvedLayers, FacesOnLatticePlanesStayConsistent) {
   }
 }
 
+// A linear field along a diagonal, G = (k - platformK) + (i - iMin): the extension continues it
+// exactly and marching tetrahedra reproduce it, so every layer is the plane x + z = (g + iMin) w
+// + origin.x (away from the platform, whose G = 0 breaks the linearity below 1.5 w).
+TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
+  const double w = 0.4;
+  const Mesh box = makeBox(0, 0, 0, 5, 4, 4);
+  const VoxelGrid grid = voxelGridOf(box, w);
+  int iMin = grid.dims.x();
+  for (size_t c = 0; c < grid.cellCount(); ++c)
+    if (grid.printable(c)) iMin = std::min(iMin, grid.cell(c).x());
+  std::vector<int32_t> g(grid.cellCount(), 0);
+  for (size_t c = 0; c < g.size(); ++c)
+    if (grid.printable(c)) g[c] = grid.cell(c).z() - grid.platformK + grid.cell(c).x() - iMin;
+  CurvedLayersOptions opt;
+  opt.isoStep = 1.7;
+  const CurvedLayersResult res = extractCurvedLayers(grid, g, box, opt);
+  ASSERT_TRUE(res.ok()) << res.message;
+  ASSERT_GE(res.layers.size(), 8u);
+  size_t checked = 0;
+  for (const CurvedLayer& layer : res.layers) {
+    const double c = (layer.isoValue + iMin) * w + grid.origin.x();
+    for (const LayerRegion& r : layer.regions) {
+      for (size_t v = 0; v < r.mesh.vertexCount(); ++v) {
+        const Eigen::Vector3d p = r.mesh.vertex(v);
+        if (p.z() < 1.5 * w) continue;
+        ASSERT_NEAR(p.x() + p.z(), c, 1e-9) << "g " << layer.isoValue;
+        ++checked;
+      }
+    }
+  }
+  EXPECT_GT(checked, 500u);
+  expectTrimmed(res, box, opt.trimTolerance);
+  // Consecutive planes 1.7 w / sqrt(2) apart: the histogram's fullest bin holds that distance
+  // (near the box's sides a plane's foot falls off the previous layer and the distance grows).
+  const ThicknessStats& t = res.thickness;
+  ASSERT_FALSE(t.histogram.empty());
+  const auto mode = std::max_element(t.histogram.begin(), t.histogram.end());
+  const double modeLo = t.mean + t.histogramMin +
+                        static_cast<double>(mode - t.histogram.begin()) * t.histogramBin;
+  EXPECT_GE(1.7 * w / std::sqrt(2.0), modeLo - 1e-9);
+  EXPECT_LT(1.7 * w / std::sqrt(2.0), modeLo + t.histogramBin + 1e-9);
+  EXPECT_GT(*mode, t.samples / 2);
+}
+
 TEST(CurvedLayers, DefaultStepIsVoxelWidthOverNozzle) {
   const double w = 0.4;
   const Mesh box = makeBox(0, 0, 0, 3, 3, 3.1);
