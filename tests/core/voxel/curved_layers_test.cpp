@@ -152,6 +152,42 @@ void expectRegionManifold(const LayerRegion& r, const std::string& what) {
     }
   }
   for (const auto& [e, n] : directed) ASSERT_EQ(n, 1) << what << " directed edge repeated";
+  // Vertex-manifold: the triangles around every vertex form one fan (connected through edges at
+  // the vertex), so no two sheets or regions touch at a single point.
+  std::vector<std::vector<uint32_t>> around(m.vertexCount());
+  for (size_t f = 0; f < m.faceCount(); ++f)
+    for (int k = 0; k < 3; ++k) around[m.triangles[3 * f + k]].push_back(static_cast<uint32_t>(f));
+  for (size_t v = 0; v < m.vertexCount(); ++v) {
+    const auto& fan = around[v];
+    if (fan.empty()) continue;
+    std::vector<uint8_t> reached(fan.size(), 0);
+    std::vector<size_t> stack = {0};
+    reached[0] = 1;
+    size_t count = 1;
+    auto others = [&](uint32_t f) {
+      std::vector<uint32_t> o;
+      for (int k = 0; k < 3; ++k)
+        if (m.triangles[3 * f + k] != v) o.push_back(m.triangles[3 * f + k]);
+      return o;
+    };
+    while (!stack.empty()) {
+      const size_t a = stack.back();
+      stack.pop_back();
+      const auto oa = others(fan[a]);
+      for (size_t b = 0; b < fan.size(); ++b) {
+        if (reached[b]) continue;
+        const auto ob = others(fan[b]);
+        const bool adjacent = std::find(ob.begin(), ob.end(), oa[0]) != ob.end() ||
+                              std::find(ob.begin(), ob.end(), oa[1]) != ob.end();
+        if (adjacent) {
+          reached[b] = 1;
+          ++count;
+          stack.push_back(b);
+        }
+      }
+    }
+    ASSERT_EQ(count, fan.size()) << what << " vertex " << v << " joins separate fans";
+  }
   for (const auto& [e, n] : undirected) {
     ASSERT_LE(n, 2) << what << " non-manifold edge";
     if (n == 1) {
