@@ -674,11 +674,10 @@ void trimSurface(LayerSurface& in, InsideTest& inside, const AabbTree& tree, con
 // Collapses edges shorter than minLength, shortest first: an interior endpoint moves onto the
 // other (boundary vertices keep their exact positions on the surface); a boundary edge may drop
 // one of its two boundary vertices when that vertex lies within flatness of the new boundary
-// chord. Only when the link condition holds (the endpoints share
-// exactly the opposite vertices, so the mesh stays edge-manifold) and no surrounding triangle
-// turns over. Marching tetrahedra leave clusters of vertices near lattice points and trimming leaves
-// crossing points next to kept vertices; this removes those slivers without moving any vertex
-// off the iso-surface.
+// chord. Only when the link condition holds (the endpoints share exactly the opposite vertices,
+// so the mesh stays a manifold with boundary) and no surrounding triangle turns over. Marching
+// tetrahedra leave clusters of vertices near lattice points and trimming leaves crossing points
+// next to kept vertices; this removes those slivers without moving any vertex off the surface.
 void collapseShortEdges(LayerSurface& s, double minLength, double flatness,
                         std::vector<std::vector<uint32_t>>& vt) {
   const size_t nv = s.positions.size(), nt = s.triangles.size();
@@ -697,8 +696,11 @@ void collapseShortEdges(LayerSurface& s, double minLength, double flatness,
       if (l2 < min2) candidates.push_back({l2, a, b});
     }
   if (candidates.empty()) return;
-  std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate& x, const Candidate& y) { return x.len2 < y.len2; });
+  // Total order (ties by index) so native and wasm collapse identically.
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    if (x.len2 != y.len2) return x.len2 < y.len2;
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
   // Vertex -> triangles.
   if (vt.size() < nv) vt.resize(nv);  // reused across layers: inner capacities persist
   for (size_t v = 0; v < nv; ++v) vt[v].clear();
