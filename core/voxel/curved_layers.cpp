@@ -211,13 +211,36 @@ class InsideTest {
       }
       Eigen::Vector3d n = (b - a).cross(c - a);
       const double len = n.norm();
-      if (len > 0) n /= len;
-      for (int k = l[2]; k <= h[2]; ++k)
-        for (int j = l[1]; j <= h[1]; ++j)
-          for (int i = l[0]; i <= h[0]; ++i) {
-            if (len > 0 && std::abs(n.dot(grid_.center(i, j, k) - a)) > radius_) continue;
-            visit(grid_.index(i, j, k));
+      if (!(len > 0)) {  // degenerate: its bounding box (tiny in practice)
+        for (int k = l[2]; k <= h[2]; ++k)
+          for (int j = l[1]; j <= h[1]; ++j)
+            for (int i = l[0]; i <= h[0]; ++i) visit(grid_.index(i, j, k));
+        return;
+      }
+      n /= len;
+      // Columns along the dominant normal axis: only the cells whose centre lies within half a
+      // diagonal of the plane, a few per column, so the work follows the triangle's area.
+      int ax = 0;
+      if (std::abs(n.y()) > std::abs(n[ax])) ax = 1;
+      if (std::abs(n.z()) > std::abs(n[ax])) ax = 2;
+      const int u = (ax + 1) % 3, v = (ax + 2) % 3;
+      const double reach = radius_ / std::abs(n[ax]) / w;  // in cells along that axis
+      int cell[3] = {l[0], l[1], l[2]};
+      for (cell[u] = l[u]; cell[u] <= h[u]; ++cell[u])
+        for (cell[v] = l[v]; cell[v] <= h[v]; ++cell[v]) {
+          Eigen::Vector3d centre = grid_.center(cell[0], cell[1], cell[2]);
+          // The plane's coordinate along the axis at this column's centre line.
+          const double pu = centre[u], pv = centre[v];
+          const double pt = a[ax] - (n[u] * (pu - a[u]) + n[v] * (pv - a[v])) / n[ax];
+          const double q = (pt - grid_.origin[ax]) / w - 0.5;  // fractional cell index of the plane
+          const int first = std::max(l[ax], static_cast<int>(std::ceil(q - reach - 1e-9)));
+          const int last = std::min(h[ax], static_cast<int>(std::floor(q + reach + 1e-9)));
+          for (cell[ax] = first; cell[ax] <= last; ++cell[ax]) {
+            centre = grid_.center(cell[0], cell[1], cell[2]);
+            if (std::abs(n.dot(centre - a)) > radius_) continue;
+            visit(grid_.index(cell[0], cell[1], cell[2]));
           }
+        }
     };
     binStart_.assign(grid_.cellCount() + 1, 0);
     for (size_t t = 0; t < solid_.faceCount(); ++t) forEachCell(t, [&](size_t c) { ++binStart_[c + 1]; });

@@ -284,6 +284,8 @@ TEST(CurvedLayers, FlatGrowthGivesPlanesAtPredictedHeights) {
   EXPECT_EQ(res.regionCount, res.layers.size());
 }
 
+double sectionArea(const Mesh& m, double h);
+
 // Triangles whose smallest angle is under 5 degrees.
 size_t sliverCount(const CurvedLayersResult& res) {
   size_t n = 0;
@@ -414,6 +416,39 @@ TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
   EXPECT_GE(1.7 * w / std::sqrt(2.0), modeLo - 1e-9);
   EXPECT_LT(1.7 * w / std::sqrt(2.0), modeLo + t.histogramBin + 1e-9);
   EXPECT_GT(*mode, t.samples / 2);
+}
+
+// Large slanted triangles (a rotated 14 mm cube, 12 triangles, each over thousands of cells):
+// trimmed outlines on the faces, every layer one convex polygon of the exact section's area.
+TEST(CurvedLayers, RotatedCubeLargeTrianglesTrimExactly) {
+  const double w = 0.3;
+  Mesh cube = makeBox(-7, -7, -7, 7, 7, 7);
+  const Eigen::Matrix3d rot = (Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 2, 0.5).normalized()))
+                                  .toRotationMatrix();
+  for (size_t v = 0; v < cube.vertexCount(); ++v) {
+    const Eigen::Vector3d p = rot * cube.vertex(v);
+    for (int k = 0; k < 3; ++k) cube.positions[3 * v + k] = p[k];
+  }
+  cube = placed(cube);
+  const VoxelGrid grid = voxelGridOf(cube, w);
+  CurvedLayersOptions opt;
+  opt.isoStep = 4.1;
+  const auto t0 = std::chrono::steady_clock::now();
+  const CurvedLayersResult res = extractCurvedLayers(grid, flatField(grid), cube, opt);
+  const double ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  ASSERT_TRUE(res.ok()) << res.message;
+  std::printf("rotated cube: %zu voxels, %zu layers in %.0f ms\n", printableCount(grid),
+              res.layers.size(), ms);
+  ASSERT_GE(res.layers.size(), 15u);
+  for (const CurvedLayer& layer : res.layers) {
+    ASSERT_EQ(layer.regions.size(), 1u);
+    const double exact = sectionArea(cube, flatHeight(layer.isoValue, w));
+    // Chords cut only the section polygon's corners (at most six).
+    EXPECT_NEAR(layer.regions[0].area, exact, 6 * w * w) << "g " << layer.isoValue;
+    EXPECT_LE(layer.regions[0].area, exact + 1e-9);
+  }
+  expectTrimmed(res, cube, opt.trimTolerance);
 }
 
 TEST(CurvedLayers, DefaultStepIsVoxelWidthOverNozzle) {
