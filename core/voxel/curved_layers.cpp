@@ -30,33 +30,52 @@ double msSince(Clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 }
 
-// Open-addressing map uint64 key -> uint32 value (keys never equal kEmpty).
+// Open-addressing map uint64 key -> uint32 value (keys never equal kEmpty), key and value in
+// one slot so a lookup touches one cache line.
 class KeyMap {
  public:
   void clear() {
-    if (size_ > 0) std::fill(keys_.begin(), keys_.end(), kEmpty);
+    if (size_ > 0) {
+      for (Slot& slot : slots_) slot.key = kEmpty;
+    }
     size_ = 0;
   }
+  size_t size() const { return size_; }
   // Value stored under key, or inserts value and returns it; added tells which.
   uint32_t getOrAdd(uint64_t key, uint32_t value, bool& added) {
-    if (2 * (size_ + 1) > keys_.size()) grow();
-    const size_t mask = keys_.size() - 1;
-    for (size_t slot = mix(key) & mask;; slot = (slot + 1) & mask) {
-      if (keys_[slot] == key) {
+    if (2 * (size_ + 1) > slots_.size()) grow();
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+      Slot& slot = slots_[i];
+      if (slot.key == key) {
         added = false;
-        return values_[slot];
+        return slot.value;
       }
-      if (keys_[slot] == kEmpty) {
-        keys_[slot] = key;
-        values_[slot] = value;
+      if (slot.key == kEmpty) {
+        slot.key = key;
+        slot.value = value;
         ++size_;
         added = true;
         return value;
       }
     }
   }
+  // Value under key, or UINT32_MAX when absent.
+  uint32_t find(uint64_t key) const {
+    if (size_ == 0) return UINT32_MAX;
+    const size_t mask = slots_.size() - 1;
+    for (size_t i = mix(key) & mask;; i = (i + 1) & mask) {
+      const Slot& slot = slots_[i];
+      if (slot.key == key) return slot.value;
+      if (slot.key == kEmpty) return UINT32_MAX;
+    }
+  }
 
  private:
+  struct Slot {
+    uint64_t key;
+    uint32_t value;
+  };
   static constexpr uint64_t kEmpty = ~uint64_t(0);
   static uint64_t mix(uint64_t x) {
     x ^= x >> 30;
@@ -66,22 +85,18 @@ class KeyMap {
     return x ^ (x >> 31);
   }
   void grow() {
-    std::vector<uint64_t> oldKeys = std::move(keys_);
-    std::vector<uint32_t> oldValues = std::move(values_);
-    const size_t cap = std::max<size_t>(1024, oldKeys.size() * 2);
-    keys_.assign(cap, kEmpty);
-    values_.assign(cap, 0);
+    std::vector<Slot> old = std::move(slots_);
+    const size_t cap = std::max<size_t>(1024, old.size() * 2);
+    slots_.assign(cap, Slot{kEmpty, 0});
     const size_t mask = cap - 1;
-    for (size_t s = 0; s < oldKeys.size(); ++s) {
-      if (oldKeys[s] == kEmpty) continue;
-      size_t slot = mix(oldKeys[s]) & mask;
-      while (keys_[slot] != kEmpty) slot = (slot + 1) & mask;
-      keys_[slot] = oldKeys[s];
-      values_[slot] = oldValues[s];
+    for (const Slot& s : old) {
+      if (s.key == kEmpty) continue;
+      size_t i = mix(s.key) & mask;
+      while (slots_[i].key != kEmpty) i = (i + 1) & mask;
+      slots_[i] = s;
     }
   }
-  std::vector<uint64_t> keys_;
-  std::vector<uint32_t> values_;
+  std::vector<Slot> slots_;
   size_t size_ = 0;
 };
 
@@ -97,14 +112,43 @@ struct LayerSurface {
   std::vector<uint8_t> boundary;  // per vertex
 };
 
-// Inside test for trimming: the input solid (winding of the AABB tree) or a support cell. Grid
-// cells whose circumscribed sphere holds no surface are classified once (all inside / all
-// outside) so most vertices need no ray cast.
+// Signed crossing of segment [c, p] with triangle (a, b, d): 0 none, -1 / +1 the change of the
+// winding number along the segment (leaving / entering through the triangle's front), 2 when the
+// segment meets the triangle's edge, touches its plane at an end or runs in it (callers then use
+// a ray cast).
+int segmentCrossing(const Eigen::Vector3d& c, const Eigen::Vector3d& p, const Eigen::Vector3d& a,
+                    const Eigen::Vector3d& b, const Eigen::Vector3d& d, double* at = nullptr) {
+  const Eigen::Vector3d n = (b - a).cross(d - a);
+  const double n2 = n.squaredNorm();
+  if (!(n2 > 0)) return 0;  // degenerate triangle: no area to cross
+  const double hc = n.dot(c - a), hp = n.dot(p - a);  // signed heights (times |n|)
+  const double eps = 1e-9 * std::sqrt(n2) * std::max((p - c).norm(), (b - a).norm());
+  if ((hc > eps && hp > eps) || (hc < -eps && hp < -eps)) return 0;
+  const bool touch = std::abs(hc) <= eps || std::abs(hp) <= eps;
+  const double den = hc - hp;
+  Eigen::Vector3d x = c;
+  if (std::abs(den) > 0) x = c + (hc / den) * (p - c);
+  if (at) *at = std::abs(den) > 0 ? hc / den : 0;
+  const double u = (b - a).cross(x - a).dot(n) / n2, v = (d - b).cross(x - b).dot(n) / n2,
+               w = (a - d).cross(x - d).dot(n) / n2;
+  constexpr double kTol = 1e-9;
+  if (u < -kTol || v < -kTol || w < -kTol) return 0;
+  if (touch || u <= kTol || v <= kTol || w <= kTol) return 2;
+  return hp > hc ? -1 : +1;  // along the normal leaves (winding -1), against it enters
+}
+
+// Inside test for trimming: the input solid (winding number, as AabbTree::winding) or a support
+// cell. Grid cells whose circumscribed sphere holds no surface are classified once (all inside /
+// all outside). In a cell the surface crosses, the winding at p is the cell centre's (one ray
+// cast per cell) plus the signed crossings of the segment centre -> p with the few solid
+// triangles binned to that cell; a ray cast only when that segment grazes an edge.
 class InsideTest {
  public:
-  InsideTest(const VoxelGrid& grid, const AabbTree& tree)
-      : grid_(grid), tree_(tree), cellClass_(grid.cellCount(), 0),
-        radius_(0.5 * std::sqrt(3.0) * grid.width * (1 + 1e-9)) {}
+  InsideTest(const VoxelGrid& grid, const AabbTree& tree, const Mesh& solid)
+      : grid_(grid), tree_(tree), solid_(solid), cellClass_(grid.cellCount(), 0),
+        radius_(0.5 * std::sqrt(3.0) * grid.width * (1 + 1e-9)) {
+    binTriangles();
+  }
 
   bool operator()(const Eigen::Vector3d& p) {
     const Eigen::Vector3d q = (p - grid_.origin) / grid_.width;
@@ -114,14 +158,10 @@ class InsideTest {
     const size_t c = grid_.index(i, j, k);
     if (grid_.state[c] == static_cast<uint8_t>(VoxelState::Support)) return true;
     uint8_t& cls = cellClass_[c];
-    if (cls == 0) {
-      const Eigen::Vector3d centre = grid_.center(i, j, k);
-      cls = tree_.anyWithin(centre, radius_) ? 3 : (tree_.inside(centre) ? 1 : 2);
-    }
+    if (cls == 0) cls = classify(i, j, k);
     if (cls == 1) return true;
     if (cls == 2) return false;
-    ++rayCasts;
-    return tree_.inside(p);
+    return insideNearSurface(p, i, j, k);
   }
   // True when p is inside and no surface lies within clearance of it (conservatively, via its
   // cell: inside and no surface within clearance + half the cell diagonal of the centre).
@@ -149,10 +189,146 @@ class InsideTest {
   size_t rayCasts = 0;
 
  private:
+  static constexpr int32_t kUnknown = INT32_MIN, kUnreliable = INT32_MIN + 1;
+
+  // Bins every solid triangle into the cells of its bounding box whose centre lies within half a
+  // cell diagonal of its plane (a superset of the cells it meets), CSR.
+  void binTriangles() {
+    const size_t nv = solid_.vertexCount();
+    const double w = grid_.width;
+    auto forEachCell = [&](size_t t, auto&& visit) {
+      const uint32_t ia = solid_.triangles[3 * t], ib = solid_.triangles[3 * t + 1],
+                     ic = solid_.triangles[3 * t + 2];
+      if (ia >= nv || ib >= nv || ic >= nv) return;
+      const Eigen::Vector3d a = solid_.vertex(ia), b = solid_.vertex(ib), c = solid_.vertex(ic);
+      const Eigen::Vector3d lo = (a.cwiseMin(b).cwiseMin(c) - grid_.origin) / w;
+      const Eigen::Vector3d hi = (a.cwiseMax(b).cwiseMax(c) - grid_.origin) / w;
+      int l[3], h[3];
+      for (int m = 0; m < 3; ++m) {
+        l[m] = std::max(0, static_cast<int>(std::floor(lo[m] - 1e-9)));
+        h[m] = std::min(grid_.dims[m] - 1, static_cast<int>(std::floor(hi[m] + 1e-9)));
+        if (l[m] > h[m]) return;
+      }
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      const double len = n.norm();
+      if (!(len > 0)) {  // degenerate: its bounding box (tiny in practice)
+        for (int k = l[2]; k <= h[2]; ++k)
+          for (int j = l[1]; j <= h[1]; ++j)
+            for (int i = l[0]; i <= h[0]; ++i) visit(grid_.index(i, j, k));
+        return;
+      }
+      n /= len;
+      // Columns along the dominant normal axis: only the cells whose centre lies within half a
+      // diagonal of the plane, a few per column, so the work follows the triangle's area.
+      int ax = 0;
+      if (std::abs(n.y()) > std::abs(n[ax])) ax = 1;
+      if (std::abs(n.z()) > std::abs(n[ax])) ax = 2;
+      const int u = (ax + 1) % 3, v = (ax + 2) % 3;
+      const double reach = radius_ / std::abs(n[ax]) / w;  // in cells along that axis
+      int cell[3] = {l[0], l[1], l[2]};
+      for (cell[u] = l[u]; cell[u] <= h[u]; ++cell[u])
+        for (cell[v] = l[v]; cell[v] <= h[v]; ++cell[v]) {
+          Eigen::Vector3d centre = grid_.center(cell[0], cell[1], cell[2]);
+          // The plane's coordinate along the axis at this column's centre line.
+          const double pu = centre[u], pv = centre[v];
+          const double pt = a[ax] - (n[u] * (pu - a[u]) + n[v] * (pv - a[v])) / n[ax];
+          const double q = (pt - grid_.origin[ax]) / w - 0.5;  // fractional cell index of the plane
+          const int first = std::max(l[ax], static_cast<int>(std::ceil(q - reach - 1e-9)));
+          const int last = std::min(h[ax], static_cast<int>(std::floor(q + reach + 1e-9)));
+          for (cell[ax] = first; cell[ax] <= last; ++cell[ax]) {
+            centre = grid_.center(cell[0], cell[1], cell[2]);
+            if (std::abs(n.dot(centre - a)) > radius_) continue;
+            visit(grid_.index(cell[0], cell[1], cell[2]));
+          }
+        }
+    };
+    binStart_.assign(grid_.cellCount() + 1, 0);
+    for (size_t t = 0; t < solid_.faceCount(); ++t) forEachCell(t, [&](size_t c) { ++binStart_[c + 1]; });
+    for (size_t c = 1; c < binStart_.size(); ++c) binStart_[c] += binStart_[c - 1];
+    binTris_.resize(binStart_.back());
+    std::vector<uint32_t> fill(binStart_.begin(), binStart_.end() - 1);
+    for (size_t t = 0; t < solid_.faceCount(); ++t)
+      forEachCell(t, [&](size_t c) { binTris_[fill[c]++] = static_cast<uint32_t>(t); });
+  }
+
+  static constexpr int kFace[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0},
+                                      {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+
+  // Class of cell (i, j, k): 3 when surface lies within its circumscribed sphere, else 1 / 2
+  // (inside / outside) taken from a classified surface-free face neighbour (two surface-free cubes
+  // sharing a face lie on the same side), or from one ray cast at the centre.
+  uint8_t classify(int i, int j, int k) {
+    const Eigen::Vector3d centre = grid_.center(i, j, k);
+    if (tree_.anyWithin(centre, radius_)) return 3;
+    for (const auto& e : kFace) {
+      if (!grid_.inRange(i + e[0], j + e[1], k + e[2])) continue;
+      const uint8_t n = cellClass_[grid_.index(i + e[0], j + e[1], k + e[2])];
+      if (n == 1 || n == 2) return n;
+    }
+    return tree_.inside(centre) ? 1 : 2;
+  }
+
+  // Sum of the signed crossings of segment [from, to] with the triangles binned to cell, counting
+  // only crossings at segment parameters in [lo, hi); false when a crossing is degenerate.
+  bool crossings(size_t cell, const Eigen::Vector3d& from, const Eigen::Vector3d& to, double lo,
+                 double hi, int32_t& sum) const {
+    for (uint32_t b = binStart_[cell]; b < binStart_[cell + 1]; ++b) {
+      const size_t t = binTris_[b];
+      double at = 0;
+      const int s = segmentCrossing(from, to, solid_.vertex(solid_.triangles[3 * t]),
+                                    solid_.vertex(solid_.triangles[3 * t + 1]),
+                                    solid_.vertex(solid_.triangles[3 * t + 2]), &at);
+      if (s == 0) continue;
+      if (s == 2 || std::abs(at - lo) < 1e-9 || std::abs(at - hi) < 1e-9) return false;
+      if (at >= lo && at < hi) sum += s;
+    }
+    return true;
+  }
+
+  // Winding number at the centre of near-surface cell (i, j, k): from a face neighbour whose
+  // centre winding is known plus the crossings of the segment between the centres (each crossing
+  // lies in one of the two cubes: the first half of the segment in the neighbour's, the second in
+  // this one's), else one ray cast. kUnreliable for a centre on the surface.
+  int32_t centreWinding(int i, int j, int k) {
+    const size_t cell = grid_.index(i, j, k);
+    int32_t& wc = centreWinding_[cell];
+    if (wc != kUnknown) return wc;
+    const Eigen::Vector3d centre = grid_.center(i, j, k);
+    if (tree_.anyWithin(centre, 1e-9 * grid_.width)) return wc = kUnreliable;
+    for (const auto& e : kFace) {
+      if (!grid_.inRange(i + e[0], j + e[1], k + e[2])) continue;
+      const size_t n = grid_.index(i + e[0], j + e[1], k + e[2]);
+      const int32_t wn = centreWinding_[n];
+      if (wn == kUnknown || wn == kUnreliable) continue;
+      const Eigen::Vector3d from = grid_.center(i + e[0], j + e[1], k + e[2]);
+      int32_t sum = wn;
+      if (crossings(n, from, centre, 0.0, 0.5, sum) && crossings(cell, from, centre, 0.5, 1.0, sum)) {
+        return wc = sum;
+      }
+    }
+    ++rayCasts;
+    return wc = tree_.winding(centre);
+  }
+
+  bool insideNearSurface(const Eigen::Vector3d& p, int i, int j, int k) {
+    if (centreWinding_.empty()) centreWinding_.assign(grid_.cellCount(), kUnknown);
+    const int32_t wc = centreWinding(i, j, k);
+    if (wc != kUnreliable) {
+      int32_t w = wc;
+      // The whole segment centre -> p lies in this cell's cube: every crossing is binned here.
+      if (crossings(grid_.index(i, j, k), grid_.center(i, j, k), p, -1.0, 2.0, w)) return w != 0;
+    }
+    ++rayCasts;
+    return tree_.inside(p);
+  }
+
   const VoxelGrid& grid_;
   const AabbTree& tree_;
+  const Mesh& solid_;
   std::vector<uint8_t> cellClass_;  // 0 unknown, 1 inside, 2 outside, 3 near the surface
   std::vector<uint8_t> deepClass_;  // 0 unknown, 1 deep, 2 not (allocated on first use)
+  std::vector<int32_t> centreWinding_;  // near-surface cells: winding at the centre
+  std::vector<uint32_t> binStart_, binTris_;
   double radius_;
 };
 
@@ -266,8 +442,12 @@ void extractIsoSurface(const VoxelGrid& grid, const CentreField& field,
     auto corner = [&](int c) {
       return grid.center(bc.x() + (c & 1), bc.y() + ((c >> 1) & 1), bc.z() + ((c >> 2) & 1));
     };
+    uint32_t local[8][8];  // this cube's edge vertices, [lower corner][upper corner]
+    for (auto& row : local)
+      for (uint32_t& x : row) x = UINT32_MAX;
     auto edgeVertex = [&](int p, int r) -> uint32_t {
       if (p > r) std::swap(p, r);  // chain order: corner p's bits are a subset of r's
+      if (local[p][r] != UINT32_MAX) return local[p][r];
       const uint64_t key = static_cast<uint64_t>(base + offset[p]) * 8 + static_cast<uint64_t>(p ^ r);
       bool added = false;
       const uint32_t id = edgeMap.getOrAdd(key, static_cast<uint32_t>(out.positions.size()), added);
@@ -276,6 +456,7 @@ void extractIsoSurface(const VoxelGrid& grid, const CentreField& field,
         const Eigen::Vector3d a = corner(p), b = corner(r);
         out.positions.push_back(a + t * (b - a));
       }
+      local[p][r] = id;
       return id;
     };
     for (const auto& tet : kTets) {
@@ -385,19 +566,14 @@ void splitExitingEdges(LayerSurface& s, std::vector<uint8_t>& isIn, InsideTest& 
   edgeMap.clear();
   const size_t nv = s.positions.size();
   std::vector<uint8_t> deep(nv, 2);  // 2 = not computed
-  std::vector<uint32_t> splitVertex;  // per tested edge: the split vertex or UINT32_MAX
   auto edgeKey = [](uint32_t a, uint32_t b) {
     return (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
   };
-  bool anySplit = false;
+  // The surface is consistently oriented: an interior edge appears once as a -> b with a < b.
   for (const auto& t : s.triangles) {
     for (int e = 0; e < 3; ++e) {
       const uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (!isIn[a] || !isIn[b]) continue;
-      bool added = false;
-      edgeMap.getOrAdd(edgeKey(a, b), static_cast<uint32_t>(splitVertex.size()), added);
-      if (!added) continue;
-      splitVertex.push_back(UINT32_MAX);
+      if (a > b || !isIn[a] || !isIn[b]) continue;
       for (uint32_t v : {a, b})
         if (deep[v] == 2) deep[v] = inside.deep(s.positions[v], maxEdge) ? 1 : 0;
       if (deep[a] || deep[b]) continue;
@@ -406,21 +582,19 @@ void splitExitingEdges(LayerSurface& s, std::vector<uint8_t>& isIn, InsideTest& 
       for (double u : {0.5, 0.25, 0.75}) {
         const Eigen::Vector3d x = pa + u * (pb - pa);
         if (inside(x)) continue;
-        splitVertex.back() = static_cast<uint32_t>(s.positions.size());
+        bool added = false;
+        edgeMap.getOrAdd(edgeKey(a, b), static_cast<uint32_t>(s.positions.size()), added);
         s.positions.push_back(x);
         s.boundary.push_back(0);
         isIn.push_back(0);
-        anySplit = true;
         break;
       }
     }
   }
-  if (!anySplit) return;
+  if (edgeMap.size() == 0) return;
   auto splitOf = [&](uint32_t a, uint32_t b) -> uint32_t {
-    if (!isIn[a] || !isIn[b] || a >= nv || b >= nv) return UINT32_MAX;
-    bool added = false;
-    const uint32_t idx = edgeMap.getOrAdd(edgeKey(a, b), 0, added);
-    return added ? UINT32_MAX : splitVertex[idx];
+    if (a >= nv || b >= nv || !isIn[a] || !isIn[b]) return UINT32_MAX;
+    return edgeMap.find(edgeKey(a, b));
   };
   std::vector<std::array<uint32_t, 3>> out;
   out.reserve(s.triangles.size() + 16);
@@ -523,37 +697,15 @@ void trimSurface(LayerSurface& in, InsideTest& inside, const AabbTree& tree, con
 // Collapses edges shorter than minLength, shortest first: an interior endpoint moves onto the
 // other (boundary vertices keep their exact positions on the surface); a boundary edge may drop
 // one of its two boundary vertices when that vertex lies within flatness of the new boundary
-// chord. Only when the link condition holds (the endpoints share
-// exactly the opposite vertices, so the mesh stays edge-manifold) and no surrounding triangle
-// turns over. Marching tetrahedra leave clusters of vertices near lattice points and trimming leaves
-// crossing points next to kept vertices; this removes those slivers without moving any vertex
-// off the iso-surface.
-void collapseShortEdges(LayerSurface& s, double minLength, double flatness, KeyMap& edgeMap) {
+// chord. Only when the link condition holds (the endpoints share exactly the opposite vertices,
+// so the mesh stays a manifold with boundary) and no surrounding triangle turns over. Marching
+// tetrahedra leave clusters of vertices near lattice points and trimming leaves crossing points
+// next to kept vertices; this removes those slivers without moving any vertex off the surface.
+void collapseShortEdges(LayerSurface& s, double minLength, double flatness,
+                        std::vector<std::vector<uint32_t>>& vt) {
   const size_t nv = s.positions.size(), nt = s.triangles.size();
   if (nt == 0 || !(minLength > 0)) return;
   const double min2 = minLength * minLength;
-  // Open-boundary vertices (edges used once) are pinned like trimmed-boundary vertices.
-  std::vector<uint8_t> pinned(s.boundary);
-  {
-    edgeMap.clear();
-    std::vector<uint32_t> uses;
-    for (const auto& t : s.triangles)
-      for (int e = 0; e < 3; ++e) {
-        const uint32_t a = t[e], b = t[(e + 1) % 3];
-        const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-        bool added = false;
-        const uint32_t id = edgeMap.getOrAdd(key, static_cast<uint32_t>(uses.size()), added);
-        if (added) uses.push_back(0);
-        ++uses[id];
-      }
-    for (const auto& t : s.triangles)
-      for (int e = 0; e < 3; ++e) {
-        const uint32_t a = t[e], b = t[(e + 1) % 3];
-        const uint64_t key = (static_cast<uint64_t>(std::min(a, b)) << 32) | std::max(a, b);
-        bool added = false;
-        if (uses[edgeMap.getOrAdd(key, 0, added)] != 2) pinned[a] = pinned[b] = 1;
-      }
-  }
   struct Candidate {
     double len2;
     uint32_t a, b;
@@ -562,17 +714,35 @@ void collapseShortEdges(LayerSurface& s, double minLength, double flatness, KeyM
   for (const auto& t : s.triangles)
     for (int e = 0; e < 3; ++e) {
       const uint32_t a = t[e], b = t[(e + 1) % 3];
-      if (a > b) continue;  // each edge once per triangle side (a boundary edge has one)
+      if (a > b && s.boundary[a] + s.boundary[b] < 2) continue;  // interior edges: one side
       const double l2 = (s.positions[a] - s.positions[b]).squaredNorm();
       if (l2 < min2) candidates.push_back({l2, a, b});
     }
   if (candidates.empty()) return;
-  std::sort(candidates.begin(), candidates.end(),
-            [](const Candidate& x, const Candidate& y) { return x.len2 < y.len2; });
-  // Vertex -> triangles (CSR start, then per-vertex growth lists only for kept vertices).
-  std::vector<std::vector<uint32_t>> vt(nv);
+  // Total order (ties by index) so native and wasm collapse identically.
+  std::sort(candidates.begin(), candidates.end(), [](const Candidate& x, const Candidate& y) {
+    if (x.len2 != y.len2) return x.len2 < y.len2;
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
+  // Vertex -> triangles.
+  if (vt.size() < nv) vt.resize(nv);  // reused across layers: inner capacities persist
+  for (size_t v = 0; v < nv; ++v) vt[v].clear();
   for (uint32_t f = 0; f < nt; ++f)
     for (uint32_t v : s.triangles[f]) vt[v].push_back(f);
+  // Open-boundary vertices are pinned like trimmed-boundary vertices: on a consistently oriented
+  // surface, side a -> b is open when no triangle of b has the side b -> a.
+  std::vector<uint8_t> pinned(s.boundary);
+  for (const auto& t : s.triangles)
+    for (int e = 0; e < 3; ++e) {
+      const uint32_t a = t[e], b = t[(e + 1) % 3];
+      bool twin = false;
+      for (uint32_t f : vt[b]) {
+        const auto& u = s.triangles[f];
+        for (int m = 0; m < 3 && !twin; ++m) twin = u[m] == b && u[(m + 1) % 3] == a;
+        if (twin) break;
+      }
+      if (!twin) pinned[a] = pinned[b] = 1;
+    }
   std::vector<uint8_t> deadTri(nt, 0), removed(nv, 0);
   std::vector<uint32_t> ringK, ringR, shared;
   auto normal = [&](const std::array<uint32_t, 3>& t) {
@@ -841,14 +1011,16 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
   cubeRange.clear();
   cubeRange.shrink_to_fit();
   result.extractionMs += msSince(t0);
+  if (!reportProgress(progress, "layers", 0.0)) return fail(Status::Cancelled, "curved layers: cancelled");
 
   const auto t1 = Clock::now();
   const AabbTree tree(solid);
-  InsideTest inside(grid, tree);
+  InsideTest inside(grid, tree, solid);
   result.trimmingMs += msSince(t1);
 
   KeyMap edgeMap;
   LayerSurface raw, trimmed;
+  std::vector<std::vector<uint32_t>> vertexTriangles;  // collapse workspace
   for (int i = 1; i <= layerCount; ++i) {
     if (!reportProgress(progress, "layers", static_cast<double>(i - 1) / layerCount)) {
       return fail(Status::Cancelled, "curved layers: cancelled");
@@ -862,7 +1034,8 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     const auto tt = Clock::now();
     trimSurface(raw, inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
                 edgeMap, trimmed);
-    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance, edgeMap);
+    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance,
+                       vertexTriangles);
     CurvedLayer layer;
     layer.isoValue = iso;
     splitRegions(trimmed, inside, options.minRegionArea, layer);
