@@ -132,6 +132,8 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.voxel.epsilon; }, -1, 2, "voxel widths (-1 = default)"}},
       {"voxel.iso_step",
        {[](Settings& s) -> double& { return s.voxel.isoStep; }, 0, 100, "field units (0 = from voxel.layer_mm)"}},
+      {"voxel.smooth",
+       {[](Settings& s) -> double& { return s.voxel.smoothIterations; }, 0, 200, "smoothing passes"}},
       {"voxel.layer_mm",
        {[](Settings& s) -> double& { return s.voxel.layerMm; }, 0, 5, "mm (0 = voxel width)"}},
       {"voxel.platform_radius_mm",

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 
 #include "surface/curved_toolpath.h"
@@ -93,6 +94,40 @@ std::vector<int32_t> generationField(const VoxelGrid& grid, const std::vector<in
     gen[idx] = best + 1;
   }
   return gen;
+}
+
+// Jacobi smoothing of a layer field over valued face neighbours (iterations), returned scaled by
+// `scale` and rounded (the extractor takes integers): the voxel staircase of G becomes gentler
+// iso-surfaces. Values <= 0 (platform, empty, missed) are kept and not averaged in.
+std::vector<int32_t> smoothedField(const VoxelGrid& grid, const std::vector<int32_t>& g,
+                                   int iterations, int32_t scale) {
+  std::vector<double> a(g.size()), b;
+  for (size_t i = 0; i < g.size(); ++i) a[i] = g[i];
+  const Eigen::Vector3i faces[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (int it = 0; it < iterations; ++it) {
+    b = a;
+    for (size_t idx = 0; idx < g.size(); ++idx) {
+      if (g[idx] <= 0) continue;
+      const Eigen::Vector3i c = grid.cell(idx);
+      double sum = a[idx];
+      int n = 1;
+      for (const Eigen::Vector3i& o : faces) {
+        const Eigen::Vector3i q = c + o;
+        if (!grid.inRange(q.x(), q.y(), q.z())) continue;
+        const size_t qi = grid.index(q.x(), q.y(), q.z());
+        if (g[qi] <= 0) continue;
+        sum += a[qi];
+        ++n;
+      }
+      b[idx] = sum / n;
+    }
+    a.swap(b);
+  }
+  std::vector<int32_t> out(g.size());
+  for (size_t i = 0; i < g.size(); ++i) {
+    out[i] = g[i] <= 0 ? g[i] : std::max<int32_t>(1, static_cast<int32_t>(std::lround(a[i] * scale)));
+  }
+  return out;
 }
 
 // Millimetres per field unit: the median over grown voxels of 1 / |grad G| (central differences
@@ -209,8 +244,10 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   // 3. Curved layers (Section 4.5, Eq. 2).
   t0 = Clock::now();
   CurvedLayersOptions lopt;
-  const std::vector<int32_t> layerField =
+  std::vector<int32_t> layerField =
       settings.voxel.layerField == "generations" ? generationField(grid, field.g) : field.g;
+  const int smoothIterations = static_cast<int>(settings.voxel.smoothIterations);
+  if (smoothIterations > 0) layerField = smoothedField(grid, layerField, smoothIterations, 16);
   const double mmPerUnit = millimetresPerFieldUnit(grid, layerField);
   const double targetLayer = settings.voxel.layerMm > 0 ? settings.voxel.layerMm : w;
   lopt.isoStep = settings.voxel.isoStep > 0 ? settings.voxel.isoStep : targetLayer / mmPerUnit;
@@ -308,6 +345,7 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
                  {"support_rounds", supportRounds},
                  {"field_layers", field.layers},
                  {"layer_field", settings.voxel.layerField},
+                 {"smooth_iterations", smoothIterations},
                  {"layer_field_max", *std::max_element(layerField.begin(), layerField.end())},
                  {"layers", out.layers},
                  {"surface_layers", layers.layers.size()},
