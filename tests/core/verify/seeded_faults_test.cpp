@@ -144,9 +144,9 @@ TEST(SeededFaults, Table5TiltedNozzleHitsEarlierMaterial) {
 }
 
 TEST(SeededFaults, Table5RotaryAxisOverItsLimit) {
-  // Layers 10-11 with C + 7200: the same orientation, but C beyond its +-3600 limit.
+  // Layers 10-11 with C + 720: the same orientation, but C beyond its +-360 limit.
   TableFault f;
-  f.cOffset = [](int l) { return l == 10 || l == 11 ? 7200.0 : 0.0; };
+  f.cOffset = [](int l) { return l == 10 || l == 11 ? 720.0 : 0.0; };
   const VerifyReport r = verifyPath(table5Box({}, f));
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_GT(r.limitViolations, 20u);
