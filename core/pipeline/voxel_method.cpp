@@ -130,14 +130,15 @@ std::vector<int32_t> smoothedField(const VoxelGrid& grid, const std::vector<int3
   return out;
 }
 
-// Millimetres per field unit: the median over grown voxels of 1 / |grad G| (central differences
-// over valued face neighbours). The growth advances G by one per front step, but how far a step
-// reaches depends on the strategy (the field-governed growth takes thinner steps), so curved
-// layers of a given thickness need the iso step in field units measured, not assumed (Eq. 2
-// assumes the paper's ratio of 1.25 w per unit, Section 6.2.1).
+// Millimetres per field unit as the layers will measure it: the thickness of iso-surfaces spaced
+// one unit apart, averaged over their area, is 1 / |grad G| weighted by area, and by the coarea
+// formula that average over all level sets is V / integral |grad G| dV, i.e. w over the mean
+// gradient (in units per cell) over the valued voxels (central differences over valued face
+// neighbours, one-sided at the border). The growth advances G by one per front step, but how far a
+// step reaches depends on the strategy (the field-governed growth takes thinner steps), so curved
+// layers of a given thickness need the iso step measured, not assumed (Eq. 2 assumes the paper's
+// 1.25 w per unit, Section 6.2.1).
 double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>& g) {
-  std::vector<float> spacing;
-  spacing.reserve(grid.cellCount() / 8);
   auto valued = [&](int i, int j, int k, double& v) {
     if (!grid.inRange(i, j, k)) return false;
     const int32_t x = g[grid.index(i, j, k)];
@@ -145,11 +146,12 @@ double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>
     v = x;
     return true;
   };
+  double sum = 0;
+  size_t count = 0;
   for (size_t idx = 0; idx < grid.cellCount(); ++idx) {
     if (g[idx] <= 0) continue;
     const Eigen::Vector3i c = grid.cell(idx);
     double grad2 = 0;
-    bool any = false;
     for (int a = 0; a < 3; ++a) {
       Eigen::Vector3i lo = c, hi = c;
       lo[a] -= 1;
@@ -160,15 +162,13 @@ double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>
       if (hasL && hasH) d = 0.5 * (vh - vl);
       else if (hasL) d = g[idx] - vl;
       else if (hasH) d = vh - g[idx];
-      else continue;
-      any = true;
       grad2 += d * d;
     }
-    if (any && grad2 > 1e-12) spacing.push_back(static_cast<float>(grid.width / std::sqrt(grad2)));
+    sum += std::sqrt(grad2);
+    ++count;
   }
-  if (spacing.empty()) return grid.width;
-  std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
-  return spacing[spacing.size() / 2];
+  if (count == 0 || sum <= 0) return grid.width;
+  return grid.width * static_cast<double>(count) / sum;
 }
 
 }  // namespace
