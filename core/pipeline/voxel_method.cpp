@@ -355,6 +355,9 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   topt.retractMinTravel = settings.retractMinTravel;
   topt.retractSpeed = settings.retractSpeed;
   topt.maxTiltDegrees = machineTiltDegrees(settings, machine);
+  topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
+  topt.coneLength = machine.nozzle.coneLength;
+  topt.collisionClearance = topt.nominalHeight;  // the program header's layer_height (verify's h)
   CurvedToolpathResult tp = buildCurvedToolpath(layers.layers, paths, topt, progress);
   if (!tp.ok()) return failure(tp);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
@@ -434,7 +437,10 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
                  {"hull_builds", field.hullBuilds},
                  {"orientation_fallbacks", tp.orientationFallbacks},
                  {"max_tilt_deg", topt.maxTiltDegrees},
-                 {"tilt_clamped", tp.tiltClamped}};
+                 {"tilt_clamped", tp.tiltClamped},
+                 {"gouging_corrections", tp.gougingCorrections},
+                 {"gouging_uncorrected", tp.gougingUncorrected},
+                 {"gouging_ms", tp.gougingMs}};
   (void)supportCells;
   out.reportJson = report.dump();
   return out;

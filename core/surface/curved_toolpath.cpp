@@ -12,7 +12,11 @@
 #include <memory>
 #include <string>
 
+#include <Eigen/Geometry>
+#include <unordered_map>
+
 #include "geometry/aabb_tree.h"
+#include "motion/orientation_smoothing.h"
 #include "slice/plan_layers.h"
 
 namespace omnislice {
@@ -51,6 +55,126 @@ struct Sample {
   bool fallback = false;
 };
 
+// The nozzle cone of the gouging check: apex s (the tip), axis u, points p with d = p - s counted
+// when d.u > clearance, |d| < length and their distance from the axis < d.u tan(angle) + radius
+// (radius: the sample points blown up to balls, for the positions between samples).
+struct Cone {
+  double clearance = 0, length = 0, tanAngle = 0, radius = 0;
+};
+
+// Points printed so far with their sequence numbers, hashed in cubic cells grouped in blocks; the
+// cells and blocks keep their bounding boxes so a cone query skips everything below the plane
+// d.u = clearance or out of reach. Queries see only points with seq < limit.
+class PrintedPoints {
+ public:
+  void add(const Vector3d& p, uint32_t seq) {
+    const Eigen::Array3d g = (p.array() / kCell).floor();
+    const int64_t x = int64_t(g.x()), y = int64_t(g.y()), z = int64_t(g.z());
+    auto [cit, freshCell] = cells_.try_emplace(key(x, y, z));
+    Cell& c = cit->second;
+    if (freshCell) {
+      c.lo = c.hi = p;
+      auto [bit, freshBlock] = blocks_.try_emplace(key(floorDiv(x), floorDiv(y), floorDiv(z)));
+      if (freshBlock) {
+        bit->second.lo = bit->second.hi = p;
+        blockList_.push_back(&bit->second);
+      }
+      bit->second.cells.push_back(&c);
+      c.block = &bit->second;
+    }
+    c.points.push_back(p);
+    c.seq.push_back(seq);
+    c.lo = c.lo.cwiseMin(p);
+    c.hi = c.hi.cwiseMax(p);
+    c.minSeq = std::min(c.minSeq, seq);
+    c.block->lo = c.block->lo.cwiseMin(p);
+    c.block->hi = c.block->hi.cwiseMax(p);
+    c.block->minSeq = std::min(c.block->minSeq, seq);
+  }
+
+  // True when a point with seq < limit lies in the cone at s along u. away (optional): collects
+  // the sum of the unit lateral directions from the axis toward every such point (no early exit).
+  bool hit(const Vector3d& s, const Vector3d& u, uint32_t limit, const Cone& cone, Vector3d* away = nullptr) const {
+    bool any = false;
+    for (const Block* b : blockList_) {
+      if (b->minSeq >= limit || !boxMayHit(b->lo, b->hi, s, u, cone)) continue;
+      for (const Cell* c : b->cells) {
+        if (c->minSeq >= limit || !boxMayHit(c->lo, c->hi, s, u, cone)) continue;
+        for (size_t k = 0; k < c->points.size(); ++k) {
+          if (c->seq[k] >= limit) continue;
+          const Vector3d d = c->points[k] - s;
+          const double a = d.dot(u);
+          if (a <= cone.clearance) continue;
+          const double len2 = d.squaredNorm();
+          if (len2 >= cone.length * cone.length) continue;
+          const Vector3d lateral = d - a * u;
+          const double lat = lateral.norm();
+          if (lat >= a * cone.tanAngle + cone.radius) continue;
+          if (!away) return true;
+          any = true;
+          if (lat > 1e-9) *away -= lateral / lat;
+        }
+      }
+    }
+    return any;
+  }
+
+ private:
+  static constexpr double kCell = 2.0;  // mm
+  static constexpr int64_t kBlockCells = 4;
+  struct Block;
+  struct Cell {
+    std::vector<Vector3d> points;
+    std::vector<uint32_t> seq;
+    Vector3d lo, hi;
+    uint32_t minSeq = std::numeric_limits<uint32_t>::max();
+    Block* block = nullptr;
+  };
+  struct Block {
+    std::vector<Cell*> cells;
+    Vector3d lo, hi;
+    uint32_t minSeq = std::numeric_limits<uint32_t>::max();
+  };
+  static int64_t floorDiv(int64_t v) { return v >= 0 ? v / kBlockCells : -((-v + kBlockCells - 1) / kBlockCells); }
+  static int64_t key(int64_t x, int64_t y, int64_t z) {
+    return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
+  }
+  // Conservative: false only when no point of the box can be in the cone.
+  static bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& s, const Vector3d& u,
+                        const Cone& cone) {
+    double top = 0;  // max of (p - s).u over the box
+    for (int k = 0; k < 3; ++k) top += u[k] * ((u[k] > 0 ? hi[k] : lo[k]) - s[k]);
+    if (top <= cone.clearance) return false;
+    const Vector3d q = s.cwiseMax(lo).cwiseMin(hi);
+    if ((q - s).squaredNorm() >= cone.length * cone.length) return false;
+    // Bounding sphere against the cone widened by the point radius.
+    const Vector3d c = 0.5 * (lo + hi);
+    const double r = 0.5 * (hi - lo).norm() + cone.radius;
+    const Vector3d d = c - s;
+    const double a = d.dot(u);
+    const double lat = (d - a * u).norm();
+    const double cosT = 1 / std::sqrt(1 + cone.tanAngle * cone.tanAngle), sinT = cone.tanAngle * cosT;
+    if (lat <= a * cone.tanAngle) return true;
+    // Distance from c to the cone surface in the (axial, lateral) half-plane.
+    const double along = a * cosT + lat * sinT;
+    const double dist = along >= 0 ? lat * cosT - a * sinT : d.norm();
+    return dist < r;
+  }
+  std::unordered_map<int64_t, Cell> cells_;
+  std::unordered_map<int64_t, Block> blocks_;
+  std::vector<Block*> blockList_;
+};
+
+// Axis u turned toward +Z onto the cone of half-angle maxTilt when it leans further.
+Vector3d limitTilt(const Vector3d& u, double maxTilt) {
+  const double tilt = std::acos(std::clamp(u.z(), -1.0, 1.0));
+  if (tilt <= maxTilt + 1e-12) return u;
+  Vector3d horizontal(u.x(), u.y(), 0);
+  const double hn = horizontal.norm();
+  horizontal = hn > 1e-12 ? Vector3d(horizontal / hn) : Vector3d::UnitX();
+  return std::cos(maxTilt) * Vector3d::UnitZ() + std::sin(maxTilt) * horizontal;
+}
+
 }  // namespace
 
 CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
@@ -75,6 +199,14 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     return fail(Status::InvalidOption, "retraction length, minimum travel and clearance must be >= 0 mm");
   }
   if (o.earlierLayers < 1) return fail(Status::InvalidOption, "earlierLayers must be >= 1");
+  if (!(o.coneHalfAngleDegrees > 0 && o.coneHalfAngleDegrees < 90) || !positiveFinite(o.coneLength) ||
+      !nonNegativeFinite(o.collisionClearance) || !nonNegativeFinite(o.gougingMarginDegrees) ||
+      !nonNegativeFinite(o.maxCorrectionDegrees) || !positiveFinite(o.correctionTaperDegrees) ||
+      o.coneHalfAngleDegrees + o.gougingMarginDegrees >= 90) {
+    return fail(Status::InvalidOption,
+                "gouging cone: half-angle (plus margin) in (0, 90) degrees, length > 0 mm, clearance, "
+                "margin and largest correction >= 0, taper > 0");
+  }
   if (paths.size() != layers.size()) {
     return fail(Status::InvalidOption, "paths must have one entry per layer");
   }
@@ -194,6 +326,223 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     return s;
   };
 
+
+  // ---- gouging correction (paper 001 Section 6.2.3) ----
+  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  constexpr double kSpacing = 0.5;  // mm between printed points, as `omnislice verify` samples
+  PrintedPoints printed;
+  uint32_t nextSeq = 0;
+  Cone cone;
+  cone.clearance = o.collisionClearance > 0 ? o.collisionClearance : o.nominalHeight;
+  cone.length = o.coneLength;
+  cone.tanAngle = std::tan((o.coneHalfAngleDegrees + o.gougingMarginDegrees) * kDeg);
+  cone.radius = 0.5 * kSpacing;
+  double gougingMs = 0;
+  // Positions checked for path point i: its segment from point i - 1 (the move ending at i carries
+  // its axis), every <= kSpacing mm, both ends.
+  std::vector<std::vector<Vector3d>> positions;
+  std::vector<uint32_t> seqOf;
+  auto pathPositions = [&](const std::vector<Vector3d>& pts) {
+    positions.assign(pts.size(), {});
+    seqOf.assign(pts.size(), 0);
+    for (size_t i = 0; i < pts.size(); ++i) {
+      seqOf[i] = nextSeq++;
+      if (i == 0) {
+        positions[i].push_back(pts[0]);
+        continue;
+      }
+      const double len = (pts[i] - pts[i - 1]).norm();
+      const int n = std::max(1, int(std::ceil(len / kSpacing)));
+      for (int k = 0; k <= n; ++k) positions[i].push_back(pts[i - 1] + (double(k) / n) * (pts[i] - pts[i - 1]));
+    }
+  };
+  auto collides = [&](size_t i, const Vector3d& u, Vector3d* away) {
+    bool any = false;
+    for (const Vector3d& p : positions[i]) {
+      if (printed.hit(p, u, seqOf[i], cone, away)) {
+        any = true;
+        if (!away) return true;
+      }
+    }
+    return any;
+  };
+  // Free axis near u: rings of increasing angle around u (azimuths from the side away from the
+  // offending points); among the free candidates of the first free ring and the next few, the one
+  // of least turn + half its angle to ref (the neighbour's axis: consistent turns along a path).
+  // False when none within maxCorrectionDegrees and the tilt range.
+  auto searchFree = [&](size_t i, Vector3d& u, const Vector3d& ref, double window) {
+    Vector3d away = Vector3d::Zero();
+    if (!collides(i, u, &away)) return true;
+    away -= away.dot(u) * u;
+    if (away.norm() < 1e-9) away = u.unitOrthogonal();
+    const Vector3d e1 = away.normalized(), e2 = u.cross(e1);
+    constexpr int kAzimuths = 48;
+    double firstFree = -1, bestCost = std::numeric_limits<double>::infinity();
+    Vector3d best = u;
+    for (double delta = 2; delta <= o.maxCorrectionDegrees + 1e-9; delta += 2) {
+      if (firstFree >= 0 && delta > firstFree + window + 1e-9) break;
+      for (int k = 0; k < kAzimuths; ++k) {
+        const int step = (k + 1) / 2 * (k % 2 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
+        const double phi = 2 * 3.14159265358979323846 * step / kAzimuths;
+        const Vector3d c = (std::cos(delta * kDeg) * u +
+                            std::sin(delta * kDeg) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
+        if (std::acos(std::clamp(c.z(), -1.0, 1.0)) > maxTilt + 1e-9) continue;
+        const double cost = delta + axisAngleDegrees(c, ref);
+        if (cost >= bestCost) continue;
+        if (!collides(i, c, nullptr)) {
+          if (firstFree < 0) firstFree = delta;
+          bestCost = cost;
+          best = c;
+        }
+      }
+    }
+    if (firstFree < 0) return false;
+    u = best;
+    return true;
+  };
+  // One path: its points enter the printed set, then every colliding axis is turned to a free
+  // one and the turn is tapered over the neighbours (so the motion planner's low-pass filter,
+  // which acts on neighbours more than 10 degrees apart, leaves it), re-checked until stable.
+  auto correctPath = [&](const std::vector<Vector3d>& pts, std::vector<Sample>& smp) {
+    const auto g0 = Clock::now();
+    const size_t np = pts.size();
+    pathPositions(pts);
+    for (size_t i = 0; i < np; ++i) {
+      for (const Vector3d& p : positions[i]) printed.add(p, seqOf[i]);
+    }
+    if (!o.correctGouging) return;
+    std::vector<Vector3d> base(np);
+    for (size_t i = 0; i < np; ++i) base[i] = smp[i].axis;
+    // The planner's low-pass filter first, so the check sees the axes it will print with.
+    std::vector<int> run(np, 0);
+    filterOrientations(base, run, 10.0);
+    for (size_t i = 0; i < np; ++i) base[i] = limitTilt(base[i].normalized(), maxTilt);
+    std::vector<Vector3d> axes = base;
+    std::vector<uint8_t> bad(np, 0), changed(np, 0);
+    bool anyChange = false;
+    for (size_t i = 0; i < np; ++i) {
+      Vector3d u = axes[i];
+      if (!collides(i, u, nullptr)) continue;
+      anyChange = true;
+      if (searchFree(i, u, i > 0 ? axes[i - 1] : u, 8)) {
+        axes[i] = u;
+        changed[i] = 1;
+      } else {
+        bad[i] = 1;
+      }
+    }
+    // Consistent turns: the changed points again, backward then forward, preferring the turn
+    // nearest their neighbour's (a point near the end of a wall may turn either way; the next
+    // point under the wall only one).
+    if (anyChange) {
+      for (int pass = 0; pass < 2; ++pass) {
+        for (size_t k = 0; k < np; ++k) {
+          const size_t i = pass == 0 ? np - 1 - k : k;
+          if (!changed[i]) continue;
+          const size_t nb = pass == 0 ? (i + 1 < np ? i + 1 : i) : (i > 0 ? i - 1 : i);
+          if (nb == i || !changed[nb]) continue;
+          Vector3d u = base[i];
+          if (searchFree(i, u, axes[nb], 30)) axes[i] = u;
+        }
+      }
+    }
+    if (anyChange) {
+      for (int round = 0; round < 4; ++round) {
+        // Taper: the turn of each changed point i as a rotation vector w_i (of its base axis);
+        // an unchanged point j takes the sum of the turns of the nearest changed point on each
+        // side, each shortened by correctionTaperDegrees per point of distance (opposite turns
+        // of two sides blend through zero), applied to its base axis.
+        std::vector<Vector3d> w(np, Vector3d::Zero());
+        for (size_t i = 0; i < np; ++i) {
+          if (!changed[i]) continue;
+          const Vector3d k = base[i].cross(axes[i]);
+          const double th = std::atan2(k.norm(), base[i].dot(axes[i]));
+          if (th > 1e-9) w[i] = th * k.normalized();
+        }
+        const double taper = o.correctionTaperDegrees * kDeg;
+        auto shortened = [&](const Vector3d& v, size_t dist) {
+          const double th = v.norm(), t = th - double(dist) * taper;
+          return t > 0 ? Vector3d(v * (t / th)) : Vector3d::Zero();
+        };
+        std::vector<Vector3d> rot(np, Vector3d::Zero());
+        long last = -1;
+        for (size_t j = 0; j < np; ++j) {
+          if (changed[j]) {
+            rot[j] = w[j];
+            last = long(j);
+          } else if (last >= 0) {
+            rot[j] = shortened(w[size_t(last)], j - size_t(last));
+          }
+        }
+        last = -1;
+        for (size_t j = np; j-- > 0;) {
+          if (changed[j]) {
+            last = long(j);
+          } else if (last >= 0) {
+            rot[j] += shortened(w[size_t(last)], size_t(last) - j);
+          }
+        }
+        std::vector<double> angle(np, 0);
+        std::vector<Vector3d> rotAxis(np, Vector3d::UnitZ());
+        for (size_t j = 0; j < np; ++j) {
+          angle[j] = rot[j].norm();
+          if (angle[j] > 1e-12) rotAxis[j] = rot[j] / angle[j];
+        }
+        std::vector<Vector3d> next(np);
+        for (size_t j = 0; j < np; ++j) {
+          next[j] = angle[j] > 0 ? limitTilt((Eigen::AngleAxisd(angle[j], rotAxis[j]) * base[j]).normalized(), maxTilt)
+                                 : base[j];
+        }
+        // Re-check the tapered axes; points that collide search again around their base axis,
+        // preferring turns near the tapered one.
+        bool stable = true;
+        for (size_t j = 0; j < np; ++j) {
+          if ((next[j] - axes[j]).norm() < 1e-12 && !bad[j]) continue;
+          Vector3d u = next[j];
+          if (!collides(j, u, nullptr)) {
+            axes[j] = u;
+            continue;
+          }
+          u = base[j];
+          if (searchFree(j, u, next[j], 8)) {
+            if ((u - axes[j]).norm() > 1e-9) stable = false;
+            axes[j] = u;
+            changed[j] = 1;
+            bad[j] = 0;
+          } else {
+            axes[j] = next[j];
+            bad[j] = 1;
+          }
+        }
+        if (stable) break;
+      }
+    }
+    // Remaining jumps between neighbours (turns chosen on separate rings): average with the
+    // neighbours where the average is free.
+    if (anyChange) {
+      for (int round = 0; round < 8; ++round) {
+        bool any = false;
+        for (size_t j = 1; j + 1 < np; ++j) {
+          if (axisAngleDegrees(axes[j], axes[j - 1]) <= 6 && axisAngleDegrees(axes[j], axes[j + 1]) <= 6) continue;
+          const Vector3d c = limitTilt((axes[j - 1] + 2 * axes[j] + axes[j + 1]).normalized(), maxTilt);
+          if (!c.allFinite() || collides(j, c, nullptr)) continue;
+          axes[j] = c;
+          any = true;
+        }
+        if (!any) break;
+      }
+    }
+    // Paths without a collision keep their Eq. 3 axes (the planner filters them as checked).
+    if (anyChange) {
+      for (size_t i = 0; i < np; ++i) {
+        result.gougingCorrections += axisAngleDegrees(axes[i], base[i]) > 1e-6;
+        smp[i].axis = axes[i];
+        result.gougingUncorrected += bad[i];
+      }
+    }
+    gougingMs += std::chrono::duration<double, std::milli>(Clock::now() - g0).count();
+  };
+
   bool started = false, extruded = false;
   Vector3d pos(0, 0, 0), axis(0, 0, 1);
   auto push = [&](const Vector3d& p, const Vector3d& u, MoveKind kind, int32_t layer) {
@@ -306,6 +655,7 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
           result.orientationFallbacks += samples[i].fallback;
         }
         orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
+        correctPath(path.points, samples);
         travelTo(path.points[0], samples[0].axis, layer);
         for (size_t i = 1; i < np; ++i) {
           const Vector3d& target = path.points[i];
@@ -327,6 +677,7 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     }
   }
   result.orientationMs = orientationMs;
+  result.gougingMs = gougingMs;
   if (!reportProgress(progress, stage, 1)) return fail(Status::Cancelled, "cancelled");
   return result;
 }

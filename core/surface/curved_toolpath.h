@@ -33,6 +33,21 @@ struct CurvedToolpathOptions {
   int earlierLayers = 3;            // layers below searched for c_q (Eq. 3)
   double maxTiltDegrees = 180;      // axes leaning from +Z by more are turned toward +Z onto this
                                     // cone (a table's tilt range); 180 = no limit
+  // Gouging correction (paper 001 Section 6.2.3): the nozzle is a cone with its apex at the tip,
+  // opening along the axis. A path point collides when a point printed earlier (every <= 0.5 mm
+  // of the print moves before it, in print order) lies strictly inside that cone: (p - s).u >
+  // collisionClearance, angle(p - s, u) < coneHalfAngleDegrees, |p - s| < coneLength (the rule of
+  // `omnislice verify`). Colliding axes are turned to the nearest collision-free axis within the
+  // maxTiltDegrees cone and the change is tapered over the path's neighbours.
+  bool correctGouging = true;
+  double coneHalfAngleDegrees = 40;  // degrees, in (0, 90)
+  double coneLength = 25;            // mm, > 0
+  double collisionClearance = 0;     // mm along the axis ignored above the tip; 0 = nominalHeight
+  double gougingMarginDegrees = 3;   // the search uses a cone wider by this and points blown up
+                                     // to balls of half the sample spacing (safety for the later
+                                     // low-pass filter and interpolation), degrees
+  double maxCorrectionDegrees = 60;  // largest turn from the Eq. 3 axis searched, degrees
+  double correctionTaperDegrees = 4; // neighbours take the correction less this per point, degrees
 };
 
 struct CurvedToolpathResult : Outcome {
@@ -40,7 +55,10 @@ struct CurvedToolpathResult : Outcome {
                                     // (Feature::Support for support regions), axis per move
   size_t orientationFallbacks = 0;  // samples that used the surface normal instead of Eq. 3
   size_t tiltClamped = 0;           // samples whose axis was turned onto the maxTiltDegrees cone
+  size_t gougingCorrections = 0;    // path points whose axis was turned to avoid earlier material
+  size_t gougingUncorrected = 0;    // path points left colliding (no free axis within the limits)
   double orientationMs = 0;
+  double gougingMs = 0;
 };
 
 // paths[l][r]: the paths of region r of layer l (same shape as layers). Progress stage "toolpath".

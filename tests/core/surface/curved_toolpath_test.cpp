@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -504,6 +505,128 @@ TEST(CurvedToolpath, SixtyDenseLayersMeasurement) {
   EXPECT_LT(last, 0.5);
   std::printf("60 layers, %zu path points, %zu moves: %.0f ms (orientation %.0f ms), worst radial "
               "deviation %.2f deg\n", points, r.toolpath.moves.size(), ms, r.orientationMs, worst);
+}
+
+
+// ---- gouging correction (paper 001 Section 6.2.3) ----
+
+// Collision count of a tool-path by the rule of `omnislice verify`, brute force: samples every
+// 0.5 mm along each print move (from its start, the move's axis), an earlier sample p inside the
+// cone at sample s: (p - s).u > h, angle(p - s, u) < half-angle, |p - s| < length.
+size_t bruteForceCollisions(const Toolpath& tp, double h, double halfAngleDeg, double length) {
+  struct S {
+    Vector3d p, u;
+  };
+  std::vector<S> samples;
+  Vector3d pos = tp.start;
+  for (const Move& m : tp.moves) {
+    const double len = (m.position - pos).norm();
+    if (m.filament > 0 && len > 1e-9) {
+      for (double t = 0; t < len || t == 0; t += 0.5) samples.push_back({pos + (t / len) * (m.position - pos), m.axis.normalized()});
+    }
+    pos = m.position;
+  }
+  const double cosT = std::cos(halfAngleDeg * kPi / 180);
+  size_t collisions = 0;
+  for (size_t i = 0; i < samples.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const Vector3d d = samples[j].p - samples[i].p;
+      const double a = d.dot(samples[i].u), n = d.norm();
+      if (a > h && n < length && a > cosT * n) {
+        ++collisions;
+        break;
+      }
+    }
+  }
+  return collisions;
+}
+
+// Layer 0: a flat disc at z = 0.3. Layer 1: a disc at z = 0.6 whose first path is the top of a
+// taller wall printed before, 4 mm above the layer near the disc rim (y = 9.8), then a zigzag
+// over the disc: Eq. 3 gives +Z there, and the zigzag points near y = 7, 8 have the wall inside their
+// 40 degree cone.
+DiscStack wallOverDisc() {
+  DiscStack s;
+  s.layers.resize(2);
+  s.paths.resize(2);
+  s.layers[0].regions.push_back(discRegion(0, 0, 0.3, 10));
+  s.layers[1].regions.push_back(discRegion(0, 0, 0.6, 10));
+  s.paths[0].push_back({zigzag(0, 0, 0.3, 10, 1.0, Vector3d::UnitZ())});
+  SurfacePath wall;
+  for (int i = 0; i <= 12; ++i) {
+    wall.points.emplace_back(-3 + 0.5 * i, 9.8, 4.6);
+    wall.normals.push_back(Vector3d::UnitZ());
+  }
+  s.paths[1].push_back({wall, zigzag(0, 0, 0.6, 10, 1.0, Vector3d::UnitZ())});
+  return s;
+}
+
+TEST(CurvedToolpath, GougingCorrectionTurnsCollidingAxesToFreeOnes) {
+  const DiscStack s = wallOverDisc();
+  CurvedToolpathOptions off;
+  off.correctGouging = false;
+  const CurvedToolpathResult plain = buildCurvedToolpath(s.layers, s.paths, off);
+  ASSERT_TRUE(plain.ok()) << plain.message;
+  EXPECT_EQ(plain.gougingCorrections, 0u);
+  const size_t before = bruteForceCollisions(plain.toolpath, off.nominalHeight, 40, 25);
+  EXPECT_GT(before, 10u);  // Eq. 3 axes gouge into the wall
+  printf("wall over disc: %zu colliding samples with the Eq. 3 axes\n", before);
+
+  CurvedToolpathOptions o;
+  o.collisionClearance = o.nominalHeight;
+  const CurvedToolpathResult r = buildCurvedToolpath(s.layers, s.paths, o);
+  expectWellFormed(r, o);
+  EXPECT_GT(r.gougingCorrections, 0u);
+  EXPECT_EQ(r.gougingUncorrected, 0u);
+  EXPECT_EQ(bruteForceCollisions(r.toolpath, o.nominalHeight, 40, 25), 0u);
+
+  // Same moves and positions; axes unchanged on layer 0 and far from the wall; neighbouring
+  // print axes stay within the planner's 10 degree filter threshold where corrected.
+  ASSERT_EQ(r.toolpath.moves.size(), plain.toolpath.moves.size());
+  size_t unchangedFar = 0;
+  for (size_t i = 0; i < r.toolpath.moves.size(); ++i) {
+    const Move& a = r.toolpath.moves[i];
+    const Move& b = plain.toolpath.moves[i];
+    EXPECT_NEAR((a.position - b.position).norm(), 0, 1e-12);
+    if (a.layer == 0 || a.position.y() < -4) {
+      EXPECT_NEAR((a.axis - b.axis).norm(), 0, 1e-12) << "move " << i;
+      ++unchangedFar;
+    }
+    if (i > 0 && a.kind == MoveKind::Print && r.toolpath.moves[i - 1].kind == MoveKind::Print) {
+      const Vector3d& u0 = r.toolpath.moves[i - 1].axis;
+      EXPECT_LT(std::acos(std::clamp(u0.dot(a.axis), -1.0, 1.0)) * 180 / kPi, 10.0) << "move " << i;
+    }
+  }
+  EXPECT_GT(unchangedFar, 100u);
+
+  // Within a tilt range: still collision-free, no axis beyond it.
+  o.maxTiltDegrees = 60;
+  const CurvedToolpathResult tilted = buildCurvedToolpath(s.layers, s.paths, o);
+  ASSERT_TRUE(tilted.ok()) << tilted.message;
+  EXPECT_EQ(tilted.gougingUncorrected, 0u);
+  EXPECT_EQ(bruteForceCollisions(tilted.toolpath, o.nominalHeight, 40, 25), 0u);
+  for (const Move& m : tilted.toolpath.moves) {
+    EXPECT_LE(std::acos(std::clamp(m.axis.z(), -1.0, 1.0)) * 180 / kPi, 60 + 1e-9);
+  }
+
+  // Nothing to correct on stacked discs: identical to the run without correction.
+  const DiscStack stack = discStack(4, 0.16, 0.4);
+  const CurvedToolpathResult a = buildCurvedToolpath(stack.layers, stack.paths, o);
+  const CurvedToolpathResult b = buildCurvedToolpath(stack.layers, stack.paths, off);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a.gougingCorrections, 0u);
+  ASSERT_EQ(a.toolpath.moves.size(), b.toolpath.moves.size());
+  for (size_t i = 0; i < a.toolpath.moves.size(); ++i) {
+    EXPECT_EQ(a.toolpath.moves[i].axis, b.toolpath.moves[i].axis);
+  }
+
+  // Bad cone options.
+  CurvedToolpathOptions bad = o;
+  bad.coneHalfAngleDegrees = 90;
+  EXPECT_EQ(buildCurvedToolpath(s.layers, s.paths, bad).status, Status::InvalidOption);
+  bad = o;
+  bad.coneLength = 0;
+  EXPECT_EQ(buildCurvedToolpath(s.layers, s.paths, bad).status, Status::InvalidOption);
 }
 
 }  // namespace
