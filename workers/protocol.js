@@ -35,7 +35,10 @@ export const Request = Object.freeze({
    *  is applied first, settings override it). Reply: `progress`*, then `result` {program:
    *  ArrayBuffer (UTF-8 program: G-code, robot CSV or URScript), programExtension: 'gcode' |
    *  'csv' | 'script', report: object, info: object, layers: number, preview: {positions,
-   *  features, layers, machine}, mesh: {positions, indices}} (all buffers transferred). */
+   *  features, layers, machine, axes, surfacePositions, surfaceTriangles, surfaceLayers,
+   *  missedVoxels, supportVoxels, voxelWidth} (core/pipeline/pipeline.h PreviewBuffers; the
+   *  curved-layer and voxel buffers are empty for other methods), mesh: {positions, indices}}
+   *  (all buffers transferred). */
   SLICE: 'slice',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */
