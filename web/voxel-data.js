@@ -174,42 +174,55 @@ export function surfaceRanges(starts, lo, hi) {
  * @param {{positions: Float32Array, features: Uint8Array, layers: Uint32Array, axes: Float32Array}} p
  *   #S*6 segment ends, #S features, #S layers, #S*3 unit nozzle axes at the segment ends
  * @param {{maxGlyphs?: number, length?: number, spacing?: number}} [options] length: glyph length, mm
- * @returns {{count: number, positions: Float32Array, segments: Uint32Array, layers: Uint32Array,
- *   starts: Uint32Array, layerCount: number, spacing: number}} positions: 6 per glyph (start =
+ * @returns {Promise<{count: number, positions: Float32Array, segments: Uint32Array, layers: Uint32Array,
+ *   starts: Uint32Array, layerCount: number, spacing: number}>} (built in blocks, yielding like
+ *   buildSurfaceArrays) positions: 6 per glyph (start =
  *   segment end, end = start + length * axis), sorted by layer (stable); segments: the segment
  *   index of each glyph; starts: per-layer glyph ranges (layerCount + 1 entries)
  */
-export function decimateGlyphs(p, { maxGlyphs = 4000, length = 2, spacing } = {}) {
+export async function decimateGlyphs(p, { maxGlyphs = 4000, length = 2, spacing, budgetMs, block } = {}) {
   const { positions, features, layers } = p;
   const axes = p.axes || new Float32Array(0);
   const S = features.length;
   const empty = { count: 0, positions: new Float32Array(0), segments: new Uint32Array(0), layers: new Uint32Array(0), starts: new Uint32Array(1), layerCount: 0, spacing: 0 };
   if (axes.length !== S * 3 || positions.length !== S * 6 || layers.length !== S || S === 0 || !(maxGlyphs >= 1)) return empty;
-  const segLength = (s) => Math.hypot(positions[6 * s + 3] - positions[6 * s], positions[6 * s + 4] - positions[6 * s + 1], positions[6 * s + 5] - positions[6 * s + 2]);
+  const segLength = (s) => {
+    const o = 6 * s;
+    const dx = positions[o + 3] - positions[o];
+    const dy = positions[o + 4] - positions[o + 1];
+    const dz = positions[o + 5] - positions[o + 2];
+    return Math.sqrt(dx * dx + dy * dy + dz * dz);
+  };
+  const run = blockRunner({ budgetMs, block: block || 65536 });
   let total = 0;
   let layerCount = 0;
-  for (let s = 0; s < S; s++) {
-    if (features[s] === 0) continue;
-    total += segLength(s);
-    if (layers[s] + 1 > layerCount) layerCount = layers[s] + 1;
-  }
+  await run(S, (from, to) => {
+    for (let s = from; s < to; s++) {
+      if (features[s] === 0) continue;
+      total += segLength(s);
+      if (layers[s] + 1 > layerCount) layerCount = layers[s] + 1;
+    }
+  });
   if (!(total > 0)) return empty;
   const step = spacing > 0 ? spacing : total / maxGlyphs;
   const picked = [];
   let walked = 0;
   let next = 0;  // the first printing segment gets a glyph
-  for (let s = 0; s < S; s++) {
-    if (features[s] === 0) continue;
-    walked += segLength(s);
-    if (walked < next) continue;
-    const ax = axes[3 * s];
-    const ay = axes[3 * s + 1];
-    const az = axes[3 * s + 2];
-    const n = Math.hypot(ax, ay, az);
-    if (!(n > 1e-9) || !Number.isFinite(n)) continue;
-    picked.push(s);
-    next = (Math.floor(walked / step) + 1) * step;
-  }
+  await run(S, (from, to) => {
+    for (let s = from; s < to; s++) {
+      if (features[s] === 0) continue;
+      walked += segLength(s);
+      if (walked < next) continue;
+      const ax = axes[3 * s];
+      const ay = axes[3 * s + 1];
+      const az = axes[3 * s + 2];
+      const n = Math.sqrt(ax * ax + ay * ay + az * az);
+      if (!(n > 1e-9) || !Number.isFinite(n)) continue;
+      picked.push(s);
+      next = (Math.floor(walked / step) + 1) * step;
+    }
+  });
+  run.end();
   const G = picked.length;
   const starts = new Uint32Array(layerCount + 1);
   for (const s of picked) starts[layers[s] + 1]++;

@@ -53,7 +53,7 @@ export class VoxelView {
   static async build(preview, { maxGlyphs = 4000, glyphLength, budgetMs, block } = {}) {
     const surfaces = await buildSurfaceArrays(preview, { budgetMs, block });
     const width = Number(preview.voxelWidth) > 0 ? Number(preview.voxelWidth) : 0;
-    const glyphs = decimateGlyphs(preview, { maxGlyphs, length: glyphLength || Math.max(2.5 * width, 1.5) });
+    const glyphs = await decimateGlyphs(preview, { maxGlyphs, length: glyphLength || Math.max(2.5 * width, 1.5), budgetMs });
     return new VoxelView(preview, surfaces, glyphs, width);
   }
 

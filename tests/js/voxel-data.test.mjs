@@ -111,9 +111,9 @@ function makeToolpath(S, L, seed = 3) {
   return { positions, features, layers, axes };
 }
 
-test('decimateGlyphs: at most maxGlyphs+1 glyphs, evenly spaced, along the axes, sorted by layer', () => {
+test('decimateGlyphs: at most maxGlyphs+1 glyphs, evenly spaced, along the axes, sorted by layer', async () => {
   const p = makeToolpath(30_000, 25);
-  const g = decimateGlyphs(p, { maxGlyphs: 500, length: 2 });
+  const g = await decimateGlyphs(p, { maxGlyphs: 500, length: 2, block: 1000, budgetMs: 0 });
   assert.ok(g.count >= 480 && g.count <= 501, `${g.count} glyphs`);
   assert.equal(g.layerCount, 25);
   const segLen = (s) => Math.hypot(p.positions[6 * s + 3] - p.positions[6 * s], p.positions[6 * s + 4] - p.positions[6 * s + 1], p.positions[6 * s + 5] - p.positions[6 * s + 2]);
@@ -156,11 +156,11 @@ test('decimateGlyphs: at most maxGlyphs+1 glyphs, evenly spaced, along the axes,
   assert.equal(r.count, [...g.layers].filter((l) => l >= 5 && l <= 9).length);
   assert.equal(glyphRange(g.starts, -1, 1e9).count, g.count);
   // No axes (planar result), zero axes or mismatched buffers: no glyphs.
-  assert.equal(decimateGlyphs({ ...p, axes: new Float32Array(0) }).count, 0);
-  assert.equal(decimateGlyphs({ ...p, axes: new Float32Array(p.axes.length) }).count, 0);
-  assert.equal(decimateGlyphs({ ...p, axes: p.axes.subarray(3) }).count, 0);
+  assert.equal((await decimateGlyphs({ ...p, axes: new Float32Array(0) })).count, 0);
+  assert.equal((await decimateGlyphs({ ...p, axes: new Float32Array(p.axes.length) })).count, 0);
+  assert.equal((await decimateGlyphs({ ...p, axes: p.axes.subarray(3) })).count, 0);
   // Everything kept when the spacing is tiny.
-  const all = decimateGlyphs(p, { spacing: 1e-9 });
+  const all = await decimateGlyphs(p, { spacing: 1e-9 });
   assert.equal(all.count, p.features.filter((f) => f !== 0).length);
 });
 
