@@ -53,7 +53,9 @@ const isPlanar = (values) => !isVoxel(values);
 /**
  * Field schema: key (the facade's setting key), label, type, default and bounds. Units in labels.
  * Groups render as sub-headings. Optional: testid (instead of setting-<key>), showIf(values)
- * (the row is hidden when false), hidden (never rendered; set by code, e.g. a loaded file).
+ * (the row is hidden when false), sendIf(values) (the value is left out of slice requests when
+ * false, e.g. the voxel method's settings for a planar slice), hidden (never rendered; set by
+ * code, e.g. a loaded file).
  */
 export const SETTINGS_SCHEMA = [
   { group: 'Machine', key: 'machine', label: 'machine', type: 'select', value: 'cartesian3', testid: 'machine',
@@ -85,26 +87,26 @@ export const SETTINGS_SCHEMA = [
   { group: 'Slicing', key: 'direction', label: 'slicing direction', type: 'direction', value: '0,0,1', showIf: isPlanar },
   // The voxel method (paper 001): conservative voxels, growing field, curved layers.
   { group: 'Voxel', key: 'voxel.width_mm', label: 'voxel width (mm, 0 = 0.8 × nozzle)', type: 'number', value: 0, min: 0, max: 20, step: 0.05,
-    testid: 'voxel-width', showIf: isVoxel },
+    testid: 'voxel-width', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.strategy', label: 'growth strategy', type: 'select', value: 'pg-sp-gcfa', testid: 'voxel-strategy',
     options: [{ label: 'GCFA', value: 'gcfa' }, { label: 'SP-GCFA', value: 'sp-gcfa' }, { label: 'PG-GCFA', value: 'pg-gcfa' },
       { label: 'PG-SP-GCFA', value: 'pg-sp-gcfa' }],
-    showIf: isVoxel },
+    showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.shadow', label: 'shadow prevention', type: 'select', value: 'recursive', testid: 'voxel-shadow',
     options: [{ label: 'recursive (PCA split)', value: 'recursive' }, { label: 'incremental (Dijkstra)', value: 'incremental' }],
-    showIf: (v) => isVoxel(v) && v['voxel.strategy'].includes('sp-') },
+    showIf: (v) => isVoxel(v) && v['voxel.strategy'].includes('sp-'), sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.peel_step', label: 'peel step Δf', type: 'number', value: 1, min: 0.01, max: 1000, step: 0.5,
-    testid: 'voxel-peel-step', showIf: (v) => isVoxel(v) && v['voxel.strategy'].startsWith('pg-') },
+    testid: 'voxel-peel-step', showIf: (v) => isVoxel(v) && v['voxel.strategy'].startsWith('pg-'), sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.epsilon', label: 'hull tolerance ε (voxel widths)', type: 'number', value: 0.5, min: 0, max: 10, step: 0.1,
-    testid: 'voxel-epsilon', showIf: isVoxel },
+    testid: 'voxel-epsilon', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.iso_step', label: 'iso step (G units, 0 = w/d)', type: 'number', value: 0, min: 0, max: 100, step: 0.1,
-    testid: 'voxel-iso-step', showIf: isVoxel },
+    testid: 'voxel-iso-step', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.supports', label: 'supports under missed voxels', type: 'checkbox', value: false,
-    testid: 'voxel-supports', showIf: isVoxel },
+    testid: 'voxel-supports', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.platform_radius_mm', label: 'platform radius (mm, 0 = footprint)', type: 'number', value: 0, min: 0, max: 1000, step: 1,
-    testid: 'voxel-platform-radius', showIf: isVoxel },
+    testid: 'voxel-platform-radius', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.max_voxels', label: 'max voxels', type: 'integer', value: 2000000, min: 1000, max: 100000000, step: 100000,
-    testid: 'voxel-max-voxels', showIf: isVoxel },
+    testid: 'voxel-max-voxels', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', type: 'number', value: 0.8, min: 0, max: 20, step: 0.1 },
@@ -214,12 +216,13 @@ export class SettingsModel extends EventTarget {
    * Settings object for slicer.slice(): the placement keys (they override the placement the mesh
    * was loaded with) and the other values that differ from the schema's defaults (which are the
    * core's defaults, tests/js/wasm-machine.test.mjs), so the request names what the user chose
-   * and the core's defaults apply to the rest.
+   * and the core's defaults apply to the rest. Fields whose sendIf is false are left out.
    */
   toSliceSettings() {
     return Object.fromEntries(this.schema
       .filter((f) => PLACEMENT_KEYS.includes(f.key)
-        || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])))
+        || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])
+          && (!f.sendIf || f.sendIf(this.values))))
       .map((f) => [f.key, this.values[f.key]]));
   }
 

@@ -255,6 +255,9 @@ test('settings: voxel rows only for the voxel method; planar-only rows hidden fo
   assert.equal(s['voxel.strategy'], 'sp-gcfa');
   assert.equal(s['voxel.width_mm'], 1.2);
   assert.equal('voxel.epsilon' in s, false, 'defaults are not sent');
+  model.set('method', 'planar');
+  assert.deepEqual(Object.keys(model.toSliceSettings()).filter((k) => k.startsWith('voxel.') || k === 'method'), [],
+    'voxel settings are not sent for a planar slice');
   assert.throws(() => model.set('voxel.peel_step', 0), /peel step/);
   assert.throws(() => model.set('voxel.strategy', 'nope'), /unknown choice/);
 });
