@@ -295,7 +295,10 @@ function svgElement(name, attributes, text) {
   return el;
 }
 
-/** Draw report.voxel.thickness.histogram into the SVG (bars, x ticks in mm, the mean as a line). */
+/**
+ * Draw report.voxel.thickness.histogram (counts of thickness minus the mean, mm) into the SVG:
+ * bars, x ticks in mm, a line at deviation 0 (the mean) and dotted lines at ± one std.
+ */
 function renderHistogram(thickness) {
   const svg = $('thickness-histogram');
   const stats = $('thickness-stats');
@@ -325,14 +328,17 @@ function renderHistogram(thickness) {
   const base = geo.plot.y + geo.plot.height;
   svg.append(svgElement('line', { class: 'axis', x1: geo.plot.x, y1: base, x2: geo.plot.x + geo.plot.width, y2: base }));
   for (const t of geo.ticks) svg.append(svgElement('text', { class: 'tick', x: t.x, y: base + 12 }, t.label));
-  const mean = Number(thickness.mean_mm);
   const n = geo.bars.length;
-  if (Number.isFinite(mean) && n) {
+  const std = Number(thickness.std_mm);
+  if (n) {
     const lo = geo.bars[0].from;
     const hi = geo.bars[n - 1].to;
-    if (mean >= lo && mean <= hi) {
-      const x = geo.plot.x + ((mean - lo) / (hi - lo)) * geo.plot.width;
-      svg.append(svgElement('line', { class: 'mean', x1: x, y1: geo.plot.y, x2: x, y2: base }));
+    const marks = [[0, 'mean']];
+    if (std > 0) marks.push([-std, 'std'], [std, 'std']);
+    for (const [d, cls] of marks) {
+      if (d < lo || d > hi) continue;
+      const x = geo.plot.x + ((d - lo) / (hi - lo)) * geo.plot.width;
+      svg.append(svgElement('line', { class: cls, x1: x, y1: geo.plot.y, x2: x, y2: base }));
     }
   }
   svg.dataset.bars = String(n);

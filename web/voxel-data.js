@@ -6,7 +6,8 @@
 //     lo..hi-1 dimmed, layer hi highlighted" are two contiguous draw ranges;
 //   - nozzle-axis glyphs: a decimated subset of the printing segment ends (even spacing along the
 //     printed path), each a short segment along the segment's axis, sorted by layer;
-//   - the layer-thickness histogram of report.voxel.thickness as bar geometry (SVG units);
+//   - the layer-thickness histogram of report.voxel.thickness as bar geometry (SVG units; the
+//     core bins each sample's thickness minus the mean thickness);
 //   - the voxel report's summary rows.
 
 /** Progress stages per method, in pipeline order, with their share of the bar (sums to 1). */
@@ -321,9 +322,13 @@ export function voxelSummaryRows(v) {
     ['solid_voxels', 'solid voxels', figure(r.solid_voxels)],
     ['missed_voxels', 'missed voxels', figure(r.missed_voxels)],
     ['support_voxels', 'support voxels', figure(r.support_voxels)],
+    ...(r.missed_before_supports !== undefined ? [['missed_before_supports', 'missed before supports', figure(r.missed_before_supports)]] : []),
+    ...(r.support_rounds !== undefined ? [['support_rounds', 'support rounds', figure(r.support_rounds)]] : []),
     ['field_layers', 'field layers (max G)', figure(r.field_layers)],
     ['layers', 'curved layers', figure(r.layers)],
     ['regions', 'regions', figure(r.regions)],
+    ...(r.unfilled_regions !== undefined ? [['unfilled_regions', 'unfilled regions', figure(r.unfilled_regions)]] : []),
+    ...(r.paths !== undefined ? [['paths', 'spiral paths', figure(r.paths)]] : []),
     ['strategy', 'strategy', r.strategy ? String(r.strategy) : '—'],
     ['shadow_scheme', 'shadow prevention', r.shadow_scheme ? String(r.shadow_scheme) : '—'],
     ['voxel_width_mm', 'voxel width', mm(r.voxel_width_mm)],
@@ -334,7 +339,9 @@ export function voxelSummaryRows(v) {
     ['shadow_checks', 'shadow checks', figure(r.shadow_checks)],
     ['hull_builds', 'hull builds', figure(r.hull_builds)],
     ['orientation_fallbacks', 'orientation fallbacks', figure(r.orientation_fallbacks)],
-    ...['voxelize', 'peeling', 'shadow', 'growth', 'extraction', 'toolpaths'].map((k) => [`time_${k}`, `time: ${k}`, ms(t[k])]),
+    ...['voxelize', 'peeling', 'shadow', 'growth', 'extraction', 'spirals', 'toolpaths']
+      .filter((k) => k !== 'spirals' || t.spirals !== undefined)
+      .map((k) => [`time_${k}`, `time: ${k}`, ms(t[k])]),
   ];
 }
 

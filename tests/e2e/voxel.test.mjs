@@ -161,7 +161,7 @@ function syntheticResult({ L, n, missed, support }) {
       voxels: 12345, solid_voxels: 11000, support_voxels: support, missed_voxels: missed, field_layers: 3 * L, layers: L, regions: L + 2,
       strategy: 'pg-sp-gcfa', shadow_scheme: 'recursive', voxel_width_mm: 0.4, iso_step: 1,
       thickness: { samples: counts.reduce((a, b) => a + b, 0), mean_mm: 0.33, std_mm: 0.04, max_deviation_mm: 0.16,
-        histogram: { min_mm: 0.2, bin_mm: 0.025, counts } },
+        histogram: { min_mm: -0.125, bin_mm: 0.025, counts } },
       timings_ms: { voxelize: 50, peeling: 800, shadow: 300, growth: 1200, extraction: 400, toolpaths: 900 },
       shadow_checks: 4321, hull_builds: 3 * L, orientation_fallbacks: 0,
     },
@@ -204,15 +204,19 @@ test('a synthetic voxel result: figures, histogram, layer surfaces with the slid
   const hist = await page.evaluate(() => {
     const svg = document.querySelector('[data-testid="thickness-histogram"]');
     const bars = [...svg.querySelectorAll('rect.bar')].map((r) => ({ h: Number(r.getAttribute('height')), empty: r.classList.contains('empty') }));
-    return { bars, total: svg.dataset.total, mean: svg.querySelectorAll('line.mean').length, ticks: [...svg.querySelectorAll('text.tick')].map((x) => x.textContent) };
+    const x = (sel) => [...svg.querySelectorAll(sel)].map((l) => Number(l.getAttribute('x1')));
+    return { bars, total: svg.dataset.total, mean: x('line.mean'), std: x('line.std'), ticks: [...svg.querySelectorAll('text.tick')].map((t) => t.textContent) };
   });
   assert.equal(hist.bars.length, 10);
   assert.equal(hist.total, '158');
   assert.deepEqual(hist.bars.map((b) => b.empty), [true, false, false, false, false, false, false, false, true, false]);
   assert.ok(hist.bars[4].h > hist.bars[3].h && hist.bars[3].h > hist.bars[2].h, 'bars follow the counts');
-  assert.equal(hist.mean, 1, 'the mean is marked');
-  assert.equal(hist.ticks[0], '0.2');
-  assert.equal(hist.ticks.at(-1), '0.45');
+  // Plot x from 6 to 254 spans -0.125..0.125 mm: deviation 0 at 130, ± 0.04 mm at 130 ± 39.68.
+  assert.equal(hist.mean.length, 1, 'deviation 0 (the mean) is marked');
+  assert.ok(Math.abs(hist.mean[0] - 130) < 1e-6, `mean line at ${hist.mean[0]}`);
+  assert.deepEqual(hist.std.map((x) => Math.round((x - 130) * 100) / 100), [-39.68, 39.68]);
+  assert.equal(hist.ticks[0], '-0.125');
+  assert.equal(hist.ticks.at(-1), '0.125');
   assert.match(await page.textContent(tid('thickness-stats')), /mean 0\.33 mm, std 0\.04 mm, max deviation 0\.16 mm \(158 samples\)/);
   assert.match(await page.textContent(tid('progress-text')), /done in [\d.]+ s: 42 field layers → 14 layers, 16 regions, 5 missed/);
   // Layer surfaces and the sliders.
