@@ -18,6 +18,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { browserUnavailable, openPage } from '../js/browser.mjs';
+import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const OUT_DIR = path.join(ROOT, 'build', 'e2e');
@@ -290,6 +291,19 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
     const vr = report.voxel;
     assert.ok(vr && vr.voxels > 0 && vr.layers > 0 && vr.regions >= vr.layers, JSON.stringify(vr));
     t.diagnostic(`report.voxel: ${JSON.stringify({ ...vr, thickness: { ...vr.thickness, histogram: undefined } })}`);
+    // The page sent only method and width: the core's other voxel values are the page's defaults.
+    const listed = report.settings || {};
+    let compared = 0;
+    for (const f of SETTINGS_SCHEMA.filter((x) => x.group === 'Voxel' && x.key !== 'voxel.width_mm')) {
+      if (!(f.key in listed)) continue;
+      const core = listed[f.key];
+      if (typeof f.value === 'number') assert.ok(Math.abs(Number(core) - f.value) < 1e-9, `${f.key}: core ${core}, page ${f.value}`);
+      else assert.equal(String(core), String(f.value), f.key);
+      compared++;
+    }
+    t.diagnostic(`${compared} voxel defaults compared with report.settings`);
+    assert.ok(compared >= 3, 'the report lists the voxel settings');
+    assert.equal(Number(listed['voxel.width_mm'] ?? 1.2), 1.2);
     assert.equal(await page.textContent(tid('voxel-voxels')), vr.voxels.toLocaleString('en'));
     assert.equal(await page.textContent(tid('missed-count')), vr.missed_voxels.toLocaleString('en'));
     assert.match(await page.textContent(tid('progress-text')),
