@@ -292,18 +292,18 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
     assert.ok(vr && vr.voxels > 0 && vr.layers > 0 && vr.regions >= vr.layers, JSON.stringify(vr));
     t.diagnostic(`report.voxel: ${JSON.stringify({ ...vr, thickness: { ...vr.thickness, histogram: undefined } })}`);
     // The page sent only method and width: the core's other voxel values are the page's defaults.
-    const listed = report.settings || {};
+    const coreSettings = report.settings || {};
     let compared = 0;
     for (const f of SETTINGS_SCHEMA.filter((x) => x.group === 'Voxel' && x.key !== 'voxel.width_mm')) {
-      if (!(f.key in listed)) continue;
-      const core = listed[f.key];
+      if (!(f.key in coreSettings)) continue;
+      const core = coreSettings[f.key];
       if (typeof f.value === 'number') assert.ok(Math.abs(Number(core) - f.value) < 1e-9, `${f.key}: core ${core}, page ${f.value}`);
       else assert.equal(String(core), String(f.value), f.key);
       compared++;
     }
     t.diagnostic(`${compared} voxel defaults compared with report.settings`);
     assert.ok(compared >= 3, 'the report lists the voxel settings');
-    assert.equal(Number(listed['voxel.width_mm'] ?? 1.2), 1.2);
+    assert.equal(Number(coreSettings['voxel.width_mm'] ?? 1.2), 1.2);
     assert.equal(await page.textContent(tid('voxel-voxels')), vr.voxels.toLocaleString('en'));
     assert.equal(await page.textContent(tid('missed-count')), vr.missed_voxels.toLocaleString('en'));
     assert.match(await page.textContent(tid('progress-text')),
