@@ -27,6 +27,7 @@ struct CurvedToolpathOptions {
   double firstLayerSpeed = 20;      // mm/s (layer 0)
   double travelSpeed = 100;         // mm/s
   double retractLength = 0.8;       // mm of filament, 0 = off
+  double retractSpeed = 35;         // mm/s of filament
   double retractMinTravel = 1.5;    // mm, shorter travels do not retract
   double travelClearance = 2.0;     // mm, leave/approach distance along the nozzle axis
   int earlierLayers = 3;            // layers below searched for c_q (Eq. 3)
@@ -40,6 +41,22 @@ struct CurvedToolpathResult : Outcome {
 };
 
 // paths[l][r]: the paths of region r of layer l (same shape as layers). Progress stage "toolpath".
+// Per layer in order, regions nearest-first from the previous end point (distance to the start of
+// the region's first path), paths in the given order; each path: a travel to its start, then one
+// Print move per segment (MoveKind::Support with Feature::Support for support regions).
+// Orientation per point (Eq. 3): axis = normalize(q - c_q), c_q the closest point on the regions
+// of the previous earlierLayers layers or on the platform plane z = 0 (T is printed before every
+// layer); +Z on layer 0. Where |q - c_q| < 0.1 nominalHeight or q - c_q is more than 80 degrees from
+// the path normal (flipped to the side of q - c_q, or of the previous point's axis, +Z for the
+// first, when q - c_q is that short), the normal is used and counted in
+// orientationFallbacks. Bead height per point = |q - c_q| clamped to [min, max] x nominalHeight
+// (nominalHeight on layer 0); a segment takes the mean of its end heights, and its filament is
+// filamentForBead (slice/plan_layers.h: rectangle with semicircular ends, as the planar planner).
+// Travels longer than retractMinTravel after the first extrusion: Retract at the current point,
+// leave by travelClearance along the current axis, cross to start + clearance x axis, approach,
+// Unretract; shorter travels are one Travel move. toolpath.start = first start + clearance x axis.
+// Statuses: InvalidOption (options out of range, paths not shaped like layers), NonFiniteVertex,
+// Cancelled.
 CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
                                          const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
                                          const CurvedToolpathOptions& options,
