@@ -327,7 +327,11 @@ function renderHistogram(thickness) {
   }
   const base = geo.plot.y + geo.plot.height;
   svg.append(svgElement('line', { class: 'axis', x1: geo.plot.x, y1: base, x2: geo.plot.x + geo.plot.width, y2: base }));
-  for (const t of geo.ticks) svg.append(svgElement('text', { class: 'tick', x: t.x, y: base + 12 }, t.label));
+  // The end labels are anchored inside the plot so they are not clipped.
+  geo.ticks.forEach((t, i) => {
+    const anchor = i === 0 ? 'start' : i === geo.ticks.length - 1 ? 'end' : 'middle';
+    svg.append(svgElement('text', { class: 'tick', x: t.x, y: base + 12, 'text-anchor': anchor }, t.label));
+  });
   const n = geo.bars.length;
   const std = Number(thickness.std_mm);
   if (n) {

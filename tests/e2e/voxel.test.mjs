@@ -251,6 +251,7 @@ test('a synthetic voxel result: figures, histogram, layer surfaces with the slid
   assert.equal(v.supportDrawn, 20);
   await page.waitForTimeout(400);
   await page.screenshot({ path: path.join(OUT_DIR, 'voxel-synthetic.png') });
+  await page.locator(tid('voxel-report')).screenshot({ path: path.join(OUT_DIR, 'voxel-synthetic-report.png') });
   await page.uncheck(tid('show-surfaces'));
   assert.equal((await page.evaluate(() => window.omnislice.voxel)).drawnTriangles, 0);
   await page.check(tid('show-surfaces'));
