@@ -16,7 +16,7 @@ import { MachineView } from './machine-view.js';
 import { machineAxisNames } from './machine-kinematics.js';
 import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
 import {
-  STAGE_WEIGHTS, formatMm, histogramGeometry, overallProgress, voxelDoneSummary, voxelSummaryRows,
+  STAGE_WEIGHTS, formatMm, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
 } from './voxel-data.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
@@ -141,9 +141,12 @@ function showStages({ finished = false } = {}) {
   const p = app.progress;
   const list = $('stage-list');
   const items = [];
+  const entries = [...p.stages];
   let k = 0;
-  for (const [stage, e] of p.stages) {
-    const last = k++ === p.stages.size - 1;
+  for (const [stage, e] of entries) {
+    const last = k++ === entries.length - 1;
+    // A stage lasts from its first report to the next stage's first report (or its own last).
+    const end = last ? e.end : entries[k][1].start;
     const li = document.createElement('li');
     li.dataset.stage = stage;
     const done = finished || !last || e.fraction >= 1;
@@ -155,7 +158,7 @@ function showStages({ finished = false } = {}) {
     pct.textContent = `${Math.round((done ? 1 : e.fraction) * 100)}%`;
     const ms = document.createElement('span');
     ms.className = 'ms';
-    const dt = e.end - e.start;
+    const dt = end - e.start;
     ms.textContent = dt >= 1000 ? `${(dt / 1000).toFixed(1)} s` : `${Math.round(dt)} ms`;
     li.append(name, pct, ms);
     items.push(li);
@@ -416,6 +419,15 @@ function setupVoxelBar() {
   missed.textContent = count.toLocaleString('en');
   missed.classList.toggle('alert', count > 0);
   $('support-count').textContent = (v ? v.supportCount : 0).toLocaleString('en');
+  // The layer colour ramp (the colours of layers spread over the count; neighbours alternate in lightness).
+  const ramp = $('layer-ramp');
+  const L = v ? v.surfaceLayerCount : 0;
+  const stops = [];
+  for (let k = 0; k < Math.min(L, 12); k++) {
+    const l = Math.round((k * (L - 1)) / Math.max(Math.min(L, 12) - 1, 1));
+    stops.push(`rgb(${layerColor(l, L).join(',')})`);
+  }
+  ramp.style.background = stops.length > 1 ? `linear-gradient(to right, ${stops.join(', ')})` : stops[0] || 'none';
   if (v) {
     v.setVisible('surfaces', $('show-surfaces').checked);
     v.setVisible('missed', $('show-missed').checked);
@@ -992,8 +1004,11 @@ window.omnislice = {
   get programExtension() { return app.result ? app.result.programExtension : null; },
   /** The voxel view: what it holds and draws (VoxelView.stats()), or null. */
   get voxel() { return app.voxelView ? app.voxelView.stats() : null; },
-  /** Seconds per progress stage of the last slice, in arrival order: [[stage, fraction, ms]]. */
-  get stages() { return [...app.progress.stages].map(([k, e]) => [k, e.fraction, e.end - e.start]); },
+  /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */
+  get stages() {
+    const list = [...app.progress.stages];
+    return list.map(([k, e], i) => [k, e.fraction, (i + 1 < list.length ? list[i + 1][1].start : e.end) - e.start]);
+  },
   /**
    * Test hook: show a result object shaped like slicer.slice()'s (programBytes, programExtension,
    * report, preview, mesh) as if the engine had produced it; resolves when it is drawn.
