@@ -5,7 +5,9 @@
 // checks the targets: wasm/native <= 1.5 on planar slicing, 1M-triangle binary STL
 // read+validate <= 1 s native, a 100k-triangle model sliced at 0.2 mm in <= 2 s in wasm; machines
 // (issue 3): UR5 IK + pose continuity (the `motion` stage) <= 1 s per 100k samples in wasm, and
-// verification of a >= 500k-move program <= 10 s in wasm.
+// verification of a >= 500k-move program <= 10 s in wasm; voxel method (issue 4): ~100k voxels
+// <= 10 s in wasm, ~540k voxels <= 30 s in wasm within 1 GB of wasm memory, tool-paths for all
+// layers of the Bunny (~100k voxels) <= 10 s in wasm.
 // Env: BENCH_REPS (default 3: best of N per stage), BENCH_SLICE_1M=1 (also slice the 1M mesh).
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -18,7 +20,8 @@ const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const CLI = process.env.OMNISLICE_CLI || path.join(ROOT, 'build/native/omnislice');
 const WASM_DIR = process.env.OMNISLICE_WASM_DIR || path.join(ROOT, 'build/wasm');
 const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 3);
-const STAGES = ['read', 'validate', 'place', 'slice', 'toolpath', 'motion', 'program'];
+const STAGES = ['read', 'validate', 'place', 'voxelize', 'peeling', 'growth', 'layers', 'slice', 'toolpath',
+  'motion', 'program'];
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-bench-'));
 
 for (const f of [CLI, path.join(WASM_DIR, 'omnislice.mjs')]) {
@@ -29,7 +32,7 @@ for (const f of [CLI, path.join(WASM_DIR, 'omnislice.mjs')]) {
 }
 
 const wrapper = await import(pathToFileURL(path.join(WASM_DIR, 'omnislice.js')).href);
-const wasm = await wrapper.loadOmnislice({
+let wasm = await wrapper.loadOmnislice({
   moduleUrl: pathToFileURL(path.join(WASM_DIR, 'omnislice.mjs')).href,
   wasmBinary: fs.readFileSync(path.join(WASM_DIR, 'omnislice.wasm')),
 });
@@ -71,19 +74,21 @@ function withTotals(timings, wall) {
 }
 
 let robotSamples = 0;
-function wasmRun(mode, bytes, name, settings) {
+const voxelCounts = {};
+function wasmRun(mode, bytes, name, settings, label) {
   const t0 = performance.now();
   const r = mode === 'slice' ? wasm.slice(bytes, name, settings) : wasm.info(bytes, name, settings);
   if (mode === 'slice' && settings.machine === 'robot6-ur5') robotSamples = r.report.motion.samples;
+  if (mode === 'slice' && r.report.voxel) voxelCounts[label] = r.report.voxel;
   const wall = performance.now() - t0;
   const timings = mode === 'slice' ? r.report.timings_ms : r.info.timings_ms;
   return withTotals(timings, wall);
 }
 
 // Best (minimum) of REPS runs, per stage.
-function best(run) {
+function best(run, reps = REPS) {
   let out = null;
-  for (let i = 0; i < REPS; ++i) {
+  for (let i = 0; i < reps; ++i) {
     const t = run();
     if (!out) out = { ...t };
     else for (const k of Object.keys(t)) out[k] = Math.min(out[k], t[k]);
@@ -108,13 +113,40 @@ if (fs.existsSync(bunny)) {
     settings: { layer_height: 0.2, fit_mm: 100 } });
 }
 
+// Voxel method (paper 001) on the shared Bunny: fit sizes chosen for ~100k and ~540k voxels at
+// w = 0.8 x 0.5 mm nozzle = 0.4 mm (the paper's Bunny had 97.5k voxels, its Armadillo 540.7k).
+const VOXEL_100K = 'bunny voxel ~100k voxels (table5)';
+const VOXEL_540K = 'bunny voxel ~540k voxels (table5)';
+if (fs.existsSync(bunny)) {
+  const voxel = { method: 'voxel', machine: 'table5', nozzle_diameter: 0.5, layer_height: 0.4, line_width: 0.55 };
+  cases.push({ case: VOXEL_100K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_100K) || 29 } });
+  if (process.env.BENCH_VOXEL_540K !== '0') {
+    cases.push({ case: VOXEL_540K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_540K) || 51 }, freshModule: true, reps: 1 });
+  }
+}
+
 const rows = [];
+let voxelMemoryBytes = null;
 for (const c of cases) {
   const bytes = fs.readFileSync(c.file);
   console.error(`[bench] ${c.case}: native...`);
-  const n = best(() => nativeRun(c.mode, c.file, c.settings));
+  const n = best(() => nativeRun(c.mode, c.file, c.settings), c.reps);
   console.error(`[bench] ${c.case}: wasm...`);
-  const w = best(() => wasmRun(c.mode, bytes, path.basename(c.file), c.settings));
+  let w;
+  if (c.freshModule) {
+    // A fresh instance so its memory size is this case's peak (wasm memory never shrinks).
+    const saved = wasm;
+    wasm = await wrapper.loadOmnislice({
+      moduleUrl: pathToFileURL(path.join(WASM_DIR, 'omnislice.mjs')).href,
+      wasmBinary: fs.readFileSync(path.join(WASM_DIR, 'omnislice.wasm')),
+    });
+    w = best(() => wasmRun(c.mode, bytes, path.basename(c.file), c.settings, c.case), c.reps);
+    const heap = wasm.raw.HEAPU8 || (wasm.raw.wasmMemory && new Uint8Array(wasm.raw.wasmMemory.buffer));
+    voxelMemoryBytes = heap ? heap.buffer.byteLength : null;
+    wasm = saved;
+  } else {
+    w = best(() => wasmRun(c.mode, bytes, path.basename(c.file), c.settings, c.case), c.reps);
+  }
   for (const stage of [...STAGES, 'total', 'wall']) {
     if (n[stage] === undefined && w[stage] === undefined) continue;
     const native_ms = n[stage] ?? null;
@@ -186,6 +218,19 @@ if (robotMotion) {
 }
 const verifyRow = get(verifyCase, 'verify');
 if (verifyRow) checks.push([`verify a ${verifyRow.moves}-move program in wasm <= 10000 ms`, verifyRow.wasm_ms, verifyRow.wasm_ms <= 10000]);
+for (const [label, limit, memory] of [[VOXEL_100K, 10000, false], [VOXEL_540K, 30000, true]]) {
+  const row = get(label, 'total');
+  const v = voxelCounts[label];
+  if (!row || !v) continue;
+  checks.push([`${label}: ${v.voxels} voxels, ${v.missed_voxels} missed, ${v.layers} layers, wasm total <= ${limit} ms`,
+    row.wasm_ms, row.wasm_ms <= limit]);
+  if (memory) {
+    const mb = voxelMemoryBytes === null ? null : round(voxelMemoryBytes / 1048576);
+    checks.push([`${label}: wasm memory <= 1024 MB`, mb, mb !== null && mb <= 1024]);
+  }
+}
+const bunnyToolpath = get(VOXEL_100K, 'toolpath');
+if (bunnyToolpath) checks.push([`tool-paths for all layers of the Bunny (${VOXEL_100K}) in wasm <= 10000 ms`, bunnyToolpath.wasm_ms, bunnyToolpath.wasm_ms <= 10000]);
 console.log('\ntargets:');
 for (const [what, value, ok] of checks) console.log(`  ${ok ? 'PASS' : 'MISS'}  ${what}: ${value}`);
 console.log(`\nwrote ${path.join(ROOT, 'build/bench.json')}`);

@@ -117,6 +117,18 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
                                     r.preview.layers.size()));
     preview.set("machine", copyArray("Float32Array", r.preview.machine.data(),
                                      r.preview.machine.size()));
+    preview.set("axes", copyArray("Float32Array", r.preview.axes.data(), r.preview.axes.size()));
+    preview.set("surfacePositions", copyArray("Float32Array", r.preview.surfacePositions.data(),
+                                              r.preview.surfacePositions.size()));
+    preview.set("surfaceTriangles", copyArray("Uint32Array", r.preview.surfaceTriangles.data(),
+                                              r.preview.surfaceTriangles.size()));
+    preview.set("surfaceLayers", copyArray("Uint32Array", r.preview.surfaceLayers.data(),
+                                           r.preview.surfaceLayers.size()));
+    preview.set("missedVoxels", copyArray("Float32Array", r.preview.missedVoxels.data(),
+                                          r.preview.missedVoxels.size()));
+    preview.set("supportVoxels", copyArray("Float32Array", r.preview.supportVoxels.data(),
+                                           r.preview.supportVoxels.size()));
+    preview.set("voxelWidth", r.preview.voxelWidth);
     out.set("preview", preview);
     out.set("programExtension", r.programExtension);
     out.set("mesh", meshToJs(r.partMesh));

@@ -32,6 +32,16 @@ export interface PreviewBuffers {
   /** #S*6 machine values at each segment's end: X Y Z (mm) then A or B C (degrees), or q1..q6
    *  (radians) for robot6; unused trailing values 0. Empty when the core wrote none. */
   machine: Float32Array;
+  /** #S*3 part-frame nozzle axis (unit) at each segment's end (slice results). */
+  axes?: Float32Array;
+  /** Curved-layer methods: every layer's regions as one triangle soup, layer per triangle. */
+  surfacePositions?: Float32Array;
+  surfaceTriangles?: Uint32Array;
+  surfaceLayers?: Uint32Array;
+  /** Voxel method: centres of missed voxels and support cells (#*3), and the voxel width (mm). */
+  missedVoxels?: Float32Array;
+  supportVoxels?: Float32Array;
+  voxelWidth?: number;
 }
 
 /** A machine profile as the program header writes it (PROGRAM-FORMAT.md, docs/MACHINES.md). */

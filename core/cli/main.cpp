@@ -27,7 +27,7 @@ using namespace omnislice;
 const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
-    "  omnislice slice MESH -o OUT [--method planar] [--machine NAME] [--machine-file JSON]\n"
+    "  omnislice slice MESH -o OUT [--method planar|voxel] [--machine NAME] [--machine-file JSON]\n"
     "                 [--gcode-flavor marlin|reprap|klipper] [--robot-format csv|urscript]\n"
     "                 [--layer-height MM] [--nozzle MM] [--walls N] [--infill PCT]\n"
     "                 [--direction X,Y,Z] [--scale S] [--fit-mm MM] [--up AXIS]\n"

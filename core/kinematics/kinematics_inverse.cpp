@@ -158,7 +158,10 @@ IkResult inverseTable(const MachineProfile& machine, const Eigen::Vector3d& tip,
   };
   Branch branches[2];
   int nb = 0;
-  if (sinB <= 1e-12) {
+  // Within 1e-4 rad of the C axis the azimuth of u is rounding noise of the tool-path's axis
+  // filtering (B of a few 1e-6 degrees), and following it would spin the table through the
+  // singularity inside one move: treat u as on the axis (orientation error < 1e-4 rad).
+  if (sinB <= 1e-4) {
     // B = 0 (or 180): C is free; keep the reference C so the motion does not spin the table.
     const double b = u.z() > 0 ? 0.0 : 180.0;
     branches[nb++] = {b, refC, 0};

@@ -151,9 +151,16 @@ class Planner {
   double minSingularity(const std::vector<MachineValues>& poses) const;
   bool solveNear(const Eigen::Vector3d& pos, const Eigen::Vector3d& axis, const MachineValues& qa,
                  const MachineValues& qb, const MachineValues& qm, MachineValues& out) const;
-  void refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
+  // Split the move qa -> qb until the interpolated tip stays within chordTolerance of the
+  // part-frame segment; returns false when some piece could not be brought within it (the two
+  // poses are not joined by a continuous motion along the segment, e.g. a branch change).
+  bool refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
               const MachineValues& qb, const Eigen::Vector3d& pb, const Eigen::Vector3d& ub,
               int depth, std::vector<MachineValues>& values, std::vector<Eigen::Vector3d>& pos);
+  // Leave the part along the nozzle axis (G-code kinds: to the safe height), change the pose from
+  // `from` to `to` (same tip and axis, another branch or turn), come back; retracting around it.
+  void reconfigure(const MachineValues& from, const MachineValues& to, const Eigen::Vector3d& tip,
+                   const Eigen::Vector3d& axis, const Move& src, uint32_t source, bool retracted);
   void push(const MachineValues& v, const Move& src, uint32_t source, double filament,
             MoveKind kind);
   bool rotaryChanges(const MachineValues& a, const MachineValues& b, double degrees) const;
@@ -612,29 +619,63 @@ bool Planner::solveNear(const Eigen::Vector3d& pos, const Eigen::Vector3d& axis,
   return found;
 }
 
-void Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
+bool Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const Eigen::Vector3d& ua,
                      const MachineValues& qb, const Eigen::Vector3d& pb, const Eigen::Vector3d& ub,
                      int depth, std::vector<MachineValues>& values,
                      std::vector<Eigen::Vector3d>& pos) {
   bool angular = false;
   for (int i = metric_.begin; i < metric_.end; ++i) angular = angular || std::abs(qb[i] - qa[i]) > 1e-12;
-  if (angular && depth < kMaxChordDepth) {
+  bool exact = true;
+  if (angular) {
     MachineValues qm{};
     for (int i = 0; i < 6; ++i) qm[i] = 0.5 * (qa[i] + qb[i]);
     Eigen::Vector3d tip, axis;
     if (forwardMap(m_, qm, tip, axis) && std::sqrt(pointSegmentDistance2(tip, pa, pb)) > o_.chordTolerance) {
-      const Eigen::Vector3d pm = 0.5 * (pa + pb);
-      const Eigen::Vector3d um = slerpAxis(ua, ub, 0.5);
-      MachineValues qs;
-      if (solveNear(pm, um, qa, qb, qm, qs)) {
-        refine(qa, pa, ua, qs, pm, um, depth + 1, values, pos);
-        refine(qs, pm, um, qb, pb, ub, depth + 1, values, pos);
-        return;
+      exact = false;
+      if (depth < kMaxChordDepth) {
+        const Eigen::Vector3d pm = 0.5 * (pa + pb);
+        const Eigen::Vector3d um = slerpAxis(ua, ub, 0.5);
+        MachineValues qs;
+        if (solveNear(pm, um, qa, qb, qm, qs)) {
+          const bool left = refine(qa, pa, ua, qs, pm, um, depth + 1, values, pos);
+          const bool right = refine(qs, pm, um, qb, pb, ub, depth + 1, values, pos);
+          return left && right;
+        }
       }
     }
   }
   values.push_back(qb);
   pos.push_back(pb);
+  return exact;
+}
+
+void Planner::reconfigure(const MachineValues& from, const MachineValues& to,
+                          const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, const Move& src,
+                          uint32_t source, bool retracted) {
+  const bool ownRetract = !retracted && o_.safeRetract > 0;
+  if (ownRetract) push(from, src, source, -o_.safeRetract, MoveKind::Retract);
+  if (gcodeRotary_) {
+    // As a 3+2 safe rotation: lift to the safe height, turn, move over, lower.
+    const double zs = std::max({safeZ_, from[2], to[2]});
+    MachineValues a = from;
+    a[2] = zs;
+    push(a, src, source, 0, MoveKind::Travel);
+    for (int k = 3; k < n_; ++k) a[k] = to[k];
+    push(a, src, source, 0, MoveKind::Travel);
+    a[0] = to[0];
+    a[1] = to[1];
+    push(a, src, source, 0, MoveKind::Travel);
+  } else {
+    // Leave along the nozzle axis, change the pose there, come back.
+    const Eigen::Vector3d away = tip + std::max(1.0, o_.safeLift) * axis;
+    MachineValues la, lb;
+    if (solveNear(away, axis, from, from, from, la)) push(la, src, source, 0, MoveKind::Travel);
+    if (solveNear(away, axis, to, to, to, lb)) push(lb, src, source, 0, MoveKind::Travel);
+  }
+  push(to, src, source, 0, MoveKind::Travel);
+  if (ownRetract) push(to, src, source, o_.safeRetract, MoveKind::Unretract);
+  out_.stats.subdivisions += 3;
+  ++out_.stats.safeRotations;
 }
 
 void Planner::push(const MachineValues& v, const Move& src, uint32_t source, double filament,
@@ -704,7 +745,20 @@ bool Planner::emit() {
     } else {
       vals.clear();
       poss.clear();
-      refine(prev, prevPos, prevAxis, v, p.pos, p.axis, 0, vals, poss);
+      if (!refine(prev, prevPos, prevAxis, v, p.pos, p.axis, 0, vals, poss)) {
+        // No continuous motion joins the two poses along the segment (a branch or turn change
+        // chosen by the pose continuity): change the pose away from the part at the start, where
+        // the pose on v's branch is found, and print the segment from there.
+        MachineValues start;
+        std::vector<MachineValues> vals2;
+        std::vector<Eigen::Vector3d> poss2;
+        if (solveNear(prevPos, prevAxis, v, v, v, start) &&
+            refine(start, prevPos, prevAxis, v, p.pos, p.axis, 0, vals2, poss2)) {
+          reconfigure(prev, start, prevPos, prevAxis, src, p.source, retracted);
+          vals.swap(vals2);
+          poss.swap(poss2);
+        }
+      }
       // Filament proportional to the part-frame length of each piece (exact sum).
       const double len = (p.pos - prevPos).norm();
       double given = 0;

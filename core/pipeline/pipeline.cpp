@@ -19,6 +19,7 @@
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
 #include "kinematics/kinematics.h"
+#include "pipeline/voxel_method.h"
 #include "toolpath/toolpath.h"
 #include "verify/verify_program.h"
 
@@ -84,6 +85,7 @@ PreviewBuffers makePreview(const MachinePath& path) {
   p.features.reserve(n);
   p.layers.reserve(n);
   p.machine.reserve(n * 6);
+  p.axes.reserve(n * 3);
   Eigen::Vector3d prev, prevAxis;
   if (!forwardMap(path.machine, path.start, prev, prevAxis)) prev = Eigen::Vector3d::Zero();
   for (const MachineMove& m : path.moves) {
@@ -98,6 +100,7 @@ PreviewBuffers makePreview(const MachinePath& path) {
       p.features.push_back(m.kind == MoveKind::Travel ? 0 : static_cast<uint8_t>(m.feature));
       p.layers.push_back(static_cast<uint32_t>(std::max(0, m.layer)));
       for (double v : m.values) p.machine.push_back(static_cast<float>(v));
+      for (int k = 0; k < 3; ++k) p.axes.push_back(static_cast<float>(m.axis[k]));
     }
     prev = m.tip;
   }
@@ -200,13 +203,15 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
   try {
     const Clock::time_point start = Clock::now();
     if (Outcome v = validateSettings(settings); !v.ok()) return failed<SliceOutput>(v);
-    if (settings.method != "planar") {
+    const bool voxel = settings.method == "voxel";
+    if (settings.method != "planar" && !voxel) {
       return failed<SliceOutput>(Status::InvalidOption, "method '" + settings.method + "' is not available");
     }
     StageClock clock;
     // cartesian3 lays every layer with the nozzle along +Z: a direction d is realised by turning
-    // the part so that d points up (recorded in the placement).
-    const Eigen::Vector3d d = settings.direction.normalized();
+    // the part so that d points up (recorded in the placement). Curved-layer methods print on the
+    // platform as placed.
+    const Eigen::Vector3d d = voxel ? Eigen::Vector3d::UnitZ() : settings.direction.normalized();
     const Eigen::Matrix3d turn = rotationToZ(d);
     PreparedInput in =
         prepareInput(data, size, fileName, settings.placement, turn, progress, clock);
@@ -218,6 +223,12 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     MachineProfileResult resolved = resolveMachine(settings);
     if (!resolved.ok()) return failed<SliceOutput>(resolved);
     const MachineProfile& machine = resolved.machine;
+    if (voxel && machine.kind != "table5" && machine.kind != "robot6") {
+      return failed<SliceOutput>(
+          Status::InvalidOption,
+          "the voxel method tilts the nozzle along curved layers: choose a machine with two "
+          "rotary axes or a robot (table5, robot6), not " + machine.kind);
+    }
     // G-code kinds print the planar layers with every rotary axis at 0, where the machine frame is
     // the part frame: the part must fit the linear axes' travel.
     for (int a = 0; a < 3 && machine.kind != "robot6"; ++a) {
@@ -235,22 +246,39 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       }
     }
     const double tooManyLayers = 100000;
-    if (extent.z() / settings.layerHeight > tooManyLayers) {
+    if (!voxel && extent.z() / settings.layerHeight > tooManyLayers) {
       return failed<SliceOutput>(Status::InvalidOption,
                                  "the model needs more than 100000 layers at this layer height");
     }
 
-    SliceOptions sliceOptions;
-    sliceOptions.direction = Eigen::Vector3d::UnitZ();
-    sliceOptions.layerHeight = settings.layerHeight;
-    sliceOptions.firstLayerHeight = settings.effectiveFirstLayerHeight();
-    SliceResult slices = sliceMesh(in.placed.mesh, sliceOptions, progress);
-    if (!slices.ok()) return failed<SliceOutput>(slices);
-    clock.done("slice");
+    // The method: part-frame tool-path plus what its report and preview add.
+    PlanLayersResult plan;
+    size_t slicedLayers = 0, openChains = 0;
+    double layerHeight = settings.layerHeight;
+    VoxelMethodOutput voxelOut;
+    if (voxel) {
+      voxelOut = runVoxelMethod(in.placed.mesh, settings, machine, progress);
+      if (!voxelOut.ok()) return failed<SliceOutput>(voxelOut);
+      for (const auto& [stage, ms] : voxelOut.timingsMs) clock.timings[stage] = ms;
+      clock.t0 = Clock::now();
+      plan.toolpath = std::move(voxelOut.toolpath);
+      layerHeight = voxelOut.layerHeight;
+      slicedLayers = static_cast<size_t>(voxelOut.layers);
+    } else {
+      SliceOptions sliceOptions;
+      sliceOptions.direction = Eigen::Vector3d::UnitZ();
+      sliceOptions.layerHeight = settings.layerHeight;
+      sliceOptions.firstLayerHeight = settings.effectiveFirstLayerHeight();
+      SliceResult slices = sliceMesh(in.placed.mesh, sliceOptions, progress);
+      if (!slices.ok()) return failed<SliceOutput>(slices);
+      clock.done("slice");
+      slicedLayers = slices.layers.size();
+      openChains = slices.openChains;
 
-    PlanLayersResult plan = planLayers(slices, settings, 0, progress);
-    if (!plan.ok()) return failed<SliceOutput>(plan);
-    clock.done("toolpath");
+      plan = planLayers(slices, settings, 0, progress);
+      if (!plan.ok()) return failed<SliceOutput>(plan);
+      clock.done("toolpath");
+    }
 
     MotionOptions motionOptions;
     motionOptions.freeRotationSamples = settings.freeRotationSamples;
@@ -269,7 +297,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     pinfo.machine = machine;
     pinfo.placement = in.placed.transform;
     pinfo.filamentDiameter = settings.filamentDiameter;
-    pinfo.layerHeight = settings.layerHeight;
+    pinfo.layerHeight = layerHeight;
     pinfo.lineWidth = settings.effectiveLineWidth();
     pinfo.nozzleTemperature = settings.nozzleTemperature;
     pinfo.bedTemperature = settings.bedTemperature;
@@ -292,6 +320,15 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     // program has one layer marker for each.
     out.layers = written.layers;
     out.preview = makePreview(motion);
+    if (voxel) {
+      PreviewBuffers& p = out.preview;
+      p.surfacePositions = std::move(voxelOut.preview.surfacePositions);
+      p.surfaceTriangles = std::move(voxelOut.preview.surfaceTriangles);
+      p.surfaceLayers = std::move(voxelOut.preview.surfaceLayers);
+      p.missedVoxels = std::move(voxelOut.preview.missedVoxels);
+      p.supportVoxels = std::move(voxelOut.preview.supportVoxels);
+      p.voxelWidth = voxelOut.preview.voxelWidth;
+    }
     out.partMesh = std::move(in.placed.mesh);
     out.program = std::move(written.text);
     out.programExtension = programExtension(machine.kind, pinfo.robotFormat);
@@ -303,9 +340,14 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     report["program_format"] = machine.kind != "robot6" ? "gcode" : settings.robotFormat;
     report["program_extension"] = out.programExtension;
     report["layers"] = out.layers;
-    report["sliced_layers"] = slices.layers.size();
+    report["sliced_layers"] = slicedLayers;
+    report["layer_height_mm"] = layerHeight;
     report["path_mm"] = finite(stats.pathMm);
-    report["extrusion_mm"] = finite(stats.filamentMm);
+    // What the program extrudes (unretracts of the motion planner's safe rotations included), the
+    // figure `verify` measures.
+    double programFilament = 0;
+    for (const MachineMove& m : motion.moves) programFilament += std::max(0.0, m.filament);
+    report["extrusion_mm"] = finite(programFilament);
     report["travel_mm"] = finite(stats.travelMm);
     report["retractions"] = stats.retractions;
     report["estimated_time_s"] = finite(written.estimatedTimeS);
@@ -326,7 +368,8 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     report["machine_profile"] = Json::parse(machineJson(machine));
     report["direction"] = {d.x(), d.y(), d.z()};
     report["placement"] = matrixJson(pinfo.placement);
-    report["open_chains"] = slices.openChains;
+    report["open_chains"] = openChains;
+    if (voxel) report["voxel"] = Json::parse(voxelOut.reportJson);
     Json t = clock.timings;
     t["total"] = msSince(start);
     report["timings_ms"] = t;

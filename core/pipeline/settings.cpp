@@ -124,6 +124,24 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.placement.rotateZDegrees; }, -360, 360, "degrees"}},
       {"motion.filter_deg",
        {[](Settings& s) -> double& { return s.orientationFilterDegrees; }, 0.1, 180, "degrees"}},
+      {"voxel.width_mm",
+       {[](Settings& s) -> double& { return s.voxel.widthMm; }, 0, 50, "mm (0 = 0.8 x nozzle)"}},
+      {"voxel.peel_step",
+       {[](Settings& s) -> double& { return s.voxel.peelStep; }, 0.01, 1000, "peeling sheets"}},
+      {"voxel.epsilon",
+       {[](Settings& s) -> double& { return s.voxel.epsilon; }, -1, 2, "voxel widths (-1 = default)"}},
+      {"voxel.iso_step",
+       {[](Settings& s) -> double& { return s.voxel.isoStep; }, 0, 100, "field units (0 = from voxel.layer_mm)"}},
+      {"voxel.smooth",
+       {[](Settings& s) -> double& { return s.voxel.smoothIterations; }, 0, 200, "smoothing passes"}},
+      {"voxel.layer_mm",
+       {[](Settings& s) -> double& { return s.voxel.layerMm; }, 0, 5, "mm (0 = voxel width)"}},
+      {"voxel.platform_radius_mm",
+       {[](Settings& s) -> double& { return s.voxel.platformRadiusMm; }, 0, 5000, "mm (0 = footprint)"}},
+      {"voxel.max_tilt_deg",
+       {[](Settings& s) -> double& { return s.voxel.maxTiltDegrees; }, 0, 180, "degrees (0 = machine)"}},
+      {"voxel.max_voxels",
+       {[](Settings& s) -> double& { return s.voxel.maxVoxels; }, 1000, 1e9, "voxels"}},
       {"motion.chord_tolerance",
        {[](Settings& s) -> double& { return s.chordTolerance; }, 0.0001, 1, "mm"}},
   };
@@ -154,6 +172,8 @@ std::string canonicalKey(std::string key) {
       {"perimeters", "walls"},       {"direction_d", "direction"},
       {"gcode_dialect", "gcode_flavor"}, {"flavor", "gcode_flavor"},
       {"free_rotation_samples", "motion.free_rotation_samples"},
+      {"voxel.width", "voxel.width_mm"}, {"voxel.shadow_scheme", "voxel.shadow"},
+      {"voxel.platform_radius", "voxel.platform_radius_mm"},
   };
   auto it = aliases.find(key);
   return it == aliases.end() ? key : it->second;
@@ -186,10 +206,37 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
     return {};
   }
   if (key == "method") {
-    if (value != "planar") {
-      return invalid(key, "'" + value + "' is not available in this build (available: planar)");
+    if (value != "planar" && value != "voxel") {
+      return invalid(key, "'" + value + "' is not available in this build (available: planar, voxel)");
     }
     settings.method = value;
+    return {};
+  }
+  if (key == "voxel.strategy") {
+    if (value != "gcfa" && value != "sp-gcfa" && value != "pg-gcfa" && value != "pg-sp-gcfa") {
+      return invalid(key, "'" + value + "' is not a strategy (gcfa, sp-gcfa, pg-gcfa, pg-sp-gcfa)");
+    }
+    settings.voxel.strategy = value;
+    return {};
+  }
+  if (key == "voxel.shadow") {
+    if (value != "incremental" && value != "recursive") {
+      return invalid(key, "'" + value + "' is not a shadow scheme (incremental, recursive)");
+    }
+    settings.voxel.shadow = value;
+    return {};
+  }
+  if (key == "voxel.layer_field") {
+    if (value != "steps" && value != "generations") {
+      return invalid(key, "'" + value + "' is not a layer field (steps, generations)");
+    }
+    settings.voxel.layerField = value;
+    return {};
+  }
+  if (key == "voxel.supports") {
+    bool b = false;
+    if (!parseBool(value, b)) return invalid(key, "expected true or false");
+    settings.voxel.supports = b;
     return {};
   }
   if (key == "machine") {
@@ -314,6 +361,12 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
   out.emplace_back("gcode_flavor", s.gcodeFlavor);
   out.emplace_back("robot_format", s.robotFormat);
   out.emplace_back("motion.smooth_orientations", s.smoothOrientations ? "true" : "false");
+  if (s.method == "voxel") {
+    out.emplace_back("voxel.strategy", s.voxel.strategy);
+    out.emplace_back("voxel.shadow", s.voxel.shadow);
+    out.emplace_back("voxel.supports", s.voxel.supports ? "true" : "false");
+    out.emplace_back("voxel.layer_field", s.voxel.layerField);
+  }
   // machine_json is not listed: the program header and the report carry the resolved profile.
   return out;
 }

@@ -89,7 +89,7 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
     tiltingLinearLimits(m, bedSize);
     m.pivot = {0, 0, 0};
     m.axisLimits["B"] = {-90, 90};
-    m.axisLimits["C"] = {-360, 360};
+    m.axisLimits["C"] = {-3600, 3600};
     gcodeDynamics(m);
     m.axisDynamics["B"] = {90, 900, 9000};
     m.axisDynamics["C"] = {90, 900, 9000};

@@ -180,6 +180,20 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     return s;
   };
 
+  // The machine's tilt range: an axis leaning further from +Z is turned toward +Z in the plane of
+  // the two onto the cone of half-angle maxTiltDegrees.
+  const double maxTilt = std::clamp(o.maxTiltDegrees, 0.0, 180.0) * 3.14159265358979323846 / 180.0;
+  auto clampTilt = [&](Sample s) {
+    const double tilt = std::acos(std::clamp(s.axis.z(), -1.0, 1.0));
+    if (tilt <= maxTilt + 1e-12) return s;
+    Vector3d horizontal(s.axis.x(), s.axis.y(), 0);
+    const double hn = horizontal.norm();
+    horizontal = hn > 1e-12 ? Vector3d(horizontal / hn) : Vector3d::UnitX();
+    s.axis = std::cos(maxTilt) * Vector3d::UnitZ() + std::sin(maxTilt) * horizontal;
+    ++result.tiltClamped;
+    return s;
+  };
+
   bool started = false, extruded = false;
   Vector3d pos(0, 0, 0), axis(0, 0, 1);
   auto push = [&](const Vector3d& p, const Vector3d& u, MoveKind kind, int32_t layer) {
@@ -286,8 +300,9 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
             return fail(Status::Cancelled, "cancelled");
           }
           Vector3d nrm = haveNormals && path.normals[i].allFinite() ? path.normals[i] : Vector3d::Zero();
-          samples[i] = sampleAt(l, path.points[i], nrm, i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(),
-                                i > 0 ? &samples[i - 1] : nullptr);
+          samples[i] = clampTilt(sampleAt(l, path.points[i], nrm,
+                                          i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(),
+                                          i > 0 ? &samples[i - 1] : nullptr));
           result.orientationFallbacks += samples[i].fallback;
         }
         orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();

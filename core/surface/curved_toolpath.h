@@ -31,12 +31,15 @@ struct CurvedToolpathOptions {
   double retractMinTravel = 1.5;    // mm, shorter travels do not retract
   double travelClearance = 2.0;     // mm, leave/approach distance along the nozzle axis
   int earlierLayers = 3;            // layers below searched for c_q (Eq. 3)
+  double maxTiltDegrees = 180;      // axes leaning from +Z by more are turned toward +Z onto this
+                                    // cone (a table's tilt range); 180 = no limit
 };
 
 struct CurvedToolpathResult : Outcome {
   Toolpath toolpath;                // Move.layer = layer index, Feature::Infill for part regions
                                     // (Feature::Support for support regions), axis per move
   size_t orientationFallbacks = 0;  // samples that used the surface normal instead of Eq. 3
+  size_t tiltClamped = 0;           // samples whose axis was turned onto the maxTiltDegrees cone
   double orientationMs = 0;
 };
 

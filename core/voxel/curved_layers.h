@@ -22,6 +22,9 @@ struct CurvedLayersOptions {
   double nozzleDiameter = 0.4;   // d, mm (for Eq. 2)
   double trimTolerance = 0.005;  // mm, trimmed boundary points lie within this of the surface
   double minRegionArea = 0.05;   // mm^2, drop smaller connected regions (slivers of trimming)
+  double collapseRatio = 0.3;    // x voxel width: interior edges shorter than this are collapsed
+                                 // (manifold-safe) after trimming, removing the slivers of
+                                 // marching tetrahedra; 0 = off
 };
 
 struct CurvedLayersResult : Outcome {
@@ -34,6 +37,17 @@ struct CurvedLayersResult : Outcome {
 
 // grid and g (GrowthField::g, per cell; <= 0 means no value) as produced by growField; solid is
 // the placed input solid (part frame) the layers are trimmed by. Progress stage "layers".
+// Method: G on cell centres (Platform cells = 0) is extended over every cell within one cell of a
+// valued one by linear extrapolation from its valued face neighbours (flat fields continue
+// exactly); iso-surfaces by marching tetrahedra on the centre grid (Freudenthal 6-tetrahedron
+// split: manifold, vertices welded by lattice edge, oriented towards increasing G), visiting only
+// the cubes bucketed for each g_i; trimmed by the solid's winding test (support cells count as
+// inside) with crossings snapped exactly onto the solid's triangles; short edges collapsed
+// (collapseRatio); thickness statistics with sample spacing w. Regions are edge-manifold and
+// consistently oriented; their open edges are the trimmed boundary (boundaryVertex = 1), except
+// around missed cells (g = -1), where a surface stops one ring inside the missed region.
+// Statuses: InvalidOption (grid/field sizes, options, over a million iso-values), EmptyInput (no
+// solid triangles or no grown cells), NonFiniteVertex, Cancelled.
 CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<int32_t>& g,
                                        const Mesh& solid, const CurvedLayersOptions& options,
                                        const ProgressFn& progress = {});

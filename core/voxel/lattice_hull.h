@@ -26,7 +26,12 @@ class LatticeHull {
   LatticeHull() = default;
   // Hull of points (duplicates, coplanar and collinear sets allowed). Degenerate sets (fewer than
   // 4 non-coplanar points) give a flat hull: dimension() < 3 and containment is then
-  // "within eps of the affine hull's convex hull".
+  // "within eps of the affine hull's convex hull" (2D: within eps of the support plane and of
+  // every edge plane; 1D/0D: Euclidean distance to the segment/point <= eps).
+  // Quickhull with outside lists and exact integer orientation (int64 when |coordinates| < 2^16,
+  // __int128 beyond; coordinates must stay below 2^20). Native: 200k lattice points in a ball
+  // ~50 ms, a full 40^3 lattice cube ~8 ms (8 vertices, 6 planes). vertices() may keep a few
+  // non-extreme points lying inside a coplanar facet polygon.
   explicit LatticeHull(const std::vector<Eigen::Vector3i>& points);
 
   // Hull of this hull's vertices plus more points (the incremental C(C_prev U L_c U T)).
@@ -44,12 +49,18 @@ class LatticeHull {
   // Signed distance of p to the hull boundary in cell widths (> 0 outside, < 0 inside; the
   // outside value is the largest plane distance, a lower bound of the Euclidean distance).
   double signedDistance(const Eigen::Vector3i& p) const;
+  // Exact test (integers, no epsilon): p inside or on the hull (3D hulls only; false otherwise).
+  // hint as for inside().
+  bool insideOrOn(const Eigen::Vector3i& p, int* hint = nullptr) const;
+  // Per triangulated facet: index of its (distinct) plane in planes() (3D hulls).
+  const std::vector<int>& facetPlanes() const { return facetPlane_; }
 
  private:
   int dimension_ = -1;
   std::vector<Eigen::Vector3i> vertices_;
   std::vector<Plane> planes_;
   std::vector<Eigen::Vector3i> facets_;
+  std::vector<int> facetPlane_;
 };
 
 }  // namespace omnislice

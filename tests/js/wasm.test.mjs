@@ -118,6 +118,26 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     });
   }
 
+  // Issue 4: the voxel method gives the same field, layers and paths in wasm and natively.
+  test('same voxel report as the native CLI: generated sphere on table5', { skip: nativeWhy || false }, () => {
+    const s = { method: 'voxel', machine: 'table5', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.9 };
+    const bytes = new Uint8Array(sphereStl(7, 48, 24));
+    const file = path.join(tmp, 'voxel-sphere.stl');
+    fs.writeFileSync(file, bytes);
+    const native = nativeSlice(file, s);
+    const wasm = m.slice(bytes, 'voxel-sphere.stl', s);
+    for (const k of ['voxels', 'solid_voxels', 'missed_voxels', 'field_layers', 'layers', 'regions', 'paths']) {
+      assert.equal(wasm.report.voxel[k], native.report.voxel[k], `voxel.${k}`);
+    }
+    assert.equal(wasm.report.moves, native.report.moves, 'moves');
+    for (const k of ['path_mm', 'extrusion_mm']) close(wasm.report[k], native.report[k], 1e-6 * native.report[k], k);
+    close(wasm.report.voxel.thickness.mean_mm, native.report.voxel.thickness.mean_mm, 1e-9, 'thickness mean');
+    const p = wasm.preview;
+    assert.equal(p.axes.length, 3 * p.features.length, 'an axis per segment');
+    assert.equal(p.surfaceLayers.length * 3, p.surfaceTriangles.length, 'a layer per surface triangle');
+    assert.ok(p.voxelWidth > 0.6 && p.voxelWidth < 0.7, `voxel width ${p.voxelWidth}`);
+  });
+
   test('torus preview and mesh: counts agree with the report and are heap copies', () => {
     const r = m.slice(torusStl(20, 6, 96, 32), 'torus.stl', settings);
     assert.equal(r.report.layers, 40, '12 mm high at 0.3 mm');

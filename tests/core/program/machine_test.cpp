@@ -81,7 +81,7 @@ TEST(MachineProfile, BuiltinNamesAndValues) {
 
   const MachineProfile t5 = builtinMachine("table5", kBed, 0.4).machine;
   EXPECT_EQ(t5.axisLimits.at("B"), std::make_pair(-90.0, 90.0));
-  EXPECT_EQ(t5.axisLimits.at("C"), std::make_pair(-360.0, 360.0));
+  EXPECT_EQ(t5.axisLimits.at("C"), std::make_pair(-3600.0, 3600.0));
 
   const MachineProfile ur = builtinMachine("robot6", kBed, 1.0).machine;
   EXPECT_EQ(ur.kind, "robot6");

@@ -1,0 +1,380 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/voxel_method.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <nlohmann/json.hpp>
+
+#include "surface/curved_toolpath.h"
+#include "surface/fermat_spiral.h"
+#include "voxel/curved_layers.h"
+#include "voxel/growth_field.h"
+#include "voxel/voxelize.h"
+
+namespace omnislice {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+VoxelMethodOutput failure(Status s, std::string message) {
+  VoxelMethodOutput out;
+  out.status = s;
+  out.message = std::move(message);
+  return out;
+}
+
+VoxelMethodOutput failure(const Outcome& o) { return failure(o.status, o.message); }
+
+void pushPoint(std::vector<float>& out, const Eigen::Vector3d& p) {
+  out.push_back(static_cast<float>(p.x()));
+  out.push_back(static_cast<float>(p.y()));
+  out.push_back(static_cast<float>(p.z()));
+}
+
+}  // namespace
+
+namespace {
+
+// How far the machine can lean the nozzle from the part's +Z: a table's B range (tilting beyond it
+// is out of reach), 90 degrees for a robot holding the platform (beyond, the arm must hold the
+// part upside down, which a UR5 under a fixed nozzle reaches only in part of its workspace).
+double machineTiltDegrees(const Settings& settings, const MachineProfile& machine) {
+  if (settings.voxel.maxTiltDegrees > 0) return settings.voxel.maxTiltDegrees;
+  if (machine.kind == "table5") {
+    auto it = machine.axisLimits.find("B");
+    if (it != machine.axisLimits.end()) {
+      return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
+    }
+  }
+  return 90;
+}
+
+// The layer field: G counts growth steps (time), and a step of the field-governed growth may add
+// only a thin sliver of voxels, so iso-values of G bunch up where the front waited and spread where
+// it ran. The generation 1 + max over the voxel's AM-stable neighbours added at earlier steps
+// counts fronts instead: one unit per face- or edge-neighbour step (paper 001 Section 6.2.1: "the
+// field value is increased by one in both cases", 1.25 w per unit). For neighbouring voxels it
+// orders exactly as G does (a voxel added later than its neighbour has a larger generation), so
+// the layers keep the growth's order locally; every voxel has a neighbour one generation below.
+std::vector<int32_t> generationField(const VoxelGrid& grid, const std::vector<int32_t>& g) {
+  int32_t maxG = 0;
+  for (int32_t v : g) maxG = std::max(maxG, v);
+  std::vector<uint32_t> count(static_cast<size_t>(maxG) + 2, 0);
+  for (int32_t v : g) {
+    if (v >= 1) ++count[static_cast<size_t>(v)];
+  }
+  std::vector<uint32_t> start(count.size() + 1, 0);
+  for (size_t i = 0; i < count.size(); ++i) start[i + 1] = start[i] + count[i];
+  std::vector<uint32_t> order(start.back());
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g[i] >= 1) order[fill[static_cast<size_t>(g[i])]++] = static_cast<uint32_t>(i);
+  }
+  std::vector<int32_t> gen(g.size());
+  for (size_t i = 0; i < g.size(); ++i) gen[i] = g[i] >= 1 ? 0 : g[i];
+  const auto& offsets = amStableOffsets();
+  for (uint32_t idx : order) {
+    const Eigen::Vector3i c = grid.cell(idx);
+    int32_t best = 0;
+    for (const Eigen::Vector3i& o : offsets) {
+      const Eigen::Vector3i n = c + o;
+      if (!grid.inRange(n.x(), n.y(), n.z())) continue;
+      const size_t ni = grid.index(n.x(), n.y(), n.z());
+      if (g[ni] >= 1 && g[ni] < g[idx]) best = std::max(best, gen[ni]);
+    }
+    gen[idx] = best + 1;
+  }
+  return gen;
+}
+
+// Jacobi smoothing of a layer field over valued face neighbours (iterations), returned scaled by
+// `scale` and rounded (the extractor takes integers): the voxel staircase of G becomes gentler
+// iso-surfaces. Values <= 0 (platform, empty, missed) are kept and not averaged in.
+std::vector<int32_t> smoothedField(const VoxelGrid& grid, const std::vector<int32_t>& g,
+                                   int iterations, int32_t scale) {
+  std::vector<double> a(g.size()), b;
+  for (size_t i = 0; i < g.size(); ++i) a[i] = g[i];
+  const Eigen::Vector3i faces[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  for (int it = 0; it < iterations; ++it) {
+    b = a;
+    for (size_t idx = 0; idx < g.size(); ++idx) {
+      if (g[idx] <= 0) continue;
+      const Eigen::Vector3i c = grid.cell(idx);
+      double sum = a[idx];
+      int n = 1;
+      for (const Eigen::Vector3i& o : faces) {
+        const Eigen::Vector3i q = c + o;
+        if (!grid.inRange(q.x(), q.y(), q.z())) continue;
+        const size_t qi = grid.index(q.x(), q.y(), q.z());
+        if (g[qi] <= 0) continue;
+        sum += a[qi];
+        ++n;
+      }
+      b[idx] = sum / n;
+    }
+    a.swap(b);
+  }
+  std::vector<int32_t> out(g.size());
+  for (size_t i = 0; i < g.size(); ++i) {
+    out[i] = g[i] <= 0 ? g[i] : std::max<int32_t>(1, static_cast<int32_t>(std::lround(a[i] * scale)));
+  }
+  return out;
+}
+
+// Millimetres per field unit: the median over grown voxels of 1 / |grad G| (central differences
+// over valued face neighbours). The growth advances G by one per front step, but how far a step
+// reaches depends on the strategy (the field-governed growth takes thinner steps), so curved
+// layers of a given thickness need the iso step in field units measured, not assumed (Eq. 2
+// assumes the paper's ratio of 1.25 w per unit, Section 6.2.1).
+double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>& g) {
+  std::vector<float> spacing;
+  spacing.reserve(grid.cellCount() / 8);
+  auto valued = [&](int i, int j, int k, double& v) {
+    if (!grid.inRange(i, j, k)) return false;
+    const int32_t x = g[grid.index(i, j, k)];
+    if (x <= 0) return false;
+    v = x;
+    return true;
+  };
+  for (size_t idx = 0; idx < grid.cellCount(); ++idx) {
+    if (g[idx] <= 0) continue;
+    const Eigen::Vector3i c = grid.cell(idx);
+    double grad2 = 0;
+    bool any = false;
+    for (int a = 0; a < 3; ++a) {
+      Eigen::Vector3i lo = c, hi = c;
+      lo[a] -= 1;
+      hi[a] += 1;
+      double vl = 0, vh = 0;
+      const bool hasL = valued(lo.x(), lo.y(), lo.z(), vl), hasH = valued(hi.x(), hi.y(), hi.z(), vh);
+      double d = 0;
+      if (hasL && hasH) d = 0.5 * (vh - vl);
+      else if (hasL) d = g[idx] - vl;
+      else if (hasH) d = vh - g[idx];
+      else continue;
+      any = true;
+      grad2 += d * d;
+    }
+    if (any && grad2 > 1e-12) spacing.push_back(static_cast<float>(grid.width / std::sqrt(grad2)));
+  }
+  if (spacing.empty()) return grid.width;
+  std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
+  return spacing[spacing.size() / 2];
+}
+
+}  // namespace
+
+VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
+                                 const MachineProfile& machine, const ProgressFn& progress) {
+  VoxelMethodOutput out;
+  const double nozzle = settings.nozzleDiameter;
+  const double w = settings.voxel.widthMm > 0 ? settings.voxel.widthMm : 0.8 * nozzle;
+  const BoundingBox box = boundingBox(part);
+  const Eigen::Vector3d extent = box.max - box.min;
+  // Refuse before allocating: the bounding box holds at least the solid voxels.
+  const double boxCells = (extent.x() / w + 5) * (extent.y() / w + 5) * (extent.z() / w + 5);
+  if (!(boxCells < 2e9)) {
+    char msg[200];
+    std::snprintf(msg, sizeof msg,
+                  "the voxel grid would have %.3g cells at voxel width %.3g mm; raise "
+                  "voxel.width_mm or scale the model down",
+                  boxCells, w);
+    return failure(Status::InvalidOption, msg);
+  }
+
+  // 1. Voxelisation (Section 4.1).
+  Clock::time_point t0 = Clock::now();
+  VoxelizeOptions vopt;
+  vopt.width = w;
+  vopt.platformRadius = settings.voxel.platformRadiusMm;
+  vopt.maxCells = static_cast<size_t>(std::min(2e9, std::max(1e6, settings.voxel.maxVoxels * 40)));
+  VoxelizeResult vox = voxelizeSolid(part, vopt, progress);
+  if (!vox.ok()) return failure(vox);
+  if (static_cast<double>(vox.solidCount) > settings.voxel.maxVoxels) {
+    char msg[220];
+    std::snprintf(msg, sizeof msg,
+                  "the model needs %zu voxels at voxel width %.3g mm, more than voxel.max_voxels "
+                  "(%.0f); raise voxel.width_mm or voxel.max_voxels",
+                  vox.solidCount, w, settings.voxel.maxVoxels);
+    return failure(Status::InvalidOption, msg);
+  }
+  out.timingsMs.emplace_back("voxelize", msSince(t0));
+  VoxelGrid grid = std::move(vox.grid);
+
+  // 2. Growing field (Section 4.2-4.4, Algorithm 1), supports under missed voxels (Fig. 14c).
+  t0 = Clock::now();
+  GrowthOptions gopt;
+  if (!parseGrowthStrategy(settings.voxel.strategy, gopt.strategy) ||
+      !parseShadowScheme(settings.voxel.shadow, gopt.shadowScheme)) {
+    return failure(Status::InvalidOption, "unknown voxel.strategy or voxel.shadow");
+  }
+  gopt.peelStep = settings.voxel.peelStep;
+  if (settings.voxel.epsilon >= 0) gopt.epsilon = settings.voxel.epsilon;
+  GrowthField field = growField(grid, gopt, progress);
+  if (!field.ok()) return failure(field);
+  const size_t missedBeforeSupports = field.missed;
+  size_t supportCells = 0;
+  int supportRounds = 0;
+  double peelingMs = field.peelingMs, shadowMs = field.shadowMs;
+  while (settings.voxel.supports && field.missed > 0 && supportRounds < 3) {
+    std::vector<uint8_t> missed(grid.cellCount(), 0);
+    for (size_t i = 0; i < grid.cellCount(); ++i) missed[i] = field.g[i] < 0 ? 1 : 0;
+    const size_t added = addSupportColumns(grid, missed);
+    ++supportRounds;
+    if (added == 0) break;
+    supportCells += added;
+    field = growField(grid, gopt, progress);
+    if (!field.ok()) return failure(field);
+    peelingMs += field.peelingMs;
+    shadowMs += field.shadowMs;
+  }
+  const double fieldMs = msSince(t0);
+  out.timingsMs.emplace_back("peeling", peelingMs);
+  out.timingsMs.emplace_back("growth", std::max(0.0, fieldMs - peelingMs));
+
+  // 3. Curved layers (Section 4.5, Eq. 2).
+  t0 = Clock::now();
+  CurvedLayersOptions lopt;
+  std::vector<int32_t> layerField =
+      settings.voxel.layerField == "generations" ? generationField(grid, field.g) : field.g;
+  const int smoothIterations = static_cast<int>(settings.voxel.smoothIterations);
+  if (smoothIterations > 0) layerField = smoothedField(grid, layerField, smoothIterations, 16);
+  const double mmPerUnit = millimetresPerFieldUnit(grid, layerField);
+  const double targetLayer = settings.voxel.layerMm > 0 ? settings.voxel.layerMm : w;
+  lopt.isoStep = settings.voxel.isoStep > 0 ? settings.voxel.isoStep : targetLayer / mmPerUnit;
+  lopt.nozzleDiameter = nozzle;
+  CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
+  if (!layers.ok()) return failure(layers);
+  out.timingsMs.emplace_back("layers", msSince(t0));
+
+  // 4. Fermat spirals on every region (Section 5.1) and the tool-path (Section 5.2).
+  t0 = Clock::now();
+  const double lineWidth = settings.effectiveLineWidth();
+  SpiralOptions sopt;
+  sopt.spacing = lineWidth;
+  std::vector<std::vector<std::vector<SurfacePath>>> paths(layers.layers.size());
+  size_t regionCount = 0, pathCount = 0, unfilledRegions = 0;
+  for (size_t l = 0; l < layers.layers.size(); ++l) {
+    const CurvedLayer& layer = layers.layers[l];
+    paths[l].resize(layer.regions.size());
+    for (size_t r = 0; r < layer.regions.size(); ++r) {
+      ++regionCount;
+      SpiralResult spiral = fermatSpiralPaths(layer.regions[r].mesh, sopt);
+      if (!spiral.ok() || spiral.paths.empty()) {
+        ++unfilledRegions;
+        continue;
+      }
+      pathCount += spiral.paths.size();
+      paths[l][r] = std::move(spiral.paths);
+    }
+    if (!reportProgress(progress, "toolpath", 0.8 * (l + 1) / layers.layers.size())) {
+      return failure(Status::Cancelled, "cancelled");
+    }
+  }
+  const double spiralMs = msSince(t0);
+  CurvedToolpathOptions topt;
+  topt.lineWidth = lineWidth;
+  topt.nominalHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
+  topt.filamentDiameter = settings.filamentDiameter;
+  topt.printSpeed = settings.printSpeed;
+  topt.firstLayerSpeed = settings.firstLayerSpeed;
+  topt.travelSpeed = settings.travelSpeed;
+  topt.retractLength = settings.retractLength;
+  topt.retractMinTravel = settings.retractMinTravel;
+  topt.retractSpeed = settings.retractSpeed;
+  topt.maxTiltDegrees = machineTiltDegrees(settings, machine);
+  CurvedToolpathResult tp = buildCurvedToolpath(layers.layers, paths, topt, progress);
+  if (!tp.ok()) return failure(tp);
+  out.timingsMs.emplace_back("toolpath", msSince(t0));
+  out.toolpath = std::move(tp.toolpath);
+  out.layerHeight = topt.nominalHeight;
+  int printedLayers = 0;
+  for (const auto& layer : paths) {
+    bool any = false;
+    for (const auto& region : layer) any = any || !region.empty();
+    printedLayers += any ? 1 : 0;
+  }
+  out.layers = printedLayers;
+
+  // Preview: layer surfaces, missed and support voxels.
+  PreviewBuffers& p = out.preview;
+  for (size_t l = 0; l < layers.layers.size(); ++l) {
+    for (const LayerRegion& region : layers.layers[l].regions) {
+      const uint32_t base = static_cast<uint32_t>(p.surfacePositions.size() / 3);
+      for (double v : region.mesh.positions) p.surfacePositions.push_back(static_cast<float>(v));
+      for (uint32_t i : region.mesh.triangles) p.surfaceTriangles.push_back(base + i);
+      p.surfaceLayers.insert(p.surfaceLayers.end(), region.mesh.faceCount(),
+                             static_cast<uint32_t>(l));
+    }
+  }
+  size_t solid = 0, support = 0;
+  for (size_t i = 0; i < grid.cellCount(); ++i) {
+    const Eigen::Vector3i c = grid.cell(i);
+    if (grid.state[i] == static_cast<uint8_t>(VoxelState::Solid)) ++solid;
+    if (grid.state[i] == static_cast<uint8_t>(VoxelState::Support)) {
+      ++support;
+      pushPoint(p.supportVoxels, grid.center(c.x(), c.y(), c.z()));
+    }
+    if (field.g[i] < 0) pushPoint(p.missedVoxels, grid.center(c.x(), c.y(), c.z()));
+  }
+  p.voxelWidth = static_cast<float>(w);
+
+  const ThicknessStats& th = layers.thickness;
+  Json hist = {{"min_mm", th.histogramMin}, {"bin_mm", th.histogramBin}, {"counts", th.histogram}};
+  Json timings = {{"voxelize", out.timingsMs[0].second},
+                  {"peeling", peelingMs},
+                  {"shadow", shadowMs},
+                  {"growth", std::max(0.0, fieldMs - peelingMs)},
+                  {"extraction", out.timingsMs[3].second},
+                  {"spirals", spiralMs},
+                  {"toolpaths", out.timingsMs[4].second}};
+  Json report = {{"voxels", solid + support},
+                 {"solid_voxels", solid},
+                 {"support_voxels", support},
+                 {"missed_voxels", field.missed},
+                 {"missed_before_supports", missedBeforeSupports},
+                 {"support_rounds", supportRounds},
+                 {"field_layers", field.layers},
+                 {"layer_field", settings.voxel.layerField},
+                 {"smooth_iterations", smoothIterations},
+                 {"layer_field_max", *std::max_element(layerField.begin(), layerField.end())},
+                 {"layers", out.layers},
+                 {"surface_layers", layers.layers.size()},
+                 {"regions", regionCount},
+                 {"unfilled_regions", unfilledRegions},
+                 {"paths", pathCount},
+                 {"strategy", growthStrategyName(gopt.strategy)},
+                 {"shadow_scheme", shadowSchemeName(gopt.shadowScheme)},
+                 {"epsilon", gopt.epsilon},
+                 {"peel_step", gopt.peelStep},
+                 {"voxel_width_mm", w},
+                 {"iso_step", lopt.isoStep},
+                 {"mm_per_field_unit", mmPerUnit},
+                 {"target_layer_mm", targetLayer},
+                 {"thickness",
+                  {{"samples", th.samples},
+                   {"mean_mm", th.mean},
+                   {"std_mm", th.stddev},
+                   {"max_deviation_mm", th.maxDeviation},
+                   {"histogram", hist}}},
+                 {"timings_ms", timings},
+                 {"shadow_checks", field.shadowChecks},
+                 {"hull_builds", field.hullBuilds},
+                 {"orientation_fallbacks", tp.orientationFallbacks},
+                 {"max_tilt_deg", topt.maxTiltDegrees},
+                 {"tilt_clamped", tp.tiltClamped}};
+  (void)supportCells;
+  out.reportJson = report.dump();
+  return out;
+}
+
+}  // namespace omnislice
