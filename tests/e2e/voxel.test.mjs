@@ -82,8 +82,8 @@ test('the method choice shows the voxel settings and hides the planar-only ones'
   assert.equal(await visible('voxel-strategy'), false, 'voxel rows hidden for planar');
   assert.equal(await visible('setting-infill'), true);
   await setSetting('setting-method', 'voxel');
-  for (const id of ['voxel-width', 'voxel-strategy', 'voxel-shadow', 'voxel-peel-step', 'voxel-epsilon', 'voxel-iso-step',
-    'voxel-supports', 'voxel-platform-radius', 'voxel-max-voxels']) {
+  for (const id of ['voxel-width', 'voxel-strategy', 'voxel-shadow', 'voxel-peel-step', 'voxel-epsilon', 'voxel-layer-field',
+    'voxel-smooth', 'voxel-layer-mm', 'voxel-iso-step', 'voxel-max-tilt', 'voxel-supports', 'voxel-platform-radius', 'voxel-max-voxels']) {
     assert.equal(await visible(id), true, `${id} shown for voxel`);
   }
   for (const id of ['setting-infill', 'setting-walls', 'setting-layer_height']) assert.equal(await visible(id), false, `${id} hidden for voxel`);
