@@ -731,6 +731,11 @@ function showMachineProfile() {
     ? `profile ${app.machineFiles.get(json) || 'from a file'} (${kind})`
     : `built-in profile ${app.model.get('machine')}`;
   $('machine-profile').dataset.kind = kind;
+  // The voxel method tilts the nozzle: it needs two rotary axes (table5) or a robot.
+  const hint = $('method-hint');
+  const needsTilt = app.model.get('method') === 'voxel' && !['table5', 'robot6'].includes(kind);
+  hint.hidden = !needsTilt;
+  hint.textContent = needsTilt ? `the voxel method tilts the nozzle: choose table5 or a robot (${kind} has no tilt axes)` : '';
 }
 
 // ---- machine animation ----------------------------------------------------------------------

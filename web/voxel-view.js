@@ -50,7 +50,7 @@ export class VoxelView {
    *   surfaceLayers, missedVoxels, supportVoxels, voxelWidth
    * @param {{maxGlyphs?: number, glyphLength?: number}} [options]
    */
-  static async build(preview, { maxGlyphs = 4000, glyphLength, budgetMs, block } = {}) {
+  static async build(preview, { maxGlyphs = 2000, glyphLength, budgetMs, block } = {}) {
     const surfaces = await buildSurfaceArrays(preview, { budgetMs, block });
     const width = Number(preview.voxelWidth) > 0 ? Number(preview.voxelWidth) : 0;
     const glyphs = await decimateGlyphs(preview, { maxGlyphs, length: glyphLength || Math.max(2.5 * width, 1.5), budgetMs });
