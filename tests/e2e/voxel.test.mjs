@@ -342,6 +342,20 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
   }
 });
 
+test('a planar slice afterwards hides the voxel view and figures', async (t) => {
+  if (skipWhy) return t.skip(skipWhy);
+  assert.equal(await page.evaluate(() => window.omnislice.settings.method), 'planar');
+  const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
+  await page.click(tid('slice-button'), { timeout: 120_000 });
+  await page.waitForFunction((n) => document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) > n, before, { timeout: 180_000 });
+  assert.equal(await page.isHidden(tid('voxel-bar')), true);
+  assert.equal(await page.isHidden(tid('voxel-report')), true);
+  assert.equal(await page.evaluate(() => window.omnislice.voxel), null);
+  assert.doesNotMatch(await page.textContent(tid('progress-text')), /field layers/);
+  const stages = await page.evaluate(() => window.omnislice.stages.map(([s]) => s));
+  assert.ok(stages.includes('slice') && !stages.includes('growth'), stages.join(','));
+});
+
 test('a large voxel result is shown in short main-thread steps', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
   // 300k surface triangles in 150 layers, 600k segments, 40k support and 2k missed cells. Every
@@ -392,20 +406,6 @@ test('a large voxel result is shown in short main-thread steps', async (t) => {
     t.diagnostic(`slow steps: ${JSON.stringify(slow)}`);
   }
   assert.fail('every run had an app step over 50 ms (see diagnostics)');
-});
-
-test('a planar slice afterwards hides the voxel view and figures', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
-  assert.equal(await page.evaluate(() => window.omnislice.settings.method), 'planar');
-  const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
-  await page.click(tid('slice-button'));
-  await page.waitForFunction((n) => document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) > n, before, { timeout: 180_000 });
-  assert.equal(await page.isHidden(tid('voxel-bar')), true);
-  assert.equal(await page.isHidden(tid('voxel-report')), true);
-  assert.equal(await page.evaluate(() => window.omnislice.voxel), null);
-  assert.doesNotMatch(await page.textContent(tid('progress-text')), /field layers/);
-  const stages = await page.evaluate(() => window.omnislice.stages.map(([s]) => s));
-  assert.ok(stages.includes('slice') && !stages.includes('growth'), stages.join(','));
 });
 
 test('no uncaught page error', (t) => {
