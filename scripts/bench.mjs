@@ -119,9 +119,9 @@ const VOXEL_100K = 'bunny voxel ~100k voxels (table5)';
 const VOXEL_540K = 'bunny voxel ~540k voxels (table5)';
 if (fs.existsSync(bunny)) {
   const voxel = { method: 'voxel', machine: 'table5', nozzle_diameter: 0.5, layer_height: 0.4, line_width: 0.55 };
-  cases.push({ case: VOXEL_100K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_100K) || 29 } });
+  cases.push({ case: VOXEL_100K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_100K) || 30.5 } });
   if (process.env.BENCH_VOXEL_540K !== '0') {
-    cases.push({ case: VOXEL_540K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_540K) || 51 }, freshModule: true, reps: 1 });
+    cases.push({ case: VOXEL_540K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_540K) || 54.5 }, freshModule: true, reps: 1 });
   }
 }
 

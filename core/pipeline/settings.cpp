@@ -227,8 +227,8 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
     return {};
   }
   if (key == "voxel.layer_field") {
-    if (value != "steps" && value != "generations") {
-      return invalid(key, "'" + value + "' is not a layer field (steps, generations)");
+    if (value != "steps" && value != "generations" && value != "distance") {
+      return invalid(key, "'" + value + "' is not a layer field (steps, generations, distance)");
     }
     settings.voxel.layerField = value;
     return {};

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "surface/curved_toolpath.h"
@@ -96,6 +97,66 @@ std::vector<int32_t> generationField(const VoxelGrid& grid, const std::vector<in
   return gen;
 }
 
+// The growth distance: the length of the shortest path from the platform through AM-stable
+// neighbour steps that each go to a voxel added at a later growth step (a shortest path in the
+// growth's DAG, in voxel widths x `scale`, rounded), raised where needed to stay above every
+// neighbour grown earlier. Where the field-governed growth made a region wait, G jumps between the
+// early and the late voxels and its iso-surfaces bunch up there; this distance does not jump, so
+// layers keep their thickness (30 mm Bunny, 0.64 mm voxels: thickness std 0.32 mm with G, 0.15 mm
+// with this; verify coverage 0.914 -> 0.990, supported 0.797 -> 0.920, collisions 162 -> 344).
+std::vector<int32_t> growthDistanceField(const VoxelGrid& grid, const std::vector<int32_t>& g,
+                                         double scale, double orderMargin) {
+  int32_t maxG = 0;
+  for (int32_t v : g) maxG = std::max(maxG, v);
+  std::vector<uint32_t> start(static_cast<size_t>(maxG) + 2, 0);
+  for (int32_t v : g) {
+    if (v >= 1) ++start[static_cast<size_t>(v)];
+  }
+  uint32_t acc = 0;
+  for (uint32_t& c : start) {
+    const uint32_t n = c;
+    c = acc;
+    acc += n;
+  }
+  std::vector<uint32_t> order(acc);
+  std::vector<uint32_t> fill(start);
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g[i] >= 1) order[fill[static_cast<size_t>(g[i])]++] = static_cast<uint32_t>(i);
+  }
+  std::vector<double> d(g.size(), 0.0);
+  const auto& offsets = amStableOffsets();
+  for (uint32_t idx : order) {
+    if (g[idx] == 1) {
+      d[idx] = 0.5;  // a first-layer voxel's centre is half a voxel above the platform
+      continue;
+    }
+    const Eigen::Vector3i c = grid.cell(idx);
+    double best = std::numeric_limits<double>::infinity();
+    for (const Eigen::Vector3i& o : offsets) {
+      const Eigen::Vector3i n = c + o;
+      if (!grid.inRange(n.x(), n.y(), n.z())) continue;
+      const size_t ni = grid.index(n.x(), n.y(), n.z());
+      if (g[ni] >= 1 && g[ni] < g[idx]) best = std::min(best, d[ni] + o.cast<double>().norm());
+    }
+    // Keep the growth order with every earlier neighbour: at least orderMargin voxels above each
+    // (0.1: on a 30 mm Bunny, 0.1 / 0.25 / 0.5 gave supported 0.92 / 0.90 / 0.88, collisions
+    // 344 / 960 / 141, thickness std 0.15 / 0.16 / 0.29 mm).
+    double above = 0;
+    for (const Eigen::Vector3i& o : offsets) {
+      const Eigen::Vector3i n = c + o;
+      if (!grid.inRange(n.x(), n.y(), n.z())) continue;
+      const size_t ni = grid.index(n.x(), n.y(), n.z());
+      if (g[ni] >= 1 && g[ni] < g[idx]) above = std::max(above, d[ni] + orderMargin);
+    }
+    d[idx] = std::max(std::isfinite(best) ? best : 0.5, above);
+  }
+  std::vector<int32_t> out(g.size());
+  for (size_t i = 0; i < g.size(); ++i) {
+    out[i] = g[i] >= 1 ? std::max<int32_t>(1, static_cast<int32_t>(std::lround(d[i] * scale))) : g[i];
+  }
+  return out;
+}
+
 // Jacobi smoothing of a layer field over valued face neighbours (iterations), returned scaled by
 // `scale` and rounded (the extractor takes integers): the voxel staircase of G becomes gentler
 // iso-surfaces. Values <= 0 (platform, empty, missed) are kept and not averaged in.
@@ -130,14 +191,15 @@ std::vector<int32_t> smoothedField(const VoxelGrid& grid, const std::vector<int3
   return out;
 }
 
-// Millimetres per field unit: the median over grown voxels of 1 / |grad G| (central differences
-// over valued face neighbours). The growth advances G by one per front step, but how far a step
-// reaches depends on the strategy (the field-governed growth takes thinner steps), so curved
-// layers of a given thickness need the iso step in field units measured, not assumed (Eq. 2
-// assumes the paper's ratio of 1.25 w per unit, Section 6.2.1).
+// Millimetres per field unit as the layers will measure it: the thickness of iso-surfaces spaced
+// one unit apart, averaged over their area, is 1 / |grad G| weighted by area, and by the coarea
+// formula that average over all level sets is V / integral |grad G| dV, i.e. w over the mean
+// gradient (in units per cell) over the valued voxels (central differences over valued face
+// neighbours, one-sided at the border). The growth advances G by one per front step, but how far a
+// step reaches depends on the strategy (the field-governed growth takes thinner steps), so curved
+// layers of a given thickness need the iso step measured, not assumed (Eq. 2 assumes the paper's
+// 1.25 w per unit, Section 6.2.1).
 double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>& g) {
-  std::vector<float> spacing;
-  spacing.reserve(grid.cellCount() / 8);
   auto valued = [&](int i, int j, int k, double& v) {
     if (!grid.inRange(i, j, k)) return false;
     const int32_t x = g[grid.index(i, j, k)];
@@ -145,11 +207,12 @@ double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>
     v = x;
     return true;
   };
+  double sum = 0;
+  size_t count = 0;
   for (size_t idx = 0; idx < grid.cellCount(); ++idx) {
     if (g[idx] <= 0) continue;
     const Eigen::Vector3i c = grid.cell(idx);
     double grad2 = 0;
-    bool any = false;
     for (int a = 0; a < 3; ++a) {
       Eigen::Vector3i lo = c, hi = c;
       lo[a] -= 1;
@@ -160,15 +223,13 @@ double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>
       if (hasL && hasH) d = 0.5 * (vh - vl);
       else if (hasL) d = g[idx] - vl;
       else if (hasH) d = vh - g[idx];
-      else continue;
-      any = true;
       grad2 += d * d;
     }
-    if (any && grad2 > 1e-12) spacing.push_back(static_cast<float>(grid.width / std::sqrt(grad2)));
+    sum += std::sqrt(grad2);
+    ++count;
   }
-  if (spacing.empty()) return grid.width;
-  std::nth_element(spacing.begin(), spacing.begin() + spacing.size() / 2, spacing.end());
-  return spacing[spacing.size() / 2];
+  if (count == 0 || sum <= 0) return grid.width;
+  return grid.width * static_cast<double>(count) / sum;
 }
 
 }  // namespace
@@ -245,7 +306,9 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   t0 = Clock::now();
   CurvedLayersOptions lopt;
   std::vector<int32_t> layerField =
-      settings.voxel.layerField == "generations" ? generationField(grid, field.g) : field.g;
+      settings.voxel.layerField == "generations" ? generationField(grid, field.g)
+      : settings.voxel.layerField == "distance"  ? growthDistanceField(grid, field.g, 16, 0.1)
+                                                 : field.g;
   const int smoothIterations = static_cast<int>(settings.voxel.smoothIterations);
   if (smoothIterations > 0) layerField = smoothedField(grid, layerField, smoothIterations, 16);
   const double mmPerUnit = millimetresPerFieldUnit(grid, layerField);

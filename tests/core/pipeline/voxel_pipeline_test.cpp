@@ -81,10 +81,10 @@ void expectVerified(const SliceOutput& out, const std::vector<uint8_t>& bytes, c
   const Json vr = Json::parse(v.verifyJson);
   const Json report = Json::parse(out.reportJson);
   EXPECT_GE(vr["inside"].get<double>(), 0.99) << vr.dump();
-  // Issue 4 asks supported >= 0.99; curved layers of uneven thickness (std ~0.15 mm on a 0.6 mm
-  // mean here) leave 10-15 % of the surface samples farther than 1.5 h from the layer below
-  // (measured 0.85 on table5 and robot6). Guard the level reached, not the target.
-  EXPECT_GE(vr["supported"].get<double>(), 0.8) << vr.dump();
+  // Issue 4 asks supported >= 0.99; curved layers of uneven thickness (std ~0.07 mm on a 0.6 mm
+  // mean here) leave a few % of the surface samples farther than 1.5 h from the layer below
+  // (measured 0.955 on table5). Guard the level reached, not the target.
+  EXPECT_GE(vr["supported"].get<double>(), 0.93) << vr.dump();
   EXPECT_GE(vr["coverage"].get<double>(), 0.97) << vr.dump();
   EXPECT_EQ(vr["collisions"].get<int>(), 0) << vr.dump();
   EXPECT_EQ(vr["limits"].get<int>(), 0) << vr.dump();
@@ -148,6 +148,33 @@ INSTANTIATE_TEST_SUITE_P(Machines, VoxelPipeline, ::testing::Values("table5", "r
                            }
                            return n;
                          });
+
+// Fig. 14c: the greedy growth (GCFA) misses voxels under the Bunny's chin; supports under the
+// missed voxels let the grown-again field cover the whole model, and the report says so.
+TEST(VoxelPipelineSupports, SupportsUnderMissedVoxelsLetTheFieldCoverTheModel) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const auto bytes = test::readBytes(test::sharedModelsDir() / "compas_bunny_closed_low_res.obj");
+  Settings s = voxelSettings("table5");
+  ASSERT_TRUE(setSetting(s, "fit_mm", "30").ok());
+  ASSERT_TRUE(setSetting(s, "voxel.strategy", "gcfa").ok());
+  SliceOutput without = runSlice(bytes.data(), bytes.size(), "bunny.obj", s);
+  ASSERT_TRUE(without.ok()) << without.message;
+  const Json a = Json::parse(without.reportJson)["voxel"];
+  EXPECT_GT(a["missed_voxels"].get<int>(), 0) << a.dump();
+  EXPECT_EQ(without.preview.missedVoxels.size(), 3 * a["missed_voxels"].get<size_t>());
+  EXPECT_EQ(a["support_voxels"].get<int>(), 0);
+
+  ASSERT_TRUE(setSetting(s, "voxel.supports", "true").ok());
+  SliceOutput with = runSlice(bytes.data(), bytes.size(), "bunny.obj", s);
+  ASSERT_TRUE(with.ok()) << with.message;
+  const Json b = Json::parse(with.reportJson)["voxel"];
+  EXPECT_EQ(b["missed_before_supports"], a["missed_voxels"]);
+  EXPECT_EQ(b["missed_voxels"].get<int>(), 0) << b.dump();
+  EXPECT_GT(b["support_voxels"].get<int>(), 0);
+  EXPECT_EQ(b["voxels"].get<int>(), a["voxels"].get<int>() + b["support_voxels"].get<int>());
+  EXPECT_EQ(with.preview.supportVoxels.size(), 3 * b["support_voxels"].get<size_t>());
+  EXPECT_TRUE(with.preview.missedVoxels.empty());
+}
 
 TEST(VoxelPipelineErrors, ThreeAxisMachineIsRefusedWithAReason) {
   const auto bytes = mushroomBytes();
