@@ -330,11 +330,12 @@ function renderHistogram(thickness) {
   }
   const base = geo.plot.y + geo.plot.height;
   svg.append(svgElement('line', { class: 'axis', x1: geo.plot.x, y1: base, x2: geo.plot.x + geo.plot.width, y2: base }));
-  // The end labels are anchored inside the plot so they are not clipped.
-  geo.ticks.forEach((t, i) => {
-    const anchor = i === 0 ? 'start' : i === geo.ticks.length - 1 ? 'end' : 'middle';
+  // Labels near the ends are anchored inside the plot so they are not clipped.
+  for (const t of geo.ticks) {
+    const anchor = t.x - geo.plot.x < 14 ? 'start' : geo.plot.x + geo.plot.width - t.x < 14 ? 'end' : 'middle';
+    svg.append(svgElement('line', { class: 'axis', x1: t.x, y1: base, x2: t.x, y2: base + 3 }));
     svg.append(svgElement('text', { class: 'tick', x: t.x, y: base + 12, 'text-anchor': anchor }, t.label));
-  });
+  }
   const n = geo.bars.length;
   const std = Number(thickness.std_mm);
   if (n) {

@@ -269,7 +269,8 @@ export function formatMm(x) {
  * Bars of a histogram {min_mm, bin_mm, counts} in a width x height box (SVG user units, y down):
  * bar i spans [min + i bin, min + (i+1) bin) and is counts[i] / max(counts) of the plot's height.
  * @returns {{bars: {x, y, width, height, count, from, to}[], total: number, maxCount: number,
- *   plot: {x, y, width, height}, ticks: {x, label}[]}}
+ *   plot: {x, y, width, height}, ticks: {x, label, value}[]}} ticks: round values (1, 2 or 5
+ *   times a power of ten apart) within the bins' span
  * @throws Error when the histogram is malformed
  */
 export function histogramGeometry(hist, { width = 260, height = 110, padLeft = 6, padRight = 6, padTop = 6, padBottom = 18, ticks = 5 } = {}) {
@@ -289,12 +290,17 @@ export function histogramGeometry(hist, { width = 260, height = 110, padLeft = 6
     const h = maxCount > 0 ? (count / maxCount) * plot.height : 0;
     return { x: plot.x + i * bw, y: plot.y + plot.height - h, width: bw, height: h, count, from: min + i * bin, to: min + (i + 1) * bin };
   });
+  // Ticks at round values (1, 2 or 5 times a power of ten), about `ticks` of them.
   const tickList = [];
   if (n > 0) {
-    const k = Math.max(Math.min(ticks, n), 1);
-    for (let j = 0; j <= k; j++) {
-      const i = Math.round((j * n) / k);
-      tickList.push({ x: plot.x + i * bw, label: formatMm(min + i * bin) });
+    const lo = min;
+    const hi = min + n * bin;
+    const rough = (hi - lo) / Math.max(ticks, 1);
+    const p10 = 10 ** Math.floor(Math.log10(rough));
+    const step = [1, 2, 5, 10].map((m) => m * p10).find((x) => x >= rough * 0.999) || 10 * p10;
+    for (let j = Math.ceil(lo / step - 1e-9); j * step <= hi + 1e-9 * step; j++) {
+      const v = Math.abs(j * step) < 1e-12 ? 0 : j * step;
+      tickList.push({ x: plot.x + ((v - lo) / (hi - lo)) * plot.width, label: formatMm(v), value: v });
     }
   }
   return { bars, total, maxCount, plot, ticks: tickList };

@@ -178,9 +178,11 @@ test('histogramGeometry: bars proportional to counts, spanning the plot, ticks i
     assert.ok(Math.abs(b.from - (-0.12 + i * 0.02)) < 1e-12 && Math.abs(b.to - b.from - 0.02) < 1e-12);
   }
   assert.equal(g.bars[4].height, 86, 'the tallest bar fills the plot');
-  assert.deepEqual(g.ticks.map((t) => t.label), ['-0.12', '-0.06', '0', '0.06', '0.12']);
-  assert.equal(g.ticks[0].x, 6);
-  assert.equal(g.ticks.at(-1).x, 254);
+  // Span -0.12..0.12 mm, about 4 ticks: every 0.1 mm (0.06 rounded up to 1-2-5 steps).
+  assert.deepEqual(g.ticks.map((t) => t.label), ['-0.1', '0', '0.1']);
+  for (const tk of g.ticks) assert.ok(Math.abs(tk.x - (6 + ((tk.value + 0.12) / 0.24) * 248)) < 1e-9, `tick ${tk.label} at ${tk.x}`);
+  const wide = histogramGeometry({ min_mm: -0.895, bin_mm: 0.1, counts: new Array(76).fill(1) }, { ticks: 5 });
+  assert.deepEqual(wide.ticks.map((t) => t.label), ['0', '2', '4', '6']);
   assert.equal(histogramGeometry({ min_mm: 0, bin_mm: 1, counts: [0, 0] }).bars.every((b) => b.height === 0), true);
   assert.equal(histogramGeometry({ min_mm: 0, bin_mm: 1, counts: [] }).bars.length, 0);
   assert.throws(() => histogramGeometry({ min_mm: 0, bin_mm: 0, counts: [1] }), /bin_mm/);
