@@ -318,6 +318,7 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
     assert.ok(bars > 0);
     const v = await page.evaluate(() => window.omnislice.voxel);
     assert.ok(v.surfaceTriangles > 0 && v.surfaceLayers > 1, JSON.stringify(v));
+    if (vr.surface_layers !== undefined) assert.equal(v.surfaceLayers, vr.surface_layers, 'one surface layer per reported layer surface');
     assert.equal(v.drawnTriangles, v.surfaceTriangles);
     assert.equal(v.missed, vr.missed_voxels, 'one red cube per missed voxel');
     assert.ok(Math.abs(v.voxelWidth - vr.voxel_width_mm) < 1e-6);
