@@ -14,12 +14,13 @@ import {
 } from './settings-panel.js';
 import { MachineView } from './machine-view.js';
 import { machineAxisNames } from './machine-kinematics.js';
+import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
+import {
+  STAGE_WEIGHTS, formatMm, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
+} from './voxel-data.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
-// Share of the progress bar per stage (stages arrive in this order).
-const STAGE_WEIGHTS = { read: 0.04, validate: 0.06, place: 0.02, slice: 0.28, toolpath: 0.45, program: 0.15 };
-const STAGE_ORDER = Object.keys(STAGE_WEIGHTS);
 const FILAMENT_AREA_MM2 = Math.PI * (1.75 / 2) ** 2;
 const PLA_G_PER_MM3 = 1.24e-3;
 
@@ -29,6 +30,7 @@ const app = {
   slicer: null,
   viewer: null,
   preview: null,
+  voxelView: null,   // VoxelView of the result's curved layers, missed voxels and nozzle axes
   model: new SettingsModel(),
   history: new History(),
   mesh: null,        // {name, meshId, info} of the loaded mesh
@@ -37,7 +39,7 @@ const app = {
   abort: null,       // AbortController of the running slice
   placementDirty: false,
   sliceCount: 0,
-  progress: { stage: '', fraction: 0, overall: 0, pending: false },
+  progress: newProgress('planar'),
   machineFiles: new Map(), // machine_json text -> file name it was loaded from (undo may bring any back)
   machineView: null, // MachineView of app.replay or app.result while the machine toggle is on
   replay: null,      // {name, profile, preview} of a replayed program file (shown instead of the result)
@@ -97,23 +99,71 @@ function setProgressText(text, fraction) {
   if (fraction !== undefined) bar.value = fraction;
 }
 
+/** Progress state of one slice: the method's stage weights, and every stage seen with its times. */
+function newProgress(method) {
+  return {
+    stage: '', fraction: 0, overall: 0, pending: false,
+    weights: STAGE_WEIGHTS[method] || STAGE_WEIGHTS.planar,
+    stages: new Map(),  // stage -> {fraction, start, end} (performance.now() ms), in arrival order
+  };
+}
+
 /** Progress callback: keep the latest value, paint once per frame. */
 function onProgress({ stage, fraction }) {
   const p = app.progress;
   p.stage = stage;
   p.fraction = Math.min(Math.max(Number(fraction) || 0, 0), 1);
-  const k = STAGE_ORDER.indexOf(stage);
-  if (k >= 0) {
-    let before = 0;
-    for (let i = 0; i < k; i++) before += STAGE_WEIGHTS[STAGE_ORDER[i]];
-    p.overall = Math.max(p.overall, before + STAGE_WEIGHTS[stage] * p.fraction);
+  const overall = overallProgress(p.weights, stage, p.fraction);
+  if (overall !== null) p.overall = Math.max(p.overall, overall);
+  const now = performance.now();
+  let entry = p.stages.get(stage);
+  if (!entry) {
+    // A new stage ends the previous ones.
+    for (const e of p.stages.values()) e.fraction = 1;
+    entry = { fraction: 0, start: now, end: now };
+    p.stages.set(stage, entry);
   }
+  entry.fraction = Math.max(entry.fraction, p.fraction);
+  entry.end = now;
   if (p.pending) return;
   p.pending = true;
   requestAnimationFrame(() => {
     p.pending = false;
-    if (app.busy) setProgressText(`${p.stage} ${Math.round(p.fraction * 100)}%`, p.overall);
+    if (app.busy) {
+      setProgressText(`${p.stage} ${Math.round(p.fraction * 100)}%`, p.overall);
+      showStages();
+    }
   });
+}
+
+/** The stage list under the progress bar: name, percentage and time of every stage seen. */
+function showStages({ finished = false } = {}) {
+  const p = app.progress;
+  const list = $('stage-list');
+  const items = [];
+  const entries = [...p.stages];
+  let k = 0;
+  for (const [stage, e] of entries) {
+    const last = k++ === entries.length - 1;
+    // A stage lasts from its first report to the next stage's first report (or its own last).
+    const end = last ? e.end : entries[k][1].start;
+    const li = document.createElement('li');
+    li.dataset.stage = stage;
+    const done = finished || !last || e.fraction >= 1;
+    li.className = done ? 'done' : 'running';
+    const name = document.createElement('span');
+    name.textContent = stage;
+    const pct = document.createElement('span');
+    pct.className = 'pct';
+    pct.textContent = `${Math.round((done ? 1 : e.fraction) * 100)}%`;
+    const ms = document.createElement('span');
+    ms.className = 'ms';
+    const dt = end - e.start;
+    ms.textContent = dt >= 1000 ? `${(dt / 1000).toFixed(1)} s` : `${Math.round(dt)} ms`;
+    li.append(name, pct, ms);
+    items.push(li);
+  }
+  list.replaceChildren(...items);
 }
 
 // ---- figures --------------------------------------------------------------------------------------
@@ -196,6 +246,7 @@ function showReport(report) {
   $('report-program').textContent = r.program_format || r.program_extension || '—';
   const motion = r.motion && typeof r.motion === 'object' ? r.motion : null;
   $('report-motion').hidden = !motion;
+  showVoxelReport(r.voxel && typeof r.voxel === 'object' ? r.voxel : null);
   // Angular figures are radians for a robot's joints, degrees for the A, B, C axes.
   const unit = r.machine_kind === 'robot6' ? ' rad' : '°';
   for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
@@ -218,6 +269,91 @@ function formatFigure(x) {
   if (typeof x !== 'number') return String(x);
   if (!Number.isFinite(x)) return '—';
   return Number.isInteger(x) ? x.toLocaleString('en') : String(Number(x.toPrecision(4)));
+}
+
+/** The voxel method's figures, histogram and summary (hidden for other methods). */
+function showVoxelReport(v) {
+  const section = $('voxel-report');
+  section.hidden = !v;
+  const dl = $('voxel-figures');
+  dl.replaceChildren();
+  renderHistogram(v && v.thickness);
+  if (!v) return;
+  for (const [key, label, text] of voxelSummaryRows(v)) {
+    const dt = document.createElement('dt');
+    dt.textContent = label;
+    const dd = document.createElement('dd');
+    dd.dataset.testid = `voxel-${key}`;
+    dd.textContent = text;
+    dl.append(dt, dd);
+  }
+}
+
+const SVG_NS = 'http://www.w3.org/2000/svg';
+
+function svgElement(name, attributes, text) {
+  const el = document.createElementNS(SVG_NS, name);
+  for (const [k, v] of Object.entries(attributes)) el.setAttribute(k, String(v));
+  if (text !== undefined) el.textContent = text;
+  return el;
+}
+
+/**
+ * Draw report.voxel.thickness.histogram (counts of thickness minus the mean, mm) into the SVG:
+ * bars, x ticks in mm, a line at deviation 0 (the mean) and dotted lines at ± one std.
+ */
+function renderHistogram(thickness) {
+  const svg = $('thickness-histogram');
+  const stats = $('thickness-stats');
+  svg.replaceChildren();
+  delete svg.dataset.bars;
+  delete svg.dataset.total;
+  const hist = thickness && thickness.histogram;
+  if (!hist) {
+    stats.textContent = '—';
+    return;
+  }
+  let geo;
+  try {
+    geo = histogramGeometry(hist, { width: 260, height: 110 });
+  } catch (err) {
+    stats.textContent = `(${err.message})`;
+    return;
+  }
+  for (const b of geo.bars) {
+    const rect = svgElement('rect', {
+      class: b.count > 0 ? 'bar' : 'bar empty', x: b.x + 0.5, y: b.count > 0 ? b.y : geo.plot.y + geo.plot.height - 1,
+      width: Math.max(b.width - 1, 0.5), height: b.count > 0 ? b.height : 1,
+    });
+    rect.append(svgElement('title', {}, `${formatMm(b.from)}–${formatMm(b.to)} mm: ${b.count}`));
+    svg.append(rect);
+  }
+  const base = geo.plot.y + geo.plot.height;
+  svg.append(svgElement('line', { class: 'axis', x1: geo.plot.x, y1: base, x2: geo.plot.x + geo.plot.width, y2: base }));
+  // Labels near the ends are anchored inside the plot so they are not clipped.
+  for (const t of geo.ticks) {
+    const anchor = t.x - geo.plot.x < 14 ? 'start' : geo.plot.x + geo.plot.width - t.x < 14 ? 'end' : 'middle';
+    svg.append(svgElement('line', { class: 'axis', x1: t.x, y1: base, x2: t.x, y2: base + 3 }));
+    svg.append(svgElement('text', { class: 'tick', x: t.x, y: base + 12, 'text-anchor': anchor }, t.label));
+  }
+  const n = geo.bars.length;
+  const std = Number(thickness.std_mm);
+  if (n) {
+    const lo = geo.bars[0].from;
+    const hi = geo.bars[n - 1].to;
+    const marks = [[0, 'mean']];
+    if (std > 0) marks.push([-std, 'std'], [std, 'std']);
+    for (const [d, cls] of marks) {
+      if (d < lo || d > hi) continue;
+      const x = geo.plot.x + ((d - lo) / (hi - lo)) * geo.plot.width;
+      svg.append(svgElement('line', { class: cls, x1: x, y1: geo.plot.y, x2: x, y2: base }));
+    }
+  }
+  svg.dataset.bars = String(n);
+  svg.dataset.total = String(geo.total);
+  const mm = (x) => (Number.isFinite(Number(x)) ? `${formatMm(Number(x))} mm` : '—');
+  stats.textContent = `mean ${mm(thickness.mean_mm)}, std ${mm(thickness.std_mm)}, max deviation ${mm(thickness.max_deviation_mm)}`
+    + (Number.isFinite(thickness.samples) ? ` (${thickness.samples.toLocaleString('en')} samples)` : '');
 }
 
 function clearReport() {
@@ -266,6 +402,65 @@ function applyLayerRange(changed) {
     app.preview.setLayerRange(a, b);
     app.viewer && app.viewer.requestRender();
   }
+  if (app.voxelView) app.voxelView.setGlyphLayerRange(a, b);
+}
+
+/** The surface slider and the voxel bar follow app.voxelView (hidden without one). */
+function setupVoxelBar() {
+  const v = app.voxelView;
+  $('voxel-bar').hidden = !v;
+  const slider = $('layer-surface-slider');
+  const n = v ? v.surfaceLayerCount : 0;
+  slider.max = String(Math.max(n - 1, 0));
+  slider.value = slider.max;
+  slider.disabled = n === 0;
+  const missed = $('missed-count');
+  const reported = app.result && app.result.report && app.result.report.voxel ? app.result.report.voxel.missed_voxels : undefined;
+  const count = Number.isFinite(reported) ? reported : v ? v.missedCount : 0;
+  missed.textContent = count.toLocaleString('en');
+  missed.classList.toggle('alert', count > 0);
+  $('support-count').textContent = (v ? v.supportCount : 0).toLocaleString('en');
+  // The layer colour ramp (the colours of layers spread over the count; neighbours alternate in lightness).
+  const ramp = $('layer-ramp');
+  const L = v ? v.surfaceLayerCount : 0;
+  const stops = [];
+  for (let k = 0; k < Math.min(L, 12); k++) {
+    const l = Math.round((k * (L - 1)) / Math.max(Math.min(L, 12) - 1, 1));
+    stops.push(`rgb(${layerColor(l, L).join(',')})`);
+  }
+  ramp.style.background = stops.length > 1 ? `linear-gradient(to right, ${stops.join(', ')})` : stops[0] || 'none';
+  if (v) {
+    v.setVisible('surfaces', $('show-surfaces').checked);
+    v.setVisible('missed', $('show-missed').checked);
+    v.setVisible('support', $('show-support').checked);
+    v.setVisible('glyphs', $('axis-glyphs-toggle').checked);
+  }
+  applySurfaceLayer();
+}
+
+/** Show the layer surfaces up to the surface slider's layer (that one highlighted). */
+function applySurfaceLayer() {
+  const v = app.voxelView;
+  const slider = $('layer-surface-slider');
+  if (!v) {
+    $('surface-layer-text').textContent = '—';
+    delete slider.dataset.drawnTriangles;
+    return;
+  }
+  const r = v.setSurfaceLayer(Number(slider.value));
+  slider.value = String(r.hi);
+  const stats = v.stats();
+  slider.dataset.drawnTriangles = String(stats.drawnTriangles);
+  $('surface-layer-text').textContent = v.surfaceLayerCount
+    ? `${r.hi + 1} of ${v.surfaceLayerCount} (${stats.currentTriangles.toLocaleString('en')} triangles)` : 'no surfaces';
+  app.viewer && app.viewer.requestRender();
+}
+
+function setVoxelLayerVisible(kind, visible) {
+  if (!app.voxelView) return;
+  app.voxelView.setVisible(kind, visible);
+  if (kind === 'surfaces') applySurfaceLayer();
+  app.viewer && app.viewer.requestRender();
 }
 
 function buildLegend() {
@@ -344,22 +539,40 @@ async function loadFile(file) {
 async function setPreview(result) {
   if (app.viewer) app.viewer.setPreview(null);
   app.preview = null;
-  if (result && result.preview && result.preview.features && result.preview.features.length) {
-    const preview = await ToolpathPreview.build(result.preview);
+  app.voxelView = null;
+  const buffers = result && result.preview;
+  let preview = null;
+  let voxel = null;
+  if (buffers && buffers.features && buffers.features.length) preview = await ToolpathPreview.build(buffers);
+  if (hasVoxelBuffers(buffers)) {
+    try {
+      voxel = await VoxelView.build(buffers);
+    } catch (err) {
+      showError({ code: 'internal', message: `voxel view: ${err.message}` });
+    }
+  }
+  if (preview || voxel) {
     timed('set-preview', () => {
-      preview.setTravelVisible($('show-travel').checked);
+      if (preview) preview.setTravelVisible($('show-travel').checked);
       app.preview = preview;
-      if (app.viewer) app.viewer.setPreview(preview.object);
+      app.voxelView = voxel;
+      // One object for the viewer: the tool-paths with the voxel view inside.
+      if (preview && voxel) preview.object.add(voxel.object);
+      if (app.viewer) app.viewer.setPreview(preview ? preview.object : voxel.object);
     });
   }
-  timed('layer-sliders', () => setupLayerSliders(app.preview ? app.preview.layerCount : 0));
+  timed('layer-sliders', () => {
+    setupLayerSliders(app.preview ? app.preview.layerCount : 0);
+    setupVoxelBar();
+  });
 }
 
 async function slice() {
   if (!app.slicer || !app.mesh || app.busy) return;
   app.busy = 'slicing';
   app.abort = new AbortController();
-  app.progress = { stage: '', fraction: 0, overall: 0, pending: false };
+  app.progress = newProgress(app.model.get('method'));
+  $('stage-list').replaceChildren();
   clearError();
   setState('slicing');
   setProgressText('starting', 0);
@@ -372,30 +585,7 @@ async function slice() {
       signal: app.abort.signal,
     });
     performance.mark('omnislice:result');
-    app.busy = 'showing';
-    // Each step below is its own task, so none of them holds the main thread for long.
-    await nextFrame();
-    timed('show-report', () => {
-      app.result = result;
-      app.replay = null;
-      showReport(result.report);
-      setDownloadLabel(result.programExtension);
-      const bed = parseVector(result.report && result.report.settings && result.report.settings.bed_size);
-      if (bed && app.viewer && bed.some((x, i) => x !== app.viewer.bedSize[i])) app.viewer.setBed(bed);
-      if (result.info) showInfo(app.mesh.name, result.info);
-    });
-    if (result.mesh && app.viewer) timed('set-model', () => app.viewer.setModel(result.mesh));
-    if (app.placementDirty && app.viewer) app.viewer.frame();
-    app.placementDirty = false;
-    await nextFrame();
-    await setPreview(result);
-    performance.mark('omnislice:preview-built');
-    if ($('machine-toggle').checked) timed('machine-view', () => openMachineView());
-    app.sliceCount += 1;
-    document.body.dataset.sliceCount = String(app.sliceCount);
-    const wall = ((performance.now() - started) / 1000).toFixed(2);
-    setProgressText(`done in ${wall} s`, 1);
-    setState('done');
+    await showResult(result, started);
   } catch (err) {
     if (err && err.code === 'cancelled') {
       showError(err);
@@ -411,6 +601,39 @@ async function slice() {
     app.abort = null;
     updateButtons();
   }
+}
+
+/**
+ * Show a slice result: report, model, preview (tool-paths and the voxel view), machine view; the
+ * summary line and the page state 'done' last. Each step is its own task, so none of them holds
+ * the main thread for long.
+ */
+async function showResult(result, started) {
+  app.busy = 'showing';
+  await nextFrame();
+  timed('show-report', () => {
+    app.result = result;
+    app.replay = null;
+    showReport(result.report);
+    setDownloadLabel(result.programExtension);
+    const bed = parseVector(result.report && result.report.settings && result.report.settings.bed_size);
+    if (bed && app.viewer && bed.some((x, i) => x !== app.viewer.bedSize[i])) app.viewer.setBed(bed);
+    if (result.info) showInfo(app.mesh.name, result.info);
+  });
+  if (result.mesh && app.viewer) timed('set-model', () => app.viewer.setModel(result.mesh));
+  if (app.placementDirty && app.viewer) app.viewer.frame();
+  app.placementDirty = false;
+  await nextFrame();
+  await setPreview(result);
+  performance.mark('omnislice:preview-built');
+  if ($('machine-toggle').checked) timed('machine-view', () => openMachineView());
+  app.sliceCount += 1;
+  document.body.dataset.sliceCount = String(app.sliceCount);
+  const wall = ((performance.now() - started) / 1000).toFixed(2);
+  const voxel = result.report && result.report.voxel;
+  setProgressText(`done in ${wall} s${voxel ? `: ${voxelDoneSummary(voxel)}` : ''}`, 1);
+  showStages({ finished: true });
+  setState('done');
 }
 
 function cancelSlice() {
@@ -509,6 +732,11 @@ function showMachineProfile() {
     ? `profile ${app.machineFiles.get(json) || 'from a file'} (${kind})`
     : `built-in profile ${app.model.get('machine')}`;
   $('machine-profile').dataset.kind = kind;
+  // The voxel method tilts the nozzle: it needs two rotary axes (table5) or a robot.
+  const hint = $('method-hint');
+  const needsTilt = app.model.get('method') === 'voxel' && !['table5', 'robot6'].includes(kind);
+  hint.hidden = !needsTilt;
+  hint.textContent = needsTilt ? `the voxel method tilts the nozzle: choose table5 or a robot (${kind} has no tilt axes)` : '';
 }
 
 // ---- machine animation ----------------------------------------------------------------------
@@ -682,7 +910,27 @@ function wireUi() {
   $('cancel-button').addEventListener('click', () => cancelSlice());
   $('download-program').addEventListener('click', () => download());
   $('layer-min-slider').addEventListener('input', (e) => applyLayerRange(e.target));
-  $('layer-slider').addEventListener('input', (e) => applyLayerRange(e.target));
+  $('layer-slider').addEventListener('input', (e) => {
+    applyLayerRange(e.target);
+    // The surfaces follow the tool-paths' top layer.
+    if (app.voxelView) {
+      $('layer-surface-slider').value = e.target.value;
+      applySurfaceLayer();
+    }
+  });
+  $('layer-surface-slider').addEventListener('input', (e) => {
+    applySurfaceLayer();
+    // The tool-paths (and glyphs) follow the surfaces' layer.
+    const hi = $('layer-slider');
+    if (!hi.disabled) {
+      hi.value = e.target.value;
+      applyLayerRange(hi);
+    }
+  });
+  $('show-surfaces').addEventListener('change', (e) => setVoxelLayerVisible('surfaces', e.target.checked));
+  $('show-missed').addEventListener('change', (e) => setVoxelLayerVisible('missed', e.target.checked));
+  $('show-support').addEventListener('change', (e) => setVoxelLayerVisible('support', e.target.checked));
+  $('axis-glyphs-toggle').addEventListener('change', (e) => setVoxelLayerVisible('glyphs', e.target.checked));
   $('show-travel').addEventListener('change', (e) => {
     if (app.preview) app.preview.setTravelVisible(e.target.checked);
     app.viewer && app.viewer.requestRender();
@@ -760,6 +1008,26 @@ window.omnislice = {
   get settings() { return app.model.toSettings(); },
   get history() { return app.history.serialize(); },
   get programExtension() { return app.result ? app.result.programExtension : null; },
+  /** The voxel view: what it holds and draws (VoxelView.stats()), or null. */
+  get voxel() { return app.voxelView ? app.voxelView.stats() : null; },
+  /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */
+  get stages() {
+    const list = [...app.progress.stages];
+    return list.map(([k, e], i) => [k, e.fraction, (i + 1 < list.length ? list[i + 1][1].start : e.end) - e.start]);
+  },
+  /**
+   * Test hook: show a result object shaped like slicer.slice()'s (programBytes, programExtension,
+   * report, preview, mesh) as if the engine had produced it; resolves when it is drawn.
+   */
+  async _showResultForTest(result) {
+    if (app.busy) throw new Error('busy');
+    try {
+      await showResult(result, performance.now());
+    } finally {
+      app.busy = null;
+      updateButtons();
+    }
+  },
   /** The machine animation: {kind, step, steps, tipError (mm, measured in the scene)} or null. */
   get machine() {
     const v = app.machineView;

@@ -47,11 +47,15 @@ export function selectedMachineKind(values) {
 }
 
 const isRobot = (values) => selectedMachineKind(values) === 'robot6';
+const isVoxel = (values) => values.method === 'voxel';
+const isPlanar = (values) => !isVoxel(values);
 
 /**
  * Field schema: key (the facade's setting key), label, type, default and bounds. Units in labels.
  * Groups render as sub-headings. Optional: testid (instead of setting-<key>), showIf(values)
- * (the row is hidden when false), hidden (never rendered; set by code, e.g. a loaded file).
+ * (the row is hidden when false), sendIf(values) (the value is left out of slice requests when
+ * false, e.g. the voxel method's settings for a planar slice), hidden (never rendered; set by
+ * code, e.g. a loaded file).
  */
 export const SETTINGS_SCHEMA = [
   { group: 'Machine', key: 'machine', label: 'machine', type: 'select', value: 'cartesian3', testid: 'machine',
@@ -63,16 +67,56 @@ export const SETTINGS_SCHEMA = [
     options: [{ label: 'joint CSV (.csv)', value: 'csv' }, { label: 'URScript (.script)', value: 'urscript' }],
     showIf: isRobot },
   { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', value: '', hidden: true },
-  { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', type: 'number', value: 0.2, min: 0.02, max: 2, step: 0.01 },
+  { group: 'Slicing', key: 'method', label: 'method', type: 'select', value: 'planar',
+    options: [{ label: 'planar layers', value: 'planar' }, { label: 'voxel (curved layers)', value: 'voxel' }] },
+  { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', type: 'number', value: 0.2, min: 0.02, max: 2, step: 0.01,
+    showIf: isPlanar },
   { group: 'Slicing', key: 'nozzle', label: 'nozzle (mm)', type: 'number', value: 0.4, min: 0.1, max: 2, step: 0.05 },
   { group: 'Slicing', key: 'line_width', label: 'line width (mm, 0 = auto)', type: 'number', value: 0, min: 0, max: 3, step: 0.01 },
-  { group: 'Slicing', key: 'walls', label: 'walls', type: 'integer', value: 2, min: 0, max: 20, step: 1 },
-  { group: 'Slicing', key: 'top_layers', label: 'top layers', type: 'integer', value: 4, min: 0, max: 50, step: 1 },
-  { group: 'Slicing', key: 'bottom_layers', label: 'bottom layers', type: 'integer', value: 4, min: 0, max: 50, step: 1 },
-  { group: 'Slicing', key: 'infill', label: 'infill (%)', type: 'number', value: 20, min: 0, max: 100, step: 1 },
+  { group: 'Slicing', key: 'walls', label: 'walls', type: 'integer', value: 2, min: 0, max: 20, step: 1,
+    showIf: isPlanar },
+  { group: 'Slicing', key: 'top_layers', label: 'top layers', type: 'integer', value: 4, min: 0, max: 50, step: 1,
+    showIf: isPlanar },
+  { group: 'Slicing', key: 'bottom_layers', label: 'bottom layers', type: 'integer', value: 4, min: 0, max: 50, step: 1,
+    showIf: isPlanar },
+  { group: 'Slicing', key: 'infill', label: 'infill (%)', type: 'number', value: 20, min: 0, max: 100, step: 1,
+    showIf: isPlanar },
   { group: 'Slicing', key: 'infill_pattern', label: 'infill pattern', type: 'select', value: 'grid',
-    options: [{ label: 'grid', value: 'grid' }, { label: 'lines', value: 'lines' }] },
-  { group: 'Slicing', key: 'direction', label: 'slicing direction', type: 'direction', value: '0,0,1' },
+    options: [{ label: 'grid', value: 'grid' }, { label: 'lines', value: 'lines' }],
+    showIf: isPlanar },
+  { group: 'Slicing', key: 'direction', label: 'slicing direction', type: 'direction', value: '0,0,1', showIf: isPlanar },
+  // The voxel method (paper 001): conservative voxels, growing field, curved layers.
+  { group: 'Voxel', key: 'voxel.width_mm', label: 'voxel width (mm, 0 = 0.8 × nozzle)', type: 'number', value: 0, min: 0, max: 50, step: 0.05,
+    testid: 'voxel-width', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.strategy', label: 'growth strategy', type: 'select', value: 'pg-sp-gcfa', testid: 'voxel-strategy',
+    options: [{ label: 'GCFA', value: 'gcfa' }, { label: 'SP-GCFA', value: 'sp-gcfa' }, { label: 'PG-GCFA', value: 'pg-gcfa' },
+      { label: 'PG-SP-GCFA', value: 'pg-sp-gcfa' }],
+    showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.shadow', label: 'shadow prevention', type: 'select', value: 'recursive', testid: 'voxel-shadow',
+    options: [{ label: 'recursive (PCA split)', value: 'recursive' }, { label: 'incremental (Dijkstra)', value: 'incremental' }],
+    showIf: (v) => isVoxel(v) && v['voxel.strategy'].includes('sp-'), sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.peel_step', label: 'peel step Δf', type: 'number', value: 1, min: 0.01, max: 1000, step: 0.5,
+    testid: 'voxel-peel-step', showIf: (v) => isVoxel(v) && v['voxel.strategy'].startsWith('pg-'), sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.epsilon', label: 'hull tolerance ε (voxel widths, −1 = default)', type: 'number', value: -1, min: -1, max: 2, step: 0.1,
+    testid: 'voxel-epsilon', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.layer_field', label: 'layers follow', type: 'select', value: 'distance', testid: 'voxel-layer-field',
+    options: [{ label: 'growth distance', value: 'distance' }, { label: 'growth steps (G)', value: 'steps' },
+      { label: 'generations from the platform', value: 'generations' }],
+    showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.smooth', label: 'layer field smoothing (passes)', type: 'integer', value: 5, min: 0, max: 200, step: 1,
+    testid: 'voxel-smooth', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.layer_mm', label: 'layer thickness (mm, 0 = voxel width)', type: 'number', value: 0, min: 0, max: 5, step: 0.05,
+    testid: 'voxel-layer-mm', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.iso_step', label: 'iso step (field units, 0 = from the thickness)', type: 'number', value: 0, min: 0, max: 100, step: 0.1,
+    testid: 'voxel-iso-step', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.max_tilt_deg', label: 'max nozzle tilt (°, 0 = machine)', type: 'number', value: 0, min: 0, max: 180, step: 5,
+    testid: 'voxel-max-tilt', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.supports', label: 'supports under missed voxels', type: 'checkbox', value: false,
+    testid: 'voxel-supports', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.platform_radius_mm', label: 'platform radius (mm, 0 = footprint)', type: 'number', value: 0, min: 0, max: 5000, step: 1,
+    testid: 'voxel-platform-radius', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.max_voxels', label: 'max solid voxels', type: 'integer', value: 3000000, min: 1000, max: 1000000000, step: 100000,
+    testid: 'voxel-max-voxels', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', type: 'number', value: 0.8, min: 0, max: 20, step: 0.1 },
@@ -182,12 +226,13 @@ export class SettingsModel extends EventTarget {
    * Settings object for slicer.slice(): the placement keys (they override the placement the mesh
    * was loaded with) and the other values that differ from the schema's defaults (which are the
    * core's defaults, tests/js/wasm-machine.test.mjs), so the request names what the user chose
-   * and the core's defaults apply to the rest.
+   * and the core's defaults apply to the rest. Fields whose sendIf is false are left out.
    */
   toSliceSettings() {
     return Object.fromEntries(this.schema
       .filter((f) => PLACEMENT_KEYS.includes(f.key)
-        || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])))
+        || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])
+          && (!f.sendIf || f.sendIf(this.values))))
       .map((f) => [f.key, this.values[f.key]]));
   }
 
@@ -282,6 +327,7 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
 
   const inputs = new Map();
   const rows = [];
+  const headings = [];  // [h3, group]: hidden when every row of the group is hidden
   let group = null;
   for (const field of model.schema) {
     if (field.hidden) continue;
@@ -292,6 +338,7 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
         const h = document.createElement('h3');
         h.textContent = group;
         host.append(h);
+        headings.push([h, group]);
       }
     }
     const testid = field.testid || `setting-${field.key}`;
@@ -367,6 +414,7 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
       row.append(num);
       inputs.set(field.key, { refresh: (v) => { num.value = String(v); } });
     }
+    row.dataset.group = field.group;
     if (field.showIf) rows.push([row, field.showIf]);
     target.append(row);
   }
@@ -375,6 +423,9 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
   const refresh = () => {
     for (const [key, input] of inputs) input.refresh(model.get(key));
     for (const [row, showIf] of rows) row.hidden = !showIf(model.values);
+    for (const [h, name] of headings) {
+      h.hidden = ![...host.querySelectorAll('label.field')].some((r) => r.dataset.group === name && !r.hidden);
+    }
     undoBtn.disabled = history.done.length === 0;
     redoBtn.disabled = history.undone.length === 0;
   };

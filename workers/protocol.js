@@ -36,8 +36,9 @@ export const Request = Object.freeze({
    *  ArrayBuffer (UTF-8 program: G-code, robot CSV or URScript), programExtension: 'gcode' |
    *  'csv' | 'script', report: object, info: object, layers: number, preview: {positions,
    *  features, layers, machine, axes, surfacePositions, surfaceTriangles, surfaceLayers,
-   *  missedVoxels, supportVoxels, voxelWidth}, mesh: {positions, indices}} (all buffers
-   *  transferred). */
+   *  missedVoxels, supportVoxels, voxelWidth} (core/pipeline/pipeline.h PreviewBuffers; the
+   *  curved-layer and voxel buffers are empty for other methods), mesh: {positions, indices}}
+   *  (all buffers transferred). */
   SLICE: 'slice',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */

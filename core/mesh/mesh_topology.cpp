@@ -1,32 +1,14 @@
 // SPDX-License-Identifier: MIT
 #include "mesh/mesh_topology.h"
 
+#include "common/disjoint_sets.h"
+
 #include <numeric>
 
 #include <algorithm>
 
 namespace omnislice {
 namespace {
-
-// Union-find with path halving; ranks are not needed at these sizes.
-struct DisjointSets {
-  std::vector<uint32_t> parent;
-  explicit DisjointSets(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a == b) return;
-    if (a < b) parent[b] = a;
-    else parent[a] = b;
-  }
-};
 
 inline uint32_t fromVertex(const Mesh& m, uint32_t h) { return m.triangles[h]; }
 inline uint32_t nextInFace(uint32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }

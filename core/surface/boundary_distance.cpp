@@ -7,6 +7,7 @@
 #include <numeric>
 #include <string>
 
+#include "common/disjoint_sets.h"
 #include "mesh/mesh_topology.h"
 
 namespace omnislice {
@@ -14,23 +15,6 @@ namespace {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 using Triplet = Eigen::Triplet<double>;
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 BoundaryDistance fail(Status s, std::string message) {
   BoundaryDistance r;
@@ -125,7 +109,7 @@ BoundaryDistance boundaryGeodesicDistance(const Mesh& surface, const BoundaryDis
   // Every connected component needs a boundary to measure from (else the Poisson problem has no
   // Dirichlet condition and the distance is undefined).
   {
-    UnionFind uf(nv);
+    DisjointSets uf(nv);
     for (size_t f = 0; f < nf; ++f) {
       uf.unite(mesh.triangles[3 * f], mesh.triangles[3 * f + 1]);
       uf.unite(mesh.triangles[3 * f], mesh.triangles[3 * f + 2]);

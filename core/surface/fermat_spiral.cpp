@@ -38,6 +38,7 @@
 #include <numeric>
 #include <unordered_map>
 
+#include "common/disjoint_sets.h"
 #include "geometry/aabb_tree.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/weld_vertices.h"
@@ -52,23 +53,6 @@ constexpr int kMaxLevels = 20000;
 double msSince(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
 }
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // A point of an assembled path; tri = triangle containing the segment that arrives at this point
 // (-1: a hop between contours, or the first point).
@@ -437,7 +421,7 @@ ContourSet extractContours(const Mesh& mesh, const MeshEdges& edges, const std::
       }
     }
   }
-  UnionFind cells(static_cast<size_t>(cellStart[nf]));
+  DisjointSets cells(static_cast<size_t>(cellStart[nf]));
   auto cellOf = [&](size_t f, int b) { return static_cast<uint32_t>(cellStart[f] + (b - faceBandLo[f])); };
   for (size_t e = 0; e < ne; ++e) {
     if (edges.faceCount[e] != 2) continue;

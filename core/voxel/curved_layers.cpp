@@ -9,6 +9,8 @@
 // the trimming, the region split and the geodesic tool-path fields downstream rely on.
 #include "voxel/curved_layers.h"
 
+#include "common/disjoint_sets.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -862,19 +864,11 @@ void collapseShortEdges(LayerSurface& s, double minLength, double flatness,
 void splitRegions(const LayerSurface& s, const InsideTest& inside,
                   double minArea, CurvedLayer& layer) {
   const size_t nv = s.positions.size();
-  std::vector<uint32_t> parent(nv);
-  std::iota(parent.begin(), parent.end(), 0u);
-  auto find = [&](uint32_t x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  };
+  DisjointSets sets(nv);
+  auto find = [&](uint32_t x) { return sets.find(x); };
   for (const auto& t : s.triangles) {
-    const uint32_t a = find(t[0]), b = find(t[1]), c = find(t[2]);
-    parent[b] = a;
-    parent[find(c)] = a;
+    sets.unite(t[0], t[1]);
+    sets.unite(t[0], t[2]);
   }
   std::vector<uint32_t> regionOf(nv, UINT32_MAX);
   std::vector<std::vector<uint32_t>> trisOf;

@@ -70,6 +70,10 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
         segments: result.preview.features.length, previewFloats: result.preview.positions.length,
         layerIdsLength: result.preview.layers.length,
         maxLayer: result.preview.layers.reduce((m, v) => Math.max(m, v), 0),
+        // Typed arrays of the preview (positions, features, layers, machine; with the curved-layer
+        // builds also axes, surfacePositions, surfaceTriangles, surfaceLayers, missedVoxels,
+        // supportVoxels) and their lengths.
+        previewArrays: Object.fromEntries(Object.entries(result.preview).filter(([, a]) => ArrayBuffer.isView(a)).map(([k, a]) => [k, a.length])),
         spy: await (async () => {
           // The spy reports in a message right after the result: wait for it.
           for (let i = 0; i < 100 && !window.workerTransfers.some((x) => x.replyType === 'result'); ++i) {
@@ -108,7 +112,14 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     // The worker transferred (detached) every result buffer.
     const spy = r.spy.find((s) => s.replyType === 'result');
     assert.ok(spy, 'spy saw the slice result');
-    assert.equal(spy.before.length, 7, 'program + 4 preview + 2 mesh buffers in the transfer list');
+    const previewBuffers = Object.keys(r.previewArrays).length;
+    assert.ok(previewBuffers === 4 || previewBuffers === 10, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
+    assert.equal(spy.before.length, 1 + previewBuffers + 2, `program + ${previewBuffers} preview + 2 mesh buffers in the transfer list`);
+    if (previewBuffers === 10) {
+      // A planar slice: nozzle axes per segment, no surfaces or voxel cells.
+      assert.equal(r.previewArrays.axes, 3 * r.segments);
+      for (const k of ['surfacePositions', 'surfaceTriangles', 'surfaceLayers', 'missedVoxels', 'supportVoxels']) assert.equal(r.previewArrays[k], 0, k);
+    }
     assert.ok(spy.before[0] === r.programLength, 'program bytes (ASCII G-code) transferred');
     assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
   });
