@@ -634,9 +634,16 @@ bool Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const E
       exact = false;
       if (depth < kMaxChordDepth) {
         const Eigen::Vector3d pm = 0.5 * (pa + pb);
-        const Eigen::Vector3d um = slerpAxis(ua, ub, 0.5);
+        Eigen::Vector3d um = slerpAxis(ua, ub, 0.5);
         MachineValues qs;
-        if (solveNear(pm, um, qa, qb, qm, qs)) {
+        // Tables: keep the rotary values of the joint-space midpoint and move the linear axes so
+        // the tip is on the segment, when that midpoint's axis is within 2 degrees of the slerped
+        // one. Near the C axis's singularity the slerped axis has an ill-defined azimuth (a C far
+        // from both ends), while the joint-space path (B through 0, C turning) is smooth.
+        const bool jointMid = !robot_ && axis.dot(um) > std::cos(2.0 * kPi / 180.0) &&
+                              solveNear(pm, axis, qa, qb, qm, qs);
+        if (jointMid) um = axis;
+        if (jointMid || solveNear(pm, um, qa, qb, qm, qs)) {
           const bool left = refine(qa, pa, ua, qs, pm, um, depth + 1, values, pos);
           const bool right = refine(qs, pm, um, qb, pb, ub, depth + 1, values, pos);
           return left && right;
@@ -752,8 +759,9 @@ bool Planner::emit() {
         MachineValues start;
         std::vector<MachineValues> vals2;
         std::vector<Eigen::Vector3d> poss2;
-        if (solveNear(prevPos, prevAxis, v, v, v, start) &&
-            refine(start, prevPos, prevAxis, v, p.pos, p.axis, 0, vals2, poss2)) {
+        const bool solved = solveNear(prevPos, prevAxis, v, v, v, start);
+        const bool joined = solved && refine(start, prevPos, prevAxis, v, p.pos, p.axis, 0, vals2, poss2);
+        if (joined) {
           reconfigure(prev, start, prevPos, prevAxis, src, p.source, retracted);
           vals.swap(vals2);
           poss.swap(poss2);
