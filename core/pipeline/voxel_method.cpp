@@ -59,6 +59,22 @@ double machineTiltDegrees(const Settings& settings, const MachineProfile& machin
   return 90;
 }
 
+// Indices of the grown cells (G >= 1) in growth order (counting sort by G).
+std::vector<uint32_t> growthOrder(const std::vector<int32_t>& g) {
+  int32_t maxG = 0;
+  for (int32_t v : g) maxG = std::max(maxG, v);
+  std::vector<uint32_t> start(static_cast<size_t>(maxG) + 2, 0);
+  for (int32_t v : g) {
+    if (v >= 1) ++start[static_cast<size_t>(v) + 1];
+  }
+  for (size_t i = 1; i < start.size(); ++i) start[i] += start[i - 1];
+  std::vector<uint32_t> order(start.back());
+  for (size_t i = 0; i < g.size(); ++i) {
+    if (g[i] >= 1) order[start[static_cast<size_t>(g[i])]++] = static_cast<uint32_t>(i);
+  }
+  return order;
+}
+
 // The layer field: G counts growth steps (time), and a step of the field-governed growth may add
 // only a thin sliver of voxels, so iso-values of G bunch up where the front waited and spread where
 // it ran. The generation 1 + max over the voxel's AM-stable neighbours added at earlier steps
@@ -67,19 +83,7 @@ double machineTiltDegrees(const Settings& settings, const MachineProfile& machin
 // orders exactly as G does (a voxel added later than its neighbour has a larger generation), so
 // the layers keep the growth's order locally; every voxel has a neighbour one generation below.
 std::vector<int32_t> generationField(const VoxelGrid& grid, const std::vector<int32_t>& g) {
-  int32_t maxG = 0;
-  for (int32_t v : g) maxG = std::max(maxG, v);
-  std::vector<uint32_t> count(static_cast<size_t>(maxG) + 2, 0);
-  for (int32_t v : g) {
-    if (v >= 1) ++count[static_cast<size_t>(v)];
-  }
-  std::vector<uint32_t> start(count.size() + 1, 0);
-  for (size_t i = 0; i < count.size(); ++i) start[i + 1] = start[i] + count[i];
-  std::vector<uint32_t> order(start.back());
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-  for (size_t i = 0; i < g.size(); ++i) {
-    if (g[i] >= 1) order[fill[static_cast<size_t>(g[i])]++] = static_cast<uint32_t>(i);
-  }
+  const std::vector<uint32_t> order = growthOrder(g);
   std::vector<int32_t> gen(g.size());
   for (size_t i = 0; i < g.size(); ++i) gen[i] = g[i] >= 1 ? 0 : g[i];
   const auto& offsets = amStableOffsets();
@@ -106,23 +110,7 @@ std::vector<int32_t> generationField(const VoxelGrid& grid, const std::vector<in
 // with this; verify coverage 0.914 -> 0.990, supported 0.797 -> 0.920, collisions 162 -> 344).
 std::vector<int32_t> growthDistanceField(const VoxelGrid& grid, const std::vector<int32_t>& g,
                                          double scale, double orderMargin) {
-  int32_t maxG = 0;
-  for (int32_t v : g) maxG = std::max(maxG, v);
-  std::vector<uint32_t> start(static_cast<size_t>(maxG) + 2, 0);
-  for (int32_t v : g) {
-    if (v >= 1) ++start[static_cast<size_t>(v)];
-  }
-  uint32_t acc = 0;
-  for (uint32_t& c : start) {
-    const uint32_t n = c;
-    c = acc;
-    acc += n;
-  }
-  std::vector<uint32_t> order(acc);
-  std::vector<uint32_t> fill(start);
-  for (size_t i = 0; i < g.size(); ++i) {
-    if (g[i] >= 1) order[fill[static_cast<size_t>(g[i])]++] = static_cast<uint32_t>(i);
-  }
+  const std::vector<uint32_t> order = growthOrder(g);
   std::vector<double> d(g.size(), 0.0);
   const auto& offsets = amStableOffsets();
   for (uint32_t idx : order) {
