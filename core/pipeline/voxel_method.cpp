@@ -271,7 +271,6 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   GrowthField field = growField(grid, gopt, progress);
   if (!field.ok()) return failure(field);
   const size_t missedBeforeSupports = field.missed;
-  size_t supportCells = 0;
   int supportRounds = 0;
   double peelingMs = field.peelingMs, shadowMs = field.shadowMs;
   while (settings.voxel.supports && field.missed > 0 && supportRounds < 3) {
@@ -280,7 +279,6 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
     const size_t added = addSupportColumns(grid, missed);
     ++supportRounds;
     if (added == 0) break;
-    supportCells += added;
     field = growField(grid, gopt, progress);
     if (!field.ok()) return failure(field);
     peelingMs += field.peelingMs;
@@ -429,7 +427,6 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
                  {"gouging_corrections", tp.gougingCorrections},
                  {"gouging_uncorrected", tp.gougingUncorrected},
                  {"gouging_ms", tp.gougingMs}};
-  (void)supportCells;
   out.reportJson = report.dump();
   return out;
 }
