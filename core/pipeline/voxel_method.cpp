@@ -216,7 +216,9 @@ double millimetresPerFieldUnit(const VoxelGrid& grid, const std::vector<int32_t>
     sum += std::sqrt(grad2);
     ++count;
   }
-  if (count == 0 || sum <= 0) return grid.width;
+  // A field without any gradient (one voxel layer, e.g. a plate thinner than a voxel): 0, and the
+  // caller extracts a single layer.
+  if (count == 0 || sum <= 0) return 0;
   return grid.width * static_cast<double>(count) / sum;
 }
 
@@ -299,10 +301,22 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   if (smoothIterations > 0) layerField = smoothedField(grid, layerField, smoothIterations, 16);
   const double mmPerUnit = millimetresPerFieldUnit(grid, layerField);
   const double targetLayer = settings.voxel.layerMm > 0 ? settings.voxel.layerMm : w;
-  lopt.isoStep = settings.voxel.isoStep > 0 ? settings.voxel.isoStep : targetLayer / mmPerUnit;
+  const int32_t fieldMax = *std::max_element(layerField.begin(), layerField.end());
+  lopt.isoStep = settings.voxel.isoStep > 0 ? settings.voxel.isoStep
+                 : mmPerUnit > 0            ? targetLayer / mmPerUnit
+                                            : 2.0 * std::max(1, fieldMax);  // one layer
   lopt.nozzleDiameter = nozzle;
   CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
   if (!layers.ok()) return failure(layers);
+  // The gradient estimate can miss on fields of a few voxels: when the measured mean thickness is
+  // off the target by more than half, extract once more with the step scaled by their ratio.
+  const double measured = layers.thickness.samples > 0 ? layers.thickness.mean : 0;
+  if (settings.voxel.isoStep <= 0 && measured > 0 &&
+      (measured < 0.5 * targetLayer || measured > 1.5 * targetLayer)) {
+    lopt.isoStep *= targetLayer / measured;
+    layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
+    if (!layers.ok()) return failure(layers);
+  }
   out.timingsMs.emplace_back("layers", msSince(t0));
 
   // 4. Fermat spirals on every region (Section 5.1) and the tool-path (Section 5.2).

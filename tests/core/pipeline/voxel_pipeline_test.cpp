@@ -198,6 +198,29 @@ TEST(VoxelPipelineSupports, SupportsUnderMissedVoxelsLetTheFieldCoverTheModel) {
   EXPECT_TRUE(with.preview.missedVoxels.empty());
 }
 
+// Degenerate fields: a plate thinner than one voxel has a field without gradient and prints as one
+// layer covering its area; a cube of 2 x 2 x 2 voxels still gets layers of about the target
+// thickness (the measured thickness corrects the step).
+TEST(VoxelPipelineEdges, ThinPlateIsOneLayerAndTinyCubeKeepsItsThickness) {
+  Settings s;
+  ASSERT_TRUE(setSetting(s, "method", "voxel").ok());
+  ASSERT_TRUE(setSetting(s, "machine", "table5").ok());
+  const auto plate = test::binaryStl(test::makeBox(0, 0, 0, 20, 20, 0.2));
+  SliceOutput p = runSlice(plate.data(), plate.size(), "plate.stl", s);
+  ASSERT_TRUE(p.ok()) << p.message;
+  const Json rp = Json::parse(p.reportJson);
+  EXPECT_EQ(rp["voxel"]["layers"].get<int>(), 1);
+  // 400 mm^2 filled at the 0.45 mm line width: about 890 mm of path.
+  EXPECT_NEAR(rp["path_mm"].get<double>(), 400 / s.effectiveLineWidth(), 0.05 * 400 / s.effectiveLineWidth());
+
+  const auto cube = test::binaryStl(test::makeBox(0, 0, 0, 0.5, 0.5, 0.5));
+  SliceOutput c = runSlice(cube.data(), cube.size(), "cube.stl", s);
+  ASSERT_TRUE(c.ok()) << c.message;
+  const Json rc = Json::parse(c.reportJson);
+  EXPECT_LE(rc["voxel"]["layers"].get<int>(), 3) << rc["voxel"].dump();
+  EXPECT_GT(rc["layer_height_mm"].get<double>(), 0.05);
+}
+
 TEST(VoxelPipelineErrors, ThreeAxisMachineIsRefusedWithAReason) {
   const auto bytes = mushroomBytes();
   Settings s = voxelSettings("cartesian3");
