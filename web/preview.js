@@ -9,6 +9,8 @@
 //   - the per-segment passes run in blocks and yield every ~12 ms (no long main-thread task).
 import * as THREE from 'three';
 
+import { blockRunner } from './block-runner.js';
+
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
 export const FEATURES = [
   { code: 0, name: 'travel', color: [0x5a, 0x6a, 0x80] },
@@ -26,19 +28,6 @@ export function featureCss(code) {
   return `rgb(${f.color.join(',')})`;
 }
 
-/** Yield to the event loop (scheduler.yield where available, else a message round trip). */
-export function yieldToEventLoop() {
-  if (globalThis.scheduler && typeof globalThis.scheduler.yield === 'function') return globalThis.scheduler.yield();
-  return new Promise((resolve) => {
-    const { port1, port2 } = new MessageChannel();
-    port1.onmessage = () => {
-      port1.close();
-      resolve();
-    };
-    port2.postMessage(null);
-  });
-}
-
 /**
  * Colours and layer-sorted index buffers of preview buffers, built in blocks of `block` segments;
  * whenever a task has run for `budgetMs` it yields, so no single task runs long (the first blocks
@@ -51,19 +40,9 @@ export function yieldToEventLoop() {
  */
 export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, block = 4096 } = {}) {
   const S = features.length;
-  let t0 = performance.now();
   // Run fn(from, to) over [0, S) in blocks, yielding when the task has used its budget.
-  const forBlocks = async (fn) => {
-    for (let from = 0; from < S; from += block) {
-      fn(from, Math.min(S, from + block));
-      if (performance.now() - t0 > budgetMs) {
-        // Each task's duration is recorded for the end-to-end long-task check.
-        performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
-        await yieldToEventLoop();
-        t0 = performance.now();
-      }
-    }
-  };
+  const run = blockRunner('omnislice:preview-slice', { budgetMs, block });
+  const forBlocks = (fn) => run(S, fn);
   let maxLayer = -1;
   await forBlocks((from, to) => {
     for (let s = from; s < to; s++) if (layers[s] > maxLayer) maxLayer = layers[s];
@@ -111,7 +90,7 @@ export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, 
       index[2 * k + 1] = 2 * s + 1;
     }
   });
-  performance.measure('omnislice:preview-slice', { start: t0, end: performance.now() });
+  run.end();
   return {
     layerCount,
     colors,

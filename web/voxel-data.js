@@ -10,6 +10,8 @@
 //     core bins each sample's thickness minus the mean thickness);
 //   - the voxel report's summary rows.
 
+import { blockRunner } from './block-runner.js';
+
 /** Progress stages per method, in pipeline order, with their share of the bar (sums to 1). */
 export const STAGE_WEIGHTS = {
   planar: { read: 0.04, validate: 0.06, place: 0.02, slice: 0.28, toolpath: 0.45, program: 0.15 },
@@ -31,39 +33,6 @@ export function overallProgress(weights, stage, fraction) {
   for (let i = 0; i < k; i++) before += weights[names[i]];
   const f = Math.min(Math.max(Number(fraction) || 0, 0), 1);
   return Math.min(1, before + weights[stage] * f);
-}
-
-/** Yield to the event loop (scheduler.yield where available, else a message round trip). */
-function yieldNow() {
-  if (globalThis.scheduler && typeof globalThis.scheduler.yield === 'function') return globalThis.scheduler.yield();
-  return new Promise((resolve) => {
-    const { port1, port2 } = new MessageChannel();
-    port1.onmessage = () => {
-      port1.close();
-      resolve();
-    };
-    port2.postMessage(null);
-  });
-}
-
-/**
- * Runner of fn(from, to) over [0, n) in blocks; yields whenever a task has run budgetMs (so the
- * main thread is never held long; each task is recorded as performance measure 'omnislice:voxel-slice').
- */
-function blockRunner({ budgetMs = 12, block = 4096 } = {}) {
-  let t0 = performance.now();
-  const run = async (n, fn) => {
-    for (let from = 0; from < n; from += block) {
-      fn(from, Math.min(n, from + block));
-      if (performance.now() - t0 > budgetMs) {
-        performance.measure('omnislice:voxel-slice', { start: t0, end: performance.now() });
-        await yieldNow();
-        t0 = performance.now();
-      }
-    }
-  };
-  run.end = () => performance.measure('omnislice:voxel-slice', { start: t0, end: performance.now() });
-  return run;
 }
 
 /** HSL (h in degrees, s and l in 0..1) -> [r, g, b] in 0..255. */
@@ -107,7 +76,7 @@ export async function buildSurfaceArrays(p, options) {
   if (P.length % 3 !== 0 || tri.length !== T * 3) {
     throw new Error(`surface buffers disagree: ${P.length / 3} vertices, ${tri.length / 3} triangles of indices, ${T} triangle layers`);
   }
-  const run = blockRunner(options);
+  const run = blockRunner('omnislice:voxel-slice', options);
   let maxLayer = -1;
   let badIndex = -1;
   await run(T, (from, to) => {
@@ -194,7 +163,7 @@ export async function decimateGlyphs(p, { maxGlyphs = 4000, length = 2, spacing,
     const dz = positions[o + 5] - positions[o + 2];
     return Math.sqrt(dx * dx + dy * dy + dz * dz);
   };
-  const run = blockRunner({ budgetMs, block: block || 65536 });
+  const run = blockRunner('omnislice:voxel-slice', { budgetMs, block: block || 65536 });
   let total = 0;
   let layerCount = 0;
   await run(S, (from, to) => {
