@@ -383,14 +383,17 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
     }
   }
   size_t solid = 0, support = 0;
-  for (size_t i = 0; i < grid.cellCount(); ++i) {
+  auto centre = [&](size_t i) {
     const Eigen::Vector3i c = grid.cell(i);
+    return grid.center(c.x(), c.y(), c.z());
+  };
+  for (size_t i = 0; i < grid.cellCount(); ++i) {
     if (grid.state[i] == static_cast<uint8_t>(VoxelState::Solid)) ++solid;
     if (grid.state[i] == static_cast<uint8_t>(VoxelState::Support)) {
       ++support;
-      pushPoint(p.supportVoxels, grid.center(c.x(), c.y(), c.z()));
+      pushPoint(p.supportVoxels, centre(i));
     }
-    if (field.g[i] < 0) pushPoint(p.missedVoxels, grid.center(c.x(), c.y(), c.z()));
+    if (field.g[i] < 0) pushPoint(p.missedVoxels, centre(i));
   }
   p.voxelWidth = static_cast<float>(w);
 
