@@ -31,6 +31,10 @@ struct PreviewBuffers {
   std::vector<float> missedVoxels;        // #M*3, part frame, mm
   std::vector<float> supportVoxels;       // #K*3, part frame, mm
   float voxelWidth = 0;                   // mm, 0 for other methods
+  // Iso-planar fill (paper 003): NL curve of each segment, 1-based in print order (0 = the
+  // segment is not on an NL curve: travel, join, planar base), so viewers can tell adjacent curves
+  // (side steps) apart.
+  std::vector<uint32_t> curves;           // #S
 };
 
 struct SliceOutput : Outcome {

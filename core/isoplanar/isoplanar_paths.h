@@ -1,0 +1,92 @@
+// SPDX-License-Identifier: MIT
+// Iso-planar printing paths on a layer surface (paper 003 Section 3, Algorithm 2): the surface is
+// cut by parallel vertical drive planes with normal q = (-sin theta, cos theta, 0); each cut is a
+// nozzle-location (NL) curve sampled with the forward step of Eq. 12; the next plane is placed by
+// the side step of Eq. 14; the curves are joined in a zig-zag; nozzle axis = surface normal;
+// extrusion by Eq. 13 (done by the tool-path builder from the bead model).
+//
+// Side step (Eq. 14, made exact for tilted surfaces): moving a drive plane by d moves its curve
+// along the surface by d / |k.q| at a point whose cross direction is k (k = n x f). The paper adds
+// w_s* = min w_eff to the plane offset, which on a surface sloping across the path spaces the
+// curves wider than w_eff (gaps). Here the next plane offset is c + min over the curve's points of
+// w_eff(p) |k(p).q| (|k.q| floored at minCross), so on the surface no point of the next curve is
+// farther than its w_eff from the current one, and the paper's rule is recovered where k is along
+// q (a horizontal surface). The first plane sits half a side step inside the extreme plane of S,
+// and the last one half a side step before the opposite extreme (bead edges on the boundary).
+#pragma once
+#include <Eigen/Core>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "isoplanar/effective_width.h"
+#include "isoplanar/surface_samples.h"
+#include "mesh/mesh.h"
+#include "surface/fermat_spiral.h"
+
+namespace omnislice {
+
+struct IsoplanarOptions {
+  double thetaDegrees = 0;     // drive-plane angle theta
+  double chordError = 0.5;     // delta_c* of Eq. 12, mm (> 0)
+  double maxStep = 0;          // longest forward step, mm (0 = no limit beyond Eq. 12)
+  double minCross = 0.2;       // floor of |k.q| in the side step
+  double connectFactor = 3;    // zig-zag: consecutive curve ends closer than this x the side step
+                               // (measured along the boundary) are joined by a printed move along
+                               // the surface; farther ends start a new path (a travel)
+};
+
+// One NL curve: the connected cut of the surface by one drive plane, in the order printed.
+struct NlCurve {
+  std::vector<Eigen::Vector3d> points;   // on the surface (mesh edges), part frame
+  std::vector<Eigen::Vector3d> normals;  // unit surface normals (nozzle axes)
+  std::vector<uint32_t> edgeA, edgeB;    // per point: the mesh edge it lies on ...
+  std::vector<float> edgeT;              // ... at (1 - t) a + t b (a == b: at a vertex)
+  std::vector<double> width;             // per point: w_eff(theta) there, mm
+  double plane = 0;                      // drive-plane offset c (q.x = c), mm
+  double sideStep = 0;                   // offset to the next plane (Eq. 14 as above), mm; 0 last
+  bool closed = false;                   // the cut is a closed loop (first point repeated last)
+};
+
+struct IsoplanarResult : Outcome {
+  std::vector<NlCurve> curves;          // in print order (plane order, zig-zag directions)
+  std::vector<SurfacePath> paths;       // the curves joined: one path per zig-zag run
+  std::vector<std::vector<uint32_t>> pathCurves;  // per path: indices of its curves, in order
+  size_t planes = 0;                    // drive planes used
+  double pathMm = 0;                    // printed length (curves + printed joins), mm
+  double minSideStep = 0, maxSideStep = 0;  // plane offsets, mm
+  double ms = 0;
+};
+
+// Algorithm 2 on `surface` (open or closed triangle mesh, edge-manifold) with its per-vertex
+// samples (surface_samples.h; curvature and height for w_eff) and w_eff = width(kappa, h) with
+// kappa the normal curvature across the curve. Statuses: EmptyInput, InvalidOption (options out
+// of range, samples not one per vertex), Cancelled. Progress stage "paths".
+IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
+                               const WidthFn& width, const IsoplanarOptions& options,
+                               const ProgressFn& progress = {});
+
+// f* for a move at a point on the mesh edge (a, b) at t along unit `direction` with geodesic
+// curvature `geodesicCurvature` (feed_rate.h's feedLimit blended over the edge's two vertices).
+using FeedFn = std::function<double(uint32_t a, uint32_t b, double t,
+                                    const Eigen::Vector3d& direction, double geodesicCurvature)>;
+
+struct IsoplanarTime {
+  double printS = 0;      // along the NL curves at f* (each segment at the smaller f* of its ends)
+  double joinS = 0;       // printed zig-zag joins
+  double travelS = 0;     // between paths at travelSpeed (straight line)
+  double totalS = 0;
+  double pathMm = 0;      // printed length
+  double travelMm = 0;
+  double meanFeed = 0;    // printed length / (printS + joinS), mm/s
+};
+
+// Printing time of the result under the kinematic limits: every printed segment takes
+// length / min(f* at its ends, maxFeed); f* from `feed` (0 or non-finite f* = unreachable: the
+// segment is timed at minFeed and counted). Joins and travels as above.
+IsoplanarTime estimateIsoplanarTime(const IsoplanarResult& paths, const FeedFn& feed,
+                                    double maxFeed, double travelSpeed, double minFeed = 1);
+
+}  // namespace omnislice
