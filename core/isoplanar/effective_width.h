@@ -56,7 +56,8 @@ using WidthFn = std::function<double(double kappa, double height)>;
 
 // Tabulated effectiveWidth(s, h, kappa).width over kappa in [-kappaMax, kappaMax] and h in
 // [hMin, hMax] (linear in kappa, cubic through 4 rows in h; exact at the nodes; values outside
-// the ranges are clamped to them, and kappa to the model's supported range for h).
+// the ranges are clamped to them, and kappa to the model's supported range for h). hMin and
+// hMax may come in either order; a non-positive or non-finite s or h gives a table answering 0.
 // Relative error against effectiveWidth() below 1e-4 on the default resolution (tested).
 class EffectiveWidthTable {
  public:

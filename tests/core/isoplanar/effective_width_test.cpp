@@ -245,6 +245,7 @@ TEST(EffectiveWidth, BadInputGivesZero) {
   EXPECT_EQ(cuspAreas(0.4, 0.2, 0, -1).overlap, 0);
   EXPECT_EQ(EffectiveWidthTable(0, 0.1, 0.2).width(0, 0.1), 0);
   EXPECT_EQ(EffectiveWidthTable().width(0, 0.1), 0);
+  EXPECT_EQ(EffectiveWidthTable(0.4, 0.3, 0.1).width(0.5, 0.2), EffectiveWidthTable(0.4, 0.1, 0.3).width(0.5, 0.2));
 }
 
 TEST(EffectiveWidth, TableMatchesDirectSolveAndIsFast) {
