@@ -243,6 +243,58 @@ TEST(IsoplanarPaths, FlatSquareLastPlaneHalfStepInside) {
   expectPointsOnMesh(m, r, driveNormal(90));
 }
 
+// Degenerate: every drive plane passes exactly through a row of grid vertices (w = 1 on a 0.5
+// grid starting at -10). The vertex counts as above the plane, so each plane still gives one
+// simple straight curve ending at boundary vertices (edgeA == edgeB there).
+TEST(IsoplanarPaths, FlatSquarePlanesThroughVertices) {
+  const Mesh m = gridMesh(10, 41, nullptr);
+  const auto samples = analyticSamples(m, flatGeometry(), 0.5);
+  IsoplanarOptions o;
+  o.thetaDegrees = 0;
+  const IsoplanarResult r = isoplanarPaths(m, samples, [](double, double) { return 1.0; }, o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(r.planes, 20u);
+  ASSERT_EQ(r.curves.size(), 20u);
+  for (const NlCurve& c : r.curves) {
+    ASSERT_EQ(c.points.size(), 2u);
+    EXPECT_NEAR(std::abs(c.points.front().x() - c.points.back().x()), 20, 1e-12);
+    EXPECT_EQ(c.edgeA.front(), c.edgeB.front());
+    EXPECT_EQ(c.edgeA.back(), c.edgeB.back());
+  }
+  EXPECT_EQ(r.paths.size(), 1u);
+  expectPointsOnMesh(m, r, driveNormal(0));
+}
+
+// Tilt correction of Eq. 14 (header): on a plane sloping across the curves (z = 3 x, planes
+// x = const), the plane offset is w |k.q| and the curves lie exactly w apart on the surface;
+// with the floor minCross above |k.q| they lie w minCross / |k.q| apart.
+TEST(IsoplanarPaths, TiltedPlaneSpacingIsTheWidthOnTheSurface) {
+  const double slope = 3;
+  const Mesh m = gridMesh(5, 21, [slope](double x, double) { return slope * x; });
+  const auto samples = analyticSamples(
+      m,
+      [slope](const Eigen::Vector3d&, Eigen::Vector3d& n, Eigen::Matrix3d& T) {
+        n = Eigen::Vector3d(-slope, 0, 1).normalized();
+        T.setZero();
+      },
+      0.5);
+  const double w = 0.8, kq = 1 / std::sqrt(1 + slope * slope);
+  for (double minCross : {0.2, 0.5}) {
+    IsoplanarOptions o;
+    o.thetaDegrees = 90;
+    o.minCross = minCross;
+    const IsoplanarResult r = isoplanarPaths(m, samples, [w](double, double) { return w; }, o);
+    ASSERT_TRUE(r.ok()) << r.message;
+    const double offset = w * std::max(kq, minCross);
+    for (size_t i = 0; i + 2 < r.curves.size(); ++i) {
+      EXPECT_NEAR(r.curves[i].sideStep, offset, 1e-12);
+      for (const Eigen::Vector3d& p : r.curves[i + 1].points) {
+        EXPECT_NEAR(distanceToPolyline(p, r.curves[i].points), offset / kq, 1e-9);
+      }
+    }
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Saddle z = (x^2 - y^2) / R with the closed-form width: adjacent curves within the criterion.
 TEST(IsoplanarPaths, SaddleSpacingWithinWidthCriterion) {
@@ -702,6 +754,12 @@ TEST(IsoplanarPaths, BadInput) {
   degenerate.positions = {0, 0, 0, 1, 0, 0};
   degenerate.triangles = {0, 1, 1};
   EXPECT_EQ(isoplanarPaths(degenerate, std::vector<SurfaceSample>(2), w, o).status, Status::EmptyInput);
+  // A surface lying in a drive plane (y = 0 with theta = 0): no curve, not an error.
+  Mesh wall = gridMesh(5, 5, nullptr);
+  for (size_t v = 0; v < wall.vertexCount(); ++v) std::swap(wall.positions[3 * v + 1], wall.positions[3 * v + 2]);
+  const IsoplanarResult inPlane = isoplanarPaths(wall, analyticSamples(wall, flatGeometry(), 0.5), w, o);
+  EXPECT_TRUE(inPlane.ok()) << inPlane.message;
+  EXPECT_TRUE(inPlane.curves.empty());
   // Tiny width against a large surface: refused, not hung.
   EXPECT_EQ(isoplanarPaths(m, samples, [](double, double) { return 1e-9; }, o).status,
             Status::InvalidOption);
