@@ -14,17 +14,9 @@
 #include <utility>
 
 namespace omnislice {
-namespace {
+namespace isoplanar_detail {
 
 constexpr uint32_t kNone = 0xffffffffu;
-constexpr double kInf = std::numeric_limits<double>::infinity();
-
-IsoplanarResult fail(Status s, std::string message) {
-  IsoplanarResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
 
 // Edges, triangle-edge incidence and ordered boundary loops of the surface.
 struct Topology {
@@ -38,6 +30,30 @@ struct Topology {
   std::vector<uint32_t> edgeLoop, edgeLoopIndex;  // boundary edge -> loop, index of its segment
   std::vector<uint8_t> edgeForward;                // loop walks the edge from ea to eb
 };
+
+}  // namespace isoplanar_detail
+
+// Direction-independent data of a prepared surface.
+struct IsoplanarSurface::Data {
+  Mesh mesh;
+  std::vector<SurfaceSample> samples;
+  isoplanar_detail::Topology topo;
+  std::vector<Eigen::Matrix3d> tensors;  // shape tensors in the part frame
+  double scale = 0;                      // bounding-box diagonal, mm
+};
+
+namespace {
+
+using isoplanar_detail::kNone;
+using isoplanar_detail::Topology;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+IsoplanarResult fail(Status s, std::string message) {
+  IsoplanarResult r;
+  r.status = s;
+  r.message = std::move(message);
+  return r;
+}
 
 // Returns false (with a message) on a non-manifold edge.
 bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
@@ -172,8 +188,8 @@ struct Planner {
   const std::vector<SurfaceSample>& samples;
   const WidthFn& widthFn;
   const IsoplanarOptions& options;
-  Topology topo;
-  std::vector<Eigen::Matrix3d> tensors;
+  const Topology& topo;
+  const std::vector<Eigen::Matrix3d>& tensors;
   std::vector<double> dist;  // q.x per vertex
   Eigen::Vector3d q{0, 1, 0}, u{1, 0, 0};
   // Per-plane scratch.
@@ -183,9 +199,8 @@ struct Planner {
   uint32_t stamp = 0;
   std::string error;
 
-  Planner(const Mesh& m, const std::vector<SurfaceSample>& s, const WidthFn& w,
-          const IsoplanarOptions& o)
-      : mesh(m), samples(s), widthFn(w), options(o) {}
+  Planner(const IsoplanarSurface::Data& d, const WidthFn& w, const IsoplanarOptions& o)
+      : mesh(d.mesh), samples(d.samples), widthFn(w), options(o), topo(d.topo), tensors(d.tensors) {}
 
   // Crossings of the plane q.x = c with the given triangles, linked.
   void cut(double c, const std::vector<uint32_t>& crossed) {
@@ -380,18 +395,75 @@ double polylineLength(const std::vector<Eigen::Vector3d>& p) {
 
 }  // namespace
 
+IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
+                                         const std::vector<SurfaceSample>& samples) {
+  const auto t0 = std::chrono::steady_clock::now();
+  IsoplanarSurface out;
+  auto bad = [&](Status st, std::string message) {
+    out.status = st;
+    out.message = std::move(message);
+    out.data.reset();
+    return out;
+  };
+  if (surface.empty() || surface.vertexCount() == 0) return bad(Status::EmptyInput, "empty surface");
+  if (surface.triangles.size() % 3 != 0 || surface.positions.size() % 3 != 0) {
+    return bad(Status::InvalidOption, "mesh arrays are not multiples of 3");
+  }
+  if (samples.size() != surface.vertexCount()) {
+    return bad(Status::InvalidOption, "samples: " + std::to_string(samples.size()) + " for " +
+                                          std::to_string(surface.vertexCount()) +
+                                          " vertices (one per vertex expected)");
+  }
+  const size_t nv = surface.vertexCount();
+  for (double x : surface.positions) {
+    if (!std::isfinite(x)) return bad(Status::NonFiniteVertex, "non-finite vertex coordinate");
+  }
+  for (uint32_t v : surface.triangles) {
+    if (v >= nv) return bad(Status::InvalidOption, "triangle index out of range");
+  }
+  for (const SurfaceSample& s : samples) {
+    if (!s.normal.allFinite() || !s.shape.allFinite() || !s.tangentU.allFinite() ||
+        !s.tangentV.allFinite() || !std::isfinite(s.height) || s.normal.norm() < 1e-12) {
+      return bad(Status::NonFiniteVertex, "a surface sample is not finite or has no normal");
+    }
+  }
+  auto data = std::make_shared<IsoplanarSurface::Data>();
+  data->mesh = surface;
+  data->samples = samples;
+  std::string message;
+  if (!buildTopology(surface, data->topo, message)) return bad(Status::NonManifoldInput, message);
+  if (data->topo.tris.empty()) return bad(Status::EmptyInput, "no non-degenerate triangles");
+  data->tensors.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    Eigen::Matrix<double, 3, 2> basis;
+    basis.col(0) = samples[v].tangentU;
+    basis.col(1) = samples[v].tangentV;
+    data->tensors[v] = basis * samples[v].shape * basis.transpose();
+  }
+  const BoundingBox box = boundingBox(surface);
+  data->scale = (box.max - box.min).norm();
+  out.data = std::move(data);
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
 IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
                                const WidthFn& width, const IsoplanarOptions& options,
                                const ProgressFn& progress) {
   const auto t0 = std::chrono::steady_clock::now();
-  if (surface.empty() || surface.vertexCount() == 0) return fail(Status::EmptyInput, "empty surface");
-  if (surface.triangles.size() % 3 != 0 || surface.positions.size() % 3 != 0) {
-    return fail(Status::InvalidOption, "mesh arrays are not multiples of 3");
-  }
-  if (samples.size() != surface.vertexCount()) {
-    return fail(Status::InvalidOption, "samples: " + std::to_string(samples.size()) +
-                                           " for " + std::to_string(surface.vertexCount()) +
-                                           " vertices (one per vertex expected)");
+  const IsoplanarSurface prepared = prepareIsoplanarSurface(surface, samples);
+  if (!prepared.ok()) return fail(prepared.status, prepared.message);
+  IsoplanarResult r = isoplanarPaths(prepared, width, options, progress);
+  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& width,
+                               const IsoplanarOptions& options, const ProgressFn& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!prepared.ok() || !prepared.data) {
+    return fail(prepared.ok() ? Status::EmptyInput : prepared.status,
+                prepared.message.empty() ? "surface not prepared" : prepared.message);
   }
   if (!width) return fail(Status::InvalidOption, "no width function");
   if (!std::isfinite(options.thetaDegrees)) return fail(Status::InvalidOption, "theta is not finite");
@@ -407,32 +479,12 @@ IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSam
   if (!(std::isfinite(options.connectFactor) && options.connectFactor >= 0)) {
     return fail(Status::InvalidOption, "connect factor must be >= 0 and finite");
   }
+  const IsoplanarSurface::Data& data = *prepared.data;
+  const Mesh& surface = data.mesh;
+  const std::vector<SurfaceSample>& samples = data.samples;
   const size_t nv = surface.vertexCount();
-  for (double x : surface.positions) {
-    if (!std::isfinite(x)) return fail(Status::NonFiniteVertex, "non-finite vertex coordinate");
-  }
-  for (uint32_t v : surface.triangles) {
-    if (v >= nv) return fail(Status::InvalidOption, "triangle index out of range");
-  }
-  for (const SurfaceSample& s : samples) {
-    if (!s.normal.allFinite() || !s.shape.allFinite() || !s.tangentU.allFinite() ||
-        !s.tangentV.allFinite() || !std::isfinite(s.height) || s.normal.norm() < 1e-12) {
-      return fail(Status::NonFiniteVertex, "a surface sample is not finite or has no normal");
-    }
-  }
-
-  Planner pl(surface, samples, width, options);
-  std::string message;
-  if (!buildTopology(surface, pl.topo, message)) return fail(Status::NonManifoldInput, message);
+  Planner pl(data, width, options);
   const size_t nt = pl.topo.tris.size() / 3;
-  if (nt == 0) return fail(Status::EmptyInput, "no non-degenerate triangles");
-  pl.tensors.resize(nv);
-  for (size_t v = 0; v < nv; ++v) {
-    Eigen::Matrix<double, 3, 2> basis;
-    basis.col(0) = samples[v].tangentU;
-    basis.col(1) = samples[v].tangentV;
-    pl.tensors[v] = basis * samples[v].shape * basis.transpose();
-  }
   const double theta = options.thetaDegrees * M_PI / 180.0;
   pl.q = Eigen::Vector3d(-std::sin(theta), std::cos(theta), 0);
   pl.u = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
@@ -451,16 +503,14 @@ IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSam
     dmin = std::min(dmin, lo[k]);
     dmax = std::max(dmax, hi[k]);
   }
+  std::vector<std::pair<double, uint32_t>> sorted(nt);
+  for (uint32_t k = 0; k < nt; ++k) sorted[k] = {lo[k], k};
+  std::sort(sorted.begin(), sorted.end());
   std::vector<uint32_t> order(nt);
-  std::iota(order.begin(), order.end(), 0u);
-  std::sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return lo[a] < lo[b]; });
+  for (size_t k = 0; k < nt; ++k) order[k] = sorted[k].second;
   const double extent = dmax - dmin;
   IsoplanarResult result;
-  double scale = 0;
-  {
-    const BoundingBox box = boundingBox(surface);
-    scale = (box.max - box.min).norm();
-  }
+  const double scale = data.scale;
   if (!(extent > 1e-9 * std::max(scale, 1e-9))) {
     result.message = "the surface lies in one drive plane: no curve";
     result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

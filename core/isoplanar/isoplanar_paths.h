@@ -17,6 +17,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <memory>
 #include <vector>
 
 #include "common/progress.h"
@@ -97,6 +98,21 @@ struct IsoplanarResult : Outcome {
 IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
                                const WidthFn& width, const IsoplanarOptions& options,
                                const ProgressFn& progress = {});
+
+// The direction-independent part of isoplanarPaths (validation, edges, boundary loops, shape
+// tensors), prepared once to plan many directions on one surface (the benchmark over theta).
+// Holds a copy of the mesh and samples. Statuses as isoplanarPaths for the mesh and samples.
+struct IsoplanarSurface : Outcome {
+  struct Data;
+  std::shared_ptr<const Data> data;
+  double ms = 0;
+};
+IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
+                                         const std::vector<SurfaceSample>& samples);
+
+// isoplanarPaths on a prepared surface: the same result as the call on its mesh and samples.
+IsoplanarResult isoplanarPaths(const IsoplanarSurface& surface, const WidthFn& width,
+                               const IsoplanarOptions& options, const ProgressFn& progress = {});
 
 // f* for a move at a point on the mesh edge (a, b) at t along unit `direction` with geodesic
 // curvature `geodesicCurvature` (feed_rate.h's feedLimit blended over the edge's two vertices).

@@ -765,6 +765,34 @@ TEST(IsoplanarPaths, BadInput) {
             Status::InvalidOption);
 }
 
+// A prepared surface gives the same result as the direct call (several directions on one
+// preparation, as the benchmark does); an unprepared one is refused.
+TEST(IsoplanarPaths, PreparedSurfaceSameResult) {
+  const HeightField hf = saddleField(30);
+  const Mesh m = gridMesh(10, 41, hf.g);
+  const auto samples = analyticSamples(m, heightFieldGeometry(hf), 0.5);
+  const IsoplanarSurface prepared = prepareIsoplanarSurface(m, samples);
+  ASSERT_TRUE(prepared.ok()) << prepared.message;
+  for (double theta : {0.0, 70.0, 140.0}) {
+    IsoplanarOptions o;
+    o.thetaDegrees = theta;
+    const IsoplanarResult a = isoplanarPaths(m, samples, closedFormWidth(1), o);
+    const IsoplanarResult b = isoplanarPaths(prepared, closedFormWidth(1), o);
+    ASSERT_TRUE(a.ok() && b.ok());
+    ASSERT_EQ(a.curves.size(), b.curves.size());
+    EXPECT_EQ(a.pathMm, b.pathMm);
+    for (size_t i = 0; i < a.curves.size(); ++i) {
+      ASSERT_EQ(a.curves[i].points.size(), b.curves[i].points.size());
+      for (size_t k = 0; k < a.curves[i].points.size(); ++k) {
+        EXPECT_EQ(a.curves[i].points[k], b.curves[i].points[k]);
+      }
+    }
+  }
+  EXPECT_EQ(isoplanarPaths(IsoplanarSurface{}, closedFormWidth(1), IsoplanarOptions{}).status,
+            Status::EmptyInput);
+  EXPECT_EQ(prepareIsoplanarSurface(Mesh{}, {}).status, Status::EmptyInput);
+}
+
 // Timings (native): 5k and 20k vertex saddles.
 TEST(IsoplanarPaths, SaddleTiming) {
   for (int n : {71, 141}) {
@@ -786,6 +814,23 @@ TEST(IsoplanarPaths, SaddleTiming) {
                   m.vertexCount(), theta, ms, r.planes, r.curves.size(), r.paths.size(), r.pathMm);
     }
     EXPECT_LT(best, 500.0);
+    // The benchmark's way: one preparation, 36 directions (s = 1 and s = 0.4).
+    const IsoplanarSurface prepared = prepareIsoplanarSurface(m, samples);
+    ASSERT_TRUE(prepared.ok());
+    for (double s : {1.0, 0.4}) {
+      const auto t0 = std::chrono::steady_clock::now();
+      size_t planes = 0;
+      for (int k = 0; k < 36; ++k) {
+        IsoplanarOptions o;
+        o.thetaDegrees = 5.0 * k;
+        const IsoplanarResult rk = isoplanarPaths(prepared, closedFormWidth(s), o);
+        ASSERT_TRUE(rk.ok());
+        planes += rk.planes;
+      }
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+      std::printf("saddle %zu vertices, s %.1f: prepare %.2f ms, %.2f ms per direction (mean %zu planes)\n",
+                  m.vertexCount(), s, prepared.ms, ms / 36, planes / 36);
+    }
   }
 }
 
