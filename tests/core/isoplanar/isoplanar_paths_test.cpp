@@ -15,6 +15,8 @@
 #include <limits>
 #include <random>
 
+#include "isoplanar/effective_width.h"
+#include "isoplanar/surface_samples.h"
 #include "surface/surface_test_meshes.h"
 #include "test_support.h"
 
@@ -115,6 +117,13 @@ GeometryFn flatGeometry() {
 // arc spacing at mid-height): a = pi s / (4 (1 - kappa h / 2)).
 WidthFn closedFormWidth(double s) {
   return [s](double kappa, double h) { return M_PI * s / (4 * (1 - kappa * h / 2)); };
+}
+
+// Samples of the surface by the real fit (surface_samples.h).
+std::vector<SurfaceSample> fittedSamples(const Mesh& m, double h) {
+  SurfaceSamplesResult r = surfaceSamples(m, h);
+  EXPECT_TRUE(r.ok()) << r.message;
+  return std::move(r.samples);
 }
 
 double distanceToPolyline(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& poly) {
@@ -300,10 +309,14 @@ TEST(IsoplanarPaths, TiltedPlaneSpacingIsTheWidthOnTheSurface) {
 TEST(IsoplanarPaths, SaddleSpacingWithinWidthCriterion) {
   const double R = 30, half = 15, s = 1, h = 0.5;
   const HeightField hf = saddleField(R);
-  const Mesh m = gridMesh(half, 61, hf.g);
-  const auto samples = analyticSamples(m, heightFieldGeometry(hf), h);
-  const WidthFn width = closedFormWidth(s);
+  const Mesh m = makeSaddleSurface(R, half, 61 * 61);
+  const auto samples = fittedSamples(m, h);
+  // The closed form and the real cusp-area width (table).
+  const WidthFn closedForm = closedFormWidth(s);
+  const WidthFn table = EffectiveWidthTable(s, 0.2, 0.8).function();
   for (double theta : {0.0, 30.0, 158.0}) {
+   for (const WidthFn* widthPtr : {&closedForm, &table}) {
+    const WidthFn& width = *widthPtr;
     IsoplanarOptions o;
     o.thetaDegrees = theta;
     o.chordError = 0.02;
@@ -320,7 +333,7 @@ TEST(IsoplanarPaths, SaddleSpacingWithinWidthCriterion) {
         Eigen::Vector3d n;
         Eigen::Matrix3d T;
         heightFieldGeometry(hf)(c.points[i], n, T);
-        EXPECT_GT(c.normals[i].dot(n), 0.999);
+        EXPECT_GT(c.normals[i].dot(n), 0.998);
       }
     }
     // tol = 0.1: the width varies by the curvature between the curves, the polyline is within
@@ -360,6 +373,7 @@ TEST(IsoplanarPaths, SaddleSpacingWithinWidthCriterion) {
                 theta, r.planes, r.minSideStep, r.maxSideStep, worstLow, worstHigh);
     // On a tilted surface the plane offset is below the width (|k.q| < 1).
     EXPECT_LT(r.minSideStep, 0.95 * M_PI * s / 4);
+   }
   }
 }
 
@@ -369,8 +383,8 @@ TEST(IsoplanarPaths, SaddleSpacingWithinWidthCriterion) {
 TEST(IsoplanarPaths, SaddleChordErrorAndForwardStep) {
   const double R = 20, half = 15;
   const HeightField hf = saddleField(R);
-  const Mesh m = gridMesh(half, 61, hf.g);
-  const auto samples = analyticSamples(m, heightFieldGeometry(hf), 0.5);
+  const Mesh m = makeSaddleSurface(R, half, 61 * 61);
+  const auto samples = fittedSamples(m, 0.5);
   for (double dc : {0.5, 0.05}) {
     IsoplanarOptions o;
     o.thetaDegrees = 30;
@@ -409,10 +423,9 @@ TEST(IsoplanarPaths, SaddleChordErrorAndForwardStep) {
 // Coverage: every vertex farther than w_eff from the boundary is within 0.6 w_eff of a curve.
 TEST(IsoplanarPaths, SaddleCoverage) {
   const double R = 30, half = 15;
-  const HeightField hf = saddleField(R);
-  const Mesh m = gridMesh(half, 61, hf.g);
-  const auto samples = analyticSamples(m, heightFieldGeometry(hf), 0.5);
-  const WidthFn width = closedFormWidth(1);
+  const Mesh m = makeSaddleSurface(R, half, 61 * 61);
+  const auto samples = fittedSamples(m, 0.5);
+  const WidthFn width = EffectiveWidthTable(1, 0.2, 0.8).function();
   for (double theta : {0.0, 45.0, 120.0}) {
     IsoplanarOptions o;
     o.thetaDegrees = theta;
@@ -432,6 +445,61 @@ TEST(IsoplanarPaths, SaddleCoverage) {
       ++checked;
     }
     EXPECT_GT(checked, 300u);
+  }
+}
+
+// The bicycle-seat surface (pear outline, convex across) with the real samples and width:
+// points on the mesh, adjacent curves within the width criterion away from the boundary, and
+// coverage of the vertices farther than w_eff from the boundary.
+TEST(IsoplanarPaths, SeatSpacingAndCoverage) {
+  const Mesh m = makeSeatSurface(110, 8000);
+  ASSERT_FALSE(m.empty());
+  const auto samples = fittedSamples(m, 0.5);
+  const WidthFn width = EffectiveWidthTable(1, 0.2, 0.8).function();
+  std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> boundary;
+  for (const auto& e : test::boundaryEdges(m)) boundary.emplace_back(m.vertex(e.first), m.vertex(e.second));
+  auto boundaryDistance = [&](const Eigen::Vector3d& p) {
+    double d = 1e9;
+    for (const auto& b : boundary) d = std::min(d, pointSegmentDistance(p, b.first, b.second));
+    return d;
+  };
+  for (double theta : {39.0, 90.0}) {
+    IsoplanarOptions o;
+    o.thetaDegrees = theta;
+    o.chordError = 0.05;
+    const IsoplanarResult r = isoplanarPaths(m, samples, width, o);
+    ASSERT_TRUE(r.ok()) << r.message;
+    expectPointsOnMesh(m, r, driveNormal(theta));
+    const auto planes = byPlane(r);
+    size_t checked = 0;
+    for (size_t j = 0; j + 1 < planes.size(); ++j) {
+      std::vector<const NlCurve*> prev;
+      for (size_t i : planes[j]) prev.push_back(&r.curves[i]);
+      for (size_t i : planes[j + 1]) {
+        const NlCurve& b = r.curves[i];
+        for (size_t k = 0; k < b.points.size(); ++k) {
+          if (boundaryDistance(b.points[k]) < 4) continue;
+          double d = 1e9;
+          for (const NlCurve* a : prev) d = std::min(d, distanceToPolyline(b.points[k], a->points));
+          EXPECT_GE(d, (1 - 1e-9) * prev[0]->sideStep);
+          EXPECT_LE(d, 1.1 * b.width[k] + o.chordError) << "gap at plane " << j + 1;
+          ++checked;
+        }
+      }
+    }
+    EXPECT_GT(checked, 200u);
+    size_t covered = 0;
+    for (size_t v = 0; v < m.vertexCount(); v += 13) {
+      const Eigen::Vector3d p = m.vertex(v);
+      if (boundaryDistance(p) < 1.2 * width(0, 0.5)) continue;
+      double d = 1e9;
+      for (const NlCurve& c : r.curves) d = std::min(d, distanceToPolyline(p, c.points));
+      EXPECT_LE(d, 0.6 * width(0, 0.5)) << "vertex " << v;
+      ++covered;
+    }
+    EXPECT_GT(covered, 200u);
+    std::printf("seat theta %.0f: planes %zu, curves %zu, paths %zu, side step [%.3f, %.3f]\n", theta,
+                r.planes, r.curves.size(), r.paths.size(), r.minSideStep, r.maxSideStep);
   }
 }
 
@@ -600,9 +668,8 @@ TEST(IsoplanarPaths, ThetaSweepPlanesMatchExtent) {
     for (const auto& pc : byPlane(r)) sum += r.curves[pc[0]].sideStep;
     EXPECT_NEAR(sum, extent - w, 1e-9);
   }
-  const HeightField hf = saddleField(25);
-  const Mesh saddle = gridMesh(12, 49, hf.g);
-  const auto samples = analyticSamples(saddle, heightFieldGeometry(hf), 0.5);
+  const Mesh saddle = makeSaddleSurface(25, 12, 49 * 49);
+  const auto samples = fittedSamples(saddle, 0.5);
   for (double theta : {10.0, 60.0, 100.0, 158.0}) {
     IsoplanarOptions o;
     o.thetaDegrees = theta;
@@ -795,11 +862,10 @@ TEST(IsoplanarPaths, PreparedSurfaceSameResult) {
 
 // Timings (native): 5k and 20k vertex saddles.
 TEST(IsoplanarPaths, SaddleTiming) {
-  for (int n : {71, 141}) {
-    const HeightField hf = saddleField(100);
-    const Mesh m = gridMesh(37.5, n, hf.g);
-    const auto samples = analyticSamples(m, heightFieldGeometry(hf), 0.5);
-    const WidthFn width = closedFormWidth(1);
+  for (int n : {71, 141}) {  // 5041 and 19881 vertices
+    const Mesh m = makeSaddleSurface(100, 37.5, n * n);
+    const auto samples = fittedSamples(m, 0.5);
+    const WidthFn width = EffectiveWidthTable(1, 0.2, 0.8).function();
     double best = 1e9;
     IsoplanarResult r;
     for (double theta : {0.0, 37.0, 158.0}) {
@@ -818,12 +884,13 @@ TEST(IsoplanarPaths, SaddleTiming) {
     const IsoplanarSurface prepared = prepareIsoplanarSurface(m, samples);
     ASSERT_TRUE(prepared.ok());
     for (double s : {1.0, 0.4}) {
+      const WidthFn table = EffectiveWidthTable(s, 0.1, 0.6).function();
       const auto t0 = std::chrono::steady_clock::now();
       size_t planes = 0;
       for (int k = 0; k < 36; ++k) {
         IsoplanarOptions o;
         o.thetaDegrees = 5.0 * k;
-        const IsoplanarResult rk = isoplanarPaths(prepared, closedFormWidth(s), o);
+        const IsoplanarResult rk = isoplanarPaths(prepared, table, o);
         ASSERT_TRUE(rk.ok());
         planes += rk.planes;
       }
