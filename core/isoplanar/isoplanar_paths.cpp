@@ -750,7 +750,26 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   for (size_t i = 0; i + 1 < result.curves.size(); ++i) {
     const NlCurve& a = result.curves[i];
     const NlCurve& b = result.curves[i + 1];
-    if (a.closed || b.closed) continue;
+    const double limit = options.connectFactor * std::max(curveStepRef[i], curveStepRef[i + 1]);
+    if (a.closed || b.closed) {
+      // A loop has no boundary to follow: a short straight move to the next curve's start
+      // (nearest to this end by construction) when the surface between is about flat.
+      const double d = (b.points.front() - a.points.back()).norm();
+      if (d <= limit && a.normals.back().dot(b.normals.front()) > 0.9) {
+        IsoplanarJoin join;
+        join.fromCurve = static_cast<uint32_t>(i);
+        join.toCurve = static_cast<uint32_t>(i + 1);
+        join.points = {a.points.back(), b.points.front()};
+        join.normals = {a.normals.back(), b.normals.front()};
+        join.edgeA = {a.edgeA.back(), b.edgeA.front()};
+        join.edgeB = {a.edgeB.back(), b.edgeB.front()};
+        join.edgeT = {a.edgeT.back(), b.edgeT.front()};
+        join.length = d;
+        joinedToNext[i] = 1;
+        joinAfter[i] = std::move(join);
+      }
+      continue;
+    }
     const LoopPos pa = loopPos(curveEnds[i].lastEdge, curveEnds[i].lastT);
     const LoopPos pb = loopPos(curveEnds[i + 1].firstEdge, curveEnds[i + 1].firstT);
     if (pa.loop == kNone || pa.loop != pb.loop) continue;
@@ -769,7 +788,6 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     }
     const bool forward = fwd <= bwd;
     const double arc = forward ? fwd : bwd;
-    const double limit = options.connectFactor * std::max(curveStepRef[i], curveStepRef[i + 1]);
     if (!(arc <= limit)) continue;
     IsoplanarJoin join;
     join.fromCurve = static_cast<uint32_t>(i);

@@ -52,7 +52,8 @@ struct NlCurve {
 };
 
 // A printed zig-zag join: the walk along a boundary loop of the surface from the end of one curve
-// to the start of the next one (both end points included; points on boundary edges / vertices).
+// to the start of the next one (both end points included; points on boundary edges / vertices),
+// or a short straight move from or to a closed loop (two points).
 struct IsoplanarJoin {
   uint32_t fromCurve = 0, toCurve = 0;   // indices into IsoplanarResult::curves
   std::vector<Eigen::Vector3d> points;
@@ -94,7 +95,9 @@ struct IsoplanarResult : Outcome {
 // along u = (cos theta, sin theta, 0), ascending on even planes and descending on odd ones, open
 // curves oriented the same way, closed loops oriented alternately and started at the point
 // nearest the previous curve's end. Consecutive open curves whose ends lie on the same boundary
-// loop within connectFactor x the side step along it are joined along that boundary.
+// loop within connectFactor x the side step along it are joined along that boundary; when one of
+// them is a closed loop, by a straight move if it is that short and the normals at its ends
+// agree within about 25 degrees (the move leaves the surface by its sagitta only).
 IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
                                const WidthFn& width, const IsoplanarOptions& options,
                                const ProgressFn& progress = {});

@@ -633,7 +633,17 @@ TEST(IsoplanarPaths, CylinderBandClosedLoops) {
   for (size_t i = 0; i + 1 < r.curves.size(); ++i) {
     EXPECT_LT((r.curves[i + 1].points.front() - r.curves[i].points.back()).norm(), 1.5);
   }
-  EXPECT_EQ(r.paths.size(), r.curves.size()) << "loops are not joined";
+  // Loops are chained by short straight moves (one step along the axis): one path.
+  EXPECT_EQ(r.paths.size(), 1u);
+  ASSERT_EQ(r.joins.size(), r.curves.size() - 1);
+  for (const IsoplanarJoin& j : r.joins) {
+    ASSERT_EQ(j.points.size(), 2u);
+    EXPECT_NEAR(j.length, r.curves[j.fromCurve].sideStep, 0.3);
+  }
+  // Without joins every loop is its own path.
+  IsoplanarOptions noJoin = o;
+  noJoin.connectFactor = 0;
+  EXPECT_EQ(isoplanarPaths(m, samples, closedFormWidth(1), noJoin).paths.size(), r.curves.size());
   // Cut along the axis instead: two straight open lines per plane (top and bottom), closed 0.
   o.thetaDegrees = 90;
   const IsoplanarResult r2 = isoplanarPaths(m, samples, closedFormWidth(1), o);
