@@ -512,7 +512,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   IsoplanarResult result;
   const double scale = data.scale;
   if (!(extent > 1e-9 * std::max(scale, 1e-9))) {
-    result.message = "the surface lies in one drive plane: no curve";
+    // The surface lies in one drive plane: no curve (not an error).
     result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return result;
   }

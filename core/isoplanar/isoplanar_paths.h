@@ -81,8 +81,14 @@ struct IsoplanarResult : Outcome {
 // samples (surface_samples.h; curvature and height for w_eff) and w_eff = width(kappa, h) with
 // kappa the normal curvature across the curve. Statuses: EmptyInput, InvalidOption (options out
 // of range, samples not one per vertex, a triangle index out of range, a width that is not
-// positive and finite), NonFiniteVertex (positions or samples), NonManifoldInput (an edge of
-// more than two triangles), Cancelled. Progress stage "paths".
+// positive and finite, or so small that more than 2e6 planes would be needed), NonFiniteVertex
+// (positions or samples), NonManifoldInput (an edge of more than two triangles), Cancelled.
+// Progress stage "paths". A surface lying in one drive plane gives Ok and no curve.
+// Planes: the first at the extreme + its own side step / 2 (fixed point), then c += side step;
+// once c + step would pass the far extreme - step / 2, the last plane is put there (that offset
+// is shorter than the step), and a plane whose step / 2 reaches the far extreme is the last.
+// A plane meeting no triangle (a gap between parts along q) jumps to the next triangle's start +
+// half the last step.
 //
 // Cut: a vertex with q.x == c counts as above the plane (symbolic perturbation), so every plane
 // meets each triangle in at most one segment and the crossings link into simple polylines (open
