@@ -291,6 +291,24 @@ TEST(EffectiveWidth, TableMatchesDirectSolveAndIsFast) {
               ms(t0, t1), ms(t2, t3) * 1e6 / calls, ms(t3, t4) * 1e3 / direct, worst, worstWide, sum);
 }
 
+TEST(EffectiveWidth, RandomBeadsGiveFiniteWidthsAndEquilibrium) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> sd(0.1, 2.0), ratio(0.05, 2.5), kd(-30, 30);
+  for (int i = 0; i < 20000; ++i) {
+    const double s = sd(rng), h = s * ratio(rng), k = kd(rng) / s;
+    const EffectiveWidth w = effectiveWidth(s, h, k);
+    ASSERT_TRUE(std::isfinite(w.width)) << s << " " << h << " " << k;
+    ASSERT_GT(w.width, 0.15 * s) << s << " " << h << " " << k;
+    ASSERT_LT(w.width, s) << s << " " << h << " " << k;
+    const CuspAreas c = cuspAreas(s, h, w.clamped ? 0 : k, w.arcSpacing);
+    if (!w.clamped) {
+      ASSERT_NEAR(c.gapTop + c.gapBottom, c.overlap, 1e-9 * s * h) << s << " " << h << " " << k;
+      ASSERT_GE(c.gapTop, -1e-12 * s * h);
+      ASSERT_GE(c.gapBottom, -1e-12 * s * h);
+    }
+  }
+}
+
 TEST(EffectiveWidth, SingleHeightTable) {
   const EffectiveWidthTable table(0.4, 0.2, 0.2);
   for (double k : {-3.0, -0.3, 0.0, 0.123, 2.0})

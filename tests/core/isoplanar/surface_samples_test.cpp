@@ -7,6 +7,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <map>
+#include <random>
 #include <utility>
 
 namespace omnislice {
@@ -77,6 +78,29 @@ TEST(SurfaceSamples, SphereBothOrientations) {
     EXPECT_LT(worstCurv * r, 1e-6);
     std::printf("sphere %s: worst normal %.2e, worst relative curvature %.2e\n",
                 outward ? "outward" : "inward", worstNormal, worstCurv * r);
+  }
+}
+
+TEST(SurfaceSamples, IrregularSphereIsStillExact) {
+  // Vertices jittered along the sphere (still on it): an irregular triangulation on a quadric.
+  const double r = 7;
+  Mesh m = uvSphere(r, 30, 60, true);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> jitter(-0.12, 0.12);  // edges ~0.5-0.7 mm here
+  for (size_t v = 1; v + 1 < m.vertexCount(); ++v) {
+    if (std::fabs(m.vertex(v).z()) > 0.8 * r) continue;  // short edges near the poles
+    Eigen::Vector3d p = m.vertex(v) + Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
+    p = p.normalized() * r;
+    for (int k = 0; k < 3; ++k) m.positions[3 * v + k] = p[k];
+  }
+  const SurfaceSamplesResult res = surfaceSamples(m, 0.2);
+  ASSERT_TRUE(res.ok());
+  for (size_t v = 0; v < m.vertexCount(); ++v) {
+    const SurfaceSample& s = res.samples[v];
+    EXPECT_LT((s.normal - m.vertex(v).normalized()).norm(), 1e-8) << v;
+    const auto [k1, k2] = principal(s);
+    EXPECT_NEAR(k1, 1 / r, 1e-8) << v;
+    EXPECT_NEAR(k2, 1 / r, 1e-8) << v;
   }
 }
 
