@@ -561,27 +561,65 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     c = cn;
   }
 
-  // Sweep.
+  // Sweep. Curves go to a pool per plane (ascending u, open curves oriented along +u, loops
+  // counter-clockwise in (u, z)); the print order is decided afterwards.
+  struct PoolCurve {
+    NlCurve curve;            // sampled (open curves); loops are sampled once their start is known
+    std::vector<Node> raw;    // loops: the crossings (not repeated), oriented
+    std::vector<PointEval> rawEval;
+    uint32_t firstEdge = kNone, lastEdge = kNone;  // raw edges of the ends (open curves)
+    double firstT = 0, lastT = 0;
+    double step = 0;          // the side step computed on its plane
+    size_t plane = 0;         // index among the planes with curves
+  };
+  std::vector<PoolCurve> pool;
+  std::vector<std::vector<uint32_t>> planeCurves;
   std::vector<uint32_t> active;
   size_t next = 0;
   std::vector<double> planeOffsets;
-  std::vector<double> curveStepRef;  // per curve: the side step computed on its plane
-  struct CurveEnds {
-    uint32_t firstEdge;
-    double firstT;
-    uint32_t lastEdge;
-    double lastT;
-  };
-  std::vector<CurveEnds> curveEnds;
   std::vector<Eigen::Vector3d> pts;
   std::vector<PointEval> evals;
   std::vector<uint32_t> keep;
   double lastStep = step > 0 && std::isfinite(step) ? step : 0.01 * extent;
-  bool haveEnd = false;
-  Eigen::Vector3d prevEnd(0, 0, 0);
   size_t planeIndex = 0;
   bool atEnd = false;
   const size_t maxPlanes = 2000000;
+  // Samples a crossing sequence (closed: first repeated last) into a curve.
+  auto buildCurve = [&](const std::vector<Node>& ns, const std::vector<PointEval>& ev, bool closed,
+                        double plane, PoolCurve& out) {
+    pts.clear();
+    for (const Node& n : ns) pts.push_back(n.p);
+    pl.sample(pts, ev, keep);
+    NlCurve& curve = out.curve;
+    curve = NlCurve();
+    curve.plane = plane;
+    curve.closed = closed;
+    for (uint32_t i : keep) {
+      const Node& nd = ns[i];
+      curve.points.push_back(nd.p);
+      curve.normals.push_back(ev[i].normal);
+      uint32_t ea = pl.topo.ea[nd.edge], eb = pl.topo.eb[nd.edge];
+      float t = static_cast<float>(nd.t);
+      if (nd.t <= 0) {
+        eb = ea;
+        t = 0;
+      } else if (nd.t >= 1) {
+        ea = eb;
+        t = 0;
+      }
+      curve.edgeA.push_back(ea);
+      curve.edgeB.push_back(eb);
+      curve.edgeT.push_back(t);
+      curve.width.push_back(ev[i].width);
+    }
+    if (!keep.empty()) {
+      out.firstEdge = ns[keep.front()].edge;
+      out.firstT = ns[keep.front()].t;
+      out.lastEdge = ns[keep.back()].edge;
+      out.lastT = ns[keep.back()].t;
+    }
+  };
+  std::vector<Node> nodeSeq;
   for (;;) {
     while (next < nt && lo[order[next]] < c) active.push_back(order[next++]);
     size_t w = 0;
@@ -606,7 +644,6 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
                                              " mm is too small for the surface's extent");
     }
     lastStep = step;
-    // Components, ordered along u, zig-zag directions.
     pl.components(comps, compClosed);
     raw.clear();
     for (size_t i = 0; i < comps.size(); ++i) {
@@ -618,78 +655,44 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       rc.uMean = su / static_cast<double>(rc.nodes.size());
       raw.push_back(std::move(rc));
     }
-    const bool ascending = planeIndex % 2 == 0;
-    std::sort(raw.begin(), raw.end(), [&](const RawCurve& a, const RawCurve& b) {
-      return ascending ? a.uMean < b.uMean : a.uMean > b.uMean;
-    });
+    std::sort(raw.begin(), raw.end(),
+              [](const RawCurve& x, const RawCurve& y) { return x.uMean < y.uMean; });
+    std::vector<uint32_t> thisPlane;
     for (RawCurve& rc : raw) {
       std::vector<uint32_t>& ns = rc.nodes;
+      PoolCurve pc;
+      pc.step = step;
+      pc.plane = planeCurves.size();
       if (!rc.closed) {
         const double u0 = pl.u.dot(pl.nodes[ns.front()].p), u1 = pl.u.dot(pl.nodes[ns.back()].p);
-        if ((ascending && u0 > u1) || (!ascending && u0 < u1)) std::reverse(ns.begin(), ns.end());
+        if (u0 > u1) std::reverse(ns.begin(), ns.end());
+        nodeSeq.clear();
+        evals.clear();
+        for (uint32_t n : ns) {
+          nodeSeq.push_back(pl.nodes[n]);
+          evals.push_back(nodeEval[n]);
+        }
+        buildCurve(nodeSeq, evals, false, c, pc);
+        if (pc.curve.points.size() < 2) continue;  // a plane touching the surface at one point
       } else {
-        // Orientation by the signed area in the plane (u, z), alternating; start nearest the
-        // previous end.
         double area = 0;
         for (size_t i = 0; i < ns.size(); ++i) {
-          const Eigen::Vector3d& a = pl.nodes[ns[i]].p;
-          const Eigen::Vector3d& b = pl.nodes[ns[(i + 1) % ns.size()]].p;
-          area += pl.u.dot(a) * b.z() - pl.u.dot(b) * a.z();
+          const Eigen::Vector3d& pa = pl.nodes[ns[i]].p;
+          const Eigen::Vector3d& pb = pl.nodes[ns[(i + 1) % ns.size()]].p;
+          area += pl.u.dot(pa) * pb.z() - pl.u.dot(pb) * pa.z();
         }
-        if ((ascending && area < 0) || (!ascending && area > 0)) std::reverse(ns.begin(), ns.end());
-        if (haveEnd) {
-          size_t bestI = 0;
-          double bestD = kInf;
-          for (size_t i = 0; i < ns.size(); ++i) {
-            const double d = (pl.nodes[ns[i]].p - prevEnd).squaredNorm();
-            if (d < bestD) {
-              bestD = d;
-              bestI = i;
-            }
-          }
-          std::rotate(ns.begin(), ns.begin() + static_cast<std::ptrdiff_t>(bestI), ns.end());
+        if (area < 0) std::reverse(ns.begin(), ns.end());
+        for (uint32_t n : ns) {
+          pc.raw.push_back(pl.nodes[n]);
+          pc.rawEval.push_back(nodeEval[n]);
         }
-        ns.push_back(ns.front());
+        pc.curve.plane = c;
+        pc.curve.closed = true;
       }
-      pts.clear();
-      evals.clear();
-      for (uint32_t n : ns) {
-        pts.push_back(pl.nodes[n].p);
-        evals.push_back(nodeEval[n]);
-      }
-      pl.sample(pts, evals, keep);
-      NlCurve curve;
-      curve.plane = c;
-      curve.closed = rc.closed;
-      for (uint32_t i : keep) {
-        const Node& nd = pl.nodes[ns[i]];
-        curve.points.push_back(nd.p);
-        curve.normals.push_back(nodeEval[ns[i]].normal);
-        uint32_t a = pl.topo.ea[nd.edge], b = pl.topo.eb[nd.edge];
-        float t = static_cast<float>(nd.t);
-        if (nd.t <= 0) {
-          b = a;
-          t = 0;
-        } else if (nd.t >= 1) {
-          a = b;
-          t = 0;
-        }
-        curve.edgeA.push_back(a);
-        curve.edgeB.push_back(b);
-        curve.edgeT.push_back(t);
-        curve.width.push_back(nodeEval[ns[i]].width);
-      }
-      if (curve.points.size() < 2) continue;  // a plane touching the surface at one point
-      prevEnd = curve.points.back();
-      haveEnd = true;
-      if (curve.closed) ++result.closedCurves;
-      result.curves.push_back(std::move(curve));
-      curveStepRef.push_back(step);
-      // The raw edges of the ends (a vertex crossing's edge is not in the curve's fields).
-      const Node& nf = pl.nodes[ns[keep.front()]];
-      const Node& nl = pl.nodes[ns[keep.back()]];
-      curveEnds.push_back({nf.edge, nf.t, nl.edge, nl.t});
+      thisPlane.push_back(static_cast<uint32_t>(pool.size()));
+      pool.push_back(std::move(pc));
     }
+    if (!thisPlane.empty()) planeCurves.push_back(std::move(thisPlane));
     ++planeIndex;
     // Last plane: its bead reaches the far extreme, or it was placed half a step before it.
     if (atEnd || c + 0.5 * step >= dmax - eps) {
@@ -702,10 +705,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       atEnd = true;
     }
     planeOffsets.push_back(cn - c);
-    // Side step of the curves just added.
-    for (size_t i = result.curves.size(); i-- > 0 && result.curves[i].plane == c;) {
-      result.curves[i].sideStep = cn - c;
-    }
+    for (size_t i = pool.size(); i-- > 0 && pool[i].curve.plane == c;) pool[i].curve.sideStep = cn - c;
     c = cn;
     if (!reportProgress(progress, "paths", std::clamp((c - dmin) / extent, 0.0, 1.0))) {
       return fail(Status::Cancelled, "cancelled");
@@ -726,7 +726,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     result.maxSideStep = mx;
   }
 
-  // ---- Zig-zag joins along the boundary and paths. ----
+  // ---- Print order: boustrophedon chains joined along the boundary. ----
   // A curve end as a boundary-loop position: loop, segment index, arc position.
   struct LoopPos {
     uint32_t loop = kNone;
@@ -744,35 +744,32 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     return lp;
   };
   auto vertexNormal = [&](uint32_t v) { return samples[v].normal.normalized(); };
-
-  std::vector<uint8_t> joinedToNext(result.curves.size(), 0);
-  std::vector<IsoplanarJoin> joinAfter(result.curves.size());
-  for (size_t i = 0; i + 1 < result.curves.size(); ++i) {
-    const NlCurve& a = result.curves[i];
-    const NlCurve& b = result.curves[i + 1];
-    const double limit = options.connectFactor * std::max(curveStepRef[i], curveStepRef[i + 1]);
-    if (a.closed || b.closed) {
-      // A loop has no boundary to follow: a short straight move to the next curve's start
-      // (nearest to this end by construction) when the surface between is about flat.
-      const double d = (b.points.front() - a.points.back()).norm();
-      if (d <= limit && a.normals.back().dot(b.normals.front()) > 0.9) {
-        IsoplanarJoin join;
-        join.fromCurve = static_cast<uint32_t>(i);
-        join.toCurve = static_cast<uint32_t>(i + 1);
-        join.points = {a.points.back(), b.points.front()};
-        join.normals = {a.normals.back(), b.normals.front()};
-        join.edgeA = {a.edgeA.back(), b.edgeA.front()};
-        join.edgeB = {a.edgeB.back(), b.edgeB.front()};
-        join.edgeT = {a.edgeT.back(), b.edgeT.front()};
-        join.length = d;
-        joinedToNext[i] = 1;
-        joinAfter[i] = std::move(join);
-      }
-      continue;
-    }
-    const LoopPos pa = loopPos(curveEnds[i].lastEdge, curveEnds[i].lastT);
-    const LoopPos pb = loopPos(curveEnds[i + 1].firstEdge, curveEnds[i + 1].firstT);
-    if (pa.loop == kNone || pa.loop != pb.loop) continue;
+  // An end of a curve: position, normal, edge fields, raw edge.
+  struct End {
+    Eigen::Vector3d p{0, 0, 0}, n{0, 0, 1};
+    uint32_t a = 0, b = 0;
+    float t = 0;
+    uint32_t edge = kNone;
+    double rawT = 0;
+  };
+  auto endOf = [](const PoolCurve& pc, bool last) {
+    const NlCurve& cv = pc.curve;
+    const size_t i = last ? cv.points.size() - 1 : 0;
+    End e;
+    e.p = cv.points[i];
+    e.n = cv.normals[i];
+    e.a = cv.edgeA[i];
+    e.b = cv.edgeB[i];
+    e.t = cv.edgeT[i];
+    e.edge = last ? pc.lastEdge : pc.firstEdge;
+    e.rawT = last ? pc.lastT : pc.firstT;
+    return e;
+  };
+  // Length of the boundary walk from `from` to `to` (infinite when not on one loop); fills
+  // `join` when given.
+  auto boundaryWalk = [&](const End& from, const End& to, IsoplanarJoin* join) -> double {
+    const LoopPos pa = loopPos(from.edge, from.rawT), pb = loopPos(to.edge, to.rawT);
+    if (pa.loop == kNone || pa.loop != pb.loop) return kInf;
     const std::vector<uint32_t>& loopV = pl.topo.loops[pa.loop];
     const std::vector<double>& cum = pl.topo.loopCum[pa.loop];
     const bool closedLoop = pl.topo.loopClosed[pa.loop] != 0;
@@ -788,21 +785,19 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     }
     const bool forward = fwd <= bwd;
     const double arc = forward ? fwd : bwd;
-    if (!(arc <= limit)) continue;
-    IsoplanarJoin join;
-    join.fromCurve = static_cast<uint32_t>(i);
-    join.toCurve = static_cast<uint32_t>(i + 1);
+    if (!join) return arc;
     auto push = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n, uint32_t ea, uint32_t eb,
                     float t) {
-      if (!join.points.empty() && (join.points.back() - p).norm() <= 1e-12) return;
-      join.points.push_back(p);
-      join.normals.push_back(n);
-      join.edgeA.push_back(ea);
-      join.edgeB.push_back(eb);
-      join.edgeT.push_back(t);
+      if (!join->points.empty() && (join->points.back() - p).norm() <= 1e-12) return;
+      join->points.push_back(p);
+      join->normals.push_back(n);
+      join->edgeA.push_back(ea);
+      join->edgeB.push_back(eb);
+      join->edgeT.push_back(t);
     };
-    push(a.points.back(), a.normals.back(), a.edgeA.back(), a.edgeB.back(), a.edgeT.back());
-    const bool sameSeg = pa.index == pb.index && ((forward && pb.s >= pa.s) || (!forward && pb.s <= pa.s));
+    push(from.p, from.n, from.a, from.b, from.t);
+    const bool sameSeg =
+        pa.index == pb.index && ((forward && pb.s >= pa.s) || (!forward && pb.s <= pa.s));
     if (!sameSeg) {
       const size_t m = loopV.size();
       if (forward) {
@@ -822,29 +817,192 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
         }
       }
     }
-    push(b.points.front(), b.normals.front(), b.edgeA.front(), b.edgeB.front(), b.edgeT.front());
-    if (join.points.size() < 2) {  // the curves meet at one point: a zero-length join
-      join.points.push_back(b.points.front());
-      join.normals.push_back(b.normals.front());
-      join.edgeA.push_back(b.edgeA.front());
-      join.edgeB.push_back(b.edgeB.front());
-      join.edgeT.push_back(b.edgeT.front());
+    // The walk ends exactly at the next curve's start (a boundary vertex it meets is dropped).
+    if (join->points.size() > 1 && (join->points.back() - to.p).norm() <= 1e-12) {
+      join->points.pop_back();
+      join->normals.pop_back();
+      join->edgeA.pop_back();
+      join->edgeB.pop_back();
+      join->edgeT.pop_back();
     }
-    join.length = polylineLength(join.points);
-    joinedToNext[i] = 1;
-    joinAfter[i] = std::move(join);
+    push(to.p, to.n, to.a, to.b, to.t);
+    if (join->points.size() < 2) {  // the curves meet at one point: a zero-length join
+      join->points.push_back(to.p);
+      join->normals.push_back(to.n);
+      join->edgeA.push_back(to.a);
+      join->edgeB.push_back(to.b);
+      join->edgeT.push_back(to.t);
+    }
+    join->length = polylineLength(join->points);
+    return arc;
+  };
+  // The raw crossing of a loop nearest to a point.
+  auto nearestRaw = [](const PoolCurve& pc, const Eigen::Vector3d& p, double& d) {
+    size_t best = 0;
+    double bd = kInf;
+    for (size_t i = 0; i < pc.raw.size(); ++i) {
+      const double di = (pc.raw[i].p - p).squaredNorm();
+      if (di < bd) {
+        bd = di;
+        best = i;
+      }
+    }
+    d = std::sqrt(bd);
+    return best;
+  };
+  // Makes a pool curve start at its end `atEnd` (open: reverse when true) or, for a loop, at its
+  // raw crossing `start`, and samples loops.
+  auto orient = [&](PoolCurve& pc, bool reverse, size_t start) {
+    if (!pc.curve.closed) {
+      if (!reverse) return;
+      NlCurve& cv = pc.curve;
+      std::reverse(cv.points.begin(), cv.points.end());
+      std::reverse(cv.normals.begin(), cv.normals.end());
+      std::reverse(cv.edgeA.begin(), cv.edgeA.end());
+      std::reverse(cv.edgeB.begin(), cv.edgeB.end());
+      std::reverse(cv.edgeT.begin(), cv.edgeT.end());
+      std::reverse(cv.width.begin(), cv.width.end());
+      std::swap(pc.firstEdge, pc.lastEdge);
+      std::swap(pc.firstT, pc.lastT);
+      return;
+    }
+    std::vector<Node> ns(pc.raw.begin() + static_cast<std::ptrdiff_t>(start), pc.raw.end());
+    ns.insert(ns.end(), pc.raw.begin(), pc.raw.begin() + static_cast<std::ptrdiff_t>(start));
+    std::vector<PointEval> ev(pc.rawEval.begin() + static_cast<std::ptrdiff_t>(start), pc.rawEval.end());
+    ev.insert(ev.end(), pc.rawEval.begin(), pc.rawEval.begin() + static_cast<std::ptrdiff_t>(start));
+    ns.push_back(ns.front());
+    ev.push_back(ev.front());
+    const double side = pc.curve.sideStep;
+    buildCurve(ns, ev, true, pc.curve.plane, pc);
+    pc.curve.sideStep = side;
+  };
+
+  std::vector<uint8_t> printed(pool.size(), 0);
+  std::vector<uint32_t> printOrder;
+  std::vector<uint8_t> joinedToNext;
+  std::vector<IsoplanarJoin> joinAfter;
+  size_t remaining = pool.size(), lowest = 0;
+  bool haveLast = false;
+  Eigen::Vector3d lastPoint(0, 0, 0);
+  auto emit = [&](uint32_t i) {
+    printed[i] = 1;
+    --remaining;
+    printOrder.push_back(i);
+    joinedToNext.push_back(0);
+    joinAfter.emplace_back();
+    lastPoint = pool[i].curve.points.back();
+    haveLast = true;
+  };
+  while (remaining > 0) {
+    while (lowest < planeCurves.size() &&
+           std::all_of(planeCurves[lowest].begin(), planeCurves[lowest].end(),
+                       [&](uint32_t i) { return printed[i] != 0; })) {
+      ++lowest;
+    }
+    if (lowest >= planeCurves.size()) break;
+    // A new chain: on the lowest plane left, the curve (and end) nearest the last point.
+    uint32_t cur = kNone;
+    bool reverse = false;
+    size_t start = 0;
+    double best = kInf;
+    for (uint32_t i : planeCurves[lowest]) {
+      if (printed[i]) continue;
+      if (!haveLast) {
+        cur = i;
+        break;
+      }
+      const PoolCurve& pc = pool[i];
+      if (pc.curve.closed) {
+        double d;
+        const size_t k = nearestRaw(pc, lastPoint, d);
+        if (d < best) {
+          best = d, cur = i, reverse = false, start = k;
+        }
+      } else {
+        const double d0 = (pc.curve.points.front() - lastPoint).norm();
+        const double d1 = (pc.curve.points.back() - lastPoint).norm();
+        if (std::min(d0, d1) < best) {
+          best = std::min(d0, d1), cur = i, reverse = d1 < d0;
+        }
+      }
+    }
+    orient(pool[cur], reverse, start);
+    emit(cur);
+    size_t plane = pool[cur].plane;
+    // Follow the chain: the next plane's curve whose end joins this curve's end.
+    while (plane + 1 < planeCurves.size()) {
+      const PoolCurve& a = pool[cur];
+      const End from = endOf(a, true);
+      uint32_t nextCurve = kNone;
+      bool nextReverse = false;
+      size_t nextStart = 0;
+      double bestCost = kInf;
+      for (uint32_t i : planeCurves[plane + 1]) {
+        if (printed[i]) continue;
+        const PoolCurve& b = pool[i];
+        const double limit = options.connectFactor * std::max(a.step, b.step);
+        if (b.curve.closed) {
+          // A loop has no boundary to follow: a short straight move to its nearest crossing
+          // when the surface between is about flat.
+          double d;
+          const size_t k = nearestRaw(b, from.p, d);
+          if (d <= limit && d < bestCost && from.n.dot(b.rawEval[k].normal) > 0.9) {
+            bestCost = d, nextCurve = i, nextReverse = false, nextStart = k;
+          }
+          continue;
+        }
+        for (bool rev : {false, true}) {
+          const End to = endOf(b, rev);
+          double cost;
+          if (a.curve.closed) {
+            cost = (to.p - from.p).norm();
+            if (from.n.dot(to.n) <= 0.9) cost = kInf;
+          } else {
+            cost = boundaryWalk(from, to, nullptr);
+          }
+          if (cost <= limit && cost < bestCost) {
+            bestCost = cost, nextCurve = i, nextReverse = rev, nextStart = 0;
+          }
+        }
+      }
+      if (nextCurve == kNone) break;
+      orient(pool[nextCurve], nextReverse, nextStart);
+      const PoolCurve& b = pool[nextCurve];
+      IsoplanarJoin join;
+      const End to = endOf(b, false);
+      if (a.curve.closed || b.curve.closed) {
+        join.points = {from.p, to.p};
+        join.normals = {from.n, to.n};
+        join.edgeA = {from.a, to.a};
+        join.edgeB = {from.b, to.b};
+        join.edgeT = {from.t, to.t};
+        join.length = (to.p - from.p).norm();
+      } else {
+        boundaryWalk(from, to, &join);
+      }
+      joinedToNext.back() = 1;
+      joinAfter.back() = std::move(join);
+      emit(nextCurve);
+      cur = nextCurve;
+      ++plane;
+    }
   }
-  for (size_t i = 0; i < result.curves.size(); ++i) {
-    const NlCurve& cv = result.curves[i];
+
+  // ---- Curves in print order, joins, paths. ----
+  for (size_t k = 0; k < printOrder.size(); ++k) {
+    NlCurve& cv = pool[printOrder[k]].curve;
+    if (cv.closed) ++result.closedCurves;
     result.pathMm += polylineLength(cv.points);
-    if (i == 0 || !joinedToNext[i - 1]) {
+    if (k == 0 || !joinedToNext[k - 1]) {
       result.paths.emplace_back();
       result.pathCurves.emplace_back();
       result.pathJoins.emplace_back();
       result.paths.back().points = cv.points;
       result.paths.back().normals = cv.normals;
     } else {
-      IsoplanarJoin& j = joinAfter[i - 1];
+      IsoplanarJoin& j = joinAfter[k - 1];
+      j.fromCurve = static_cast<uint32_t>(k - 1);
+      j.toCurve = static_cast<uint32_t>(k);
       SurfacePath& sp = result.paths.back();
       sp.points.insert(sp.points.end(), j.points.begin() + 1, j.points.end() - 1);
       sp.normals.insert(sp.normals.end(), j.normals.begin() + 1, j.normals.end() - 1);
@@ -854,7 +1012,8 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       result.pathJoins.back().push_back(static_cast<uint32_t>(result.joins.size()));
       result.joins.push_back(std::move(j));
     }
-    result.pathCurves.back().push_back(static_cast<uint32_t>(i));
+    result.pathCurves.back().push_back(static_cast<uint32_t>(k));
+    result.curves.push_back(std::move(cv));
   }
   reportProgress(progress, "paths", 1.0);
   result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();

@@ -64,7 +64,7 @@ struct IsoplanarJoin {
 };
 
 struct IsoplanarResult : Outcome {
-  std::vector<NlCurve> curves;          // in print order (plane order, zig-zag directions)
+  std::vector<NlCurve> curves;          // in print order (chains of adjacent planes, zig-zag)
   std::vector<SurfacePath> paths;       // the curves joined: one path per zig-zag run
   std::vector<std::vector<uint32_t>> pathCurves;  // per path: indices of its curves, in order
   std::vector<IsoplanarJoin> joins;     // printed joins, in print order
@@ -97,13 +97,16 @@ struct IsoplanarResult : Outcome {
 // |p_j - p_i| <= l_f(p_i) (Eq. 12 with r_f = 1 / |normal curvature along f|; also <= maxStep when
 // set) such that every crossing between them lies within chordError of the chord; crossings are
 // never moved off the mesh edges (a single triangle crossing longer than l_f is kept whole, the
-// mesh being flat there). Zig-zag: planes in order; on each plane the components are ordered
-// along u = (cos theta, sin theta, 0), ascending on even planes and descending on odd ones, open
-// curves oriented the same way, closed loops oriented alternately and started at the point
-// nearest the previous curve's end. Consecutive open curves whose ends lie on the same boundary
-// loop within connectFactor x the side step along it are joined along that boundary; when one of
-// them is a closed loop, by a straight move if it is that short and the normals at its ends
-// agree within about 25 degrees (the move leaves the surface by its sagitta only).
+// mesh being flat there). Print order (zig-zag as boustrophedon chains): a chain starts on the
+// lowest plane with curves left, at the curve end nearest the previous path's end, and goes on to
+// the next plane's curve whose end it can join: open curves whose ends lie on one boundary loop
+// within connectFactor x the side step along it are joined along that boundary; when one of them
+// is a closed loop, by a straight move that short if the normals at its ends agree within about
+// 25 degrees (the move leaves the surface by its sagitta only; the loop starts at its crossing
+// nearest the previous end). Directions alternate along a chain; a plane cutting the surface in
+// several components continues one chain and leaves the others to later chains (no travel across
+// a hole on every plane). Curves are sampled in +u order (u = (cos theta, sin theta, 0)) and
+// reversed when printed the other way.
 IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
                                const WidthFn& width, const IsoplanarOptions& options,
                                const ProgressFn& progress = {});

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <map>
 #include <limits>
 #include <random>
 
@@ -153,13 +154,14 @@ std::vector<Eigen::Vector3d> rawCrossings(const Mesh& m, const Eigen::Vector3d& 
   return out;
 }
 
-// Curves grouped by plane (print order keeps planes contiguous).
+// Curves grouped by plane, planes in sweep order (the print order follows chains, so a plane's
+// curves need not be contiguous), each plane's curves in print order.
 std::vector<std::vector<size_t>> byPlane(const IsoplanarResult& r) {
+  std::map<double, std::vector<size_t>> planes;
+  for (size_t i = 0; i < r.curves.size(); ++i) planes[r.curves[i].plane].push_back(i);
   std::vector<std::vector<size_t>> out;
-  for (size_t i = 0; i < r.curves.size(); ++i) {
-    if (out.empty() || r.curves[out.back().front()].plane != r.curves[i].plane) out.emplace_back();
-    out.back().push_back(i);
-  }
+  for (auto& [c, v] : planes) out.push_back(std::move(v));
+  // Sweep order: by the plane offsets (the sweep goes from low to high q.x).
   return out;
 }
 
@@ -404,13 +406,18 @@ TEST(IsoplanarPaths, SaddleChordErrorAndForwardStep) {
         worst = std::max(worst, d);
         EXPECT_LE(d, dc + 1e-9) << "dropped crossing farther than delta_c from its chord";
       }
-      for (size_t i = 0; i + 1 < c.points.size(); ++i) {
+      // l_f of Eq. 12 at a point (analytic normal curvature along the section).
+      auto forwardStep = [&](const Eigen::Vector3d& p) {
         Eigen::Vector3d n;
         Eigen::Matrix3d T;
-        heightFieldGeometry(hf)(c.points[i], n, T);
+        heightFieldGeometry(hf)(p, n, T);
         const Eigen::Vector3d f = n.cross(q).normalized();
         const double kf = std::abs(f.dot(T * f));
-        const double lf = kf > 1e-12 ? std::sqrt(std::max(0.0, 8 * dc / kf - 4 * dc * dc)) : 1e9;
+        return kf > 1e-12 ? std::sqrt(std::max(0.0, 8 * dc / kf - 4 * dc * dc)) : 1e9;
+      };
+      for (size_t i = 0; i + 1 < c.points.size(); ++i) {
+        // The curve may be printed reversed: the step was taken from one of the two ends.
+        const double lf = std::max(forwardStep(c.points[i]), forwardStep(c.points[i + 1]));
         const double len = (c.points[i + 1] - c.points[i]).norm();
         EXPECT_LE(len, std::max(1.05 * lf, 1.5)) << "forward step beyond Eq. 12";
       }
@@ -506,7 +513,7 @@ TEST(IsoplanarPaths, SeatSpacingAndCoverage) {
 // ---------------------------------------------------------------------------------------------
 // Several components per plane: a U shape (planes across both arms) and an annulus.
 TEST(IsoplanarPaths, UShapeTwoComponentsPerPlane) {
-  // U: [0, 30] x [0, 20] minus [10, 20] x [5, 21].
+  // U: [0, 30] x [0, 20] minus [10, 20] x [5, 21]; planes y = c cross both arms above y = 5.
   const Mesh m = test::meshImplicit2D(
       [](const Eigen::Vector2d& p) {
         return std::max(test::boxSdf(p, {0, 0}, {30, 20}), -test::boxSdf(p, {10, 5}, {20, 21}));
@@ -521,21 +528,16 @@ TEST(IsoplanarPaths, UShapeTwoComponentsPerPlane) {
   const auto planes = byPlane(r);
   ASSERT_EQ(planes.size(), r.planes);
   size_t two = 0;
-  for (size_t j = 0; j < planes.size(); ++j) {
-    const double y = r.curves[planes[j][0]].plane;
+  for (const auto& pc : planes) {
+    const double y = r.curves[pc[0]].plane;
     const size_t expected = y > 5 + 1e-6 ? 2 : 1;
-    ASSERT_EQ(planes[j].size(), expected) << "plane y = " << y;
+    ASSERT_EQ(pc.size(), expected) << "plane y = " << y;
     if (expected == 2) {
       ++two;
-      const NlCurve& first = r.curves[planes[j][0]];
-      const NlCurve& second = r.curves[planes[j][1]];
-      // Zig-zag across components: ascending x on even planes.
-      const bool ascending = j % 2 == 0;
-      EXPECT_EQ(first.points.front().x() < second.points.front().x(), ascending);
-      for (const NlCurve* c : {&first, &second}) {
-        EXPECT_EQ(c->points.back().x() > c->points.front().x(), ascending);
-        const double x0 = std::min(c->points.front().x(), c->points.back().x());
-        const double x1 = std::max(c->points.front().x(), c->points.back().x());
+      for (size_t i : pc) {
+        const NlCurve& c = r.curves[i];
+        const double x0 = std::min(c.points.front().x(), c.points.back().x());
+        const double x1 = std::max(c.points.front().x(), c.points.back().x());
         EXPECT_TRUE((std::abs(x0) < 1e-9 && std::abs(x1 - 10) < 1e-9) ||
                     (std::abs(x0 - 20) < 1e-9 && std::abs(x1 - 30) < 1e-9))
             << "arm [" << x0 << ", " << x1 << "]";
@@ -543,9 +545,29 @@ TEST(IsoplanarPaths, UShapeTwoComponentsPerPlane) {
     }
   }
   EXPECT_GT(two, 10u);
-  // Joins never cross the gap between the arms: every join is short.
-  for (const IsoplanarJoin& j : r.joins) EXPECT_LE(j.length, o.connectFactor * w + 1e-9);
-  EXPECT_GT(r.paths.size(), 1u) << "the far arm ends are not joined";
+  // Boustrophedon chains: the base and one arm form one zig-zag, the other arm another; inside
+  // a path consecutive curves are on adjacent planes, alternate directions and are joined by a
+  // short walk along the boundary.
+  EXPECT_EQ(r.paths.size(), 2u);
+  size_t inPaths = 0;
+  for (size_t p = 0; p < r.pathCurves.size(); ++p) {
+    const auto& pc = r.pathCurves[p];
+    inPaths += pc.size();
+    ASSERT_EQ(r.pathJoins[p].size() + 1, pc.size());
+    for (size_t k = 0; k + 1 < pc.size(); ++k) {
+      const NlCurve& a = r.curves[pc[k]];
+      const NlCurve& b = r.curves[pc[k + 1]];
+      EXPECT_NEAR(b.plane - a.plane, a.sideStep, 1e-12);
+      EXPECT_NE(a.points.back().x() > a.points.front().x(), b.points.back().x() > b.points.front().x());
+      const IsoplanarJoin& j = r.joins[r.pathJoins[p][k]];
+      EXPECT_EQ(j.fromCurve, pc[k]);
+      EXPECT_EQ(j.toCurve, pc[k + 1]);
+      EXPECT_LE(j.length, o.connectFactor * w + 1e-9);
+      EXPECT_EQ(j.points.front(), a.points.back());
+      EXPECT_EQ(j.points.back(), b.points.front());
+    }
+  }
+  EXPECT_EQ(inPaths, r.curves.size());
   expectPointsOnMesh(m, r, driveNormal(0));
 }
 
