@@ -595,6 +595,10 @@ TEST(IsoplanarPaths, AnnulusComponentsAndCoverage) {
     for (const NlCurve& c : r.curves) d = std::min(d, distanceToPolyline(p, c.points));
     EXPECT_LE(d, 0.6 * w);
   }
+  // Chains: the part below the hole continues up one side and over the top; the other side is
+  // a second chain (and polygonal-boundary corners may break one more).
+  std::printf("annulus: planes %zu, curves %zu, paths %zu\n", r.planes, r.curves.size(), r.paths.size());
+  EXPECT_LE(r.paths.size(), 4u);
   expectPointsOnMesh(m, r, driveNormal(25));
 }
 
