@@ -732,6 +732,92 @@ TEST(IsoplanarPaths, ThetaSweepPlanesMatchExtent) {
   }
 }
 
+// Structure invariants over 36 directions on the seat (one preparation): every curve in exactly
+// one path, paths = curves + interior join points concatenated, joins start at a curve's end and
+// end at the next one's start, pathMm = curves + joins, side steps positive but the last.
+TEST(IsoplanarPaths, SeatDirectionSweepInvariants) {
+  const Mesh m = makeSeatSurface(110, 5000);
+  const auto samples = fittedSamples(m, 0.4);
+  const IsoplanarSurface prepared = prepareIsoplanarSurface(m, samples);
+  ASSERT_TRUE(prepared.ok()) << prepared.message;
+  const WidthFn width = EffectiveWidthTable(0.8, 0.2, 0.6).function();
+  for (int k = 0; k < 36; ++k) {
+    IsoplanarOptions o;
+    o.thetaDegrees = 5.0 * k;
+    const IsoplanarResult r = isoplanarPaths(prepared, width, o);
+    ASSERT_TRUE(r.ok()) << r.message;
+    ASSERT_EQ(r.paths.size(), r.pathCurves.size());
+    ASSERT_EQ(r.paths.size(), r.pathJoins.size());
+    std::vector<int> seen(r.curves.size(), 0);
+    double maxWidth = 0;
+    for (const NlCurve& c : r.curves) {
+      for (double wi : c.width) maxWidth = std::max(maxWidth, wi);
+    }
+    double length = 0;
+    size_t joins = 0;
+    for (size_t p = 0; p < r.paths.size(); ++p) {
+      std::vector<Eigen::Vector3d> expected;
+      const auto& pc = r.pathCurves[p];
+      ASSERT_EQ(r.pathJoins[p].size() + 1, pc.size());
+      for (size_t j = 0; j < pc.size(); ++j) {
+        const NlCurve& c = r.curves[pc[j]];
+        ++seen[pc[j]];
+        ASSERT_GE(c.points.size(), 2u);
+        for (size_t i = 0; i + 1 < c.points.size(); ++i) length += (c.points[i + 1] - c.points[i]).norm();
+        if (j > 0) {
+          const IsoplanarJoin& jn = r.joins[r.pathJoins[p][j - 1]];
+          ++joins;
+          EXPECT_EQ(jn.points.front(), r.curves[pc[j - 1]].points.back());
+          EXPECT_EQ(jn.points.back(), c.points.front());
+          // Within connectFactor x the side step computed on the planes (<= w_eff there).
+          EXPECT_LE(jn.length, o.connectFactor * maxWidth + 1e-9);
+          for (const Eigen::Vector3d& n : jn.normals) EXPECT_NEAR(n.norm(), 1, 1e-9);
+          for (size_t i = 0; i < jn.points.size(); ++i) {
+            const Eigen::Vector3d onEdge = (1 - jn.edgeT[i]) * m.vertex(jn.edgeA[i]) + jn.edgeT[i] * m.vertex(jn.edgeB[i]);
+            EXPECT_LT((onEdge - jn.points[i]).norm(), 1e-5);
+          }
+          length += jn.length;
+          expected.insert(expected.end(), jn.points.begin() + 1, jn.points.end() - 1);
+        }
+        expected.insert(expected.end(), c.points.begin(), c.points.end());
+      }
+      ASSERT_EQ(r.paths[p].points.size(), expected.size());
+      ASSERT_EQ(r.paths[p].normals.size(), expected.size());
+      for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(r.paths[p].points[i], expected[i]);
+    }
+    EXPECT_EQ(joins, r.joins.size());
+    for (int c : seen) EXPECT_EQ(c, 1);
+    EXPECT_NEAR(r.pathMm, length, 1e-6 * length);
+    for (const auto& pc : byPlane(r)) {
+      for (size_t i : pc) EXPECT_EQ(r.curves[i].sideStep, r.curves[pc[0]].sideStep);
+    }
+    const auto planes = byPlane(r);
+    for (size_t j = 0; j + 1 < planes.size(); ++j) EXPECT_GT(r.curves[planes[j][0]].sideStep, 0);
+    EXPECT_EQ(r.curves[planes.back()[0]].sideStep, 0);
+    expectPointsOnMesh(m, r, driveNormal(o.thetaDegrees));
+  }
+}
+
+// Degenerate: two squares touching at one vertex (a bowtie: non-manifold vertex, manifold
+// edges). Every plane through the shared vertex still gives simple curves; no crash.
+TEST(IsoplanarPaths, BowtieSharedVertex) {
+  Mesh m;
+  m.positions = {0, 0, 0, 5, 0, 0, 5, 5, 0, 0, 5, 0, 10, 5, 0, 10, 10, 0, 5, 10, 0};
+  m.triangles = {0, 1, 2, 0, 2, 3, 2, 4, 5, 2, 5, 6};
+  const auto samples = analyticSamples(m, flatGeometry(), 0.5);
+  for (double theta : {0.0, 45.0, 90.0, 135.0}) {
+    IsoplanarOptions o;
+    o.thetaDegrees = theta;
+    const IsoplanarResult r = isoplanarPaths(m, samples, [](double, double) { return 0.5; }, o);
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_GT(r.curves.size(), 10u);
+    expectPointsOnMesh(m, r, driveNormal(theta));
+    double length = 0;
+    for (const NlCurve& c : r.curves) length += (c.points.back() - c.points.front()).norm();
+    EXPECT_NEAR(length * 0.5 / 50, 1.0, 0.15) << "length ~ area / step at theta " << theta;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 TEST(IsoplanarPaths, EstimateTime) {
   const Mesh m = test::meshImplicit2D(
