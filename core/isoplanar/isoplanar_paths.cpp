@@ -183,6 +183,14 @@ struct PointEval {
   double width = 0;       // w_eff
 };
 
+// A monotone stand-in for atan2(y, x) on (-pi, pi], values in [-2, 2] (no trigonometry).
+double pseudoAngle(double x, double y) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  if (ax + ay == 0) return 0;
+  const double t = x >= 0 ? ay / (ax + ay) : 2 - ay / (ax + ay);
+  return y >= 0 ? t : -t;
+}
+
 struct Planner {
   const Mesh& mesh;
   const std::vector<SurfaceSample>& samples;
@@ -350,7 +358,7 @@ struct Planner {
               ref = d / len;
               haveRef = true;
             }
-            const double ang = std::atan2(ref.x() * d.y() - ref.y() * d.x(), ref.dot(d));
+            const double ang = pseudoAngle(ref.dot(d), ref.x() * d.y() - ref.y() * d.x());
             ok = ang >= lo && ang <= hi;
           }
           if (ok && far > len) {  // an intermediate point beyond the chord's end: check exactly
@@ -371,10 +379,15 @@ struct Planner {
             ref = d / len;
             haveRef = true;
           }
-          const double ang = std::atan2(ref.x() * d.y() - ref.y() * d.x(), ref.dot(d));
-          const double half = std::asin(dc / len);
-          lo = std::max(lo, ang - half);
-          hi = std::min(hi, ang + half);
+          // The directions within asin(dc / len) of pts[j]'s: its direction (relative to ref)
+          // rotated both ways, mapped by the monotone pseudo-angle.
+          const double x = ref.dot(d) / len, y = (ref.x() * d.y() - ref.y() * d.x()) / len;
+          const double sn = dc / len, cs = std::sqrt(std::max(0.0, 1 - sn * sn));
+          const double a0 = pseudoAngle(x * cs + y * sn, y * cs - x * sn);
+          const double a1 = pseudoAngle(x * cs - y * sn, y * cs + x * sn);
+          if (a0 > a1) break;  // the interval wraps past -pi/pi: the curve turns back
+          lo = std::max(lo, a0);
+          hi = std::min(hi, a1);
           if (lo > hi) break;
         }
       }
