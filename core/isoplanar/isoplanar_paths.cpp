@@ -1012,6 +1012,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       result.pathJoins.emplace_back();
       result.paths.back().points = cv.points;
       result.paths.back().normals = cv.normals;
+      result.pathPointCurve.emplace_back(cv.points.size(), static_cast<uint32_t>(k + 1));
     } else {
       IsoplanarJoin& j = joinAfter[k - 1];
       j.fromCurve = static_cast<uint32_t>(k - 1);
@@ -1021,6 +1022,9 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       sp.normals.insert(sp.normals.end(), j.normals.begin() + 1, j.normals.end() - 1);
       sp.points.insert(sp.points.end(), cv.points.begin(), cv.points.end());
       sp.normals.insert(sp.normals.end(), cv.normals.begin(), cv.normals.end());
+      std::vector<uint32_t>& pc = result.pathPointCurve.back();
+      pc.insert(pc.end(), j.points.size() - 2, 0u);
+      pc.insert(pc.end(), cv.points.size(), static_cast<uint32_t>(k + 1));
       result.pathMm += j.length;
       result.pathJoins.back().push_back(static_cast<uint32_t>(result.joins.size()));
       result.joins.push_back(std::move(j));

@@ -70,6 +70,8 @@ struct IsoplanarResult : Outcome {
   std::vector<IsoplanarJoin> joins;     // printed joins, in print order
   std::vector<std::vector<uint32_t>> pathJoins;   // per path: index into joins between its
                                                   // consecutive curves (pathCurves[p].size() - 1)
+  std::vector<std::vector<uint32_t>> pathPointCurve;  // per path, per point: 1 + index of its
+                                                      // curve, 0 for a join's interior point
   size_t planes = 0;                    // drive planes used
   double pathMm = 0;                    // printed length (curves + printed joins), mm
   double minSideStep = 0, maxSideStep = 0;  // plane offsets, mm (one plane: its computed step)

@@ -11,6 +11,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <limits>
@@ -783,6 +784,14 @@ TEST(IsoplanarPaths, SeatDirectionSweepInvariants) {
       }
       ASSERT_EQ(r.paths[p].points.size(), expected.size());
       ASSERT_EQ(r.paths[p].normals.size(), expected.size());
+      ASSERT_EQ(r.pathPointCurve[p].size(), expected.size());
+      for (size_t i = 0; i < expected.size(); ++i) {
+        const uint32_t ci = r.pathPointCurve[p][i];
+        if (ci > 0) {  // the point is one of its curve's points
+          const auto& cp = r.curves[ci - 1].points;
+          EXPECT_NE(std::find(cp.begin(), cp.end(), expected[i]), cp.end());
+        }
+      }
       for (size_t i = 0; i < expected.size(); ++i) EXPECT_EQ(r.paths[p].points[i], expected[i]);
     }
     EXPECT_EQ(joins, r.joins.size());
