@@ -55,12 +55,34 @@ IsoplanarResult fail(Status s, std::string message) {
   return r;
 }
 
-// Returns false (with a message) on a non-manifold edge.
-bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
+// Edges and boundary loops. Bit-identical positions are welded first (an unwelded layer mesh
+// cuts like the welded one; indices stay those of the mesh, the first of equal vertices).
+// Edges of more than two triangles are kept (the cut pairs their triangles in order).
+void buildTopology(const Mesh& mesh, Topology& topo) {
   const size_t nv = mesh.vertexCount();
+  std::vector<uint32_t> canon(nv);
+  {
+    std::vector<uint32_t> byPos(nv);
+    std::iota(byPos.begin(), byPos.end(), 0u);
+    const double* pos = mesh.positions.data();
+    auto less = [pos](uint32_t a, uint32_t b) {
+      for (int k = 0; k < 3; ++k) {
+        if (pos[3 * a + k] != pos[3 * b + k]) return pos[3 * a + k] < pos[3 * b + k];
+      }
+      return a < b;
+    };
+    std::sort(byPos.begin(), byPos.end(), less);
+    std::iota(canon.begin(), canon.end(), 0u);
+    for (size_t i = 1; i < nv; ++i) {
+      const uint32_t v = byPos[i], u = byPos[i - 1];
+      if (pos[3 * v] == pos[3 * u] && pos[3 * v + 1] == pos[3 * u + 1] && pos[3 * v + 2] == pos[3 * u + 2]) {
+        canon[v] = canon[u];
+      }
+    }
+  }
   for (size_t f = 0; f < mesh.faceCount(); ++f) {
-    const uint32_t a = mesh.triangles[3 * f], b = mesh.triangles[3 * f + 1],
-                   c = mesh.triangles[3 * f + 2];
+    const uint32_t a = canon[mesh.triangles[3 * f]], b = canon[mesh.triangles[3 * f + 1]],
+                   c = canon[mesh.triangles[3 * f + 2]];
     if (a == b || b == c || c == a) continue;
     topo.tris.insert(topo.tris.end(), {a, b, c});
   }
@@ -97,11 +119,6 @@ bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
       }
       topo.triEdge[half[s]] = edge;
       if (topo.faces[edge] < 255) ++topo.faces[edge];
-      if (topo.faces[edge] > 2) {
-        message = "non-manifold edge (" + std::to_string(v) + ", " + std::to_string(other[s]) +
-                  ") shared by more than two triangles";
-        return false;
-      }
     }
   }
   // Boundary loops.
@@ -162,7 +179,6 @@ bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
     topo.loopCum.push_back(std::move(cum));
     topo.loopClosed.push_back(closed ? 1 : 0);
   }
-  return true;
 }
 
 // One crossing of the current plane with a mesh edge.
@@ -214,8 +230,10 @@ struct Planner {
   void cut(double c, const std::vector<uint32_t>& crossed) {
     ++stamp;
     nodes.clear();
+    // The node of edge e with a free link; an edge of more than two triangles gets a further
+    // node (same point) once its node has two links.
     auto nodeOf = [&](uint32_t e) {
-      if (edgeStamp[e] == stamp) return edgeNode[e];
+      if (edgeStamp[e] == stamp && nodes[edgeNode[e]].adj[1] == kNone) return edgeNode[e];
       edgeStamp[e] = stamp;
       const uint32_t id = static_cast<uint32_t>(nodes.size());
       edgeNode[e] = id;
@@ -443,8 +461,7 @@ IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
   auto data = std::make_shared<IsoplanarSurface::Data>();
   data->mesh = surface;
   data->samples = samples;
-  std::string message;
-  if (!buildTopology(surface, data->topo, message)) return bad(Status::NonManifoldInput, message);
+  buildTopology(surface, data->topo);
   if (data->topo.tris.empty()) return bad(Status::EmptyInput, "no non-degenerate triangles");
   data->tensors.resize(nv);
   for (size_t v = 0; v < nv; ++v) {
