@@ -620,6 +620,10 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     pts.clear();
     for (const Node& n : ns) pts.push_back(n.p);
     pl.sample(pts, ev, keep);
+    if (closed && keep.size() < 4) {  // a loop within the chord error: keep every crossing
+      keep.resize(pts.size());
+      std::iota(keep.begin(), keep.end(), 0u);
+    }
     NlCurve& curve = out.curve;
     curve = NlCurve();
     curve.plane = plane;
@@ -703,7 +707,8 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
           evals.push_back(nodeEval[n]);
         }
         buildCurve(nodeSeq, evals, false, c, pc);
-        if (pc.curve.points.size() < 2) continue;  // a plane touching the surface at one point
+        // A plane touching the surface at a point.
+        if (pc.curve.points.size() < 2 || polylineLength(pc.curve.points) <= 1e-12) continue;
       } else {
         double area = 0;
         for (size_t i = 0; i < ns.size(); ++i) {

@@ -679,6 +679,71 @@ TEST(IsoplanarPaths, CylinderBandClosedLoops) {
   for (const auto& pc : byPlane(r2)) EXPECT_EQ(pc.size(), 2u);
 }
 
+// A closed surface (sphere): every cut is a loop, down to the tiny ones next to the extremes
+// (kept whole when within the chord error); loops lie on the sphere; coverage away from the two
+// points where the drive planes are tangent (the minCross floor spaces the loops wider there).
+TEST(IsoplanarPaths, ClosedSphereLoops) {
+  const double R = 10;
+  const int nu = 64, nv = 32;
+  Mesh m;
+  m.positions.insert(m.positions.end(), {0, 0, R});
+  for (int j = 1; j < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      const double th = M_PI * j / nv, ph = 2 * M_PI * i / nu;
+      m.positions.insert(m.positions.end(), {R * std::sin(th) * std::cos(ph), R * std::sin(th) * std::sin(ph), R * std::cos(th)});
+    }
+  }
+  m.positions.insert(m.positions.end(), {0, 0, -R});
+  const uint32_t south = static_cast<uint32_t>(m.vertexCount() - 1);
+  auto id = [&](int j, int i) { return static_cast<uint32_t>(1 + (j - 1) * nu + (i % nu)); };
+  for (int i = 0; i < nu; ++i) m.triangles.insert(m.triangles.end(), {0, id(1, i), id(1, i + 1)});
+  for (int j = 1; j + 1 < nv; ++j) {
+    for (int i = 0; i < nu; ++i) {
+      m.triangles.insert(m.triangles.end(), {id(j, i), id(j + 1, i), id(j + 1, i + 1), id(j, i), id(j + 1, i + 1), id(j, i + 1)});
+    }
+  }
+  for (int i = 0; i < nu; ++i) m.triangles.insert(m.triangles.end(), {south, id(nv - 1, i + 1), id(nv - 1, i)});
+  const auto samples = analyticSamples(
+      m,
+      [R](const Eigen::Vector3d& p, Eigen::Vector3d& n, Eigen::Matrix3d& T) {
+        n = p.normalized();
+        T = (Eigen::Matrix3d::Identity() - n * n.transpose()) / R;
+      },
+      0.5);
+  IsoplanarOptions o;
+  o.thetaDegrees = 30;
+  o.chordError = 0.05;
+  const WidthFn width = closedFormWidth(1);
+  const IsoplanarResult r = isoplanarPaths(m, samples, width, o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_EQ(r.closedCurves, r.curves.size());
+  EXPECT_EQ(r.curves.size(), r.planes);
+  expectPointsOnMesh(m, r, driveNormal(30));
+  const double inner = R * std::cos(M_PI / nv) * std::cos(M_PI / nu);  // polygon inradius bound
+  for (const NlCurve& c : r.curves) {
+    ASSERT_GE(c.points.size(), 4u);
+    EXPECT_EQ(c.points.front(), c.points.back());
+    for (const Eigen::Vector3d& p : c.points) {
+      EXPECT_LE(p.norm(), R + 1e-9);
+      EXPECT_GE(p.norm(), inner - 1e-9);
+    }
+  }
+  const Eigen::Vector3d q = driveNormal(30);
+  const double w = width(1 / R, 0.5);
+  size_t checked = 0;
+  for (size_t v = 0; v < m.vertexCount(); v += 3) {
+    const Eigen::Vector3d p = m.vertex(v);
+    if (std::abs(p.normalized().dot(q)) > 0.9) continue;
+    double d = 1e9;
+    for (const NlCurve& c : r.curves) d = std::min(d, distanceToPolyline(p, c.points));
+    EXPECT_LE(d, 0.6 * w) << "vertex " << v;
+    ++checked;
+  }
+  EXPECT_GT(checked, 300u);
+  std::printf("sphere: planes %zu, loops %zu, paths %zu, side step [%.3f, %.3f]\n", r.planes,
+              r.curves.size(), r.paths.size(), r.minSideStep, r.maxSideStep);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Theta sweep: planes x side step match the extent along q (flat disc, constant width: exactly;
 // saddle: first/last half steps and the sum of offsets).
