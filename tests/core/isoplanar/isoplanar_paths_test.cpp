@@ -740,6 +740,29 @@ TEST(IsoplanarPaths, ClosedSphereLoops) {
     ++checked;
   }
   EXPECT_GT(checked, 300u);
+  // The time estimate's geodesic curvature: a small circle of radius rho at q.x = c on the
+  // sphere has |k_g| = |c| / (R rho). The 3-point estimate on the faceted loop scatters (unequal
+  // chords): compare the mean over each loop, within 5%.
+  std::map<long, std::pair<double, int>> perLoop;
+  std::map<long, double> expectedKg;
+  const FeedFn probe = [&](uint32_t a, uint32_t b, double t, const Eigen::Vector3d& dir, double kg) {
+    const Eigen::Vector3d p = (1 - t) * m.vertex(a) + t * m.vertex(b);
+    const double c = q.dot(p), rho = std::sqrt(std::max(0.0, R * R - c * c));
+    EXPECT_NEAR(dir.norm(), 1, 1e-9);
+    if (kg != 0 && rho > 3) {
+      const long key = std::lround(c * 1e6);
+      perLoop[key].first += std::abs(kg);
+      ++perLoop[key].second;
+      expectedKg[key] = std::abs(c) / (R * rho);
+    }
+    return 10.0;
+  };
+  estimateIsoplanarTime(r, probe, 0, 100);
+  EXPECT_GT(perLoop.size(), 20u);
+  for (const auto& [key, sum] : perLoop) {
+    EXPECT_NEAR(sum.first / sum.second, expectedKg[key], 0.05 * expectedKg[key] + 0.003)
+        << "loop at " << key * 1e-6;
+  }
   std::printf("sphere: planes %zu, loops %zu, paths %zu, side step [%.3f, %.3f]\n", r.planes,
               r.curves.size(), r.paths.size(), r.minSideStep, r.maxSideStep);
 }
