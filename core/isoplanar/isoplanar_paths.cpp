@@ -613,6 +613,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   double lastStep = step > 0 && std::isfinite(step) ? step : 0.01 * extent;
   size_t planeIndex = 0;
   bool atEnd = false;
+  uint32_t shortened = kNone;  // index in planeOffsets of the offset to the last plane
   const size_t maxPlanes = 2000000;
   // Samples a crossing sequence (closed: first repeated last) into a curve.
   auto buildCurve = [&](const std::vector<Node>& ns, const std::vector<PointEval>& ev, bool closed,
@@ -738,6 +739,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     if (cn >= dmax - 0.5 * step - eps) {
       cn = dmax - 0.5 * step;
       atEnd = true;
+      shortened = static_cast<uint32_t>(planeOffsets.size());
     }
     planeOffsets.push_back(cn - c);
     for (size_t i = pool.size(); i-- > 0 && pool[i].curve.plane == c;) pool[i].curve.sideStep = cn - c;
@@ -749,6 +751,9 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   }
   result.planes = planeIndex;
   {
+    // The offset to the last plane is shortened to land it half a step before the far extreme:
+    // left out of the range unless it is the only one.
+    if (shortened != kNone && planeOffsets.size() > 2) planeOffsets[shortened] = 0;
     double mn = kInf, mx = 0;
     for (double o : planeOffsets) {
       if (o > 0) {

@@ -74,7 +74,8 @@ struct IsoplanarResult : Outcome {
                                                       // curve, 0 for a join's interior point
   size_t planes = 0;                    // drive planes used
   double pathMm = 0;                    // printed length (curves + printed joins), mm
-  double minSideStep = 0, maxSideStep = 0;  // plane offsets, mm (one plane: its computed step)
+  double minSideStep = 0, maxSideStep = 0;  // plane offsets, mm, but the shortened one to the
+                                            // last plane (one plane: its computed step)
   size_t closedCurves = 0;              // curves that are closed loops
   double ms = 0;
 };
