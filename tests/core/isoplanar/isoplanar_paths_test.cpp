@@ -252,6 +252,9 @@ TEST(IsoplanarPaths, FlatSquareLastPlaneHalfStepInside) {
   for (size_t i = 0; i + 2 < r.curves.size(); ++i) EXPECT_NEAR(r.curves[i].sideStep, w, 1e-12);
   EXPECT_LE(r.curves[r.curves.size() - 2].sideStep, w + 1e-12);
   EXPECT_GT(r.curves[r.curves.size() - 2].sideStep, 0);
+  // The range of side steps leaves the shortened last offset out.
+  EXPECT_NEAR(r.minSideStep, w, 1e-12);
+  EXPECT_NEAR(r.maxSideStep, w, 1e-12);
   expectPointsOnMesh(m, r, driveNormal(90));
 }
 
