@@ -55,12 +55,34 @@ IsoplanarResult fail(Status s, std::string message) {
   return r;
 }
 
-// Returns false (with a message) on a non-manifold edge.
-bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
+// Edges and boundary loops. Bit-identical positions are welded first (an unwelded layer mesh
+// cuts like the welded one; indices stay those of the mesh, the first of equal vertices).
+// Edges of more than two triangles are kept (the cut pairs their triangles in order).
+void buildTopology(const Mesh& mesh, Topology& topo) {
   const size_t nv = mesh.vertexCount();
+  std::vector<uint32_t> canon(nv);
+  {
+    std::vector<uint32_t> byPos(nv);
+    std::iota(byPos.begin(), byPos.end(), 0u);
+    const double* pos = mesh.positions.data();
+    auto less = [pos](uint32_t a, uint32_t b) {
+      for (int k = 0; k < 3; ++k) {
+        if (pos[3 * a + k] != pos[3 * b + k]) return pos[3 * a + k] < pos[3 * b + k];
+      }
+      return a < b;
+    };
+    std::sort(byPos.begin(), byPos.end(), less);
+    std::iota(canon.begin(), canon.end(), 0u);
+    for (size_t i = 1; i < nv; ++i) {
+      const uint32_t v = byPos[i], u = byPos[i - 1];
+      if (pos[3 * v] == pos[3 * u] && pos[3 * v + 1] == pos[3 * u + 1] && pos[3 * v + 2] == pos[3 * u + 2]) {
+        canon[v] = canon[u];
+      }
+    }
+  }
   for (size_t f = 0; f < mesh.faceCount(); ++f) {
-    const uint32_t a = mesh.triangles[3 * f], b = mesh.triangles[3 * f + 1],
-                   c = mesh.triangles[3 * f + 2];
+    const uint32_t a = canon[mesh.triangles[3 * f]], b = canon[mesh.triangles[3 * f + 1]],
+                   c = canon[mesh.triangles[3 * f + 2]];
     if (a == b || b == c || c == a) continue;
     topo.tris.insert(topo.tris.end(), {a, b, c});
   }
@@ -97,11 +119,6 @@ bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
       }
       topo.triEdge[half[s]] = edge;
       if (topo.faces[edge] < 255) ++topo.faces[edge];
-      if (topo.faces[edge] > 2) {
-        message = "non-manifold edge (" + std::to_string(v) + ", " + std::to_string(other[s]) +
-                  ") shared by more than two triangles";
-        return false;
-      }
     }
   }
   // Boundary loops.
@@ -162,7 +179,6 @@ bool buildTopology(const Mesh& mesh, Topology& topo, std::string& message) {
     topo.loopCum.push_back(std::move(cum));
     topo.loopClosed.push_back(closed ? 1 : 0);
   }
-  return true;
 }
 
 // One crossing of the current plane with a mesh edge.
@@ -182,6 +198,14 @@ struct PointEval {
   double cross = 1;       // |k.q| = |n x q|
   double width = 0;       // w_eff
 };
+
+// A monotone stand-in for atan2(y, x) on (-pi, pi], values in [-2, 2] (no trigonometry).
+double pseudoAngle(double x, double y) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  if (ax + ay == 0) return 0;
+  const double t = x >= 0 ? ay / (ax + ay) : 2 - ay / (ax + ay);
+  return y >= 0 ? t : -t;
+}
 
 struct Planner {
   const Mesh& mesh;
@@ -206,8 +230,10 @@ struct Planner {
   void cut(double c, const std::vector<uint32_t>& crossed) {
     ++stamp;
     nodes.clear();
+    // The node of edge e with a free link; an edge of more than two triangles gets a further
+    // node (same point) once its node has two links.
     auto nodeOf = [&](uint32_t e) {
-      if (edgeStamp[e] == stamp) return edgeNode[e];
+      if (edgeStamp[e] == stamp && nodes[edgeNode[e]].adj[1] == kNone) return edgeNode[e];
       edgeStamp[e] = stamp;
       const uint32_t id = static_cast<uint32_t>(nodes.size());
       edgeNode[e] = id;
@@ -350,7 +376,7 @@ struct Planner {
               ref = d / len;
               haveRef = true;
             }
-            const double ang = std::atan2(ref.x() * d.y() - ref.y() * d.x(), ref.dot(d));
+            const double ang = pseudoAngle(ref.dot(d), ref.x() * d.y() - ref.y() * d.x());
             ok = ang >= lo && ang <= hi;
           }
           if (ok && far > len) {  // an intermediate point beyond the chord's end: check exactly
@@ -371,10 +397,15 @@ struct Planner {
             ref = d / len;
             haveRef = true;
           }
-          const double ang = std::atan2(ref.x() * d.y() - ref.y() * d.x(), ref.dot(d));
-          const double half = std::asin(dc / len);
-          lo = std::max(lo, ang - half);
-          hi = std::min(hi, ang + half);
+          // The directions within asin(dc / len) of pts[j]'s: its direction (relative to ref)
+          // rotated both ways, mapped by the monotone pseudo-angle.
+          const double x = ref.dot(d) / len, y = (ref.x() * d.y() - ref.y() * d.x()) / len;
+          const double sn = dc / len, cs = std::sqrt(std::max(0.0, 1 - sn * sn));
+          const double a0 = pseudoAngle(x * cs + y * sn, y * cs - x * sn);
+          const double a1 = pseudoAngle(x * cs - y * sn, y * cs + x * sn);
+          if (a0 > a1) break;  // the interval wraps past -pi/pi: the curve turns back
+          lo = std::max(lo, a0);
+          hi = std::min(hi, a1);
           if (lo > hi) break;
         }
       }
@@ -430,8 +461,7 @@ IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
   auto data = std::make_shared<IsoplanarSurface::Data>();
   data->mesh = surface;
   data->samples = samples;
-  std::string message;
-  if (!buildTopology(surface, data->topo, message)) return bad(Status::NonManifoldInput, message);
+  buildTopology(surface, data->topo);
   if (data->topo.tris.empty()) return bad(Status::EmptyInput, "no non-degenerate triangles");
   data->tensors.resize(nv);
   for (size_t v = 0; v < nv; ++v) {
@@ -583,6 +613,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   double lastStep = step > 0 && std::isfinite(step) ? step : 0.01 * extent;
   size_t planeIndex = 0;
   bool atEnd = false;
+  uint32_t shortened = kNone;  // index in planeOffsets of the offset to the last plane
   const size_t maxPlanes = 2000000;
   // Samples a crossing sequence (closed: first repeated last) into a curve.
   auto buildCurve = [&](const std::vector<Node>& ns, const std::vector<PointEval>& ev, bool closed,
@@ -590,6 +621,10 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     pts.clear();
     for (const Node& n : ns) pts.push_back(n.p);
     pl.sample(pts, ev, keep);
+    if (closed && keep.size() < 4) {  // a loop within the chord error: keep every crossing
+      keep.resize(pts.size());
+      std::iota(keep.begin(), keep.end(), 0u);
+    }
     NlCurve& curve = out.curve;
     curve = NlCurve();
     curve.plane = plane;
@@ -673,7 +708,8 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
           evals.push_back(nodeEval[n]);
         }
         buildCurve(nodeSeq, evals, false, c, pc);
-        if (pc.curve.points.size() < 2) continue;  // a plane touching the surface at one point
+        // A plane touching the surface at a point.
+        if (pc.curve.points.size() < 2 || polylineLength(pc.curve.points) <= 1e-12) continue;
       } else {
         double area = 0;
         for (size_t i = 0; i < ns.size(); ++i) {
@@ -703,6 +739,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     if (cn >= dmax - 0.5 * step - eps) {
       cn = dmax - 0.5 * step;
       atEnd = true;
+      shortened = static_cast<uint32_t>(planeOffsets.size());
     }
     planeOffsets.push_back(cn - c);
     for (size_t i = pool.size(); i-- > 0 && pool[i].curve.plane == c;) pool[i].curve.sideStep = cn - c;
@@ -714,6 +751,9 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   }
   result.planes = planeIndex;
   {
+    // The offset to the last plane is shortened to land it half a step before the far extreme:
+    // left out of the range unless it is the only one.
+    if (shortened != kNone && planeOffsets.size() > 2) planeOffsets[shortened] = 0;
     double mn = kInf, mx = 0;
     for (double o : planeOffsets) {
       if (o > 0) {
@@ -999,6 +1039,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       result.pathJoins.emplace_back();
       result.paths.back().points = cv.points;
       result.paths.back().normals = cv.normals;
+      result.pathPointCurve.emplace_back(cv.points.size(), static_cast<uint32_t>(k + 1));
     } else {
       IsoplanarJoin& j = joinAfter[k - 1];
       j.fromCurve = static_cast<uint32_t>(k - 1);
@@ -1008,6 +1049,9 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       sp.normals.insert(sp.normals.end(), j.normals.begin() + 1, j.normals.end() - 1);
       sp.points.insert(sp.points.end(), cv.points.begin(), cv.points.end());
       sp.normals.insert(sp.normals.end(), cv.normals.begin(), cv.normals.end());
+      std::vector<uint32_t>& pc = result.pathPointCurve.back();
+      pc.insert(pc.end(), j.points.size() - 2, 0u);
+      pc.insert(pc.end(), cv.points.size(), static_cast<uint32_t>(k + 1));
       result.pathMm += j.length;
       result.pathJoins.back().push_back(static_cast<uint32_t>(result.joins.size()));
       result.joins.push_back(std::move(j));

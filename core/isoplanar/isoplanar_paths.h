@@ -70,20 +70,25 @@ struct IsoplanarResult : Outcome {
   std::vector<IsoplanarJoin> joins;     // printed joins, in print order
   std::vector<std::vector<uint32_t>> pathJoins;   // per path: index into joins between its
                                                   // consecutive curves (pathCurves[p].size() - 1)
+  std::vector<std::vector<uint32_t>> pathPointCurve;  // per path, per point: 1 + index of its
+                                                      // curve, 0 for a join's interior point
   size_t planes = 0;                    // drive planes used
   double pathMm = 0;                    // printed length (curves + printed joins), mm
-  double minSideStep = 0, maxSideStep = 0;  // plane offsets, mm (one plane: its computed step)
+  double minSideStep = 0, maxSideStep = 0;  // plane offsets, mm, but the shortened one to the
+                                            // last plane (one plane: its computed step)
   size_t closedCurves = 0;              // curves that are closed loops
   double ms = 0;
 };
 
-// Algorithm 2 on `surface` (open or closed triangle mesh, edge-manifold) with its per-vertex
+// Algorithm 2 on `surface` (open or closed triangle mesh, ideally edge-manifold) with its per-vertex
 // samples (surface_samples.h; curvature and height for w_eff) and w_eff = width(kappa, h) with
 // kappa the normal curvature across the curve. Statuses: EmptyInput, InvalidOption (options out
 // of range, samples not one per vertex, a triangle index out of range, a width that is not
 // positive and finite, or so small that more than 2e6 planes would be needed), NonFiniteVertex
-// (positions or samples), NonManifoldInput (an edge of more than two triangles), Cancelled.
-// Progress stage "paths". A surface lying in one drive plane gives Ok and no curve.
+// (positions or samples), Cancelled. Progress stage "paths". A surface lying in one drive plane
+// gives Ok and no curve. Bit-identical vertices are welded (an unwelded mesh cuts like the
+// welded one; edge indices are those of the first of equal vertices); an edge of more than two
+// triangles pairs them in order (a curve may end there, without a boundary join).
 // Planes: the first at the extreme + its own side step / 2 (fixed point), then c += side step;
 // once c + step would pass the far extreme - step / 2, the last plane is put there (that offset
 // is shorter than the step), and a plane whose step / 2 reaches the far extreme is the last.
