@@ -81,8 +81,10 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   popt.chordError = settings.chordErrorMm;
 
   t0 = Clock::now();
+  IsoplanarSurface prepared = prepareIsoplanarSurface(surface, samples.samples);
+  if (!prepared.ok()) return fail(prepared);
   popt.thetaDegrees = search.thetaStarDegrees;
-  IsoplanarResult planned = isoplanarPaths(surface, samples.samples, width, popt, progress);
+  IsoplanarResult planned = isoplanarPaths(prepared, width, popt, progress);
   if (!planned.ok()) return fail(planned);
   const IsoplanarTime time = estimateIsoplanarTime(planned, feed, options.maxFeed, options.travelSpeed);
   out.timingsMs.emplace_back("paths", msSince(t0));
@@ -100,7 +102,7 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
       }
       IsoplanarOptions o = popt;
       o.thetaDegrees = search.thetaDegrees[i];
-      IsoplanarResult other = isoplanarPaths(surface, samples.samples, width, o);
+      IsoplanarResult other = isoplanarPaths(prepared, width, o);
       if (!other.ok()) return fail(other);
       const IsoplanarTime t = estimateIsoplanarTime(other, feed, options.maxFeed, options.travelSpeed);
       benchTime += t.totalS;
@@ -114,32 +116,17 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   }
   out.timingsMs.emplace_back("benchmark", msSince(t0));
 
-  // Surface paths with their curve tags: the curves of each path appear in it in order, their
-  // points copied; anything between them is a join (tag 0).
-  uint32_t tag = options.firstCurve;
-  std::vector<uint32_t> curveTag(planned.curves.size(), 0);
-  for (size_t c = 0; c < planned.curves.size(); ++c) curveTag[c] = tag++;
+  // Surface paths with their curve tags (1-based within this surface, shifted to the print's).
   out.curves = static_cast<uint32_t>(planned.curves.size());
   out.paths = planned.paths;
   for (size_t p = 0; p < out.paths.size(); ++p) {
     SurfacePath& path = out.paths[p];
     path.curves.assign(path.points.size(), 0);
-    if (p >= planned.pathCurves.size()) continue;
-    size_t at = 0;
-    for (uint32_t c : planned.pathCurves[p]) {
-      const NlCurve& curve = planned.curves[c];
-      if (curve.points.empty()) continue;
-      // Find the curve's first point from `at` on, then tag the run that matches it.
-      size_t k = at;
-      while (k < path.points.size() && (path.points[k] - curve.points.front()).squaredNorm() > 1e-18) ++k;
-      if (k == path.points.size()) continue;
-      size_t j = 0;
-      while (k + j < path.points.size() && j < curve.points.size() &&
-             (path.points[k + j] - curve.points[j]).squaredNorm() <= 1e-18) {
-        if (j > 0) path.curves[k + j] = curveTag[c];
-        ++j;
-      }
-      at = k + j;
+    if (p >= planned.pathPointCurve.size() || planned.pathPointCurve[p].size() != path.points.size()) continue;
+    for (size_t k = 1; k < path.points.size(); ++k) {
+      // The segment ending at point k lies on a curve when both its ends do.
+      const uint32_t a = planned.pathPointCurve[p][k - 1], b = planned.pathPointCurve[p][k];
+      if (a > 0 && a == b) path.curves[k] = a - 1 + options.firstCurve;
     }
   }
 
