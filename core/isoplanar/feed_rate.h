@@ -41,6 +41,14 @@ struct FeedFieldOptions {
                                  // apart (mm) and refined locally from the nearest seed elsewhere
                                  // (gamma* varies slowly over a layer); 0 = at every sample
   bool useDynamics = true;       // false: every limit infinite (geometry-only tests)
+  bool singleFreeAngle = false;  // robot6: one gamma and branch for every sample (the grid
+                                 // value and branch whose smallest w_PS over the seeds is
+                                 // largest) instead of gamma* per sample. w_PS is flat over
+                                 // gamma (0.1 % over half a radian on the saddle), so gamma* per
+                                 // sample wanders and ties between branches flip: the field's
+                                 // derivatives hold gamma at the sample's, and a path replayed
+                                 // with gamma* per point moves the wrist much faster than they
+                                 // say; with one gamma the replay matches the field (tested).
 };
 
 // Per-sample kinematic model of a surface on a machine.
@@ -84,6 +92,17 @@ FeedLimit feedLimit(const FeedField& field, const SurfaceSample& sample, size_t 
 // symmetric), geodesic curvature of the planar section from the normal curvature along f and q.
 FeedLimit driveFeedLimit(const FeedField& field, const SurfaceSample& sample, size_t i,
                          double theta, double maxFeed);
+
+// Derivatives of every machine value over arc length along the drive-plane section of angle theta
+// at sample i (the quantities feedLimit() bounds): d1 = dQ/ds, d2 = d2Q/ds2, d3 = d3Q/ds3 in
+// machine units per mm^k, for the direction f of driveFrame() (the tests compare them with finite
+// differences of exact inverse kinematics).
+struct PathDerivatives {
+  bool reachable = false;  // false (and zeros) at unreachable samples
+  std::array<double, 6> d1{}, d2{}, d3{};
+};
+PathDerivatives drivePathDerivatives(const FeedField& field, const SurfaceSample& sample, size_t i,
+                                     double theta);
 
 // Unit feed direction f and cross direction k (in the tangent plane, k = n x f) of the drive plane
 // of angle theta at a sample; false when the plane is tangent to the surface there (|n.q| ~ 1).

@@ -1,0 +1,674 @@
+// SPDX-License-Identifier: MIT
+// Kinematic feed field and drive-direction search of paper 003 (feed_rate.h).
+//
+// Per sample: exact inverse kinematics on a 13-point stencil in the sample's tangent coordinates
+// (u, v) on its local quadric w = -(u v) S (u v)^T / 2 (normals from the quadric), a cubic fitted
+// to each machine value by least squares with one pseudo-inverse shared by every sample (the
+// pattern is the same everywhere, only scaled by the stencil radius), its nine derivatives stored.
+// A candidate curve through the sample with unit tangent t = (a, b), geodesic curvature kg and
+// normal curvature kappa along t has, in tangent coordinates, x' = t, x'' = kg e (e = n x t) and
+// x''' = -(kg^2 + kappa^2) t + c3 e (Darboux frame; c3 depends on the curve's third order), so
+//   Q'   = grad Q . t
+//   Q''  = H[t, t] + kg grad Q . e
+//   Q''' = T[t, t, t] + 3 kg H[t, e] + grad Q . x'''.
+// The drive-plane section of the quadric has c3 = 3 g^2 kappa_f S_fk (g = (q.n) / (q.k)).
+#include "isoplanar/feed_rate.h"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <unordered_map>
+
+#include "kinematics/kinematics.h"
+#include "kinematics/robot_arm.h"
+#include "motion/plan_motion.h"
+
+namespace omnislice {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kTwoPi = 2 * kPi;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr int kStencil = 13;
+constexpr int kJets = 9;
+constexpr double kLimitSlack = 1e-9;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The stencil at unit radius: centre, 4 points at radius 1/2 on the axes, 8 at radius 1 every 45
+// degrees (the outer ring fixes the cubic's restriction to the circle, a trigonometric polynomial
+// of degree 3; centre and inner ring the remaining (u^2 + v^2 - 1)(linear) part: rank 10).
+struct StencilPattern {
+  double u[kStencil], v[kStencil];
+  // Rows 1..9 of the pseudo-inverse of the monomials [1, u, v, u^2/2, uv, v^2/2, u^3/6, u^2 v/2,
+  // u v^2/2, v^3/6] at the unit-radius points: the derivatives Qu .. Qvvv at the centre.
+  double pinv[kJets][kStencil];
+  int degree[kJets];
+};
+
+const StencilPattern& stencilPattern() {
+  static const StencilPattern p = [] {
+    StencilPattern s{};
+    s.u[0] = s.v[0] = 0;
+    for (int k = 0; k < 4; ++k) {
+      s.u[1 + k] = 0.5 * std::cos(k * kPi / 2);
+      s.v[1 + k] = 0.5 * std::sin(k * kPi / 2);
+    }
+    for (int k = 0; k < 8; ++k) {
+      s.u[5 + k] = std::cos(k * kPi / 4);
+      s.v[5 + k] = std::sin(k * kPi / 4);
+    }
+    Eigen::Matrix<double, kStencil, 10> a;
+    for (int i = 0; i < kStencil; ++i) {
+      const double u = s.u[i], v = s.v[i];
+      a(i, 0) = 1;
+      a(i, 1) = u;
+      a(i, 2) = v;
+      a(i, 3) = u * u / 2;
+      a(i, 4) = u * v;
+      a(i, 5) = v * v / 2;
+      a(i, 6) = u * u * u / 6;
+      a(i, 7) = u * u * v / 2;
+      a(i, 8) = u * v * v / 2;
+      a(i, 9) = v * v * v / 6;
+    }
+    const Eigen::Matrix<double, 10, 10> ata = a.transpose() * a;
+    const Eigen::Matrix<double, 10, kStencil> pinv = ata.ldlt().solve(a.transpose());
+    const int deg[kJets] = {1, 1, 2, 2, 2, 3, 3, 3, 3};
+    for (int j = 0; j < kJets; ++j) {
+      s.degree[j] = deg[j];
+      for (int i = 0; i < kStencil; ++i) s.pinv[j][i] = pinv(j + 1, i);
+    }
+    return s;
+  }();
+  return p;
+}
+
+// Point and unit normal of the sample's local quadric at tangent coordinates (u, v).
+inline void quadricPoint(const SurfaceSample& s, double u, double v, Eigen::Vector3d& p,
+                         Eigen::Vector3d& n) {
+  const double s00 = s.shape(0, 0), s01 = 0.5 * (s.shape(0, 1) + s.shape(1, 0)),
+               s11 = s.shape(1, 1);
+  const double w = -0.5 * (s00 * u * u + 2 * s01 * u * v + s11 * v * v);
+  p = s.position + u * s.tangentU + v * s.tangentV + w * s.normal;
+  n = (s.normal + (s00 * u + s01 * v) * s.tangentU + (s01 * u + s11 * v) * s.tangentV).normalized();
+}
+
+inline bool inside(double v, const std::pair<double, double>& l) {
+  return v >= l.first - kLimitSlack && v <= l.second + kLimitSlack;
+}
+
+// The 2 pi alias of v nearest `target` inside the limits (the nearest one overall when it is
+// inside, else its neighbours); false when none of those is inside.
+inline bool aliasNear(double v, double target, const std::pair<double, double>& l, double& out) {
+  const double c = v + kTwoPi * std::round((target - v) / kTwoPi);
+  if (inside(c, l)) {
+    out = c;
+    return true;
+  }
+  const double lo = c - kTwoPi, hi = c + kTwoPi;
+  const bool il = inside(lo, l), ih = inside(hi, l);
+  if (il && (!ih || std::abs(lo - target) <= std::abs(hi - target))) {
+    out = lo;
+    return true;
+  }
+  if (ih) {
+    out = hi;
+    return true;
+  }
+  return false;
+}
+
+struct Solver {
+  const MachineProfile& m;
+  int axes = 0;
+  bool robot = false, cartesian = false;
+  std::vector<std::pair<double, double>> limits;
+
+  explicit Solver(const MachineProfile& machine) : m(machine) {
+    axes = machineAxisCount(m.kind);
+    robot = m.kind == "robot6";
+    cartesian = m.kind == "cartesian3";
+    limits = machineLimits(m);
+  }
+
+  // robot6: joint values for (tip, axis) at free angle gamma on one branch, unwrapped to the
+  // alias nearest `ref` (or nearest 0) inside the limits.
+  bool robotValues(const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, double gamma,
+                   int branch, const MachineValues* ref, MachineValues& out) const {
+    const RobotFreeRotation fr = robotFreeRotation(m, tip, axis);
+    const Eigen::Matrix4d f = robotFlangeForFreeAngle(fr, gamma);
+    JointValues sol[8];
+    int br[8];
+    if (urInverseBranches(m.dh, f, 1 << branch, sol, br) != 1) return false;
+    for (int j = 0; j < 6; ++j) {
+      if (!aliasNear(sol[0][j], ref ? (*ref)[j] : 0.0, limits[j], out[j])) return false;
+    }
+    return true;
+  }
+
+  // G-code kinds: the candidate nearest `ref` (angular values first), or the first candidate.
+  // cartesian3 cannot tilt: the nozzle stays vertical and the values are the tip.
+  bool gcodeValues(const Eigen::Vector3d& tip, const Eigen::Vector3d& axis,
+                   const MachineValues* ref, MachineValues& out) const {
+    if (cartesian) {
+      if (!(inside(tip.x(), limits[0]) && inside(tip.y(), limits[1]) &&
+            inside(tip.z(), limits[2]))) {
+        return false;
+      }
+      out = {tip.x(), tip.y(), tip.z(), 0, 0, 0};
+      return true;
+    }
+    IkOptions io;
+    io.reference = ref;
+    const IkResult r = inverseMap(m, tip, axis, io);
+    if (!r.ok() || r.candidates.empty()) return false;
+    size_t best = 0;
+    if (ref) {
+      double bestD = kInf;
+      for (size_t c = 0; c < r.candidates.size(); ++c) {
+        double d = 0;
+        for (int j = 3; j < axes; ++j) d += std::abs(r.candidates[c].values[j] - (*ref)[j]);
+        if (d < bestD) bestD = d, best = c;
+      }
+    }
+    out = r.candidates[best].values;
+    return true;
+  }
+};
+
+// robot6 redundancy (Eq. 6): w_PS over the free angle.
+struct Pose {
+  double gamma = 0, w = -1;
+  int branch = -1;
+  MachineValues q{};
+};
+
+struct RobotGamma {
+  const Solver& s;
+  RobotFreeRotation fr;
+
+  RobotGamma(const Solver& solver, const Eigen::Vector3d& tip, const Eigen::Vector3d& axis)
+      : s(solver), fr(robotFreeRotation(solver.m, tip, axis)) {}
+
+  // w_PS of one branch at gamma (-1 when unreachable or out of the limits).
+  double measure(double gamma, int branch, MachineValues* q = nullptr) const {
+    const Eigen::Matrix4d f = robotFlangeForFreeAngle(fr, gamma);
+    JointValues sol[8];
+    int br[8];
+    if (urInverseBranches(s.m.dh, f, 1 << branch, sol, br) != 1) return -1;
+    MachineValues v{};
+    for (int j = 0; j < 6; ++j) {
+      if (!aliasNear(sol[0][j], 0.0, s.limits[j], v[j])) return -1;
+    }
+    if (q) *q = v;
+    return fastSingularityMeasure(armJacobian(s.m.dh, sol[0]));
+  }
+
+  // Eq. 6 in full: every branch at `samples` angles over [-pi, pi), then golden-section search
+  // on the best branch around the best sample.
+  Pose full(int samples) const {
+    Pose best;
+    JointValues sol[8];
+    int br[8];
+    for (int k = 0; k < samples; ++k) {
+      const double g = robotFreeAngle(k, samples);
+      const Eigen::Matrix4d f = robotFlangeForFreeAngle(fr, g);
+      const int n = urInverseBranches(s.m.dh, f, 0xff, sol, br);
+      for (int c = 0; c < n; ++c) {
+        MachineValues v{};
+        bool ok = true;
+        for (int j = 0; j < 6 && ok; ++j) ok = aliasNear(sol[c][j], 0.0, s.limits[j], v[j]);
+        if (!ok) continue;
+        const double w = fastSingularityMeasure(armJacobian(s.m.dh, sol[c]));
+        // Wrist-flipped solutions have the same w_PS: ties (to rounding) go to the lower branch
+        // so neighbouring samples do not flip between them.
+        if (w > best.w * (1 + 1e-9) || (w >= best.w * (1 - 1e-9) && br[c] < best.branch)) {
+          best = {g, w, br[c], v};
+        }
+      }
+    }
+    if (best.branch < 0) return best;
+    return golden(best, kTwoPi / samples);
+  }
+
+  // Golden-section search for the largest w_PS on best.branch over [gamma - h, gamma + h]; keeps
+  // the best value seen (never worse than the start).
+  Pose golden(const Pose& start, double h) const {
+    constexpr double kR = 0.6180339887498949;
+    Pose best = start;
+    double lo = start.gamma - h, hi = start.gamma + h;
+    double x1 = hi - kR * (hi - lo), x2 = lo + kR * (hi - lo);
+    MachineValues q1{}, q2{};
+    double f1 = measure(x1, start.branch, &q1), f2 = measure(x2, start.branch, &q2);
+    auto keep = [&](double x, double f, const MachineValues& q) {
+      if (f > best.w) best = {x, f, start.branch, q};
+    };
+    keep(x1, f1, q1);
+    keep(x2, f2, q2);
+    while (hi - lo > 1e-3) {
+      if (f1 >= f2) {
+        hi = x2;
+        x2 = x1;
+        f2 = f1;
+        x1 = hi - kR * (hi - lo);
+        f1 = measure(x1, start.branch, &q1);
+        keep(x1, f1, q1);
+      } else {
+        lo = x1;
+        x1 = x2;
+        f1 = f2;
+        x2 = lo + kR * (hi - lo);
+        f2 = measure(x2, start.branch, &q2);
+        keep(x2, f2, q2);
+      }
+    }
+    return best;
+  }
+
+  // Local refinement from a nearby sample's (gamma, branch): w_PS at gamma and gamma +- h, the
+  // vertex of the parabola through them (clamped to the bracket); the best of the four.
+  Pose local(double gamma, int branch, double h) const {
+    Pose best;
+    MachineValues q{};
+    double w0 = measure(gamma, branch, &q);
+    if (w0 < 0) return best;
+    best = {gamma, w0, branch, q};
+    const double wm = measure(gamma - h, branch, &q);
+    if (wm > best.w) best = {gamma - h, wm, branch, q};
+    const double wp = measure(gamma + h, branch, &q);
+    if (wp > best.w) best = {gamma + h, wp, branch, q};
+    if (wm < 0 || wp < 0) return best;
+    const double den = wm - 2 * w0 + wp;
+    if (den < 0) {
+      const double x = gamma + 0.5 * h * (wm - wp) / den;
+      const double xc = std::min(gamma + h, std::max(gamma - h, x));
+      const double wx = measure(xc, branch, &q);
+      if (wx > best.w) best = {xc, wx, branch, q};
+    }
+    return best;
+  }
+};
+
+// Seeds of the free-angle search: one sample per cell of a grid of `spacing` (the one nearest the
+// cell centre); seedOf[i] = the seed of sample i's cell.
+std::vector<size_t> seedsOf(const std::vector<SurfaceSample>& samples, double spacing,
+                            std::vector<uint8_t>& isSeed) {
+  const size_t n = samples.size();
+  std::vector<size_t> seedOf(n);
+  isSeed.assign(n, 0);
+  if (!(spacing > 0)) {
+    for (size_t i = 0; i < n; ++i) seedOf[i] = i, isSeed[i] = 1;
+    return seedOf;
+  }
+  struct Hash {
+    size_t operator()(const std::array<int64_t, 3>& k) const {
+      return static_cast<size_t>(k[0] * 73856093) ^ static_cast<size_t>(k[1] * 19349663) ^
+             static_cast<size_t>(k[2] * 83492791);
+    }
+  };
+  std::unordered_map<std::array<int64_t, 3>, std::pair<size_t, double>, Hash> cells;
+  std::vector<std::array<int64_t, 3>> key(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d c = samples[i].position / spacing;
+    std::array<int64_t, 3> k{};
+    double d = 0;
+    for (int a = 0; a < 3; ++a) {
+      const double f = std::floor(c[a]);
+      k[a] = std::isfinite(f) ? static_cast<int64_t>(std::max(-1e15, std::min(1e15, f))) : 0;
+      d += (c[a] - f - 0.5) * (c[a] - f - 0.5);
+    }
+    key[i] = k;
+    auto it = cells.find(k);
+    if (it == cells.end()) {
+      cells.emplace(k, std::make_pair(i, d));
+    } else if (d < it->second.second) {
+      it->second = {i, d};
+    }
+  }
+  for (size_t i = 0; i < n; ++i) seedOf[i] = cells[key[i]].first;
+  for (size_t i = 0; i < n; ++i) isSeed[seedOf[i]] = 1;
+  return seedOf;
+}
+
+// Derivatives of every value along a curve with tangent (a, b), geodesic curvature kg, normal
+// curvature kappa and across component c3 of x''' (see the file comment); the Eq. 8-9 limits.
+inline FeedLimit limitFromJets(const std::array<std::array<double, 9>, 6>& jets, int axes,
+                               const double invV[6], const double invA[6], const double invJ[6],
+                               double a, double b, double kg, double kappa, double c3,
+                               double maxFeed) {
+  double rv = 0, ra = 0, rj = 0;
+  int iv = -1, ia = -1, ij = -1;
+  const double a2 = a * a, b2 = b * b, ab = a * b;
+  const double t3 = -(kg * kg + kappa * kappa);
+  for (int j = 0; j < axes; ++j) {
+    const double* q = jets[j].data();
+    const double d1 = q[0] * a + q[1] * b;
+    const double je = q[1] * a - q[0] * b;
+    const double hdd = q[2] * a2 + 2 * q[3] * ab + q[4] * b2;
+    const double hde = ab * (q[4] - q[2]) + q[3] * (a2 - b2);
+    const double tddd = a * (q[5] * a2 + 3 * q[6] * ab) + b * (3 * q[7] * ab + q[8] * b2);
+    const double d2 = hdd + kg * je;
+    const double d3 = tddd + 3 * kg * hde + t3 * d1 + c3 * je;
+    const double v = std::abs(d1) * invV[j], ac = std::abs(d2) * invA[j],
+                 jk = std::abs(d3) * invJ[j];
+    if (v > rv) rv = v, iv = j;
+    if (ac > ra) ra = ac, ia = j;
+    if (jk > rj) rj = jk, ij = j;
+  }
+  FeedLimit out;
+  out.velocity = rv > 0 ? 1 / rv : kInf;
+  out.acceleration = ra > 0 ? 1 / std::sqrt(ra) : kInf;
+  out.jerk = rj > 0 ? 1 / std::cbrt(rj) : kInf;
+  out.feed = out.velocity;
+  out.limitingValue = iv;
+  if (out.acceleration < out.feed) out.feed = out.acceleration, out.limitingValue = ia;
+  if (out.jerk < out.feed) out.feed = out.jerk, out.limitingValue = ij;
+  if (maxFeed > 0 && maxFeed <= out.feed) out.feed = maxFeed, out.limitingValue = -1;
+  return out;
+}
+
+void inverseLimits(const FeedField& field, double invV[6], double invA[6], double invJ[6]) {
+  for (int j = 0; j < 6; ++j) {
+    const AxisDynamics& d = field.dynamics[j];
+    invV[j] = d.velocity > 0 ? 1 / d.velocity : 0;
+    invA[j] = d.acceleration > 0 ? 1 / d.acceleration : 0;
+    invJ[j] = d.jerk > 0 ? 1 / d.jerk : 0;
+  }
+}
+
+// Tangent coordinates (a, b) of a part-frame direction projected onto the sample's tangent plane;
+// false when it is along the normal.
+inline bool tangentCoordinates(const SurfaceSample& s, const Eigen::Vector3d& d, double& a,
+                               double& b) {
+  a = d.dot(s.tangentU);
+  b = d.dot(s.tangentV);
+  const double len = std::sqrt(a * a + b * b);
+  if (!(len > 1e-12)) return false;
+  a /= len;
+  b /= len;
+  return true;
+}
+
+inline double shapeAlong(const SurfaceSample& s, double a, double b, double c, double d) {
+  const double s01 = 0.5 * (s.shape(0, 1) + s.shape(1, 0));
+  return s.shape(0, 0) * a * c + s01 * (a * d + b * c) + s.shape(1, 1) * b * d;
+}
+
+// Tangent (a, b), geodesic curvature, normal curvature along f and c3 of the drive-plane section
+// at a sample (the fallback when the plane is tangent: the plane's horizontal direction, kg = 0).
+struct DriveGeometry {
+  double a = 1, b = 0, kg = 0, kappa = 0, c3 = 0, across = 0;
+};
+
+inline DriveGeometry driveGeometry(const SurfaceSample& s, double ct, double st) {
+  DriveGeometry g;
+  const Eigen::Vector3d q(-st, ct, 0);
+  const Eigen::Vector3d& n = s.normal;
+  Eigen::Vector3d f = n.cross(q);
+  const double len = f.norm();
+  if (len > 1e-9) {
+    f /= len;
+    tangentCoordinates(s, f, g.a, g.b);
+    const Eigen::Vector3d k = n.cross(f);
+    const double qk = q.dot(k), qn = q.dot(n);
+    g.kappa = shapeAlong(s, g.a, g.b, g.a, g.b);
+    const double sfk = shapeAlong(s, g.a, g.b, -g.b, g.a);
+    g.across = shapeAlong(s, -g.b, g.a, -g.b, g.a);
+    const double ratio = qn / qk;
+    g.kg = ratio * g.kappa;
+    g.c3 = 3 * ratio * ratio * g.kappa * sfk;
+  } else if (!tangentCoordinates(s, Eigen::Vector3d(ct, st, 0), g.a, g.b)) {
+    g.a = 1, g.b = 0;
+  }
+  if (len <= 1e-9) {
+    g.kappa = shapeAlong(s, g.a, g.b, g.a, g.b);
+    g.across = shapeAlong(s, -g.b, g.a, -g.b, g.a);
+  }
+  return g;
+}
+
+}  // namespace
+
+FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const MachineProfile& machine,
+                         const FeedFieldOptions& options, const ProgressFn& progress) {
+  const auto t0 = Clock::now();
+  FeedField out;
+  auto fail = [&](Status st, const std::string& msg) {
+    FeedField bad;
+    bad.status = st;
+    bad.message = msg;
+    return bad;
+  };
+  if (!(options.stencilRadius > 0) || !std::isfinite(options.stencilRadius)) {
+    return fail(Status::InvalidOption, "buildFeedField: stencilRadius must be a positive length");
+  }
+  if (options.gammaSamples < 4 || options.gammaSamples > 100000) {
+    return fail(Status::InvalidOption, "buildFeedField: gammaSamples must be in [4, 100000]");
+  }
+  if (!(options.gammaSeedSpacing >= 0) || !std::isfinite(options.gammaSeedSpacing)) {
+    return fail(Status::InvalidOption, "buildFeedField: gammaSeedSpacing must be >= 0");
+  }
+  const Solver solver(machine);
+  if (solver.axes == 0) {
+    return fail(Status::InvalidOption,
+                "buildFeedField: unknown machine kind \"" + machine.kind + "\"");
+  }
+  if (solver.robot && !isUrFamily(machine.dh)) {
+    return fail(Status::InvalidOption, "buildFeedField: robot6 needs a UR-family DH table");
+  }
+  out.axes = solver.axes;
+  if (options.useDynamics) {
+    if (solver.robot) {
+      out.dynamics = machine.jointDynamics;
+    } else {
+      const std::vector<std::string> names = machineAxisNames(machine.kind);
+      for (int j = 0; j < solver.axes; ++j) {
+        auto it = machine.axisDynamics.find(names[j]);
+        if (it != machine.axisDynamics.end()) out.dynamics[j] = it->second;
+      }
+    }
+  }
+  const size_t n = samples.size();
+  out.values.assign(n, MachineValues{});
+  out.reachable.assign(n, 0);
+  out.freeAngle.assign(n, 0);
+  out.singularity.assign(n, 0);
+  out.jets.assign(n, {});
+
+  const StencilPattern& pat = stencilPattern();
+  const double r = options.stencilRadius;
+  double pinv[kJets][kStencil];
+  for (int j = 0; j < kJets; ++j) {
+    const double scale = std::pow(r, -pat.degree[j]);
+    for (int i = 0; i < kStencil; ++i) pinv[j][i] = pat.pinv[j][i] * scale;
+  }
+  auto finite = [](const SurfaceSample& s) {
+    return s.position.allFinite() && s.normal.allFinite() && s.tangentU.allFinite() &&
+           s.tangentV.allFinite() && s.shape.allFinite() && std::abs(s.normal.norm() - 1) < 1e-6;
+  };
+
+  // robot6: gamma* and branch per sample, seeds first.
+  std::vector<Pose> poses;
+  if (solver.robot) {
+    poses.assign(n, Pose{});
+    std::vector<uint8_t> isSeed;
+    const std::vector<size_t> seedOf = seedsOf(samples, options.gammaSeedSpacing, isSeed);
+    const double h = kPi / options.gammaSamples;
+    size_t done = 0;
+    if (options.singleFreeAngle) {
+      // min over the seeds of w_PS per (grid gamma, branch); -1 where some seed is unreachable.
+      const int gs = options.gammaSamples;
+      std::vector<double> worst(static_cast<size_t>(gs) * 8, kInf);
+      size_t seeds = 0;
+      for (size_t i = 0; i < n; ++i) {
+        if (!isSeed[i] || !finite(samples[i])) continue;
+        if ((++seeds & 15) == 0 && !reportProgress(progress, "feed", 0.25 * seeds / n)) {
+          return fail(Status::Cancelled, "buildFeedField: cancelled");
+        }
+        const RobotGamma rg(solver, samples[i].position, samples[i].normal);
+        for (int k = 0; k < gs; ++k) {
+          for (int b = 0; b < 8; ++b) {
+            double& wk = worst[static_cast<size_t>(k) * 8 + b];
+            if (wk > 0) wk = std::min(wk, rg.measure(robotFreeAngle(k, gs), b));
+          }
+        }
+      }
+      double bestW = 0;
+      int bestK = -1, bestB = -1;
+      for (int k = 0; k < gs; ++k) {
+        for (int b = 0; b < 8; ++b) {
+          const double wk = worst[static_cast<size_t>(k) * 8 + b];
+          if (std::isfinite(wk) && wk > bestW * (1 + 1e-9)) bestW = wk, bestK = k, bestB = b;
+        }
+      }
+      for (size_t i = 0; i < n && bestK >= 0; ++i) {
+        if (!finite(samples[i])) continue;
+        const RobotGamma rg(solver, samples[i].position, samples[i].normal);
+        Pose& p = poses[i];
+        p.gamma = robotFreeAngle(bestK, gs);
+        p.w = rg.measure(p.gamma, bestB, &p.q);
+        p.branch = p.w >= 0 ? bestB : -1;
+      }
+    }
+    for (int pass = 0; pass < 2 && !options.singleFreeAngle; ++pass) {
+      for (size_t i = 0; i < n; ++i) {
+        if ((pass == 0) != (isSeed[i] != 0)) continue;
+        if ((++done & 127) == 0 && !reportProgress(progress, "feed", 0.5 * done / n)) {
+          return fail(Status::Cancelled, "buildFeedField: cancelled");
+        }
+        const SurfaceSample& s = samples[i];
+        if (!finite(s)) continue;
+        const RobotGamma rg(solver, s.position, s.normal);
+        if (pass == 0) {
+          poses[i] = rg.full(options.gammaSamples);
+        } else {
+          const Pose& seed = poses[seedOf[i]];
+          if (seed.branch >= 0) poses[i] = rg.local(seed.gamma, seed.branch, h);
+          if (poses[i].branch < 0) poses[i] = rg.full(options.gammaSamples);
+        }
+      }
+    }
+  }
+
+  for (size_t i = 0; i < n; ++i) {
+    if ((i & 255) == 0 &&
+        !reportProgress(progress, "feed", solver.robot ? 0.5 + 0.5 * i / n : double(i) / n)) {
+      return fail(Status::Cancelled, "buildFeedField: cancelled");
+    }
+    const SurfaceSample& s = samples[i];
+    if (!finite(s)) continue;
+    MachineValues centre{};
+    if (solver.robot) {
+      const Pose& p = poses[i];
+      if (p.branch < 0) continue;
+      centre = p.q;
+      out.freeAngle[i] = p.gamma;
+      out.singularity[i] = p.w;
+    } else if (!solver.gcodeValues(s.position, s.normal, nullptr, centre)) {
+      continue;
+    }
+    double vals[kStencil][6];
+    bool ok = true;
+    for (int k = 0; k < kStencil && ok; ++k) {
+      MachineValues v{};
+      if (k == 0) {
+        v = centre;
+      } else {
+        Eigen::Vector3d p, nn;
+        quadricPoint(s, r * pat.u[k], r * pat.v[k], p, nn);
+        ok = solver.robot
+                 ? solver.robotValues(p, nn, poses[i].gamma, poses[i].branch, &centre, v)
+                 : solver.gcodeValues(p, nn, &centre, v);
+      }
+      for (int j = 0; j < 6; ++j) vals[k][j] = v[j];
+    }
+    if (!ok) continue;
+    out.values[i] = centre;
+    out.reachable[i] = 1;
+    auto& jet = out.jets[i];
+    for (int j = 0; j < solver.axes; ++j) {
+      for (int d = 0; d < kJets; ++d) {
+        double acc = 0;
+        for (int k = 0; k < kStencil; ++k) acc += pinv[d][k] * (vals[k][j] - vals[0][j]);
+        jet[j][d] = acc;
+      }
+    }
+  }
+  for (uint8_t rch : out.reachable) out.unreachable += rch ? 0 : 1;
+  if (!reportProgress(progress, "feed", 1)) {
+    return fail(Status::Cancelled, "buildFeedField: cancelled");
+  }
+  out.ms = msSince(t0);
+  return out;
+}
+
+bool driveFrame(const SurfaceSample& sample, double theta, Eigen::Vector3d& feed,
+                Eigen::Vector3d& cross) {
+  const Eigen::Vector3d q(-std::sin(theta), std::cos(theta), 0);
+  Eigen::Vector3d f = sample.normal.cross(q);
+  const double len = f.norm();
+  if (!(len > 1e-9)) return false;
+  feed = f / len;
+  cross = sample.normal.cross(feed);
+  return true;
+}
+
+FeedLimit feedLimit(const FeedField& field, const SurfaceSample& sample, size_t i,
+                    const Eigen::Vector3d& direction, double geodesicCurvature, double maxFeed) {
+  FeedLimit none;
+  if (i >= field.reachable.size() || i >= field.jets.size() || !field.reachable[i]) return none;
+  double a = 1, b = 0;
+  if (!tangentCoordinates(sample, direction, a, b)) return none;
+  double invV[6], invA[6], invJ[6];
+  inverseLimits(field, invV, invA, invJ);
+  const double kappa = shapeAlong(sample, a, b, a, b);
+  // A general curve: its tangent-plane projection's curvature taken as constant to third order
+  // (c3 = 0).
+  return limitFromJets(field.jets[i], field.axes, invV, invA, invJ, a, b, geodesicCurvature, kappa,
+                       0.0, maxFeed);
+}
+
+FeedLimit driveFeedLimit(const FeedField& field, const SurfaceSample& sample, size_t i,
+                         double theta, double maxFeed) {
+  FeedLimit none;
+  if (i >= field.reachable.size() || i >= field.jets.size() || !field.reachable[i]) return none;
+  double invV[6], invA[6], invJ[6];
+  inverseLimits(field, invV, invA, invJ);
+  const DriveGeometry g = driveGeometry(sample, std::cos(theta), std::sin(theta));
+  return limitFromJets(field.jets[i], field.axes, invV, invA, invJ, g.a, g.b, g.kg, g.kappa, g.c3,
+                       maxFeed);
+}
+
+}  // namespace omnislice
+
+namespace omnislice {
+
+PathDerivatives drivePathDerivatives(const FeedField& field, const SurfaceSample& sample, size_t i,
+                                     double theta) {
+  PathDerivatives out;
+  if (i >= field.reachable.size() || i >= field.jets.size() || !field.reachable[i]) return out;
+  const DriveGeometry g = driveGeometry(sample, std::cos(theta), std::sin(theta));
+  const double a = g.a, b = g.b, a2 = a * a, b2 = b * b, ab = a * b;
+  for (int j = 0; j < field.axes; ++j) {
+    const double* q = field.jets[i][j].data();
+    const double d1 = q[0] * a + q[1] * b;
+    const double je = q[1] * a - q[0] * b;
+    const double hdd = q[2] * a2 + 2 * q[3] * ab + q[4] * b2;
+    const double hde = ab * (q[4] - q[2]) + q[3] * (a2 - b2);
+    const double tddd = a * (q[5] * a2 + 3 * q[6] * ab) + b * (3 * q[7] * ab + q[8] * b2);
+    out.d1[j] = d1;
+    out.d2[j] = hdd + g.kg * je;
+    out.d3[j] = tddd + 3 * g.kg * hde - (g.kg * g.kg + g.kappa * g.kappa) * d1 + g.c3 * je;
+  }
+  out.reachable = true;
+  return out;
+}
+
+}  // namespace omnislice
