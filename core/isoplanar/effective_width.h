@@ -55,7 +55,8 @@ EffectiveWidth effectiveWidth(double s, double h, double kappa);
 using WidthFn = std::function<double(double kappa, double height)>;
 
 // Tabulated effectiveWidth(s, h, kappa).width over kappa in [-kappaMax, kappaMax] and h in
-// [hMin, hMax] (bilinear; exact at the nodes; values outside the ranges are clamped to them).
+// [hMin, hMax] (linear in kappa, cubic through 4 rows in h; exact at the nodes; values outside
+// the ranges are clamped to them, and kappa to the model's supported range for h).
 // Relative error against effectiveWidth() below 1e-4 on the default resolution (tested).
 class EffectiveWidthTable {
  public:
