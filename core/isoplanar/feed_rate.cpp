@@ -672,3 +672,137 @@ PathDerivatives drivePathDerivatives(const FeedField& field, const SurfaceSample
 }
 
 }  // namespace omnislice
+
+namespace omnislice {
+
+DriveDirectionResult searchDriveDirection(const std::vector<SurfaceSample>& samples,
+                                          const FeedField& field,
+                                          const DriveDirectionOptions& options,
+                                          const ProgressFn& progress) {
+  const auto t0 = Clock::now();
+  DriveDirectionResult out;
+  auto fail = [&](Status st, const std::string& msg) {
+    DriveDirectionResult bad;
+    bad.status = st;
+    bad.message = msg;
+    return bad;
+  };
+  if (options.directions < 1 || options.directions > 100000) {
+    return fail(Status::InvalidOption, "searchDriveDirection: directions must be in [1, 100000]");
+  }
+  if (!(options.beadWidth > 0) || !std::isfinite(options.beadWidth)) {
+    return fail(Status::InvalidOption, "searchDriveDirection: beadWidth must be positive");
+  }
+  if (!(options.maxFeed >= 0) || !std::isfinite(options.maxFeed)) {
+    return fail(Status::InvalidOption, "searchDriveDirection: maxFeed must be >= 0 (0 = none)");
+  }
+  if (!std::isfinite(options.forcedThetaDegrees)) {
+    return fail(Status::InvalidOption, "searchDriveDirection: forcedThetaDegrees must be finite");
+  }
+  if (!field.ok()) {
+    return fail(Status::InvalidOption, "searchDriveDirection: the feed field failed: " +
+                                           field.message);
+  }
+  const size_t n = samples.size();
+  if (field.values.size() != n || field.reachable.size() != n || field.jets.size() != n) {
+    return fail(Status::InvalidOption,
+                "searchDriveDirection: " + std::to_string(n) + " samples but a feed field of " +
+                    std::to_string(field.values.size()));
+  }
+  if (n == 0) return fail(Status::EmptyInput, "searchDriveDirection: no samples");
+
+  // w_eff table over the samples' heights (Eq. 2).
+  double hMin = kInf, hMax = 0;
+  for (const SurfaceSample& s : samples) {
+    if (s.height > 0 && std::isfinite(s.height)) {
+      hMin = std::min(hMin, s.height);
+      hMax = std::max(hMax, s.height);
+    }
+  }
+  if (!(hMax > 0)) hMin = hMax = 0.2;
+  const EffectiveWidthTable table(options.beadWidth, hMin, hMax);
+
+  const int nd = options.directions;
+  const bool forced = options.forcedThetaDegrees >= 0;
+  const double forcedDeg = forced ? std::fmod(options.forcedThetaDegrees, 180.0) : 0.0;
+  const int cols = nd + (forced ? 1 : 0);
+  std::vector<double> ct(cols), st(cols);
+  out.thetaDegrees.resize(nd);
+  for (int d = 0; d < cols; ++d) {
+    const double deg = d < nd ? 180.0 * d / nd : forcedDeg;
+    if (d < nd) out.thetaDegrees[d] = deg;
+    ct[d] = std::cos(deg * kPi / 180);
+    st[d] = std::sin(deg * kPi / 180);
+  }
+  std::vector<double> sumV(cols, 0), sumW(cols, 0), sumF(cols, 0);
+  double invV[6], invA[6], invJ[6];
+  inverseLimits(field, invV, invA, invJ);
+  const int axes = field.axes;
+  const double maxFeed = options.maxFeed;
+  for (size_t i = 0; i < n; ++i) {
+    if ((i & 63) == 0 && !reportProgress(progress, "direction", double(i) / n)) {
+      return fail(Status::Cancelled, "searchDriveDirection: cancelled");
+    }
+    const SurfaceSample& s = samples[i];
+    const double h = s.height > 0 && std::isfinite(s.height) ? s.height : 0.0;
+    const bool reach = field.reachable[i] && h > 0;
+    if (!field.reachable[i]) ++out.unreachable;
+    const auto& jets = field.jets[i];
+    // Direction-independent terms: the jets scaled by the limits, the sample's frame.
+    double jv[6][2], ja[6][5], jj[6][9];
+    for (int j = 0; j < axes; ++j) {
+      for (int k = 0; k < 2; ++k) jv[j][k] = jets[j][k] * invV[j];
+      for (int k = 0; k < 5; ++k) ja[j][k] = jets[j][k] * invA[j];
+      for (int k = 0; k < 9; ++k) jj[j][k] = jets[j][k] * invJ[j];
+    }
+    for (int d = 0; d < cols; ++d) {
+      const DriveGeometry g = driveGeometry(s, ct[d], st[d]);
+      const double w = table.width(g.across, h > 0 ? h : hMin);
+      sumW[d] += w;
+      if (!reach) continue;
+      const double a = g.a, b = g.b, a2 = a * a, b2 = b * b, ab = a * b;
+      const double t3 = -(g.kg * g.kg + g.kappa * g.kappa);
+      double rv = 0, ra = 0, rj = 0;
+      for (int j = 0; j < axes; ++j) {
+        const double d1 = jv[j][0] * a + jv[j][1] * b;
+        const double* qa = ja[j];
+        const double d2 = qa[2] * a2 + 2 * qa[3] * ab + qa[4] * b2 + g.kg * (qa[1] * a - qa[0] * b);
+        const double* q = jj[j];
+        const double je = q[1] * a - q[0] * b;
+        const double d3 = a * (q[5] * a2 + 3 * q[6] * ab) + b * (3 * q[7] * ab + q[8] * b2) +
+                          3 * g.kg * (ab * (q[4] - q[2]) + q[3] * (a2 - b2)) +
+                          t3 * (q[0] * a + q[1] * b) + g.c3 * je;
+        rv = std::max(rv, std::abs(d1));
+        ra = std::max(ra, std::abs(d2));
+        rj = std::max(rj, std::abs(d3));
+      }
+      // f* = min(1 / rv, 1 / sqrt(ra), 1 / cbrt(rj), maxFeed) with one root at most.
+      double f = rv > 0 ? 1 / rv : kInf;
+      if (ra * f * f > 1) f = 1 / std::sqrt(ra);
+      if (rj * f * f * f > 1) f = 1 / std::cbrt(rj);
+      if (maxFeed > 0 && f > maxFeed) f = maxFeed;
+      if (!std::isfinite(f)) continue;  // nothing moves and no cap: contributes no rate
+      sumF[d] += f;
+      sumV[d] += kPi * h * w * f;
+    }
+  }
+  out.depositionRate.resize(nd);
+  out.meanWidth.resize(nd);
+  out.meanFeed.resize(nd);
+  for (int d = 0; d < nd; ++d) {
+    out.depositionRate[d] = sumV[d] / n;
+    out.meanWidth[d] = sumW[d] / n;
+    out.meanFeed[d] = sumF[d] / n;
+    if (out.depositionRate[d] > out.depositionRate[out.best]) out.best = d;
+  }
+  out.thetaStarDegrees = forced ? forcedDeg : out.thetaDegrees[out.best];
+  out.depositionRateAtTheta = forced ? sumV[nd] / n : out.depositionRate[out.best];
+  out.samples = n;
+  if (!reportProgress(progress, "direction", 1)) {
+    return fail(Status::Cancelled, "searchDriveDirection: cancelled");
+  }
+  out.ms = msSince(t0);
+  return out;
+}
+
+}  // namespace omnislice
