@@ -234,9 +234,11 @@ double unclampedWidth(double s, double h, double kappa) {
 
 EffectiveWidthTable::EffectiveWidthTable(double s, double hMin, double hMax, double kappaMax,
                                          int kappaNodes, int heightNodes) {
-  if (!validBead(s, hMin) || !std::isfinite(hMax) || hMax < hMin || !std::isfinite(kappaMax) ||
-      kappaMax < 0 || kappaNodes < 2 || heightNodes < 1)
-    return;
+  if (hMax < hMin) std::swap(hMin, hMax);
+  kappaMax = std::fabs(kappaMax);
+  if (!validBead(s, hMin) || !std::isfinite(hMax) || !std::isfinite(kappaMax) || kappaNodes < 2 ||
+      heightNodes < 1)
+    return;  // width() then answers 0
   s_ = s;
   hMin_ = hMin;
   hMax_ = hMax;

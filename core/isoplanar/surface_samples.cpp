@@ -31,6 +31,10 @@ Eigen::Vector3d perpendicularTo(const Eigen::Vector3d& n) {
 
 // Implicit quadric F = Q(u, v, w) - w fitted to local points (u, v, w), vertex at the origin:
 // Hessian of F and its gradient at the origin, in the frame's coordinates.
+constexpr size_t kMaxPoints = 96;
+using FitMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, 0, 96, 8>;
+using FitVector = Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 96, 1>;
+
 struct QuadricFit {
   bool ok = false;
   bool full = false;  // all 8 terms determined (rank 8)
@@ -40,15 +44,16 @@ struct QuadricFit {
 
 QuadricFit fitQuadric(const std::vector<Eigen::Vector3d>& local, bool implicitTerms) {
   QuadricFit q;
-  const size_t m = local.size();
+  // At most kMaxPoints (the nearest rings first): fixed-capacity matrices, no heap per vertex.
+  const size_t m = std::min(local.size(), kMaxPoints);
   if (m < 3) return q;
   double scale = 0;
-  for (const auto& p : local) scale += p.x() * p.x() + p.y() * p.y();
+  for (size_t i = 0; i < m; ++i) scale += local[i].x() * local[i].x() + local[i].y() * local[i].y();
   scale = std::sqrt(scale / m);
   if (!(scale > 0)) return q;
   const int cols = implicitTerms && m >= 10 ? 8 : (m >= 6 ? 5 : 3);
-  Eigen::MatrixXd A(m, cols);
-  Eigen::VectorXd rhs(m);
+  FitMatrix A(m, cols);
+  FitVector rhs(m);
   for (size_t i = 0; i < m; ++i) {
     const double u = local[i].x() / scale, v = local[i].y() / scale, w = local[i].z() / scale;
     A(i, 0) = u * u;
@@ -65,9 +70,9 @@ QuadricFit fitQuadric(const std::vector<Eigen::Vector3d>& local, bool implicitTe
     }
     rhs(i) = w;
   }
-  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(A);
+  Eigen::CompleteOrthogonalDecomposition<FitMatrix> cod(A);
   cod.setThreshold(1e-9);
-  const Eigen::VectorXd x = cod.solve(rhs);
+  const Eigen::Matrix<double, Eigen::Dynamic, 1, 0, 8, 1> x = cod.solve(rhs);
   if (!x.allFinite()) return q;
   q.full = cols == 8 && cod.rank() == 8;
   q.hess(0, 0) = 2 * x(0);

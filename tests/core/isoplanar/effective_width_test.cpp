@@ -245,6 +245,7 @@ TEST(EffectiveWidth, BadInputGivesZero) {
   EXPECT_EQ(cuspAreas(0.4, 0.2, 0, -1).overlap, 0);
   EXPECT_EQ(EffectiveWidthTable(0, 0.1, 0.2).width(0, 0.1), 0);
   EXPECT_EQ(EffectiveWidthTable().width(0, 0.1), 0);
+  EXPECT_EQ(EffectiveWidthTable(0.4, 0.3, 0.1).width(0.5, 0.2), EffectiveWidthTable(0.4, 0.1, 0.3).width(0.5, 0.2));
 }
 
 TEST(EffectiveWidth, TableMatchesDirectSolveAndIsFast) {
@@ -289,6 +290,24 @@ TEST(EffectiveWidth, TableMatchesDirectSolveAndIsFast) {
   auto ms = [](auto a, auto b) { return std::chrono::duration<double, std::milli>(b - a).count(); };
   std::printf("table build %.1f ms, table lookup %.1f ns, effectiveWidth %.2f us, worst rel %.2e / %.2e (%g)\n",
               ms(t0, t1), ms(t2, t3) * 1e6 / calls, ms(t3, t4) * 1e3 / direct, worst, worstWide, sum);
+}
+
+TEST(EffectiveWidth, RandomBeadsGiveFiniteWidthsAndEquilibrium) {
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> sd(0.1, 2.0), ratio(0.05, 2.5), kd(-30, 30);
+  for (int i = 0; i < 20000; ++i) {
+    const double s = sd(rng), h = s * ratio(rng), k = kd(rng) / s;
+    const EffectiveWidth w = effectiveWidth(s, h, k);
+    ASSERT_TRUE(std::isfinite(w.width)) << s << " " << h << " " << k;
+    ASSERT_GT(w.width, 0.15 * s) << s << " " << h << " " << k;
+    ASSERT_LT(w.width, s) << s << " " << h << " " << k;
+    const CuspAreas c = cuspAreas(s, h, w.clamped ? 0 : k, w.arcSpacing);
+    if (!w.clamped) {
+      ASSERT_NEAR(c.gapTop + c.gapBottom, c.overlap, 1e-9 * s * h) << s << " " << h << " " << k;
+      ASSERT_GE(c.gapTop, -1e-12 * s * h);
+      ASSERT_GE(c.gapBottom, -1e-12 * s * h);
+    }
+  }
 }
 
 TEST(EffectiveWidth, SingleHeightTable) {
