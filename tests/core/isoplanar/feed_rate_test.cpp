@@ -253,15 +253,21 @@ double relError(const std::array<double, 6>& a, const std::array<double, 6>& b, 
 // the field's derivatives along the drive-plane section of the sample's own quadric equal the
 // finite differences of exact IK along that section (the model is exact there up to the cubic
 // fit: errors O(l_c^2)).
-TEST(FeedRate, DerivativesMatchExactIkOnQuadricSections) {
-  const MachineProfile m = machineNamed("robot6-ur5");
+class FeedRateMachines : public ::testing::TestWithParam<const char*> {};
+
+TEST_P(FeedRateMachines, DerivativesMatchExactIkOnQuadricSections) {
+  const MachineProfile m = machineNamed(GetParam());
+  const bool robot = m.kind == "robot6";
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> u(-1, 1);
   std::vector<SurfaceSample> samples;
   for (int i = 0; i < 40; ++i) {
     SurfaceSample s;
     s.position = {30 * u(rng), 30 * u(rng), 20 + 10 * u(rng)};
-    const double tilt = 35 * kPi / 180 * std::abs(u(rng)), az = kPi * u(rng);
+    // table5: tilts of 10..35 degrees (at a vertical axis C is undefined and the stencil
+    // spins the table: a real singularity of the machine, not of the model).
+    const double tilt = (robot ? 35 * std::abs(u(rng)) : 22.5 + 12.5 * u(rng)) * kPi / 180,
+                 az = kPi * u(rng);
     s.normal = {std::sin(tilt) * std::cos(az), std::sin(tilt) * std::sin(az), std::cos(tilt)};
     Eigen::Vector3d t = s.normal.cross(Eigen::Vector3d(u(rng), u(rng), u(rng))).normalized();
     s.tangentU = t;
@@ -270,50 +276,71 @@ TEST(FeedRate, DerivativesMatchExactIkOnQuadricSections) {
     s.shape << a, c, c, b;
     samples.push_back(s);
   }
-  FeedFieldOptions o;
-  o.stencilRadius = 1;
-  o.gammaSeedSpacing = 0;
-  const FeedField field = buildFeedField(samples, m, o);
-  ASSERT_TRUE(field.ok()) << field.message;
-  EXPECT_EQ(field.unreachable, 0u);
-  double e1 = 0, e2 = 0, e3 = 0, ef = 0;
-  int checked = 0;
-  for (size_t i = 0; i < samples.size(); ++i) {
-    if (!field.reachable[i]) continue;
-    const int branch = robotBranch(m, field, samples[i], i);
-    ASSERT_GE(branch, 0);
-    for (int t = 0; t < 3; ++t) {
-      const double theta = kPi * (0.5 + 0.5 * u(rng));
-      const PathDerivatives d = drivePathDerivatives(field, samples[i], i, theta);
-      ASSERT_TRUE(d.reachable);
-      const Brute b = bruteDerivatives(m, quadricSection(samples[i], theta), field.freeAngle[i],
-                                       branch, field.values[i], 0.05);
-      ASSERT_TRUE(b.ok);
-      e1 = std::max(e1, relError(d.d1, b.d1, 6, 1e-4));
-      e2 = std::max(e2, relError(d.d2, b.d2, 6, 1e-5));
-      e3 = std::max(e3, relError(d.d3, b.d3, 6, 1e-6));
-      // f* by Eq. 8-9 from the brute-force derivatives.
-      double rv = 0, ra = 0, rj = 0;
-      for (int j = 0; j < 6; ++j) {
-        rv = std::max(rv, std::abs(b.d1[j]) / m.jointDynamics[j].velocity);
-        ra = std::max(ra, std::abs(b.d2[j]) / m.jointDynamics[j].acceleration);
-        rj = std::max(rj, std::abs(b.d3[j]) / m.jointDynamics[j].jerk);
+  // The fit's error is O(l_c^2): table5's C varies on a scale of sin(B) / kappa (a few mm at
+  // 10 degrees of tilt and 25 mm radii: f* is off by ~14 % at l_c = 1 mm there), so its
+  // tolerances are checked at l_c = 0.25 mm; both kinds must converge like l_c^2 from 1 mm to
+  // 0.25 mm (a factor 16; 6 asserted), which a wrong derivative formula would not.
+  double err2[2] = {0, 0}, err3[2] = {0, 0};
+  for (int pass = 0; pass < 2; ++pass) {
+    const double radius = pass == 0 ? 1.0 : 0.25;
+    FeedFieldOptions o;
+    o.stencilRadius = radius;
+    o.gammaSeedSpacing = 0;
+    const FeedField field = buildFeedField(samples, m, o);
+    ASSERT_TRUE(field.ok()) << field.message;
+    EXPECT_EQ(field.unreachable, 0u);
+    std::mt19937 trng(11);
+    double e1 = 0, e2 = 0, e3 = 0, ef = 0;
+    int checked = 0;
+    for (size_t i = 0; i < samples.size(); ++i) {
+      const int branch = robot ? robotBranch(m, field, samples[i], i) : 0;
+      ASSERT_GE(branch, 0);
+      for (int t = 0; t < 3; ++t) {
+        const double theta = kPi * (0.5 + 0.5 * u(trng));
+        const PathDerivatives d = drivePathDerivatives(field, samples[i], i, theta);
+        ASSERT_TRUE(d.reachable);
+        const Brute b = bruteDerivatives(m, quadricSection(samples[i], theta), field.freeAngle[i],
+                                         branch, field.values[i], 0.05);
+        ASSERT_TRUE(b.ok);
+        e1 = std::max(e1, relError(d.d1, b.d1, 6, 1e-4));
+        e2 = std::max(e2, relError(d.d2, b.d2, 6, 1e-5));
+        e3 = std::max(e3, relError(d.d3, b.d3, 6, 1e-6));
+        // f* by Eq. 8-9 from the brute-force derivatives.
+        double rv = 0, ra = 0, rj = 0;
+        for (int j = 0; j < field.axes; ++j) {
+          const AxisDynamics& dy = field.dynamics[j];
+          rv = std::max(rv, std::abs(b.d1[j]) / dy.velocity);
+          ra = std::max(ra, std::abs(b.d2[j]) / dy.acceleration);
+          rj = std::max(rj, std::abs(b.d3[j]) / dy.jerk);
+        }
+        const double fb = std::min({1 / rv, 1 / std::sqrt(ra), 1 / std::cbrt(rj)});
+        const FeedLimit fl = driveFeedLimit(field, samples[i], i, theta, 0);
+        ef = std::max(ef, std::abs(fl.feed - fb) / fb);
+        ++checked;
       }
-      const double fb = std::min({1 / rv, 1 / std::sqrt(ra), 1 / std::cbrt(rj)});
-      const FeedLimit fl = driveFeedLimit(field, samples[i], i, theta, 0);
-      ef = std::max(ef, std::abs(fl.feed - fb) / fb);
-      ++checked;
+    }
+    std::printf("[ feed ] %s quadric sections, l_c %.2f mm: %d checks, relative errors d1 %.2e "
+                "d2 %.2e d3 %.2e f* %.2e\n", GetParam(), radius, checked, e1, e2, e3, ef);
+    err2[pass] = e2;
+    err3[pass] = e3;
+    EXPECT_EQ(checked, 120);
+    if (robot && radius == 1.0) {
+      EXPECT_LT(e1, 1e-4);
+      EXPECT_LT(e2, 5e-3);
+      EXPECT_LT(e3, 5e-2);
+      EXPECT_LT(ef, 5e-3);
+    } else if (!robot && radius == 0.25) {
+      // Near-vertical axes make C strongly nonlinear; d3 is checked by its convergence below.
+      EXPECT_LT(e1, 2e-4);
+      EXPECT_LT(e2, 5e-2);
+      EXPECT_LT(ef, 1e-2);
     }
   }
-  std::printf("[ feed ] quadric sections: %d checks, relative errors d1 %.2e d2 %.2e d3 %.2e f* %.2e\n",
-              checked, e1, e2, e3, ef);
-  EXPECT_GT(checked, 100);
-  EXPECT_LT(e1, 1e-4);
-  EXPECT_LT(e2, 5e-3);
-  EXPECT_LT(e3, 5e-2);
-  EXPECT_LT(ef, 5e-3);
+  EXPECT_LT(err2[1], err2[0] / 6);
+  EXPECT_LT(err3[1], err3[0] / 6);
 }
 
+INSTANTIATE_TEST_SUITE_P(Kinds, FeedRateMachines, ::testing::Values("robot6-ur5", "table5"));
 
 // Saddle S1 z = (x^2 - y^2) / 100 (paper 003 Section 4), 20 mm above the platform: the field's
 // derivatives against finite differences of exact IK along the TRUE drive-plane section of the
