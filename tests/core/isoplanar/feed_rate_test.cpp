@@ -16,6 +16,7 @@
 
 #include "isoplanar/effective_width.h"
 #include "isoplanar/feed_rate.h"
+#include "isoplanar/surface_samples.h"
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
 #include "motion/feed_limits.h"
@@ -752,6 +753,37 @@ TEST(FeedRate, AlgorithmOneTiming) {
                 samples.size(), a, b, a + b, r.thetaStarDegrees, r.unreachable);
     EXPECT_LT(a + b, 20.0);
   }
+}
+
+
+// With the samples of a real mesh (surfaceSamples() of makeSaddleSurface(), lifted 20 mm onto the
+// platform) Algorithm 1 gives the curve of the analytic samples at the same vertices (the mesh
+// samples come with their own tangent basis and fitted second fundamental form).
+TEST(FeedRate, MeshSamplesGiveTheAnalyticCurve) {
+  const MachineProfile m = machineNamed("robot6-ur5");
+  Mesh mesh = makeSaddleSurface(100, 37.5, 2500);
+  for (size_t i = 0; i < mesh.vertexCount(); ++i) mesh.positions[3 * i + 2] += 20;
+  const SurfaceSamplesResult fitted = surfaceSamples(mesh, 0.75);
+  ASSERT_TRUE(fitted.ok()) << fitted.message;
+  const Graph g = saddle(100, 20);
+  std::vector<SurfaceSample> exact;
+  for (const SurfaceSample& s : fitted.samples) {
+    exact.push_back(g.sample(s.position.x(), s.position.y()));
+    exact.back().height = 0.75;
+  }
+  DriveDirectionOptions o;
+  o.beadWidth = 1;
+  o.directions = 36;
+  const DriveDirectionResult a = searchDriveDirection(fitted.samples, buildFeedField(fitted.samples, m), o);
+  const DriveDirectionResult b = searchDriveDirection(exact, buildFeedField(exact, m), o);
+  ASSERT_TRUE(a.ok() && b.ok()) << a.message << b.message;
+  double worst = 0;
+  for (size_t d = 0; d < a.depositionRate.size(); ++d) {
+    worst = std::max(worst, std::abs(a.depositionRate[d] - b.depositionRate[d]) / b.depositionRate[d]);
+  }
+  std::printf("[ feed ] mesh vs analytic samples (%zu): curve differs by %.2e at most; theta* %.0f "
+              "vs %.0f\n", exact.size(), worst, a.thetaStarDegrees, b.thetaStarDegrees);
+  EXPECT_LT(worst, 1e-3);  // the samples are exact on this quadric (surface_samples.h)
 }
 
 }  // namespace
