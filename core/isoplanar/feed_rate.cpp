@@ -385,8 +385,10 @@ std::vector<size_t> seedsOf(const std::vector<SurfaceSample>& samples, double sp
   }
   struct Hash {
     size_t operator()(const std::array<int64_t, 3>& k) const {
-      return static_cast<size_t>(k[0] * 73856093) ^ static_cast<size_t>(k[1] * 19349663) ^
-             static_cast<size_t>(k[2] * 83492791);
+      // Unsigned arithmetic: wraps instead of overflowing.
+      return static_cast<size_t>(static_cast<uint64_t>(k[0]) * 73856093u ^
+                                 static_cast<uint64_t>(k[1]) * 19349663u ^
+                                 static_cast<uint64_t>(k[2]) * 83492791u);
     }
   };
   std::unordered_map<std::array<int64_t, 3>, std::pair<size_t, double>, Hash> cells;
