@@ -562,11 +562,7 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
 
   const StencilPattern& pat = stencilPattern();
   const double r = options.stencilRadius;
-  double pinv[kJets][kStencil];
-  for (int j = 0; j < kJets; ++j) {
-    const double scale = std::pow(r, -pat.degree[j]);
-    for (int i = 0; i < kStencil; ++i) pinv[j][i] = pat.pinv[j][i] * scale;
-  }
+  const bool table = machine.kind == "table5";
   auto finite = [](const SurfaceSample& s) {
     return s.position.allFinite() && s.normal.allFinite() && s.tangentU.allFinite() &&
            s.tangentV.allFinite() && s.shape.allFinite() && std::abs(s.normal.norm() - 1) < 1e-6;
@@ -652,6 +648,18 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
     } else if (!solver.gcodeValues(s.position, s.normal, nullptr, centre)) {
       continue;
     }
+    // table5: C is the azimuth of the nozzle axis, which turns on a scale of sin(B) / kappa near
+    // a vertical axis; the cubic fit's O(r^2) error needs r well below it (1/20), down to
+    // l_c / 16 (closer to vertical the table must spin anyway and f* is small).
+    double ri = r;
+    if (table && options.adaptStencil) {
+      const double rho = std::sqrt(s.normal.x() * s.normal.x() + s.normal.y() * s.normal.y());
+      const double m = 0.5 * (s.shape(0, 0) + s.shape(1, 1));
+      const double dd = 0.5 * (s.shape(0, 0) - s.shape(1, 1));
+      const double off = 0.5 * (s.shape(0, 1) + s.shape(1, 0));
+      const double kmax = std::abs(m) + std::sqrt(dd * dd + off * off);
+      if (kmax > 0) ri = std::min(r, std::max(r / 16, 0.05 * rho / kmax));
+    }
     double vals[kStencil][6];
     bool ok = true;
     for (int k = 0; k < kStencil && ok; ++k) {
@@ -660,7 +668,7 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
         v = centre;
       } else {
         Eigen::Vector3d p, nn;
-        quadricPoint(s, r * pat.u[k], r * pat.v[k], p, nn);
+        quadricPoint(s, ri * pat.u[k], ri * pat.v[k], p, nn);
         ok = solver.robot
                  ? solver.robotValues(p, nn, poses[i].gamma, poses[i].branch, &centre, v)
                  : solver.gcodeValues(p, nn, &centre, v);
@@ -671,11 +679,12 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
     out.values[i] = centre;
     out.reachable[i] = 1;
     auto& jet = out.jets[i];
+    const double scale[4] = {1, 1 / ri, 1 / (ri * ri), 1 / (ri * ri * ri)};
     for (int j = 0; j < solver.axes; ++j) {
       for (int d = 0; d < kJets; ++d) {
         double acc = 0;
-        for (int k = 0; k < kStencil; ++k) acc += pinv[d][k] * (vals[k][j] - vals[0][j]);
-        jet[j][d] = acc;
+        for (int k = 1; k < kStencil; ++k) acc += pat.pinv[d][k] * (vals[k][j] - vals[0][j]);
+        jet[j][d] = acc * scale[pat.degree[d]];
       }
     }
   }

@@ -56,6 +56,9 @@ struct FeedFieldOptions {
                                  // apart (mm) and refined locally from the nearest seed elsewhere
                                  // (gamma* varies slowly over a layer); 0 = at every sample
   bool useDynamics = true;       // false: every limit infinite (geometry-only tests)
+  bool adaptStencil = true;      // table5: the stencil radius shrinks near vertical nozzle axes
+                                 // to sin(B) / (20 |kappa|max) (C turns on that scale),
+                                 // down to stencilRadius / 16
   bool singleFreeAngle = false;  // robot6: one gamma and branch for every sample (the grid
                                  // value and branch whose smallest w_PS over the seeds is
                                  // largest) instead of gamma* per sample. w_PS is flat over

@@ -236,8 +236,6 @@ CurveFn graphSection(const Graph& g, const SurfaceSample& s, double theta) {
   };
 }
 
-MachineValues none{};
-
 // Largest |a - b| over the values, relative to the scale max(|b|) + floor.
 double relError(const std::array<double, 6>& a, const std::array<double, 6>& b, int axes,
                 double floor) {
@@ -281,12 +279,14 @@ TEST_P(FeedRateMachines, DerivativesMatchExactIkOnQuadricSections) {
   // 10 degrees of tilt and 25 mm radii: f* is off by ~14 % at l_c = 1 mm there), so its
   // tolerances are checked at l_c = 0.25 mm; both kinds must converge like l_c^2 from 1 mm to
   // 0.25 mm (a factor 16; 6 asserted), which a wrong derivative formula would not.
-  double err2[2] = {0, 0}, err3[2] = {0, 0};
-  for (int pass = 0; pass < 2; ++pass) {
-    const double radius = pass == 0 ? 1.0 : 0.25;
+  // Third pass: l_c = 1 mm with the adaptive stencil (table5 shrinks it near vertical axes).
+  double err2[3] = {0, 0, 0}, err3[3] = {0, 0, 0};
+  for (int pass = 0; pass < 3; ++pass) {
+    const double radius = pass == 1 ? 0.25 : 1.0;
     FeedFieldOptions o;
     o.stencilRadius = radius;
     o.gammaSeedSpacing = 0;
+    o.adaptStencil = pass == 2;
     const FeedField field = buildFeedField(samples, m, o);
     ASSERT_TRUE(field.ok()) << field.message;
     EXPECT_EQ(field.unreachable, 0u);
@@ -320,8 +320,9 @@ TEST_P(FeedRateMachines, DerivativesMatchExactIkOnQuadricSections) {
         ++checked;
       }
     }
-    std::printf("[ feed ] %s quadric sections, l_c %.2f mm: %d checks, relative errors d1 %.2e "
-                "d2 %.2e d3 %.2e f* %.2e\n", GetParam(), radius, checked, e1, e2, e3, ef);
+    std::printf("[ feed ] %s quadric sections, l_c %.2f mm%s: %d checks, relative errors d1 "
+                "%.2e d2 %.2e d3 %.2e f* %.2e\n", GetParam(), radius,
+                o.adaptStencil ? " (adaptive)" : "", checked, e1, e2, e3, ef);
     err2[pass] = e2;
     err3[pass] = e3;
     EXPECT_EQ(checked, 120);
@@ -330,7 +331,7 @@ TEST_P(FeedRateMachines, DerivativesMatchExactIkOnQuadricSections) {
       EXPECT_LT(e2, 5e-3);
       EXPECT_LT(e3, 5e-2);
       EXPECT_LT(ef, 5e-3);
-    } else if (!robot && radius == 0.25) {
+    } else if (!robot && pass >= 1) {
       // Near-vertical axes make C strongly nonlinear; d3 is checked by its convergence below.
       EXPECT_LT(e1, 2e-4);
       EXPECT_LT(e2, 5e-2);
@@ -340,8 +341,6 @@ TEST_P(FeedRateMachines, DerivativesMatchExactIkOnQuadricSections) {
   EXPECT_LT(err2[1], err2[0] / 6);
   EXPECT_LT(err3[1], err3[0] / 6);
 }
-
-INSTANTIATE_TEST_SUITE_P(Kinds, FeedRateMachines, ::testing::Values("robot6-ur5", "table5"));
 
 // Saddle S1 z = (x^2 - y^2) / 100 (paper 003 Section 4), 20 mm above the platform: the field's
 // derivatives against finite differences of exact IK along the TRUE drive-plane section of the
@@ -400,8 +399,9 @@ TEST(FeedRate, DerivativesMatchExactIkOnSaddleSections) {
 // the field's gamma* and branch (the same rule as the field's samples), every move timed at the
 // smaller f* of its ends: joint velocity, acceleration and jerk by finite differences in time
 // (motion/feed_limits.h) stay within paper 003 Table 1's limits up to the model's tolerance.
-TEST(FeedRate, ReplayedSaddlePathStaysWithinJointLimits) {
-  const MachineProfile m = machineNamed("robot6-ur5");
+TEST_P(FeedRateMachines, ReplayedSaddlePathStaysWithinLimits) {
+  const MachineProfile m = machineNamed(GetParam());
+  const bool robot = m.kind == "robot6";
   const Graph g = saddle(100, 20);
   for (double thetaDeg : {0.0, 35.0, 90.0, 158.0}) {
     const double theta = thetaDeg * kPi / 180;
@@ -423,8 +423,8 @@ TEST(FeedRate, ReplayedSaddlePathStaysWithinJointLimits) {
     ASSERT_EQ(field.unreachable, 0u);
     for (size_t i = 1; i < path.size(); ++i) ASSERT_EQ(field.freeAngle[i], field.freeAngle[0]);
     FeedInput in;
-    in.axes = 6;
-    in.dynamics = m.jointDynamics;
+    in.axes = field.axes;
+    in.dynamics = field.dynamics;
     std::vector<double> feed(path.size()), duration;
     for (size_t i = 0; i < path.size(); ++i) {
       feed[i] = driveFeedLimit(field, path[i], i, theta, 0).feed;
@@ -432,7 +432,7 @@ TEST(FeedRate, ReplayedSaddlePathStaysWithinJointLimits) {
       MachineValues q{};
       const MachineValues& ref = in.values.empty() ? field.values[i] : in.values.back();
       ASSERT_TRUE(exactValues(m, path[i].position, path[i].normal, field.freeAngle[i],
-                              robotBranch(m, field, path[i], i), ref, q));
+                              robot ? robotBranch(m, field, path[i], i) : 0, ref, q));
       in.values.push_back(q);
     }
     // (1) Eq. 7 at every point with the point's own f* (the feed constant over the 5-point
@@ -440,14 +440,14 @@ TEST(FeedRate, ReplayedSaddlePathStaysWithinJointLimits) {
     double rv = 0, ra = 0, rj = 0;
     for (size_t k = 2; k + 2 < path.size(); ++k) {
       const double t = 0.25 / feed[k];
-      for (int j = 0; j < 6; ++j) {
+      for (int j = 0; j < field.axes; ++j) {
         const auto& q = in.values;
         const double v = (q[k + 1][j] - q[k - 1][j]) / (2 * t);
         const double a = (q[k + 1][j] - 2 * q[k][j] + q[k - 1][j]) / (t * t);
         const double jk = (q[k + 2][j] - 2 * q[k + 1][j] + 2 * q[k - 1][j] - q[k - 2][j]) / (2 * t * t * t);
-        rv = std::max(rv, std::abs(v) / m.jointDynamics[j].velocity);
-        ra = std::max(ra, std::abs(a) / m.jointDynamics[j].acceleration);
-        rj = std::max(rj, std::abs(jk) / m.jointDynamics[j].jerk);
+        rv = std::max(rv, std::abs(v) / field.dynamics[j].velocity);
+        ra = std::max(ra, std::abs(a) / field.dynamics[j].acceleration);
+        rj = std::max(rj, std::abs(jk) / field.dynamics[j].jerk);
       }
     }
     // (2) The whole path at one feed, the smallest f* on it, timed by motion/feed_limits.h's
@@ -461,15 +461,18 @@ TEST(FeedRate, ReplayedSaddlePathStaysWithinJointLimits) {
       duration.push_back(len / minFeed);
     }
     const std::array<double, 3> r = feedLimitRatios(in, duration);
-    std::printf("[ feed ] replay theta %.0f: %zu points, f* %.2f..%.2f mm/s, peak v/a/j ratios "
+    std::printf("[ feed ] %s replay theta %.0f: %zu points, f* %.2f..%.2f mm/s, peak v/a/j ratios "
                 "at each point's f* %.4f %.3f %.3f, at the path's smallest %.4f %.3f %.3f\n",
-                thetaDeg, path.size(), minFeed, maxFeed, rv, ra, rj, r[0], r[1], r[2]);
+                GetParam(), thetaDeg, path.size(), minFeed, maxFeed, rv, ra, rj, r[0], r[1], r[2]);
     EXPECT_LE(rv, 1.005) << thetaDeg;  // central differences over 0.25 mm: O(h^2)
     EXPECT_LE(ra, 1.05) << thetaDeg;
-    EXPECT_LE(rj, 1.25) << thetaDeg;
+    // Jerk: d3Q/ds3 depends on the surface's third order, which samples do not carry (see the
+    // saddle-section test); on table5 near the saddle's vertical axis C amplifies it by
+    // 1 / sin(B) (measured up to 1.38 x the limit there; robot6 stays below 0.61).
+    EXPECT_LE(rj, robot ? 1.25 : 1.5) << thetaDeg;
     // Not needlessly slow: the binding limit is reached (velocity binds for Table 1 here).
     EXPECT_GE(std::max({rv, ra, rj}), 0.99) << thetaDeg;
-    EXPECT_LE(r[0], 1.001) << thetaDeg;
+    EXPECT_LE(r[0], 1.003) << thetaDeg;
     EXPECT_LE(r[1], 1.05) << thetaDeg;
     EXPECT_LE(r[2], 1.25) << thetaDeg;
     EXPECT_GE(r[0], 0.99) << thetaDeg;  // the point of the smallest f* reaches the limit
@@ -785,6 +788,8 @@ TEST(FeedRate, MeshSamplesGiveTheAnalyticCurve) {
               "vs %.0f\n", exact.size(), worst, a.thetaStarDegrees, b.thetaStarDegrees);
   EXPECT_LT(worst, 1e-3);  // the samples are exact on this quadric (surface_samples.h)
 }
+
+INSTANTIATE_TEST_SUITE_P(Kinds, FeedRateMachines, ::testing::Values("robot6-ur5", "table5"));
 
 }  // namespace
 }  // namespace omnislice
