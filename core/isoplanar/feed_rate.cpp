@@ -140,7 +140,10 @@ double singularityOf(const Eigen::Matrix<double, 6, 6>& j) {
     double v[6], norm2 = 0;
     for (int i = 0; i < m; ++i) v[i] = a[k + 1 + i][k], norm2 += v[i] * v[i];
     const double norm = std::sqrt(norm2);
-    if (!(norm > 0)) { e[k] = 0; continue; }
+    if (!(norm > 0)) {
+      e[k] = 0;
+      continue;
+    }
     const double alpha = v[0] > 0 ? -norm : norm;
     v[0] -= alpha;
     double vn2 = 0;
@@ -169,7 +172,10 @@ double singularityOf(const Eigen::Matrix<double, 6, 6>& j) {
     for (int i = 1; i < 6; ++i) {
       const double p2 = (d[i] - x) * p1 - e2[i - 1] * p0;
       const double q2 = (d[i] - x) * q1 - p1 - e2[i - 1] * q0;
-      p0 = p1; p1 = p2; q0 = q1; q1 = q2;
+      p0 = p1;
+      p1 = p2;
+      q0 = q1;
+      q1 = q2;
     }
     dp = q1;
     return p1;
@@ -178,7 +184,8 @@ double singularityOf(const Eigen::Matrix<double, 6, 6>& j) {
   const double det = poly(0, dp);
   if (!(det > 0)) return 0;
   double hi = 0;
-  for (int i = 0; i < 6; ++i) hi = std::max(hi, d[i] + (i > 0 ? std::abs(e[i - 1]) : 0) + (i < 5 ? std::abs(e[i]) : 0));
+  for (int i = 0; i < 6; ++i)
+    hi = std::max(hi, d[i] + (i > 0 ? std::abs(e[i - 1]) : 0) + (i < 5 ? std::abs(e[i]) : 0));
   double x = hi;
   for (int it = 0; it < 200; ++it) {
     const double p = poly(x, dp);
@@ -669,9 +676,8 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
       } else {
         Eigen::Vector3d p, nn;
         quadricPoint(s, ri * pat.u[k], ri * pat.v[k], p, nn);
-        ok = solver.robot
-                 ? solver.robotValues(p, nn, poses[i].gamma, poses[i].branch, &centre, v)
-                 : solver.gcodeValues(p, nn, &centre, v);
+        ok = solver.robot ? solver.robotValues(p, nn, poses[i].gamma, poses[i].branch, &centre, v)
+                          : solver.gcodeValues(p, nn, &centre, v);
       }
       for (int j = 0; j < 6; ++j) vals[k][j] = v[j];
     }
@@ -787,14 +793,14 @@ DriveDirectionResult searchDriveDirection(const std::vector<SurfaceSample>& samp
     return fail(Status::InvalidOption, "searchDriveDirection: forcedThetaDegrees must be finite");
   }
   if (!field.ok()) {
-    return fail(Status::InvalidOption, "searchDriveDirection: the feed field failed: " +
-                                           field.message);
+    return fail(Status::InvalidOption,
+                "searchDriveDirection: the feed field failed: " + field.message);
   }
   const size_t n = samples.size();
   if (field.values.size() != n || field.reachable.size() != n || field.jets.size() != n) {
-    return fail(Status::InvalidOption,
-                "searchDriveDirection: " + std::to_string(n) + " samples but a feed field of " +
-                    std::to_string(field.values.size()));
+    return fail(Status::InvalidOption, "searchDriveDirection: " + std::to_string(n) +
+                                           " samples but a feed field of " +
+                                           std::to_string(field.values.size()));
   }
   if (n == 0) return fail(Status::EmptyInput, "searchDriveDirection: no samples");
 
@@ -890,9 +896,8 @@ DriveDirectionResult searchDriveDirection(const std::vector<SurfaceSample>& samp
     for (int j = 0; j < axes; ++j) {
       // The jets scaled by the limits: ratios |d^k Q / ds^k| / limit directly.
       const double v0 = jets[j][0] * invV[j], v1 = jets[j][1] * invV[j];
-      const double A0 = jets[j][0] * invA[j], A1 = jets[j][1] * invA[j],
-                   A2 = jets[j][2] * invA[j], A3 = 2 * jets[j][3] * invA[j],
-                   A4 = jets[j][4] * invA[j];
+      const double A0 = jets[j][0] * invA[j], A1 = jets[j][1] * invA[j], A2 = jets[j][2] * invA[j],
+                   A3 = 2 * jets[j][3] * invA[j], A4 = jets[j][4] * invA[j];
       double T[9];
       for (int k = 0; k < 9; ++k) T[k] = jets[j][k] * invJ[j];
       const double T6 = 3 * T[6], T7 = 3 * T[7], T42 = T[4] - T[2];

@@ -5,6 +5,8 @@
 // limits, the sqrt(2) of per-axis velocity limits on a flat plane, Eq. 6's gamma* against every
 // sampled gamma, bad input. Surfaces are analytic (graphs z = h(x, y) with exact normals and
 // second fundamental forms), placed where the UR5 reaches them (part frame on the platform).
+#include "isoplanar/feed_rate.h"
+
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
@@ -15,7 +17,6 @@
 #include <random>
 
 #include "isoplanar/effective_width.h"
-#include "isoplanar/feed_rate.h"
 #include "isoplanar/surface_samples.h"
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
@@ -54,7 +55,8 @@ struct Graph {
     const Eigen::Vector3d ry = s.normal.cross(rx);
     s.tangentU = std::cos(turn) * rx + std::sin(turn) * ry;
     s.tangentV = s.normal.cross(s.tangentU);
-    // A tangent t = r_x alpha + r_y beta has (alpha, beta) = (t.x, t.y); II(t, t) = t_xy^T Hess t_xy / W.
+    // A tangent t = r_x alpha + r_y beta has (alpha, beta) = (t.x, t.y); II(t, t) = t_xy^T Hess
+    // t_xy / W.
     const double w = std::sqrt(1 + g.squaredNorm());
     const Eigen::Matrix2d hs = hess(x, y);
     Eigen::Matrix<double, 2, 2> b;
@@ -69,7 +71,9 @@ struct Graph {
 Graph saddle(double radius, double z0) {
   Graph g;
   g.h = [radius](double x, double y) { return (x * x - y * y) / radius; };
-  g.grad = [radius](double x, double y) { return Eigen::Vector2d(2 * x / radius, -2 * y / radius); };
+  g.grad = [radius](double x, double y) {
+    return Eigen::Vector2d(2 * x / radius, -2 * y / radius);
+  };
   g.hess = [radius](double, double) {
     Eigen::Matrix2d m;
     m << 2 / radius, 0, 0, -2 / radius;
@@ -127,7 +131,8 @@ int robotBranch(const MachineProfile& m, const FeedField& f, const SurfaceSample
   const int n = urInverse(m.dh, robotFlangeForFreeAngle(fr, f.freeAngle[i]), sol, br);
   for (int c = 0; c < n; ++c) {
     double d = 0;
-    for (int j = 0; j < 6; ++j) d = std::max(d, std::abs(std::remainder(sol[c][j] - f.values[i][j], 2 * kPi)));
+    for (int j = 0; j < 6; ++j)
+      d = std::max(d, std::abs(std::remainder(sol[c][j] - f.values[i][j], 2 * kPi)));
     if (d < 1e-6) return br[c];
   }
   return -1;
@@ -320,9 +325,10 @@ TEST_P(FeedRateMachines, DerivativesMatchExactIkOnQuadricSections) {
         ++checked;
       }
     }
-    std::printf("[ feed ] %s quadric sections, l_c %.2f mm%s: %d checks, relative errors d1 "
-                "%.2e d2 %.2e d3 %.2e f* %.2e\n", GetParam(), radius,
-                o.adaptStencil ? " (adaptive)" : "", checked, e1, e2, e3, ef);
+    std::printf(
+        "[ feed ] %s quadric sections, l_c %.2f mm%s: %d checks, relative errors d1 "
+        "%.2e d2 %.2e d3 %.2e f* %.2e\n",
+        GetParam(), radius, o.adaptStencil ? " (adaptive)" : "", checked, e1, e2, e3, ef);
     err2[pass] = e2;
     err3[pass] = e3;
     EXPECT_EQ(checked, 120);
@@ -382,8 +388,10 @@ TEST(FeedRate, DerivativesMatchExactIkOnSaddleSections) {
       ef = std::max(ef, std::abs(driveFeedLimit(field, samples[i], i, theta, 0).feed - fb) / fb);
     }
   }
-  std::printf("[ feed ] saddle sections: relative errors d1 %.2e d2 %.2e (at the saddle point "
-              "%.2e) f* %.2e\n", e1, e2, e2c, ef);
+  std::printf(
+      "[ feed ] saddle sections: relative errors d1 %.2e d2 %.2e (at the saddle point "
+      "%.2e) f* %.2e\n",
+      e1, e2, e2c, ef);
   EXPECT_LT(e1, 1e-4);
   EXPECT_LT(e2c, 5e-3);  // the saddle point: the surface is its own quadric to third order
   // Off the saddle point the section's curvature changes along it (d kappa / ds ~ 3 kappa^2
@@ -444,7 +452,8 @@ TEST_P(FeedRateMachines, ReplayedSaddlePathStaysWithinLimits) {
         const auto& q = in.values;
         const double v = (q[k + 1][j] - q[k - 1][j]) / (2 * t);
         const double a = (q[k + 1][j] - 2 * q[k][j] + q[k - 1][j]) / (t * t);
-        const double jk = (q[k + 2][j] - 2 * q[k + 1][j] + 2 * q[k - 1][j] - q[k - 2][j]) / (2 * t * t * t);
+        const double jk =
+            (q[k + 2][j] - 2 * q[k + 1][j] + 2 * q[k - 1][j] - q[k - 2][j]) / (2 * t * t * t);
         rv = std::max(rv, std::abs(v) / field.dynamics[j].velocity);
         ra = std::max(ra, std::abs(a) / field.dynamics[j].acceleration);
         rj = std::max(rj, std::abs(jk) / field.dynamics[j].jerk);
@@ -461,9 +470,10 @@ TEST_P(FeedRateMachines, ReplayedSaddlePathStaysWithinLimits) {
       duration.push_back(len / minFeed);
     }
     const std::array<double, 3> r = feedLimitRatios(in, duration);
-    std::printf("[ feed ] %s replay theta %.0f: %zu points, f* %.2f..%.2f mm/s, peak v/a/j ratios "
-                "at each point's f* %.4f %.3f %.3f, at the path's smallest %.4f %.3f %.3f\n",
-                GetParam(), thetaDeg, path.size(), minFeed, maxFeed, rv, ra, rj, r[0], r[1], r[2]);
+    std::printf(
+        "[ feed ] %s replay theta %.0f: %zu points, f* %.2f..%.2f mm/s, peak v/a/j ratios "
+        "at each point's f* %.4f %.3f %.3f, at the path's smallest %.4f %.3f %.3f\n",
+        GetParam(), thetaDeg, path.size(), minFeed, maxFeed, rv, ra, rj, r[0], r[1], r[2]);
     EXPECT_LE(rv, 1.005) << thetaDeg;  // central differences over 0.25 mm: O(h^2)
     EXPECT_LE(ra, 1.05) << thetaDeg;
     // Jerk: d3Q/ds3 depends on the surface's third order, which samples do not carry (see the
@@ -500,7 +510,8 @@ TEST(FeedRate, FlatPlaneDiagonalIsSqrtTwoFaster) {
         const double t = deg * kPi / 180;
         const FeedLimit fl = driveFeedLimit(field, samples[i], i, t, 0);
         EXPECT_NEAR(fl.feed, 200 / std::max(std::abs(std::cos(t)), std::abs(std::sin(t))), 1e-6);
-        EXPECT_TRUE(fl.acceleration > 1e6 && fl.jerk > 1e6) << name << " " << deg << " " << fl.acceleration << " " << fl.jerk;
+        EXPECT_TRUE(fl.acceleration > 1e6 && fl.jerk > 1e6)
+            << name << " " << deg << " " << fl.acceleration << " " << fl.jerk;
         EXPECT_EQ(driveFeedLimit(field, samples[i], i, t, 150).feed, 150);
       }
     }
@@ -538,15 +549,18 @@ TEST(FeedRate, GammaStarMaximisesTheSingularityMeasure) {
       for (int k = 0; k < o.gammaSamples; ++k) {
         JointValues sol[8];
         int br[8];
-        const int n =
-            urInverse(m.dh, robotFlangeForFreeAngle(fr, robotFreeAngle(k, o.gammaSamples)), sol, br);
-        for (int c = 0; c < n; ++c) best = std::max(best, singularityMeasure(armJacobian(m.dh, sol[c])));
+        const int n = urInverse(
+            m.dh, robotFlangeForFreeAngle(fr, robotFreeAngle(k, o.gammaSamples)), sol, br);
+        for (int c = 0; c < n; ++c)
+          best = std::max(best, singularityMeasure(armJacobian(m.dh, sol[c])));
       }
       worst = std::min(worst, field.singularity[i] / best);
       if (field.singularity[i] < best - 1e-9) ++below;
     }
-    std::printf("[ feed ] gamma* seeds %.0f mm: worst w_PS(gamma*) / best sampled %.4f, %zu of %zu "
-                "below\n", spacing, worst, below, samples.size());
+    std::printf(
+        "[ feed ] gamma* seeds %.0f mm: worst w_PS(gamma*) / best sampled %.4f, %zu of %zu "
+        "below\n",
+        spacing, worst, below, samples.size());
     if (spacing == 0) {
       EXPECT_EQ(below, 0u);
     } else {
@@ -595,7 +609,6 @@ TEST(FeedRate, BadInput) {
   EXPECT_EQ(buildFeedField({sd.sample(20, 5)}, machineNamed("rotary4")).unreachable, 1u);
 }
 
-
 // A regular grid of the saddle S1 (paper 003: R = 100, 75 mm square) with about `count` samples.
 std::vector<SurfaceSample> saddleGrid(int count, double height = 0.75) {
   const Graph g = saddle(100, 20);
@@ -618,13 +631,16 @@ double meanRate(const std::vector<SurfaceSample>& samples, const FeedField& fiel
   for (size_t i = 0; i < samples.size(); ++i) {
     Eigen::Vector3d f, k;
     if (!driveFrame(samples[i], theta, f, k)) continue;
-    const double kappa = k.dot(Eigen::Matrix3d(
-        Eigen::Matrix<double, 3, 2>((Eigen::Matrix<double, 3, 2>() << samples[i].tangentU,
-                                     samples[i].tangentV).finished()) *
-        (0.5 * (samples[i].shape + samples[i].shape.transpose())) *
-        (Eigen::Matrix<double, 3, 2>() << samples[i].tangentU, samples[i].tangentV)
-            .finished()
-            .transpose()) * k);
+    const double kappa =
+        k.dot(Eigen::Matrix3d(
+                  Eigen::Matrix<double, 3, 2>(
+                      (Eigen::Matrix<double, 3, 2>() << samples[i].tangentU, samples[i].tangentV)
+                          .finished()) *
+                  (0.5 * (samples[i].shape + samples[i].shape.transpose())) *
+                  (Eigen::Matrix<double, 3, 2>() << samples[i].tangentU, samples[i].tangentV)
+                      .finished()
+                      .transpose()) *
+              k);
     const double w = effectiveWidth(s, samples[i].height, kappa).width;
     sum += kPi * samples[i].height * w * driveFeedLimit(field, samples[i], i, theta, maxFeed).feed;
   }
@@ -657,9 +673,10 @@ TEST(FeedRate, DriveDirectionSearchOnTheSaddle) {
   }
   EXPECT_EQ(r.thetaStarDegrees, r.thetaDegrees[r.best]);
   EXPECT_EQ(r.depositionRateAtTheta, r.depositionRate[r.best]);
-  std::printf("[ feed ] saddle theta* %.0f deg, v_e %.3f mm^3/s (smallest %.3f), mean w %.3f mm, "
-              "mean f* %.2f mm/s\n", r.thetaStarDegrees, r.depositionRateAtTheta, lo,
-              r.meanWidth[r.best], r.meanFeed[r.best]);
+  std::printf(
+      "[ feed ] saddle theta* %.0f deg, v_e %.3f mm^3/s (smallest %.3f), mean w %.3f mm, "
+      "mean f* %.2f mm/s\n",
+      r.thetaStarDegrees, r.depositionRateAtTheta, lo, r.meanWidth[r.best], r.meanFeed[r.best]);
   EXPECT_GT(r.depositionRateAtTheta, lo * 1.01);  // the direction matters on the saddle
   for (size_t d : {size_t(0), size_t(17), r.best, size_t(63)}) {
     const double theta = r.thetaDegrees[d] * kPi / 180;
@@ -723,9 +740,9 @@ TEST(FeedRate, DriveDirectionBadInput) {
   EXPECT_EQ(mism.status, Status::InvalidOption);
   EXPECT_FALSE(mism.message.empty());
   EXPECT_EQ(searchDriveDirection({}, buildFeedField({}, m), {}).status, Status::EmptyInput);
-  EXPECT_EQ(searchDriveDirection(samples, field, {}, [](const char*, double) { return false; })
-                .status,
-            Status::Cancelled);
+  EXPECT_EQ(
+      searchDriveDirection(samples, field, {}, [](const char*, double) { return false; }).status,
+      Status::Cancelled);
   int calls = 0;
   EXPECT_TRUE(searchDriveDirection(samples, field, {}, [&](const char* stage, double) {
                 ++calls;
@@ -751,13 +768,13 @@ TEST(FeedRate, AlgorithmOneTiming) {
     ASSERT_TRUE(field.ok() && r.ok());
     const double a = std::chrono::duration<double>(t1 - t0).count();
     const double b = std::chrono::duration<double>(t2 - t1).count();
-    std::printf("[ feed ] Algorithm 1 on %zu samples: field %.3f s + 180 directions %.3f s = "
-                "%.3f s native (theta* %.0f, unreachable %zu)\n",
-                samples.size(), a, b, a + b, r.thetaStarDegrees, r.unreachable);
+    std::printf(
+        "[ feed ] Algorithm 1 on %zu samples: field %.3f s + 180 directions %.3f s = "
+        "%.3f s native (theta* %.0f, unreachable %zu)\n",
+        samples.size(), a, b, a + b, r.thetaStarDegrees, r.unreachable);
     EXPECT_LT(a + b, 20.0);
   }
 }
-
 
 // With the samples of a real mesh (surfaceSamples() of makeSaddleSurface(), lifted 20 mm onto the
 // platform) Algorithm 1 gives the curve of the analytic samples at the same vertices (the mesh
@@ -777,15 +794,19 @@ TEST(FeedRate, MeshSamplesGiveTheAnalyticCurve) {
   DriveDirectionOptions o;
   o.beadWidth = 1;
   o.directions = 36;
-  const DriveDirectionResult a = searchDriveDirection(fitted.samples, buildFeedField(fitted.samples, m), o);
+  const DriveDirectionResult a =
+      searchDriveDirection(fitted.samples, buildFeedField(fitted.samples, m), o);
   const DriveDirectionResult b = searchDriveDirection(exact, buildFeedField(exact, m), o);
   ASSERT_TRUE(a.ok() && b.ok()) << a.message << b.message;
   double worst = 0;
   for (size_t d = 0; d < a.depositionRate.size(); ++d) {
-    worst = std::max(worst, std::abs(a.depositionRate[d] - b.depositionRate[d]) / b.depositionRate[d]);
+    worst =
+        std::max(worst, std::abs(a.depositionRate[d] - b.depositionRate[d]) / b.depositionRate[d]);
   }
-  std::printf("[ feed ] mesh vs analytic samples (%zu): curve differs by %.2e at most; theta* %.0f "
-              "vs %.0f\n", exact.size(), worst, a.thetaStarDegrees, b.thetaStarDegrees);
+  std::printf(
+      "[ feed ] mesh vs analytic samples (%zu): curve differs by %.2e at most; theta* %.0f "
+      "vs %.0f\n",
+      exact.size(), worst, a.thetaStarDegrees, b.thetaStarDegrees);
   EXPECT_LT(worst, 1e-3);  // the samples are exact on this quadric (surface_samples.h)
 }
 
