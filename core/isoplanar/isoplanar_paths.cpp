@@ -730,8 +730,10 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     }
     if (!thisPlane.empty()) planeCurves.push_back(std::move(thisPlane));
     ++planeIndex;
-    // Last plane: its bead reaches the far extreme, or it was placed half a step before it.
-    if (atEnd || c + 0.5 * step >= dmax - eps) {
+    // Last plane: its bead reaches the far extreme (or leaves a sliver narrower than a quarter
+    // step, which the squeezed bead covers: one more plane there would print a near-duplicate
+    // curve a fraction of a step away), or it was placed half a step before it.
+    if (atEnd || c + 0.75 * step >= dmax - eps) {
       planeOffsets.push_back(0);
       break;
     }

@@ -135,19 +135,16 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
     }
   }
 
-  double minStep = std::numeric_limits<double>::infinity(), maxStep = 0, widthSum = 0;
+  // Side steps as the planner reports them (the shortened offset to the last plane left out).
+  const double minStep = planned.minSideStep, maxStep = planned.maxSideStep;
+  double widthSum = 0;
   size_t widthCount = 0;
   for (const NlCurve& c : planned.curves) {
-    if (c.sideStep > 0) {
-      minStep = std::min(minStep, c.sideStep);
-      maxStep = std::max(maxStep, c.sideStep);
-    }
     for (double w : c.width) {
       widthSum += w;
       ++widthCount;
     }
   }
-  if (!std::isfinite(minStep)) minStep = 0;
 
   out.thetaDegrees = search.thetaStarDegrees;
   out.depositionRate = search.depositionRateAtTheta;

@@ -790,11 +790,16 @@ TEST(IsoplanarPaths, ThetaSweepPlanesMatchExtent) {
     }
     const double extent = dmax - dmin;
     EXPECT_NEAR(r.curves.front().plane - dmin, w / 2, 1e-9);
-    EXPECT_NEAR(dmax - r.curves.back().plane, w / 2, 1e-9);
-    EXPECT_EQ(r.planes, static_cast<size_t>(std::ceil((extent - w) / w - 1e-9)) + 1);
+    // The last bead reaches the far extreme or stops short of it by at most a quarter step (a
+    // sliver the squeezed bead covers; another plane would nearly duplicate the last curve).
+    const double endGap = dmax - r.curves.back().plane;
+    EXPECT_GE(endGap, w / 2 - 1e-9);
+    EXPECT_LE(endGap, 0.75 * w + 1e-9);
+    const double span = extent - w / 2 - endGap;
+    EXPECT_EQ(r.planes, static_cast<size_t>(std::ceil(span / w - 1e-9)) + 1);
     double sum = 0;
     for (const auto& pc : byPlane(r)) sum += r.curves[pc[0]].sideStep;
-    EXPECT_NEAR(sum, extent - w, 1e-9);
+    EXPECT_NEAR(sum, span, 1e-9);
   }
   const Mesh saddle = makeSaddleSurface(25, 12, 49 * 49);
   const auto samples = fittedSamples(saddle, 0.5);
@@ -817,7 +822,7 @@ TEST(IsoplanarPaths, ThetaSweepPlanesMatchExtent) {
     const double lastOffset = r.curves[planes[planes.size() - 2][0]].sideStep;
     (void)lastOffset;
     EXPECT_NEAR(r.curves.front().plane + sum, r.curves.back().plane, 1e-9);
-    EXPECT_LE(dmax - r.curves.back().plane, r.maxSideStep / 2 + 1e-9);
+    EXPECT_LE(dmax - r.curves.back().plane, 0.75 * r.maxSideStep + 1e-9);
     EXPECT_GE(dmax - r.curves.back().plane, r.minSideStep / 2 - 1e-9);
     EXPECT_GE(static_cast<double>(r.planes), (dmax - dmin) / r.maxSideStep);
     EXPECT_LE(static_cast<double>(r.planes), (dmax - dmin) / r.minSideStep + 2);
