@@ -18,9 +18,19 @@ import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
 import {
   STAGE_WEIGHTS, formatMm, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
 } from './voxel-data.js';
+import {
+  CURVE_COLORS, comparisonRows, figure, foldTheta, formatSeconds, isoplanarSummaryRows, percentText,
+  polarPlotGeometry, sideStepText, thetaFromPlotPoint,
+} from './isoplanar-data.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
+/** Bundled demo models (web/models, made by scripts/make-demo-model.mjs) for the model menu. */
+const DEMOS = {
+  overhang: { url: DEMO_URL, name: DEMO_NAME },
+  // An open saddle z = (x^2 - y^2) / R: the surface method's iso-planar paths (paper 003, S1).
+  saddle: { url: '/models/demo-saddle.obj', name: 'demo-saddle.obj', settings: { method: 'surface' } },
+};
 const FILAMENT_AREA_MM2 = Math.PI * (1.75 / 2) ** 2;
 const PLA_G_PER_MM3 = 1.24e-3;
 
@@ -44,6 +54,9 @@ const app = {
   machineView: null, // MachineView of app.replay or app.result while the machine toggle is on
   replay: null,      // {name, profile, preview} of a replayed program file (shown instead of the result)
   machinePlay: 0,    // requestAnimationFrame id while playing
+  compare: null,     // {theta, result} of the iso-planar comparison run (app.result stays the first)
+  shownRun: 0,       // 0: app.result's paths are drawn, 1: app.compare's
+  compareCount: 0,
 };
 
 /** Program kinds by file extension: download MIME type and button text. */
@@ -247,6 +260,7 @@ function showReport(report) {
   const motion = r.motion && typeof r.motion === 'object' ? r.motion : null;
   $('report-motion').hidden = !motion;
   showVoxelReport(r.voxel && typeof r.voxel === 'object' ? r.voxel : null);
+  showIsoReport(r.isoplanar && typeof r.isoplanar === 'object' ? r.isoplanar : null);
   // Angular figures are radians for a robot's joints, degrees for the A, B, C axes.
   const unit = r.machine_kind === 'robot6' ? ' rad' : '°';
   for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
@@ -356,7 +370,208 @@ function renderHistogram(thickness) {
     + (Number.isFinite(thickness.samples) ? ` (${thickness.samples.toLocaleString('en')} samples)` : '');
 }
 
+// ---- iso-planar paths (paper 003) ------------------------------------------------------------
+
+/** The iso-planar figures, polar plot and comparison (hidden without report.isoplanar). */
+function showIsoReport(iso) {
+  const section = $('iso-report');
+  section.hidden = !iso;
+  const dl = $('iso-figures');
+  dl.replaceChildren();
+  renderPolar(iso);
+  renderCompareTable();
+  $('iso-side-step').textContent = sideStepText(iso);
+  $('iso-curve-swatch-odd').style.background = `rgb(${CURVE_COLORS[0].join(',')})`;
+  $('iso-curve-swatch-even').style.background = `rgb(${CURVE_COLORS[1].join(',')})`;
+  if (!iso) return;
+  for (const [key, label, text] of isoplanarSummaryRows(iso)) {
+    const dt = document.createElement('dt');
+    dt.textContent = label;
+    const dd = document.createElement('dd');
+    dd.dataset.testid = `iso-${key}`;
+    dd.textContent = text;
+    dl.append(dt, dd);
+  }
+}
+
+/** The iso-planar report of the first run (app.result), or null. */
+function firstIso() {
+  const r = app.result && app.result.report;
+  return r && r.isoplanar && typeof r.isoplanar === 'object' ? r.isoplanar : null;
+}
+
+/** The direction the compare input holds, folded into [0, 180), or null when it is not a number. */
+function compareTheta() {
+  const text = $('iso-compare-theta').value.trim();
+  const x = Number(text);
+  return text !== '' && Number.isFinite(x) ? foldTheta(x) : null;
+}
+
+/**
+ * Polar plot of report.isoplanar.curve: rings, axes, the closed curve over 0..360, theta* marked
+ * (line through the centre, dots on the curve), the compare direction (the run's, else the
+ * input's) dashed. data-samples / data-theta-star / data-compare-theta for tests.
+ */
+function renderPolar(iso) {
+  const svg = $('iso-polar');
+  svg.replaceChildren();
+  for (const k of ['samples', 'thetaStar', 'compareTheta']) delete svg.dataset[k];
+  $('iso-theta-star').textContent = '—';
+  $('iso-ve-star').textContent = '—';
+  if (!iso || !Array.isArray(iso.curve)) return;
+  const shown = app.compare ? app.compare.theta : compareTheta();
+  let g;
+  try {
+    g = polarPlotGeometry(iso.curve, {
+      size: 220, thetaStar: iso.theta_deg, valueStar: iso.deposition_rate_mm3_s, extra: shown === null ? [] : [shown],
+    });
+  } catch (err) {
+    $('iso-theta-star').textContent = `(${err.message})`;
+    return;
+  }
+  for (const ring of g.rings) {
+    svg.append(svgElement('circle', { class: 'ring', cx: g.cx, cy: g.cy, r: ring.r.toFixed(2) }));
+    svg.append(svgElement('text', { class: 'ring-label', x: g.cx + 2, y: (g.cy - ring.r - 1).toFixed(2) }, formatFigure(ring.value)));
+  }
+  const outer = g.rings.length ? g.rings[g.rings.length - 1].r : g.radius;
+  svg.append(svgElement('line', { class: 'axis', x1: g.cx - outer, y1: g.cy, x2: g.cx + outer, y2: g.cy }));
+  svg.append(svgElement('line', { class: 'axis', x1: g.cx, y1: g.cy - outer, x2: g.cx, y2: g.cy + outer }));
+  svg.append(svgElement('text', { class: 'label', x: g.cx + outer + 2, y: g.cy - 2 }, '0°'));
+  svg.append(svgElement('text', { class: 'label', x: g.cx - 3, y: g.cy - outer + 8, 'text-anchor': 'end' }, '90°'));
+  const curve = svgElement('path', { class: 'curve', d: g.path });
+  curve.append(svgElement('title', {}, `v_e(θ), ${g.samples} directions, max ${formatFigure(g.vMax)} mm³/s at ${formatFigure(g.best.theta)}°`));
+  svg.append(curve);
+  const drawMark = (m, cls, testid) => {
+    svg.append(svgElement('line', {
+      class: cls, 'data-testid': testid, x1: m.line[0][0].toFixed(2), y1: m.line[0][1].toFixed(2), x2: m.line[1][0].toFixed(2), y2: m.line[1][1].toFixed(2),
+    }));
+    for (const d of m.dots) svg.append(svgElement('circle', { class: `${cls}-dot`, cx: d[0].toFixed(2), cy: d[1].toFixed(2), r: 3 }));
+  };
+  for (const m of g.marks) drawMark(m, 'compare', 'iso-compare-mark');
+  drawMark(g.star, 'star', 'iso-star-mark');
+  svg.dataset.samples = String(g.samples);
+  svg.dataset.thetaStar = String(g.star.theta);
+  if (g.marks.length) svg.dataset.compareTheta = String(g.marks[0].theta);
+  $('iso-theta-star').textContent = `${formatFigure(g.star.theta)}°${iso.forced ? ' (forced)' : ''}`;
+  $('iso-ve-star').textContent = Number.isFinite(g.star.value) ? `${formatFigure(g.star.value)} mm³/s` : '—';
+}
+
+/** Click on the polar plot: the direction there goes to the compare input (and is marked). */
+function onPolarClick(event) {
+  const svg = $('iso-polar');
+  const box = svg.getBoundingClientRect();
+  if (!box.width || !box.height) return;
+  const view = svg.viewBox.baseVal;
+  const x = ((event.clientX - box.left) / box.width) * view.width;
+  const y = ((event.clientY - box.top) / box.height) * view.height;
+  const theta = thetaFromPlotPoint(x, y, view.width / 2, view.height / 2);
+  if (theta === null) return;
+  $('iso-compare-theta').value = String(theta);
+  if (!app.compare) renderPolar(firstIso());
+}
+
+/** The comparison table: the first run, the compared run (when there is one), the benchmark means. */
+function renderCompareTable() {
+  const body = $('iso-compare-table').querySelector('tbody');
+  body.replaceChildren();
+  const iso = firstIso();
+  if (!iso) return;
+  const runs = [{ label: iso.forced ? 'first run (forced θ)' : 'first run (θ*)', report: app.result.report }];
+  if (app.compare) runs.push({ label: 'compared run', report: app.compare.result.report });
+  for (const row of comparisonRows(runs)) {
+    const tr = document.createElement('tr');
+    tr.className = row.key === 'benchmark' ? 'benchmark' : 'run';
+    tr.dataset.testid = `iso-compare-${row.key}`;
+    const cell = (text, delta) => {
+      const td = document.createElement('td');
+      td.textContent = text;
+      if (delta) {
+        const span = document.createElement('span');
+        span.className = 'delta';
+        span.textContent = ` (${delta})`;
+        td.append(span);
+      }
+      return td;
+    };
+    const first = row.key === 'run0';
+    tr.append(
+      cell(row.label),
+      cell(Number.isFinite(row.theta) ? `${formatFigure(row.theta)}°` : '—'),
+      cell(formatSeconds(row.time), first ? '' : percentText(row.timeDelta)),
+      cell(Number.isFinite(row.path) ? `${figure(row.path)} mm` : '—', first ? '' : percentText(row.pathDelta)),
+      cell(figure(row.rate)),
+    );
+    tr.dataset.time = String(row.time);
+    tr.dataset.path = String(row.path);
+    tr.dataset.rate = String(row.rate);
+    body.append(tr);
+  }
+}
+
+/**
+ * Slice again with isoplanar.theta_deg forced to the compare input's direction; the first result
+ * stays (report, download, paths); the table shows both runs side by side.
+ */
+async function runCompare() {
+  if (!app.slicer || !app.mesh || app.busy || !firstIso()) return;
+  const theta = compareTheta();
+  if (theta === null) {
+    showError({ code: 'invalid_option', message: 'compare: give a direction θ in degrees, 0..180' });
+    return;
+  }
+  app.busy = 'slicing';
+  app.abort = new AbortController();
+  app.progress = newProgress(app.model.get('method'));
+  $('stage-list').replaceChildren();
+  clearError();
+  setState('slicing');
+  setProgressText(`comparing θ = ${formatFigure(theta)}°`, 0);
+  updateButtons();
+  const started = performance.now();
+  try {
+    const settings = { ...app.model.toSliceSettings(), 'isoplanar.theta_deg': theta };
+    const result = await app.slicer.slice(app.mesh.meshId, settings, { onProgress, signal: app.abort.signal });
+    app.compare = { theta, result };
+    if (app.shownRun === 1) await showRun(1);
+    renderPolar(firstIso());
+    renderCompareTable();
+    $('iso-show-run').disabled = false;
+    app.compareCount += 1;
+    document.body.dataset.compareCount = String(app.compareCount);
+    setProgressText(`compared θ = ${formatFigure(theta)}° in ${((performance.now() - started) / 1000).toFixed(2)} s`, 1);
+    showStages({ finished: true });
+    setState('done');
+  } catch (err) {
+    showError(err);
+    setProgressText(err && err.code === 'cancelled' ? 'cancelled' : 'compare failed', 0);
+    setState(err && err.code === 'cancelled' ? 'cancelled' : 'error');
+  } finally {
+    app.busy = null;
+    app.abort = null;
+    updateButtons();
+  }
+}
+
+/** Draw the paths of run k (0: the first result, 1: the compared run). */
+async function showRun(k) {
+  const run = k === 1 && app.compare ? app.compare.result : app.result;
+  app.shownRun = run === app.result ? 0 : 1;
+  $('iso-show-run').value = String(app.shownRun);
+  if (!run) return;
+  await setPreview(run);
+}
+
+/** Forget the comparison run (a new slice or model). */
+function clearCompare() {
+  app.compare = null;
+  app.shownRun = 0;
+  const select = $('iso-show-run');
+  select.value = '0';
+  select.disabled = true;
+}
+
 function clearReport() {
+  clearCompare();
   showReport(null);
   app.result = null;
   app.replay = null;
@@ -483,6 +698,9 @@ function updateButtons() {
   $('cancel-button').disabled = app.busy !== 'slicing';
   $('download-program').disabled = !app.result || !!app.busy;
   $('machine-toggle').disabled = !(app.result || app.replay) || !!app.busy;
+  $('iso-compare-button').disabled = !app.slicer || !app.mesh || !!app.busy || !firstIso();
+  $('iso-show-run').disabled = !app.compare || !!app.busy;
+  $('demo-model').disabled = !app.slicer || !!app.busy;
 }
 
 /** Load mesh bytes; on failure the previous model stays loaded. Returns true on success. */
@@ -565,6 +783,7 @@ async function setPreview(result) {
     setupLayerSliders(app.preview ? app.preview.layerCount : 0);
     setupVoxelBar();
   });
+  $('iso-curve-count').textContent = String(app.preview ? app.preview.curveCount : 0);
 }
 
 async function slice() {
@@ -612,6 +831,7 @@ async function showResult(result, started) {
   app.busy = 'showing';
   await nextFrame();
   timed('show-report', () => {
+    clearCompare();
     app.result = result;
     app.replay = null;
     showReport(result.report);
@@ -907,6 +1127,23 @@ function wireUi() {
     loadFile(file).finally(() => { e.target.value = ''; });
   });
   $('slice-button').addEventListener('click', () => slice());
+  $('iso-polar').addEventListener('click', (e) => onPolarClick(e));
+  $('iso-compare-theta').addEventListener('input', () => { if (!app.compare) renderPolar(firstIso()); });
+  $('iso-compare-button').addEventListener('click', () => runCompare());
+  $('iso-show-run').addEventListener('change', (e) => {
+    if (app.busy) return;
+    app.busy = 'showing';
+    updateButtons();
+    showRun(Number(e.target.value)).finally(() => {
+      app.busy = null;
+      updateButtons();
+    });
+  });
+  $('demo-model').addEventListener('change', (e) => {
+    const demo = DEMOS[e.target.value];
+    e.target.value = '';
+    if (demo) loadDemo(demo);
+  });
   $('cancel-button').addEventListener('click', () => cancelSlice());
   $('download-program').addEventListener('click', () => download());
   $('layer-min-slider').addEventListener('input', (e) => applyLayerRange(e.target));
@@ -969,6 +1206,22 @@ function createViewer() {
   }
 }
 
+/** Fetch and load a bundled demo model; its settings (e.g. the surface method) go through the history. */
+async function loadDemo(demo, { sliceAfter = false } = {}) {
+  try {
+    const response = await fetch(demo.url);
+    if (!response.ok) throw Object.assign(new Error(`${demo.url}: HTTP ${response.status}`), { code: 'io_error' });
+    const bytes = await response.arrayBuffer();
+    for (const [key, value] of Object.entries(demo.settings || {})) {
+      if (app.model.get(key) !== value) app.history.execute(new SetSettingCommand(app.model, key, value));
+    }
+    if (await loadBytes(demo.name, bytes) && sliceAfter) await slice();
+  } catch (err) {
+    showError(err);
+    setState('error');
+  }
+}
+
 async function start() {
   wireUi();
   createViewer();
@@ -986,15 +1239,7 @@ async function start() {
     return;
   }
   updateButtons();
-  try {
-    const response = await fetch(DEMO_URL);
-    if (!response.ok) throw Object.assign(new Error(`${DEMO_URL}: HTTP ${response.status}`), { code: 'io_error' });
-    const bytes = await response.arrayBuffer();
-    if (await loadBytes(DEMO_NAME, bytes)) await slice();
-  } catch (err) {
-    showError(err);
-    setState('error');
-  }
+  await loadDemo(DEMOS.overhang, { sliceAfter: true });
 }
 
 /** Read-only view of the app for diagnostics and tests. */
@@ -1008,6 +1253,22 @@ window.omnislice = {
   get settings() { return app.model.toSettings(); },
   get history() { return app.history.serialize(); },
   get programExtension() { return app.result ? app.result.programExtension : null; },
+  /**
+   * The iso-planar view: {curveCount (NL curves drawn in alternating colours), shownRun,
+   * compare: {theta, report} | null, rows (the comparison table)}, or null without report.isoplanar.
+   */
+  get isoplanar() {
+    const iso = firstIso();
+    if (!iso) return null;
+    const runs = [{ label: 'first', report: app.result.report }];
+    if (app.compare) runs.push({ label: 'compared', report: app.compare.result.report });
+    return {
+      curveCount: app.preview ? app.preview.curveCount : 0,
+      shownRun: app.shownRun,
+      compare: app.compare ? { theta: app.compare.theta, report: app.compare.result.report } : null,
+      rows: comparisonRows(runs),
+    };
+  },
   /** The voxel view: what it holds and draws (VoxelView.stats()), or null. */
   get voxel() { return app.voxelView ? app.voxelView.stats() : null; },
   /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */
