@@ -54,6 +54,7 @@ const app = {
   machineView: null, // MachineView of app.replay or app.result while the machine toggle is on
   replay: null,      // {name, profile, preview} of a replayed program file (shown instead of the result)
   machinePlay: 0,    // requestAnimationFrame id while playing
+  resultSettings: null, // the slice settings app.result was made with (the compare run reuses them)
   compare: null,     // {theta, result} of the iso-planar comparison run (app.result stays the first)
   shownRun: 0,       // 0: app.result's paths are drawn, 1: app.compare's
   compareCount: 0,
@@ -509,8 +510,9 @@ function renderCompareTable() {
 }
 
 /**
- * Slice again with isoplanar.theta_deg forced to the compare input's direction; the first result
- * stays (report, download, paths); the table shows both runs side by side.
+ * Slice again with the first run's settings and isoplanar.theta_deg forced to the compare input's
+ * direction; the first result stays (report, download, paths); the table shows both runs side by
+ * side. A failed comparison leaves the first result as it was.
  */
 async function runCompare() {
   if (!app.slicer || !app.mesh || app.busy || !firstIso()) return;
@@ -529,7 +531,8 @@ async function runCompare() {
   updateButtons();
   const started = performance.now();
   try {
-    const settings = { ...app.model.toSliceSettings(), 'isoplanar.theta_deg': theta };
+    // The first run's settings (later edits in the panel do not leak into the comparison).
+    const settings = { ...(app.resultSettings || app.model.toSliceSettings()), 'isoplanar.theta_deg': theta };
     const result = await app.slicer.slice(app.mesh.meshId, settings, { onProgress, signal: app.abort.signal });
     app.compare = { theta, result };
     if (app.shownRun === 1) await showRun(1);
@@ -799,12 +802,14 @@ async function slice() {
   const started = performance.now();
   performance.mark('omnislice:slice-start');
   try {
-    const result = await app.slicer.slice(app.mesh.meshId, app.model.toSliceSettings(), {
+    const settings = app.model.toSliceSettings();
+    const result = await app.slicer.slice(app.mesh.meshId, settings, {
       onProgress,
       signal: app.abort.signal,
     });
     performance.mark('omnislice:result');
     await showResult(result, started);
+    app.resultSettings = settings;
   } catch (err) {
     if (err && err.code === 'cancelled') {
       showError(err);
@@ -833,6 +838,7 @@ async function showResult(result, started) {
   timed('show-report', () => {
     clearCompare();
     app.result = result;
+    app.resultSettings = null;
     app.replay = null;
     showReport(result.report);
     setDownloadLabel(result.programExtension);

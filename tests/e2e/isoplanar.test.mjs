@@ -176,6 +176,47 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
   assert.deepEqual(pageErrors(), []);
 });
 
+test('a compare run keeps the first result, whether the engine accepts it or not', async (t) => {
+  if (skipWhy) return t.skip(skipWhy);
+  // The synthetic result of the previous test is shown; the engine re-slices the loaded demo.
+  await page.fill(tid('iso-compare-theta'), '30');
+  await page.click(tid('iso-compare-button'));
+  await page.waitForFunction(() => (document.body.dataset.state === 'done' && Number(document.body.dataset.compareCount) >= 1)
+    || document.body.dataset.state === 'error', null, { timeout: 180_000 });
+  const state = await page.evaluate(() => document.body.dataset.state);
+  const view = await page.evaluate(() => window.omnislice.isoplanar);
+  assert.equal(view.rows[0].theta, 158, 'the first run is still the synthetic one');
+  assert.equal(await page.evaluate(() => window.omnislice.report.isoplanar.theta_deg), 158);
+  assert.equal(await page.getAttribute(tid('iso-polar'), 'data-theta-star'), '158');
+  if (state === 'error') {
+    t.diagnostic(`compare refused: ${await page.textContent(tid('error-message'))}`);
+    assert.equal(view.compare, null);
+    assert.equal(await page.locator(`${tid('iso-compare-table')} tbody tr.run`).count(), 1);
+  } else {
+    assert.equal(view.compare.theta, 30);
+    assert.equal(await page.locator(`${tid('iso-compare-table')} tbody tr.run`).count(), 2);
+  }
+  assert.deepEqual(pageErrors(), []);
+});
+
+test('the model menu loads the saddle demo for the surface method', async (t) => {
+  if (skipWhy) return t.skip(skipWhy);
+  await page.selectOption(tid('demo-model'), 'saddle');
+  // The state may still be 'error' from the refused comparison: wait for the new model.
+  await page.waitForFunction(() => document.body.dataset.state === 'ready'
+    || (document.body.dataset.state === 'error' && !document.querySelector('[data-testid="error-message"]').textContent.includes('isoplanar.theta_deg')),
+  null, { timeout: 60_000 });
+  assert.equal(await page.evaluate(() => document.body.dataset.state), 'ready', await page.textContent(tid('error-message')));
+  assert.equal(await page.textContent(tid('model-name')), 'demo-saddle.obj');
+  assert.equal(await page.textContent(tid('info-faces')), '3,200');
+  assert.equal(await page.textContent(tid('info-closed')), 'no');
+  assert.equal((await page.evaluate(() => window.omnislice.settings)).method, 'surface', 'the demo selects the surface method');
+  assert.equal(await page.isVisible(tid('iso-report')), false, 'the previous result is cleared');
+  // Undo brings the method back like any other edit.
+  await page.click(tid('settings-undo'));
+  assert.equal((await page.evaluate(() => window.omnislice.settings)).method, 'planar');
+});
+
 test('a real surface slice of a saddle: polar plot, compare run side by side, switch the drawn run', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
   const file = path.join(tmpDir, 'saddle.obj');
@@ -185,7 +226,10 @@ test('a real surface slice of a saddle: polar plot, compare run side by side, sw
   await setSetting('setting-nozzle', 1);
   await setSetting('setting-layer_height', 0.75);
   await page.setInputFiles(tid('file-input'), file);
-  await page.waitForFunction(() => document.body.dataset.state === 'ready' || document.body.dataset.state === 'error', null, { timeout: 60_000 });
+  await page.waitForFunction(() => (document.body.dataset.state === 'ready'
+    && document.querySelector('[data-testid="model-name"]').textContent === 'saddle.obj')
+    || document.body.dataset.state === 'error', null, { timeout: 60_000 });
+  assert.equal(await page.evaluate(() => document.body.dataset.state), 'ready', await page.textContent(tid('error-message')));
   const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
   const started = Date.now();
   await page.click(tid('slice-button'));
