@@ -132,7 +132,7 @@ export const SETTINGS_SCHEMA = [
     testid: 'iso-chord-error', showIf: usesIsoplanar, sendIf: usesIsoplanar },
   { group: 'Iso-planar', key: 'isoplanar.benchmark', label: 'benchmark over all directions', type: 'checkbox', value: true,
     testid: 'iso-benchmark', showIf: usesIsoplanar, sendIf: usesIsoplanar },
-  { group: 'Iso-planar', key: 'surface.base_mm', label: 'support base under the surface (mm)', type: 'number', value: 2, min: 0, max: 100, step: 0.5,
+  { group: 'Iso-planar', key: 'surface.base_mm', label: 'support base under the surface (mm)', type: 'number', value: 2, min: 0.1, max: 500, step: 0.5,
     testid: 'surface-base', showIf: isSurface, sendIf: isSurface },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },

@@ -162,6 +162,8 @@ test('summary rows of report.isoplanar', () => {
   assert.equal(rows.deposition_rate[1], '0.599 mm³/s');
   assert.equal(rows.side_step[1], '0.72–1.31 mm');
   assert.equal(rows.planes[1], '41');
+  assert.equal(rows.curves, undefined, 'no NL curve count in this report');
+  assert.deepEqual(isoplanarSummaryRows({ curves: 57, paths: 3 }).filter(([k]) => k === 'curves' || k === 'paths').map(([, , x]) => x), ['57', '3']);
   assert.equal(rows.directions[1], '180');
   assert.equal(rows.samples[1], '20,000');
   assert.equal(rows.time[1], '18 min 20 s');
