@@ -692,6 +692,17 @@ function buildLegend() {
     li.append(sw, f.name);
     ul.append(li);
   }
+  // Iso-planar NL curves: adjacent curves alternate between two colours (shown with curves only).
+  CURVE_COLORS.forEach((color, k) => {
+    const li = document.createElement('li');
+    li.dataset.testid = 'legend-curves';
+    li.hidden = true;
+    const sw = document.createElement('span');
+    sw.className = 'swatch';
+    sw.style.background = `rgb(${color.join(',')})`;
+    li.append(sw, k === 0 ? 'NL curves 1, 3, …' : 'NL curves 2, 4, …');
+    ul.append(li);
+  });
 }
 
 // ---- operations -------------------------------------------------------------------------------
@@ -787,6 +798,7 @@ async function setPreview(result) {
     setupVoxelBar();
   });
   $('iso-curve-count').textContent = String(app.preview ? app.preview.curveCount : 0);
+  for (const li of document.querySelectorAll('[data-testid="legend-curves"]')) li.hidden = !(app.preview && app.preview.curveCount > 0);
 }
 
 async function slice() {

@@ -66,6 +66,8 @@ const pageErrors = () => session.logs.filter((l) => l.startsWith('pageerror'));
 test('method surface and fill isoplanar show the iso-planar settings', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
   const visible = (id) => page.isVisible(tid(id));
+  assert.equal(await page.locator(`${tid('legend-curves')}:visible`).count(), 0, 'no NL curves in the planar demo');
+  assert.equal(await visible('iso-report'), false, 'no iso-planar section for a planar slice');
   const iso = ['iso-theta', 'iso-directions', 'iso-chord-error', 'iso-benchmark'];
   for (const id of [...iso, 'surface-base']) assert.equal(await visible(id), false, `${id} hidden for planar`);
   assert.equal(await visible('setting-fill'), true);
@@ -157,6 +159,7 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
   // NL curves drawn in the curve colours, every one of them.
   const iso = await page.evaluate(() => window.omnislice.isoplanar);
   assert.equal(iso.curveCount, C);
+  assert.equal(await page.locator(`${tid('legend-curves')}:visible`).count(), 2, 'the legend names the two curve colours');
   assert.equal(iso.compare, null);
   assert.deepEqual(iso.rows.map((r) => r.key), ['run0', 'benchmark']);
   assert.equal(await page.locator(`${tid('iso-compare-table')} tbody tr`).count(), 2, 'first run and benchmark means');
@@ -173,6 +176,7 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
   assert.equal(await page.inputValue(tid('iso-compare-theta')), '90');
   await page.waitForTimeout(300);
   await page.locator(tid('iso-report')).screenshot({ path: path.join(OUT_DIR, 'isoplanar-synthetic-report.png') });
+  await page.screenshot({ path: path.join(OUT_DIR, 'isoplanar-synthetic.png') });
   assert.deepEqual(pageErrors(), []);
 });
 
