@@ -379,6 +379,8 @@ function showIsoReport(iso) {
   section.hidden = !iso;
   const dl = $('iso-figures');
   dl.replaceChildren();
+  // A new result proposes the direction square to theta* for the comparison.
+  if (iso && !app.compare && Number.isFinite(iso.theta_deg)) $('iso-compare-theta').value = String(foldTheta(iso.theta_deg + 90));
   renderPolar(iso);
   renderCompareTable();
   $('iso-side-step').textContent = sideStepText(iso);

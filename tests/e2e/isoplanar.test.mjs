@@ -155,6 +155,8 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
   assert.equal(await page.textContent(tid('iso-theta-star')), '158°');
   assert.equal(await page.textContent(tid('iso-ve-star')), '0.6 mm³/s');
   assert.equal(await page.textContent(tid('iso-side-step')), '0.83–1.27 mm');
+  assert.equal(await page.inputValue(tid('iso-compare-theta')), '68', 'the compare direction proposed: theta* + 90 folded');
+  assert.equal(await svg.getAttribute('data-compare-theta'), '68', 'and marked');
   assert.equal(await page.textContent(tid('iso-planes')), String(C));
   // NL curves drawn in the curve colours, every one of them.
   const iso = await page.evaluate(() => window.omnislice.isoplanar);
