@@ -18,10 +18,8 @@ import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
 import {
   STAGE_WEIGHTS, formatMm, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
 } from './voxel-data.js';
-import {
-  CURVE_COLORS, comparisonRows, figure, foldTheta, formatSeconds, isoplanarSummaryRows, percentText,
-  polarPlotGeometry, sideStepText, thetaFromPlotPoint,
-} from './isoplanar-data.js';
+import { CURVE_COLORS, comparisonRows, foldTheta, sideStepText } from './isoplanar-data.js';
+import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './isoplanar-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
@@ -375,26 +373,15 @@ function renderHistogram(thickness) {
 
 /** The iso-planar figures, polar plot and comparison (hidden without report.isoplanar). */
 function showIsoReport(iso) {
-  const section = $('iso-report');
-  section.hidden = !iso;
-  const dl = $('iso-figures');
-  dl.replaceChildren();
+  $('iso-report').hidden = !iso;
   // A new result proposes the direction square to theta* for the comparison.
   if (iso && !app.compare && Number.isFinite(iso.theta_deg)) $('iso-compare-theta').value = String(foldTheta(iso.theta_deg + 90));
+  fillIsoFigures($('iso-figures'), iso);
   renderPolar(iso);
   renderCompareTable();
   $('iso-side-step').textContent = sideStepText(iso);
   $('iso-curve-swatch-odd').style.background = `rgb(${CURVE_COLORS[0].join(',')})`;
   $('iso-curve-swatch-even').style.background = `rgb(${CURVE_COLORS[1].join(',')})`;
-  if (!iso) return;
-  for (const [key, label, text] of isoplanarSummaryRows(iso)) {
-    const dt = document.createElement('dt');
-    dt.textContent = label;
-    const dd = document.createElement('dd');
-    dd.dataset.testid = `iso-${key}`;
-    dd.textContent = text;
-    dl.append(dt, dd);
-  }
 }
 
 /** The iso-planar report of the first run (app.result), or null. */
@@ -411,104 +398,40 @@ function compareTheta() {
 }
 
 /**
- * Polar plot of report.isoplanar.curve: rings, axes, the closed curve over 0..360, theta* marked
- * (line through the centre, dots on the curve), the compare direction (the run's, else the
- * input's) dashed. data-samples / data-theta-star / data-compare-theta for tests.
+ * The polar plot of the first run, with the compared direction: the compared run's (and the
+ * input's as the next candidate when it differs), else the input's.
  */
 function renderPolar(iso) {
-  const svg = $('iso-polar');
-  svg.replaceChildren();
-  for (const k of ['samples', 'thetaStar', 'compareTheta']) delete svg.dataset[k];
-  $('iso-theta-star').textContent = '—';
-  $('iso-ve-star').textContent = '—';
-  if (!iso || !Array.isArray(iso.curve)) return;
-  const shown = app.compare ? app.compare.theta : compareTheta();
-  let g;
-  try {
-    g = polarPlotGeometry(iso.curve, {
-      size: 220, thetaStar: iso.theta_deg, valueStar: iso.deposition_rate_mm3_s, extra: shown === null ? [] : [shown],
-    });
-  } catch (err) {
-    $('iso-theta-star').textContent = `(${err.message})`;
-    return;
-  }
-  for (const ring of g.rings) {
-    svg.append(svgElement('circle', { class: 'ring', cx: g.cx, cy: g.cy, r: ring.r.toFixed(2) }));
-    svg.append(svgElement('text', { class: 'ring-label', x: g.cx + 2, y: (g.cy - ring.r - 1).toFixed(2) }, formatFigure(ring.value)));
-  }
-  const outer = g.rings.length ? g.rings[g.rings.length - 1].r : g.radius;
-  svg.append(svgElement('line', { class: 'axis', x1: g.cx - outer, y1: g.cy, x2: g.cx + outer, y2: g.cy }));
-  svg.append(svgElement('line', { class: 'axis', x1: g.cx, y1: g.cy - outer, x2: g.cx, y2: g.cy + outer }));
-  svg.append(svgElement('text', { class: 'label', x: g.cx + outer + 2, y: g.cy - 2 }, '0°'));
-  svg.append(svgElement('text', { class: 'label', x: g.cx - 3, y: g.cy - outer + 8, 'text-anchor': 'end' }, '90°'));
-  const curve = svgElement('path', { class: 'curve', d: g.path });
-  curve.append(svgElement('title', {}, `v_e(θ), ${g.samples} directions, max ${formatFigure(g.vMax)} mm³/s at ${formatFigure(g.best.theta)}°`));
-  svg.append(curve);
-  const drawMark = (m, cls, testid) => {
-    svg.append(svgElement('line', {
-      class: cls, 'data-testid': testid, x1: m.line[0][0].toFixed(2), y1: m.line[0][1].toFixed(2), x2: m.line[1][0].toFixed(2), y2: m.line[1][1].toFixed(2),
-    }));
-    for (const d of m.dots) svg.append(svgElement('circle', { class: `${cls}-dot`, cx: d[0].toFixed(2), cy: d[1].toFixed(2), r: 3 }));
-  };
-  for (const m of g.marks) drawMark(m, 'compare', 'iso-compare-mark');
-  drawMark(g.star, 'star', 'iso-star-mark');
-  svg.dataset.samples = String(g.samples);
-  svg.dataset.thetaStar = String(g.star.theta);
-  if (g.marks.length) svg.dataset.compareTheta = String(g.marks[0].theta);
-  $('iso-theta-star').textContent = `${formatFigure(g.star.theta)}°${iso.forced ? ' (forced)' : ''}`;
-  $('iso-ve-star').textContent = Number.isFinite(g.star.value) ? `${formatFigure(g.star.value)} mm³/s` : '—';
+  const input = compareTheta();
+  const options = app.compare
+    ? { compareTheta: app.compare.theta, candidateTheta: input !== null && input !== app.compare.theta ? input : null }
+    : { compareTheta: input };
+  const star = drawPolarPlot($('iso-polar'), iso, options);
+  const ok = star && !star.error;
+  $('iso-theta-star').textContent = ok ? `${formatFigure(star.theta)}°${iso.forced ? ' (forced)' : ''}` : star ? `(${star.error})` : '—';
+  $('iso-ve-star').textContent = ok && Number.isFinite(star.value) ? `${formatFigure(star.value)} mm³/s` : '—';
 }
 
 /** Click on the polar plot: the direction there goes to the compare input (and is marked). */
 function onPolarClick(event) {
-  const svg = $('iso-polar');
-  const box = svg.getBoundingClientRect();
-  if (!box.width || !box.height) return;
-  const view = svg.viewBox.baseVal;
-  const x = ((event.clientX - box.left) / box.width) * view.width;
-  const y = ((event.clientY - box.top) / box.height) * view.height;
-  const theta = thetaFromPlotPoint(x, y, view.width / 2, view.height / 2);
+  const theta = plotThetaAt($('iso-polar'), event.clientX, event.clientY);
   if (theta === null) return;
   $('iso-compare-theta').value = String(theta);
-  if (!app.compare) renderPolar(firstIso());
+  renderPolar(firstIso());
+}
+
+/** The iso-planar runs for the comparison table: the first (app.result), the compared one. */
+function compareRuns() {
+  const iso = firstIso();
+  if (!iso) return [];
+  const runs = [{ label: iso.forced ? 'first run (forced θ)' : 'first run (θ*)', report: app.result.report }];
+  if (app.compare) runs.push({ label: 'compared run', report: app.compare.result.report });
+  return runs;
 }
 
 /** The comparison table: the first run, the compared run (when there is one), the benchmark means. */
 function renderCompareTable() {
-  const body = $('iso-compare-table').querySelector('tbody');
-  body.replaceChildren();
-  const iso = firstIso();
-  if (!iso) return;
-  const runs = [{ label: iso.forced ? 'first run (forced θ)' : 'first run (θ*)', report: app.result.report }];
-  if (app.compare) runs.push({ label: 'compared run', report: app.compare.result.report });
-  for (const row of comparisonRows(runs)) {
-    const tr = document.createElement('tr');
-    tr.className = row.key === 'benchmark' ? 'benchmark' : 'run';
-    tr.dataset.testid = `iso-compare-${row.key}`;
-    const cell = (text, delta) => {
-      const td = document.createElement('td');
-      td.textContent = text;
-      if (delta) {
-        const span = document.createElement('span');
-        span.className = 'delta';
-        span.textContent = ` (${delta})`;
-        td.append(span);
-      }
-      return td;
-    };
-    const first = row.key === 'run0';
-    tr.append(
-      cell(row.label),
-      cell(Number.isFinite(row.theta) ? `${formatFigure(row.theta)}°` : '—'),
-      cell(formatSeconds(row.time), first ? '' : percentText(row.timeDelta)),
-      cell(Number.isFinite(row.path) ? `${figure(row.path)} mm` : '—', first ? '' : percentText(row.pathDelta)),
-      cell(figure(row.rate)),
-    );
-    tr.dataset.time = String(row.time);
-    tr.dataset.path = String(row.path);
-    tr.dataset.rate = String(row.rate);
-    body.append(tr);
-  }
+  fillCompareTable($('iso-compare-table').querySelector('tbody'), compareRuns());
 }
 
 /**
@@ -1148,7 +1071,7 @@ function wireUi() {
   });
   $('slice-button').addEventListener('click', () => slice());
   $('iso-polar').addEventListener('click', (e) => onPolarClick(e));
-  $('iso-compare-theta').addEventListener('input', () => { if (!app.compare) renderPolar(firstIso()); });
+  $('iso-compare-theta').addEventListener('input', () => renderPolar(firstIso()));
   $('iso-compare-button').addEventListener('click', () => runCompare());
   $('iso-show-run').addEventListener('change', (e) => {
     if (app.busy) return;
@@ -1280,13 +1203,11 @@ window.omnislice = {
   get isoplanar() {
     const iso = firstIso();
     if (!iso) return null;
-    const runs = [{ label: 'first', report: app.result.report }];
-    if (app.compare) runs.push({ label: 'compared', report: app.compare.result.report });
     return {
       curveCount: app.preview ? app.preview.curveCount : 0,
       shownRun: app.shownRun,
       compare: app.compare ? { theta: app.compare.theta, report: app.compare.result.report } : null,
-      rows: comparisonRows(runs),
+      rows: comparisonRows(compareRuns()),
     };
   },
   /** The voxel view: what it holds and draws (VoxelView.stats()), or null. */

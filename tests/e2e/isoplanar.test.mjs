@@ -173,6 +173,7 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
   assert.equal(await page.inputValue(tid('iso-compare-theta')), '135');
   assert.equal(await svg.getAttribute('data-compare-theta'), '135');
   assert.equal(await page.locator(tid('iso-compare-mark')).count(), 1);
+  assert.equal(await page.locator(tid('iso-candidate-mark')).count(), 0, 'no candidate before a comparison ran');
   // Below the centre: the same plane as above (folded into [0, 180)).
   await page.mouse.click(box.x + box.width / 2, box.y + box.height / 2 + r);
   assert.equal(await page.inputValue(tid('iso-compare-theta')), '90');
@@ -278,6 +279,12 @@ test('a real surface slice of a saddle: polar plot, compare run side by side, sw
   assert.deepEqual(await page.evaluate(() => window.omnislice.report.isoplanar.theta_deg), iso.theta_deg);
   assert.equal(Number(await svg.getAttribute('data-theta-star')), iso.theta_deg);
   assert.equal(Number(await svg.getAttribute('data-compare-theta')), other);
+  // A new direction typed after the comparison is drawn as the next candidate; the compared one stays.
+  const next = (other + 45) % 180;
+  await page.fill(tid('iso-compare-theta'), String(next));
+  assert.equal(Number(await svg.getAttribute('data-candidate-theta')), next);
+  assert.equal(Number(await svg.getAttribute('data-compare-theta')), other);
+  assert.equal(await page.locator(tid('iso-candidate-mark')).count(), 1);
   const rows = after.rows;
   assert.equal(rows[0].time, iso.estimated_time_s);
   assert.equal(rows[1].time, after.compare.report.isoplanar.estimated_time_s);
