@@ -27,7 +27,8 @@ const DEMO_NAME = 'demo-overhang.stl';
 const DEMOS = {
   overhang: { url: DEMO_URL, name: DEMO_NAME },
   // An open saddle z = (x^2 - y^2) / R: the surface method's iso-planar paths (paper 003, S1).
-  saddle: { url: '/models/demo-saddle.obj', name: 'demo-saddle.obj', settings: { method: 'surface' } },
+  // The surface method needs tilt axes: a 3- or 4-axis machine is swapped for the UR5 arm.
+  saddle: { url: '/models/demo-saddle.obj', name: 'demo-saddle.obj', settings: { method: 'surface' }, tilt: 'robot6-ur5' },
 };
 const FILAMENT_AREA_MM2 = Math.PI * (1.75 / 2) ** 2;
 const PLA_G_PER_MM3 = 1.24e-3;
@@ -895,11 +896,14 @@ function showMachineProfile() {
     ? `profile ${app.machineFiles.get(json) || 'from a file'} (${kind})`
     : `built-in profile ${app.model.get('machine')}`;
   $('machine-profile').dataset.kind = kind;
-  // The voxel method tilts the nozzle: it needs two rotary axes (table5) or a robot.
+  // The voxel and surface methods tilt the nozzle: they need two rotary axes (table5) or a robot.
   const hint = $('method-hint');
-  const needsTilt = app.model.get('method') === 'voxel' && !['table5', 'robot6'].includes(kind);
+  const method = app.model.get('method');
+  const needsTilt = (method === 'voxel' || method === 'surface') && !['table5', 'robot6'].includes(kind);
   hint.hidden = !needsTilt;
-  hint.textContent = needsTilt ? `the voxel method tilts the nozzle: choose table5 or a robot (${kind} has no tilt axes)` : '';
+  hint.textContent = needsTilt
+    ? `the ${method} method ${method === 'voxel' ? 'tilts the nozzle' : 'keeps the nozzle along the surface normal'}: choose table5 or a robot (${kind} has no tilt axes)`
+    : '';
 }
 
 // ---- machine animation ----------------------------------------------------------------------
@@ -1157,6 +1161,10 @@ async function loadDemo(demo, { sliceAfter = false } = {}) {
     const bytes = await response.arrayBuffer();
     for (const [key, value] of Object.entries(demo.settings || {})) {
       if (app.model.get(key) !== value) app.history.execute(new SetSettingCommand(app.model, key, value));
+    }
+    if (demo.tilt && !['table5', 'robot6'].includes(selectedMachineKind(app.model.values))) {
+      if (app.model.get('machine_json')) app.history.execute(new SetSettingCommand(app.model, 'machine_json', ''));
+      app.history.execute(new SetSettingCommand(app.model, 'machine', demo.tilt));
     }
     if (await loadBytes(demo.name, bytes) && sliceAfter) await slice();
   } catch (err) {

@@ -76,6 +76,7 @@ test('method surface and fill isoplanar show the iso-planar settings', async (t)
   assert.equal(await visible('surface-base'), false);
   await setSetting('setting-fill', 'auto');
   await setSetting('setting-method', 'surface');
+  assert.match(await page.textContent(tid('method-hint')), /surface method .*choose table5 or a robot/, 'cartesian3 cannot follow the normal');
   for (const id of [...iso, 'surface-base']) assert.equal(await visible(id), true, `${id} shown for surface`);
   await setSetting('iso-theta', 40);
   assert.equal((await page.evaluate(() => window.omnislice.settings))['isoplanar.theta_deg'], 40);
@@ -217,11 +218,17 @@ test('the model menu loads the saddle demo for the surface method', async (t) =>
   assert.equal(await page.textContent(tid('model-name')), 'demo-saddle.obj');
   assert.equal(await page.textContent(tid('info-faces')), '3,200');
   assert.equal(await page.textContent(tid('info-closed')), 'no');
-  assert.equal((await page.evaluate(() => window.omnislice.settings)).method, 'surface', 'the demo selects the surface method');
+  let settings = await page.evaluate(() => window.omnislice.settings);
+  assert.equal(settings.method, 'surface', 'the demo selects the surface method');
+  assert.equal(settings.machine, 'robot6-ur5', 'and a machine that can follow the surface normal');
+  assert.equal(await page.isHidden(tid('method-hint')), true);
   assert.equal(await page.isVisible(tid('iso-report')), false, 'the previous result is cleared');
-  // Undo brings the method back like any other edit.
+  // Undo brings the machine and the method back like any other edit.
   await page.click(tid('settings-undo'));
-  assert.equal((await page.evaluate(() => window.omnislice.settings)).method, 'planar');
+  await page.click(tid('settings-undo'));
+  settings = await page.evaluate(() => window.omnislice.settings);
+  assert.equal(settings.method, 'planar');
+  assert.equal(settings.machine, 'cartesian3');
 });
 
 test('a real surface slice of a saddle: polar plot, compare run side by side, switch the drawn run', async (t) => {
