@@ -149,8 +149,11 @@ export function thetaFromPlotPoint(x, y, cx, cy, step = 1) {
   return foldTheta(Number(rounded.toFixed(6)));
 }
 
-/** The two colours of adjacent NL curves (0..255 RGB): odd curves, even curves. */
-export const CURVE_COLORS = [[0xff, 0x8a, 0x1f], [0x1f, 0xa8, 0xff]];
+/**
+ * The two colours of adjacent NL curves (0..255 RGB): odd curves orange, even curves near-white
+ * (apart from every feature colour of the preview's palette, and from each other in lightness).
+ */
+export const CURVE_COLORS = [[0xff, 0x8a, 0x1f], [0xee, 0xf2, 0xff]];
 
 /** Colour of NL curve c (1-based; 0 = none -> null). */
 export function curveColor(c) {

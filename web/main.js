@@ -516,7 +516,8 @@ function setDownloadLabel(extension) {
 
 // ---- layer range ------------------------------------------------------------------------------
 
-function setupLayerSliders(layerCount) {
+/** The layer sliders span layerCount layers, showing from `first` (default 0) to the last. */
+function setupLayerSliders(layerCount, first = 0) {
   const lo = $('layer-min-slider');
   const hi = $('layer-slider');
   const last = Math.max(layerCount - 1, 0);
@@ -524,7 +525,7 @@ function setupLayerSliders(layerCount) {
     s.max = String(last);
     s.disabled = layerCount === 0;
   }
-  lo.value = '0';
+  lo.value = String(Math.min(Math.max(first, 0), last));
   hi.value = String(last);
   applyLayerRange();
 }
@@ -693,8 +694,12 @@ async function loadFile(file) {
   await loadBytes(file.name, bytes);
 }
 
-/** Replace the preview (null clears). Built in slices, so it does not hold the main thread. */
-async function setPreview(result) {
+/**
+ * Replace the preview (null clears). Built in slices, so it does not hold the main thread.
+ * fresh: a new result (not a switch between compared runs): the layer surfaces start hidden when
+ * the paths are iso-planar NL curves (the surface would cover them), shown otherwise.
+ */
+async function setPreview(result, { fresh = false } = {}) {
   if (app.viewer) app.viewer.setPreview(null);
   app.preview = null;
   app.voxelView = null;
@@ -709,6 +714,7 @@ async function setPreview(result) {
       showError({ code: 'internal', message: `voxel view: ${err.message}` });
     }
   }
+  if (fresh) $('show-surfaces').checked = !(preview && preview.curveCount > 0);
   if (preview || voxel) {
     timed('set-preview', () => {
       if (preview) preview.setTravelVisible($('show-travel').checked);
@@ -720,7 +726,8 @@ async function setPreview(result) {
     });
   }
   timed('layer-sliders', () => {
-    setupLayerSliders(app.preview ? app.preview.layerCount : 0);
+    // With iso-planar NL curves the range starts at their layer (the surface layer above its base).
+    setupLayerSliders(app.preview ? app.preview.layerCount : 0, app.preview ? Math.max(app.preview.curveLayerMin, 0) : 0);
     setupVoxelBar();
   });
   $('iso-curve-count').textContent = String(app.preview ? app.preview.curveCount : 0);
@@ -788,7 +795,7 @@ async function showResult(result, started) {
   if (app.placementDirty && app.viewer) app.viewer.frame();
   app.placementDirty = false;
   await nextFrame();
-  await setPreview(result);
+  await setPreview(result, { fresh: true });
   performance.mark('omnislice:preview-built');
   if ($('machine-toggle').checked) timed('machine-view', () => openMachineView());
   app.sliceCount += 1;

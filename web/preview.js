@@ -38,6 +38,7 @@ export function featureCss(code) {
  * Printing segments on an NL curve (curves[s] > 0, when curves has one entry per segment) take
  * CURVE_COLORS[(curves[s] - 1) % 2] instead of their feature's colour.
  * @returns {Promise<{layerCount: number, colors: Uint8Array, featureCounts: Uint32Array, curveCount: number,
+ *   curveLayerMin: number (lowest layer with a segment on an NL curve, -1 without),
  *   print: {index: Uint32Array, starts: Uint32Array}, travel: {index: Uint32Array,
  *   starts: Uint32Array}}>} index: 2 vertex indices per segment, counting-sorted by layer (stable:
  *   print order within a layer); starts[l]..starts[l+1] is layer l's range in segments
@@ -47,6 +48,7 @@ export async function buildPreviewArrays({ features, layers, curves }, { budgetM
   const S = features.length;
   const onCurves = curves && curves.length === S ? curves : null;
   let curveCount = 0;
+  let curveLayerMin = -1;
   // Run fn(from, to) over [0, S) in blocks, yielding when the task has used its budget.
   const run = blockRunner('omnislice:preview-slice', { budgetMs, block });
   const forBlocks = (fn) => run(S, fn);
@@ -85,6 +87,7 @@ export async function buildPreviewArrays({ features, layers, curves }, { budgetM
       let pal = palette;
       if (c > 0) {
         if (c > curveCount) curveCount = c;
+        if (curveLayerMin < 0 || layers[s] < curveLayerMin) curveLayerMin = layers[s];
         p = ((c - 1) % 2) * 3;
         pal = curvePalette;
       }
@@ -111,6 +114,7 @@ export async function buildPreviewArrays({ features, layers, curves }, { budgetM
     colors,
     featureCounts,
     curveCount,
+    curveLayerMin,
     print: { index: printIndex, starts: printStarts },
     travel: { index: travelIndex, starts: travelStarts },
   };
@@ -140,6 +144,8 @@ export class ToolpathPreview {
     this.featureCounts = Object.fromEntries(FEATURES.map((f) => [f.name, arrays.featureCounts[f.code]]));
     /** Highest NL curve index drawn in the curve colours (0: no iso-planar curves). */
     this.curveCount = arrays.curveCount;
+    /** Lowest layer holding NL curve segments (-1 without), e.g. to start the layer range there. */
+    this.curveLayerMin = arrays.curveLayerMin;
     this.printStarts = arrays.print.starts;
     this.travelStarts = arrays.travel.starts;
     const position = new THREE.BufferAttribute(positions, 3);

@@ -162,6 +162,7 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
   // NL curves drawn in the curve colours, every one of them.
   const iso = await page.evaluate(() => window.omnislice.isoplanar);
   assert.equal(iso.curveCount, C);
+  assert.equal(await page.inputValue(tid('layer-min-slider')), '1', 'the layer range starts at the NL curves\' layer');
   assert.equal(await page.locator(`${tid('legend-curves')}:visible`).count(), 2, 'the legend names the two curve colours');
   assert.equal(iso.compare, null);
   assert.deepEqual(iso.rows.map((r) => r.key), ['run0', 'benchmark']);
@@ -269,6 +270,11 @@ test('a real surface slice of a saddle: polar plot, compare run side by side, sw
   assert.match(await page.textContent(tid('iso-ve-star')), /mm³\/s$/);
   const view = await page.evaluate(() => window.omnislice.isoplanar);
   assert.ok(view.curveCount > 1, `NL curves drawn in alternating colours: ${view.curveCount}`);
+  assert.equal(await page.isChecked(tid('show-surfaces')), false, 'the surface layer starts hidden so the NL curves show');
+  // The surface layer is printed last, on its base: the layer range starts there.
+  const lastLayer = Number(await page.getAttribute(tid('layer-min-slider'), 'max'));
+  assert.ok(lastLayer > 0, 'base layers below the surface layer');
+  assert.equal(Number(await page.inputValue(tid('layer-min-slider'))), lastLayer, 'the layer range starts at the surface layer');
   // Compare with the direction 90 degrees away from theta*.
   const other = (iso.theta_deg + 90) % 180;
   await page.fill(tid('iso-compare-theta'), String(other));

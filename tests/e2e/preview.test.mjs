@@ -71,6 +71,9 @@ test('segments on iso-planar NL curves alternate between two colours curve by cu
     assert.deepEqual([...a.colors.subarray(s * 6, s * 6 + 6)], [...c, ...c], `segment ${s}`);
   }
   assert.equal(a.curveCount, maxCurve);
+  let minLayer = Infinity;
+  for (let s = 0; s < 6000; s++) if (curves[s] > 0 && p.features[s] !== 0) minLayer = Math.min(minLayer, p.layers[s]);
+  assert.equal(a.curveLayerMin, minLayer, 'lowest layer with NL curve segments');
   // Adjacent curves differ in colour.
   const colorOf = (k) => {
     const s = (k - 1) * 40 + 1;  // an on-curve segment of curve k (s % 5 != 4) unless it is travel
@@ -84,5 +87,6 @@ test('segments on iso-planar NL curves alternate between two colours curve by cu
   // A curves buffer of the wrong length is ignored (feature colours), none given: curveCount 0.
   const b = await buildPreviewArrays({ ...p, curves: curves.subarray(1) });
   assert.equal(b.curveCount, 0);
+  assert.equal(b.curveLayerMin, -1);
   assert.deepEqual([...b.colors.subarray(0, 6)], [...FEATURES[p.features[0]].color, ...FEATURES[p.features[0]].color]);
 });
