@@ -7,7 +7,9 @@
 // (issue 3): UR5 IK + pose continuity (the `motion` stage) <= 1 s per 100k samples in wasm, and
 // verification of a >= 500k-move program <= 10 s in wasm; voxel method (issue 4): ~100k voxels
 // <= 10 s in wasm, ~540k voxels <= 30 s in wasm within 1 GB of wasm memory, tool-paths for all
-// layers of the Bunny (~100k voxels) <= 10 s in wasm.
+// layers of the Bunny (~100k voxels) <= 10 s in wasm; iso-planar paths (issue 5): theta* search
+// (samples + feed field + 180 directions) on a 20k-vertex saddle <= 1 s in wasm, its paths
+// <= 0.5 s in wasm.
 // Env: BENCH_REPS (default 3: best of N per stage), BENCH_SLICE_1M=1 (also slice the 1M mesh).
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
@@ -21,6 +23,7 @@ const CLI = process.env.OMNISLICE_CLI || path.join(ROOT, 'build/native/omnislice
 const WASM_DIR = process.env.OMNISLICE_WASM_DIR || path.join(ROOT, 'build/wasm');
 const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 3);
 const STAGES = ['read', 'validate', 'place', 'voxelize', 'peeling', 'growth', 'layers', 'slice', 'toolpath',
+  'isoplanar_samples', 'isoplanar_feed', 'isoplanar_direction', 'isoplanar_paths', 'isoplanar_benchmark',
   'motion', 'program'];
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-bench-'));
 
@@ -123,6 +126,18 @@ if (fs.existsSync(bunny)) {
   if (process.env.BENCH_VOXEL_540K !== '0') {
     cases.push({ case: VOXEL_540K, mode: 'slice', file: bunny, settings: { ...voxel, fit_mm: Number(process.env.BENCH_VOXEL_FIT_540K) || 54.5 }, freshModule: true, reps: 1 });
   }
+}
+
+// Iso-planar paths (paper 003) on a 20k-vertex saddle z = (x^2 - y^2) / 100 over 75 x 75 mm (the
+// paper's S1 size), printed with method surface on the UR5 (Table 1: s = 1 mm, h = 0.75 mm).
+const SADDLE = 'saddle 20k vertices surface (robot6-ur5)';
+{
+  const { saddleObj } = await import('../tests/js/fixtures/meshes.js');
+  const file = path.join(ROOT, 'build/bench/saddle-20k.obj');
+  const text = saddleObj(100, 37.5, 141);
+  if (!fs.existsSync(file) || fs.readFileSync(file, 'utf8') !== text) fs.writeFileSync(file, text);
+  cases.push({ case: SADDLE, mode: 'slice', file, settings: { method: 'surface', machine: 'robot6-ur5',
+    nozzle_diameter: 1, layer_height: 0.75, line_width: 1.125, 'isoplanar.benchmark': false } });
 }
 
 const rows = [];
@@ -231,6 +246,16 @@ for (const [label, limit, memory] of [[VOXEL_100K, 10000, false], [VOXEL_540K, 3
 }
 const bunnyToolpath = get(VOXEL_100K, 'toolpath');
 if (bunnyToolpath) checks.push([`tool-paths for all layers of the Bunny (${VOXEL_100K}) in wasm <= 10000 ms`, bunnyToolpath.wasm_ms, bunnyToolpath.wasm_ms <= 10000]);
+{
+  const st = ['isoplanar_samples', 'isoplanar_feed', 'isoplanar_direction'].map((k) => get(SADDLE, k));
+  if (st.every(Boolean)) {
+    const w = st.reduce((a, r) => a + r.wasm_ms, 0);
+    const n = st.reduce((a, r) => a + r.native_ms, 0);
+    checks.push([`theta* search on a 20k-vertex saddle, 180 directions, in wasm (native ${round(n)} ms) <= 1000 ms`, round(w), w <= 1000]);
+  }
+  const paths = get(SADDLE, 'isoplanar_paths');
+  if (paths) checks.push([`iso-planar paths of the 20k-vertex saddle in wasm (native ${paths.native_ms} ms) <= 500 ms`, paths.wasm_ms, paths.wasm_ms <= 500]);
+}
 console.log('\ntargets:');
 for (const [what, value, ok] of checks) console.log(`  ${ok ? 'PASS' : 'MISS'}  ${what}: ${value}`);
 console.log(`\nwrote ${path.join(ROOT, 'build/bench.json')}`);

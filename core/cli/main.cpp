@@ -27,7 +27,8 @@ using namespace omnislice;
 const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
-    "  omnislice slice MESH -o OUT [--method planar|voxel] [--machine NAME] [--machine-file JSON]\n"
+    "  omnislice slice MESH -o OUT [--method planar|voxel|surface] [--fill auto|isoplanar|spiral]\n"
+    "                 [--machine NAME] [--machine-file JSON]\n"
     "                 [--gcode-flavor marlin|reprap|klipper] [--robot-format csv|urscript]\n"
     "                 [--layer-height MM] [--nozzle MM] [--walls N] [--infill PCT]\n"
     "                 [--direction X,Y,Z] [--scale S] [--fit-mm MM] [--up AXIS]\n"
@@ -38,7 +39,9 @@ const char* kUsage =
     "  omnislice --version | --help\n"
     "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF. AXIS: z, -z, y, -y, x, -x.\n"
     "Machines: cartesian3, rotary4, table5, robot6-ur5 (G-code; robot6 writes joint CSV or\n"
-    "URScript). A profile file (docs/MACHINES.md) overrides --machine.\n";
+    "URScript). A profile file (docs/MACHINES.md) overrides --machine.\n"
+    "--method surface prints an open surface (a height field) as one layer on a planar base;\n"
+    "verify such a program with the same surface as --mesh.\n";
 
 struct CliError {
   Status status;
@@ -130,7 +133,7 @@ void applyOptions(const Args& a, Settings& s) {
       {"--method", "method"},   {"--machine", "machine"}, {"--layer-height", "layer_height"},
       {"--nozzle", "nozzle_diameter"}, {"--walls", "walls"}, {"--infill", "infill"},
       {"--direction", "direction"}, {"--scale", "scale"}, {"--fit-mm", "fit_mm"}, {"--up", "up"},
-      {"--gcode-flavor", "gcode_flavor"}, {"--robot-format", "robot_format"}};
+      {"--gcode-flavor", "gcode_flavor"}, {"--robot-format", "robot_format"}, {"--fill", "fill"}};
   if (a.has("--machine-file")) {
     const std::vector<uint8_t> bytes = readFile(a.get("--machine-file"));
     check(setSetting(s, "machine_json", std::string(bytes.begin(), bytes.end())));
@@ -177,7 +180,7 @@ int cmdInfo(int argc, char** argv) {
 
 int cmdSlice(int argc, char** argv) {
   Args a = parseArgs(argc, argv, 2,
-                     {"-o", "--output", "--method", "--machine", "--layer-height", "--nozzle",
+                     {"-o", "--output", "--method", "--fill", "--machine", "--layer-height", "--nozzle",
                       "--walls", "--infill", "--direction", "--scale", "--fit-mm", "--up", "--set",
                       "--report", "--machine-file", "--gcode-flavor", "--robot-format"},
                      {"--progress"});

@@ -43,7 +43,10 @@ struct EffectiveWidth {
   double rho = 0;          // rho*, rad
   double overlap = 0;      // A_o = A_g at equilibrium, mm^2
   bool clamped = false;    // |kappa| beyond what the model supports (circle radius below about
-                           // the bead size): kappa was clamped to the supported range
+                           // the bead size): kappa was clamped to the supported range, where
+                           // the bead ellipse still fits between the two surfaces: convex
+                           // 1/kappa >= max(s^2 / (2h), 2h, s / 2), concave
+                           // 1/|kappa| + h >= s^2 / (2h) and 1/|kappa| >= s / 2 (NaN: flat)
 };
 
 // w_eff for bead width s > 0, height h > 0 (mm) and curvature kappa (1/mm; sign as above).
@@ -55,7 +58,9 @@ EffectiveWidth effectiveWidth(double s, double h, double kappa);
 using WidthFn = std::function<double(double kappa, double height)>;
 
 // Tabulated effectiveWidth(s, h, kappa).width over kappa in [-kappaMax, kappaMax] and h in
-// [hMin, hMax] (bilinear; exact at the nodes; values outside the ranges are clamped to them).
+// [hMin, hMax] (linear in kappa, cubic through 4 rows in h; exact at the nodes; values outside
+// the ranges are clamped to them, and kappa to the model's supported range for h). hMin and
+// hMax may come in either order; a non-positive or non-finite s or h gives a table answering 0.
 // Relative error against effectiveWidth() below 1e-4 on the default resolution (tested).
 class EffectiveWidthTable {
  public:

@@ -38,12 +38,15 @@ struct SurfaceSamplesResult : Outcome {
 };
 
 // Per-vertex samples of a triangle surface (open or closed, edge-manifold, consistently
-// oriented): normal = area-weighted face normals (the triangles' orientation picks the side),
-// second fundamental form by a least-squares quadric height field w(u, v) over the tangent plane
-// fitted to the vertex's 2-ring (shape = -Hessian of w, so a dome seen from its normal side is
-// > 0), every sample's height = layerHeight. Exact (to rounding) on spheres and on quadrics
-// z = (x^2 - y^2) / R sampled at the vertex. Statuses: EmptyInput, NonFiniteVertex, InvalidOption
-// (layerHeight <= 0).
+// oriented): the area-weighted face normal gives the side (the triangles' orientation) and the
+// fitting frame; a least-squares quadric w = Q(u, v, w) over that frame (a quadric height field
+// with implicit terms) fitted to the vertex's 2-ring (grown up to the 4-ring where that does not
+// determine the fit, e.g. on a boundary row of a cylinder) gives the normal (the fitted one; the
+// area-weighted one when they differ by more than ~37 degrees) and the second fundamental form
+// (shape = -Hessian of w on the tangent plane, so a dome seen from its normal side is > 0),
+// every sample's height = layerHeight. Exact (to rounding) on spheres and on quadrics
+// z = (x^2 - y^2) / R sampled at the vertex, for any triangulation. Statuses: EmptyInput (also a
+// triangle index out of range), NonFiniteVertex, InvalidOption (layerHeight <= 0).
 SurfaceSamplesResult surfaceSamples(const Mesh& surface, double layerHeight);
 
 // The sample at a point on the edge (a, b) at parameter t in [0, 1] (p = (1-t) a + t b): position

@@ -19,6 +19,8 @@
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
 #include "kinematics/kinematics.h"
+#include "pipeline/isoplanar_fill.h"
+#include "pipeline/surface_method.h"
 #include "pipeline/voxel_method.h"
 #include "toolpath/toolpath.h"
 #include "verify/verify_program.h"
@@ -78,7 +80,7 @@ struct StageClock {
 
 // Preview segments from the planned machine path: the part-frame tip path of every move that
 // deposits or travels, with the machine values at each segment's end for the machine animation.
-PreviewBuffers makePreview(const MachinePath& path) {
+PreviewBuffers makePreview(const MachinePath& path, const Toolpath& toolpath) {
   PreviewBuffers p;
   const size_t n = path.moves.size();
   p.positions.reserve(n * 6);
@@ -101,6 +103,9 @@ PreviewBuffers makePreview(const MachinePath& path) {
       p.layers.push_back(static_cast<uint32_t>(std::max(0, m.layer)));
       for (double v : m.values) p.machine.push_back(static_cast<float>(v));
       for (int k = 0; k < 3; ++k) p.axes.push_back(static_cast<float>(m.axis[k]));
+      p.curves.push_back(m.source < toolpath.moves.size() && m.kind != MoveKind::Travel
+                             ? toolpath.moves[m.source].curve
+                             : 0);
     }
     prev = m.tip;
   }
@@ -204,31 +209,44 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     const Clock::time_point start = Clock::now();
     if (Outcome v = validateSettings(settings); !v.ok()) return failed<SliceOutput>(v);
     const bool voxel = settings.method == "voxel";
-    if (settings.method != "planar" && !voxel) {
+    const bool surface = settings.method == "surface";
+    const bool curvedMethod = voxel || surface;
+    if (settings.method != "planar" && !voxel && !surface) {
       return failed<SliceOutput>(Status::InvalidOption, "method '" + settings.method + "' is not available");
     }
     StageClock clock;
     // cartesian3 lays every layer with the nozzle along +Z: a direction d is realised by turning
     // the part so that d points up (recorded in the placement). Curved-layer methods print on the
     // platform as placed.
-    const Eigen::Vector3d d = voxel ? Eigen::Vector3d::UnitZ() : settings.direction.normalized();
+    const Eigen::Vector3d d = curvedMethod ? Eigen::Vector3d::UnitZ() : settings.direction.normalized();
     const Eigen::Matrix3d turn = rotationToZ(d);
     PreparedInput in =
         prepareInput(data, size, fileName, settings.placement, turn, progress, clock);
     if (!in.ok()) return failed<SliceOutput>(in);
-    if (!in.prepared.solid.ok()) return failed<SliceOutput>(in.prepared.solid);
+    if (!surface && !in.prepared.solid.ok()) return failed<SliceOutput>(in.prepared.solid);
 
-    const BoundingBox box = boundingBox(in.placed.mesh);
-    const Eigen::Vector3d extent = box.max - box.min;
+    BoundingBox box = boundingBox(in.placed.mesh);
     MachineProfileResult resolved = resolveMachine(settings);
     if (!resolved.ok()) return failed<SliceOutput>(resolved);
     const MachineProfile& machine = resolved.machine;
-    if (voxel && machine.kind != "table5" && machine.kind != "robot6") {
+    if (curvedMethod && machine.kind != "table5" && machine.kind != "robot6") {
       return failed<SliceOutput>(
           Status::InvalidOption,
-          "the voxel method tilts the nozzle along curved layers: choose a machine with two "
-          "rotary axes or a robot (table5, robot6), not " + machine.kind);
+          std::string("the ") + (voxel ? "voxel method tilts the nozzle along curved layers"
+                                       : "surface method keeps the nozzle along the surface normal") +
+              ": choose a machine with two rotary axes or a robot (table5, robot6), not " +
+              machine.kind);
     }
+    // The surface method lifts the surface onto its support base first.
+    SurfaceMethodOutput surfaceOut;
+    if (surface) {
+      surfaceOut = runSurfaceMethod(in.placed.mesh, settings, machine, progress);
+      if (!surfaceOut.ok()) return failed<SliceOutput>(surfaceOut);
+      in.placed.transform = surfaceOut.lift * in.placed.transform;
+      in.placed.mesh = std::move(surfaceOut.part);
+      box = boundingBox(in.placed.mesh);
+    }
+    const Eigen::Vector3d extent = box.max - box.min;
     // G-code kinds print the planar layers with every rotary axis at 0, where the machine frame is
     // the part frame: the part must fit the linear axes' travel.
     for (int a = 0; a < 3 && machine.kind != "robot6"; ++a) {
@@ -256,6 +274,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     size_t slicedLayers = 0, openChains = 0;
     double layerHeight = settings.layerHeight;
     VoxelMethodOutput voxelOut;
+    std::string planarIsoplanarJson;
     if (voxel) {
       voxelOut = runVoxelMethod(in.placed.mesh, settings, machine, progress);
       if (!voxelOut.ok()) return failed<SliceOutput>(voxelOut);
@@ -264,6 +283,11 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       plan.toolpath = std::move(voxelOut.toolpath);
       layerHeight = voxelOut.layerHeight;
       slicedLayers = static_cast<size_t>(voxelOut.layers);
+    } else if (surface) {
+      for (const auto& [stage, ms] : surfaceOut.timingsMs) clock.timings[stage] = ms;
+      clock.t0 = Clock::now();
+      plan.toolpath = std::move(surfaceOut.toolpath);
+      slicedLayers = static_cast<size_t>(surfaceOut.layers);
     } else {
       SliceOptions sliceOptions;
       sliceOptions.direction = Eigen::Vector3d::UnitZ();
@@ -275,7 +299,17 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       slicedLayers = slices.layers.size();
       openChains = slices.openChains;
 
-      plan = planLayers(slices, settings, 0, progress);
+      // fill = isoplanar: every layer's lines run along the drive direction theta* of paper 003
+      // (the nozzle stays vertical; f* comes from the machine's linear axes).
+      Settings planSettings = settings;
+      if (settings.fill == "isoplanar") {
+        PlanarDirection dir = planarIsoplanarDirection(slices, settings, machine, progress);
+        if (!dir.ok()) return failed<SliceOutput>(dir);
+        planSettings.infillAngleDegrees = dir.thetaDegrees;
+        planarIsoplanarJson = dir.reportJson;
+        clock.done("isoplanar");
+      }
+      plan = planLayers(slices, planSettings, 0, progress);
       if (!plan.ok()) return failed<SliceOutput>(plan);
       clock.done("toolpath");
     }
@@ -319,7 +353,13 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     // Layers that deposit material (a sliver thinner than a bead at the top prints nothing); the
     // program has one layer marker for each.
     out.layers = written.layers;
-    out.preview = makePreview(motion);
+    out.preview = makePreview(motion, plan.toolpath);
+    if (surface) {
+      PreviewBuffers& p = out.preview;
+      p.surfacePositions = std::move(surfaceOut.preview.surfacePositions);
+      p.surfaceTriangles = std::move(surfaceOut.preview.surfaceTriangles);
+      p.surfaceLayers = std::move(surfaceOut.preview.surfaceLayers);
+    }
     if (voxel) {
       PreviewBuffers& p = out.preview;
       p.surfacePositions = std::move(voxelOut.preview.surfacePositions);
@@ -370,6 +410,10 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     report["placement"] = matrixJson(pinfo.placement);
     report["open_chains"] = openChains;
     if (voxel) report["voxel"] = Json::parse(voxelOut.reportJson);
+    if (voxel && !voxelOut.isoplanarJson.empty()) report["isoplanar"] = Json::parse(voxelOut.isoplanarJson);
+    if (surface) report["isoplanar"] = Json::parse(surfaceOut.reportJson);
+    if (!planarIsoplanarJson.empty()) report["isoplanar"] = Json::parse(planarIsoplanarJson);
+    report["fill"] = settings.fill;
     Json t = clock.timings;
     t["total"] = msSince(start);
     report["timings_ms"] = t;
@@ -415,8 +459,17 @@ VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, 
     if (!read.ok()) return failed<VerifyOutput>(read);
     PrepareMeshResult prepared = prepareMesh(read.mesh, PrepareOptions{}, progress);
     if (!prepared.ok()) return failed<VerifyOutput>(prepared);
-    if (!prepared.solid.ok()) return failed<VerifyOutput>(prepared.solid);
-    const Mesh part = transformMesh(prepared.mesh, program.placement);
+    Mesh part;
+    if (program.method == "surface") {
+      // A surface program prints the solid between the platform and the surface (its base and
+      // its surface layer): the same construction as the slice, from the placed surface.
+      SurfacePartResult built = surfacePart(transformMesh(prepared.mesh, program.placement));
+      if (!built.ok()) return failed<VerifyOutput>(built);
+      part = std::move(built.part);
+    } else {
+      if (!prepared.solid.ok()) return failed<VerifyOutput>(prepared.solid);
+      part = transformMesh(prepared.mesh, program.placement);
+    }
     VerifyReport report = verifyProgram(program, part, VerifyOptions{}, progress);
     if (!report.ok()) return failed<VerifyOutput>(report);
     VerifyOutput out;

@@ -140,6 +140,20 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.voxel.platformRadiusMm; }, 0, 5000, "mm (0 = footprint)"}},
       {"voxel.max_tilt_deg",
        {[](Settings& s) -> double& { return s.voxel.maxTiltDegrees; }, 0, 180, "degrees (0 = machine)"}},
+      {"isoplanar.theta_deg",
+       {[](Settings& s) -> double& { return s.isoplanar.thetaDegrees; }, -1, 180, "degrees, [0, 180) (-1 = search)"}},
+      {"isoplanar.directions",
+       {[](Settings& s) -> double& { return s.isoplanar.directions; }, 1, 3600, "directions"}},
+      {"isoplanar.chord_error_mm",
+       {[](Settings& s) -> double& { return s.isoplanar.chordErrorMm; }, 0.001, 10, "mm"}},
+      {"isoplanar.stencil_mm",
+       {[](Settings& s) -> double& { return s.isoplanar.stencilMm; }, 0.05, 20, "mm"}},
+      {"isoplanar.gamma_samples",
+       {[](Settings& s) -> double& { return s.isoplanar.gammaSamples; }, 4, 720, "samples"}},
+      {"isoplanar.max_feed_mm_s",
+       {[](Settings& s) -> double& { return s.isoplanar.maxFeedMmS; }, 0, 2000, "mm/s (0 = print_speed)"}},
+      {"surface.base_mm",
+       {[](Settings& s) -> double& { return s.surface.baseMm; }, 0.1, 500, "mm"}},
       {"voxel.max_voxels",
        {[](Settings& s) -> double& { return s.voxel.maxVoxels; }, 1000, 1e9, "voxels"}},
       {"motion.chord_tolerance",
@@ -206,10 +220,24 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
     return {};
   }
   if (key == "method") {
-    if (value != "planar" && value != "voxel") {
-      return invalid(key, "'" + value + "' is not available in this build (available: planar, voxel)");
+    if (value != "planar" && value != "voxel" && value != "surface") {
+      return invalid(key, "'" + value +
+                              "' is not available in this build (available: planar, voxel, surface)");
     }
     settings.method = value;
+    return {};
+  }
+  if (key == "fill") {
+    if (value != "auto" && value != "isoplanar" && value != "spiral") {
+      return invalid(key, "'" + value + "' is not a fill (auto, isoplanar, spiral)");
+    }
+    settings.fill = value;
+    return {};
+  }
+  if (key == "isoplanar.benchmark") {
+    bool b = false;
+    if (!parseBool(value, b)) return invalid(key, "expected true or false");
+    settings.isoplanar.benchmark = b;
     return {};
   }
   if (key == "voxel.strategy") {
@@ -340,6 +368,16 @@ Outcome validateSettings(const Settings& s) {
   if (w < s.layerHeight) {
     return {Status::InvalidOption, "setting 'line_width' must not be smaller than the layer height"};
   }
+  if (s.isoplanar.thetaDegrees >= 180) {
+    return {Status::InvalidOption, "setting 'isoplanar.theta_deg': drive-plane angles are in [0, 180) "
+                                   "(theta and theta + 180 give the same planes), or -1 to search"};
+  }
+  if (s.isoplanar.thetaDegrees < 0 && s.isoplanar.thetaDegrees != -1) {
+    return {Status::InvalidOption, "setting 'isoplanar.theta_deg': use an angle in [0, 180) or -1 to search"};
+  }
+  if (s.fill == "spiral" && s.method != "voxel") {
+    return {Status::InvalidOption, "setting 'fill': spiral fills curved layers of method voxel only"};
+  }
   return {};
 }
 
@@ -361,6 +399,8 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
   out.emplace_back("gcode_flavor", s.gcodeFlavor);
   out.emplace_back("robot_format", s.robotFormat);
   out.emplace_back("motion.smooth_orientations", s.smoothOrientations ? "true" : "false");
+  out.emplace_back("fill", s.fill);
+  out.emplace_back("isoplanar.benchmark", s.isoplanar.benchmark ? "true" : "false");
   if (s.method == "voxel") {
     out.emplace_back("voxel.strategy", s.voxel.strategy);
     out.emplace_back("voxel.shadow", s.voxel.shadow);

@@ -49,9 +49,31 @@ struct VoxelSettings {
                                        // machine's (table5: its B range; robot6: 90)
 };
 
+// Iso-planar paths (paper 003): best drive-plane direction by the material deposition rate.
+struct IsoplanarSettings {
+  double thetaDegrees = -1;     // drive-plane angle in [0, 180); -1 = search theta* (Eq. 11)
+  double directions = 180;      // theta samples over [0, 180) for the search (Algorithm 1)
+  double chordErrorMm = 0.5;    // delta_c* of Eq. 12 (paper Table 1)
+  double stencilMm = 1;         // l_c of Eq. 7, mm
+  double gammaSamples = 36;     // robot6: samples of the rotation about the nozzle (Eq. 6)
+  double maxFeedMmS = 0;        // cap on the kinematic feed f*, mm/s; 0 = print_speed
+  bool benchmark = true;        // plan every other sampled direction the same way and report
+                                // their mean time and length (surface method)
+};
+
+// `method = surface`: an open surface printed as one layer on a planar support base.
+struct SurfaceSettings {
+  double baseMm = 2;            // thinnest support base under the surface layer, mm
+};
+
 struct Settings {
-  std::string method = "planar";       // planar | voxel (later: multidir, geodesic, isoplanar)
+  std::string method = "planar";       // planar | voxel | surface (later: multidir, geodesic)
+  std::string fill = "auto";           // how layers are filled: auto (planar: walls + infill,
+                                       // voxel: Fermat spirals, surface: iso-planar) | isoplanar
+                                       // | spiral (voxel only)
   VoxelSettings voxel;
+  IsoplanarSettings isoplanar;
+  SurfaceSettings surface;
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty

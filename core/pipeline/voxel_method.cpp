@@ -9,6 +9,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "pipeline/isoplanar_fill.h"
 #include "surface/curved_toolpath.h"
 #include "surface/fermat_spiral.h"
 #include "voxel/curved_layers.h"
@@ -326,11 +327,45 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   sopt.spacing = lineWidth;
   std::vector<std::vector<std::vector<SurfacePath>>> paths(layers.layers.size());
   size_t regionCount = 0, pathCount = 0, unfilledRegions = 0;
+  // fill = isoplanar (paper 003): every region gets its own theta* and iso-planar NL curves.
+  const bool isoplanar = settings.fill == "isoplanar";
+  IsoplanarFillOptions iso;
+  iso.beadWidth = nozzle;
+  iso.layerHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
+  iso.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.printSpeed;
+  iso.travelSpeed = settings.travelSpeed;
+  Json isoRegions = Json::array();
+  double isoPath = 0, isoTime = 0, isoRateArea = 0, isoArea = 0, largestArea = -1;
+  std::string largestJson;
   for (size_t l = 0; l < layers.layers.size(); ++l) {
     const CurvedLayer& layer = layers.layers[l];
     paths[l].resize(layer.regions.size());
     for (size_t r = 0; r < layer.regions.size(); ++r) {
       ++regionCount;
+      if (isoplanar) {
+        IsoplanarFillResult fill = planIsoplanarFill(layer.regions[r].mesh, machine, settings.isoplanar, iso);
+        if (fill.status == Status::Cancelled) return failure(fill);
+        if (!fill.ok() || fill.paths.empty()) {
+          ++unfilledRegions;
+          continue;
+        }
+        iso.firstCurve += fill.curves;
+        const double area = layer.regions[r].area;
+        isoRegions.push_back({{"layer", l}, {"region", r}, {"theta_deg", fill.thetaDegrees},
+                              {"deposition_rate_mm3_s", fill.depositionRate},
+                              {"path_mm", fill.pathMm}, {"estimated_time_s", fill.estimatedTimeS}});
+        isoPath += fill.pathMm;
+        isoTime += fill.estimatedTimeS;
+        isoRateArea += fill.depositionRate * area;
+        isoArea += area;
+        if (area > largestArea) {
+          largestArea = area;
+          largestJson = fill.reportJson;
+        }
+        pathCount += fill.paths.size();
+        paths[l][r] = std::move(fill.paths);
+        continue;
+      }
       SpiralResult spiral = fermatSpiralPaths(layer.regions[r].mesh, sopt);
       if (!spiral.ok() || spiral.paths.empty()) {
         ++unfilledRegions;
@@ -344,8 +379,19 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
     }
   }
   const double spiralMs = msSince(t0);
+  if (isoplanar && !largestJson.empty()) {
+    // The largest region's curve and theta*; totals over every region.
+    Json r = Json::parse(largestJson);
+    r["largest_region_theta_deg"] = r["theta_deg"];
+    r["path_mm"] = isoPath;
+    r["estimated_time_s"] = isoTime;
+    r["deposition_rate_mm3_s"] = isoArea > 0 ? isoRateArea / isoArea : 0.0;
+    r["regions"] = isoRegions;
+    out.isoplanarJson = r.dump();
+  }
   CurvedToolpathOptions topt;
-  topt.lineWidth = lineWidth;
+  topt.lineWidth = isoplanar ? nozzle : lineWidth;
+  topt.ellipseBeads = isoplanar;
   topt.nominalHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
   topt.filamentDiameter = settings.filamentDiameter;
   topt.printSpeed = settings.printSpeed;

@@ -25,6 +25,7 @@ struct VoxelMethodOutput : Outcome {
   std::vector<std::pair<std::string, double>> timingsMs;  // voxelize, peeling, growth, layers,
                                                           // toolpath (pipeline stage names)
   PreviewBuffers preview;    // only the surface and voxel fields are filled
+  std::string isoplanarJson; // fill = isoplanar: the report's "isoplanar" object
 };
 
 // part: the placed, validated solid (min z = 0). Progress stages "voxelize", "peeling", "growth",

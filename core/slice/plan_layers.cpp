@@ -38,6 +38,10 @@ double filamentForBead(double widthMm, double heightMm, double lengthMm, double 
   return bead * lengthMm / filament;
 }
 
+double ellipseBeadFilament(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
+  return widthMm * heightMm * lengthMm / (filamentDiameterMm * filamentDiameterMm);
+}
+
 namespace {
 
 using ClipperLib::Path;
@@ -275,7 +279,10 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       }
 
       // Skin versus sparse: covered by every section within topLayers above and bottomLayers below.
-      const double skinAngle = (i % 2 == 0) ? 45.0 : -45.0;
+      // fill = isoplanar (paper 003 on planar layers): every line of every layer along the drive
+      // direction, which the pipeline put in infillAngleDegrees.
+      const bool isoplanar = settings.fill == "isoplanar";
+      const double skinAngle = isoplanar ? settings.infillAngleDegrees : (i % 2 == 0) ? 45.0 : -45.0;
       const double pct = settings.infillPercent;
       std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
       // Window of layers whose sections must all cover a point for it to be sparse (computed per
@@ -308,8 +315,8 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
           Paths lines;
           if (pct >= 100) {
             lines = fillLines(sparse, {skinAngle}, w, minLine);
-          } else if (settings.infillPattern == InfillPattern::Lines) {
-            const double angle = settings.infillAngleDegrees + (i % 2 == 0 ? 0.0 : 90.0);
+          } else if (settings.infillPattern == InfillPattern::Lines || isoplanar) {
+            const double angle = settings.infillAngleDegrees + (i % 2 == 0 || isoplanar ? 0.0 : 90.0);
             lines = fillLines(sparse, {angle}, w * 100.0 / pct, minLine);
           } else {
             lines = fillLines(sparse, {settings.infillAngleDegrees, settings.infillAngleDegrees + 90.0},

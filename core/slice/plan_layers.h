@@ -17,6 +17,9 @@ namespace omnislice {
 // rectangle with semicircular ends, (w - h) h + pi h^2 / 4, divided by the filament section.
 double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm);
 
+// Paper 003 Eq. 13: the bead an ellipse of width w and height h, (pi / 4) w h L = pi r_m^2 l_m.
+double ellipseBeadFilament(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm);
+
 struct PlanLayersResult : Outcome {
   Toolpath toolpath;
   // Per-layer region breakdown (for reports and tests).

@@ -259,6 +259,8 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
     if (l == 0) {
       s.axis = Vector3d::UnitZ();
       s.height = o.nominalHeight;
+      const double nn = n.norm();
+      if (o.axisFromNormals && nn > 0) s.axis = n / nn;
       return s;
     }
     double best = std::max(0.0, q.z());
@@ -298,6 +300,10 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
       // when q sits on them: the direction of a tiny q - c_q is rounding noise).
       const Vector3d ref = d >= tinyDistance ? Vector3d(t / d) : hint;
       if (n.dot(ref) < 0) n = -n;
+    }
+    if (o.axisFromNormals && nn > 0) {
+      s.axis = n;  // the normal, on the side away from the earlier layers
+      return s;
     }
     if (d >= tinyDistance && (nn == 0 || (t / d).dot(n) >= cosLimit)) {
       s.axis = t / d;
@@ -666,7 +672,10 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
           Move* m = push(target, samples[i].axis, printKind, layer);
           m->width = o.lineWidth;
           m->height = h;
-          m->filament = filamentForBead(o.lineWidth, h, len, o.filamentDiameter);
+          m->filament = o.ellipseBeads
+                            ? ellipseBeadFilament(o.lineWidth, h, len, o.filamentDiameter)
+                            : filamentForBead(o.lineWidth, h, len, o.filamentDiameter);
+          if (path.curves.size() == np) m->curve = path.curves[i];
           m->speed = speed;
           m->feature = feature;
           pos = target;

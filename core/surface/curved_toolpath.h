@@ -33,6 +33,13 @@ struct CurvedToolpathOptions {
   int earlierLayers = 3;            // layers below searched for c_q (Eq. 3)
   double maxTiltDegrees = 180;      // axes leaning from +Z by more are turned toward +Z onto this
                                     // cone (a table's tilt range); 180 = no limit
+  bool axisFromNormals = false;     // true: the nozzle axis is the path's surface normal at every
+                                    // point (paper 003: "aligned with the surface normal"; the
+                                    // paths' normals must point to the nozzle side), on every
+                                    // layer; bead heights are still measured as below
+  bool ellipseBeads = false;        // true: filament per segment by paper 003 Eq. 13, the bead an
+                                    // ellipse of width lineWidth and height h (area pi w h / 4);
+                                    // false: filamentForBead (rectangle with round ends)
   // Gouging correction (paper 001 Section 6.2.3): the nozzle is a cone with its apex at the tip,
   // opening along the axis. A path point collides when a point printed earlier (every <= 0.5 mm
   // of the print moves before it, in print order) lies strictly inside that cone: (p - s).u >
@@ -64,7 +71,8 @@ struct CurvedToolpathResult : Outcome {
 // paths[l][r]: the paths of region r of layer l (same shape as layers). Progress stage "toolpath".
 // Per layer in order, regions nearest-first from the previous end point (distance to the start of
 // the region's first path), paths in the given order; each path: a travel to its start, then one
-// Print move per segment (MoveKind::Support with Feature::Support for support regions).
+// Print move per segment (MoveKind::Support with Feature::Support for support regions; the
+// move's curve = the path's curves[i] for the segment ending at point i, when given).
 // Orientation per point (Eq. 3): axis = normalize(q - c_q), c_q the closest point on the regions
 // of the previous earlierLayers layers or on the platform plane z = 0 (T is printed before every
 // layer); +Z on layer 0. Where |q - c_q| < 0.1 nominalHeight or q - c_q is more than 80 degrees from

@@ -35,6 +35,7 @@
 // branch pair only); surfaces of genus > 0 may yield extra polylines.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <vector>
 
 #include "common/status.h"
@@ -58,6 +59,8 @@ struct SpiralOptions {
 struct SurfacePath {
   std::vector<Eigen::Vector3d> points;
   std::vector<Eigen::Vector3d> normals;
+  std::vector<uint32_t> curves;  // optional, per point: the segment ending at the point lies on
+                                 // iso-planar NL curve curves[i] (1-based; 0 = a join)
 };
 
 struct SpiralResult : Outcome {

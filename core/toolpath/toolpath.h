@@ -29,6 +29,7 @@ struct Move {
   Feature feature = Feature::None;
   int32_t part = 0;                   // part index (multi-directional), 0 otherwise
   int32_t layer = 0;                  // layer index within the print, 0-based
+  uint32_t curve = 0;                 // iso-planar fill: NL curve index, 1-based (0 = none)
 };
 
 struct Toolpath {

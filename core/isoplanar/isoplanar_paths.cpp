@@ -1,0 +1,1155 @@
+// SPDX-License-Identifier: MIT
+// Iso-planar NL curves (paper 003 Algorithm 2): plane sweep over triangles sorted by their span
+// along q, crossings linked per plane, Eq. 12 forward step, Eq. 14 side step (tilt-corrected, see
+// the header), zig-zag ordering and boundary joins; and the printing-time estimate.
+#include "isoplanar/isoplanar_paths.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <string>
+#include <utility>
+
+namespace omnislice {
+namespace isoplanar_detail {
+
+constexpr uint32_t kNone = 0xffffffffu;
+
+// Edges, triangle-edge incidence and ordered boundary loops of the surface.
+struct Topology {
+  std::vector<uint32_t> tris;       // kept (non-degenerate) triangles, 3 vertices each
+  std::vector<uint32_t> triEdge;    // per kept triangle: edges v0v1, v1v2, v2v0
+  std::vector<uint32_t> ea, eb;     // edge endpoints, ea < eb
+  std::vector<uint8_t> faces;       // triangles per edge (saturating)
+  std::vector<std::vector<uint32_t>> loops;  // boundary loops: vertices in order
+  std::vector<std::vector<double>> loopCum;  // arc length at loop vertex i (closed: size m + 1)
+  std::vector<uint8_t> loopClosed;
+  std::vector<uint32_t> edgeLoop, edgeLoopIndex;  // boundary edge -> loop, index of its segment
+  std::vector<uint8_t> edgeForward;                // loop walks the edge from ea to eb
+};
+
+}  // namespace isoplanar_detail
+
+// Direction-independent data of a prepared surface.
+struct IsoplanarSurface::Data {
+  Mesh mesh;
+  std::vector<SurfaceSample> samples;
+  isoplanar_detail::Topology topo;
+  std::vector<Eigen::Matrix3d> tensors;  // shape tensors in the part frame
+  double scale = 0;                      // bounding-box diagonal, mm
+};
+
+namespace {
+
+using isoplanar_detail::kNone;
+using isoplanar_detail::Topology;
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+IsoplanarResult fail(Status s, std::string message) {
+  IsoplanarResult r;
+  r.status = s;
+  r.message = std::move(message);
+  return r;
+}
+
+// Edges and boundary loops. Bit-identical positions are welded first (an unwelded layer mesh
+// cuts like the welded one; indices stay those of the mesh, the first of equal vertices).
+// Edges of more than two triangles are kept (the cut pairs their triangles in order).
+void buildTopology(const Mesh& mesh, Topology& topo) {
+  const size_t nv = mesh.vertexCount();
+  std::vector<uint32_t> canon(nv);
+  {
+    std::vector<uint32_t> byPos(nv);
+    std::iota(byPos.begin(), byPos.end(), 0u);
+    const double* pos = mesh.positions.data();
+    auto less = [pos](uint32_t a, uint32_t b) {
+      for (int k = 0; k < 3; ++k) {
+        if (pos[3 * a + k] != pos[3 * b + k]) return pos[3 * a + k] < pos[3 * b + k];
+      }
+      return a < b;
+    };
+    std::sort(byPos.begin(), byPos.end(), less);
+    std::iota(canon.begin(), canon.end(), 0u);
+    for (size_t i = 1; i < nv; ++i) {
+      const uint32_t v = byPos[i], u = byPos[i - 1];
+      if (pos[3 * v] == pos[3 * u] && pos[3 * v + 1] == pos[3 * u + 1] && pos[3 * v + 2] == pos[3 * u + 2]) {
+        canon[v] = canon[u];
+      }
+    }
+  }
+  for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    const uint32_t a = canon[mesh.triangles[3 * f]], b = canon[mesh.triangles[3 * f + 1]],
+                   c = canon[mesh.triangles[3 * f + 2]];
+    if (a == b || b == c || c == a) continue;
+    topo.tris.insert(topo.tris.end(), {a, b, c});
+  }
+  const size_t nt = topo.tris.size() / 3;
+  // Half-edges bucketed by their smaller vertex (counting sort), edges found within buckets.
+  std::vector<uint32_t> start(nv + 1, 0);
+  for (size_t h = 0; h < 3 * nt; ++h) {
+    const uint32_t a = topo.tris[h], b = topo.tris[h - h % 3 + (h % 3 + 1) % 3];
+    ++start[std::min(a, b) + 1];
+  }
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<uint32_t> fill(start.begin(), start.end() - 1), other(3 * nt), half(3 * nt);
+  for (size_t h = 0; h < 3 * nt; ++h) {
+    const uint32_t a = topo.tris[h], b = topo.tris[h - h % 3 + (h % 3 + 1) % 3];
+    const uint32_t slot = fill[std::min(a, b)]++;
+    other[slot] = std::max(a, b);
+    half[slot] = static_cast<uint32_t>(h);
+  }
+  topo.triEdge.assign(3 * nt, kNone);
+  for (size_t v = 0; v < nv; ++v) {
+    for (uint32_t s = start[v]; s < start[v + 1]; ++s) {
+      uint32_t edge = kNone;
+      for (uint32_t r = start[v]; r < s; ++r) {
+        if (other[r] == other[s]) {
+          edge = topo.triEdge[half[r]];
+          break;
+        }
+      }
+      if (edge == kNone) {
+        edge = static_cast<uint32_t>(topo.ea.size());
+        topo.ea.push_back(static_cast<uint32_t>(v));
+        topo.eb.push_back(other[s]);
+        topo.faces.push_back(0);
+      }
+      topo.triEdge[half[s]] = edge;
+      if (topo.faces[edge] < 255) ++topo.faces[edge];
+    }
+  }
+  // Boundary loops.
+  const size_t ne = topo.ea.size();
+  std::vector<uint32_t> bstart(nv + 1, 0);
+  for (size_t e = 0; e < ne; ++e) {
+    if (topo.faces[e] != 1) continue;
+    ++bstart[topo.ea[e] + 1];
+    ++bstart[topo.eb[e] + 1];
+  }
+  for (size_t v = 0; v < nv; ++v) bstart[v + 1] += bstart[v];
+  std::vector<uint32_t> bfill(bstart.begin(), bstart.end() - 1), bedges(bstart[nv]);
+  for (size_t e = 0; e < ne; ++e) {
+    if (topo.faces[e] != 1) continue;
+    bedges[bfill[topo.ea[e]]++] = static_cast<uint32_t>(e);
+    bedges[bfill[topo.eb[e]]++] = static_cast<uint32_t>(e);
+  }
+  topo.edgeLoop.assign(ne, kNone);
+  topo.edgeLoopIndex.assign(ne, 0);
+  topo.edgeForward.assign(ne, 0);
+  std::vector<uint8_t> used(ne, 0);
+  auto vertexOf = [&](uint32_t v) { return mesh.vertex(v); };
+  for (size_t e0 = 0; e0 < ne; ++e0) {
+    if (topo.faces[e0] != 1 || used[e0]) continue;
+    used[e0] = 1;
+    const uint32_t first = topo.ea[e0];
+    std::vector<uint32_t> verts{first}, edges{static_cast<uint32_t>(e0)};
+    uint32_t cur = topo.eb[e0];
+    bool closed = false;
+    for (;;) {
+      if (cur == first) {
+        closed = true;
+        break;
+      }
+      verts.push_back(cur);
+      uint32_t next = kNone;
+      for (uint32_t s = bstart[cur]; s < bstart[cur + 1]; ++s) {
+        if (!used[bedges[s]]) {
+          next = bedges[s];
+          break;
+        }
+      }
+      if (next == kNone) break;
+      used[next] = 1;
+      edges.push_back(next);
+      cur = topo.ea[next] == cur ? topo.eb[next] : topo.ea[next];
+    }
+    const uint32_t id = static_cast<uint32_t>(topo.loops.size());
+    std::vector<double> cum(edges.size() + 1, 0.0);
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const uint32_t e = edges[i];
+      topo.edgeLoop[e] = id;
+      topo.edgeLoopIndex[e] = static_cast<uint32_t>(i);
+      topo.edgeForward[e] = verts[i] == topo.ea[e] ? 1 : 0;
+      cum[i + 1] = cum[i] + (vertexOf(topo.ea[e]) - vertexOf(topo.eb[e])).norm();
+    }
+    topo.loops.push_back(std::move(verts));
+    topo.loopCum.push_back(std::move(cum));
+    topo.loopClosed.push_back(closed ? 1 : 0);
+  }
+}
+
+// One crossing of the current plane with a mesh edge.
+struct Node {
+  uint32_t edge = 0;
+  double t = 0;  // from ea to eb
+  Eigen::Vector3d p{0, 0, 0};
+  uint32_t adj[2] = {kNone, kNone};
+};
+
+// Geometry of a crossing for the width and the forward step.
+struct PointEval {
+  Eigen::Vector3d normal{0, 0, 1};
+  double kappaFeed = 0;   // normal curvature along f
+  double kappaCross = 0;  // normal curvature along k
+  double height = 0;
+  double cross = 1;       // |k.q| = |n x q|
+  double width = 0;       // w_eff
+};
+
+// A monotone stand-in for atan2(y, x) on (-pi, pi], values in [-2, 2] (no trigonometry).
+double pseudoAngle(double x, double y) {
+  const double ax = std::abs(x), ay = std::abs(y);
+  if (ax + ay == 0) return 0;
+  const double t = x >= 0 ? ay / (ax + ay) : 2 - ay / (ax + ay);
+  return y >= 0 ? t : -t;
+}
+
+struct Planner {
+  const Mesh& mesh;
+  const std::vector<SurfaceSample>& samples;
+  const WidthFn& widthFn;
+  const IsoplanarOptions& options;
+  const Topology& topo;
+  const std::vector<Eigen::Matrix3d>& tensors;
+  std::vector<double> dist;  // q.x per vertex
+  Eigen::Vector3d q{0, 1, 0}, u{1, 0, 0};
+  // Per-plane scratch.
+  std::vector<uint32_t> edgeStamp, edgeNode;
+  std::vector<Node> nodes;
+  std::vector<uint8_t> visited;
+  uint32_t stamp = 0;
+  std::string error;
+
+  Planner(const IsoplanarSurface::Data& d, const WidthFn& w, const IsoplanarOptions& o)
+      : mesh(d.mesh), samples(d.samples), widthFn(w), options(o), topo(d.topo), tensors(d.tensors) {}
+
+  // Crossings of the plane q.x = c with the given triangles, linked.
+  void cut(double c, const std::vector<uint32_t>& crossed) {
+    ++stamp;
+    nodes.clear();
+    // The node of edge e with a free link; an edge of more than two triangles gets a further
+    // node (same point) once its node has two links.
+    auto nodeOf = [&](uint32_t e) {
+      if (edgeStamp[e] == stamp && nodes[edgeNode[e]].adj[1] == kNone) return edgeNode[e];
+      edgeStamp[e] = stamp;
+      const uint32_t id = static_cast<uint32_t>(nodes.size());
+      edgeNode[e] = id;
+      Node n;
+      n.edge = e;
+      const uint32_t a = topo.ea[e], b = topo.eb[e];
+      const double da = dist[a], db = dist[b];
+      n.t = std::clamp((c - da) / (db - da), 0.0, 1.0);
+      n.p = (1 - n.t) * mesh.vertex(a) + n.t * mesh.vertex(b);
+      nodes.push_back(n);
+      return id;
+    };
+    for (uint32_t k : crossed) {
+      const uint32_t* v = &topo.tris[3 * k];
+      const bool above[3] = {dist[v[0]] >= c, dist[v[1]] >= c, dist[v[2]] >= c};
+      uint32_t ends[2];
+      int count = 0;
+      for (int j = 0; j < 3; ++j) {
+        if (above[j] != above[(j + 1) % 3] && count < 2) ends[count++] = nodeOf(topo.triEdge[3 * k + j]);
+      }
+      if (count != 2) continue;
+      Node& n0 = nodes[ends[0]];
+      (n0.adj[0] == kNone ? n0.adj[0] : n0.adj[1]) = ends[1];
+      Node& n1 = nodes[ends[1]];
+      (n1.adj[0] == kNone ? n1.adj[0] : n1.adj[1]) = ends[0];
+    }
+  }
+
+  // Connected components of the linked crossings: node sequences (closed loops not repeated).
+  void components(std::vector<std::vector<uint32_t>>& out, std::vector<uint8_t>& closed) {
+    out.clear();
+    closed.clear();
+    visited.assign(nodes.size(), 0);
+    auto walk = [&](uint32_t n0) {
+      std::vector<uint32_t> seq{n0};
+      visited[n0] = 1;
+      uint32_t cur = n0;
+      for (;;) {
+        uint32_t next = kNone;
+        for (uint32_t a : nodes[cur].adj) {
+          if (a != kNone && !visited[a]) {
+            next = a;
+            break;
+          }
+        }
+        if (next == kNone) break;
+        visited[next] = 1;
+        seq.push_back(next);
+        cur = next;
+      }
+      const Node& last = nodes[cur];
+      const bool loop = seq.size() >= 3 && (last.adj[0] == n0 || last.adj[1] == n0);
+      out.push_back(std::move(seq));
+      closed.push_back(loop ? 1 : 0);
+    };
+    for (uint32_t n = 0; n < nodes.size(); ++n) {
+      if (!visited[n] && (nodes[n].adj[0] == kNone) != (nodes[n].adj[1] == kNone)) walk(n);
+    }
+    for (uint32_t n = 0; n < nodes.size(); ++n) {
+      if (!visited[n]) walk(n);
+    }
+  }
+
+  // Local geometry and w_eff at a point on edge e at t. False when the width is unusable.
+  bool evaluate(uint32_t e, double t, PointEval& out) {
+    const uint32_t a = topo.ea[e], b = topo.eb[e];
+    Eigen::Vector3d n = (1 - t) * samples[a].normal + t * samples[b].normal;
+    const double len = n.norm();
+    n = len > 1e-12 ? Eigen::Vector3d(n / len) : samples[t < 0.5 ? a : b].normal.normalized();
+    const Eigen::Matrix3d tensor = (1 - t) * tensors[a] + t * tensors[b];
+    const Eigen::Vector3d nq = n.cross(q);
+    const double cross = nq.norm();
+    Eigen::Vector3d f, k;
+    if (cross > 1e-9) {
+      f = nq / cross;
+    } else {  // plane tangent to the surface: any tangent direction in the plane
+      f = n.cross(u).normalized();
+    }
+    k = n.cross(f);
+    out.normal = n;
+    out.kappaFeed = f.dot(tensor * f);
+    out.kappaCross = k.dot(tensor * k);
+    out.height = (1 - t) * samples[a].height + t * samples[b].height;
+    out.cross = cross;
+    out.width = widthFn(out.kappaCross, out.height);
+    if (!(std::isfinite(out.width) && out.width > 0)) {
+      error = "effective width " + std::to_string(out.width) + " at curvature " +
+              std::to_string(out.kappaCross) + ", height " + std::to_string(out.height) +
+              " is not positive";
+      return false;
+    }
+    return true;
+  }
+
+  // Forward step of Eq. 12 at a point.
+  double forwardLimit(const PointEval& pe) const {
+    const double dc = options.chordError;
+    double lf = kInf;
+    const double kf = std::abs(pe.kappaFeed);
+    if (kf > 1e-12) {
+      const double r = 1 / kf;
+      const double s = 8 * dc * r - 4 * dc * dc;
+      lf = s > 0 ? std::sqrt(s) : 0.0;
+    }
+    if (options.maxStep > 0) lf = std::min(lf, options.maxStep);
+    return lf;
+  }
+
+  // Samples the raw crossing sequence (points P, closed: P.back() == P.front()) into kept indices.
+  void sample(const std::vector<Eigen::Vector3d>& pts, const std::vector<PointEval>& evals,
+              std::vector<uint32_t>& keep) const {
+    keep.clear();
+    const size_t m = pts.size();
+    if (m == 0) return;
+    keep.push_back(0);
+    const double dc = options.chordError;
+    size_t i = 0;
+    while (i + 1 < m) {
+      const double lf = forwardLimit(evals[i]);
+      // Drive-plane coordinates (the curve is planar): x along u, y along z.
+      auto planar = [&](size_t j) {
+        const Eigen::Vector3d d = pts[j] - pts[i];
+        return Eigen::Vector2d(d.dot(u), d.z());
+      };
+      size_t best = i + 1;
+      // Cone of chord directions passing within dc of every intermediate point (angles
+      // relative to `ref`), plus the farthest intermediate distance for the segment ends.
+      bool haveRef = false;
+      Eigen::Vector2d ref(1, 0);
+      double lo = -kInf, hi = kInf, far = 0;
+      for (size_t j = i + 1; j < m; ++j) {
+        const Eigen::Vector2d d = planar(j);
+        const double len = d.norm();
+        if (j > i + 1) {
+          if (len > lf) break;
+          // Is pts[j] a valid chord end? Its direction must lie in the cone.
+          bool ok = true;
+          if (len > 0) {
+            if (!haveRef) {
+              ref = d / len;
+              haveRef = true;
+            }
+            const double ang = pseudoAngle(ref.dot(d), ref.x() * d.y() - ref.y() * d.x());
+            ok = ang >= lo && ang <= hi;
+          }
+          if (ok && far > len) {  // an intermediate point beyond the chord's end: check exactly
+            for (size_t k = i + 1; k < j && ok; ++k) {
+              const Eigen::Vector3d ab = pts[j] - pts[i];
+              const double l2 = ab.squaredNorm();
+              const double tt = l2 > 0 ? std::clamp((pts[k] - pts[i]).dot(ab) / l2, 0.0, 1.0) : 0.0;
+              ok = (pts[k] - (pts[i] + tt * ab)).norm() <= dc;
+            }
+          }
+          if (!ok) break;
+          best = j;
+        }
+        // Add pts[j] as an intermediate constraint for farther chord ends.
+        far = std::max(far, len);
+        if (len > dc) {
+          if (!haveRef) {
+            ref = d / len;
+            haveRef = true;
+          }
+          // The directions within asin(dc / len) of pts[j]'s: its direction (relative to ref)
+          // rotated both ways, mapped by the monotone pseudo-angle.
+          const double x = ref.dot(d) / len, y = (ref.x() * d.y() - ref.y() * d.x()) / len;
+          const double sn = dc / len, cs = std::sqrt(std::max(0.0, 1 - sn * sn));
+          const double a0 = pseudoAngle(x * cs + y * sn, y * cs - x * sn);
+          const double a1 = pseudoAngle(x * cs - y * sn, y * cs + x * sn);
+          if (a0 > a1) break;  // the interval wraps past -pi/pi: the curve turns back
+          lo = std::max(lo, a0);
+          hi = std::min(hi, a1);
+          if (lo > hi) break;
+        }
+      }
+      if ((pts[best] - pts[keep.back()]).norm() > 1e-12 || best + 1 == m) {
+        if ((pts[best] - pts[keep.back()]).norm() <= 1e-12 && keep.size() > 1) keep.pop_back();
+        keep.push_back(static_cast<uint32_t>(best));
+      }
+      i = best;
+    }
+  }
+};
+
+double polylineLength(const std::vector<Eigen::Vector3d>& p) {
+  double l = 0;
+  for (size_t i = 1; i < p.size(); ++i) l += (p[i] - p[i - 1]).norm();
+  return l;
+}
+
+}  // namespace
+
+IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
+                                         const std::vector<SurfaceSample>& samples) {
+  const auto t0 = std::chrono::steady_clock::now();
+  IsoplanarSurface out;
+  auto bad = [&](Status st, std::string message) {
+    out.status = st;
+    out.message = std::move(message);
+    out.data.reset();
+    return out;
+  };
+  if (surface.empty() || surface.vertexCount() == 0) return bad(Status::EmptyInput, "empty surface");
+  if (surface.triangles.size() % 3 != 0 || surface.positions.size() % 3 != 0) {
+    return bad(Status::InvalidOption, "mesh arrays are not multiples of 3");
+  }
+  if (samples.size() != surface.vertexCount()) {
+    return bad(Status::InvalidOption, "samples: " + std::to_string(samples.size()) + " for " +
+                                          std::to_string(surface.vertexCount()) +
+                                          " vertices (one per vertex expected)");
+  }
+  const size_t nv = surface.vertexCount();
+  for (double x : surface.positions) {
+    if (!std::isfinite(x)) return bad(Status::NonFiniteVertex, "non-finite vertex coordinate");
+  }
+  for (uint32_t v : surface.triangles) {
+    if (v >= nv) return bad(Status::InvalidOption, "triangle index out of range");
+  }
+  for (const SurfaceSample& s : samples) {
+    if (!s.normal.allFinite() || !s.shape.allFinite() || !s.tangentU.allFinite() ||
+        !s.tangentV.allFinite() || !std::isfinite(s.height) || s.normal.norm() < 1e-12) {
+      return bad(Status::NonFiniteVertex, "a surface sample is not finite or has no normal");
+    }
+  }
+  auto data = std::make_shared<IsoplanarSurface::Data>();
+  data->mesh = surface;
+  data->samples = samples;
+  buildTopology(surface, data->topo);
+  if (data->topo.tris.empty()) return bad(Status::EmptyInput, "no non-degenerate triangles");
+  data->tensors.resize(nv);
+  for (size_t v = 0; v < nv; ++v) {
+    Eigen::Matrix<double, 3, 2> basis;
+    basis.col(0) = samples[v].tangentU;
+    basis.col(1) = samples[v].tangentV;
+    data->tensors[v] = basis * samples[v].shape * basis.transpose();
+  }
+  const BoundingBox box = boundingBox(surface);
+  data->scale = (box.max - box.min).norm();
+  out.data = std::move(data);
+  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
+                               const WidthFn& width, const IsoplanarOptions& options,
+                               const ProgressFn& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const IsoplanarSurface prepared = prepareIsoplanarSurface(surface, samples);
+  if (!prepared.ok()) return fail(prepared.status, prepared.message);
+  IsoplanarResult r = isoplanarPaths(prepared, width, options, progress);
+  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& width,
+                               const IsoplanarOptions& options, const ProgressFn& progress) {
+  const auto t0 = std::chrono::steady_clock::now();
+  if (!prepared.ok() || !prepared.data) {
+    return fail(prepared.ok() ? Status::EmptyInput : prepared.status,
+                prepared.message.empty() ? "surface not prepared" : prepared.message);
+  }
+  if (!width) return fail(Status::InvalidOption, "no width function");
+  if (!std::isfinite(options.thetaDegrees)) return fail(Status::InvalidOption, "theta is not finite");
+  if (!(std::isfinite(options.chordError) && options.chordError > 0)) {
+    return fail(Status::InvalidOption, "chord error must be positive and finite");
+  }
+  if (!(std::isfinite(options.maxStep) && options.maxStep >= 0)) {
+    return fail(Status::InvalidOption, "max step must be >= 0 and finite");
+  }
+  if (!(std::isfinite(options.minCross) && options.minCross > 0 && options.minCross <= 1)) {
+    return fail(Status::InvalidOption, "minCross must be in (0, 1]");
+  }
+  if (!(std::isfinite(options.connectFactor) && options.connectFactor >= 0)) {
+    return fail(Status::InvalidOption, "connect factor must be >= 0 and finite");
+  }
+  const IsoplanarSurface::Data& data = *prepared.data;
+  const Mesh& surface = data.mesh;
+  const std::vector<SurfaceSample>& samples = data.samples;
+  const size_t nv = surface.vertexCount();
+  Planner pl(data, width, options);
+  const size_t nt = pl.topo.tris.size() / 3;
+  const double theta = options.thetaDegrees * M_PI / 180.0;
+  pl.q = Eigen::Vector3d(-std::sin(theta), std::cos(theta), 0);
+  pl.u = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
+  pl.dist.resize(nv);
+  for (size_t v = 0; v < nv; ++v) pl.dist[v] = pl.q.dot(surface.vertex(v));
+  pl.edgeStamp.assign(pl.topo.ea.size(), 0);
+  pl.edgeNode.assign(pl.topo.ea.size(), 0);
+
+  // Triangles sorted by the low end of their span along q.
+  std::vector<double> lo(nt), hi(nt);
+  double dmin = kInf, dmax = -kInf;
+  for (size_t k = 0; k < nt; ++k) {
+    const uint32_t* v = &pl.topo.tris[3 * k];
+    lo[k] = std::min({pl.dist[v[0]], pl.dist[v[1]], pl.dist[v[2]]});
+    hi[k] = std::max({pl.dist[v[0]], pl.dist[v[1]], pl.dist[v[2]]});
+    dmin = std::min(dmin, lo[k]);
+    dmax = std::max(dmax, hi[k]);
+  }
+  std::vector<std::pair<double, uint32_t>> sorted(nt);
+  for (uint32_t k = 0; k < nt; ++k) sorted[k] = {lo[k], k};
+  std::sort(sorted.begin(), sorted.end());
+  std::vector<uint32_t> order(nt);
+  for (size_t k = 0; k < nt; ++k) order[k] = sorted[k].second;
+  const double extent = dmax - dmin;
+  IsoplanarResult result;
+  const double scale = data.scale;
+  if (!(extent > 1e-9 * std::max(scale, 1e-9))) {
+    // The surface lies in one drive plane: no curve (not an error).
+    result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return result;
+  }
+  const double eps = 1e-9 * std::max(extent, scale);
+
+  // ---- One plane: curves (unordered components), their raw evaluations, the side step. ----
+  struct RawCurve {
+    std::vector<uint32_t> nodes;
+    bool closed = false;
+    double uMean = 0;
+  };
+  std::vector<std::vector<uint32_t>> comps;
+  std::vector<uint8_t> compClosed;
+  std::vector<RawCurve> raw;
+  // Evaluate every crossing: min over the plane's points of w_eff |k.q| (floored).
+  std::vector<PointEval> nodeEval;
+  auto planeStep = [&](double& step) -> bool {
+    nodeEval.resize(pl.nodes.size());
+    step = kInf;
+    for (size_t n = 0; n < pl.nodes.size(); ++n) {
+      if (!pl.evaluate(pl.nodes[n].edge, pl.nodes[n].t, nodeEval[n])) return false;
+      step = std::min(step, nodeEval[n].width * std::max(nodeEval[n].cross, options.minCross));
+    }
+    return true;
+  };
+  std::vector<uint32_t> crossed;
+  auto scanPlane = [&](double c) {
+    crossed.clear();
+    for (uint32_t k = 0; k < nt; ++k) {
+      if (lo[k] < c && hi[k] >= c) crossed.push_back(k);
+    }
+    pl.cut(c, crossed);
+  };
+
+  // First plane half a step inside the extreme (fixed point on the step of its own curve).
+  double c = dmin + 0.5 * std::max(width(0.0, samples[0].height), 1e-6 * extent);
+  if (!(std::isfinite(c))) c = dmin + 0.01 * extent;
+  double step = 0;
+  for (int it = 0; it < 4; ++it) {
+    c = std::min(c, dmin + 0.5 * extent);
+    scanPlane(c);
+    if (!planeStep(step)) return fail(Status::InvalidOption, pl.error);
+    if (pl.nodes.empty()) break;
+    const double cn = std::min(dmin + 0.5 * step, dmin + 0.5 * extent);
+    if (std::abs(cn - c) <= eps) break;
+    c = cn;
+  }
+
+  // Sweep. Curves go to a pool per plane (ascending u, open curves oriented along +u, loops
+  // counter-clockwise in (u, z)); the print order is decided afterwards.
+  struct PoolCurve {
+    NlCurve curve;            // sampled (open curves); loops are sampled once their start is known
+    std::vector<Node> raw;    // loops: the crossings (not repeated), oriented
+    std::vector<PointEval> rawEval;
+    uint32_t firstEdge = kNone, lastEdge = kNone;  // raw edges of the ends (open curves)
+    double firstT = 0, lastT = 0;
+    double step = 0;          // the side step computed on its plane
+    size_t plane = 0;         // index among the planes with curves
+  };
+  std::vector<PoolCurve> pool;
+  std::vector<std::vector<uint32_t>> planeCurves;
+  std::vector<uint32_t> active;
+  size_t next = 0;
+  std::vector<double> planeOffsets;
+  std::vector<Eigen::Vector3d> pts;
+  std::vector<PointEval> evals;
+  std::vector<uint32_t> keep;
+  double lastStep = step > 0 && std::isfinite(step) ? step : 0.01 * extent;
+  size_t planeIndex = 0;
+  bool atEnd = false;
+  uint32_t shortened = kNone;  // index in planeOffsets of the offset to the last plane
+  const size_t maxPlanes = 2000000;
+  // Samples a crossing sequence (closed: first repeated last) into a curve.
+  auto buildCurve = [&](const std::vector<Node>& ns, const std::vector<PointEval>& ev, bool closed,
+                        double plane, PoolCurve& out) {
+    pts.clear();
+    for (const Node& n : ns) pts.push_back(n.p);
+    pl.sample(pts, ev, keep);
+    if (closed && keep.size() < 4) {  // a loop within the chord error: keep every crossing
+      keep.resize(pts.size());
+      std::iota(keep.begin(), keep.end(), 0u);
+    }
+    NlCurve& curve = out.curve;
+    curve = NlCurve();
+    curve.plane = plane;
+    curve.closed = closed;
+    for (uint32_t i : keep) {
+      const Node& nd = ns[i];
+      curve.points.push_back(nd.p);
+      curve.normals.push_back(ev[i].normal);
+      uint32_t ea = pl.topo.ea[nd.edge], eb = pl.topo.eb[nd.edge];
+      float t = static_cast<float>(nd.t);
+      if (nd.t <= 0) {
+        eb = ea;
+        t = 0;
+      } else if (nd.t >= 1) {
+        ea = eb;
+        t = 0;
+      }
+      curve.edgeA.push_back(ea);
+      curve.edgeB.push_back(eb);
+      curve.edgeT.push_back(t);
+      curve.width.push_back(ev[i].width);
+    }
+    if (!keep.empty()) {
+      out.firstEdge = ns[keep.front()].edge;
+      out.firstT = ns[keep.front()].t;
+      out.lastEdge = ns[keep.back()].edge;
+      out.lastT = ns[keep.back()].t;
+    }
+  };
+  std::vector<Node> nodeSeq;
+  for (;;) {
+    while (next < nt && lo[order[next]] < c) active.push_back(order[next++]);
+    size_t w = 0;
+    for (uint32_t k : active) {
+      if (hi[k] >= c) active[w++] = k;
+    }
+    active.resize(w);
+    if (active.empty()) {
+      if (next >= nt) break;
+      c = std::max(c + eps, lo[order[next]] + 0.5 * lastStep);
+      continue;
+    }
+    pl.cut(c, active);
+    if (!planeStep(step)) return fail(Status::InvalidOption, pl.error);
+    if (pl.nodes.empty()) {
+      if (next >= nt) break;
+      c = std::max(c + eps, lo[order[next]] + 0.5 * lastStep);
+      continue;
+    }
+    if (!(step > 1e-9 * extent) || extent / step > static_cast<double>(maxPlanes)) {
+      return fail(Status::InvalidOption, "side step " + std::to_string(step) +
+                                             " mm is too small for the surface's extent");
+    }
+    lastStep = step;
+    pl.components(comps, compClosed);
+    raw.clear();
+    for (size_t i = 0; i < comps.size(); ++i) {
+      RawCurve rc;
+      rc.nodes = std::move(comps[i]);
+      rc.closed = compClosed[i] != 0;
+      double su = 0;
+      for (uint32_t n : rc.nodes) su += pl.u.dot(pl.nodes[n].p);
+      rc.uMean = su / static_cast<double>(rc.nodes.size());
+      raw.push_back(std::move(rc));
+    }
+    std::sort(raw.begin(), raw.end(),
+              [](const RawCurve& x, const RawCurve& y) { return x.uMean < y.uMean; });
+    std::vector<uint32_t> thisPlane;
+    for (RawCurve& rc : raw) {
+      std::vector<uint32_t>& ns = rc.nodes;
+      PoolCurve pc;
+      pc.step = step;
+      pc.plane = planeCurves.size();
+      if (!rc.closed) {
+        const double u0 = pl.u.dot(pl.nodes[ns.front()].p), u1 = pl.u.dot(pl.nodes[ns.back()].p);
+        if (u0 > u1) std::reverse(ns.begin(), ns.end());
+        nodeSeq.clear();
+        evals.clear();
+        for (uint32_t n : ns) {
+          nodeSeq.push_back(pl.nodes[n]);
+          evals.push_back(nodeEval[n]);
+        }
+        buildCurve(nodeSeq, evals, false, c, pc);
+        // A plane touching the surface at a point.
+        if (pc.curve.points.size() < 2 || polylineLength(pc.curve.points) <= 1e-12) continue;
+      } else {
+        double area = 0;
+        for (size_t i = 0; i < ns.size(); ++i) {
+          const Eigen::Vector3d& pa = pl.nodes[ns[i]].p;
+          const Eigen::Vector3d& pb = pl.nodes[ns[(i + 1) % ns.size()]].p;
+          area += pl.u.dot(pa) * pb.z() - pl.u.dot(pb) * pa.z();
+        }
+        if (area < 0) std::reverse(ns.begin(), ns.end());
+        for (uint32_t n : ns) {
+          pc.raw.push_back(pl.nodes[n]);
+          pc.rawEval.push_back(nodeEval[n]);
+        }
+        pc.curve.plane = c;
+        pc.curve.closed = true;
+      }
+      thisPlane.push_back(static_cast<uint32_t>(pool.size()));
+      pool.push_back(std::move(pc));
+    }
+    if (!thisPlane.empty()) planeCurves.push_back(std::move(thisPlane));
+    ++planeIndex;
+    // Last plane: its bead reaches the far extreme, or it was placed half a step before it.
+    if (atEnd || c + 0.5 * step >= dmax - eps) {
+      planeOffsets.push_back(0);
+      break;
+    }
+    double cn = c + step;
+    if (cn >= dmax - 0.5 * step - eps) {
+      cn = dmax - 0.5 * step;
+      atEnd = true;
+      shortened = static_cast<uint32_t>(planeOffsets.size());
+    }
+    planeOffsets.push_back(cn - c);
+    for (size_t i = pool.size(); i-- > 0 && pool[i].curve.plane == c;) pool[i].curve.sideStep = cn - c;
+    c = cn;
+    if (!reportProgress(progress, "paths", std::clamp((c - dmin) / extent, 0.0, 1.0))) {
+      return fail(Status::Cancelled, "cancelled");
+    }
+    if (planeIndex > maxPlanes) return fail(Status::InvalidOption, "too many drive planes");
+  }
+  result.planes = planeIndex;
+  {
+    // The offset to the last plane is shortened to land it half a step before the far extreme:
+    // left out of the range unless it is the only one.
+    if (shortened != kNone && planeOffsets.size() > 2) planeOffsets[shortened] = 0;
+    double mn = kInf, mx = 0;
+    for (double o : planeOffsets) {
+      if (o > 0) {
+        mn = std::min(mn, o);
+        mx = std::max(mx, o);
+      }
+    }
+    if (mn == kInf) mn = mx = result.planes > 0 ? lastStep : 0;
+    result.minSideStep = mn;
+    result.maxSideStep = mx;
+  }
+
+  // ---- Print order: boustrophedon chains joined along the boundary. ----
+  // A curve end as a boundary-loop position: loop, segment index, arc position.
+  struct LoopPos {
+    uint32_t loop = kNone;
+    uint32_t index = 0;
+    double s = 0;
+  };
+  auto loopPos = [&](uint32_t e, double t) -> LoopPos {
+    LoopPos lp;
+    if (e == kNone || pl.topo.edgeLoop[e] == kNone) return lp;
+    lp.loop = pl.topo.edgeLoop[e];
+    lp.index = pl.topo.edgeLoopIndex[e];
+    const std::vector<double>& cum = pl.topo.loopCum[lp.loop];
+    const double len = cum[lp.index + 1] - cum[lp.index];
+    lp.s = cum[lp.index] + (pl.topo.edgeForward[e] ? t : 1 - t) * len;
+    return lp;
+  };
+  auto vertexNormal = [&](uint32_t v) { return samples[v].normal.normalized(); };
+  // An end of a curve: position, normal, edge fields, raw edge.
+  struct End {
+    Eigen::Vector3d p{0, 0, 0}, n{0, 0, 1};
+    uint32_t a = 0, b = 0;
+    float t = 0;
+    uint32_t edge = kNone;
+    double rawT = 0;
+  };
+  auto endOf = [](const PoolCurve& pc, bool last) {
+    const NlCurve& cv = pc.curve;
+    const size_t i = last ? cv.points.size() - 1 : 0;
+    End e;
+    e.p = cv.points[i];
+    e.n = cv.normals[i];
+    e.a = cv.edgeA[i];
+    e.b = cv.edgeB[i];
+    e.t = cv.edgeT[i];
+    e.edge = last ? pc.lastEdge : pc.firstEdge;
+    e.rawT = last ? pc.lastT : pc.firstT;
+    return e;
+  };
+  // Length of the boundary walk from `from` to `to` (infinite when not on one loop); fills
+  // `join` when given.
+  auto boundaryWalk = [&](const End& from, const End& to, IsoplanarJoin* join) -> double {
+    const LoopPos pa = loopPos(from.edge, from.rawT), pb = loopPos(to.edge, to.rawT);
+    if (pa.loop == kNone || pa.loop != pb.loop) return kInf;
+    const std::vector<uint32_t>& loopV = pl.topo.loops[pa.loop];
+    const std::vector<double>& cum = pl.topo.loopCum[pa.loop];
+    const bool closedLoop = pl.topo.loopClosed[pa.loop] != 0;
+    const double perimeter = cum.back();
+    const size_t segs = cum.size() - 1;
+    double fwd = pb.s - pa.s, bwd = pa.s - pb.s;
+    if (closedLoop) {
+      if (fwd < 0) fwd += perimeter;
+      bwd = perimeter - fwd;
+    } else {
+      if (fwd < 0) fwd = kInf;
+      if (bwd < 0) bwd = kInf;
+    }
+    const bool forward = fwd <= bwd;
+    const double arc = forward ? fwd : bwd;
+    if (!join) return arc;
+    auto push = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n, uint32_t ea, uint32_t eb,
+                    float t) {
+      if (!join->points.empty() && (join->points.back() - p).norm() <= 1e-12) return;
+      join->points.push_back(p);
+      join->normals.push_back(n);
+      join->edgeA.push_back(ea);
+      join->edgeB.push_back(eb);
+      join->edgeT.push_back(t);
+    };
+    push(from.p, from.n, from.a, from.b, from.t);
+    const bool sameSeg =
+        pa.index == pb.index && ((forward && pb.s >= pa.s) || (!forward && pb.s <= pa.s));
+    if (!sameSeg) {
+      const size_t m = loopV.size();
+      if (forward) {
+        size_t k = pa.index + 1;
+        for (size_t guard = 0; guard <= segs; ++guard, ++k) {
+          const uint32_t v = loopV[k % m];
+          push(surface.vertex(v), vertexNormal(v), v, v, 0);
+          if (k % m == pb.index % m) break;
+        }
+      } else {
+        size_t k = pa.index;
+        for (size_t guard = 0; guard <= segs; ++guard) {
+          const uint32_t v = loopV[k % m];
+          push(surface.vertex(v), vertexNormal(v), v, v, 0);
+          if (k % m == (pb.index + 1) % m) break;
+          k = (k + m - 1) % m;
+        }
+      }
+    }
+    // The walk ends exactly at the next curve's start (a boundary vertex it meets is dropped).
+    if (join->points.size() > 1 && (join->points.back() - to.p).norm() <= 1e-12) {
+      join->points.pop_back();
+      join->normals.pop_back();
+      join->edgeA.pop_back();
+      join->edgeB.pop_back();
+      join->edgeT.pop_back();
+    }
+    push(to.p, to.n, to.a, to.b, to.t);
+    if (join->points.size() < 2) {  // the curves meet at one point: a zero-length join
+      join->points.push_back(to.p);
+      join->normals.push_back(to.n);
+      join->edgeA.push_back(to.a);
+      join->edgeB.push_back(to.b);
+      join->edgeT.push_back(to.t);
+    }
+    join->length = polylineLength(join->points);
+    return arc;
+  };
+  // The raw crossing of a loop nearest to a point.
+  auto nearestRaw = [](const PoolCurve& pc, const Eigen::Vector3d& p, double& d) {
+    size_t best = 0;
+    double bd = kInf;
+    for (size_t i = 0; i < pc.raw.size(); ++i) {
+      const double di = (pc.raw[i].p - p).squaredNorm();
+      if (di < bd) {
+        bd = di;
+        best = i;
+      }
+    }
+    d = std::sqrt(bd);
+    return best;
+  };
+  // Makes a pool curve start at its end `atEnd` (open: reverse when true) or, for a loop, at its
+  // raw crossing `start`, and samples loops.
+  auto orient = [&](PoolCurve& pc, bool reverse, size_t start) {
+    if (!pc.curve.closed) {
+      if (!reverse) return;
+      NlCurve& cv = pc.curve;
+      std::reverse(cv.points.begin(), cv.points.end());
+      std::reverse(cv.normals.begin(), cv.normals.end());
+      std::reverse(cv.edgeA.begin(), cv.edgeA.end());
+      std::reverse(cv.edgeB.begin(), cv.edgeB.end());
+      std::reverse(cv.edgeT.begin(), cv.edgeT.end());
+      std::reverse(cv.width.begin(), cv.width.end());
+      std::swap(pc.firstEdge, pc.lastEdge);
+      std::swap(pc.firstT, pc.lastT);
+      return;
+    }
+    std::vector<Node> ns(pc.raw.begin() + static_cast<std::ptrdiff_t>(start), pc.raw.end());
+    ns.insert(ns.end(), pc.raw.begin(), pc.raw.begin() + static_cast<std::ptrdiff_t>(start));
+    std::vector<PointEval> ev(pc.rawEval.begin() + static_cast<std::ptrdiff_t>(start), pc.rawEval.end());
+    ev.insert(ev.end(), pc.rawEval.begin(), pc.rawEval.begin() + static_cast<std::ptrdiff_t>(start));
+    ns.push_back(ns.front());
+    ev.push_back(ev.front());
+    const double side = pc.curve.sideStep;
+    buildCurve(ns, ev, true, pc.curve.plane, pc);
+    pc.curve.sideStep = side;
+  };
+
+  std::vector<uint8_t> printed(pool.size(), 0);
+  std::vector<uint32_t> printOrder;
+  std::vector<uint8_t> joinedToNext;
+  std::vector<IsoplanarJoin> joinAfter;
+  size_t remaining = pool.size(), lowest = 0;
+  bool haveLast = false;
+  Eigen::Vector3d lastPoint(0, 0, 0);
+  auto emit = [&](uint32_t i) {
+    printed[i] = 1;
+    --remaining;
+    printOrder.push_back(i);
+    joinedToNext.push_back(0);
+    joinAfter.emplace_back();
+    lastPoint = pool[i].curve.points.back();
+    haveLast = true;
+  };
+  while (remaining > 0) {
+    while (lowest < planeCurves.size() &&
+           std::all_of(planeCurves[lowest].begin(), planeCurves[lowest].end(),
+                       [&](uint32_t i) { return printed[i] != 0; })) {
+      ++lowest;
+    }
+    if (lowest >= planeCurves.size()) break;
+    // A new chain: on the lowest plane left, the curve (and end) nearest the last point.
+    uint32_t cur = kNone;
+    bool reverse = false;
+    size_t start = 0;
+    double best = kInf;
+    for (uint32_t i : planeCurves[lowest]) {
+      if (printed[i]) continue;
+      if (!haveLast) {
+        cur = i;
+        break;
+      }
+      const PoolCurve& pc = pool[i];
+      if (pc.curve.closed) {
+        double d;
+        const size_t k = nearestRaw(pc, lastPoint, d);
+        if (d < best) {
+          best = d, cur = i, reverse = false, start = k;
+        }
+      } else {
+        const double d0 = (pc.curve.points.front() - lastPoint).norm();
+        const double d1 = (pc.curve.points.back() - lastPoint).norm();
+        if (std::min(d0, d1) < best) {
+          best = std::min(d0, d1), cur = i, reverse = d1 < d0;
+        }
+      }
+    }
+    orient(pool[cur], reverse, start);
+    emit(cur);
+    size_t plane = pool[cur].plane;
+    // Follow the chain: the next plane's curve whose end joins this curve's end.
+    while (plane + 1 < planeCurves.size()) {
+      const PoolCurve& a = pool[cur];
+      const End from = endOf(a, true);
+      uint32_t nextCurve = kNone;
+      bool nextReverse = false;
+      size_t nextStart = 0;
+      double bestCost = kInf;
+      for (uint32_t i : planeCurves[plane + 1]) {
+        if (printed[i]) continue;
+        const PoolCurve& b = pool[i];
+        const double limit = options.connectFactor * std::max(a.step, b.step);
+        if (b.curve.closed) {
+          // A loop has no boundary to follow: a short straight move to its nearest crossing
+          // when the surface between is about flat.
+          double d;
+          const size_t k = nearestRaw(b, from.p, d);
+          if (d <= limit && d < bestCost && from.n.dot(b.rawEval[k].normal) > 0.9) {
+            bestCost = d, nextCurve = i, nextReverse = false, nextStart = k;
+          }
+          continue;
+        }
+        for (bool rev : {false, true}) {
+          const End to = endOf(b, rev);
+          double cost;
+          if (a.curve.closed) {
+            cost = (to.p - from.p).norm();
+            if (from.n.dot(to.n) <= 0.9) cost = kInf;
+          } else {
+            cost = boundaryWalk(from, to, nullptr);
+          }
+          if (cost <= limit && cost < bestCost) {
+            bestCost = cost, nextCurve = i, nextReverse = rev, nextStart = 0;
+          }
+        }
+      }
+      if (nextCurve == kNone) break;
+      orient(pool[nextCurve], nextReverse, nextStart);
+      const PoolCurve& b = pool[nextCurve];
+      IsoplanarJoin join;
+      const End to = endOf(b, false);
+      if (a.curve.closed || b.curve.closed) {
+        join.points = {from.p, to.p};
+        join.normals = {from.n, to.n};
+        join.edgeA = {from.a, to.a};
+        join.edgeB = {from.b, to.b};
+        join.edgeT = {from.t, to.t};
+        join.length = (to.p - from.p).norm();
+      } else {
+        boundaryWalk(from, to, &join);
+      }
+      joinedToNext.back() = 1;
+      joinAfter.back() = std::move(join);
+      emit(nextCurve);
+      cur = nextCurve;
+      ++plane;
+    }
+  }
+
+  // ---- Curves in print order, joins, paths. ----
+  for (size_t k = 0; k < printOrder.size(); ++k) {
+    NlCurve& cv = pool[printOrder[k]].curve;
+    if (cv.closed) ++result.closedCurves;
+    result.pathMm += polylineLength(cv.points);
+    if (k == 0 || !joinedToNext[k - 1]) {
+      result.paths.emplace_back();
+      result.pathCurves.emplace_back();
+      result.pathJoins.emplace_back();
+      result.paths.back().points = cv.points;
+      result.paths.back().normals = cv.normals;
+      result.pathPointCurve.emplace_back(cv.points.size(), static_cast<uint32_t>(k + 1));
+    } else {
+      IsoplanarJoin& j = joinAfter[k - 1];
+      j.fromCurve = static_cast<uint32_t>(k - 1);
+      j.toCurve = static_cast<uint32_t>(k);
+      SurfacePath& sp = result.paths.back();
+      sp.points.insert(sp.points.end(), j.points.begin() + 1, j.points.end() - 1);
+      sp.normals.insert(sp.normals.end(), j.normals.begin() + 1, j.normals.end() - 1);
+      sp.points.insert(sp.points.end(), cv.points.begin(), cv.points.end());
+      sp.normals.insert(sp.normals.end(), cv.normals.begin(), cv.normals.end());
+      std::vector<uint32_t>& pc = result.pathPointCurve.back();
+      pc.insert(pc.end(), j.points.size() - 2, 0u);
+      pc.insert(pc.end(), cv.points.size(), static_cast<uint32_t>(k + 1));
+      result.pathMm += j.length;
+      result.pathJoins.back().push_back(static_cast<uint32_t>(result.joins.size()));
+      result.joins.push_back(std::move(j));
+    }
+    result.pathCurves.back().push_back(static_cast<uint32_t>(k));
+    result.curves.push_back(std::move(cv));
+  }
+  reportProgress(progress, "paths", 1.0);
+  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+namespace {
+
+struct PolylineTime {
+  double seconds = 0, length = 0;
+  size_t unreachable = 0;
+};
+
+PolylineTime timePolyline(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& n,
+                          const std::vector<uint32_t>& ea, const std::vector<uint32_t>& eb,
+                          const std::vector<float>& et, const FeedFn& feed, double maxFeed,
+                          double minFeed) {
+  PolylineTime out;
+  const size_t m = p.size();
+  if (m < 2) return out;
+  std::vector<double> kg(m, 0.0);
+  for (size_t i = 1; i + 1 < m; ++i) {
+    const Eigen::Vector3d d0 = p[i] - p[i - 1], d1 = p[i + 1] - p[i];
+    const double l0 = d0.norm(), l1 = d1.norm();
+    if (l0 <= 0 || l1 <= 0) continue;
+    const Eigen::Vector3d kvec = 2 * (d1 / l1 - d0 / l0) / (l0 + l1);
+    Eigen::Vector3d tan = d0 / l0 + d1 / l1;
+    if (tan.norm() < 1e-12) continue;
+    tan.normalize();
+    kg[i] = kvec.dot(n[i].cross(tan));
+  }
+  for (size_t i = 0; i + 1 < m; ++i) {
+    const Eigen::Vector3d d = p[i + 1] - p[i];
+    const double len = d.norm();
+    if (len <= 0) continue;
+    const Eigen::Vector3d dir = d / len;
+    double f = kInf;
+    bool bad = false;
+    for (size_t j : {i, i + 1}) {
+      const double fj = feed ? feed(ea[j], eb[j], et[j], dir, kg[j]) : kInf;
+      if (std::isnan(fj) || fj <= 0) bad = true;
+      f = std::min(f, fj);
+    }
+    if (maxFeed > 0 && std::isfinite(maxFeed)) f = std::min(f, maxFeed);
+    if (bad || !std::isfinite(f)) {
+      f = minFeed;
+      ++out.unreachable;
+    }
+    out.seconds += len / f;
+    out.length += len;
+  }
+  return out;
+}
+
+}  // namespace
+
+IsoplanarTime estimateIsoplanarTime(const IsoplanarResult& paths, const FeedFn& feed,
+                                    double maxFeed, double travelSpeed, double minFeed) {
+  IsoplanarTime t;
+  if (!(minFeed > 0) || !std::isfinite(minFeed)) minFeed = 1;
+  for (size_t p = 0; p < paths.pathCurves.size(); ++p) {
+    const std::vector<uint32_t>& cs = paths.pathCurves[p];
+    for (size_t j = 0; j < cs.size(); ++j) {
+      if (cs[j] >= paths.curves.size()) continue;
+      const NlCurve& c = paths.curves[cs[j]];
+      const PolylineTime pt =
+          timePolyline(c.points, c.normals, c.edgeA, c.edgeB, c.edgeT, feed, maxFeed, minFeed);
+      t.printS += pt.seconds;
+      t.pathMm += pt.length;
+      t.unreachableSegments += pt.unreachable;
+      if (j > 0 && p < paths.pathJoins.size() && j - 1 < paths.pathJoins[p].size()) {
+        const uint32_t ji = paths.pathJoins[p][j - 1];
+        if (ji < paths.joins.size()) {
+          const IsoplanarJoin& jn = paths.joins[ji];
+          const PolylineTime jt = timePolyline(jn.points, jn.normals, jn.edgeA, jn.edgeB, jn.edgeT,
+                                               feed, maxFeed, minFeed);
+          t.joinS += jt.seconds;
+          t.pathMm += jt.length;
+          t.unreachableSegments += jt.unreachable;
+        }
+      }
+    }
+    if (p > 0 && p < paths.paths.size() && !paths.paths[p].points.empty() &&
+        !paths.paths[p - 1].points.empty()) {
+      const double d = (paths.paths[p].points.front() - paths.paths[p - 1].points.back()).norm();
+      t.travelMm += d;
+      if (travelSpeed > 0 && std::isfinite(travelSpeed)) t.travelS += d / travelSpeed;
+    }
+  }
+  t.totalS = t.printS + t.joinS + t.travelS;
+  t.meanFeed = t.printS + t.joinS > 0 ? t.pathMm / (t.printS + t.joinS) : 0;
+  return t;
+}
+
+}  // namespace omnislice

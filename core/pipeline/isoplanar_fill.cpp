@@ -1,0 +1,320 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/isoplanar_fill.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <nlohmann/json.hpp>
+
+#include "isoplanar/effective_width.h"
+#include "isoplanar/feed_rate.h"
+#include "isoplanar/isoplanar_paths.h"
+#include "isoplanar/surface_samples.h"
+
+namespace omnislice {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+double finite(double v) { return std::isfinite(v) ? v : 0.0; }
+
+IsoplanarFillResult fail(const Outcome& o) {
+  IsoplanarFillResult r;
+  r.status = o.status;
+  r.message = o.message;
+  return r;
+}
+
+// f* on a mesh edge: the two vertices' limits blended linearly (0 where either is unreachable).
+FeedFn edgeFeed(const FeedField& field, const std::vector<SurfaceSample>& samples, double maxFeed) {
+  return [&field, &samples, maxFeed](uint32_t a, uint32_t b, double t, const Eigen::Vector3d& dir,
+                                     double kg) {
+    const double fa = feedLimit(field, samples[a], a, dir, kg, maxFeed).feed;
+    if (a == b || t <= 0) return fa;
+    const double fb = feedLimit(field, samples[b], b, dir, kg, maxFeed).feed;
+    if (fa <= 0 || fb <= 0) return 0.0;
+    return (1 - t) * fa + t * fb;
+  };
+}
+
+}  // namespace
+
+IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile& machine,
+                                      const IsoplanarSettings& settings,
+                                      const IsoplanarFillOptions& options,
+                                      const ProgressFn& progress) {
+  IsoplanarFillResult out;
+  Clock::time_point t0 = Clock::now();
+  SurfaceSamplesResult samples = surfaceSamples(surface, options.layerHeight);
+  if (!samples.ok()) return fail(samples);
+  out.timingsMs.emplace_back("samples", msSince(t0));
+
+  t0 = Clock::now();
+  FeedFieldOptions fopt;
+  fopt.stencilRadius = settings.stencilMm;
+  fopt.gammaSamples = static_cast<int>(settings.gammaSamples);
+  FeedField field = buildFeedField(samples.samples, machine, fopt, progress);
+  if (!field.ok()) return fail(field);
+  out.timingsMs.emplace_back("feed", msSince(t0));
+
+  t0 = Clock::now();
+  DriveDirectionOptions dopt;
+  dopt.directions = static_cast<int>(settings.directions);
+  dopt.beadWidth = options.beadWidth;
+  dopt.maxFeed = options.maxFeed;
+  dopt.forcedThetaDegrees = settings.thetaDegrees;
+  DriveDirectionResult search = searchDriveDirection(samples.samples, field, dopt, progress);
+  if (!search.ok()) return fail(search);
+  out.timingsMs.emplace_back("direction", msSince(t0));
+
+  // w_eff over the samples' heights (all options.layerHeight here).
+  const EffectiveWidthTable table(options.beadWidth, options.layerHeight, options.layerHeight);
+  const WidthFn width = table.function();
+  const FeedFn feed = edgeFeed(field, samples.samples, options.maxFeed);
+  IsoplanarOptions popt;
+  popt.chordError = settings.chordErrorMm;
+
+  t0 = Clock::now();
+  IsoplanarSurface prepared = prepareIsoplanarSurface(surface, samples.samples);
+  if (!prepared.ok()) return fail(prepared);
+  popt.thetaDegrees = search.thetaStarDegrees;
+  IsoplanarResult planned = isoplanarPaths(prepared, width, popt, progress);
+  if (!planned.ok()) return fail(planned);
+  const IsoplanarTime time = estimateIsoplanarTime(planned, feed, options.maxFeed, options.travelSpeed);
+  out.timingsMs.emplace_back("paths", msSince(t0));
+
+  // The benchmark of Table 2: every other sampled direction planned and timed the same way.
+  t0 = Clock::now();
+  double benchTime = 0, benchPath = 0;
+  size_t benchCount = 0;
+  if (options.benchmark) {
+    const size_t n = search.thetaDegrees.size();
+    for (size_t i = 0; i < n; ++i) {
+      if (std::abs(search.thetaDegrees[i] - search.thetaStarDegrees) < 1e-9) continue;
+      if (!reportProgress(progress, "benchmark", double(i) / double(n))) {
+        return fail(Outcome{Status::Cancelled, "cancelled"});
+      }
+      IsoplanarOptions o = popt;
+      o.thetaDegrees = search.thetaDegrees[i];
+      IsoplanarResult other = isoplanarPaths(prepared, width, o);
+      if (!other.ok()) return fail(other);
+      const IsoplanarTime t = estimateIsoplanarTime(other, feed, options.maxFeed, options.travelSpeed);
+      benchTime += t.totalS;
+      benchPath += t.pathMm;
+      ++benchCount;
+    }
+    if (benchCount > 0) {
+      benchTime /= double(benchCount);
+      benchPath /= double(benchCount);
+    }
+  }
+  out.timingsMs.emplace_back("benchmark", msSince(t0));
+
+  // Surface paths with their curve tags (1-based within this surface, shifted to the print's).
+  out.curves = static_cast<uint32_t>(planned.curves.size());
+  out.paths = planned.paths;
+  for (size_t p = 0; p < out.paths.size(); ++p) {
+    SurfacePath& path = out.paths[p];
+    path.curves.assign(path.points.size(), 0);
+    if (p >= planned.pathPointCurve.size() || planned.pathPointCurve[p].size() != path.points.size()) continue;
+    for (size_t k = 1; k < path.points.size(); ++k) {
+      // The segment ending at point k lies on a curve when both its ends do.
+      const uint32_t a = planned.pathPointCurve[p][k - 1], b = planned.pathPointCurve[p][k];
+      if (a > 0 && a == b) path.curves[k] = a - 1 + options.firstCurve;
+    }
+  }
+
+  double minStep = std::numeric_limits<double>::infinity(), maxStep = 0, widthSum = 0;
+  size_t widthCount = 0;
+  for (const NlCurve& c : planned.curves) {
+    if (c.sideStep > 0) {
+      minStep = std::min(minStep, c.sideStep);
+      maxStep = std::max(maxStep, c.sideStep);
+    }
+    for (double w : c.width) {
+      widthSum += w;
+      ++widthCount;
+    }
+  }
+  if (!std::isfinite(minStep)) minStep = 0;
+
+  out.thetaDegrees = search.thetaStarDegrees;
+  out.depositionRate = search.depositionRateAtTheta;
+  out.pathMm = time.pathMm;
+  out.estimatedTimeS = time.totalS;
+  out.benchmarkTimeS = benchTime;
+  out.benchmarkPathMm = benchPath;
+
+  Json r;
+  r["theta_deg"] = search.thetaStarDegrees;
+  r["forced"] = settings.thetaDegrees >= 0;
+  r["deposition_rate_mm3_s"] = finite(search.depositionRateAtTheta);
+  Json curve = Json::array();
+  for (size_t i = 0; i < search.thetaDegrees.size(); ++i) {
+    curve.push_back({search.thetaDegrees[i], finite(search.depositionRate[i])});
+  }
+  r["curve"] = curve;
+  r["best_sampled_theta_deg"] = search.thetaDegrees.empty() ? 0.0 : search.thetaDegrees[search.best];
+  r["path_mm"] = finite(time.pathMm);
+  r["estimated_time_s"] = finite(time.totalS);
+  r["time_s"] = {{"print", finite(time.printS)}, {"joins", finite(time.joinS)},
+                 {"travel", finite(time.travelS)}};
+  r["mean_feed_mm_s"] = finite(time.meanFeed);
+  if (options.benchmark) {
+    r["benchmark"] = {{"mean_estimated_time_s", finite(benchTime)},
+                      {"mean_path_mm", finite(benchPath)},
+                      {"directions", benchCount}};
+  } else {
+    r["benchmark"] = nullptr;
+  }
+  r["planes"] = planned.planes;
+  r["curves"] = planned.curves.size();
+  r["paths"] = planned.paths.size();
+  r["side_step_mm"] = {{"min", finite(minStep)}, {"max", finite(maxStep)}};
+  r["mean_width_mm"] = widthCount > 0 ? widthSum / double(widthCount) : 0.0;
+  r["samples"] = search.samples;
+  r["unreachable"] = search.unreachable;
+  r["bead_width_mm"] = options.beadWidth;
+  r["layer_height_mm"] = options.layerHeight;
+  r["max_feed_mm_s"] = options.maxFeed;
+  Json t = Json::object();
+  for (const auto& [k, v] : out.timingsMs) t[k] = v;
+  r["timings_ms"] = t;
+  out.reportJson = r.dump();
+  return out;
+}
+
+namespace {
+
+// Even-odd point-in-polygon.
+bool insidePolygon(const Polygon2& poly, const Eigen::Vector2d& p) {
+  bool in = false;
+  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
+    const Eigen::Vector2d& a = poly[i];
+    const Eigen::Vector2d& b = poly[j];
+    if ((a.y() > p.y()) != (b.y() > p.y()) &&
+        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
+      in = !in;
+    }
+  }
+  return in;
+}
+
+bool insideIsland(const ExPolygon2& island, const Eigen::Vector2d& p) {
+  if (island.contour.size() < 3 || !insidePolygon(island.contour, p)) return false;
+  for (const Polygon2& hole : island.holes) {
+    if (hole.size() >= 3 && insidePolygon(hole, p)) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settings& settings,
+                                         const MachineProfile& machine,
+                                         const ProgressFn& progress) {
+  PlanarDirection out;
+  const Clock::time_point t0 = Clock::now();
+  const size_t nl = slices.layers.size();
+  if (nl == 0) {
+    out.status = Status::EmptyInput;
+    out.message = "no layers to fill";
+    return out;
+  }
+  const size_t layerCount = std::min<size_t>(nl, 24);
+  double area = 0;
+  std::vector<size_t> picked;
+  for (size_t k = 0; k < layerCount; ++k) picked.push_back(layerCount == 1 ? 0 : k * (nl - 1) / (layerCount - 1));
+  // Grid spacing: about 2 mm, coarser when the sections are large (at most ~20k samples).
+  Eigen::Vector2d lo(1e300, 1e300), hi(-1e300, -1e300);
+  for (size_t l : picked) {
+    for (const ExPolygon2& isl : slices.layers[l].islands) {
+      for (const Eigen::Vector2d& p : isl.contour) {
+        lo = lo.cwiseMin(p);
+        hi = hi.cwiseMax(p);
+      }
+    }
+  }
+  if (lo.x() > hi.x()) {
+    out.status = Status::EmptyInput;
+    out.message = "the layers have no sections to fill";
+    return out;
+  }
+  area = (hi - lo).prod() * double(picked.size());
+  const double spacing = std::max(2.0, std::sqrt(area / 20000.0));
+  std::vector<SurfaceSample> samples;
+  for (size_t l : picked) {
+    const SliceLayer& layer = slices.layers[l];
+    for (const ExPolygon2& isl : layer.islands) {
+      Eigen::Vector2d ilo(1e300, 1e300), ihi(-1e300, -1e300);
+      for (const Eigen::Vector2d& p : isl.contour) {
+        ilo = ilo.cwiseMin(p);
+        ihi = ihi.cwiseMax(p);
+      }
+      for (double y = std::ceil(ilo.y() / spacing) * spacing; y <= ihi.y(); y += spacing) {
+        for (double x = std::ceil(ilo.x() / spacing) * spacing; x <= ihi.x(); x += spacing) {
+          if (!insideIsland(isl, {x, y})) continue;
+          SurfaceSample smp;
+          smp.position = slices.frame.toPart({x, y}, slices.minHeight + layer.top);
+          smp.normal = slices.frame.d.normalized();
+          smp.tangentU = slices.frame.e1;
+          smp.tangentV = slices.frame.e2;
+          smp.height = layer.top - layer.bottom;
+          samples.push_back(smp);
+        }
+      }
+    }
+  }
+  if (samples.empty()) {
+    out.status = Status::EmptyInput;
+    out.message = "the layers' sections are too thin to sample for the iso-planar direction";
+    return out;
+  }
+  FeedFieldOptions fopt;
+  fopt.stencilRadius = settings.isoplanar.stencilMm;
+  fopt.gammaSamples = static_cast<int>(settings.isoplanar.gammaSamples);
+  FeedField field = buildFeedField(samples, machine, fopt, progress);
+  if (!field.ok()) {
+    out.status = field.status;
+    out.message = field.message;
+    return out;
+  }
+  DriveDirectionOptions dopt;
+  dopt.directions = static_cast<int>(settings.isoplanar.directions);
+  dopt.beadWidth = settings.nozzleDiameter;
+  dopt.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.infillSpeed;
+  dopt.forcedThetaDegrees = settings.isoplanar.thetaDegrees;
+  DriveDirectionResult search = searchDriveDirection(samples, field, dopt, progress);
+  if (!search.ok()) {
+    out.status = search.status;
+    out.message = search.message;
+    return out;
+  }
+  out.thetaDegrees = search.thetaStarDegrees;
+  Json r;
+  r["theta_deg"] = search.thetaStarDegrees;
+  r["forced"] = settings.isoplanar.thetaDegrees >= 0;
+  r["deposition_rate_mm3_s"] = finite(search.depositionRateAtTheta);
+  Json curve = Json::array();
+  for (size_t i = 0; i < search.thetaDegrees.size(); ++i) {
+    curve.push_back({search.thetaDegrees[i], finite(search.depositionRate[i])});
+  }
+  r["curve"] = curve;
+  r["samples"] = search.samples;
+  r["unreachable"] = search.unreachable;
+  r["sample_spacing_mm"] = spacing;
+  r["sampled_layers"] = picked.size();
+  r["max_feed_mm_s"] = dopt.maxFeed;
+  r["benchmark"] = nullptr;
+  r["timings_ms"] = {{"feed", field.ms}, {"direction", search.ms}, {"total", msSince(t0)}};
+  out.reportJson = r.dump();
+  return out;
+}
+
+}  // namespace omnislice

@@ -1,0 +1,223 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/surface_method.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/isoplanar_fill.h"
+#include "slice/plan_layers.h"
+#include "slice/slice_mesh.h"
+#include "surface/curved_toolpath.h"
+#include "surface/height_field_solid.h"
+#include "surface/surface_layers.h"
+
+namespace omnislice {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+SurfaceMethodOutput failure(Status s, std::string message) {
+  SurfaceMethodOutput r;
+  r.status = s;
+  r.message = std::move(message);
+  return r;
+}
+
+SurfaceMethodOutput failure(const Outcome& o) { return failure(o.status, o.message); }
+
+Mesh lifted(const Mesh& m, double dz) {
+  Mesh out = m;
+  for (size_t i = 2; i < out.positions.size(); i += 3) out.positions[i] += dz;
+  return out;
+}
+
+// The machine's tilt range for the surface normals (table5: its B range; robot: 90 degrees).
+double tiltLimitDegrees(const MachineProfile& machine) {
+  if (machine.kind == "table5") {
+    auto it = machine.axisLimits.find("B");
+    if (it != machine.axisLimits.end()) {
+      return std::max(0.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
+    }
+  }
+  return 90;
+}
+
+}  // namespace
+
+SurfacePartResult surfacePart(const Mesh& placedSurface) {
+  SurfacePartResult r;
+  HeightFieldSolid solid = heightFieldSolid(placedSurface, 0);
+  if (!solid.ok()) {
+    r.status = solid.status;
+    r.message = solid.message;
+    return r;
+  }
+  r.part = std::move(solid.solid);
+  return r;
+}
+
+SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settings,
+                                     const MachineProfile& machine, const ProgressFn& progress) {
+  SurfaceMethodOutput out;
+  const double h = settings.layerHeight;
+  const double s = settings.nozzleDiameter;
+
+  const BoundingBox box = boundingBox(surface);
+  if ((box.max.z() - box.min.z() + settings.surface.baseMm + h) / h > 100000) {
+    return failure(Status::InvalidOption, "the surface and its base need more than 100000 layers at this layer height");
+  }
+  // 1. Lift the surface so the base under it is at least base_mm thick, then build the base and
+  //    the part. The offset surface dips by at most h below the surface.
+  Clock::time_point t0 = Clock::now();
+  double dz = settings.surface.baseMm + h;
+  Mesh top = lifted(surface, dz);
+  HeightFieldSolid base = heightFieldSolid(top, h);
+  if (!base.ok()) return failure(base);
+  const double adjust = settings.surface.baseMm - base.minTopZ;
+  if (std::abs(adjust) > 1e-9) {
+    dz += adjust;
+    top = lifted(surface, dz);
+    base = heightFieldSolid(top, h);
+    if (!base.ok()) return failure(base);
+  }
+  HeightFieldSolid part = heightFieldSolid(top, 0);
+  if (!part.ok()) return failure(part);
+  out.lift(2, 3) = dz;
+
+  // 2. The base: planar layers of the layer height (foundation slicer).
+  SliceOptions sliceOptions;
+  sliceOptions.layerHeight = h;
+  sliceOptions.firstLayerHeight = settings.effectiveFirstLayerHeight();
+  SliceResult slices = sliceMesh(base.solid, sliceOptions, progress);
+  if (!slices.ok()) return failure(slices);
+  PlanLayersResult plan = planLayers(slices, settings, 0, progress);
+  if (!plan.ok()) return failure(plan);
+  out.timingsMs.emplace_back("slice", msSince(t0));
+
+  // 3. The surface layer: theta*, NL curves, nozzle along the normals, Eq. 13 extrusion.
+  t0 = Clock::now();
+  IsoplanarFillOptions fo;
+  fo.beadWidth = s;
+  fo.layerHeight = h;
+  fo.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.printSpeed;
+  fo.travelSpeed = settings.travelSpeed;
+  fo.benchmark = settings.isoplanar.benchmark;
+  IsoplanarFillResult fill = planIsoplanarFill(part.top, machine, settings.isoplanar, fo, progress);
+  if (!fill.ok()) return failure(fill);
+  if (fill.paths.empty()) {
+    return failure(Status::DegenerateInput, "the surface is too small for one iso-planar path");
+  }
+
+  std::vector<CurvedLayer> layers(1);
+  LayerRegion region;
+  region.mesh = part.top;
+  layers[0].regions.push_back(std::move(region));
+  std::vector<std::vector<std::vector<SurfacePath>>> paths(1);
+  paths[0].push_back(fill.paths);
+  CurvedToolpathOptions topt;
+  topt.lineWidth = s;             // the ellipse's major axis (paper 003 Table 1: s = nozzle)
+  topt.nominalHeight = h;
+  topt.axisFromNormals = true;
+  topt.ellipseBeads = true;
+  topt.filamentDiameter = settings.filamentDiameter;
+  topt.printSpeed = fo.maxFeed;   // requested; the motion planner slows to the joint limits
+  topt.firstLayerSpeed = fo.maxFeed;
+  topt.travelSpeed = settings.travelSpeed;
+  topt.retractLength = settings.retractLength;
+  topt.retractMinTravel = settings.retractMinTravel;
+  topt.retractSpeed = settings.retractSpeed;
+  topt.maxTiltDegrees = tiltLimitDegrees(machine);
+  topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
+  topt.coneLength = machine.nozzle.coneLength;
+  topt.collisionClearance = h;
+  CurvedToolpathResult curved = buildCurvedToolpath(layers, paths, topt, progress);
+  if (!curved.ok()) return failure(curved);
+  out.timingsMs.emplace_back("toolpath", msSince(t0));
+  for (const auto& t : fill.timingsMs) out.timingsMs.emplace_back("isoplanar_" + t.first, t.second);
+
+  // 4. One tool-path: the base, then retract, rise above the surface, cross, come down along the
+  //    first axis and print the surface layer.
+  Toolpath& tp = out.toolpath;
+  tp = std::move(plan.toolpath);
+  const int32_t surfaceLayer = static_cast<int32_t>(slices.layers.size());
+  Eigen::Vector3d pos = tp.moves.empty() ? tp.start : tp.moves.back().position;
+  const double safeZ = boundingBox(part.top).max.z() + topt.travelClearance + 2;
+  auto push = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& axis, MoveKind kind) {
+    Move m;
+    m.position = p;
+    m.axis = axis;
+    m.kind = kind;
+    m.layer = surfaceLayer;
+    m.speed = settings.travelSpeed;
+    tp.moves.push_back(m);
+    return &tp.moves.back();
+  };
+  const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+  const bool retracted = !tp.moves.empty() && tp.moves.back().kind == MoveKind::Retract;
+  const bool retract = settings.retractLength > 0 && !tp.moves.empty() && !retracted;
+  if (retract) {
+    Move* r = push(pos, tp.moves.empty() ? up : tp.moves.back().axis, MoveKind::Retract);
+    r->filament = -settings.retractLength;
+    r->speed = settings.retractSpeed;
+  }
+  const Toolpath& c = curved.toolpath;
+  const Eigen::Vector3d approach = c.start;
+  const Eigen::Vector3d firstAxis = c.moves.empty() ? up : c.moves.front().axis;
+  if (!tp.moves.empty()) {
+    push({pos.x(), pos.y(), safeZ}, up, MoveKind::Travel);
+    push({approach.x(), approach.y(), safeZ}, up, MoveKind::Travel);
+  }
+  push(approach, firstAxis, MoveKind::Travel);
+  bool unretracted = !(retract || retracted);
+  for (size_t i = 0; i < c.moves.size(); ++i) {
+    Move m = c.moves[i];
+    m.layer += surfaceLayer;
+    if (!unretracted && m.kind != MoveKind::Travel) {
+      Move u;
+      u.position = tp.moves.back().position;
+      u.axis = tp.moves.back().axis;
+      u.kind = MoveKind::Unretract;
+      u.filament = settings.retractLength;
+      u.speed = settings.retractSpeed;
+      u.layer = surfaceLayer;
+      tp.moves.push_back(u);
+      unretracted = true;
+    }
+    if (m.kind == MoveKind::Unretract || m.kind == MoveKind::Retract) unretracted = true;
+    tp.moves.push_back(m);
+  }
+  if (tp.moves.empty() || slices.layers.empty()) tp.start = c.start;
+  tp.layerCount = surfaceLayer + 1;
+  out.baseLayers = slices.layers.size();
+  out.layers = surfaceLayer + 1;
+  out.part = std::move(part.solid);
+
+  // Preview: the surface layer.
+  PreviewBuffers& p = out.preview;
+  for (double v : part.top.positions) p.surfacePositions.push_back(static_cast<float>(v));
+  p.surfaceTriangles.assign(part.top.triangles.begin(), part.top.triangles.end());
+  p.surfaceLayers.assign(part.top.faceCount(), static_cast<uint32_t>(surfaceLayer));
+
+  Json r = Json::parse(fill.reportJson);
+  r["base_layers"] = slices.layers.size();
+  r["base_mm"] = settings.surface.baseMm;
+  r["lift_mm"] = dz;
+  r["surface_vertices"] = part.top.vertexCount();
+  r["surface_triangles"] = part.top.faceCount();
+  r["orientation_fallbacks"] = curved.orientationFallbacks;
+  r["tilt_clamped"] = curved.tiltClamped;
+  r["gouging_corrections"] = curved.gougingCorrections;
+  r["gouging_uncorrected"] = curved.gougingUncorrected;
+  out.reportJson = r.dump();
+  return out;
+}
+
+}  // namespace omnislice
