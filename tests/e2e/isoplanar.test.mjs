@@ -309,6 +309,9 @@ test('a real surface slice of a saddle: polar plot, compare run side by side, sw
   await page.screenshot({ path: path.join(OUT_DIR, 'isoplanar-compare.png') });
   await page.selectOption(tid('iso-show-run'), '0');
   await page.waitForFunction(() => window.omnislice.isoplanar.shownRun === 0);
+  // A tall viewport so the whole section fits (the panel scrolls).
+  await page.setViewportSize({ width: 1280, height: 1600 });
   await page.locator(tid('iso-report')).screenshot({ path: path.join(OUT_DIR, 'isoplanar-report.png') });
+  await page.setViewportSize({ width: 1280, height: 900 });
   assert.deepEqual(pageErrors(), []);
 });
