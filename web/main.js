@@ -1096,7 +1096,7 @@ function wireUi() {
   $('demo-model').addEventListener('change', (e) => {
     const demo = DEMOS[e.target.value];
     e.target.value = '';
-    if (demo) loadDemo(demo);
+    if (demo) loadDemo(demo, { sliceAfter: true });
   });
   $('cancel-button').addEventListener('click', () => cancelSlice());
   $('download-program').addEventListener('click', () => download());

@@ -7,10 +7,14 @@
 //     the polar plot of v_e(theta) with one path point per sample and theta*, theta* and v_e shown,
 //     the side step range, NL curves drawn in alternating colours; a click on the plot chooses the
 //     compare direction (folded into [0, 180)) and marks it;
+//   - a compare run keeps the first result whether the engine accepts it or not;
+//   - the model menu's saddle demo: loaded, the surface method and the UR5 selected (undoable),
+//     sliced, the polar plot and NL curves shown;
 //   - a real surface slice of a generated saddle (robot6-ur5, nozzle 1, layer 0.75): the polar
 //     plot renders with theta* marked, a compare run at another direction adds a second row (with
 //     the benchmark means) without replacing the first result, the drawn run can be switched; no
-//     page errors. Skipped (not in CI) while the engine has no surface method.
+//     page errors; the layer range starts at the surface layer, the layer surfaces start hidden.
+// The real slices skip (not in CI) while the engine has no surface method.
 // Screenshots go to build/e2e/isoplanar-*.png.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
@@ -208,28 +212,44 @@ test('a compare run keeps the first result, whether the engine accepts it or not
   assert.deepEqual(pageErrors(), []);
 });
 
-test('the model menu loads the saddle demo for the surface method', async (t) => {
+test('the model menu loads and slices the saddle demo with the surface method', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
+  const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
   await page.selectOption(tid('demo-model'), 'saddle');
-  // The state may still be 'error' from the refused comparison: wait for the new model.
-  await page.waitForFunction(() => document.body.dataset.state === 'ready'
+  // The state may still be 'error' from the refused comparison: wait for the new model's slice.
+  await page.waitForFunction((n) => (document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) > n)
     || (document.body.dataset.state === 'error' && !document.querySelector('[data-testid="error-message"]').textContent.includes('isoplanar.theta_deg')),
-  null, { timeout: 60_000 });
-  assert.equal(await page.evaluate(() => document.body.dataset.state), 'ready', await page.textContent(tid('error-message')));
-  assert.equal(await page.textContent(tid('model-name')), 'demo-saddle.obj');
-  assert.equal(await page.textContent(tid('info-faces')), '3,200');
-  assert.equal(await page.textContent(tid('info-closed')), 'no');
-  let settings = await page.evaluate(() => window.omnislice.settings);
+  before, { timeout: 300_000 });
+  const settings = await page.evaluate(() => window.omnislice.settings);
   assert.equal(settings.method, 'surface', 'the demo selects the surface method');
   assert.equal(settings.machine, 'robot6-ur5', 'and a machine that can follow the surface normal');
   assert.equal(await page.isHidden(tid('method-hint')), true);
-  assert.equal(await page.isVisible(tid('iso-report')), false, 'the previous result is cleared');
+  assert.equal(await page.textContent(tid('model-name')), 'demo-saddle.obj');
+  assert.equal(await page.textContent(tid('info-faces')), '3,200');
+  assert.equal(await page.textContent(tid('info-closed')), 'no');
+  if (await page.evaluate(() => document.body.dataset.state) === 'error') {
+    const message = await page.textContent(tid('error-message'));
+    if (!IN_CI && /invalid_option: .*(method|surface|fill)/.test(message)) {
+      // Put the settings back for the next test.
+      await page.click(tid('settings-undo'));
+      await page.click(tid('settings-undo'));
+      return t.skip(`the engine does not slice with method=surface yet: ${message}`);
+    }
+    assert.fail(`demo slice failed: ${message}`);
+  }
+  const report = await page.evaluate(() => window.omnislice.report);
+  assert.ok(report.isoplanar && report.isoplanar.theta_deg >= 0, 'report.isoplanar');
+  t.diagnostic(`saddle demo: theta* ${report.isoplanar.theta_deg}, v_e ${report.isoplanar.deposition_rate_mm3_s}, curves ${report.isoplanar.curves}`);
+  assert.equal(await page.isVisible(tid('iso-report')), true);
+  assert.equal(Number(await page.getAttribute(tid('iso-polar'), 'data-theta-star')), report.isoplanar.theta_deg);
+  assert.ok((await page.evaluate(() => window.omnislice.isoplanar)).curveCount > 1);
+  assert.deepEqual(pageErrors(), []);
   // Undo brings the machine and the method back like any other edit.
   await page.click(tid('settings-undo'));
   await page.click(tid('settings-undo'));
-  settings = await page.evaluate(() => window.omnislice.settings);
-  assert.equal(settings.method, 'planar');
-  assert.equal(settings.machine, 'cartesian3');
+  const back = await page.evaluate(() => window.omnislice.settings);
+  assert.equal(back.method, 'planar');
+  assert.equal(back.machine, 'cartesian3');
 });
 
 test('a real surface slice of a saddle: polar plot, compare run side by side, switch the drawn run', async (t) => {
