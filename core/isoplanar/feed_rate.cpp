@@ -534,8 +534,8 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
   if (!(options.stencilRadius > 0) || !std::isfinite(options.stencilRadius)) {
     return fail(Status::InvalidOption, "buildFeedField: stencilRadius must be a positive length");
   }
-  if (options.gammaSamples < 4 || options.gammaSamples > 100000) {
-    return fail(Status::InvalidOption, "buildFeedField: gammaSamples must be in [4, 100000]");
+  if (options.gammaSamples < 4 || options.gammaSamples > 3600) {
+    return fail(Status::InvalidOption, "buildFeedField: gammaSamples must be in [4, 3600]");
   }
   if (!(options.gammaSeedSpacing >= 0) || !std::isfinite(options.gammaSeedSpacing)) {
     return fail(Status::InvalidOption, "buildFeedField: gammaSeedSpacing must be >= 0");
@@ -621,7 +621,8 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
     for (int pass = 0; pass < 2 && !options.singleFreeAngle; ++pass) {
       for (size_t i = 0; i < n; ++i) {
         if ((pass == 0) != (isSeed[i] != 0)) continue;
-        if ((++done & 127) == 0 && !reportProgress(progress, "feed", 0.5 * done / n)) {
+        if (((++done & 127) == 0 || pass == 0) &&
+            !reportProgress(progress, "feed", 0.5 * done / n)) {
           return fail(Status::Cancelled, "buildFeedField: cancelled");
         }
         const SurfaceSample& s = samples[i];

@@ -51,7 +51,7 @@ namespace omnislice {
 
 struct FeedFieldOptions {
   double stencilRadius = 1.0;    // l_c of Eq. 7, mm (> 0)
-  int gammaSamples = 36;         // robot6: samples of gamma over [-pi, pi) for Eq. 6 (>= 4)
+  int gammaSamples = 36;         // robot6: samples of gamma over [-pi, pi) for Eq. 6 (4..3600)
   double gammaSeedSpacing = 5;   // robot6: Eq. 6 is solved in full at samples about this far
                                  // apart (mm) and refined locally from the nearest seed elsewhere
                                  // (gamma* varies slowly over a layer); 0 = at every sample

@@ -59,6 +59,11 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   FeedFieldOptions fopt;
   fopt.stencilRadius = settings.stencilMm;
   fopt.gammaSamples = static_cast<int>(settings.gammaSamples);
+  // One rotation about the nozzle (and one IK branch) for the whole surface, the one with the
+  // best worst-case w_PS: w_PS is nearly flat in gamma, so per-sample optima wander by up to
+  // 0.8 rad between neighbours, a motion no path could follow (measured: replayed joint rates
+  // ~800x the limits), while the motion planner keeps gamma continuous.
+  fopt.singleFreeAngle = true;
   FeedField field = buildFeedField(samples.samples, machine, fopt, progress);
   if (!field.ok()) return fail(field);
   out.timingsMs.emplace_back("feed", msSince(t0));

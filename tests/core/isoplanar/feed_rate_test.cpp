@@ -83,6 +83,19 @@ Graph saddle(double radius, double z0) {
   return g;
 }
 
+// A cylinder of radius r about the x axis (z = sqrt(r^2 - y^2)).
+Graph cylinder(double r) {
+  Graph g;
+  g.h = [r](double, double y) { return std::sqrt(r * r - y * y); };
+  g.grad = [r](double, double y) { return Eigen::Vector2d(0, -y / std::sqrt(r * r - y * y)); };
+  g.hess = [r](double, double y) {
+    Eigen::Matrix2d m;
+    m << 0, 0, 0, -r * r / std::pow(r * r - y * y, 1.5);
+    return m;
+  };
+  return g;
+}
+
 Graph plane(double z0) {
   Graph g;
   g.h = [](double, double) { return 0.0; };
@@ -515,6 +528,36 @@ TEST(FeedRate, FlatPlaneDiagonalIsSqrtTwoFaster) {
         EXPECT_EQ(driveFeedLimit(field, samples[i], i, t, 150).feed, 150);
       }
     }
+  }
+}
+
+// rotary4 (A about the x axis through the pivot, 90 deg/s; X 200 mm/s) on a cylinder of radius 30
+// about that axis: every point sits on top of the rotated cylinder, at machine (x, 0, 30), so only
+// X and A move. Along x (theta = 0) f* is X's 200 mm/s; across (theta = 90 degrees, the circle)
+// A turns at 180 / (pi R) deg/mm at a constant rate: f* = 90 pi R / 180 = 47.12 mm/s (closed
+// form). The circle has no d2A/ds2 or d3A/ds3; the model's local quadric (the parabola
+// w = -v^2 / 2R, whose normal turns like atan(v / R)) has d3A/ds3 = -3 / R^3 rad/mm^3: a jerk
+// limit of 112 mm/s that does not bind here (the second-order limitation of the header).
+TEST(FeedRate, CylinderOnRotary4) {
+  const MachineProfile m = machineNamed("rotary4");
+  const double r = 30;
+  const Graph g = cylinder(r);
+  std::vector<SurfaceSample> samples;
+  for (int i = 0; i < 7; ++i) samples.push_back(g.sample(-30 + 10 * i, -15 + 5 * i, 0.4 * i));
+  const FeedField field = buildFeedField(samples, m);
+  ASSERT_TRUE(field.ok()) << field.message;
+  EXPECT_EQ(field.unreachable, 0u);
+  for (size_t i = 0; i < samples.size(); ++i) {
+    EXPECT_NEAR(field.values[i][1], 0, 1e-9);
+    EXPECT_NEAR(field.values[i][2], r, 1e-9);
+    const FeedLimit along = driveFeedLimit(field, samples[i], i, 0, 0);
+    EXPECT_NEAR(along.feed, 200, 1e-6);
+    EXPECT_EQ(along.limitingValue, 0);
+    const FeedLimit across = driveFeedLimit(field, samples[i], i, kPi / 2, 0);
+    EXPECT_NEAR(across.feed, 90 * kPi * r / 180, 1e-6 * across.feed);
+    EXPECT_EQ(across.limitingValue, 3);
+    EXPECT_GT(across.acceleration, 100 * across.feed);
+    EXPECT_NEAR(across.jerk, std::cbrt(9000 / (3 / (r * r * r) * 180 / kPi)), 1e-3 * across.jerk);
   }
 }
 
