@@ -129,6 +129,7 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
     preview.set("supportVoxels", copyArray("Float32Array", r.preview.supportVoxels.data(),
                                            r.preview.supportVoxels.size()));
     preview.set("voxelWidth", r.preview.voxelWidth);
+    preview.set("curves", copyArray("Uint32Array", r.preview.curves.data(), r.preview.curves.size()));
     out.set("preview", preview);
     out.set("programExtension", r.programExtension);
     out.set("mesh", meshToJs(r.partMesh));

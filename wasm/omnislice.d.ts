@@ -42,6 +42,9 @@ export interface PreviewBuffers {
   missedVoxels?: Float32Array;
   supportVoxels?: Float32Array;
   voxelWidth?: number;
+  /** Iso-planar fill (paper 003): #S 1-based NL curve index of each segment in print order,
+   *  0 = not on an NL curve (travel, joins, the planar base). Empty for other fills. */
+  curves?: Uint32Array;
 }
 
 /** A machine profile as the program header writes it (PROGRAM-FORMAT.md, docs/MACHINES.md). */

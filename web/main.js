@@ -18,9 +18,18 @@ import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
 import {
   STAGE_WEIGHTS, formatMm, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
 } from './voxel-data.js';
+import { CURVE_COLORS, comparisonRows, foldTheta, sideStepText } from './isoplanar-data.js';
+import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './isoplanar-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
+/** Bundled demo models (web/models, made by scripts/make-demo-model.mjs) for the model menu. */
+const DEMOS = {
+  overhang: { url: DEMO_URL, name: DEMO_NAME },
+  // An open saddle z = (x^2 - y^2) / R: the surface method's iso-planar paths (paper 003, S1).
+  // The surface method needs tilt axes: a 3- or 4-axis machine is swapped for the UR5 arm.
+  saddle: { url: '/models/demo-saddle.obj', name: 'demo-saddle.obj', settings: { method: 'surface' }, tilt: 'robot6-ur5' },
+};
 const FILAMENT_AREA_MM2 = Math.PI * (1.75 / 2) ** 2;
 const PLA_G_PER_MM3 = 1.24e-3;
 
@@ -44,6 +53,10 @@ const app = {
   machineView: null, // MachineView of app.replay or app.result while the machine toggle is on
   replay: null,      // {name, profile, preview} of a replayed program file (shown instead of the result)
   machinePlay: 0,    // requestAnimationFrame id while playing
+  resultSettings: null, // the slice settings app.result was made with (the compare run reuses them)
+  compare: null,     // {theta, result} of the iso-planar comparison run (app.result stays the first)
+  shownRun: 0,       // 0: app.result's paths are drawn, 1: app.compare's
+  compareCount: 0,
 };
 
 /** Program kinds by file extension: download MIME type and button text. */
@@ -247,6 +260,7 @@ function showReport(report) {
   const motion = r.motion && typeof r.motion === 'object' ? r.motion : null;
   $('report-motion').hidden = !motion;
   showVoxelReport(r.voxel && typeof r.voxel === 'object' ? r.voxel : null);
+  showIsoReport(r.isoplanar && typeof r.isoplanar === 'object' ? r.isoplanar : null);
   // Angular figures are radians for a robot's joints, degrees for the A, B, C axes.
   const unit = r.machine_kind === 'robot6' ? ' rad' : '°';
   for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
@@ -356,7 +370,137 @@ function renderHistogram(thickness) {
     + (Number.isFinite(thickness.samples) ? ` (${thickness.samples.toLocaleString('en')} samples)` : '');
 }
 
+// ---- iso-planar paths (paper 003) ------------------------------------------------------------
+
+/** The iso-planar figures, polar plot and comparison (hidden without report.isoplanar). */
+function showIsoReport(iso) {
+  $('iso-report').hidden = !iso;
+  // A new result proposes the direction square to theta* for the comparison.
+  if (iso && !app.compare && Number.isFinite(iso.theta_deg)) $('iso-compare-theta').value = String(foldTheta(iso.theta_deg + 90));
+  fillIsoFigures($('iso-figures'), iso);
+  renderPolar(iso);
+  renderCompareTable();
+  $('iso-side-step').textContent = sideStepText(iso);
+  $('iso-curve-swatch-odd').style.background = `rgb(${CURVE_COLORS[0].join(',')})`;
+  $('iso-curve-swatch-even').style.background = `rgb(${CURVE_COLORS[1].join(',')})`;
+}
+
+/** The iso-planar report of the first run (app.result), or null. */
+function firstIso() {
+  const r = app.result && app.result.report;
+  return r && r.isoplanar && typeof r.isoplanar === 'object' ? r.isoplanar : null;
+}
+
+/** The direction the compare input holds, folded into [0, 180), or null when it is not a number. */
+function compareTheta() {
+  const text = $('iso-compare-theta').value.trim();
+  const x = Number(text);
+  return text !== '' && Number.isFinite(x) ? foldTheta(x) : null;
+}
+
+/**
+ * The polar plot of the first run, with the compared direction: the compared run's (and the
+ * input's as the next candidate when it differs), else the input's.
+ */
+function renderPolar(iso) {
+  const input = compareTheta();
+  const options = app.compare
+    ? { compareTheta: app.compare.theta, candidateTheta: input !== null && input !== app.compare.theta ? input : null }
+    : { compareTheta: input };
+  const star = drawPolarPlot($('iso-polar'), iso, options);
+  const ok = star && !star.error;
+  $('iso-theta-star').textContent = ok ? `${formatFigure(star.theta)}°${iso.forced ? ' (forced)' : ''}` : star ? `(${star.error})` : '—';
+  $('iso-ve-star').textContent = ok && Number.isFinite(star.value) ? `${formatFigure(star.value)} mm³/s` : '—';
+}
+
+/** Click on the polar plot: the direction there goes to the compare input (and is marked). */
+function onPolarClick(event) {
+  const theta = plotThetaAt($('iso-polar'), event.clientX, event.clientY);
+  if (theta === null) return;
+  $('iso-compare-theta').value = String(theta);
+  renderPolar(firstIso());
+}
+
+/** The iso-planar runs for the comparison table: the first (app.result), the compared one. */
+function compareRuns() {
+  const iso = firstIso();
+  if (!iso) return [];
+  const runs = [{ label: iso.forced ? 'first run (forced θ)' : 'first run (θ*)', report: app.result.report }];
+  if (app.compare) runs.push({ label: 'compared run', report: app.compare.result.report });
+  return runs;
+}
+
+/** The comparison table: the first run, the compared run (when there is one), the benchmark means. */
+function renderCompareTable() {
+  fillCompareTable($('iso-compare-table').querySelector('tbody'), compareRuns());
+}
+
+/**
+ * Slice again with the first run's settings and isoplanar.theta_deg forced to the compare input's
+ * direction; the first result stays (report, download, paths); the table shows both runs side by
+ * side. A failed comparison leaves the first result as it was.
+ */
+async function runCompare() {
+  if (!app.slicer || !app.mesh || app.busy || !firstIso()) return;
+  const theta = compareTheta();
+  if (theta === null) {
+    showError({ code: 'invalid_option', message: 'compare: give a direction θ in degrees, 0..180' });
+    return;
+  }
+  app.busy = 'slicing';
+  app.abort = new AbortController();
+  app.progress = newProgress(app.model.get('method'));
+  $('stage-list').replaceChildren();
+  clearError();
+  setState('slicing');
+  setProgressText(`comparing θ = ${formatFigure(theta)}°`, 0);
+  updateButtons();
+  const started = performance.now();
+  try {
+    // The first run's settings (later edits in the panel do not leak into the comparison).
+    const settings = { ...(app.resultSettings || app.model.toSliceSettings()), 'isoplanar.theta_deg': theta };
+    const result = await app.slicer.slice(app.mesh.meshId, settings, { onProgress, signal: app.abort.signal });
+    app.compare = { theta, result };
+    if (app.shownRun === 1) await showRun(1);
+    renderPolar(firstIso());
+    renderCompareTable();
+    $('iso-show-run').disabled = false;
+    app.compareCount += 1;
+    document.body.dataset.compareCount = String(app.compareCount);
+    setProgressText(`compared θ = ${formatFigure(theta)}° in ${((performance.now() - started) / 1000).toFixed(2)} s`, 1);
+    showStages({ finished: true });
+    setState('done');
+  } catch (err) {
+    showError(err);
+    setProgressText(err && err.code === 'cancelled' ? 'cancelled' : 'compare failed', 0);
+    setState(err && err.code === 'cancelled' ? 'cancelled' : 'error');
+  } finally {
+    app.busy = null;
+    app.abort = null;
+    updateButtons();
+  }
+}
+
+/** Draw the paths of run k (0: the first result, 1: the compared run). */
+async function showRun(k) {
+  const run = k === 1 && app.compare ? app.compare.result : app.result;
+  app.shownRun = run === app.result ? 0 : 1;
+  $('iso-show-run').value = String(app.shownRun);
+  if (!run) return;
+  await setPreview(run);
+}
+
+/** Forget the comparison run (a new slice or model). */
+function clearCompare() {
+  app.compare = null;
+  app.shownRun = 0;
+  const select = $('iso-show-run');
+  select.value = '0';
+  select.disabled = true;
+}
+
 function clearReport() {
+  clearCompare();
   showReport(null);
   app.result = null;
   app.replay = null;
@@ -372,7 +516,8 @@ function setDownloadLabel(extension) {
 
 // ---- layer range ------------------------------------------------------------------------------
 
-function setupLayerSliders(layerCount) {
+/** The layer sliders span layerCount layers, showing from `first` (default 0) to the last. */
+function setupLayerSliders(layerCount, first = 0) {
   const lo = $('layer-min-slider');
   const hi = $('layer-slider');
   const last = Math.max(layerCount - 1, 0);
@@ -380,7 +525,7 @@ function setupLayerSliders(layerCount) {
     s.max = String(last);
     s.disabled = layerCount === 0;
   }
-  lo.value = '0';
+  lo.value = String(Math.min(Math.max(first, 0), last));
   hi.value = String(last);
   applyLayerRange();
 }
@@ -474,6 +619,17 @@ function buildLegend() {
     li.append(sw, f.name);
     ul.append(li);
   }
+  // Iso-planar NL curves: adjacent curves alternate between two colours (shown with curves only).
+  CURVE_COLORS.forEach((color, k) => {
+    const li = document.createElement('li');
+    li.dataset.testid = 'legend-curves';
+    li.hidden = true;
+    const sw = document.createElement('span');
+    sw.className = 'swatch';
+    sw.style.background = `rgb(${color.join(',')})`;
+    li.append(sw, k === 0 ? 'NL curves 1, 3, …' : 'NL curves 2, 4, …');
+    ul.append(li);
+  });
 }
 
 // ---- operations -------------------------------------------------------------------------------
@@ -483,6 +639,9 @@ function updateButtons() {
   $('cancel-button').disabled = app.busy !== 'slicing';
   $('download-program').disabled = !app.result || !!app.busy;
   $('machine-toggle').disabled = !(app.result || app.replay) || !!app.busy;
+  $('iso-compare-button').disabled = !app.slicer || !app.mesh || !!app.busy || !firstIso();
+  $('iso-show-run').disabled = !app.compare || !!app.busy;
+  $('demo-model').disabled = !app.slicer || !!app.busy;
 }
 
 /** Load mesh bytes; on failure the previous model stays loaded. Returns true on success. */
@@ -535,8 +694,12 @@ async function loadFile(file) {
   await loadBytes(file.name, bytes);
 }
 
-/** Replace the preview (null clears). Built in slices, so it does not hold the main thread. */
-async function setPreview(result) {
+/**
+ * Replace the preview (null clears). Built in slices, so it does not hold the main thread.
+ * fresh: a new result (not a switch between compared runs): the layer surfaces start hidden when
+ * the paths are iso-planar NL curves (the surface would cover them), shown otherwise.
+ */
+async function setPreview(result, { fresh = false } = {}) {
   if (app.viewer) app.viewer.setPreview(null);
   app.preview = null;
   app.voxelView = null;
@@ -551,6 +714,7 @@ async function setPreview(result) {
       showError({ code: 'internal', message: `voxel view: ${err.message}` });
     }
   }
+  if (fresh) $('show-surfaces').checked = !(preview && preview.curveCount > 0);
   if (preview || voxel) {
     timed('set-preview', () => {
       if (preview) preview.setTravelVisible($('show-travel').checked);
@@ -562,9 +726,12 @@ async function setPreview(result) {
     });
   }
   timed('layer-sliders', () => {
-    setupLayerSliders(app.preview ? app.preview.layerCount : 0);
+    // With iso-planar NL curves the range starts at their layer (the surface layer above its base).
+    setupLayerSliders(app.preview ? app.preview.layerCount : 0, app.preview ? Math.max(app.preview.curveLayerMin, 0) : 0);
     setupVoxelBar();
   });
+  $('iso-curve-count').textContent = String(app.preview ? app.preview.curveCount : 0);
+  for (const li of document.querySelectorAll('[data-testid="legend-curves"]')) li.hidden = !(app.preview && app.preview.curveCount > 0);
 }
 
 async function slice() {
@@ -580,12 +747,14 @@ async function slice() {
   const started = performance.now();
   performance.mark('omnislice:slice-start');
   try {
-    const result = await app.slicer.slice(app.mesh.meshId, app.model.toSliceSettings(), {
+    const settings = app.model.toSliceSettings();
+    const result = await app.slicer.slice(app.mesh.meshId, settings, {
       onProgress,
       signal: app.abort.signal,
     });
     performance.mark('omnislice:result');
     await showResult(result, started);
+    app.resultSettings = settings;
   } catch (err) {
     if (err && err.code === 'cancelled') {
       showError(err);
@@ -612,7 +781,9 @@ async function showResult(result, started) {
   app.busy = 'showing';
   await nextFrame();
   timed('show-report', () => {
+    clearCompare();
     app.result = result;
+    app.resultSettings = null;
     app.replay = null;
     showReport(result.report);
     setDownloadLabel(result.programExtension);
@@ -624,7 +795,7 @@ async function showResult(result, started) {
   if (app.placementDirty && app.viewer) app.viewer.frame();
   app.placementDirty = false;
   await nextFrame();
-  await setPreview(result);
+  await setPreview(result, { fresh: true });
   performance.mark('omnislice:preview-built');
   if ($('machine-toggle').checked) timed('machine-view', () => openMachineView());
   app.sliceCount += 1;
@@ -732,11 +903,14 @@ function showMachineProfile() {
     ? `profile ${app.machineFiles.get(json) || 'from a file'} (${kind})`
     : `built-in profile ${app.model.get('machine')}`;
   $('machine-profile').dataset.kind = kind;
-  // The voxel method tilts the nozzle: it needs two rotary axes (table5) or a robot.
+  // The voxel and surface methods tilt the nozzle: they need two rotary axes (table5) or a robot.
   const hint = $('method-hint');
-  const needsTilt = app.model.get('method') === 'voxel' && !['table5', 'robot6'].includes(kind);
+  const method = app.model.get('method');
+  const needsTilt = (method === 'voxel' || method === 'surface') && !['table5', 'robot6'].includes(kind);
   hint.hidden = !needsTilt;
-  hint.textContent = needsTilt ? `the voxel method tilts the nozzle: choose table5 or a robot (${kind} has no tilt axes)` : '';
+  hint.textContent = needsTilt
+    ? `the ${method} method ${method === 'voxel' ? 'tilts the nozzle' : 'keeps the nozzle along the surface normal'}: choose table5 or a robot (${kind} has no tilt axes)`
+    : '';
 }
 
 // ---- machine animation ----------------------------------------------------------------------
@@ -907,6 +1081,23 @@ function wireUi() {
     loadFile(file).finally(() => { e.target.value = ''; });
   });
   $('slice-button').addEventListener('click', () => slice());
+  $('iso-polar').addEventListener('click', (e) => onPolarClick(e));
+  $('iso-compare-theta').addEventListener('input', () => renderPolar(firstIso()));
+  $('iso-compare-button').addEventListener('click', () => runCompare());
+  $('iso-show-run').addEventListener('change', (e) => {
+    if (app.busy) return;
+    app.busy = 'showing';
+    updateButtons();
+    showRun(Number(e.target.value)).finally(() => {
+      app.busy = null;
+      updateButtons();
+    });
+  });
+  $('demo-model').addEventListener('change', (e) => {
+    const demo = DEMOS[e.target.value];
+    e.target.value = '';
+    if (demo) loadDemo(demo, { sliceAfter: true });
+  });
   $('cancel-button').addEventListener('click', () => cancelSlice());
   $('download-program').addEventListener('click', () => download());
   $('layer-min-slider').addEventListener('input', (e) => applyLayerRange(e.target));
@@ -969,6 +1160,26 @@ function createViewer() {
   }
 }
 
+/** Fetch and load a bundled demo model; its settings (e.g. the surface method) go through the history. */
+async function loadDemo(demo, { sliceAfter = false } = {}) {
+  try {
+    const response = await fetch(demo.url);
+    if (!response.ok) throw Object.assign(new Error(`${demo.url}: HTTP ${response.status}`), { code: 'io_error' });
+    const bytes = await response.arrayBuffer();
+    for (const [key, value] of Object.entries(demo.settings || {})) {
+      if (app.model.get(key) !== value) app.history.execute(new SetSettingCommand(app.model, key, value));
+    }
+    if (demo.tilt && !['table5', 'robot6'].includes(selectedMachineKind(app.model.values))) {
+      if (app.model.get('machine_json')) app.history.execute(new SetSettingCommand(app.model, 'machine_json', ''));
+      app.history.execute(new SetSettingCommand(app.model, 'machine', demo.tilt));
+    }
+    if (await loadBytes(demo.name, bytes) && sliceAfter) await slice();
+  } catch (err) {
+    showError(err);
+    setState('error');
+  }
+}
+
 async function start() {
   wireUi();
   createViewer();
@@ -986,15 +1197,7 @@ async function start() {
     return;
   }
   updateButtons();
-  try {
-    const response = await fetch(DEMO_URL);
-    if (!response.ok) throw Object.assign(new Error(`${DEMO_URL}: HTTP ${response.status}`), { code: 'io_error' });
-    const bytes = await response.arrayBuffer();
-    if (await loadBytes(DEMO_NAME, bytes)) await slice();
-  } catch (err) {
-    showError(err);
-    setState('error');
-  }
+  await loadDemo(DEMOS.overhang, { sliceAfter: true });
 }
 
 /** Read-only view of the app for diagnostics and tests. */
@@ -1008,6 +1211,20 @@ window.omnislice = {
   get settings() { return app.model.toSettings(); },
   get history() { return app.history.serialize(); },
   get programExtension() { return app.result ? app.result.programExtension : null; },
+  /**
+   * The iso-planar view: {curveCount (NL curves drawn in alternating colours), shownRun,
+   * compare: {theta, report} | null, rows (the comparison table)}, or null without report.isoplanar.
+   */
+  get isoplanar() {
+    const iso = firstIso();
+    if (!iso) return null;
+    return {
+      curveCount: app.preview ? app.preview.curveCount : 0,
+      shownRun: app.shownRun,
+      compare: app.compare ? { theta: app.compare.theta, report: app.compare.result.report } : null,
+      rows: comparisonRows(compareRuns()),
+    };
+  },
   /** The voxel view: what it holds and draws (VoxelView.stats()), or null. */
   get voxel() { return app.voxelView ? app.voxelView.stats() : null; },
   /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */

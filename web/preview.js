@@ -3,13 +3,16 @@
 // layer range shown through drawRange. Built from typed arrays in a few linear passes (no per-segment
 // JS objects), so ~1M segments take tens of milliseconds:
 //   - the position buffer is used as is (one GPU upload, shared by the two objects below);
-//   - one Uint8 colour per vertex from a small palette;
+//   - one Uint8 colour per vertex from a small palette (by feature; segments on an iso-planar NL
+//     curve, preview.curves > 0, alternate between two colours curve by curve so the side steps
+//     between adjacent curves show);
 //   - two index buffers (extruding moves, travel moves), each counting-sorted by layer, with
 //     per-layer start offsets, so a layer range [lo, hi] is one contiguous drawRange;
 //   - the per-segment passes run in blocks and yield every ~12 ms (no long main-thread task).
 import * as THREE from 'three';
 
 import { blockRunner } from './block-runner.js';
+import { CURVE_COLORS } from './isoplanar-data.js';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
 export const FEATURES = [
@@ -32,14 +35,20 @@ export function featureCss(code) {
  * Colours and layer-sorted index buffers of preview buffers, built in blocks of `block` segments;
  * whenever a task has run for `budgetMs` it yields, so no single task runs long (the first blocks
  * run before the JIT has optimised the loops, so a time budget beats a fixed slice size).
- * @returns {Promise<{layerCount: number, colors: Uint8Array, featureCounts: Uint32Array,
+ * Printing segments on an NL curve (curves[s] > 0, when curves has one entry per segment) take
+ * CURVE_COLORS[(curves[s] - 1) % 2] instead of their feature's colour.
+ * @returns {Promise<{layerCount: number, colors: Uint8Array, featureCounts: Uint32Array, curveCount: number,
+ *   curveLayerMin: number (lowest layer with a segment on an NL curve, -1 without),
  *   print: {index: Uint32Array, starts: Uint32Array}, travel: {index: Uint32Array,
  *   starts: Uint32Array}}>} index: 2 vertex indices per segment, counting-sorted by layer (stable:
  *   print order within a layer); starts[l]..starts[l+1] is layer l's range in segments
  *   (layerCount+1 entries)
  */
-export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, block = 4096 } = {}) {
+export async function buildPreviewArrays({ features, layers, curves }, { budgetMs = 12, block = 4096 } = {}) {
   const S = features.length;
+  const onCurves = curves && curves.length === S ? curves : null;
+  let curveCount = 0;
+  let curveLayerMin = -1;
   // Run fn(from, to) over [0, S) in blocks, yielding when the task has used its budget.
   const run = blockRunner('omnislice:preview-slice', { budgetMs, block });
   const forBlocks = (fn) => run(S, fn);
@@ -69,14 +78,23 @@ export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, 
   const colors = new Uint8Array(S * 6);
   const palette = new Uint8Array(256 * 3);
   for (let c = 0; c < 256; c++) palette.set((FEATURES[c] || FEATURES[0]).color, c * 3);
+  const curvePalette = new Uint8Array([...CURVE_COLORS[0], ...CURVE_COLORS[1]]);
   await forBlocks((from, to) => {
     for (let s = from; s < to; s++) {
       const f = features[s];
-      const p = f * 3;
+      const c = onCurves && f !== 0 ? onCurves[s] : 0;
+      let p = f * 3;
+      let pal = palette;
+      if (c > 0) {
+        if (c > curveCount) curveCount = c;
+        if (curveLayerMin < 0 || layers[s] < curveLayerMin) curveLayerMin = layers[s];
+        p = ((c - 1) % 2) * 3;
+        pal = curvePalette;
+      }
       const o = s * 6;
-      colors[o] = colors[o + 3] = palette[p];
-      colors[o + 1] = colors[o + 4] = palette[p + 1];
-      colors[o + 2] = colors[o + 5] = palette[p + 2];
+      colors[o] = colors[o + 3] = pal[p];
+      colors[o + 1] = colors[o + 4] = pal[p + 1];
+      colors[o + 2] = colors[o + 5] = pal[p + 2];
       let k;
       let index;
       if (f === 0) {
@@ -95,6 +113,8 @@ export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, 
     layerCount,
     colors,
     featureCounts,
+    curveCount,
+    curveLayerMin,
     print: { index: printIndex, starts: printStarts },
     travel: { index: travelIndex, starts: travelStarts },
   };
@@ -103,8 +123,9 @@ export async function buildPreviewArrays({ features, layers }, { budgetMs = 12, 
 export class ToolpathPreview {
   /**
    * Build a preview without holding the main thread (see buildPreviewArrays).
-   * @param {{positions: Float32Array, features: Uint8Array, layers: Uint32Array}} preview
-   *   #S*6 segment end points (part frame, mm), #S feature codes, #S layer indices
+   * @param {{positions: Float32Array, features: Uint8Array, layers: Uint32Array, curves?: Uint32Array}} preview
+   *   #S*6 segment end points (part frame, mm), #S feature codes, #S layer indices, #S NL curve
+   *   indices (1-based, 0 = none; optional)
    */
   static async build(preview, options) {
     const { positions, features, layers } = preview;
@@ -121,6 +142,10 @@ export class ToolpathPreview {
     this.segmentCount = positions.length / 6;
     /** Segments per feature name (travel, wall-outer, ...), e.g. for a legend. */
     this.featureCounts = Object.fromEntries(FEATURES.map((f) => [f.name, arrays.featureCounts[f.code]]));
+    /** Highest NL curve index drawn in the curve colours (0: no iso-planar curves). */
+    this.curveCount = arrays.curveCount;
+    /** Lowest layer holding NL curve segments (-1 without), e.g. to start the layer range there. */
+    this.curveLayerMin = arrays.curveLayerMin;
     this.printStarts = arrays.print.starts;
     this.travelStarts = arrays.travel.starts;
     const position = new THREE.BufferAttribute(positions, 3);

@@ -49,6 +49,9 @@ export function selectedMachineKind(values) {
 const isRobot = (values) => selectedMachineKind(values) === 'robot6';
 const isVoxel = (values) => values.method === 'voxel';
 const isPlanar = (values) => !isVoxel(values);
+const isSurface = (values) => values.method === 'surface';
+/** The iso-planar fill runs: the surface method, or fill = isoplanar on planar or curved layers. */
+export const usesIsoplanar = (values) => isSurface(values) || values.fill === 'isoplanar';
 
 /**
  * Field schema: key (the facade's setting key), label, type, default and bounds. Units in labels.
@@ -68,7 +71,10 @@ export const SETTINGS_SCHEMA = [
     showIf: isRobot },
   { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', value: '', hidden: true },
   { group: 'Slicing', key: 'method', label: 'method', type: 'select', value: 'planar',
-    options: [{ label: 'planar layers', value: 'planar' }, { label: 'voxel (curved layers)', value: 'voxel' }] },
+    options: [{ label: 'planar layers', value: 'planar' }, { label: 'voxel (curved layers)', value: 'voxel' },
+      { label: 'surface (open surface, one layer on a base)', value: 'surface' }] },
+  { group: 'Slicing', key: 'fill', label: 'fill', type: 'select', value: 'auto', testid: 'setting-fill',
+    options: [{ label: 'auto', value: 'auto' }, { label: 'iso-planar (paper 003)', value: 'isoplanar' }, { label: 'spiral', value: 'spiral' }] },
   { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', type: 'number', value: 0.2, min: 0.02, max: 2, step: 0.01,
     showIf: isPlanar },
   { group: 'Slicing', key: 'nozzle', label: 'nozzle (mm)', type: 'number', value: 0.4, min: 0.1, max: 2, step: 0.05 },
@@ -117,6 +123,17 @@ export const SETTINGS_SCHEMA = [
     testid: 'voxel-platform-radius', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.max_voxels', label: 'max solid voxels', type: 'integer', value: 3000000, min: 1000, max: 1000000000, step: 100000,
     testid: 'voxel-max-voxels', showIf: isVoxel, sendIf: isVoxel },
+  // Iso-planar paths (paper 003): the drive-plane direction theta* of the best deposition rate.
+  { group: 'Iso-planar', key: 'isoplanar.theta_deg', label: 'drive-plane direction θ (°, −1 = search θ*)', type: 'number', value: -1, min: -1, max: 179.99, step: 1,
+    testid: 'iso-theta', showIf: usesIsoplanar, sendIf: usesIsoplanar },
+  { group: 'Iso-planar', key: 'isoplanar.directions', label: 'directions searched (over 180°)', type: 'integer', value: 180, min: 1, max: 3600, step: 1,
+    testid: 'iso-directions', showIf: usesIsoplanar, sendIf: usesIsoplanar },
+  { group: 'Iso-planar', key: 'isoplanar.chord_error_mm', label: 'chord error (mm)', type: 'number', value: 0.5, min: 0.001, max: 10, step: 0.05,
+    testid: 'iso-chord-error', showIf: usesIsoplanar, sendIf: usesIsoplanar },
+  { group: 'Iso-planar', key: 'isoplanar.benchmark', label: 'benchmark over all directions', type: 'checkbox', value: true,
+    testid: 'iso-benchmark', showIf: usesIsoplanar, sendIf: usesIsoplanar },
+  { group: 'Iso-planar', key: 'surface.base_mm', label: 'support base under the surface (mm)', type: 'number', value: 2, min: 0.1, max: 500, step: 0.5,
+    testid: 'surface-base', showIf: isSurface, sendIf: isSurface },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', type: 'number', value: 0.8, min: 0, max: 20, step: 0.1 },

@@ -14,10 +14,18 @@ import { blockRunner } from './block-runner.js';
 
 /** Progress stages per method, in pipeline order, with their share of the bar (sums to 1). */
 export const STAGE_WEIGHTS = {
-  planar: { read: 0.04, validate: 0.06, place: 0.02, slice: 0.28, toolpath: 0.45, program: 0.15 },
+  // feed, direction: the drive direction theta* of fill = isoplanar (absent otherwise: the bar
+  // skips their small share).
+  planar: { read: 0.04, validate: 0.06, place: 0.02, slice: 0.28, feed: 0.03, direction: 0.02, toolpath: 0.4, program: 0.15 },
   voxel: {
     read: 0.02, validate: 0.03, place: 0.01, voxelize: 0.06, peeling: 0.12, growth: 0.3,
     layers: 0.16, toolpath: 0.17, motion: 0.08, program: 0.05,
+  },
+  // Surface method (paper 003): the base by planar layers, then the iso-planar stages of the
+  // surface layer (feed field, drive-direction search, paths, benchmark over all directions).
+  surface: {
+    read: 0.02, validate: 0.03, place: 0.01, slice: 0.04, toolpath: 0.08, feed: 0.2, direction: 0.15,
+    paths: 0.12, benchmark: 0.2, motion: 0.1, program: 0.05,
   },
 };
 

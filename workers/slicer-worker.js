@@ -110,7 +110,7 @@ const handlers = {
     post({ id, type: Reply.RESULT, result },
       transferList(r.program, r.preview.positions, r.preview.features, r.preview.layers,
         r.preview.machine, r.preview.axes, r.preview.surfacePositions, r.preview.surfaceTriangles,
-        r.preview.surfaceLayers, r.preview.missedVoxels, r.preview.supportVoxels,
+        r.preview.surfaceLayers, r.preview.missedVoxels, r.preview.supportVoxels, r.preview.curves,
         r.mesh.positions, r.mesh.indices));
   },
 

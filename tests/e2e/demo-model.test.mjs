@@ -88,3 +88,45 @@ test('demo model has overhangs at 30/45/60 degrees and a bridge underside', () =
   const expectedBridge = DEMO_PARAMS.bridgeSpan * DEMO_PARAMS.depth;
   assert.ok(Math.abs(bridgeArea - expectedBridge) < 1e-3, `bridge underside ${bridgeArea} mm2`);
 });
+
+// The second demo: the open saddle of paper 003 (S1) for the surface method.
+test('committed saddle demo is the generator output: an open grid on z = (x^2 - y^2) / R, normals up', async () => {
+  const { demoSaddleObj, SADDLE_PARAMS } = await import('../../scripts/make-demo-saddle.mjs');
+  const file = path.join(ROOT, 'web', 'models', 'demo-saddle.obj');
+  const committed = fs.readFileSync(file, 'utf8');
+  assert.equal(demoSaddleObj(), demoSaddleObj(), 'deterministic');
+  assert.equal(committed, demoSaddleObj(), 'web/models/demo-saddle.obj is up to date (run node scripts/make-demo-saddle.mjs)');
+  assert.ok(committed.length < 300 * 1024, `${committed.length} bytes`);
+  const { R, half, n } = SADDLE_PARAMS;
+  const v = [];
+  const f = [];
+  for (const line of committed.split('\n')) {
+    const [kind, ...rest] = line.trim().split(/\s+/);
+    if (kind === 'v') v.push(rest.map(Number));
+    if (kind === 'f') f.push(rest.map((x) => Number(x) - 1));
+  }
+  assert.equal(v.length, (n + 1) ** 2);
+  assert.equal(f.length, 2 * n * n);
+  for (const [x, y, z] of v) {
+    assert.ok(Math.abs(x) <= half + 1e-9 && Math.abs(y) <= half + 1e-9, 'inside the square');
+    assert.ok(Math.abs(z - (x * x - y * y) / R) < 1e-4, `on the saddle at (${x}, ${y})`);
+  }
+  // Every triangle faces up (projected area counter-clockwise) and the projections tile the square.
+  let area = 0;
+  const edges = new Map();
+  for (const t of f) {
+    const [a, b, c] = t.map((i) => v[i]);
+    const cross2 = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    assert.ok(cross2 > 0, 'counter-clockwise seen from +z');
+    area += cross2 / 2;
+    for (let k = 0; k < 3; k++) {
+      const key = `${t[k]}>${t[(k + 1) % 3]}`;
+      assert.ok(!edges.has(key), 'each directed edge once (consistent orientation)');
+      edges.set(key, true);
+    }
+  }
+  assert.ok(Math.abs(area - (2 * half) ** 2) < 1e-6 * (2 * half) ** 2, `projected area ${area}`);
+  // Open: the boundary edges (no opposite edge) are the 4 n edges around the square.
+  const boundary = [...edges.keys()].filter((k) => !edges.has(k.split('>').reverse().join('>')));
+  assert.equal(boundary.length, 4 * n);
+});

@@ -5,6 +5,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { buildPreviewArrays, FEATURES, ToolpathPreview } from '../../web/preview.js';
+import { CURVE_COLORS } from '../../web/isoplanar-data.js';
 
 // Deterministic pseudo-random preview: layers mostly increasing with some out-of-order segments.
 function makePreview(S, L, seed = 7) {
@@ -55,4 +56,37 @@ test('ToolpathPreview draws exactly the segments of the chosen layer range', asy
   }
   assert.deepEqual(preview.range, [0, 39], "out-of-range bounds are clamped");
   await assert.rejects(ToolpathPreview.build({ ...p, layers: p.layers.subarray(1) }), /disagree/);
+});
+
+test('segments on iso-planar NL curves alternate between two colours curve by curve', async () => {
+  const p = makePreview(6000, 10, 5);
+  // Curves numbered in print order: runs of 40 segments, every fifth segment off the curves.
+  const curves = new Uint32Array(6000).map((_, s) => (s % 5 === 4 ? 0 : 1 + Math.floor(s / 40)));
+  const a = await buildPreviewArrays({ ...p, curves }, { block: 700, budgetMs: 0 });
+  let maxCurve = 0;
+  for (let s = 0; s < 6000; s++) {
+    const onCurve = curves[s] > 0 && p.features[s] !== 0;
+    if (onCurve) maxCurve = Math.max(maxCurve, curves[s]);
+    const c = onCurve ? CURVE_COLORS[(curves[s] - 1) % 2] : FEATURES[p.features[s]].color;
+    assert.deepEqual([...a.colors.subarray(s * 6, s * 6 + 6)], [...c, ...c], `segment ${s}`);
+  }
+  assert.equal(a.curveCount, maxCurve);
+  let minLayer = Infinity;
+  for (let s = 0; s < 6000; s++) if (curves[s] > 0 && p.features[s] !== 0) minLayer = Math.min(minLayer, p.layers[s]);
+  assert.equal(a.curveLayerMin, minLayer, 'lowest layer with NL curve segments');
+  // Adjacent curves differ in colour.
+  const colorOf = (k) => {
+    const s = (k - 1) * 40 + 1;  // an on-curve segment of curve k (s % 5 != 4) unless it is travel
+    for (let t = s; t < s + 4; t++) if (p.features[t] !== 0) return [...a.colors.subarray(t * 6, t * 6 + 3)];
+    return null;
+  };
+  for (let k = 1; k < 100; k++) {
+    const [x, y] = [colorOf(k), colorOf(k + 1)];
+    if (x && y) assert.notDeepEqual(x, y, `curves ${k} and ${k + 1}`);
+  }
+  // A curves buffer of the wrong length is ignored (feature colours), none given: curveCount 0.
+  const b = await buildPreviewArrays({ ...p, curves: curves.subarray(1) });
+  assert.equal(b.curveCount, 0);
+  assert.equal(b.curveLayerMin, -1);
+  assert.deepEqual([...b.colors.subarray(0, 6)], [...FEATURES[p.features[0]].color, ...FEATURES[p.features[0]].color]);
 });

@@ -6,6 +6,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   PLACEMENT_KEYS, SETTINGS_SCHEMA, SetSettingCommand, SettingsModel, normaliseValue, selectedMachineKind,
+  usesIsoplanar,
 } from '../../web/settings-panel.js';
 
 test('slice settings: placement keys always, others only when changed from the defaults', () => {
@@ -49,4 +50,37 @@ test('machine_json: one-line JSON object text; undoable; it decides the machine 
   assert.equal(model.get('machine_json'), '');
   assert.equal(showIf('robot_format'), true);
   assert.equal(showIf('gcode_flavor'), false);
+});
+
+test('iso-planar settings: shown and sent only with the surface method or the iso-planar fill', () => {
+  const model = new SettingsModel();
+  const showIf = (key) => SETTINGS_SCHEMA.find((f) => f.key === key).showIf(model.values);
+  const isoKeys = ['isoplanar.theta_deg', 'isoplanar.directions', 'isoplanar.chord_error_mm', 'isoplanar.benchmark'];
+  assert.equal(usesIsoplanar(model.values), false);
+  for (const key of [...isoKeys, 'surface.base_mm']) assert.equal(showIf(key), false, `${key} hidden for planar/auto`);
+  model.set('isoplanar.theta_deg', 30);
+  model.set('isoplanar.chord_error_mm', 0.2);
+  assert.equal('isoplanar.theta_deg' in model.toSliceSettings(), false, 'not sent while the fill does not use it');
+  model.set('fill', 'isoplanar');
+  for (const key of isoKeys) assert.equal(showIf(key), true, `${key} shown for fill = isoplanar`);
+  assert.equal(showIf('surface.base_mm'), false, 'the base belongs to the surface method');
+  let s = model.toSliceSettings();
+  assert.equal(s.fill, 'isoplanar');
+  assert.equal(s['isoplanar.theta_deg'], 30);
+  assert.equal(s['isoplanar.chord_error_mm'], 0.2);
+  assert.equal('isoplanar.directions' in s, false, 'defaults are left to the core');
+  model.set('fill', 'auto');
+  model.set('method', 'surface');
+  model.set('surface.base_mm', 3);
+  s = model.toSliceSettings();
+  assert.equal(s.method, 'surface');
+  assert.equal(s['isoplanar.theta_deg'], 30, 'the surface method prints iso-planar paths');
+  assert.equal(s['surface.base_mm'], 3);
+  assert.equal(showIf('surface.base_mm'), true);
+  // The direction: -1 (search) or a forced angle in [0, 180).
+  const theta = model.field('isoplanar.theta_deg');
+  assert.equal(normaliseValue(theta, '-1'), -1);
+  assert.equal(normaliseValue(theta, '158'), 158);
+  assert.throws(() => normaliseValue(theta, '180'), /within/);
+  assert.throws(() => normaliseValue(model.field('isoplanar.directions'), '1.5'), /whole number/);
 });

@@ -207,6 +207,10 @@ test('progress weights: each method\'s stages sum to 1 and overall progress only
     assert.equal(overallProgress(w, 'no-such-stage', 0.5), null);
   }
   assert.deepEqual(Object.keys(STAGE_WEIGHTS.voxel).slice(3), ['voxelize', 'peeling', 'growth', 'layers', 'toolpath', 'motion', 'program']);
+  // The surface method's stages as the engine reports them (the base's toolpath comes again for
+  // the surface layer, after benchmark; the bar never goes back).
+  assert.deepEqual(Object.keys(STAGE_WEIGHTS.surface),
+    ['read', 'validate', 'place', 'slice', 'toolpath', 'feed', 'direction', 'paths', 'benchmark', 'motion', 'program']);
 });
 
 test('voxel summary rows and the done line show the report\'s figures', () => {

@@ -154,7 +154,10 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.equal(r.programExtension, 'gcode');
     assert.equal(Math.max(...r.preview.layers), r.report.layers - 1);
     assert.equal(r.mesh.indices.length, 3 * 2 * 96 * 32);
-    for (const a of [r.preview.positions, r.preview.features, r.preview.layers, r.preview.machine, r.mesh.positions, r.mesh.indices]) {
+    // NL curve indices (iso-planar fill): a Uint32Array, empty or one per segment.
+    assert.ok(r.preview.curves instanceof Uint32Array, 'preview.curves');
+    assert.ok(r.preview.curves.length === 0 || r.preview.curves.length === n, `curves: ${r.preview.curves.length}`);
+    for (const a of [r.preview.positions, r.preview.features, r.preview.layers, r.preview.machine, r.preview.curves, r.mesh.positions, r.mesh.indices]) {
       assert.equal(a.byteOffset, 0);
       assert.equal(a.buffer.byteLength, a.byteLength, 'own buffer, not a view of the wasm heap');
     }

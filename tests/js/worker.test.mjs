@@ -72,7 +72,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
         maxLayer: result.preview.layers.reduce((m, v) => Math.max(m, v), 0),
         // Typed arrays of the preview (positions, features, layers, machine; with the curved-layer
         // builds also axes, surfacePositions, surfaceTriangles, surfaceLayers, missedVoxels,
-        // supportVoxels) and their lengths.
+        // supportVoxels, curves) and their lengths.
         previewArrays: Object.fromEntries(Object.entries(result.preview).filter(([, a]) => ArrayBuffer.isView(a)).map(([k, a]) => [k, a.length])),
         spy: await (async () => {
           // The spy reports in a message right after the result: wait for it.
@@ -113,12 +113,14 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     const spy = r.spy.find((s) => s.replyType === 'result');
     assert.ok(spy, 'spy saw the slice result');
     const previewBuffers = Object.keys(r.previewArrays).length;
-    assert.ok(previewBuffers === 4 || previewBuffers === 10, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
+    assert.ok(previewBuffers === 4 || previewBuffers === 11, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
     assert.equal(spy.before.length, 1 + previewBuffers + 2, `program + ${previewBuffers} preview + 2 mesh buffers in the transfer list`);
-    if (previewBuffers === 10) {
-      // A planar slice: nozzle axes per segment, no surfaces or voxel cells.
+    if (previewBuffers === 11) {
+      // A planar slice: nozzle axes per segment, no surfaces or voxel cells; NL curve indices
+      // (iso-planar fill) either none or one per segment.
       assert.equal(r.previewArrays.axes, 3 * r.segments);
       for (const k of ['surfacePositions', 'surfaceTriangles', 'surfaceLayers', 'missedVoxels', 'supportVoxels']) assert.equal(r.previewArrays[k], 0, k);
+      assert.ok(r.previewArrays.curves === 0 || r.previewArrays.curves === r.segments, `curves: ${r.previewArrays.curves}`);
     }
     assert.ok(spy.before[0] === r.programLength, 'program bytes (ASCII G-code) transferred');
     assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
