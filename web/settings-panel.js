@@ -128,7 +128,7 @@ export const SETTINGS_SCHEMA = [
     testid: 'iso-theta', showIf: usesIsoplanar, sendIf: usesIsoplanar },
   { group: 'Iso-planar', key: 'isoplanar.directions', label: 'directions searched (over 180°)', type: 'integer', value: 180, min: 1, max: 3600, step: 1,
     testid: 'iso-directions', showIf: usesIsoplanar, sendIf: usesIsoplanar },
-  { group: 'Iso-planar', key: 'isoplanar.chord_error_mm', label: 'chord error (mm)', type: 'number', value: 0.5, min: 0.001, max: 10, step: 0.05,
+  { group: 'Iso-planar', key: 'isoplanar.chord_error_mm', label: 'chord error (mm, 0 = auto: min(0.5, layer/8))', type: 'number', value: 0, min: 0, max: 10, step: 0.05,
     testid: 'iso-chord-error', showIf: usesIsoplanar, sendIf: usesIsoplanar },
   { group: 'Iso-planar', key: 'isoplanar.benchmark', label: 'benchmark over all directions', type: 'checkbox', value: true,
     testid: 'iso-benchmark', showIf: usesIsoplanar, sendIf: usesIsoplanar },

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 #include "pipeline/isoplanar_fill.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -75,7 +76,8 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   const WidthFn width = table.function();
   const FeedFn feed = edgeFeed(field, samples.samples, options.maxFeed);
   IsoplanarOptions popt;
-  popt.chordError = settings.chordErrorMm;
+  popt.chordError = settings.chordErrorMm > 0 ? settings.chordErrorMm
+                                              : std::min(0.5, options.layerHeight / 8);
 
   t0 = Clock::now();
   IsoplanarSurface prepared = prepareIsoplanarSurface(surface, samples.samples);
@@ -174,6 +176,7 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   r["mean_width_mm"] = widthCount > 0 ? widthSum / double(widthCount) : 0.0;
   r["samples"] = search.samples;
   r["unreachable"] = search.unreachable;
+  r["chord_error_mm"] = popt.chordError;
   r["bead_width_mm"] = options.beadWidth;
   r["layer_height_mm"] = options.layerHeight;
   r["max_feed_mm_s"] = options.maxFeed;

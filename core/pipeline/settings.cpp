@@ -145,7 +145,7 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
       {"isoplanar.directions",
        {[](Settings& s) -> double& { return s.isoplanar.directions; }, 1, 3600, "directions"}},
       {"isoplanar.chord_error_mm",
-       {[](Settings& s) -> double& { return s.isoplanar.chordErrorMm; }, 0.001, 10, "mm"}},
+       {[](Settings& s) -> double& { return s.isoplanar.chordErrorMm; }, 0, 10, "mm (0 = min(0.5, layer height / 8))"}},
       {"isoplanar.stencil_mm",
        {[](Settings& s) -> double& { return s.isoplanar.stencilMm; }, 0.05, 20, "mm"}},
       {"isoplanar.gamma_samples",
