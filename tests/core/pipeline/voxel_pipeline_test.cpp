@@ -92,6 +92,29 @@ void expectVerified(const SliceOutput& out, const std::vector<uint8_t>& bytes, c
               2e-3 * report["extrusion_mm"].get<double>());
 }
 
+// Issue 5: fill = isoplanar on the voxel method's curved layers (one theta* per region, NL
+// curves with the nozzle along Eq. 3, Eq. 13 extrusion) prints and verifies like the spirals.
+TEST(VoxelPipelineIsoplanar, MushroomWithIsoplanarFillVerifies) {
+  const auto bytes = mushroomBytes();
+  for (const char* machine : {"table5", "robot6-ur5"}) {
+    Settings s = voxelSettings(machine);
+    ASSERT_TRUE(setSetting(s, "fill", "isoplanar").ok());
+    ASSERT_TRUE(setSetting(s, "isoplanar.directions", "36").ok());
+    SliceOutput out = runSlice(bytes.data(), bytes.size(), "mushroom.stl", s);
+    ASSERT_TRUE(out.ok()) << out.message;
+    const Json report = Json::parse(out.reportJson);
+    ASSERT_TRUE(report.contains("isoplanar")) << machine;
+    const Json& iso = report["isoplanar"];
+    EXPECT_GT(iso["regions"].size(), 5u);
+    EXPECT_EQ(report["fill"], "isoplanar");
+    size_t tagged = 0;
+    for (uint32_t c : out.preview.curves) tagged += c > 0;
+    EXPECT_GT(tagged, 100u);
+    SCOPED_TRACE(machine);
+    expectVerified(out, bytes, "mushroom.stl");
+  }
+}
+
 class VoxelPipeline : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(VoxelPipeline, MushroomPrintsWithCurvedLayersAndVerifies) {
