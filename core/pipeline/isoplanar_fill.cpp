@@ -10,26 +10,18 @@
 #include "isoplanar/feed_rate.h"
 #include "isoplanar/isoplanar_paths.h"
 #include "isoplanar/surface_samples.h"
+#include "pipeline/stage_support.h"
 
 namespace omnislice {
 
 namespace {
 
 using Json = nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
+using stage::Clock;
+using stage::finite;
+using stage::msSince;
 
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-double finite(double v) { return std::isfinite(v) ? v : 0.0; }
-
-IsoplanarFillResult fail(const Outcome& o) {
-  IsoplanarFillResult r;
-  r.status = o.status;
-  r.message = o.message;
-  return r;
-}
+IsoplanarFillResult fail(const Outcome& o) { return stage::failed<IsoplanarFillResult>(o); }
 
 // f* on a mesh edge: the two vertices' limits blended linearly (0 where either is unreachable).
 FeedFn edgeFeed(const FeedField& field, const std::vector<SurfaceSample>& samples, double maxFeed) {
@@ -225,9 +217,7 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
   const Clock::time_point t0 = Clock::now();
   const size_t nl = slices.layers.size();
   if (nl == 0) {
-    out.status = Status::EmptyInput;
-    out.message = "no layers to fill";
-    return out;
+    return stage::failed<PlanarDirection>(Status::EmptyInput, "no layers to fill");
   }
   const size_t layerCount = std::min<size_t>(nl, 24);
   double area = 0;
@@ -244,9 +234,7 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
     }
   }
   if (lo.x() > hi.x()) {
-    out.status = Status::EmptyInput;
-    out.message = "the layers have no sections to fill";
-    return out;
+    return stage::failed<PlanarDirection>(Status::EmptyInput, "the layers have no sections to fill");
   }
   area = (hi - lo).prod() * double(picked.size());
   const double spacing = std::max(2.0, std::sqrt(area / 20000.0));
@@ -274,30 +262,20 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
     }
   }
   if (samples.empty()) {
-    out.status = Status::EmptyInput;
-    out.message = "the layers' sections are too thin to sample for the iso-planar direction";
-    return out;
+    return stage::failed<PlanarDirection>(Status::EmptyInput, "the layers' sections are too thin to sample for the iso-planar direction");
   }
   FeedFieldOptions fopt;
   fopt.stencilRadius = settings.isoplanar.stencilMm;
   fopt.gammaSamples = static_cast<int>(settings.isoplanar.gammaSamples);
   FeedField field = buildFeedField(samples, machine, fopt, progress);
-  if (!field.ok()) {
-    out.status = field.status;
-    out.message = field.message;
-    return out;
-  }
+  if (!field.ok()) return stage::failed<PlanarDirection>(field);
   DriveDirectionOptions dopt;
   dopt.directions = static_cast<int>(settings.isoplanar.directions);
   dopt.beadWidth = settings.nozzleDiameter;
   dopt.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.infillSpeed;
   dopt.forcedThetaDegrees = settings.isoplanar.thetaDegrees;
   DriveDirectionResult search = searchDriveDirection(samples, field, dopt, progress);
-  if (!search.ok()) {
-    out.status = search.status;
-    out.message = search.message;
-    return out;
-  }
+  if (!search.ok()) return stage::failed<PlanarDirection>(search);
   out.thetaDegrees = search.thetaStarDegrees;
   Json r;
   r["theta_deg"] = search.thetaStarDegrees;

@@ -20,6 +20,7 @@
 #include "slice/slice_mesh.h"
 #include "kinematics/kinematics.h"
 #include "pipeline/isoplanar_fill.h"
+#include "pipeline/stage_support.h"
 #include "pipeline/surface_method.h"
 #include "pipeline/voxel_method.h"
 #include "toolpath/toolpath.h"
@@ -30,14 +31,10 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-// Finite number for JSON (nlohmann writes NaN as null; keep reports numeric).
-double finite(double v) { return std::isfinite(v) ? v : 0.0; }
+using stage::Clock;
+using stage::failed;
+using stage::finite;
+using stage::msSince;
 
 Json matrixJson(const Eigen::Matrix4d& m) {
   Json a = Json::array();
@@ -110,19 +107,6 @@ PreviewBuffers makePreview(const MachinePath& path, const Toolpath& toolpath) {
     prev = m.tip;
   }
   return p;
-}
-
-template <typename Result>
-Result failed(Status status, std::string message) {
-  Result r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
-}
-
-template <typename Result>
-Result failed(const Outcome& o) {
-  return failed<Result>(o.status, o.message);
 }
 
 // Read + validate/repair + place. Shared by slice and info.

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/isoplanar_fill.h"
+#include "pipeline/stage_support.h"
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
 #include "surface/curved_toolpath.h"
@@ -18,20 +19,13 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
+using stage::Clock;
+using stage::msSince;
 
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+template <typename... Args>
+SurfaceMethodOutput failure(Args&&... args) {
+  return stage::failed<SurfaceMethodOutput>(std::forward<Args>(args)...);
 }
-
-SurfaceMethodOutput failure(Status s, std::string message) {
-  SurfaceMethodOutput r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
-
-SurfaceMethodOutput failure(const Outcome& o) { return failure(o.status, o.message); }
 
 Mesh lifted(const Mesh& m, double dz) {
   Mesh out = m;

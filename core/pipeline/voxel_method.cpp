@@ -10,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "pipeline/isoplanar_fill.h"
+#include "pipeline/stage_support.h"
 #include "surface/curved_toolpath.h"
 #include "surface/fermat_spiral.h"
 #include "voxel/curved_layers.h"
@@ -21,20 +22,13 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using Clock = std::chrono::steady_clock;
+using stage::Clock;
+using stage::msSince;
 
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+template <typename... Args>
+VoxelMethodOutput failure(Args&&... args) {
+  return stage::failed<VoxelMethodOutput>(std::forward<Args>(args)...);
 }
-
-VoxelMethodOutput failure(Status s, std::string message) {
-  VoxelMethodOutput out;
-  out.status = s;
-  out.message = std::move(message);
-  return out;
-}
-
-VoxelMethodOutput failure(const Outcome& o) { return failure(o.status, o.message); }
 
 void pushPoint(std::vector<float>& out, const Eigen::Vector3d& p) {
   out.push_back(static_cast<float>(p.x()));

@@ -7,7 +7,7 @@ import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { boxStl, sphereStl, torusStl, writeBinaryStl } from './fixtures/meshes.js';
+import { boxStl, saddleObj, sphereStl, torusStl, writeBinaryStl } from './fixtures/meshes.js';
 import { CI, NATIVE_CLI, loadShipped, sharedModel, wasmUnavailable } from './wasm-support.mjs';
 
 const why = wasmUnavailable();
@@ -141,6 +141,26 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.equal(p.axes.length, 3 * p.features.length, 'an axis per segment');
     assert.equal(p.surfaceLayers.length * 3, p.surfaceTriangles.length, 'a layer per surface triangle');
     assert.ok(p.voxelWidth > 0.6 && p.voxelWidth < 0.7, `voxel width ${p.voxelWidth}`);
+  });
+
+  // Issue 5: the surface method (paper 003) gives the same theta*, curve and paths in wasm and natively.
+  test('same iso-planar report as the native CLI: saddle surface on robot6', { skip: nativeWhy || false }, () => {
+    const s = { method: 'surface', machine: 'robot6-ur5', nozzle_diameter: 1, layer_height: 0.75, line_width: 1.125,
+      'isoplanar.directions': 60 };
+    const text = saddleObj(50, 15, 24);
+    const bytes = new TextEncoder().encode(text);
+    const file = path.join(tmp, 'saddle.obj');
+    fs.writeFileSync(file, text);
+    const native = nativeSlice(file, s).report.isoplanar;
+    const wasm = m.slice(bytes, 'saddle.obj', s).report.isoplanar;
+    for (const k of ['theta_deg', 'planes', 'curves', 'paths', 'samples', 'unreachable', 'base_layers']) {
+      assert.equal(wasm[k], native[k], `isoplanar.${k}`);
+    }
+    assert.equal(wasm.curve.length, native.curve.length);
+    for (let i = 0; i < wasm.curve.length; ++i) close(wasm.curve[i][1], native.curve[i][1], 1e-6, `v_e(${wasm.curve[i][0]})`);
+    for (const k of ['deposition_rate_mm3_s', 'path_mm', 'estimated_time_s']) close(wasm[k], native[k], 1e-6, k);
+    // 59 directions' plans averaged: libm's last bits (glibc vs musl) add up to ~2e-6.
+    close(wasm.benchmark.mean_estimated_time_s, native.benchmark.mean_estimated_time_s, 1e-4, 'benchmark time');
   });
 
   test('torus preview and mesh: counts agree with the report and are heap copies', () => {
