@@ -72,14 +72,34 @@ struct Chain {
 
 constexpr double kSlack = 1e-6;  // scale a little beyond the limit so rounding cannot exceed it
 
-// Every acceleration and jerk difference that involves T_k within its limit.
+// Every acceleration and jerk difference that involves T_k within its limit (accelRatio() of
+// junctions k - 1, k and jerkRatio() of windows k - 2 .. k, each acceleration computed once).
 bool withinLimitsAround(const Chain& c, size_t k) {
   const size_t n = c.t.size();
-  for (size_t j = k >= 1 ? k - 1 : 0; j <= k && j + 1 < n; ++j) {
-    if (c.accelRatio(j) > 1 + 1e-9) return false;
+  const int axes = c.in.axes;
+  const size_t lo = k >= 2 ? k - 2 : 0;
+  double acc[4][6];
+  bool has[4] = {false, false, false, false};
+  for (size_t j = lo; j <= k + 1 && j + 1 < n; ++j) {
+    if (!c.motion(j) || !c.motion(j + 1)) continue;
+    has[j - lo] = true;
+    for (int i = 0; i < axes; ++i) acc[j - lo][i] = c.accel(j, i);
   }
-  for (size_t j = k >= 2 ? k - 2 : 0; j <= k && j + 2 < n; ++j) {
-    if (c.jerkRatio(j) > 1 + 1e-9) return false;
+  for (size_t j = k >= 1 ? k - 1 : 0; j <= k; ++j) {
+    if (!has[j - lo]) continue;
+    for (int i = 0; i < axes; ++i) {
+      const double amax = c.in.dynamics[i].acceleration;
+      if (amax > 0 && std::abs(acc[j - lo][i]) / amax > 1 + 1e-9) return false;
+    }
+  }
+  for (size_t w = lo; w <= k && w + 2 < n; ++w) {
+    if (!has[w - lo] || !has[w + 1 - lo]) continue;
+    const double span = c.jerkSpan(w);
+    for (int i = 0; i < axes; ++i) {
+      const double jmax = c.in.dynamics[i].jerk;
+      if (jmax <= 0) continue;
+      if (std::abs((acc[w + 1 - lo][i] - acc[w - lo][i]) / span) / jmax > 1 + 1e-9) return false;
+    }
   }
   return true;
 }
