@@ -5,7 +5,7 @@
 // finite differences are taken in time (they reduce to the paper's at equal spacing):
 //   v_k = (Q_k+1 - Q_k) / T_k                            (velocity over move k)
 //   a_k = (v_k+1 - v_k) / ((T_k + T_k+1) / 2)             (at the junction of moves k, k+1)
-//   j_k = (a_k+1 - a_k) / T_k+1                          (over move k+1)
+//   j_k = (a_k+1 - a_k) / ((T_k + 2 T_k+1 + T_k+2) / 4)   (time between the two a samples)
 // and the durations T are raised until every |v|, |a|, |j| is within its limit: the feed at a
 // sample is the smallest of the three limits (Eq. 9).
 #pragma once

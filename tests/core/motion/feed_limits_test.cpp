@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -57,6 +58,116 @@ TEST(FeedLimits, UnlimitedAxesKeepRequestedSpeed) {
     EXPECT_NEAR(r.duration[k], in.length[k] / 25, 1e-12);
   }
   EXPECT_EQ(r.limitedMoves, 0u);
+}
+
+
+// Independent check of the unequal-spacing differences: q(t) = t^3 sampled at moves alternating
+// 0.1 s and 0.02 s has jerk 6 everywhere and q(t) = t^2 acceleration 2. The acceleration is exact
+// (average velocities are midpoint velocities of a quadratic); the jerk of a cubic is within the
+// O(T) error of average-velocity samples. Dividing the jerk by the middle move's duration alone
+// (the former formula) read 22 at every short middle move.
+TEST(FeedLimits, DifferencesMatchPolynomialsOnUnequalMoves) {
+  for (int power = 2; power <= 3; ++power) {
+    FeedInput in;
+    in.axes = 1;
+    in.dynamics[0] = {0, 2, 6};
+    std::vector<double> duration;
+    double t = 1;
+    in.values.push_back({std::pow(t, power), 0, 0, 0, 0, 0});
+    for (int k = 0; k < 40; ++k) {
+      const double dt = k % 2 ? 0.02 : 0.1;
+      t += dt;
+      in.values.push_back({std::pow(t, power), 0, 0, 0, 0, 0});
+      in.length.push_back(1);
+      in.speed.push_back(0);
+      duration.push_back(dt);
+    }
+    const auto r = feedLimitRatios(in, duration);
+    if (power == 2) {
+      EXPECT_NEAR(r[1], 1, 1e-9);
+      EXPECT_NEAR(r[2], 0, 1e-6);
+    } else {
+      EXPECT_GT(r[2], 0.7);
+      EXPECT_LT(r[2], 1.3);
+    }
+  }
+}
+
+// A 3+2 safe rotation as emitted on table5: lift Z, turn C by 360 degrees, a move that changes
+// nothing but has a rounding-noise tip length (1e-15 mm), lower Z. The degenerate move used to
+// read as an almost infinite jerk and the scaling stretched the rotation to 2.4e5 s. A rest-to-
+// rest 360-degree turn with 90 deg/s, 900 deg/s^2, 9000 deg/s^3 takes about 4.2 s.
+TEST(FeedLimits, DegenerateMoveDoesNotStretchNeighbours) {
+  FeedInput in;
+  in.axes = 5;
+  in.dynamics[2] = {50, 0, 0};
+  in.dynamics[3] = in.dynamics[4] = {90, 900, 9000};
+  MachineValues v{-19.4, -0.5, 12.5, -45.5, -3598.1, 0};
+  in.values.push_back(v);
+  auto add = [&](double length) {
+    in.values.push_back(v);
+    in.length.push_back(length);
+    in.speed.push_back(50);
+  };
+  v[2] = 39.2;
+  add(26.7);
+  v[4] += 360;
+  add(3.6e-15);
+  add(1.1e-15);
+  v[2] = 12.5;
+  add(26.7);
+  const FeedResult r = limitFeeds(in);
+  EXPECT_EQ(r.violations, 0u);
+  const double turn = r.duration[1];
+  EXPECT_GE(turn, 4.0);
+  EXPECT_LT(turn, 12.0);
+  double total = 0;
+  for (double d : r.duration) total += d;
+  EXPECT_LT(total, 20.0);
+  const auto ratio = feedLimitRatios(in, r.duration);
+  EXPECT_LE(ratio[0], 1 + 1e-9);
+  EXPECT_LE(ratio[1], 1 + 1e-6);
+  EXPECT_LE(ratio[2], 1 + 1e-6);
+}
+
+// The durations are locally least: a move slowed beyond its floor (velocity limit, requested
+// speed) cannot be shortened by 1 % without some difference it enters exceeding its limit. The
+// former uniform window scaling left most slowed moves with every difference below 0.9 of its
+// limit (2/3 of the moves of a table5 curved-layer print).
+TEST(FeedLimits, SlowedMovesAreTight) {
+  FeedInput in = randomWalk(11, 3000);
+  const double pi = 3.14159265358979323846;
+  for (auto& d : in.dynamics) d = {pi / 6, pi / 2, pi};
+  const FeedResult r = limitFeeds(in);
+  ASSERT_EQ(r.violations, 0u);
+  const size_t n = in.length.size();
+  size_t slowed = 0, slack = 0;
+  for (size_t k = 0; k < n; ++k) {
+    double floor = in.speed[k] > 0 ? in.length[k] / in.speed[k] : 0;
+    for (int i = 0; i < in.axes; ++i) {
+      floor = std::max(floor, std::abs(in.values[k + 1][i] - in.values[k][i]) /
+                                  in.dynamics[i].velocity);
+    }
+    if (r.duration[k] <= floor * 1.01) continue;
+    ++slowed;
+    // The window of differences that involve move k, checked on its own.
+    const size_t lo = k >= 2 ? k - 2 : 0, hi = std::min(n - 1, k + 2);
+    FeedInput w;
+    w.axes = in.axes;
+    w.dynamics = in.dynamics;
+    std::vector<double> t;
+    for (size_t j = lo; j <= hi; ++j) {
+      if (j == lo) w.values.push_back(in.values[j]);
+      w.values.push_back(in.values[j + 1]);
+      w.length.push_back(in.length[j]);
+      w.speed.push_back(in.speed[j]);
+      t.push_back(r.duration[j] * (j == k ? 0.99 : 1.0));
+    }
+    const auto ratio = feedLimitRatios(w, t);
+    if (ratio[1] <= 1 + 1e-6 && ratio[2] <= 1 + 1e-6) ++slack;
+  }
+  EXPECT_GT(slowed, 100u);
+  EXPECT_LE(slack, slowed / 50) << slack << " of " << slowed << " slowed moves have slack";
 }
 
 }  // namespace

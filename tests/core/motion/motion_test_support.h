@@ -207,7 +207,10 @@ inline std::array<double, 3> recomputeFeedRatios(const MachinePath& mp, int axes
   for (size_t k = 0; k + 1 < n; ++k) {
     if (!hasA[k] || !hasA[k + 1]) continue;
     for (int i = 0; i < axes; ++i) {
-      const double j = (a[k + 1][i] - a[k][i]) / mp.moves[k + 1].durationS;
+      // a_k and a_k+1 sit between the midpoints of their moves: (T_k + 2 T_k+1 + T_k+2) / 4 apart.
+      const double span = 0.25 * (mp.moves[k].durationS + 2 * mp.moves[k + 1].durationS +
+                                   mp.moves[k + 2].durationS);
+      const double j = (a[k + 1][i] - a[k][i]) / span;
       if (dyn[i].jerk > 0) worst[2] = std::max(worst[2], std::abs(j) / dyn[i].jerk);
     }
   }
