@@ -3,11 +3,13 @@
 // failed results, finite numbers for JSON reports.
 #pragma once
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <string>
 #include <utility>
 
 #include "common/status.h"
+#include "program/machine.h"
 
 namespace omnislice::stage {
 
@@ -34,5 +36,17 @@ Result failed(const Outcome& o) {
 
 // Finite number for JSON (nlohmann writes NaN as null; keep reports numeric).
 inline double finite(double v) { return std::isfinite(v) ? v : 0.0; }
+
+// How far the machine can lean the nozzle axis from +Z, degrees: table5 its B range (less half a
+// degree of margin, at least 1), a robot 90.
+inline double machineTiltLimitDegrees(const MachineProfile& machine) {
+  if (machine.kind == "table5") {
+    auto it = machine.axisLimits.find("B");
+    if (it != machine.axisLimits.end()) {
+      return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
+    }
+  }
+  return 90;
+}
 
 }  // namespace omnislice::stage

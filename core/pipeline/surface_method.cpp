@@ -33,17 +33,6 @@ Mesh lifted(const Mesh& m, double dz) {
   return out;
 }
 
-// The machine's tilt range for the surface normals (table5: its B range; robot: 90 degrees).
-double tiltLimitDegrees(const MachineProfile& machine) {
-  if (machine.kind == "table5") {
-    auto it = machine.axisLimits.find("B");
-    if (it != machine.axisLimits.end()) {
-      return std::max(0.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
-    }
-  }
-  return 90;
-}
-
 }  // namespace
 
 SurfacePartResult surfacePart(const Mesh& placedSurface) {
@@ -128,7 +117,7 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   topt.retractLength = settings.retractLength;
   topt.retractMinTravel = settings.retractMinTravel;
   topt.retractSpeed = settings.retractSpeed;
-  topt.maxTiltDegrees = tiltLimitDegrees(machine);
+  topt.maxTiltDegrees = stage::machineTiltLimitDegrees(machine);
   topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
   topt.coneLength = machine.nozzle.coneLength;
   topt.collisionClearance = h;

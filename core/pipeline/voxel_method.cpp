@@ -44,14 +44,8 @@ namespace {
 // is out of reach), 90 degrees for a robot holding the platform (beyond, the arm must hold the
 // part upside down, which a UR5 under a fixed nozzle reaches only in part of its workspace).
 double machineTiltDegrees(const Settings& settings, const MachineProfile& machine) {
-  if (settings.voxel.maxTiltDegrees > 0) return settings.voxel.maxTiltDegrees;
-  if (machine.kind == "table5") {
-    auto it = machine.axisLimits.find("B");
-    if (it != machine.axisLimits.end()) {
-      return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
-    }
-  }
-  return 90;
+  return settings.voxel.maxTiltDegrees > 0 ? settings.voxel.maxTiltDegrees
+                                           : stage::machineTiltLimitDegrees(machine);
 }
 
 // Indices of the grown cells (G >= 1) in growth order (counting sort by G).
