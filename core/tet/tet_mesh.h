@@ -36,24 +36,31 @@ struct TetMeshResult : Outcome {
 // words ("vertices", "tets"/"tetrahedra") are optional but the two counts come first. Statuses:
 // EmptyInput, ParseError (bad line, wrong arity: the message names the line), TruncatedFile
 // (fewer lines than declared), NonFiniteVertex, DegenerateInput (index out of range, a tet with
-// a repeated vertex or zero volume, no tets). Negative tets are flipped (counted).
+// a repeated vertex or zero volume, no tets). Negative tets are flipped (counted). Indices are
+// 0-based; each tet line must hold exactly `4 i j k l` and each vertex line exactly `x y z`.
+// "Zero volume" is |6 V| <= 1e-12 * (longest edge)^3 (roundoff-flat); slivers are kept.
+// Warnings: vertices used by no tet, flipped tets, lines after the declared tets.
 TetMeshResult readTetMesh(const uint8_t* data, size_t size);
 
-// Checks a mesh built in memory the same way (indices, finite, positive volumes after flipping).
+// Checks a mesh built in memory the same way (sizes, indices, finite, no repeated vertex, nonzero
+// volume) and flips negative tets (counted).
 TetMeshResult validateTetMesh(TetMesh mesh);
 
 // Boundary surface: the faces used by exactly one tet, outward-oriented, on the tet mesh's
-// vertex indices (unused vertices kept, so indices match the TetMesh).
+// vertex indices (unused vertices kept, so indices match the TetMesh). Faces shared by three or
+// more tets are not boundary. Expects positively oriented tets (validateTetMesh); returns no
+// triangles when an index is out of range.
 Mesh tetBoundary(const TetMesh& mesh);
 
 struct TetQuality {
-  double volume = 0;                 // mm^3
-  double meanEdge = 0;               // mm (paper: t = h^2 with h the mean edge length)
-  double minDihedralDegrees = 0, maxDihedralDegrees = 0;
+  double volume = 0;                 // mm^3, sum of signed tet volumes
+  double meanEdge = 0;               // mm, over distinct edges (paper: t = h^2, h the mean edge length)
+  double minDihedralDegrees = 0, maxDihedralDegrees = 0;  // over the 6 angles of every tet
   double minRadiusRatio = 0;         // 3 r_in / r_out, 1 for the regular tet
   size_t nonManifoldFaces = 0;       // faces shared by more than two tets
 };
 
+// Statistics of a mesh (all zero for an empty mesh or out-of-range indices). Linear time.
 TetQuality tetQuality(const TetMesh& mesh);
 
 }  // namespace omnislice
