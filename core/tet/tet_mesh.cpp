@@ -231,7 +231,14 @@ bool indicesInRange(const TetMesh& mesh) {
 
 TetMeshResult readTetMesh(const uint8_t* data, size_t size) {
   TetMeshResult r;
-  LineScanner s(data, size);
+  if (size == 0 || data == nullptr) {
+    r.status = Status::EmptyInput;
+    r.message = ".tet: empty input";
+    return r;
+  }
+  // A UTF-8 byte order mark (some Windows editors write one) is skipped.
+  const size_t bom = size >= 3 && data[0] == 0xEF && data[1] == 0xBB && data[2] == 0xBF ? 3 : 0;
+  LineScanner s(data + bom, size - bom);
   auto fail = [&r, &s](Status st, const std::string& what) {
     r.status = st;
     r.message = ".tet line " + std::to_string(s.line) + ": " + what;
@@ -240,11 +247,6 @@ TetMeshResult readTetMesh(const uint8_t* data, size_t size) {
     r.warnings.clear();
     return r;
   };
-  if (size == 0 || data == nullptr) {
-    r.status = Status::EmptyInput;
-    r.message = ".tet: empty input";
-    return r;
-  }
   if (!s.nextLine()) {
     r.status = Status::EmptyInput;
     r.message = ".tet: no content (only blank lines or comments)";

@@ -285,6 +285,9 @@ TEST(TetMesh, TolerantSyntax) {
   const TetMeshResult r2 = readText("4 1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n4 0 2 1 3\n");
   ASSERT_TRUE(r2.ok()) << r2.message;
   EXPECT_EQ(r2.flipped, 1u);
+  // A UTF-8 byte order mark.
+  const TetMeshResult bom = readText("\xEF\xBB\xBF" "4 1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n4 0 1 2 3\n");
+  ASSERT_TRUE(bom.ok()) << bom.message;
   // An unused vertex and trailing lines are warnings.
   const TetMeshResult r3 = readText("5\n1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n9 9 9\n4 0 1 2 3\nextra\n");
   ASSERT_TRUE(r3.ok()) << r3.message;
