@@ -173,31 +173,23 @@ void groupTuples(const std::vector<uint32_t>& keys, size_t nv, std::vector<uint3
   std::vector<uint32_t> start(nv + 1, 0);
   for (size_t i = 0; i < count; ++i) ++start[keys[N * i] + 1];
   for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<uint32_t> order(count);
+  // Bucket by first vertex, each item carrying its remaining vertices packed into one key.
+  std::vector<std::pair<uint64_t, uint32_t>> order(count);
   {
     std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    for (size_t i = 0; i < count; ++i) order[fill[keys[N * i]]++] = static_cast<uint32_t>(i);
+    for (size_t i = 0; i < count; ++i) {
+      const uint64_t rest = N == 3 ? (uint64_t(keys[N * i + 1]) << 32) | keys[N * i + N - 1] : keys[N * i + 1];
+      order[fill[keys[N * i]]++] = {rest, static_cast<uint32_t>(i)};
+    }
   }
   group.assign(count, 0);
   groupSize.clear();
-  auto less = [&keys](uint32_t x, uint32_t y) {
-    for (int k = 1; k < N; ++k) {
-      if (keys[N * size_t(x) + k] != keys[N * size_t(y) + k]) return keys[N * size_t(x) + k] < keys[N * size_t(y) + k];
-    }
-    return x < y;
-  };
-  auto same = [&keys](uint32_t x, uint32_t y) {
-    for (int k = 1; k < N; ++k) {
-      if (keys[N * size_t(x) + k] != keys[N * size_t(y) + k]) return false;
-    }
-    return true;
-  };
   for (size_t v = 0; v < nv; ++v) {
     const auto b = order.begin() + start[v], e = order.begin() + start[v + 1];
-    std::sort(b, e, less);
+    std::sort(b, e);
     for (auto it = b; it != e; ++it) {
-      if (it == b || !same(*(it - 1), *it)) groupSize.push_back(0);
-      group[*it] = static_cast<uint32_t>(groupSize.size() - 1);
+      if (it == b || (it - 1)->first != it->first) groupSize.push_back(0);
+      group[it->second] = static_cast<uint32_t>(groupSize.size() - 1);
       ++groupSize.back();
     }
   }
