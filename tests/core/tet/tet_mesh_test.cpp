@@ -15,6 +15,7 @@
 #include <map>
 #include <random>
 #include <set>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -451,6 +452,26 @@ TEST(TetMesh, SharedModels) {
     EXPECT_EQ(r.mesh.vertexCount(), s.vertices) << s.file;
     EXPECT_EQ(r.mesh.tetCount(), s.tets) << s.file;
     for (size_t t = 0; t < r.mesh.tetCount(); ++t) ASSERT_GT(signedVolume(r.mesh, t), 0) << s.file;
+    // Independent parse with iostreams: the same coordinates (bit for bit) and tets.
+    {
+      std::istringstream in(std::string(bytes.begin(), bytes.end()));
+      size_t nv = 0, nt = 0;
+      std::string word;
+      in >> nv >> word >> nt >> word;
+      ASSERT_EQ(nv, s.vertices);
+      ASSERT_EQ(nt, s.tets);
+      std::vector<double> xyz(3 * nv);
+      for (double& x : xyz) in >> x;
+      ASSERT_EQ(xyz, r.mesh.positions) << s.file;
+      std::vector<uint32_t> tets(4 * nt);
+      for (size_t t = 0; t < nt; ++t) {
+        int four = 0;
+        in >> four >> tets[4 * t] >> tets[4 * t + 1] >> tets[4 * t + 2] >> tets[4 * t + 3];
+        ASSERT_EQ(four, 4);
+      }
+      ASSERT_TRUE(in) << s.file;
+      EXPECT_EQ(tets, r.mesh.tets) << s.file << " (no tet flipped, so the same order)";
+    }
     const auto t0 = std::chrono::steady_clock::now();
     const Mesh b = tetBoundary(r.mesh);
     const double boundarySeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -462,6 +483,13 @@ TEST(TetMesh, SharedModels) {
     EXPECT_EQ(c.topo.misorientedEdges, 0u) << s.file;
     EXPECT_EQ(c.topo.shells, 1u) << s.file;
     EXPECT_EQ(c.euler, 2 - 2 * s.genus) << s.file;
+    std::set<std::array<uint32_t, 3>> mine;
+    for (size_t f = 0; f < b.faceCount(); ++f) {
+      std::array<uint32_t, 3> t = {b.triangles[3 * f], b.triangles[3 * f + 1], b.triangles[3 * f + 2]};
+      std::sort(t.begin(), t.end());
+      mine.insert(t);
+    }
+    EXPECT_EQ(mine, bruteBoundary(r.mesh)) << s.file;
     const double tetVolume = sumVolumes(r.mesh), enclosed = test::meshVolume(b);
     EXPECT_GT(enclosed, 0) << s.file;
     EXPECT_NEAR(tetVolume, enclosed, 1e-9 * enclosed) << s.file;
