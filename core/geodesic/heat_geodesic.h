@@ -11,6 +11,7 @@
 // incomplete-Cholesky (or diagonal, whichever measures faster) preconditioner; a HeatGeodesic
 // object keeps the two matrices and preconditioners for solves from other sources.
 #pragma once
+#include <Eigen/SparseCore>
 #include <memory>
 #include <vector>
 
@@ -32,6 +33,17 @@ struct GeodesicField : Outcome {
   int heatIterations = 0, poissonIterations = 0;
   double setupMs = 0, heatMs = 0, gradientMs = 0, poissonMs = 0;
 };
+
+// The discrete operators of Eq. 2-5: L_c (n x n, w_ij off the diagonal, -sum_j w_ij on it; negative
+// semi-definite), the vertex volumes V_i (a quarter of the incident tets' volumes; 0 for vertices
+// in no tet) and the mean edge length h. Tet orientation does not matter. Statuses: DegenerateInput
+// (no tets, index out of range, non-finite coordinate, zero-volume tet).
+struct TetLaplacian : Outcome {
+  Eigen::SparseMatrix<double> cotan;  // L_c
+  std::vector<double> vertexVolume;   // mm^3
+  double meanEdge = 0;                // mm
+};
+TetLaplacian tetCotanLaplacian(const TetMesh& mesh);
 
 // Prepared operators of one tet mesh (matrices and preconditioners built once).
 class HeatGeodesic {
