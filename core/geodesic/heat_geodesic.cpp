@@ -5,6 +5,7 @@
 // L_c is negative semi-definite; we store K = -L_c (positive semi-definite) and solve
 //   heat (Eq. 6 times V):   (V + t K) u = V u0,
 //   Poisson (Eq. 9):        K phi = -b,   b_i = sum_k -(S_k n_k . g_k) / 3   (Eq. 8),
+// (heat: sparse LDLT, factored once; Poisson: IC-preconditioned conjugate gradients, see the header)
 // where g_k is the normalised gradient of u in tet k (Eq. 7, g_k / |g_k|) and S_k n_k the outward
 // area vector of the face of tet k opposite vertex i. (The header's X = -grad u / |grad u| is -g_k;
 // the two readings give the same phi, growing away from the sources.) K is singular (constants);
@@ -113,7 +114,8 @@ struct HeatGeodesic::Impl {
   std::vector<uint8_t> isPinned;
   SpMat heatMatrix, poissonMatrix;        // V + t K, K with pinned rows/columns = identity
   SpMat laplacian;                        // L_c (Eq. 5), kept for tests and diagnostics
-  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> heatPre, poissonPre;
+  Eigen::SimplicialLDLT<SpMat> heatSolver;
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> poissonPre;
   double setupMs = 0;
 
   bool fail(Status s, std::string message) {
@@ -264,9 +266,9 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
   poissonMatrix.resize(Eigen::Index(n), Eigen::Index(n));
   poissonMatrix.setFromTriplets(poisson.begin(), poisson.end());
 
-  heatPre.compute(heatMatrix);
+  heatSolver.compute(heatMatrix);
   poissonPre.compute(poissonMatrix);
-  if (heatPre.info() != Eigen::Success || poissonPre.info() != Eigen::Success)
+  if (heatSolver.info() != Eigen::Success || poissonPre.info() != Eigen::Success)
     return fail(Status::Internal, "heat geodesic: incomplete Cholesky factorisation failed");
   setupMs = msSince(t0);
   return true;
@@ -317,8 +319,8 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
   for (uint32_t s : sources) rhs[s] = m.vertexVolume[s];
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
-  int it = pcg(m.heatMatrix, m.heatPre, rhs, u, m.options.tolerance, m.options.maxIterations,
-               progress, 0.0, 0.45);
+  u = m.heatSolver.solve(rhs);
+  int it = 0;
   if (it == -1) return fail(Status::Cancelled, "cancelled");
   if (it < 0)
     return fail(Status::Internal, "heat geodesic: the heat solve did not converge in " +
