@@ -130,7 +130,10 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   //    first axis and print the surface layer.
   Toolpath& tp = out.toolpath;
   tp = std::move(plan.toolpath);
-  const int32_t surfaceLayer = static_cast<int32_t>(slices.layers.size());
+  // The surface layer follows the last base layer that prints (a sliver at the base's top can
+  // slice into a layer with no moves; layer indices stay consecutive for viewers and the program).
+  int32_t surfaceLayer = 0;
+  for (const Move& m : tp.moves) surfaceLayer = std::max(surfaceLayer, m.layer + 1);
   Eigen::Vector3d pos = tp.moves.empty() ? tp.start : tp.moves.back().position;
   const double safeZ = boundingBox(part.top).max.z() + topt.travelClearance + 2;
   auto push = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& axis, MoveKind kind) {
@@ -179,7 +182,7 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   }
   if (tp.moves.empty() || slices.layers.empty()) tp.start = c.start;
   tp.layerCount = surfaceLayer + 1;
-  out.baseLayers = slices.layers.size();
+  out.baseLayers = static_cast<size_t>(surfaceLayer);
   out.layers = surfaceLayer + 1;
   out.part = std::move(part.solid);
 
@@ -190,7 +193,7 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   p.surfaceLayers.assign(part.top.faceCount(), static_cast<uint32_t>(surfaceLayer));
 
   Json r = Json::parse(fill.reportJson);
-  r["base_layers"] = slices.layers.size();
+  r["base_layers"] = surfaceLayer;
   r["base_mm"] = settings.surface.baseMm;
   r["lift_mm"] = dz;
   r["surface_vertices"] = part.top.vertexCount();
