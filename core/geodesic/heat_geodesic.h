@@ -15,7 +15,9 @@
 // right-hand side) uses Eigen-based conjugate gradients with an incomplete-Cholesky preconditioner
 // (measured against diagonal: 5-11 % faster on the three real meshes, 3.5-4x fewer iterations).
 // A HeatGeodesic object keeps both matrices, the factorisation and the preconditioner for solves
-// from other sources.
+// from other sources. Measured (native / wasm -O3 in Node 20) on 52k-70k-tet meshes: construction
+// 170-740 / 460-2250 ms (mostly the LDLT factorisation; a structured 22^3 box fills in most),
+// distanceFrom 35-100 / 45-180 ms.
 #pragma once
 #include <Eigen/SparseCore>
 #include <memory>
