@@ -11,7 +11,7 @@
 // the two readings give the same phi, growing away from the sources.) K is singular (constants);
 // one vertex per connected component is pinned to 0 (its row and column replaced by the identity),
 // which keeps the system positive definite for the incomplete Cholesky preconditioner; the field is
-// then shifted so the sources' mean distance is 0.
+// then shifted per component so the sources' mean distance is 0.
 #include "geodesic/heat_geodesic.h"
 
 #include <Eigen/Dense>
@@ -112,6 +112,7 @@ struct HeatGeodesic::Impl {
   std::vector<double> invThreeVolume;     // per tet 1 / (3 vol)
   std::vector<uint32_t> pinned;           // one vertex per connected component, plus unused ones
   std::vector<uint8_t> isPinned;
+  std::vector<uint32_t> component;        // per vertex: its component's pinned vertex
   SpMat heatMatrix, poissonMatrix;        // V + t K, K with pinned rows/columns = identity
   SpMat laplacian;                        // L_c (Eq. 5), kept for tests and diagnostics
   Eigen::SimplicialLDLT<SpMat> heatSolver;
@@ -240,6 +241,8 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
   }
 
   isPinned.assign(n, 0);
+  component.resize(n);
+  for (uint32_t i = 0; i < n; ++i) component[i] = components.find(i);
   for (uint32_t i = 0; i < n; ++i)
     if (vertexVolume[i] <= 0 || components.find(i) == i) {
       isPinned[i] = 1;
@@ -362,13 +365,22 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   out.poissonIterations = it;
   out.poissonMs = msSince(t0);
 
-  double shift = 0;
-  for (uint32_t s : sources) shift += phi[s];
-  shift /= double(sources.size());
+  // Shift each connected component so that its sources' mean distance is 0 (each component's
+  // Poisson solution is defined up to its own constant); components without sources stay at 0.
+  std::vector<double> shiftSum(m.n, 0.0);
+  std::vector<uint32_t> shiftCount(m.n, 0);
+  for (uint32_t s : sources) {
+    shiftSum[m.component[s]] += phi[s];
+    ++shiftCount[m.component[s]];
+  }
+  for (size_t i = 0; i < m.n; ++i) {
+    const uint32_t c = m.component[i];
+    phi[Eigen::Index(i)] = shiftCount[c] ? phi[Eigen::Index(i)] - shiftSum[c] / shiftCount[c] : 0.0;
+  }
   out.distance.resize(m.n);
   out.maxDistance = 0;
   for (size_t i = 0; i < m.n; ++i) {
-    out.distance[i] = phi[Eigen::Index(i)] - shift;
+    out.distance[i] = phi[Eigen::Index(i)];
     if (!std::isfinite(out.distance[i]))
       return fail(Status::Internal, "heat geodesic: non-finite distance");
     if (m.vertexVolume[i] > 0) out.maxDistance = std::max(out.maxDistance, out.distance[i]);

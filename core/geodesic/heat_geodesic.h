@@ -59,7 +59,8 @@ class HeatGeodesic {
   // Statuses through status(): DegenerateInput (no tets, zero-volume tets, bad index, non-finite
   // coordinate), InvalidOption (options out of range), Internal (a factorisation failed).
   // Negatively oriented tets are accepted. Each connected component has one vertex pinned in the
-  // Poisson solve; components holding no source get distance 0 (no heat reaches them).
+  // Poisson solve; each component is shifted so its sources' mean distance is 0; components
+  // holding no source get distance 0 (no heat reaches them).
   HeatGeodesic(const TetMesh& mesh, const HeatGeodesicOptions& options = {});
   ~HeatGeodesic();
   HeatGeodesic(HeatGeodesic&&) noexcept;

@@ -353,6 +353,46 @@ TEST(HeatGeodesic, BadInputReturnsStatus) {
   for (size_t i = 0; i < a.distance.size(); ++i) EXPECT_NEAR(a.distance[i], b.distance[i], 1e-9);
 }
 
+TEST(HeatGeodesic, UnusedVerticesAndSecondComponentDoNotDisturbTheField) {
+  const TetMesh a = box(5, 10, 10, 10), other = box(4, 8, 9, 12);
+  TetMesh two = a;
+  const uint32_t offset = uint32_t(a.vertexCount());
+  for (size_t i = 0; i < other.vertexCount(); ++i)
+    two.positions.insert(two.positions.end(), {other.positions[3 * i] + 30,
+                                               other.positions[3 * i + 1] - 7,
+                                               other.positions[3 * i + 2] + 0.5});
+  for (uint32_t v : other.tets) two.tets.push_back(v + offset);
+  two.positions.insert(two.positions.end(), {-50, -50, -50});  // in no tet
+  const uint32_t unused = uint32_t(two.vertexCount() - 1);
+  const HeatGeodesic hg(two);
+  ASSERT_TRUE(hg.status().ok()) << hg.status().message;
+  const GeodesicField f = hg.distanceFrom(platformVertices(a));
+  // t = h^2 uses the mean edge of the whole mesh: give the references the same t.
+  const double h = tetCotanLaplacian(two).meanEdge;
+  auto sameTime = [h](const TetMesh& part) {
+    HeatGeodesicOptions o;
+    o.timeFactor = std::pow(h / tetCotanLaplacian(part).meanEdge, 2);
+    return o;
+  };
+  const GeodesicField ref = HeatGeodesic(a, sameTime(a)).distanceFrom(platformVertices(a));
+  ASSERT_TRUE(f.ok() && ref.ok()) << f.message;
+  for (size_t i = 0; i < a.vertexCount(); ++i) EXPECT_NEAR(f.distance[i], ref.distance[i], 1e-6);
+  for (size_t i = offset; i < two.vertexCount(); ++i) EXPECT_EQ(f.distance[i], 0);  // no heat
+  EXPECT_NEAR(f.maxDistance, ref.maxDistance, 1e-6);
+  // Sources in both components: each component gets its own bottom-face field.
+  std::vector<uint32_t> both = platformVertices(a);
+  const GeodesicField refOther =
+      HeatGeodesic(other, sameTime(other)).distanceFrom(platformVertices(other));
+  for (uint32_t v : platformVertices(other)) both.push_back(v + offset);
+  const GeodesicField g = hg.distanceFrom(both);
+  ASSERT_TRUE(g.ok() && refOther.ok());
+  for (size_t i = 0; i < a.vertexCount(); ++i) EXPECT_NEAR(g.distance[i], ref.distance[i], 1e-6);
+  for (size_t i = 0; i < other.vertexCount(); ++i)
+    EXPECT_NEAR(g.distance[i + offset], refOther.distance[i], 1e-6);
+  EXPECT_NEAR(g.maxDistance, std::max(ref.maxDistance, refOther.maxDistance), 1e-6);
+  EXPECT_EQ(hg.distanceFrom({unused}).status, Status::InvalidOption);
+}
+
 TEST(HeatGeodesic, TimingsOn64kTets) {
   const TetMesh m = box(22, 50, 50, 50);
   ASSERT_EQ(m.tetCount(), 63888u);
