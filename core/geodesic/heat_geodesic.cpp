@@ -156,10 +156,9 @@ TetLaplacian tetCotanLaplacian(const TetMesh& mesh) {
   const double minVolume = 1e-15 * diag * diag * diag;
 
   out.vertexVolume.assign(n, 0.0);
-  std::vector<Eigen::Triplet<double>> lc;
-  lc.reserve(T * 24);
-  std::vector<uint64_t> edges;
-  edges.reserve(T * 6);
+  std::vector<Eigen::Triplet<double>> lc;  // off-diagonal entries; the diagonal is summed apart
+  lc.reserve(T * 12 + n);
+  std::vector<double> diagonal(n, 0.0);
   for (size_t k = 0; k < T; ++k) {
     const uint32_t* t = &mesh.tets[4 * k];
     Eigen::Vector3d v[4];
@@ -183,19 +182,24 @@ TetLaplacian tetCotanLaplacian(const TetMesh& mesh) {
       const double w = l * (cosTheta / sinTheta) / 6.0;
       lc.emplace_back(t[i], t[j], w);
       lc.emplace_back(t[j], t[i], w);
-      lc.emplace_back(t[i], t[i], -w);
-      lc.emplace_back(t[j], t[j], -w);
-      const uint32_t a = std::min(t[i], t[j]), b = std::max(t[i], t[j]);
-      edges.push_back((uint64_t(a) << 32) | b);
+      diagonal[t[i]] -= w;
+      diagonal[t[j]] -= w;
     }
   }
+  for (size_t i = 0; i < n; ++i) lc.emplace_back(i, i, diagonal[i]);
   out.cotan.resize(Eigen::Index(n), Eigen::Index(n));
   out.cotan.setFromTriplets(lc.begin(), lc.end());
-  std::sort(edges.begin(), edges.end());
-  edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
+  // Mean edge length over the unique edges: the strictly lower entries of L_c (setFromTriplets
+  // keeps an entry even when its weights sum to zero, so every edge is there once).
   double sum = 0;
-  for (uint64_t e : edges) sum += (mesh.vertex(e >> 32) - mesh.vertex(e & 0xffffffffu)).norm();
-  out.meanEdge = sum / double(edges.size());
+  size_t edgeCount = 0;
+  for (Eigen::Index c = 0; c < out.cotan.outerSize(); ++c)
+    for (SpMat::InnerIterator it(out.cotan, c); it; ++it)
+      if (it.row() > it.col()) {
+        sum += (mesh.vertex(size_t(it.row())) - mesh.vertex(size_t(it.col()))).norm();
+        ++edgeCount;
+      }
+  out.meanEdge = sum / double(edgeCount);
   return out;
 }
 
