@@ -1,0 +1,429 @@
+// SPDX-License-Identifier: MIT
+// Heat-method geodesic distance on a tetrahedral mesh (paper 002 Section 2.1, Eq. 1-9).
+//
+// Sign conventions. Eq. 5 gives L_c with off-diagonals w_ij (Eq. 3) and diagonal -sum w_ik, so
+// L_c is negative semi-definite; we store K = -L_c (positive semi-definite) and solve
+//   heat (Eq. 6 times V):   (V + t K) u = V u0,
+//   Poisson (Eq. 9):        K phi = -b,   b_i = sum_k -(S_k n_k . g_k) / 3   (Eq. 8),
+// (heat: sparse LDLT, factored once; Poisson: IC-preconditioned conjugate gradients, see the header)
+// where g_k is the normalised gradient of u in tet k (Eq. 7, g_k / |g_k|) and S_k n_k the outward
+// area vector of the face of tet k opposite vertex i. (The header's X = -grad u / |grad u| is -g_k;
+// the two readings give the same phi, growing away from the sources.) K is singular (constants);
+// one vertex per connected component is pinned to 0 (its row and column replaced by the identity),
+// which keeps the system positive definite for the incomplete Cholesky preconditioner; the field is
+// then shifted per component so the sources' mean distance is 0.
+#include "geodesic/heat_geodesic.h"
+
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <limits>
+#include <string>
+
+namespace omnislice {
+namespace {
+
+using SpMat = Eigen::SparseMatrix<double>;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t0) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+}
+
+// The four faces of tet (a, b, c, d) = vertices 0..3: face f is opposite vertex f, listed so
+// that its normal by the right-hand rule points outward for a positively oriented tet.
+constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
+
+// The six edges (i, j) of a tet and their opposite edges (p, q).
+constexpr int kEdge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
+                             {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a);
+    b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+// Preconditioned conjugate gradients on a symmetric positive definite matrix, with a progress /
+// cancel check every few iterations. Returns the iteration count, -1 when cancelled, -2 when not
+// converged within maxIterations.
+template <class Precond>
+int pcg(const SpMat& A, const Precond& M, const Eigen::VectorXd& b, Eigen::VectorXd& x,
+        double tolerance, int maxIterations, const ProgressFn& progress, double f0, double f1) {
+  const double bNorm = b.norm();
+  if (bNorm == 0) {
+    x.setZero();
+    return 0;
+  }
+  Eigen::VectorXd r = b - A * x;
+  const double threshold = tolerance * tolerance * bNorm * bNorm;
+  if (r.squaredNorm() <= threshold) return 0;
+  Eigen::VectorXd z = M.solve(r);
+  Eigen::VectorXd p = z;
+  Eigen::VectorXd Ap(b.size());
+  double rz = r.dot(z);
+  for (int it = 1; it <= maxIterations; ++it) {
+    Ap.noalias() = A * p;
+    const double pAp = p.dot(Ap);
+    if (!(pAp > 0)) return -2;
+    const double alpha = rz / pAp;
+    x.noalias() += alpha * p;
+    r.noalias() -= alpha * Ap;
+    if (r.squaredNorm() <= threshold) return it;
+    z = M.solve(r);
+    const double rzNew = r.dot(z);
+    p = z + (rzNew / rz) * p;
+    rz = rzNew;
+    if (it % 16 == 0 && progress) {
+      // Convergence is roughly geometric: report the log-residual progress.
+      const double ratio = std::sqrt(r.squaredNorm() / (bNorm * bNorm));
+      const double done = std::clamp(std::log(ratio) / std::log(tolerance), 0.0, 1.0);
+      if (!reportProgress(progress, "field", f0 + (f1 - f0) * done)) return -1;
+    }
+  }
+  return -2;
+}
+
+}  // namespace
+
+struct HeatGeodesic::Impl {
+  Outcome status;
+  HeatGeodesicOptions options;
+  TetMesh mesh;
+  size_t n = 0;
+  double meanEdge = 0, timeStep = 0;
+  std::vector<double> vertexVolume;       // V_i (Eq. 2)
+  std::vector<double> areaVectors;        // per tet, 4 faces x 3: S n outward (face opposite vertex)
+  std::vector<double> invThreeVolume;     // per tet 1 / (3 vol)
+  std::vector<uint32_t> pinned;           // one vertex per connected component, plus unused ones
+  std::vector<uint8_t> isPinned;
+  std::vector<uint32_t> component;        // per vertex: its component's pinned vertex
+  SpMat heatMatrix, poissonMatrix;        // V + t K, K with pinned rows/columns = identity
+  SpMat laplacian;                        // L_c (Eq. 5), kept for tests and diagnostics
+  Eigen::SimplicialLDLT<SpMat> heatSolver;
+  Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> poissonPre;
+  double setupMs = 0;
+
+  bool fail(Status s, std::string message) {
+    status.status = s;
+    status.message = std::move(message);
+    return false;
+  }
+  bool build(const TetMesh& input, const HeatGeodesicOptions& opt);
+};
+
+TetLaplacian tetCotanLaplacian(const TetMesh& mesh) {
+  TetLaplacian out;
+  auto fail = [&out](std::string message) {
+    out.status = Status::DegenerateInput;
+    out.message = std::move(message);
+    out.cotan.resize(0, 0);
+    out.vertexVolume.clear();
+    return out;
+  };
+  const size_t n = mesh.vertexCount(), T = mesh.tetCount();
+  if (mesh.positions.size() % 3 != 0 || mesh.tets.size() % 4 != 0)
+    return fail("heat geodesic: positions or tets are not whole vertices / tets");
+  if (T == 0 || n == 0) return fail("heat geodesic: the mesh has no tets");
+  for (double c : mesh.positions)
+    if (!std::isfinite(c)) return fail("heat geodesic: a vertex coordinate is not finite");
+  for (size_t k = 0; k < mesh.tets.size(); ++k)
+    if (mesh.tets[k] >= n)
+      return fail("heat geodesic: tet " + std::to_string(k / 4) +
+                  " has a vertex index out of range");
+  // Scale for the degeneracy test: the bounding box diagonal.
+  Eigen::Vector3d lo = mesh.vertex(0), hi = lo;
+  for (size_t i = 1; i < n; ++i) {
+    lo = lo.cwiseMin(mesh.vertex(i));
+    hi = hi.cwiseMax(mesh.vertex(i));
+  }
+  const double diag = (hi - lo).norm();
+  const double minVolume = 1e-15 * diag * diag * diag;
+
+  out.vertexVolume.assign(n, 0.0);
+  std::vector<Eigen::Triplet<double>> lc;  // off-diagonal entries; the diagonal is summed apart
+  lc.reserve(T * 12 + n);
+  std::vector<double> diagonal(n, 0.0);
+  for (size_t k = 0; k < T; ++k) {
+    const uint32_t* t = &mesh.tets[4 * k];
+    Eigen::Vector3d v[4];
+    for (int c = 0; c < 4; ++c) v[c] = mesh.vertex(t[c]);
+    const double vol = std::abs((v[1] - v[0]).dot((v[2] - v[0]).cross(v[3] - v[0]))) / 6.0;
+    if (!(vol > minVolume)) return fail("heat geodesic: tet " + std::to_string(k) + " has zero volume");
+    Eigen::Vector3d normal[4];  // unit normals of the faces opposite each vertex (outward when
+                                // positively oriented; both flip otherwise, which cancels below)
+    for (int f = 0; f < 4; ++f) {
+      const Eigen::Vector3d& a = v[kFace[f][0]];
+      normal[f] = (v[kFace[f][1]] - a).cross(v[kFace[f][2]] - a).normalized();
+    }
+    for (int c = 0; c < 4; ++c) out.vertexVolume[t[c]] += vol / 4.0;
+    // Eq. 3: for edge (i, j), l = |v_p - v_q| and theta the dihedral angle at edge (p, q), between
+    // the faces (p, q, i) and (p, q, j), i.e. the faces opposite j and i.
+    for (const auto& e : kEdge) {
+      const int i = e[0], j = e[1], p = e[2], q = e[3];
+      const double l = (v[p] - v[q]).norm();
+      const double cosTheta = -normal[i].dot(normal[j]);  // interior angle from outward normals
+      const double sinTheta = normal[i].cross(normal[j]).norm();
+      const double w = l * (cosTheta / sinTheta) / 6.0;
+      lc.emplace_back(t[i], t[j], w);
+      lc.emplace_back(t[j], t[i], w);
+      diagonal[t[i]] -= w;
+      diagonal[t[j]] -= w;
+    }
+  }
+  for (size_t i = 0; i < n; ++i) lc.emplace_back(i, i, diagonal[i]);
+  out.cotan.resize(Eigen::Index(n), Eigen::Index(n));
+  out.cotan.setFromTriplets(lc.begin(), lc.end());
+  // Mean edge length over the unique edges: the strictly lower entries of L_c (setFromTriplets
+  // keeps an entry even when its weights sum to zero, so every edge is there once).
+  double sum = 0;
+  size_t edgeCount = 0;
+  for (Eigen::Index c = 0; c < out.cotan.outerSize(); ++c)
+    for (SpMat::InnerIterator it(out.cotan, c); it; ++it)
+      if (it.row() > it.col()) {
+        sum += (mesh.vertex(size_t(it.row())) - mesh.vertex(size_t(it.col()))).norm();
+        ++edgeCount;
+      }
+  out.meanEdge = sum / double(edgeCount);
+  return out;
+}
+
+bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& opt) {
+  const auto t0 = Clock::now();
+  options = opt;
+  if (!(opt.timeFactor > 0) || !std::isfinite(opt.timeFactor))
+    return fail(Status::InvalidOption, "heat geodesic: timeFactor must be a positive number");
+  if (!(opt.tolerance > 0 && opt.tolerance < 1))
+    return fail(Status::InvalidOption, "heat geodesic: tolerance must be in (0, 1)");
+  if (opt.maxIterations < 1)
+    return fail(Status::InvalidOption, "heat geodesic: maxIterations must be at least 1");
+  TetLaplacian lap = tetCotanLaplacian(input);
+  if (!lap.ok()) return fail(lap.status, lap.message);
+  mesh = input;
+  n = mesh.vertexCount();
+  const size_t T = mesh.tetCount();
+  vertexVolume = std::move(lap.vertexVolume);
+  laplacian = std::move(lap.cotan);
+  meanEdge = lap.meanEdge;
+  timeStep = opt.timeFactor * meanEdge * meanEdge;
+
+  areaVectors.assign(T * 12, 0.0);
+  invThreeVolume.assign(T, 0.0);
+  UnionFind components(n);
+  for (size_t k = 0; k < T; ++k) {
+    uint32_t* t = &mesh.tets[4 * k];
+    Eigen::Vector3d v[4];
+    for (int c = 0; c < 4; ++c) v[c] = mesh.vertex(t[c]);
+    double vol = (v[1] - v[0]).dot((v[2] - v[0]).cross(v[3] - v[0])) / 6.0;
+    if (vol < 0) {  // tolerate negatively oriented tets: swap two vertices of our copy
+      std::swap(t[2], t[3]);
+      std::swap(v[2], v[3]);
+      vol = -vol;
+    }
+    invThreeVolume[k] = 1.0 / (3.0 * vol);
+    for (int f = 0; f < 4; ++f) {
+      const Eigen::Vector3d& a = v[kFace[f][0]];
+      const Eigen::Vector3d area = 0.5 * (v[kFace[f][1]] - a).cross(v[kFace[f][2]] - a);
+      for (int d = 0; d < 3; ++d) areaVectors[12 * k + 3 * f + d] = area[d];
+    }
+    for (int c = 1; c < 4; ++c) components.unite(t[0], t[c]);
+  }
+
+  isPinned.assign(n, 0);
+  component.resize(n);
+  for (uint32_t i = 0; i < n; ++i) component[i] = components.find(i);
+  for (uint32_t i = 0; i < n; ++i)
+    if (vertexVolume[i] <= 0 || components.find(i) == i) {
+      isPinned[i] = 1;
+      pinned.push_back(i);
+    }
+
+  // Heat matrix V - t L_c = V + t K; unused vertices get identity rows. Poisson matrix K with the
+  // pinned rows and columns replaced by the identity.
+  std::vector<Eigen::Triplet<double>> heat, poisson;
+  heat.reserve(size_t(laplacian.nonZeros()) + n);
+  poisson.reserve(size_t(laplacian.nonZeros()) + n);
+  for (int c = 0; c < laplacian.outerSize(); ++c)
+    for (SpMat::InnerIterator it(laplacian, c); it; ++it) {
+      const double kv = -it.value();
+      heat.emplace_back(it.row(), it.col(), timeStep * kv);
+      if (!isPinned[it.row()] && !isPinned[it.col()]) poisson.emplace_back(it.row(), it.col(), kv);
+    }
+  for (uint32_t i = 0; i < n; ++i) {
+    heat.emplace_back(i, i, vertexVolume[i] > 0 ? vertexVolume[i] : 1.0);
+    if (isPinned[i]) poisson.emplace_back(i, i, 1.0);
+  }
+  heatMatrix.resize(Eigen::Index(n), Eigen::Index(n));
+  heatMatrix.setFromTriplets(heat.begin(), heat.end());
+  poissonMatrix.resize(Eigen::Index(n), Eigen::Index(n));
+  poissonMatrix.setFromTriplets(poisson.begin(), poisson.end());
+
+  heatSolver.compute(heatMatrix);
+  poissonPre.compute(poissonMatrix);
+  if (heatSolver.info() != Eigen::Success || poissonPre.info() != Eigen::Success)
+    return fail(Status::Internal, "heat geodesic: incomplete Cholesky factorisation failed");
+  setupMs = msSince(t0);
+  return true;
+}
+
+HeatGeodesic::HeatGeodesic(const TetMesh& mesh, const HeatGeodesicOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->build(mesh, options);
+}
+HeatGeodesic::~HeatGeodesic() = default;
+HeatGeodesic::HeatGeodesic(HeatGeodesic&&) noexcept = default;
+HeatGeodesic& HeatGeodesic::operator=(HeatGeodesic&&) noexcept = default;
+
+const Outcome& HeatGeodesic::status() const {
+  static const Outcome moved{Status::Internal, "heat geodesic: object was moved from"};
+  return impl_ ? impl_->status : moved;
+}
+
+GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
+                                         const ProgressFn& progress) const {
+  GeodesicField out;
+  auto fail = [&out](Status s, std::string message) {
+    out.status = s;
+    out.message = std::move(message);
+    out.distance.clear();
+    out.maxDistance = 0;
+    return out;
+  };
+  if (!impl_) return fail(Status::Internal, "heat geodesic: object was moved from");
+  const Impl& m = *impl_;
+  if (!m.status.ok()) return fail(m.status.status, m.status.message);
+  if (sources.empty()) return fail(Status::InvalidOption, "heat geodesic: no source vertices");
+  for (uint32_t s : sources)
+    if (s >= m.n)
+      return fail(Status::InvalidOption, "heat geodesic: source vertex " + std::to_string(s) +
+                                             " is out of range (" + std::to_string(m.n) +
+                                             " vertices)");
+  for (uint32_t s : sources)
+    if (m.vertexVolume[s] <= 0)
+      return fail(Status::InvalidOption, "heat geodesic: source vertex " + std::to_string(s) +
+                                             " belongs to no tet");
+  out.setupMs = m.setupMs;
+  if (!reportProgress(progress, "field", 0)) return fail(Status::Cancelled, "cancelled");
+
+  // Eq. 6: (V + t K) u = V u0, u0 = 1 at the sources.
+  auto t0 = Clock::now();
+  const Eigen::Index n = Eigen::Index(m.n);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
+  for (uint32_t s : sources) rhs[s] = m.vertexVolume[s];
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
+  u = m.heatSolver.solve(rhs);
+  int it = 0;
+  if (it == -1) return fail(Status::Cancelled, "cancelled");
+  if (it < 0)
+    return fail(Status::Internal, "heat geodesic: the heat solve did not converge in " +
+                                      std::to_string(m.options.maxIterations) + " iterations");
+  out.heatIterations = it;
+  out.heatMs = msSince(t0);
+
+  // Eq. 7-8: normalised per-tet gradients and the integrated divergence b.
+  t0 = Clock::now();
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  const size_t T = m.mesh.tetCount();
+  for (size_t k = 0; k < T; ++k) {
+    const uint32_t* t = &m.mesh.tets[4 * k];
+    const double* a = &m.areaVectors[12 * k];
+    // grad u = sum_c u_c grad(lambda_c), grad(lambda_c) = -S_c n_c / (3 vol) (= Eq. 7).
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (int c = 0; c < 4; ++c) g -= u[t[c]] * Eigen::Vector3d(a[3 * c], a[3 * c + 1], a[3 * c + 2]);
+    g *= m.invThreeVolume[k];
+    const double len = g.norm();
+    if (!(len > 0) || !std::isfinite(len)) continue;  // no heat reached this tet
+    g /= len;
+    for (int c = 0; c < 4; ++c)
+      b[t[c]] -= (a[3 * c] * g[0] + a[3 * c + 1] * g[1] + a[3 * c + 2] * g[2]) / 3.0;
+  }
+  out.gradientMs = msSince(t0);
+  if (!reportProgress(progress, "field", 0.5)) return fail(Status::Cancelled, "cancelled");
+
+  // Eq. 9: L_c phi = b, i.e. K phi = -b, pinned vertices held at 0.
+  t0 = Clock::now();
+  Eigen::VectorXd rhs2 = -b;
+  for (uint32_t i : m.pinned) rhs2[i] = 0;
+  Eigen::VectorXd phi = Eigen::VectorXd::Zero(n);
+  it = pcg(m.poissonMatrix, m.poissonPre, rhs2, phi, m.options.tolerance, m.options.maxIterations,
+           progress, 0.5, 1.0);
+  if (it == -1) return fail(Status::Cancelled, "cancelled");
+  if (it < 0)
+    return fail(Status::Internal, "heat geodesic: the Poisson solve did not converge in " +
+                                      std::to_string(m.options.maxIterations) + " iterations");
+  out.poissonIterations = it;
+  out.poissonMs = msSince(t0);
+
+  // Shift each connected component so that its sources' mean distance is 0 (each component's
+  // Poisson solution is defined up to its own constant); components without sources stay at 0.
+  std::vector<double> shiftSum(m.n, 0.0);
+  std::vector<uint32_t> shiftCount(m.n, 0);
+  for (uint32_t s : sources) {
+    shiftSum[m.component[s]] += phi[s];
+    ++shiftCount[m.component[s]];
+  }
+  for (size_t i = 0; i < m.n; ++i) {
+    const uint32_t c = m.component[i];
+    phi[Eigen::Index(i)] = shiftCount[c] ? phi[Eigen::Index(i)] - shiftSum[c] / shiftCount[c] : 0.0;
+  }
+  out.distance.resize(m.n);
+  out.maxDistance = 0;
+  for (size_t i = 0; i < m.n; ++i) {
+    out.distance[i] = phi[Eigen::Index(i)];
+    if (!std::isfinite(out.distance[i]))
+      return fail(Status::Internal, "heat geodesic: non-finite distance");
+    if (m.vertexVolume[i] > 0) out.maxDistance = std::max(out.maxDistance, out.distance[i]);
+  }
+  if (!reportProgress(progress, "field", 1.0)) return fail(Status::Cancelled, "cancelled");
+  return out;
+}
+
+std::vector<uint32_t> platformVertices(const TetMesh& mesh, double tolerance) {
+  const size_t n = mesh.vertexCount(), T = mesh.tetCount();
+  std::vector<std::array<uint32_t, 3>> faces;
+  faces.reserve(T * 4);
+  for (size_t k = 0; k < T; ++k) {
+    const uint32_t* t = &mesh.tets[4 * k];
+    bool valid = true;
+    for (int c = 0; c < 4; ++c) valid = valid && t[c] < n;
+    if (!valid) continue;
+    for (const auto& f : kFace) {
+      std::array<uint32_t, 3> key{t[f[0]], t[f[1]], t[f[2]]};
+      std::sort(key.begin(), key.end());
+      faces.push_back(key);
+    }
+  }
+  std::sort(faces.begin(), faces.end());
+  std::vector<uint8_t> boundary(n, 0);
+  for (size_t i = 0; i < faces.size();) {
+    size_t j = i;
+    while (j < faces.size() && faces[j] == faces[i]) ++j;
+    if (j - i == 1)
+      for (uint32_t v : faces[i]) boundary[v] = 1;
+    i = j;
+  }
+  double minZ = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < n; ++i)
+    if (boundary[i]) minZ = std::min(minZ, mesh.positions[3 * i + 2]);
+  std::vector<uint32_t> out;
+  for (size_t i = 0; i < n; ++i)
+    if (boundary[i] && mesh.positions[3 * i + 2] <= minZ + tolerance) out.push_back(uint32_t(i));
+  return out;
+}
+
+}  // namespace omnislice
