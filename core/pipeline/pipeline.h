@@ -35,6 +35,17 @@ struct PreviewBuffers {
   // segment is not on an NL curve: travel, join, planar base), so viewers can tell adjacent curves
   // (side steps) apart.
   std::vector<uint32_t> curves;           // #S
+  // Geodesic method (paper 002): the part's boundary surface (the tet mesh's) with the geodesic
+  // distance per vertex (colour map), and the skeleton tree: one point per node (its IGDS's
+  // centroid) with its layer, edges as node index pairs (lower, upper), and the print sequence
+  // the program follows (node indices in print order).
+  std::vector<float> fieldPositions;      // #F*3, part frame, mm
+  std::vector<uint32_t> fieldTriangles;   // #FT*3
+  std::vector<float> fieldValues;         // #F, mm
+  std::vector<float> nodePositions;       // #N*3, part frame, mm
+  std::vector<uint32_t> nodeLayers;       // #N
+  std::vector<uint32_t> treeEdges;        // #E*2
+  std::vector<uint32_t> sequence;         // #N
 };
 
 struct SliceOutput : Outcome {

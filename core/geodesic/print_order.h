@@ -1,0 +1,113 @@
+// SPDX-License-Identifier: MIT
+// Print order of the IGDS (paper 002 Section 3.1): the skeleton tree (Algorithm 1, adjacency by
+// steepest paths on the part's boundary surface, Fig. 12), the nozzle's collision model (its
+// bounding cone swept over each IGDS, Fig. 15; potential collision surfaces, Algorithm 2) and the
+// three traversals: layer priority (LPT), depth priority (DPT) and the greedy traversal of
+// Algorithm 3 (A3) under Criteria 1 and 2.
+//
+// Omnislice's graph is a DAG, not only a tree: on parts of genus > 0 a node may have two
+// lower-nodes (branches merging); Criterion 1 then waits for all of them, so no manual cut is
+// needed (the paper's future work).
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "mesh/mesh.h"
+#include "surface/surface_layers.h"
+
+namespace omnislice {
+
+struct SkeletonNode {
+  uint32_t layer = 0, region = 0;  // index into layers[layer].regions
+  double isoValue = 0;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();  // area-weighted, mm
+  double area = 0;                                     // mm^2
+  std::vector<uint32_t> lower, upper;  // node indices (lower: layer - 1, upper: layer + 1)
+};
+
+struct SkeletonTree : Outcome {
+  std::vector<SkeletonNode> nodes;  // sorted by (layer, region)
+  size_t edges = 0;
+  size_t fallbackLinks = 0;  // links made by nearest boundary where no steepest path decided
+  bool isTree = true;        // every node has at most one lower-node
+  double ms = 0;
+};
+
+struct SkeletonOptions {
+  int pathsPerNode = 8;  // steepest paths traced per IGDS, from boundary points spread along its
+                         // boundary (the paper traces one from a random edge)
+};
+
+// layers: as extractIgds returns them (empty layers allowed); boundary: the part's boundary
+// surface (tetBoundary) with field = the geodesic distance per boundary-mesh vertex. Node a on
+// layer i and b on layer i + 1 are adjacent when a steepest ascending path on the boundary
+// surface, started at a's boundary, crosses phi_{i+1} on b's boundary, or a steepest descending
+// path from b's boundary crosses phi_i on a's boundary (Fig. 12). A node of layer i + 1 left
+// without a lower-node (paths stalled) is linked to the layer-i node nearest to its boundary
+// (counted in fallbackLinks); nodes of the first non-empty layer have none.
+// Statuses: InvalidOption (field size differs from the boundary's vertex count), EmptyInput.
+SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mesh& boundary,
+                               const std::vector<double>& field,
+                               const SkeletonOptions& options = {});
+
+// The nozzle as its bounding cone (Fig. 15a): apex at the tip, axis along the IGDS normal,
+// half-angle angleDegrees (the paper's nozzle angle), length length; points within clearance
+// along the axis above the tip are ignored (the bead being laid).
+struct CollisionConeOptions {
+  double angleDegrees = 45;   // (0, 90)
+  double length = 25;         // mm, > 0
+  double clearance = 0.3;     // mm, >= 0
+  double sampleSpacing = 1.0; // mm, points tested on each IGDS (vertices and boundary samples)
+};
+
+struct CollisionModel : Outcome {
+  // pcs[i]: the potential collision surfaces of node i (Algorithm 2): the other nodes with a point
+  // inside the envelope volume of the cone swept over node i (the IGDS itself closing it below,
+  // the ruled surface from its boundary on the sides), i.e. inside the cone placed at some point
+  // of node i. Sorted ascending.
+  std::vector<std::vector<uint32_t>> pcs;
+  size_t pairsTested = 0;   // node pairs whose bounding volumes met (others skipped)
+  double ms = 0;
+};
+
+// Statuses: InvalidOption (options out of range, tree not built from these layers), Cancelled
+// (progress stage "collision").
+CollisionModel potentialCollisionSurfaces(const std::vector<CurvedLayer>& layers,
+                                          const SkeletonTree& tree,
+                                          const CollisionConeOptions& options = {},
+                                          const ProgressFn& progress = {});
+
+enum class TraversalKind { LPT, DPT, A3 };
+const char* traversalName(TraversalKind kind);                 // "LPT", "DPT", "A3"
+bool parseTraversal(const std::string& text, TraversalKind& kind);  // case-insensitive
+
+struct PrintSequence {
+  TraversalKind kind = TraversalKind::A3;
+  std::vector<uint32_t> order;  // every node once; Criterion 1 always holds
+  // A transition a -> b where b is not an upper-node of a is a retraction, and its air move is
+  // the distance between the two nodes' centroids (the nozzle leaves a and crosses to b).
+  size_t retractions = 0;
+  double airMoveMm = 0;
+  // Collision-free: no node is printed after one of its potential collision surfaces.
+  bool collisionFree = true;
+  size_t collidingNodes = 0;     // nodes printed after one of their PCS
+  size_t criterion2Relaxed = 0;  // A3 only: steps where no candidate met Criterion 2 and the
+                                 // nearest Criterion-1 candidate was taken
+  double ms = 0;
+};
+
+// LPT: layer by layer, within a layer nearest centroid first from the current node. DPT: from the
+// current node to an upper-node (nearest first) while Criterion 1 allows, else the nearest node
+// Criterion 1 allows. A3 (Algorithm 3): candidates meet Criteria 1 and 2; an upper-node of the
+// current node first (nearest), else the nearest candidate; starting with the candidate nearest
+// to the first layer's lowest centroid.
+PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& collisions,
+                            TraversalKind kind);
+
+}  // namespace omnislice
