@@ -11,6 +11,26 @@
 // projected back likewise). Boundary vertices stay on the IGDS boundary curve (which lies on the
 // tet mesh's boundary surface): they move only along it, corners kept.
 //
+// Details (igds.cpp, igds_remesh.cpp): a vertex exactly at phi_i makes every crossing edge ending
+// there snap to one point welded by that vertex (degenerate and doubled faces dropped), so planes
+// through grid vertices stay manifold. Faces are oriented on the sign field of the tet (never
+// degenerate). Remeshing per region at L = targetEdge (sqrt(area / 10) for regions under 10 L^2);
+// collapses obey the link condition and never turn a face over, flips and moves likewise; every
+// split / collapse / relaxation / smoothing position is projected back (the interpolated
+// triangles, or the boundary polyline for boundary vertices, by AABB trees). Guards, measured
+// necessary on the shared models: a remeshed region whose triangle centroids stray farther than
+// d / 2 from its interpolated IGDS (strongly curved caps where L is ~5 d: such chords crossed the
+// next IGDS) or whose triangles intersect each other is remeshed once more at L / 2, else kept as
+// interpolated (IgdsResult::regionTargetEdge, keptInterpolated).
+// Measured at d = 0.6 mm on the shared tet models (52k-71k tets, 188-263 iso-values,
+// 290k-390k interpolated triangles -> 69k-123k, L ~3 mm, 2-7 regions kept as interpolated), on
+// 2 cores shared with other jobs (load 2-3): extraction + remeshing native 0.85-1.5 s (test run),
+// 1.35-2.2 s under load 3; a standalone em++ -O3 build in Node 20 under the same load 1.75-2.75 s
+// (wasm / native 1.2-1.3; remeshing ~70 %, interpolation ~10 %, smoothing ~10 %). Five remeshing
+// rounds instead of three cost ~25 % more for the same quality. No self-intersection, no crossing
+// of successive IGDS, region topology kept, >= 99.8 % of remeshed edges in [L/2, 2L], mean
+// minimum angle 32 -> 51 degrees (tests/core/geodesic/igds_test.cpp).
+//
 // Metrics: average overhang angle and overhang ratio of Eq. 11 along each IGDS boundary, layer
 // thickness deviation (Fig. 10).
 #pragma once
@@ -33,7 +53,8 @@ struct IgdsOptions {
   double minRegionArea = 0.05;   // mm^2, smaller connected IGDS are dropped (slivers)
   bool remesh = true;            // isotropic remeshing + Laplacian smoothing
   double targetEdge = 0;         // mm, remeshing edge length; 0 = the tet mesh's mean edge length
-  int remeshIterations = 5;      // split / collapse / flip / relax rounds
+  int remeshIterations = 3;      // split / collapse / flip / relax rounds (5 costs ~25 % more
+                                 // time for no measurable gain on the shared models)
   int smoothIterations = 3;      // Laplacian smoothing rounds after remeshing
   size_t maxLayers = 100000;     // refuse (InvalidOption) above this many iso-values
 };
@@ -47,13 +68,21 @@ struct IgdsResult : Outcome {
   size_t regionCount = 0;
   size_t interpolatedTriangles = 0;  // before remeshing
   size_t triangleCount = 0;          // after
+  // Remeshing length per region (same shape as layers[i].regions): L, or a shorter one for
+  // regions under 10 L^2 or strongly curved (chords farther than d / 2 from the interpolated
+  // IGDS at L, or self-intersecting: retried once at half the length), or 0 where the region
+  // was kept as interpolated (remeshing could not keep its chords within d / 2 and free of
+  // self-intersections at lengths >= L / 4). keptInterpolated counts those 0 (remesh on).
+  std::vector<std::vector<double>> regionTargetEdge;
+  size_t keptInterpolated = 0;
   double interpolationMs = 0, remeshMs = 0, smoothMs = 0;
 };
 
 // mesh: a validated tet mesh; distance: one value per vertex (HeatGeodesic::distanceFrom).
 // Progress stage "igds". Statuses: InvalidOption (sizes differ, interval <= 0 or not finite, more
 // than maxLayers iso-values, negative options), NonFiniteVertex (a non-finite distance or
-// coordinate), EmptyInput (no tets or no IGDS), Cancelled.
+// coordinate), EmptyInput (no tets or no IGDS), DegenerateInput (a tet index out of range),
+// Cancelled.
 IgdsResult extractIgds(const TetMesh& mesh, const std::vector<double>& distance,
                        const IgdsOptions& options = {}, const ProgressFn& progress = {});
 
@@ -81,11 +110,14 @@ struct IgdsMetrics {
 };
 
 // alpha(s) at a boundary point P of an IGDS of layer i: P' the closest point on the boundary
-// curves of layer i - 1 (for the first layer, the footprint: P projected to z = 0), alpha the
+// curves of layer i - 1 (for the first layer, or when layer i - 1 has no boundary, the
+// footprint: P projected to z = 0), alpha the
 // angle between P'P and the IGDS normal n(P) when P lies outward of P' (P - P' has a positive
 // component along the outward conormal of the IGDS at P), else 0 (Fig. 8). Boundary points are
 // the boundary edges' midpoints weighted by their length; thickness points are sampled about
-// every sampleSpacing mm over the area (deterministic). interval is d.
+// every sampleSpacing mm over the area (deterministic; no thickness samples on a layer following
+// an empty one). A P - P' component along the conormal within 1e-6 |P - P'| counts as zero
+// (vertical walls). interval is d (not > 0 or not finite: empty metrics).
 IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
                         double sampleSpacing = 1.0);
 
