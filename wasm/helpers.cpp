@@ -130,6 +130,20 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
                                            r.preview.supportVoxels.size()));
     preview.set("voxelWidth", r.preview.voxelWidth);
     preview.set("curves", copyArray("Uint32Array", r.preview.curves.data(), r.preview.curves.size()));
+    preview.set("fieldPositions", copyArray("Float32Array", r.preview.fieldPositions.data(),
+                                            r.preview.fieldPositions.size()));
+    preview.set("fieldTriangles", copyArray("Uint32Array", r.preview.fieldTriangles.data(),
+                                            r.preview.fieldTriangles.size()));
+    preview.set("fieldValues", copyArray("Float32Array", r.preview.fieldValues.data(),
+                                         r.preview.fieldValues.size()));
+    preview.set("nodePositions", copyArray("Float32Array", r.preview.nodePositions.data(),
+                                           r.preview.nodePositions.size()));
+    preview.set("nodeLayers", copyArray("Uint32Array", r.preview.nodeLayers.data(),
+                                        r.preview.nodeLayers.size()));
+    preview.set("treeEdges", copyArray("Uint32Array", r.preview.treeEdges.data(),
+                                       r.preview.treeEdges.size()));
+    preview.set("sequence", copyArray("Uint32Array", r.preview.sequence.data(),
+                                      r.preview.sequence.size()));
     out.set("preview", preview);
     out.set("programExtension", r.programExtension);
     out.set("mesh", meshToJs(r.partMesh));

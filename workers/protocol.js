@@ -36,10 +36,12 @@ export const Request = Object.freeze({
    *  ArrayBuffer (UTF-8 program: G-code, robot CSV or URScript), programExtension: 'gcode' |
    *  'csv' | 'script', report: object, info: object, layers: number, preview: {positions,
    *  features, layers, machine, axes, surfacePositions, surfaceTriangles, surfaceLayers,
-   *  missedVoxels, supportVoxels, voxelWidth, curves} (core/pipeline/pipeline.h PreviewBuffers;
-   *  the curved-layer and voxel buffers are empty for other methods; curves: #S 1-based NL curve
-   *  index per segment, 0 = none, empty unless the iso-planar fill ran), mesh: {positions,
-   *  indices}}
+   *  missedVoxels, supportVoxels, voxelWidth, curves, fieldPositions, fieldTriangles,
+   *  fieldValues, nodePositions, nodeLayers, treeEdges, sequence} (core/pipeline/pipeline.h
+   *  PreviewBuffers; the curved-layer, voxel and geodesic buffers are empty for other methods;
+   *  curves: #S 1-based NL curve index per segment, 0 = none, empty unless the iso-planar fill
+   *  ran; field*: the boundary surface with the geodesic distance per vertex; node* and treeEdges:
+   *  the skeleton tree; sequence: node indices in print order), mesh: {positions, indices}}
    *  (all buffers transferred). */
   SLICE: 'slice',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:

@@ -111,6 +111,8 @@ const handlers = {
       transferList(r.program, r.preview.positions, r.preview.features, r.preview.layers,
         r.preview.machine, r.preview.axes, r.preview.surfacePositions, r.preview.surfaceTriangles,
         r.preview.surfaceLayers, r.preview.missedVoxels, r.preview.supportVoxels, r.preview.curves,
+        r.preview.fieldPositions, r.preview.fieldTriangles, r.preview.fieldValues,
+        r.preview.nodePositions, r.preview.nodeLayers, r.preview.treeEdges, r.preview.sequence,
         r.mesh.positions, r.mesh.indices));
   },
 

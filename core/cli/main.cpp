@@ -27,7 +27,8 @@ using namespace omnislice;
 const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
-    "  omnislice slice MESH -o OUT [--method planar|voxel|surface] [--fill auto|isoplanar|spiral]\n"
+    "  omnislice slice MESH -o OUT [--method planar|voxel|surface|geodesic]\n"
+    "                 [--fill auto|isoplanar|spiral]\n"
     "                 [--machine NAME] [--machine-file JSON]\n"
     "                 [--gcode-flavor marlin|reprap|klipper] [--robot-format csv|urscript]\n"
     "                 [--layer-height MM] [--nozzle MM] [--walls N] [--infill PCT]\n"
@@ -37,11 +38,16 @@ const char* kUsage =
     "  omnislice settings            (every setting with its default, as JSON)\n"
     "  omnislice machines            (the built-in machine profiles, as JSON)\n"
     "  omnislice --version | --help\n"
-    "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF. AXIS: z, -z, y, -y, x, -x.\n"
+    "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF; TET (tetrahedral mesh, `N vertices`, `M tets`,\n"
+    "coordinates, `4 i j k l`: the solid it fills; --method geodesic uses its tets). AXIS: z, -z,\n"
+    "y, -y, x, -x.\n"
     "Machines: cartesian3, rotary4, table5, robot6-ur5 (G-code; robot6 writes joint CSV or\n"
     "URScript). A profile file (docs/MACHINES.md) overrides --machine.\n"
     "--method surface prints an open surface (a height field) as one layer on a planar base;\n"
-    "verify such a program with the same surface as --mesh.\n";
+    "verify such a program with the same surface as --mesh.\n"
+    "--method geodesic (paper 002) meshes the solid into tets (or uses a .tet file's), layers it\n"
+    "by the geodesic distance from the platform and prints in the order of geodesic.sequence\n"
+    "(a3 | lpt | dpt).\n";
 
 struct CliError {
   Status status;

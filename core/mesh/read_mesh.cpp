@@ -3,6 +3,7 @@
 #include "mesh/read_mesh.h"
 
 #include <cerrno>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -11,11 +12,12 @@
 
 #include "mesh/read_formats.h"
 #include "mesh/text_cursor.h"
+#include "tet/tet_mesh.h"
 
 namespace omnislice {
 namespace {
 
-enum class Format { Unknown, Stl, Obj, Off, Ply, ThreeMf };
+enum class Format { Unknown, Stl, Obj, Off, Ply, ThreeMf, Tet };
 
 const char* formatName(Format f) {
   switch (f) {
@@ -24,6 +26,7 @@ const char* formatName(Format f) {
     case Format::Off: return "OFF";
     case Format::Ply: return "PLY";
     case Format::ThreeMf: return "3MF";
+    case Format::Tet: return "TET";
     case Format::Unknown: break;
   }
   return "unknown";
@@ -42,6 +45,7 @@ Format formatFromName(const std::string& name) {
   if (ext == "off") return Format::Off;
   if (ext == "ply") return Format::Ply;
   if (ext == "3mf") return Format::ThreeMf;
+  if (ext == "tet") return Format::Tet;
   return Format::Unknown;
 }
 
@@ -98,6 +102,30 @@ Format weakSniff(const uint8_t* data, size_t size) {
   return Format::Unknown;
 }
 
+// A tetrahedral mesh (.tet) read as the solid it fills: its boundary surface (faces of one tet,
+// outward), vertices used by no boundary face dropped. The geodesic method re-reads the tets.
+ReadMeshResult readTetBoundary(const uint8_t* data, size_t size) {
+  ReadMeshResult r;
+  TetMeshResult tets = readTetMesh(data, size);
+  if (!tets.ok()) {
+    r.status = tets.status;
+    r.message = tets.message;
+    return r;
+  }
+  r.format = "tet";
+  r.warnings = tets.warnings;
+  const Mesh boundary = tetBoundary(tets.mesh);
+  std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
+  for (uint32_t v : boundary.triangles) {
+    if (remap[v] == UINT32_MAX) {
+      remap[v] = static_cast<uint32_t>(r.mesh.positions.size() / 3);
+      for (int a = 0; a < 3; ++a) r.mesh.positions.push_back(boundary.positions[3 * size_t(v) + a]);
+    }
+    r.mesh.triangles.push_back(remap[v]);
+  }
+  return r;
+}
+
 ReadMeshResult readAs(Format f, const uint8_t* data, size_t size) {
   switch (f) {
     case Format::Stl: return readStl(data, size);
@@ -105,6 +133,7 @@ ReadMeshResult readAs(Format f, const uint8_t* data, size_t size) {
     case Format::Off: return readOff(data, size);
     case Format::Ply: return readPly(data, size);
     case Format::ThreeMf: return read3mf(data, size);
+    case Format::Tet: return readTetBoundary(data, size);
     case Format::Unknown: break;
   }
   ReadMeshResult r;
@@ -139,7 +168,7 @@ ReadMeshResult readChecked(const uint8_t* data, size_t size, const std::string& 
   if (chosen == Format::Unknown) {
     r.status = Status::UnsupportedFormat;
     r.message = "format not recognised from the name" + (nameHint.empty() ? std::string() : " '" + nameHint + "'") +
-                " or the content (supported: STL, OBJ, OFF, PLY, 3MF)";
+                " or the content (supported: STL, OBJ, OFF, PLY, 3MF, TET)";
     return r;
   }
   r = readAs(chosen, data, size);

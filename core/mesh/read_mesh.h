@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: MIT
 // Mesh readers: STL (binary and ASCII; a binary file may start with "solid"), OBJ (polygons are
 // fan-triangulated, negative indices), OFF, PLY (ascii, binary little and big endian), 3MF (zip
-// container, stored or deflated entries, inflated in the core so CLI, wasm and page share it).
+// container, stored or deflated entries, inflated in the core so CLI, wasm and page share it),
+// TET (tetrahedral mesh, read as its boundary surface: the solid it fills).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -16,7 +17,7 @@ namespace omnislice {
 struct ReadMeshResult : Outcome {
   Mesh mesh;                          // raw: STL gives 3 vertices per face; nothing merged or fixed
   std::string format;                 // "stl-binary", "stl-ascii", "obj", "off", "ply-ascii",
-                                      // "ply-binary-le", "ply-binary-be", "3mf"
+                                      // "ply-binary-le", "ply-binary-be", "3mf", "tet"
   std::vector<std::string> warnings;  // non-fatal oddities (e.g. "STL header count 12 != 10 read")
 };
 

@@ -21,6 +21,7 @@
 #include "kinematics/kinematics.h"
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/stage_support.h"
+#include "pipeline/geodesic_method.h"
 #include "pipeline/surface_method.h"
 #include "pipeline/voxel_method.h"
 #include "toolpath/toolpath.h"
@@ -194,8 +195,9 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     if (Outcome v = validateSettings(settings); !v.ok()) return failed<SliceOutput>(v);
     const bool voxel = settings.method == "voxel";
     const bool surface = settings.method == "surface";
-    const bool curvedMethod = voxel || surface;
-    if (settings.method != "planar" && !voxel && !surface) {
+    const bool geodesic = settings.method == "geodesic";
+    const bool curvedMethod = voxel || surface || geodesic;
+    if (settings.method != "planar" && !voxel && !surface && !geodesic) {
       return failed<SliceOutput>(Status::InvalidOption, "method '" + settings.method + "' is not available");
     }
     StageClock clock;
@@ -216,8 +218,9 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     if (curvedMethod && machine.kind != "table5" && machine.kind != "robot6") {
       return failed<SliceOutput>(
           Status::InvalidOption,
-          std::string("the ") + (voxel ? "voxel method tilts the nozzle along curved layers"
-                                       : "surface method keeps the nozzle along the surface normal") +
+          std::string("the ") + (voxel      ? "voxel method tilts the nozzle along curved layers"
+                                 : geodesic ? "geodesic method tilts the nozzle along curved layers"
+                                            : "surface method keeps the nozzle along the surface normal") +
               ": choose a machine with two rotary axes or a robot (table5, robot6), not " +
               machine.kind);
     }
@@ -258,8 +261,30 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     size_t slicedLayers = 0, openChains = 0;
     double layerHeight = settings.layerHeight;
     VoxelMethodOutput voxelOut;
+    GeodesicMethodOutput geodesicOut;
     std::string planarIsoplanarJson;
-    if (voxel) {
+    if (geodesic) {
+      // A .tet input brings its own tets: the same placement as its boundary surface.
+      TetMesh placedTets;
+      const bool haveTets = in.format == "tet";
+      if (haveTets) {
+        TetMeshResult tets = readTetMesh(data, size);
+        if (!tets.ok()) return failed<SliceOutput>(tets);
+        placedTets = std::move(tets.mesh);
+        const Eigen::Matrix4d& m = in.placed.transform;
+        for (size_t v = 0; v < placedTets.vertexCount(); ++v) {
+          const Eigen::Vector3d q = m.topLeftCorner<3, 3>() * placedTets.vertex(v) + m.topRightCorner<3, 1>();
+          for (int a = 0; a < 3; ++a) placedTets.positions[3 * v + a] = q[a];
+        }
+      }
+      geodesicOut = runGeodesicMethod(in.placed.mesh, haveTets ? &placedTets : nullptr, settings, machine, progress);
+      if (!geodesicOut.ok()) return failed<SliceOutput>(geodesicOut);
+      for (const auto& [stage, ms] : geodesicOut.timingsMs) clock.timings[stage] = ms;
+      clock.t0 = Clock::now();
+      plan.toolpath = std::move(geodesicOut.toolpath);
+      layerHeight = geodesicOut.layerHeight;
+      slicedLayers = static_cast<size_t>(geodesicOut.layers);
+    } else if (voxel) {
       voxelOut = runVoxelMethod(in.placed.mesh, settings, machine, progress);
       if (!voxelOut.ok()) return failed<SliceOutput>(voxelOut);
       for (const auto& [stage, ms] : voxelOut.timingsMs) clock.timings[stage] = ms;
@@ -353,6 +378,20 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       p.supportVoxels = std::move(voxelOut.preview.supportVoxels);
       p.voxelWidth = voxelOut.preview.voxelWidth;
     }
+    if (geodesic) {
+      PreviewBuffers& p = out.preview;
+      PreviewBuffers& g = geodesicOut.preview;
+      p.surfacePositions = std::move(g.surfacePositions);
+      p.surfaceTriangles = std::move(g.surfaceTriangles);
+      p.surfaceLayers = std::move(g.surfaceLayers);
+      p.fieldPositions = std::move(g.fieldPositions);
+      p.fieldTriangles = std::move(g.fieldTriangles);
+      p.fieldValues = std::move(g.fieldValues);
+      p.nodePositions = std::move(g.nodePositions);
+      p.nodeLayers = std::move(g.nodeLayers);
+      p.treeEdges = std::move(g.treeEdges);
+      p.sequence = std::move(g.sequence);
+    }
     out.partMesh = std::move(in.placed.mesh);
     out.program = std::move(written.text);
     out.programExtension = programExtension(machine.kind, pinfo.robotFormat);
@@ -396,6 +435,8 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     if (voxel) report["voxel"] = Json::parse(voxelOut.reportJson);
     if (voxel && !voxelOut.isoplanarJson.empty()) report["isoplanar"] = Json::parse(voxelOut.isoplanarJson);
     if (surface) report["isoplanar"] = Json::parse(surfaceOut.reportJson);
+    if (geodesic) report["geodesic"] = Json::parse(geodesicOut.reportJson);
+    if (geodesic && !geodesicOut.isoplanarJson.empty()) report["isoplanar"] = Json::parse(geodesicOut.isoplanarJson);
     if (!planarIsoplanarJson.empty()) report["isoplanar"] = Json::parse(planarIsoplanarJson);
     report["fill"] = settings.fill;
     Json t = clock.timings;

@@ -154,6 +154,14 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.isoplanar.maxFeedMmS; }, 0, 2000, "mm/s (0 = print_speed)"}},
       {"surface.base_mm",
        {[](Settings& s) -> double& { return s.surface.baseMm; }, 0.1, 500, "mm"}},
+      {"geodesic.interval_mm",
+       {[](Settings& s) -> double& { return s.geodesic.intervalMm; }, 0, 20, "mm (0 = layer_height)"}},
+      {"geodesic.tet_size_mm",
+       {[](Settings& s) -> double& { return s.geodesic.tetSizeMm; }, 0, 100, "mm (0 = from geodesic.target_tets)"}},
+      {"geodesic.target_tets",
+       {[](Settings& s) -> double& { return s.geodesic.targetTets; }, 100, 3e6, "tets"}},
+      {"geodesic.nozzle_angle_deg",
+       {[](Settings& s) -> double& { return s.geodesic.nozzleAngleDeg; }, 0, 89, "degrees (0 = the machine's nozzle cone)"}},
       {"voxel.max_voxels",
        {[](Settings& s) -> double& { return s.voxel.maxVoxels; }, 1000, 1e9, "voxels"}},
       {"motion.chord_tolerance",
@@ -220,9 +228,9 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
     return {};
   }
   if (key == "method") {
-    if (value != "planar" && value != "voxel" && value != "surface") {
+    if (value != "planar" && value != "voxel" && value != "surface" && value != "geodesic") {
       return invalid(key, "'" + value +
-                              "' is not available in this build (available: planar, voxel, surface)");
+                              "' is not available in this build (available: planar, voxel, surface, geodesic)");
     }
     settings.method = value;
     return {};
@@ -232,6 +240,21 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
       return invalid(key, "'" + value + "' is not a fill (auto, isoplanar, spiral)");
     }
     settings.fill = value;
+    return {};
+  }
+  if (key == "geodesic.sequence") {
+    std::string v = value;
+    for (char& c : v) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (v != "a3" && v != "lpt" && v != "dpt") {
+      return invalid(key, "'" + value + "' is not a print sequence (a3, lpt, dpt)");
+    }
+    settings.geodesic.sequence = v;
+    return {};
+  }
+  if (key == "geodesic.remesh") {
+    bool b = false;
+    if (!parseBool(value, b)) return invalid(key, "expected true or false");
+    settings.geodesic.remesh = b;
     return {};
   }
   if (key == "isoplanar.benchmark") {
@@ -406,6 +429,10 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
     out.emplace_back("voxel.shadow", s.voxel.shadow);
     out.emplace_back("voxel.supports", s.voxel.supports ? "true" : "false");
     out.emplace_back("voxel.layer_field", s.voxel.layerField);
+  }
+  if (s.method == "geodesic") {
+    out.emplace_back("geodesic.sequence", s.geodesic.sequence);
+    out.emplace_back("geodesic.remesh", s.geodesic.remesh ? "true" : "false");
   }
   // machine_json is not listed: the program header and the report carry the resolved profile.
   return out;

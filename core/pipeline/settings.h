@@ -71,14 +71,27 @@ struct SurfaceSettings {
   double baseMm = 2;            // thinnest support base under the surface layer, mm
 };
 
+// `method = geodesic` (paper 002): tet mesh, heat-method geodesic field from the platform,
+// iso-geodesic distance surfaces (IGDS), skeleton tree, collision-aware print order.
+struct GeodesicSettings {
+  double intervalMm = 0;        // geodesic distance between IGDS (the layer), mm; 0 = layer_height
+  double tetSizeMm = 0;         // tet mesher lattice spacing, mm; 0 = about target_tets tets
+  double targetTets = 60000;    // tets the mesher aims at when tet_size_mm = 0
+  double nozzleAngleDeg = 0;    // nozzle cone angle of the collision model (the paper's NA),
+                                // degrees; 0 = the machine's nozzle cone half-angle
+  std::string sequence = "a3";  // print order: a3 (Algorithm 3) | lpt | dpt
+  bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
+};
+
 struct Settings {
-  std::string method = "planar";       // planar | voxel | surface (later: multidir, geodesic)
+  std::string method = "planar";       // planar | voxel | surface | geodesic (later: multidir)
   std::string fill = "auto";           // how layers are filled: auto (planar: walls + infill,
                                        // voxel: Fermat spirals, surface: iso-planar) | isoplanar
                                        // | spiral (voxel only)
   VoxelSettings voxel;
   IsoplanarSettings isoplanar;
   SurfaceSettings surface;
+  GeodesicSettings geodesic;
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty

@@ -177,10 +177,12 @@ Vector3d limitTilt(const Vector3d& u, double maxTilt) {
 
 }  // namespace
 
-CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
-                                         const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
-                                         const CurvedToolpathOptions& options,
-                                         const ProgressFn& progress) {
+namespace {
+
+CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
+                                   const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
+                                   const std::vector<std::pair<uint32_t, uint32_t>>* order,
+                                   const CurvedToolpathOptions& options, const ProgressFn& progress) {
   const CurvedToolpathOptions& o = options;
   if (!positiveFinite(o.lineWidth) || !positiveFinite(o.nominalHeight)) {
     return fail(Status::InvalidOption, "line width and nominal height must be > 0 mm");
@@ -227,6 +229,14 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
         for (const Vector3d& q : p.points) {
           if (!q.allFinite()) return fail(Status::NonFiniteVertex, "layer " + std::to_string(l) + ": non-finite path point");
         }
+      }
+    }
+  }
+  if (order != nullptr) {
+    for (const auto& [l, r] : *order) {
+      if (l >= layers.size() || r >= layers[l].regions.size()) {
+        return fail(Status::InvalidOption, "order names region " + std::to_string(r) + " of layer " +
+                                               std::to_string(l) + ", which does not exist");
       }
     }
   }
@@ -596,26 +606,89 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
   };
 
   std::vector<Sample> samples;
-  for (size_t l = 0; l < layers.size(); ++l) {
-    if (!reportProgress(progress, stage, double(l) / double(layers.size()))) {
-      return fail(Status::Cancelled, "cancelled");
-    }
-    const auto t0 = Clock::now();
-    if (l > 0) {
-      const size_t first = l > size_t(o.earlierLayers) ? l - size_t(o.earlierLayers) : 0;
+  // The earlier layers' trees for layer l. Layer by layer, trees below the window are freed; in a
+  // given order (layers revisited), they are kept.
+  auto prepareTrees = [&](size_t l, bool freeBelow) {
+    if (l == 0) return;
+    const size_t first = l > size_t(o.earlierLayers) ? l - size_t(o.earlierLayers) : 0;
+    if (freeBelow) {
       for (size_t k = 0; k < first; ++k) {
         trees[k].reset();
         merged[k] = Mesh();
       }
-      for (size_t k = first; k < l; ++k) {
-        if (trees[k]) continue;
-        merged[k] = mergeLayer(layers[k]);
-        trees[k] = std::make_unique<AabbTree>(merged[k]);
-      }
     }
-    orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    for (size_t k = first; k < l; ++k) {
+      if (trees[k]) continue;
+      merged[k] = mergeLayer(layers[k]);
+      trees[k] = std::make_unique<AabbTree>(merged[k]);
+    }
+  };
+  // Print region `pick` of layer l; progress reports the fraction `done` of the whole.
+  auto printRegion = [&](size_t l, size_t pick, double done) {
     const int32_t layer = static_cast<int32_t>(l);
     const double speed = l == 0 ? o.firstLayerSpeed : o.printSpeed;
+    const bool support = layers[l].regions[pick].support;
+    const Feature feature = support ? Feature::Support : Feature::Infill;
+    const MoveKind printKind = support ? MoveKind::Support : MoveKind::Print;
+    for (const SurfacePath& path : paths[l][pick]) {
+      const size_t np = path.points.size();
+      if (np < 2) continue;
+      const auto s0 = Clock::now();
+      samples.resize(np);
+      const bool haveNormals = path.normals.size() == np;
+      for (size_t i = 0; i < np; ++i) {
+        // Long paths: keep cancellation within a few milliseconds (~10 us per point).
+        if ((i & 1023) == 1023 && !reportProgress(progress, stage, done)) return false;
+        Vector3d nrm = haveNormals && path.normals[i].allFinite() ? path.normals[i] : Vector3d::Zero();
+        samples[i] = clampTilt(sampleAt(l, path.points[i], nrm,
+                                        i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(),
+                                        i > 0 ? &samples[i - 1] : nullptr));
+        result.orientationFallbacks += samples[i].fallback;
+      }
+      orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
+      correctPath(path.points, samples);
+      travelTo(path.points[0], samples[0].axis, layer);
+      for (size_t i = 1; i < np; ++i) {
+        const Vector3d& target = path.points[i];
+        const double len = (target - pos).norm();
+        if (len <= 1e-9) continue;
+        // The bead of a segment takes the mean of its end heights.
+        const double h = 0.5 * (samples[i - 1].height + samples[i].height);
+        Move* m = push(target, samples[i].axis, printKind, layer);
+        m->width = o.lineWidth;
+        m->height = h;
+        m->filament = o.ellipseBeads
+                          ? ellipseBeadFilament(o.lineWidth, h, len, o.filamentDiameter)
+                          : filamentForBead(o.lineWidth, h, len, o.filamentDiameter);
+        if (path.curves.size() == np) m->curve = path.curves[i];
+        m->speed = speed;
+        m->feature = feature;
+        pos = target;
+        axis = samples[i].axis;
+        extruded = true;
+      }
+    }
+    return true;
+  };
+
+  if (order != nullptr) {
+    for (size_t k = 0; k < order->size(); ++k) {
+      const double done = double(k) / double(order->size());
+      if (!reportProgress(progress, stage, done)) return fail(Status::Cancelled, "cancelled");
+      const size_t l = (*order)[k].first, r = (*order)[k].second;
+      const auto t0 = Clock::now();
+      prepareTrees(l, false);
+      orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      if (!printRegion(l, r, done)) return fail(Status::Cancelled, "cancelled");
+    }
+  }
+  for (size_t l = 0; order == nullptr && l < layers.size(); ++l) {
+    if (!reportProgress(progress, stage, double(l) / double(layers.size()))) {
+      return fail(Status::Cancelled, "cancelled");
+    }
+    const auto t0 = Clock::now();
+    prepareTrees(l, true);
+    orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
 
     // Regions nearest-first from the current position (distance to the first path's start).
     const size_t nr = layers[l].regions.size();
@@ -639,49 +712,8 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
         }
       }
       done[pick] = 1;
-      const bool support = layers[l].regions[pick].support;
-      const Feature feature = support ? Feature::Support : Feature::Infill;
-      const MoveKind printKind = support ? MoveKind::Support : MoveKind::Print;
-      for (const SurfacePath& path : paths[l][pick]) {
-        const size_t np = path.points.size();
-        if (np < 2) continue;
-        const auto s0 = Clock::now();
-        samples.resize(np);
-        const bool haveNormals = path.normals.size() == np;
-        for (size_t i = 0; i < np; ++i) {
-          // Long paths: keep cancellation within a few milliseconds (~10 us per point).
-          if ((i & 1023) == 1023 &&
-              !reportProgress(progress, stage, (double(l) + double(n) / double(nr)) / double(layers.size()))) {
-            return fail(Status::Cancelled, "cancelled");
-          }
-          Vector3d nrm = haveNormals && path.normals[i].allFinite() ? path.normals[i] : Vector3d::Zero();
-          samples[i] = clampTilt(sampleAt(l, path.points[i], nrm,
-                                          i > 0 ? samples[i - 1].axis : Vector3d::UnitZ(),
-                                          i > 0 ? &samples[i - 1] : nullptr));
-          result.orientationFallbacks += samples[i].fallback;
-        }
-        orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
-        correctPath(path.points, samples);
-        travelTo(path.points[0], samples[0].axis, layer);
-        for (size_t i = 1; i < np; ++i) {
-          const Vector3d& target = path.points[i];
-          const double len = (target - pos).norm();
-          if (len <= 1e-9) continue;
-          // The bead of a segment takes the mean of its end heights.
-          const double h = 0.5 * (samples[i - 1].height + samples[i].height);
-          Move* m = push(target, samples[i].axis, printKind, layer);
-          m->width = o.lineWidth;
-          m->height = h;
-          m->filament = o.ellipseBeads
-                            ? ellipseBeadFilament(o.lineWidth, h, len, o.filamentDiameter)
-                            : filamentForBead(o.lineWidth, h, len, o.filamentDiameter);
-          if (path.curves.size() == np) m->curve = path.curves[i];
-          m->speed = speed;
-          m->feature = feature;
-          pos = target;
-          axis = samples[i].axis;
-          extruded = true;
-        }
+      if (!printRegion(l, pick, (double(l) + double(n) / double(nr)) / double(layers.size()))) {
+        return fail(Status::Cancelled, "cancelled");
       }
     }
   }
@@ -689,6 +721,23 @@ CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
   result.gougingMs = gougingMs;
   if (!reportProgress(progress, stage, 1)) return fail(Status::Cancelled, "cancelled");
   return result;
+}
+
+}  // namespace
+
+CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
+                                         const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
+                                         const CurvedToolpathOptions& options,
+                                         const ProgressFn& progress) {
+  return buildToolpath(layers, paths, nullptr, options, progress);
+}
+
+CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
+                                         const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
+                                         const std::vector<std::pair<uint32_t, uint32_t>>& order,
+                                         const CurvedToolpathOptions& options,
+                                         const ProgressFn& progress) {
+  return buildToolpath(layers, paths, &order, options, progress);
 }
 
 }  // namespace omnislice

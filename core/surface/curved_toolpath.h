@@ -7,6 +7,8 @@
 // travels between regions that retract and leave and approach along the nozzle axis.
 // The low-pass filter and crest subdivision of Section 5.2 happen in core/motion (planMachineMotion).
 #pragma once
+#include <cstdint>
+#include <utility>
 #include <vector>
 
 #include "common/progress.h"
@@ -88,6 +90,17 @@ struct CurvedToolpathResult : Outcome {
 // Cancelled.
 CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
                                          const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
+                                         const CurvedToolpathOptions& options,
+                                         const ProgressFn& progress = {});
+
+// The same in a given print order: order[k] = (layer, region), visited in sequence (a region
+// may be left out; a region listed twice is printed twice). Used by the geodesic method, whose
+// print sequence (paper 002 Section 3.1) interleaves layers across branches. Earlier layers for
+// Eq. 3 and the bead heights are still the layer indices below (geometry, not print order).
+// InvalidOption also when an order entry names a region that does not exist.
+CurvedToolpathResult buildCurvedToolpath(const std::vector<CurvedLayer>& layers,
+                                         const std::vector<std::vector<std::vector<SurfacePath>>>& paths,
+                                         const std::vector<std::pair<uint32_t, uint32_t>>& order,
                                          const CurvedToolpathOptions& options,
                                          const ProgressFn& progress = {});
 

@@ -1,0 +1,363 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/geodesic_method.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+#include "geodesic/heat_geodesic.h"
+#include "geodesic/igds.h"
+#include "geodesic/print_order.h"
+#include "pipeline/isoplanar_fill.h"
+#include "pipeline/stage_support.h"
+#include "surface/curved_toolpath.h"
+#include "surface/fermat_spiral.h"
+#include "tet/tet_mesher.h"
+
+namespace omnislice {
+
+namespace {
+
+using Json = nlohmann::ordered_json;
+using stage::Clock;
+using stage::finite;
+using stage::msSince;
+
+template <typename... Args>
+GeodesicMethodOutput failure(Args&&... args) {
+  return stage::failed<GeodesicMethodOutput>(std::forward<Args>(args)...);
+}
+
+Json sequenceJson(const PrintSequence& s) {
+  return {{"retractions", s.retractions},
+          {"air_move_mm", finite(s.airMoveMm)},
+          {"collision_free", s.collisionFree},
+          {"colliding_nodes", s.collidingNodes},
+          {"criterion2_relaxed", s.criterion2Relaxed},
+          {"unavoidable_nodes", s.unavoidableNodes},
+          {"ms", s.ms}};
+}
+
+}  // namespace
+
+GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, const Settings& settings,
+                                       const MachineProfile& machine, const ProgressFn& progress) {
+  GeodesicMethodOutput out;
+  const GeodesicSettings& gs = settings.geodesic;
+  const double interval = gs.intervalMm > 0 ? gs.intervalMm : settings.layerHeight;
+  Json timings = Json::object();
+
+  // 1. The tet mesh: the input's own (.tet) or generated from the solid.
+  Clock::time_point t0 = Clock::now();
+  TetMesh tets;
+  Json mesher = nullptr;
+  if (given != nullptr) {
+    TetMeshResult checked = validateTetMesh(*given);
+    if (!checked.ok()) return failure(checked);
+    tets = std::move(checked.mesh);
+  } else {
+    TetMesherOptions mopt;
+    mopt.cellSize = gs.tetSizeMm;
+    mopt.targetTets = static_cast<size_t>(gs.targetTets);
+    TetMesherResult meshed = tetrahedralize(part, mopt, progress);
+    if (!meshed.ok()) return failure(meshed);
+    mesher = {{"cell_size_mm", meshed.cellSize},
+              {"boundary_vertices", meshed.boundaryVertices},
+              {"max_boundary_distance_mm", finite(meshed.maxBoundaryDistance)},
+              {"unsnapped", meshed.unsnapped},
+              {"volume_ratio", finite(meshed.volumeRatio)},
+              {"classify_ms", meshed.classifyMs},
+              {"stuff_ms", meshed.stuffMs},
+              {"snap_ms", meshed.snapMs}};
+    tets = std::move(meshed.mesh);
+  }
+  const TetQuality quality = tetQuality(tets);
+  out.timingsMs.emplace_back("tetmesh", msSince(t0));
+  timings["tetmesh"] = out.timingsMs.back().second;
+
+  // 2. Geodesic distance from the platform (Section 2.1).
+  t0 = Clock::now();
+  if (!reportProgress(progress, "field", 0)) return failure(Status::Cancelled, "cancelled");
+  HeatGeodesic heat(tets);
+  if (!heat.status().ok()) return failure(heat.status());
+  // The heat source: the vertices on the platform (within a quarter of the interval: they print
+  // in the first layer anyway).
+  const std::vector<uint32_t> sources = platformVertices(tets, std::max(1e-4, 0.25 * interval));
+  if (sources.empty()) {
+    return failure(Status::DegenerateInput, "no vertex of the tet mesh lies on the platform");
+  }
+  GeodesicField field = heat.distanceFrom(sources, progress);
+  if (!field.ok()) return failure(field);
+  out.timingsMs.emplace_back("field", msSince(t0));
+  timings["field"] = out.timingsMs.back().second;
+
+  // 3. IGDS (Section 2.2) and their metrics (Eq. 11, Fig. 10).
+  t0 = Clock::now();
+  IgdsOptions iopt;
+  iopt.interval = interval;
+  iopt.remesh = gs.remesh;
+  IgdsResult igds = extractIgds(tets, field.distance, iopt, progress);
+  if (!igds.ok()) return failure(igds);
+  out.timingsMs.emplace_back("igds", msSince(t0));
+  timings["igds"] = out.timingsMs.back().second;
+  t0 = Clock::now();
+  const IgdsMetrics metrics = igdsMetrics(igds.layers, interval);
+  timings["metrics"] = msSince(t0);
+
+  // 4. Skeleton tree, potential collision surfaces, the three traversals (Section 3.1).
+  t0 = Clock::now();
+  if (!reportProgress(progress, "order", 0)) return failure(Status::Cancelled, "cancelled");
+  const Mesh boundary = tetBoundary(tets);
+  SkeletonTree tree = buildSkeletonTree(igds.layers, boundary, field.distance);
+  if (!tree.ok()) return failure(tree);
+  CollisionConeOptions copt;
+  copt.angleDegrees = gs.nozzleAngleDeg > 0 ? gs.nozzleAngleDeg : machine.nozzle.coneHalfAngleDegrees;
+  copt.length = machine.nozzle.coneLength;
+  copt.clearance = interval;
+  CollisionModel collisions = potentialCollisionSurfaces(igds.layers, tree, copt, progress);
+  if (!collisions.ok()) return failure(collisions);
+  TraversalKind chosenKind = TraversalKind::A3;
+  if (!parseTraversal(gs.sequence, chosenKind)) {
+    return failure(Status::InvalidOption, "unknown geodesic.sequence '" + gs.sequence + "'");
+  }
+  PrintSequence sequences[3];
+  const TraversalKind kinds[3] = {TraversalKind::LPT, TraversalKind::DPT, TraversalKind::A3};
+  Json traversals = Json::object();
+  const PrintSequence* chosen = nullptr;
+  for (int k = 0; k < 3; ++k) {
+    sequences[k] = printSequence(tree, collisions, kinds[k]);
+    if (!sequences[k].ok()) return failure(sequences[k]);
+    traversals[traversalName(kinds[k])] = sequenceJson(sequences[k]);
+    if (kinds[k] == chosenKind) chosen = &sequences[k];
+  }
+  out.timingsMs.emplace_back("order", msSince(t0));
+  timings["tree"] = tree.ms;
+  timings["collision"] = collisions.ms;
+  timings["order"] = out.timingsMs.back().second;
+
+  // 5. Filling paths on every IGDS (Section 3.2).
+  t0 = Clock::now();
+  const double lineWidth = settings.effectiveLineWidth();
+  const bool isoplanar = settings.fill == "isoplanar";
+  SpiralOptions sopt;
+  sopt.spacing = lineWidth;
+  IsoplanarFillOptions iso;
+  iso.beadWidth = settings.nozzleDiameter;
+  iso.layerHeight = interval;
+  iso.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.printSpeed;
+  iso.travelSpeed = settings.travelSpeed;
+  std::vector<std::vector<std::vector<SurfacePath>>> paths(igds.layers.size());
+  size_t pathCount = 0, unfilled = 0;
+  double isoPath = 0, isoTime = 0, isoRateArea = 0, isoArea = 0, largestArea = -1;
+  std::string largestJson;
+  Json isoRegions = Json::array();
+  for (size_t l = 0; l < igds.layers.size(); ++l) {
+    const CurvedLayer& layer = igds.layers[l];
+    paths[l].resize(layer.regions.size());
+    for (size_t r = 0; r < layer.regions.size(); ++r) {
+      const LayerRegion& region = layer.regions[r];
+      if (isoplanar) {
+        IsoplanarFillResult fill = planIsoplanarFill(region.mesh, machine, settings.isoplanar, iso);
+        if (fill.status == Status::Cancelled) return failure(fill);
+        if (!fill.ok() || fill.paths.empty()) {
+          ++unfilled;
+          continue;
+        }
+        iso.firstCurve += fill.curves;
+        isoRegions.push_back({{"layer", l}, {"region", r}, {"theta_deg", fill.thetaDegrees},
+                              {"deposition_rate_mm3_s", fill.depositionRate},
+                              {"path_mm", fill.pathMm}, {"estimated_time_s", fill.estimatedTimeS}});
+        isoPath += fill.pathMm;
+        isoTime += fill.estimatedTimeS;
+        isoRateArea += fill.depositionRate * region.area;
+        isoArea += region.area;
+        if (region.area > largestArea) {
+          largestArea = region.area;
+          largestJson = fill.reportJson;
+        }
+        pathCount += fill.paths.size();
+        paths[l][r] = std::move(fill.paths);
+        continue;
+      }
+      SpiralResult spiral = fermatSpiralPaths(region.mesh, sopt);
+      if (!spiral.ok() || spiral.paths.empty()) {
+        ++unfilled;
+        continue;
+      }
+      pathCount += spiral.paths.size();
+      paths[l][r] = std::move(spiral.paths);
+    }
+    if (!reportProgress(progress, "paths", double(l + 1) / double(igds.layers.size()))) {
+      return failure(Status::Cancelled, "cancelled");
+    }
+  }
+  if (isoplanar && !largestJson.empty()) {
+    Json r = Json::parse(largestJson);
+    r["largest_region_theta_deg"] = r["theta_deg"];
+    r["path_mm"] = isoPath;
+    r["estimated_time_s"] = isoTime;
+    r["deposition_rate_mm3_s"] = isoArea > 0 ? isoRateArea / isoArea : 0.0;
+    r["regions"] = isoRegions;
+    out.isoplanarJson = r.dump();
+  }
+  out.timingsMs.emplace_back("paths", msSince(t0));
+  timings["paths"] = out.timingsMs.back().second;
+
+  // 6. The tool-path in the chosen sequence: nozzle along the IGDS normal, bead height from the
+  // local distance to the layer below (Eq. 12's variable extrusion).
+  t0 = Clock::now();
+  std::vector<std::pair<uint32_t, uint32_t>> order;
+  order.reserve(chosen->order.size());
+  for (uint32_t node : chosen->order) order.emplace_back(tree.nodes[node].layer, tree.nodes[node].region);
+  CurvedToolpathOptions topt;
+  topt.lineWidth = isoplanar ? settings.nozzleDiameter : lineWidth;
+  topt.ellipseBeads = isoplanar;
+  topt.axisFromNormals = true;
+  topt.nominalHeight = interval;
+  topt.filamentDiameter = settings.filamentDiameter;
+  topt.printSpeed = settings.printSpeed;
+  topt.firstLayerSpeed = settings.firstLayerSpeed;
+  topt.travelSpeed = settings.travelSpeed;
+  topt.retractLength = settings.retractLength;
+  topt.retractMinTravel = settings.retractMinTravel;
+  topt.retractSpeed = settings.retractSpeed;
+  topt.maxTiltDegrees = stage::machineTiltLimitDegrees(machine);
+  topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
+  topt.coneLength = machine.nozzle.coneLength;
+  topt.collisionClearance = interval;
+  CurvedToolpathResult tp = buildCurvedToolpath(igds.layers, paths, order, topt, progress);
+  if (!tp.ok()) return failure(tp);
+  out.timingsMs.emplace_back("toolpath", msSince(t0));
+  timings["toolpath"] = out.timingsMs.back().second;
+  out.toolpath = std::move(tp.toolpath);
+  out.layerHeight = interval;
+  int printed = 0;
+  for (const auto& layer : paths) {
+    bool any = false;
+    for (const auto& region : layer) any = any || !region.empty();
+    printed += any ? 1 : 0;
+  }
+  out.layers = printed;
+
+  // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
+  PreviewBuffers& p = out.preview;
+  for (size_t l = 0; l < igds.layers.size(); ++l) {
+    for (const LayerRegion& region : igds.layers[l].regions) {
+      const uint32_t base = static_cast<uint32_t>(p.surfacePositions.size() / 3);
+      for (double v : region.mesh.positions) p.surfacePositions.push_back(static_cast<float>(v));
+      for (uint32_t i : region.mesh.triangles) p.surfaceTriangles.push_back(base + i);
+      p.surfaceLayers.insert(p.surfaceLayers.end(), region.mesh.faceCount(), static_cast<uint32_t>(l));
+    }
+  }
+  {
+    std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
+    for (uint32_t v : boundary.triangles) {
+      if (remap[v] == UINT32_MAX) {
+        remap[v] = static_cast<uint32_t>(p.fieldValues.size());
+        for (int a = 0; a < 3; ++a) p.fieldPositions.push_back(static_cast<float>(boundary.positions[3 * size_t(v) + a]));
+        p.fieldValues.push_back(static_cast<float>(field.distance[v]));
+      }
+      p.fieldTriangles.push_back(remap[v]);
+    }
+  }
+  size_t branchPoints = 0, merges = 0;
+  std::vector<uint32_t> nodesPerLayer(igds.layers.size(), 0);
+  for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+    const SkeletonNode& n = tree.nodes[i];
+    for (int a = 0; a < 3; ++a) p.nodePositions.push_back(static_cast<float>(n.centroid[a]));
+    p.nodeLayers.push_back(n.layer);
+    for (uint32_t u : n.upper) {
+      p.treeEdges.push_back(i);
+      p.treeEdges.push_back(u);
+    }
+    branchPoints += n.upper.size() > 1;
+    merges += n.lower.size() > 1;
+    if (n.layer < nodesPerLayer.size()) ++nodesPerLayer[n.layer];
+  }
+  p.sequence = chosen->order;
+
+  Json overhangAvg = Json::array(), overhangRatio = Json::array(), overhangMax = Json::array(),
+       thicknessMean = Json::array(), thicknessMaxDev = Json::array(), thicknessMeanDev = Json::array(),
+       isoValues = Json::array();
+  for (const IgdsLayerMetrics& m : metrics.layers) {
+    isoValues.push_back(m.isoValue);
+    overhangAvg.push_back(finite(m.overhangAverageDegrees));
+    overhangRatio.push_back(finite(m.overhangRatio));
+    overhangMax.push_back(finite(m.overhangMaxDegrees));
+    thicknessMean.push_back(finite(m.thicknessMeanMm));
+    thicknessMaxDev.push_back(finite(m.thicknessMaxDeviationPercent));
+    thicknessMeanDev.push_back(finite(m.thicknessMeanDeviationPercent));
+  }
+  Json report = {
+      {"tets", tets.tetCount()},
+      {"vertices", tets.vertexCount()},
+      {"tet_source", given != nullptr ? "input" : "mesher"},
+      {"mesher", mesher},
+      {"tet_quality",
+       {{"volume_mm3", finite(quality.volume)},
+        {"mean_edge_mm", finite(quality.meanEdge)},
+        {"min_dihedral_deg", finite(quality.minDihedralDegrees)},
+        {"max_dihedral_deg", finite(quality.maxDihedralDegrees)},
+        {"min_radius_ratio", finite(quality.minRadiusRatio)}}},
+      {"sources", sources.size()},
+      {"max_geodesic_mm", finite(field.maxDistance)},
+      {"interval_mm", interval},
+      {"layers", igds.layers.size()},
+      {"printed_layers", out.layers},
+      {"igds", tree.nodes.size()},
+      {"iso_values_mm", isoValues},
+      {"triangles", igds.triangleCount},
+      {"interpolated_triangles", igds.interpolatedTriangles},
+      {"overhang_avg_deg", overhangAvg},
+      {"overhang_ratio", overhangRatio},
+      {"overhang_max_deg", overhangMax},
+      {"overhang_avg_all_deg", finite(metrics.overhangAverageDegrees)},
+      {"overhang_max_layer_deg", finite(metrics.overhangMaxLayerDegrees)},
+      {"thickness",
+       {{"mean_mm", thicknessMean},
+        {"max_deviation_percent", thicknessMaxDev},
+        {"mean_deviation_percent", thicknessMeanDev},
+        {"max_deviation_all_percent", finite(metrics.thicknessMaxDeviationPercent)}}},
+      {"tree",
+       {{"nodes", tree.nodes.size()},
+        {"edges", tree.edges},
+        {"is_tree", tree.isTree},
+        {"branch_points", branchPoints},
+        {"merges", merges},
+        {"fallback_links", tree.fallbackLinks},
+        {"max_nodes_per_layer", nodesPerLayer.empty() ? 0u : *std::max_element(nodesPerLayer.begin(), nodesPerLayer.end())}}},
+      {"nozzle_angle_deg", copt.angleDegrees},
+      {"pcs_pairs_tested", collisions.pairsTested},
+      {"sequence", traversalName(chosenKind)},
+      {"retractions", chosen->retractions},
+      {"air_move_mm", finite(chosen->airMoveMm)},
+      {"collision_free", chosen->collisionFree},
+      {"traversals", traversals},
+      {"paths", pathCount},
+      {"unfilled_regions", unfilled},
+      {"orientation_fallbacks", tp.orientationFallbacks},
+      {"tilt_clamped", tp.tiltClamped},
+      {"max_tilt_deg", topt.maxTiltDegrees},
+      {"gouging_corrections", tp.gougingCorrections},
+      {"gouging_uncorrected", tp.gougingUncorrected},
+      {"timings_ms",
+       {{"tetmesh", timings["tetmesh"]},
+        {"field", timings["field"]},
+        {"field_setup", field.setupMs},
+        {"field_solve", field.heatMs + field.gradientMs + field.poissonMs},
+        {"igds", timings["igds"]},
+        {"interpolation", igds.interpolationMs},
+        {"remesh", igds.remeshMs},
+        {"smooth", igds.smoothMs},
+        {"metrics", timings["metrics"]},
+        {"tree", timings["tree"]},
+        {"collision", timings["collision"]},
+        {"order", timings["order"]},
+        {"paths", timings["paths"]},
+        {"toolpath", timings["toolpath"]}}}};
+  out.reportJson = report.dump();
+  return out;
+}
+
+}  // namespace omnislice

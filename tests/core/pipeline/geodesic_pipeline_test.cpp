@@ -1,0 +1,220 @@
+// SPDX-License-Identifier: MIT
+// Issue 6 end to end: the geodesic method of paper 002 (`method = geodesic`) from a shared `.tet`
+// model and from a closed mesh meshed by Omnislice, through the IGDS, the skeleton tree, the
+// three traversals and Fermat-spiral filling paths, to programs that pass `verify`.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "../test_support.h"
+#include "pipeline/pipeline.h"
+#include "pipeline_fixtures.h"
+#include "toolpath/toolpath.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::json;
+
+Settings geodesicSettings(const std::string& machine, double interval) {
+  Settings s;
+  s.method = "geodesic";
+  s.machine = machine;
+  s.nozzleDiameter = 0.8;
+  s.layerHeight = interval;
+  s.lineWidth = 0.9;
+  return s;
+}
+
+struct Sliced {
+  SliceOutput out;
+  Json report, verify;
+};
+
+Sliced sliceAndVerify(const std::vector<uint8_t>& bytes, const std::string& name, const Settings& s) {
+  Sliced r;
+  r.out = runSlice(bytes.data(), bytes.size(), name, s);
+  EXPECT_TRUE(r.out.ok()) << r.out.message;
+  if (!r.out.ok()) return r;
+  r.report = Json::parse(r.out.reportJson);
+  VerifyOutput v = runVerify(r.out.program, bytes.data(), bytes.size(), name);
+  EXPECT_TRUE(v.ok()) << v.message;
+  if (v.ok()) r.verify = Json::parse(v.verifyJson);
+  return r;
+}
+
+// Properties every geodesic slice keeps: the sequence visits every skeleton node once and never
+// before its lower-nodes (Criterion 1), the preview carries the field and the tree, the report
+// carries the three traversals.
+void expectConsistent(const Sliced& r) {
+  ASSERT_TRUE(r.report.contains("geodesic")) << r.report.dump();
+  const Json& g = r.report["geodesic"];
+  const PreviewBuffers& p = r.out.preview;
+  const size_t nodes = p.nodeLayers.size();
+  EXPECT_EQ(g["igds"].get<size_t>(), nodes);
+  EXPECT_EQ(p.nodePositions.size(), 3 * nodes);
+  ASSERT_EQ(p.sequence.size(), nodes);
+  std::vector<size_t> position(nodes, SIZE_MAX);
+  for (size_t k = 0; k < nodes; ++k) {
+    ASSERT_LT(p.sequence[k], nodes);
+    EXPECT_EQ(position[p.sequence[k]], SIZE_MAX) << "node printed twice";
+    position[p.sequence[k]] = k;
+  }
+  for (size_t e = 0; e + 1 < p.treeEdges.size(); e += 2) {
+    const uint32_t lower = p.treeEdges[e], upper = p.treeEdges[e + 1];
+    EXPECT_EQ(p.nodeLayers[upper], p.nodeLayers[lower] + 1);
+    EXPECT_LT(position[lower], position[upper]) << "Criterion 1";
+  }
+  EXPECT_EQ(p.fieldValues.size() * 3, p.fieldPositions.size());
+  EXPECT_GT(p.fieldTriangles.size(), 0u);
+  EXPECT_FALSE(p.surfaceLayers.empty());
+  for (const char* k : {"LPT", "DPT", "A3"}) {
+    ASSERT_TRUE(g["traversals"].contains(k)) << g.dump();
+  }
+  EXPECT_EQ(g["overhang_avg_deg"].size(), g["layers"].get<size_t>());
+  EXPECT_EQ(g["overhang_ratio"].size(), g["layers"].get<size_t>());
+}
+
+void expectVerified(const Sliced& r, double supported) {
+  ASSERT_FALSE(r.verify.is_null());
+  EXPECT_GE(r.verify["inside"].get<double>(), 0.99) << r.verify.dump();
+  EXPECT_EQ(r.verify["collisions"].get<int>(), 0) << r.verify.dump();
+  EXPECT_EQ(r.verify["limits"].get<int>(), 0) << r.verify.dump();
+  EXPECT_GE(r.verify["supported"].get<double>(), supported) << r.verify.dump();
+}
+
+// A tet model from ../shared (Y-up, the platform at min y), its own tets, on the robot.
+TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "reinforcedfdm_YogaNew.tet");
+  Settings s = geodesicSettings("robot6-ur5", 0.8);
+  s.placement.up = UpAxis::PosY;
+  s.placement.fitMm = 80;
+  const Sliced r = sliceAndVerify(bytes, "yoga.tet", s);
+  if (!r.out.ok()) return;
+  expectConsistent(r);
+  const Json& g = r.report["geodesic"];
+  EXPECT_EQ(g["tet_source"], "input");
+  EXPECT_EQ(g["tets"].get<size_t>(), 52446u);
+  std::printf("yoga: %s\nverify %s\n", g.dump().substr(0, 1500).c_str(), r.verify.dump().c_str());
+  expectVerified(r, 0.99);
+}
+
+// A closed mesh meshed by Omnislice, on the tilting table.
+TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
+  Settings s = geodesicSettings("table5", 0.8);
+  s.placement.up = UpAxis::PosY;
+  s.placement.fitMm = 60;
+  s.geodesic.targetTets = 30000;
+  const Sliced r = sliceAndVerify(bytes, "kitten.off", s);
+  if (!r.out.ok()) return;
+  expectConsistent(r);
+  const Json& g = r.report["geodesic"];
+  EXPECT_EQ(g["tet_source"], "mesher");
+  std::printf("kitten: %s\nverify %s\n", g.dump().substr(0, 1500).c_str(), r.verify.dump().c_str());
+  expectVerified(r, 0.99);
+}
+
+// A branching tree (the paper's Section 4.2 experiment): A3 is collision-free with fewer
+// retractions and shorter air moves than LPT.
+TEST(GeodesicPipeline, BranchesA3BeatsLayerPriority) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const std::vector<uint8_t> bytes =
+      test::readBytes(test::sharedModelsDir() / "compas_branches_16_closed_mid_res.stl");
+  Settings s = geodesicSettings("robot6-ur5", 0.8);
+  s.placement.fitMm = 80;
+  s.geodesic.targetTets = 30000;
+  const Sliced r = sliceAndVerify(bytes, "branches.stl", s);
+  if (!r.out.ok()) return;
+  expectConsistent(r);
+  const Json& t = r.report["geodesic"]["traversals"];
+  std::printf("branches traversals %s tree %s\n", t.dump().c_str(), r.report["geodesic"]["tree"].dump().c_str());
+  EXPECT_TRUE(t["A3"]["collision_free"].get<bool>());
+  EXPECT_LT(t["A3"]["retractions"].get<int>(), t["LPT"]["retractions"].get<int>());
+  EXPECT_LT(t["A3"]["air_move_mm"].get<double>(), t["LPT"]["air_move_mm"].get<double>());
+  EXPECT_GT(r.report["geodesic"]["tree"]["branch_points"].get<int>(), 0);
+  expectVerified(r, 0.99);
+}
+
+TEST(GeodesicPipeline, SequenceSettingIsFollowed) {
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeBox(-8, -8, 0, 8, 8, 12));
+  Settings s = geodesicSettings("table5", 0.8);
+  s.geodesic.targetTets = 4000;
+  for (const char* seq : {"lpt", "dpt", "a3"}) {
+    Settings c = s;
+    ASSERT_TRUE(setSetting(c, "geodesic.sequence", seq).ok());
+    SliceOutput out = runSlice(bytes.data(), bytes.size(), "box.stl", c);
+    ASSERT_TRUE(out.ok()) << out.message;
+    const Json g = Json::parse(out.reportJson)["geodesic"];
+    std::string upper = seq;
+    for (char& ch : upper) ch = static_cast<char>(std::toupper(ch));
+    EXPECT_EQ(g["sequence"], upper);
+    // A box has one IGDS per layer: every traversal is the same chain, no retraction.
+    EXPECT_EQ(g["retractions"].get<int>(), 0) << g.dump();
+    EXPECT_TRUE(g["collision_free"].get<bool>());
+    EXPECT_NEAR(g["max_geodesic_mm"].get<double>(), 12.0, 0.6);
+  }
+}
+
+TEST(GeodesicPipeline, RefusesBadSetUps) {
+  const std::vector<uint8_t> box = test::binaryStl(test::makeBox(-8, -8, 0, 8, 8, 12));
+  Settings s = geodesicSettings("table5", 0.8);
+  s.geodesic.targetTets = 4000;
+  {
+    Settings c = s;
+    c.machine = "cartesian3";
+    EXPECT_EQ(runSlice(box.data(), box.size(), "box.stl", c).status, Status::InvalidOption);
+  }
+  {
+    Settings c = s;
+    EXPECT_FALSE(setSetting(c, "geodesic.sequence", "random").ok());
+    EXPECT_FALSE(setSetting(c, "geodesic.nozzle_angle_deg", "95").ok());
+    EXPECT_FALSE(setSetting(c, "geodesic.tet_size_mm", "-1").ok());
+    ASSERT_TRUE(setSetting(c, "geodesic.tet_size_mm", "0.01").ok());  // far too many tets
+    SliceOutput out = runSlice(box.data(), box.size(), "box.stl", c);
+    EXPECT_EQ(out.status, Status::InvalidOption) << out.message;
+  }
+  {
+    // An open mesh is not a solid.
+    Mesh open = test::makeBox(-8, -8, 0, 8, 8, 12);
+    open.triangles.resize(open.triangles.size() - 3);
+    const std::vector<uint8_t> bytes = test::binaryStl(open);
+    SliceOutput out = runSlice(bytes.data(), bytes.size(), "open.stl", s);
+    EXPECT_FALSE(out.ok());
+  }
+  {
+    // A truncated .tet file.
+    const std::string tet = "8 vertices\n5 tets\n0 0 0\n1 0 0\n";
+    const std::vector<uint8_t> bytes(tet.begin(), tet.end());
+    SliceOutput out = runSlice(bytes.data(), bytes.size(), "cut.tet", s);
+    EXPECT_EQ(out.status, Status::TruncatedFile) << out.message;
+  }
+}
+
+TEST(GeodesicPipeline, CancelStopsInEveryStage) {
+  const std::vector<uint8_t> box = test::binaryStl(test::makeBox(-8, -8, 0, 8, 8, 12));
+  Settings s = geodesicSettings("table5", 0.8);
+  s.geodesic.targetTets = 4000;
+  std::set<std::string> seen;
+  SliceOutput full = runSlice(box.data(), box.size(), "box.stl", s, [&](const char* stage, double) {
+    seen.insert(stage);
+    return true;
+  });
+  ASSERT_TRUE(full.ok()) << full.message;
+  for (const char* stage : {"tetmesh", "field", "igds", "order", "paths", "toolpath"}) {
+    EXPECT_TRUE(seen.count(stage)) << stage;
+    SliceOutput out = runSlice(box.data(), box.size(), "box.stl", s, [&](const char* st, double) {
+      return std::string(st) != stage;
+    });
+    EXPECT_EQ(out.status, Status::Cancelled) << stage;
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
