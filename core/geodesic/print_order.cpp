@@ -1473,7 +1473,14 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
           pick = nearestOf([&](uint32_t c) { return c2(c) && isUpper(uint32_t(cur), c); });
         if (pick < 0) pick = nearestOf([&](uint32_t c) { return c2(c); });
         if (pick < 0) {
-          pick = nearestOf([](uint32_t) { return true; });
+          // No candidate meets Criterion 2 (cycles of potential collisions, e.g. where two
+          // fronts close a loop): among the candidates that would break it for the fewest
+          // unprinted nodes, an upper-node of the current node first, else the nearest.
+          uint32_t fewest = std::numeric_limits<uint32_t>::max();
+          for (uint32_t c : avail) fewest = std::min(fewest, blockersLeft[c]);
+          if (cur >= 0)
+            pick = nearestOf([&](uint32_t c) { return blockersLeft[c] == fewest && isUpper(uint32_t(cur), c); });
+          if (pick < 0) pick = nearestOf([&](uint32_t c) { return blockersLeft[c] == fewest; });
           ++out.criterion2Relaxed;
         }
         break;

@@ -119,8 +119,9 @@ struct PrintSequence : Outcome {
   size_t collidingNodes = 0;     // nodes printed after one of their PCS
   size_t unavoidableNodes = 0;   // nodes whose PCS holds one of their own ancestors (through
                                  // lower-nodes): Criterion 1 makes them collide in every order
-  size_t criterion2Relaxed = 0;  // A3 only: steps where no candidate met Criterion 2 and the
-                                 // nearest Criterion-1 candidate was taken
+  size_t criterion2Relaxed = 0;  // A3 only: steps where no candidate met Criterion 2 (then
+                                 // the candidates blocking the fewest unprinted nodes, an
+                                 // upper-node of the current one first, else the nearest)
   double ms = 0;
 };
 

@@ -226,6 +226,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
   topt.coneLength = machine.nozzle.coneLength;
   topt.collisionClearance = interval;
+  topt.skipUncorrectable = true;
   CurvedToolpathResult tp = buildCurvedToolpath(igds.layers, paths, order, topt, progress);
   if (!tp.ok()) return failure(tp);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
@@ -341,6 +342,8 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
       {"max_tilt_deg", topt.maxTiltDegrees},
       {"gouging_corrections", tp.gougingCorrections},
       {"gouging_uncorrected", tp.gougingUncorrected},
+      {"skipped_segments", tp.skippedPoints},
+      {"skipped_mm", finite(tp.skippedMm)},
       {"timings_ms",
        {{"tetmesh", timings["tetmesh"]},
         {"field", timings["field"]},

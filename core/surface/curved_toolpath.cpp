@@ -92,6 +92,17 @@ class PrintedPoints {
     c.block->minSeq = std::min(c.block->minSeq, seq);
   }
 
+  // Takes the point p added with seq out of every later query (a segment that is not printed).
+  void retire(const Vector3d& p, uint32_t seq) {
+    const Eigen::Array3d g = (p.array() / kCell).floor();
+    auto it = cells_.find(key(int64_t(g.x()), int64_t(g.y()), int64_t(g.z())));
+    if (it == cells_.end()) return;
+    Cell& c = it->second;
+    for (size_t k = 0; k < c.points.size(); ++k) {
+      if (c.seq[k] == seq && c.points[k] == p) c.seq[k] = std::numeric_limits<uint32_t>::max();
+    }
+  }
+
   // True when a point with seq < limit lies in the cone at s along u. away (optional): collects
   // the sum of the unit lateral directions from the axis toward every such point (no early exit).
   bool hit(const Vector3d& s, const Vector3d& u, uint32_t limit, const Cone& cone, Vector3d* away = nullptr) const {
@@ -382,6 +393,23 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
     }
     return any;
   };
+  // The move ending at point i turns the axis from a0 to a1 on the way (the writers interpolate
+  // it): the positions checked with the axis at their share of the turn.
+  auto collidesTurning = [&](size_t i, const Vector3d& a0, const Vector3d& a1) {
+    const size_t n = positions[i].size();
+    const double angle = axisAngleDegrees(a0, a1);
+    if (n < 2 || angle < 1) return false;
+    // Every <= 0.5 mm and every <= 2 degrees of the turn (the planner's steps).
+    const Vector3d& p0 = positions[i].front();
+    const Vector3d& p1 = positions[i].back();
+    const size_t steps = std::max(n - 1, size_t(std::ceil(angle / 2.0)));
+    for (size_t k = 0; k <= steps; ++k) {
+      const double t = double(k) / double(steps);
+      const Vector3d u = slerpAxis(a0, a1, t);
+      if (u.allFinite() && printed.hit(p0 + t * (p1 - p0), u, seqOf[i], cone, nullptr)) return true;
+    }
+    return false;
+  };
   // Free axis near u: rings of increasing angle around u (azimuths from the side away from the
   // offending points); among the free candidates of the first free ring and the next few, the one
   // of least turn + half its angle to ref (the neighbour's axis: consistent turns along a path).
@@ -419,9 +447,11 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
   // One path: its points enter the printed set, then every colliding axis is turned to a free
   // one and the turn is tapered over the neighbours (so the motion planner's low-pass filter,
   // which acts on neighbours more than 10 degrees apart, leaves it), re-checked until stable.
+  std::vector<uint8_t> skip;  // per path point: the segment ending there is not printed
   auto correctPath = [&](const std::vector<Vector3d>& pts, std::vector<Sample>& smp) {
     const auto g0 = Clock::now();
     const size_t np = pts.size();
+    skip.assign(np, 0);
     pathPositions(pts);
     for (size_t i = 0; i < np; ++i) {
       for (const Vector3d& p : positions[i]) printed.add(p, seqOf[i]);
@@ -553,8 +583,47 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
       for (size_t i = 0; i < np; ++i) {
         result.gougingCorrections += axisAngleDegrees(axes[i], base[i]) > 1e-6;
         smp[i].axis = axes[i];
-        result.gougingUncorrected += bad[i];
       }
+    }
+    if (!o.skipUncorrectable) {
+      for (size_t i = 0; i < np; ++i) result.gougingUncorrected += bad[i];
+    } else {
+      // What the program will do: the motion planner low-pass filters the axes of each run of
+      // printed segments (a skipped segment ends a run: a travel follows), a travel arrives with
+      // the next point's unfiltered axis, and each move turns the axis on the way. A segment
+      // colliding anywhere in that motion is skipped; skips change the runs, so again until none
+      // is added.
+      std::vector<Vector3d> filtered;
+      for (int round = 0; round < 4; ++round) {
+        std::vector<int> runs(np, -1);
+        int id = 0;
+        for (size_t i = 1; i < np; ++i) {
+          if (skip[i]) {
+            ++id;
+            continue;
+          }
+          runs[i] = id;
+        }
+        filtered.resize(np);
+        for (size_t i = 0; i < np; ++i) filtered[i] = smp[i].axis;
+        filterOrientations(filtered, runs, 10.0);
+        bool added = false;
+        for (size_t i = 1; i < np; ++i) {
+          if (skip[i]) continue;
+          // The travel to point i - 1 arrives with the axis of point 0 (path start) or of point i
+          // (after a skipped segment).
+          const Vector3d& from = i == 1 ? smp[0].axis : skip[i - 1] ? smp[i].axis : filtered[i - 1];
+          if (!collides(i, filtered[i], nullptr) && !collidesTurning(i, from, filtered[i])) continue;
+          skip[i] = 1;
+          added = true;
+          ++result.skippedPoints;
+          result.skippedMm += (pts[i] - pts[i - 1]).norm();
+          // Later checks see only what is printed.
+          for (size_t k = 1; k < positions[i].size(); ++k) printed.retire(positions[i][k], seqOf[i]);
+        }
+        if (!added) break;
+      }
+      for (size_t i = 0; i < np; ++i) result.gougingUncorrected += skip[i];
     }
     gougingMs += std::chrono::duration<double, std::milli>(Clock::now() - g0).count();
   };
@@ -649,6 +718,8 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
       correctPath(path.points, samples);
       travelTo(path.points[0], samples[0].axis, layer);
       for (size_t i = 1; i < np; ++i) {
+        if (skip[i]) continue;
+        if ((path.points[i - 1] - pos).norm() > 1e-9) travelTo(path.points[i - 1], samples[i].axis, layer);
         const Vector3d& target = path.points[i];
         const double len = (target - pos).norm();
         if (len <= 1e-9) continue;

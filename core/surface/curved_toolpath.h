@@ -57,6 +57,12 @@ struct CurvedToolpathOptions {
                                      // low-pass filter and interpolation), degrees
   double maxCorrectionDegrees = 60;  // largest turn from the Eq. 3 axis searched, degrees
   double correctionTaperDegrees = 4; // neighbours take the correction less this per point, degrees
+  // true: a segment whose end point is left colliding after the correction is not printed (the
+  // nozzle travels over it; the material is missing and counted in skippedPoints / skippedMm),
+  // so the program never drives the nozzle into the part. Where two growth fronts meet (a closed
+  // loop of the part, the cut locus of a geodesic field) the last gap faces the nozzle from both
+  // sides and no axis within the cone and tilt limits is free.
+  bool skipUncorrectable = false;
 };
 
 struct CurvedToolpathResult : Outcome {
@@ -66,6 +72,8 @@ struct CurvedToolpathResult : Outcome {
   size_t tiltClamped = 0;           // samples whose axis was turned onto the maxTiltDegrees cone
   size_t gougingCorrections = 0;    // path points whose axis was turned to avoid earlier material
   size_t gougingUncorrected = 0;    // path points left colliding (no free axis within the limits)
+  size_t skippedPoints = 0;         // skipUncorrectable: segments left out
+  double skippedMm = 0;             // their length, mm
   double orientationMs = 0;
   double gougingMs = 0;
 };

@@ -49,6 +49,8 @@ struct Segment {
   double length = 0;
   double beadStart = 0;  // arc length within its bead at a
   int bead = 0;
+  int layer = -1;
+  int line = 0;
 };
 
 struct Sample {
@@ -168,6 +170,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     s.length = len;
     s.beadStart = beadS;
     s.bead = bead;
+    s.layer = m.layer;
+    s.line = m.line;
     segments.push_back(s);
     beadS += len;
     rep.pathMm += len;
@@ -380,6 +384,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       const double level = s.p.dot(s.u) + h + tol;
       if (i > 0 && support(glo, ghi, s.u) > level) {
         bool hit = false;
+        uint32_t hitPoint = 0;
         const int64_t cx = int64_t(std::floor(s.p.x() / C)), cy = int64_t(std::floor(s.p.y() / C)),
                       cz = int64_t(std::floor(s.p.z() / C));
         const int64_t span = int64_t(std::ceil(L / C));
@@ -391,6 +396,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           for (uint32_t pi : cell.items) {
             if (hits(s, pi)) {
               hit = true;
+              hitPoint = pi;
               return;
             }
           }
@@ -409,7 +415,20 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
                 if (hit) break;
               }
         }
-        if (hit) ++rep.collisions;
+        if (hit) {
+          ++rep.collisions;
+          if (rep.collisionExamples.size() < 10) {
+            CollisionExample e;
+            for (int k = 0; k < 3; ++k) {
+              e.tip[k] = s.p[k];
+              e.axis[k] = s.u[k];
+              e.earlier[k] = samples[hitPoint].p[k];
+            }
+            e.layer = segments[size_t(s.segment)].layer;
+            e.line = segments[size_t(s.segment)].line;
+            rep.collisionExamples.push_back(e);
+          }
+        }
       }
       // Add s to the earlier samples.
       glo = glo.cwiseMin(s.p);
@@ -539,6 +558,14 @@ std::string verifyReportJson(const VerifyReport& r) {
   j["samples"] = r.samples;
   j["grid_points"] = r.gridPoints;
   j["layers"] = r.layers;
+  j["collision_examples"] = nlohmann::ordered_json::array();
+  for (const CollisionExample& e : r.collisionExamples) {
+    j["collision_examples"].push_back({{"tip", {e.tip[0], e.tip[1], e.tip[2]}},
+                                       {"axis", {e.axis[0], e.axis[1], e.axis[2]}},
+                                       {"earlier", {e.earlier[0], e.earlier[1], e.earlier[2]}},
+                                       {"layer", e.layer},
+                                       {"line", e.line}});
+  }
   return j.dump();
 }
 

@@ -3,6 +3,7 @@
 // measures"), computed on a parsed program against the part's solid in the part frame.
 #pragma once
 #include <string>
+#include <vector>
 
 #include "common/progress.h"
 #include "common/status.h"
@@ -18,12 +19,21 @@ struct VerifyOptions {
   size_t maxSamples = 50000000;      // refuse programs with more path samples (InvalidOption)
 };
 
+// Where a collision happened: the sample (tip position and nozzle axis), the earlier material
+// point inside its cone, the program line of the move the sample lies on (1-based, 0 = unknown).
+struct CollisionExample {
+  double tip[3] = {0, 0, 0}, axis[3] = {0, 0, 1}, earlier[3] = {0, 0, 0};
+  int layer = -1;
+  int line = 0;
+};
+
 struct VerifyReport : Outcome {
   double inside = 0;            // share of samples within w/2 of the solid
   double coverage = 0;          // share of interior grid points inside some bead
   double supported = 0;         // share of surface samples supported
   double supportedAll = 0;      // same over all samples
   size_t collisions = 0;        // samples with an earlier sample inside the nozzle cone
+  std::vector<CollisionExample> collisionExamples;  // the first few (at most 10), in print order
   size_t limitViolations = 0;   // moves with an axis outside the declared limits
   double extrusionMm = 0;       // filament deposited
   double pathMm = 0;            // extruding path length
@@ -37,7 +47,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
                            const VerifyOptions& options = {}, const ProgressFn& progress = {});
 
 // JSON object with keys inside, coverage, supported, supported_all, collisions, limits,
-// extrusion_mm, path_mm, samples, grid_points, layers.
+// extrusion_mm, path_mm, samples, grid_points, layers, collision_examples [{tip, axis, earlier,
+// layer, line}].
 std::string verifyReportJson(const VerifyReport& report);
 
 }  // namespace omnislice

@@ -121,24 +121,40 @@ TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
   expectVerified(r, 0.99);
 }
 
-// A branching tree (the paper's Section 4.2 experiment): A3 is collision-free with fewer
-// retractions and shorter air moves than LPT.
+// A branching tree (the paper's Section 4.2 experiment) through Omnislice's own tets. Its 16
+// struts touch (21 merge nodes): where two fronts close a loop, a node's potential collision
+// surfaces hold its own ancestors and no order avoids that collision (unavoidable_nodes). A3
+// then collides only about where LPT does, with far fewer retractions and shorter air moves;
+// on a tree without merges it is collision-free (PrintOrderTraversal tests, the demo tree). The
+// sequence's collision model takes the paper's nozzle angle (geodesic.nozzle_angle_deg, here a
+// slender 15 degrees); the program is verified with the machine's own 40-degree cone, the
+// tool-path turning or leaving out what would collide.
 TEST(GeodesicPipeline, BranchesA3BeatsLayerPriority) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const std::vector<uint8_t> bytes =
       test::readBytes(test::sharedModelsDir() / "compas_branches_16_closed_mid_res.stl");
-  Settings s = geodesicSettings("robot6-ur5", 0.8);
+  Settings s = geodesicSettings("table5", 0.8);
   s.placement.fitMm = 80;
   s.geodesic.targetTets = 30000;
+  s.geodesic.nozzleAngleDeg = 15;
   const Sliced r = sliceAndVerify(bytes, "branches.stl", s);
   if (!r.out.ok()) return;
   expectConsistent(r);
-  const Json& t = r.report["geodesic"]["traversals"];
-  std::printf("branches traversals %s tree %s\n", t.dump().c_str(), r.report["geodesic"]["tree"].dump().c_str());
-  EXPECT_TRUE(t["A3"]["collision_free"].get<bool>());
-  EXPECT_LT(t["A3"]["retractions"].get<int>(), t["LPT"]["retractions"].get<int>());
-  EXPECT_LT(t["A3"]["air_move_mm"].get<double>(), t["LPT"]["air_move_mm"].get<double>());
-  EXPECT_GT(r.report["geodesic"]["tree"]["branch_points"].get<int>(), 0);
+  const Json& g = r.report["geodesic"];
+  const Json& t = g["traversals"];
+  std::printf("branches traversals %s tree %s\nverify %s\n", t.dump().c_str(), g["tree"].dump().c_str(),
+              r.verify.dump().c_str());
+  EXPECT_GT(g["tree"]["branch_points"].get<int>(), 0);
+  const int unavoidable = t["A3"]["unavoidable_nodes"].get<int>();
+  EXPECT_EQ(unavoidable, t["LPT"]["unavoidable_nodes"].get<int>());
+  EXPECT_GE(t["A3"]["colliding_nodes"].get<int>(), unavoidable);
+  EXPECT_LE(t["A3"]["colliding_nodes"].get<int>(), t["LPT"]["colliding_nodes"].get<int>() + unavoidable);
+  EXPECT_LT(t["DPT"]["retractions"].get<int>(), t["A3"]["retractions"].get<int>());
+  EXPECT_GT(t["DPT"]["colliding_nodes"].get<int>(), 10 * t["A3"]["colliding_nodes"].get<int>());
+  EXPECT_LT(5 * t["A3"]["retractions"].get<int>(), t["LPT"]["retractions"].get<int>());
+  EXPECT_LT(3 * t["A3"]["air_move_mm"].get<double>(), t["LPT"]["air_move_mm"].get<double>());
+  // What the tool-path had to leave out stays small (the loops' last gaps).
+  EXPECT_LT(g["skipped_mm"].get<double>(), 0.01 * r.verify["path_mm"].get<double>());
   expectVerified(r, 0.99);
 }
 

@@ -629,5 +629,46 @@ TEST(CurvedToolpath, GougingCorrectionTurnsCollidingAxesToFreeOnes) {
   EXPECT_EQ(buildCurvedToolpath(s.layers, s.paths, bad).status, Status::InvalidOption);
 }
 
+// Where no axis within the tilt range is free (the wall over the disc with the axis held within 5
+// degrees of +Z), the colliding segments are left out with skipUncorrectable: the program then has
+// no collision, the rest prints as before and what is missing is counted.
+TEST(CurvedToolpath, UncorrectableSegmentsAreLeftOutAndCounted) {
+  const DiscStack s = wallOverDisc();
+  CurvedToolpathOptions o;
+  o.collisionClearance = o.nominalHeight;
+  o.maxTiltDegrees = 5;
+  const CurvedToolpathResult kept = buildCurvedToolpath(s.layers, s.paths, o);
+  ASSERT_TRUE(kept.ok()) << kept.message;
+  EXPECT_GT(kept.gougingUncorrected, 0u);
+  EXPECT_EQ(kept.skippedPoints, 0u);
+  EXPECT_GT(bruteForceCollisions(kept.toolpath, o.nominalHeight, 40, 25), 0u);
+
+  o.skipUncorrectable = true;
+  const CurvedToolpathResult r = buildCurvedToolpath(s.layers, s.paths, o);
+  expectWellFormed(r, o);
+  EXPECT_GT(r.skippedPoints, 0u);
+  EXPECT_EQ(bruteForceCollisions(r.toolpath, o.nominalHeight, 40, 25), 0u);
+  // Printed length = the full program's less the skipped segments; every skipped segment lies
+  // under the wall (y > 4), and the wall itself and layer 0 print in full.
+  auto printedMm = [](const Toolpath& tp, double minY) {
+    double mm = 0;
+    Vector3d pos = tp.start;
+    for (const Move& m : tp.moves) {
+      if (m.kind == MoveKind::Print && m.position.y() >= minY) mm += (m.position - pos).norm();
+      pos = m.position;
+    }
+    return mm;
+  };
+  const double all = printedMm(kept.toolpath, -1e9), left = printedMm(r.toolpath, -1e9);
+  EXPECT_NEAR(all - left, r.skippedMm, 1e-9);
+  EXPECT_GT(r.skippedMm, 1.0);
+  EXPECT_NEAR(printedMm(kept.toolpath, -1e9) - printedMm(kept.toolpath, 4.0),
+              printedMm(r.toolpath, -1e9) - printedMm(r.toolpath, 4.0), 1.0);
+  size_t layer0 = 0, layer0Kept = 0;
+  for (const Move& m : r.toolpath.moves) layer0 += m.layer == 0 && m.kind == MoveKind::Print;
+  for (const Move& m : kept.toolpath.moves) layer0Kept += m.layer == 0 && m.kind == MoveKind::Print;
+  EXPECT_EQ(layer0, layer0Kept);
+}
+
 }  // namespace
 }  // namespace omnislice

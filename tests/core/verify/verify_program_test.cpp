@@ -167,6 +167,19 @@ TEST(VerifyProgram, TallWallFirstThenLowerInfillCollides) {
   const VerifyReport r = verifyProgram(throughGcode(tp), box10());
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_GT(r.collisions, 0u);
+  // The first collisions are located: each example is an infill sample of layer 0 with the
+  // earlier wall point inside its cone by the rule, on a program line.
+  ASSERT_EQ(r.collisionExamples.size(), std::min<size_t>(10, r.collisions));
+  for (const CollisionExample& e : r.collisionExamples) {
+    const Eigen::Vector3d tip(e.tip[0], e.tip[1], e.tip[2]), u(e.axis[0], e.axis[1], e.axis[2]),
+        p(e.earlier[0], e.earlier[1], e.earlier[2]);
+    const Eigen::Vector3d d = p - tip;
+    EXPECT_GT(d.dot(u), 0.2);
+    EXPECT_LT(std::sqrt(std::max(0.0, d.squaredNorm() - d.dot(u) * d.dot(u))), d.dot(u) * std::tan(40 * M_PI / 180));
+    EXPECT_LT(d.norm(), 25);
+    EXPECT_EQ(e.layer, 0);
+    EXPECT_GT(e.line, 0);
+  }
   // The same moves in a layer-by-layer order do not collide.
   test::BoxPathOptions both;
   both.keepLayer = [](int l) { return l < 20; };
@@ -353,7 +366,8 @@ TEST(VerifyProgram, ReportJsonAndStatuses) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["samples"].get<size_t>(), r.samples);
-  EXPECT_EQ(j.size(), 11u);
+  EXPECT_EQ(j.size(), 12u);
+  EXPECT_TRUE(j["collision_examples"].is_array() && j["collision_examples"].empty());
 
   VerifyOptions small;
   small.maxGridPoints = 1000;
