@@ -388,6 +388,11 @@ export function traversalRows(g) {
   return rows;
 }
 
+/** 'n things' ('1 thing'). */
+function plural(n, word) {
+  return `${figure(n)} ${word}${n === 1 ? '' : 's'}`;
+}
+
 /**
  * Summary rows [key, label, text] of report.geodesic (keys double as data-testid suffixes:
  * geo-<key>), in display order; absent figures show '—'.
@@ -406,7 +411,9 @@ export function geodesicSummaryRows(g) {
     ['interval', 'IGDS interval', unit(r.interval_mm, 'mm')],
     ['layers', 'layers', figure(r.layers)],
     ['igds', 'IGDS (tree nodes)', figure(r.igds)],
-    ['tree', 'tree', Number.isFinite(tree.edges) ? `${figure(tree.edges)} edges, ${figure(tree.branch_points)} forks${tree.merges ? `, ${figure(tree.merges)} merges` : ''}${tree.is_tree === false ? ' (a graph)' : ''}` : '—'],
+    ['tree', 'tree', Number.isFinite(tree.edges)
+      ? `${plural(tree.edges, 'edge')}, ${plural(tree.branch_points, 'fork')}${tree.merges ? `, ${plural(tree.merges, 'merge')}` : ''}${tree.is_tree === false ? ' (a graph)' : ''}`
+      : '—'],
     ['sequence', 'print sequence', typeof r.sequence === 'string' ? r.sequence : '—'],
     ['retractions', 'retractions', figure(r.retractions)],
     ['air_move', 'air moves', unit(r.air_move_mm, 'mm')],

@@ -73,7 +73,7 @@ export function fillTraversalTable(tbody, g, { onChoose, disabled = false } = {}
       action.append(b);
     }
     tr.append(name, cell(figure(r.retractions), r.fewestRetractions),
-      cell(Number.isFinite(r.airMoveMm) ? `${figure(r.airMoveMm)} mm` : '—', r.shortestAir), free, action);
+      cell(Number.isFinite(r.airMoveMm) ? figure(r.airMoveMm) : '—', r.shortestAir), free, action);
     tbody.append(tr);
   }
   return rows.length;
@@ -84,7 +84,8 @@ export function fillTraversalTable(tbody, g, { onChoose, disabled = false } = {}
  * y ticks in degrees, the threshold line, the average-angle line with a dot per layer, x ticks
  * (layer numbers, 1-based as the sliders show them), and a mark at `layer`. Sets data-layers,
  * data-points, data-bars, data-max (for tests); clears the chart without a report.
- * @returns {{layers: number, points: number, maxValue: number, meanValue: number} | {error: string} | null}
+ * @returns {{layers: number, points: number, maxValue: number, meanValue: number, over: number} |
+ *   {error: string} | null} over: layers whose average angle is above the threshold
  */
 export function drawOverhangChart(svg, g, { layer = null, width = 260, height = 120 } = {}) {
   svg.replaceChildren();
@@ -134,7 +135,8 @@ export function drawOverhangChart(svg, g, { layer = null, width = 260, height = 
   svg.dataset.max = String(c.maxValue);
   svg.geodesicChart = c;
   setChartLayer(svg, layer);
-  return { layers: c.layers, points: c.points.length, maxValue: c.maxValue, meanValue: c.meanValue };
+  const over = c.points.filter((p) => p.value > c.threshold.value).length;
+  return { layers: c.layers, points: c.points.length, maxValue: c.maxValue, meanValue: c.meanValue, over };
 }
 
 /** Move the chart's layer mark to layer l (null or out of range hides it); data-layer follows. */

@@ -543,7 +543,7 @@ function showGeoReport(g) {
   const stats = $('geo-chart-stats');
   if (!chart) stats.textContent = '—';
   else if (chart.error) stats.textContent = `(${chart.error})`;
-  else stats.textContent = `${chart.layers} layers, mean ${geoFigure(chart.meanValue)}°, largest ${geoFigure(chart.maxValue)}°`;
+  else stats.textContent = `${chart.layers} layers, largest ${geoFigure(chart.maxValue)}°, ${chart.over} above 45°`;
 }
 
 function renderTraversals(g) {

@@ -241,7 +241,8 @@ test('a synthetic geodesic result: figures, chart, traversals, field, tree, air 
   assert.equal(chart.points, String(L));
   assert.equal(chart.dots, L);
   assert.equal(chart.bars, String(L));
-  assert.ok(chart.over > 0, 'layers above 45° marked');
+  assert.equal(chart.over, 3, 'layers 6-8 (10 + 40 sin(l pi / 12) > 45) marked');
+  assert.equal(await page.textContent(tid('geo-chart-stats')), '12 layers, largest 50°, 3 above 45°');
   assert.equal(chart.layer, String(L - 1));
   // The traversal table: the three sequences, A3 printed, DPT flagged.
   const rows = await page.$$eval(`${tid('geo-traversal-table')} tbody tr`, (trs) => trs.map((tr) => ({
@@ -250,6 +251,12 @@ test('a synthetic geodesic result: figures, chart, traversals, field, tree, air 
   })));
   assert.deepEqual(rows.map((r) => [r.id, r.chosen, r.retractions, r.free, r.button]), [
     ['geo-traversal-LPT', false, '11', 'true', true], ['geo-traversal-DPT', false, '1', 'false', true], ['geo-traversal-A3', true, '1', 'true', false]]);
+  // The table fits the panel (no clipped column).
+  const fit = await page.evaluate(() => {
+    const box = (id) => document.querySelector(`[data-testid="${id}"]`).getBoundingClientRect();
+    return { table: box('geo-traversal-table').right, panel: box('geo-report').right };
+  });
+  assert.ok(fit.table <= fit.panel + 0.5, `table right ${fit.table} within the panel ${fit.panel}`);
   // The view: everything at the last layer; the field follows the layer slider's iso-value.
   assert.equal(await page.isVisible(tid('geo-bar')), true);
   assert.equal(await page.isVisible(tid('show-missed')), false, 'no missed cells for this method');

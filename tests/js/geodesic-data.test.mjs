@@ -299,7 +299,7 @@ test('summary rows and the done line show the report\'s figures; absent ones a d
   assert.equal(new Set(rows.map((r) => r[0])).size, rows.length, 'keys unique (they become test ids)');
   assert.equal(byKey.tets, '61,234');
   assert.equal(byKey.max_geodesic, '51.25 mm');
-  assert.equal(byKey.tree, '139 edges, 1 forks');
+  assert.equal(byKey.tree, '139 edges, 1 fork');
   assert.equal(byKey.retractions, '12');
   assert.equal(byKey.air_move, '212.5 mm');
   assert.equal(byKey.collision_free, 'yes');
