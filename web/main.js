@@ -648,7 +648,8 @@ function applyLayerRange(changed) {
   }
   if (app.voxelView) app.voxelView.setGlyphLayerRange(a, b);
   if (app.geodesicView) {
-    app.geodesicView.setLayerRange(a, b);
+    // At the slider's top the whole field and tree show, also the layers above the last printed one.
+    app.geodesicView.setLayerRange(a, b >= Number(hi.max) ? Number.MAX_SAFE_INTEGER : b);
     showGeoStats();
   }
   setChartLayer($('geo-overhang-chart'), app.preview ? b : null);

@@ -8,6 +8,7 @@
 //     buffers) shown through the page's test hook: the figures, the overhang chart (one point per
 //     layer), the traversal table, the field drawn up to the layer slider's iso-value, the tree
 //     and air moves following the layer range, the print step and the toggles;
+//   - disagreeing buffers or report arrays: a clear error, the rest of the result still shown;
 //   - the model menu's tree demo: loaded with the geodesic defaults on table5, sliced; the stages,
 //     the field, the tree (one node per IGDS), the air moves (one per retraction), the chart and
 //     the three traversals' figures show; choosing LPT in the table slices again with it (its
@@ -299,6 +300,26 @@ test('a synthetic geodesic result: figures, chart, traversals, field, tree, air 
   await slide('geo-step-slider', 17);
   await page.waitForTimeout(300);
   await page.screenshot({ path: path.join(OUT_DIR, 'geodesic-synthetic.png') });
+});
+
+test('a result with disagreeing geodesic buffers: a clear error, the rest still shown', async (t) => {
+  if (skipWhy) return t.skip(skipWhy);
+  const out = await page.evaluate(async ([fnText, args]) => {
+    // eslint-disable-next-line no-new-func
+    const make = new Function(`return (${fnText})`)();
+    const r = make(args);
+    r.preview.sequence = r.preview.sequence.subarray(0, 5);
+    r.report.geodesic.overhang_ratio = [0.5];
+    await window.omnislice._showResultForTest(r);
+    return { state: document.body.dataset.state, geodesic: window.omnislice.geodesic, segments: window.omnislice.previewSegments };
+  }, [syntheticGeodesic.toString(), { L: 12 }]);
+  assert.equal(out.state, 'done');
+  assert.equal(out.geodesic, null, 'no geodesic view from bad buffers');
+  assert.ok(out.segments > 0, 'the tool-paths still drawn');
+  assert.equal(await page.textContent(tid('error-message')), 'internal: geodesic view: geodesic buffers: the sequence has 5 entries for 18 nodes');
+  assert.equal(await page.isHidden(tid('geo-bar')), true);
+  assert.equal(await page.textContent(tid('geo-chart-stats')), '(overhang chart: 1 overhang ratios for 12 layers)');
+  assert.equal(await page.textContent(tid('geo-tets')), '23,456', 'the figures still shown');
 });
 
 test('the tree demo: geodesic slice, field, tree, air moves, chart, traversal switch, download', async (t) => {
