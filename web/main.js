@@ -20,6 +20,9 @@ import {
 } from './voxel-data.js';
 import { CURVE_COLORS, comparisonRows, foldTheta, sideStepText } from './isoplanar-data.js';
 import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './isoplanar-panel.js';
+import { GeodesicView } from './geodesic-view.js';
+import { figure as geoFigure, geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
+import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
@@ -29,6 +32,13 @@ const DEMOS = {
   // An open saddle z = (x^2 - y^2) / R: the surface method's iso-planar paths (paper 003, S1).
   // The surface method needs tilt axes: a 3- or 4-axis machine is swapped for the UR5 arm.
   saddle: { url: '/models/demo-saddle.obj', name: 'demo-saddle.obj', settings: { method: 'surface' }, tilt: 'robot6-ur5' },
+  // A trunk forking into three tilted branches (scripts/make-demo-tree.mjs): the geodesic
+  // method's curved layers, skeleton tree and print sequences (paper 002). At a 45° nozzle angle
+  // DPT collides while A3 stays collision-free with a tenth of LPT's retractions (README.md).
+  tree: {
+    url: '/models/demo-tree.obj', name: 'demo-tree.obj', tilt: 'table5',
+    settings: { method: 'geodesic', nozzle: 0.8, 'geodesic.interval_mm': 0.8, 'geodesic.nozzle_angle_deg': 45, 'geodesic.sequence': 'a3' },
+  },
 };
 const FILAMENT_AREA_MM2 = Math.PI * (1.75 / 2) ** 2;
 const PLA_G_PER_MM3 = 1.24e-3;
@@ -40,6 +50,7 @@ const app = {
   viewer: null,
   preview: null,
   voxelView: null,   // VoxelView of the result's curved layers, missed voxels and nozzle axes
+  geodesicView: null, // GeodesicView of the result's distance field, skeleton tree and air moves
   model: new SettingsModel(),
   history: new History(),
   mesh: null,        // {name, meshId, info} of the loaded mesh
@@ -261,6 +272,7 @@ function showReport(report) {
   $('report-motion').hidden = !motion;
   showVoxelReport(r.voxel && typeof r.voxel === 'object' ? r.voxel : null);
   showIsoReport(r.isoplanar && typeof r.isoplanar === 'object' ? r.isoplanar : null);
+  showGeoReport(r.geodesic && typeof r.geodesic === 'object' ? r.geodesic : null);
   // Angular figures are radians for a robot's joints, degrees for the A, B, C axes.
   const unit = r.machine_kind === 'robot6' ? ' rad' : '°';
   for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
@@ -514,6 +526,93 @@ function setDownloadLabel(extension) {
   $('download-program').textContent = `Download ${kind.label}`;
 }
 
+// ---- geodesic method (paper 002) ----------------------------------------------------------------
+
+/** The geodesic report of the shown result, or null. */
+function firstGeo() {
+  const r = app.result && app.result.report;
+  return r && r.geodesic && typeof r.geodesic === 'object' ? r.geodesic : null;
+}
+
+/** The geodesic figures, overhang chart and traversal table (hidden without report.geodesic). */
+function showGeoReport(g) {
+  $('geo-report').hidden = !g;
+  fillGeoFigures($('geo-figures'), g);
+  renderTraversals(g);
+  const chart = drawOverhangChart($('geo-overhang-chart'), g, { layer: g ? Number($('layer-slider').value) : null });
+  const stats = $('geo-chart-stats');
+  if (!chart) stats.textContent = '—';
+  else if (chart.error) stats.textContent = `(${chart.error})`;
+  else stats.textContent = `${chart.layers} layers, largest ${geoFigure(chart.maxValue)}°, ${chart.over} above 45°`;
+}
+
+function renderTraversals(g) {
+  fillTraversalTable($('geo-traversal-table').querySelector('tbody'), g, { onChoose: (name) => chooseSequence(name), disabled: !!app.busy });
+}
+
+/** Slice again with another print sequence (an undoable settings edit, then a slice). */
+async function chooseSequence(name) {
+  if (app.busy || !app.mesh) return;
+  if (app.model.get('geodesic.sequence') !== name) app.history.execute(new SetSettingCommand(app.model, 'geodesic.sequence', name));
+  await slice();
+}
+
+/** The geodesic bar follows app.geodesicView (hidden without one). */
+function setupGeoBar() {
+  const v = app.geodesicView;
+  $('geo-bar').hidden = !v;
+  // The voxel bar's missed and support cells mean nothing for the geodesic method.
+  for (const id of ['show-missed', 'show-support']) $(id).closest('label').hidden = !!v;
+  const slider = $('geo-step-slider');
+  const n = v ? v.nodeCount : 0;
+  slider.max = String(Math.max(n - 1, 0));
+  slider.value = slider.max;
+  slider.disabled = n === 0;
+  $('field-ramp').style.background = rampCss();
+  if (v) {
+    v.setVisible('field', $('show-field').checked);
+    v.setVisible('tree', $('show-tree').checked);
+    v.setVisible('air', $('show-air').checked);
+  }
+  applyGeoStep();
+}
+
+/** Show the tree as printed up to the step slider's position; the texts follow. */
+function applyGeoStep() {
+  const v = app.geodesicView;
+  const slider = $('geo-step-slider');
+  if (!v) {
+    $('geo-step-text').textContent = '—';
+    $('field-range').textContent = '—';
+    $('air-count').textContent = '0';
+    return;
+  }
+  v.setStep(Number(slider.value));
+  showGeoStats();
+}
+
+function showGeoStats() {
+  const v = app.geodesicView;
+  if (!v) return;
+  const s = v.stats();
+  const c = s.current;
+  $('geo-step-text').textContent = s.nodes
+    ? `${s.step + 1} of ${s.nodes}${c ? ` (layer ${c.layer + 1})` : ''}` : 'no tree';
+  $('field-range').textContent = `${formatMm(s.fieldMin)}–${formatMm(s.fieldMax)} mm`;
+  $('air-count').textContent = s.airDrawn === s.airMoves ? String(s.airMoves) : `${s.airDrawn} / ${s.airMoves}`;
+  const slider = $('geo-step-slider');
+  slider.dataset.fieldDrawn = String(s.fieldDrawn);
+  slider.dataset.nodesDrawn = String(s.nodesDrawn);
+  slider.dataset.airDrawn = String(s.airDrawn);
+  app.viewer && app.viewer.requestRender();
+}
+
+function setGeoLayerVisible(kind, visible) {
+  if (!app.geodesicView) return;
+  app.geodesicView.setVisible(kind, visible);
+  showGeoStats();
+}
+
 // ---- layer range ------------------------------------------------------------------------------
 
 /** The layer sliders span layerCount layers, showing from `first` (default 0) to the last. */
@@ -548,6 +647,12 @@ function applyLayerRange(changed) {
     app.viewer && app.viewer.requestRender();
   }
   if (app.voxelView) app.voxelView.setGlyphLayerRange(a, b);
+  if (app.geodesicView) {
+    // At the slider's top the whole field and tree show, also the layers above the last printed one.
+    app.geodesicView.setLayerRange(a, b >= Number(hi.max) ? Number.MAX_SAFE_INTEGER : b);
+    showGeoStats();
+  }
+  setChartLayer($('geo-overhang-chart'), app.preview ? b : null);
 }
 
 /** The surface slider and the voxel bar follow app.voxelView (hidden without one). */
@@ -642,6 +747,7 @@ function updateButtons() {
   $('iso-compare-button').disabled = !app.slicer || !app.mesh || !!app.busy || !firstIso();
   $('iso-show-run').disabled = !app.compare || !!app.busy;
   $('demo-model').disabled = !app.slicer || !!app.busy;
+  for (const b of document.querySelectorAll('[data-testid^="geo-use-"]')) b.disabled = !app.slicer || !app.mesh || !!app.busy;
 }
 
 /** Load mesh bytes; on failure the previous model stays loaded. Returns true on success. */
@@ -701,11 +807,14 @@ async function loadFile(file) {
  */
 async function setPreview(result, { fresh = false } = {}) {
   if (app.viewer) app.viewer.setPreview(null);
+  if (app.geodesicView) app.geodesicView.dispose();
   app.preview = null;
   app.voxelView = null;
+  app.geodesicView = null;
   const buffers = result && result.preview;
   let preview = null;
   let voxel = null;
+  let geodesic = null;
   if (buffers && buffers.features && buffers.features.length) preview = await ToolpathPreview.build(buffers);
   if (hasVoxelBuffers(buffers)) {
     try {
@@ -714,18 +823,29 @@ async function setPreview(result, { fresh = false } = {}) {
       showError({ code: 'internal', message: `voxel view: ${err.message}` });
     }
   }
+  if (hasGeodesicBuffers(buffers)) {
+    try {
+      geodesic = timed('geodesic-view', () => new GeodesicView(buffers, result.report && result.report.geodesic));
+    } catch (err) {
+      showError({ code: 'internal', message: `geodesic view: ${err.message}` });
+    }
+  }
   if (fresh) $('show-surfaces').checked = !(preview && preview.curveCount > 0);
-  if (preview || voxel) {
+  if (preview || voxel || geodesic) {
     timed('set-preview', () => {
       if (preview) preview.setTravelVisible($('show-travel').checked);
       app.preview = preview;
       app.voxelView = voxel;
-      // One object for the viewer: the tool-paths with the voxel view inside.
-      if (preview && voxel) preview.object.add(voxel.object);
-      if (app.viewer) app.viewer.setPreview(preview ? preview.object : voxel.object);
+      app.geodesicView = geodesic;
+      // One object for the viewer: the tool-paths with the voxel and geodesic views inside.
+      const root = preview ? preview.object : voxel ? voxel.object : geodesic.object;
+      if (voxel && root !== voxel.object) root.add(voxel.object);
+      if (geodesic && root !== geodesic.object) root.add(geodesic.object);
+      if (app.viewer) app.viewer.setPreview(root);
     });
   }
   timed('layer-sliders', () => {
+    setupGeoBar();
     // With iso-planar NL curves the range starts at their layer (the surface layer above its base).
     setupLayerSliders(app.preview ? app.preview.layerCount : 0, app.preview ? Math.max(app.preview.curveLayerMin, 0) : 0);
     setupVoxelBar();
@@ -802,7 +922,9 @@ async function showResult(result, started) {
   document.body.dataset.sliceCount = String(app.sliceCount);
   const wall = ((performance.now() - started) / 1000).toFixed(2);
   const voxel = result.report && result.report.voxel;
-  setProgressText(`done in ${wall} s${voxel ? `: ${voxelDoneSummary(voxel)}` : ''}`, 1);
+  const geo = result.report && result.report.geodesic;
+  const summary = geo ? geodesicDoneSummary(geo) : voxel ? voxelDoneSummary(voxel) : '';
+  setProgressText(`done in ${wall} s${summary ? `: ${summary}` : ''}`, 1);
   showStages({ finished: true });
   setState('done');
 }
@@ -906,10 +1028,10 @@ function showMachineProfile() {
   // The voxel and surface methods tilt the nozzle: they need two rotary axes (table5) or a robot.
   const hint = $('method-hint');
   const method = app.model.get('method');
-  const needsTilt = (method === 'voxel' || method === 'surface') && !['table5', 'robot6'].includes(kind);
+  const needsTilt = ['voxel', 'surface', 'geodesic'].includes(method) && !['table5', 'robot6'].includes(kind);
   hint.hidden = !needsTilt;
   hint.textContent = needsTilt
-    ? `the ${method} method ${method === 'voxel' ? 'tilts the nozzle' : 'keeps the nozzle along the surface normal'}: choose table5 or a robot (${kind} has no tilt axes)`
+    ? `the ${method} method ${method === 'surface' ? 'keeps the nozzle along the surface normal' : 'tilts the nozzle'}: choose table5 or a robot (${kind} has no tilt axes)`
     : '';
 }
 
@@ -1122,6 +1244,10 @@ function wireUi() {
   $('show-missed').addEventListener('change', (e) => setVoxelLayerVisible('missed', e.target.checked));
   $('show-support').addEventListener('change', (e) => setVoxelLayerVisible('support', e.target.checked));
   $('axis-glyphs-toggle').addEventListener('change', (e) => setVoxelLayerVisible('glyphs', e.target.checked));
+  $('show-field').addEventListener('change', (e) => setGeoLayerVisible('field', e.target.checked));
+  $('show-tree').addEventListener('change', (e) => setGeoLayerVisible('tree', e.target.checked));
+  $('show-air').addEventListener('change', (e) => setGeoLayerVisible('air', e.target.checked));
+  $('geo-step-slider').addEventListener('input', () => applyGeoStep());
   $('show-travel').addEventListener('change', (e) => {
     if (app.preview) app.preview.setTravelVisible(e.target.checked);
     app.viewer && app.viewer.requestRender();
@@ -1227,6 +1353,8 @@ window.omnislice = {
   },
   /** The voxel view: what it holds and draws (VoxelView.stats()), or null. */
   get voxel() { return app.voxelView ? app.voxelView.stats() : null; },
+  /** The geodesic view: what it holds and draws (GeodesicView.stats()), or null. */
+  get geodesic() { return app.geodesicView ? app.geodesicView.stats() : null; },
   /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */
   get stages() {
     const list = [...app.progress.stages];

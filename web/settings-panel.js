@@ -48,7 +48,10 @@ export function selectedMachineKind(values) {
 
 const isRobot = (values) => selectedMachineKind(values) === 'robot6';
 const isVoxel = (values) => values.method === 'voxel';
-const isPlanar = (values) => !isVoxel(values);
+/** The geodesic method is chosen. */
+export const isGeodesic = (values) => values.method === 'geodesic';
+/** Planar layers are printed: the planar method, or the surface method's base. */
+const isPlanar = (values) => !isVoxel(values) && !isGeodesic(values);
 const isSurface = (values) => values.method === 'surface';
 /** The iso-planar fill runs: the surface method, or fill = isoplanar on planar or curved layers. */
 export const usesIsoplanar = (values) => isSurface(values) || values.fill === 'isoplanar';
@@ -72,11 +75,13 @@ export const SETTINGS_SCHEMA = [
   { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', value: '', hidden: true },
   { group: 'Slicing', key: 'method', label: 'method', type: 'select', value: 'planar',
     options: [{ label: 'planar layers', value: 'planar' }, { label: 'voxel (curved layers)', value: 'voxel' },
-      { label: 'surface (open surface, one layer on a base)', value: 'surface' }] },
+      { label: 'surface (open surface, one layer on a base)', value: 'surface' },
+      { label: 'geodesic (curved layers of a tet mesh)', value: 'geodesic' }] },
   { group: 'Slicing', key: 'fill', label: 'fill', type: 'select', value: 'auto', testid: 'setting-fill',
     options: [{ label: 'auto', value: 'auto' }, { label: 'iso-planar (paper 003)', value: 'isoplanar' }, { label: 'spiral', value: 'spiral' }] },
+  // The geodesic method's interval defaults to the layer height.
   { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', type: 'number', value: 0.2, min: 0.02, max: 2, step: 0.01,
-    showIf: isPlanar },
+    showIf: (v) => !isVoxel(v) },
   { group: 'Slicing', key: 'nozzle', label: 'nozzle (mm)', type: 'number', value: 0.4, min: 0.1, max: 2, step: 0.05 },
   { group: 'Slicing', key: 'line_width', label: 'line width (mm, 0 = auto)', type: 'number', value: 0, min: 0, max: 3, step: 0.01 },
   { group: 'Slicing', key: 'walls', label: 'walls', type: 'integer', value: 2, min: 0, max: 20, step: 1,
@@ -134,6 +139,22 @@ export const SETTINGS_SCHEMA = [
     testid: 'iso-benchmark', showIf: usesIsoplanar, sendIf: usesIsoplanar },
   { group: 'Iso-planar', key: 'surface.base_mm', label: 'support base under the surface (mm)', type: 'number', value: 2, min: 0.1, max: 500, step: 0.5,
     testid: 'surface-base', showIf: isSurface, sendIf: isSurface },
+  // The geodesic method (paper 002): tet mesh, heat-method geodesic field, iso-geodesic distance
+  // surfaces (IGDS), skeleton tree and print sequence (core/pipeline/settings.cpp: names, ranges).
+  { group: 'Geodesic', key: 'geodesic.interval_mm', label: 'IGDS interval (mm, 0 = layer height)', type: 'number', value: 0, min: 0, max: 20, step: 0.05,
+    testid: 'geodesic-interval', showIf: isGeodesic, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.tet_size_mm', label: 'tet size (mm, 0 = from the target count)', type: 'number', value: 0, min: 0, max: 100, step: 0.1,
+    testid: 'geodesic-tet-size', showIf: isGeodesic, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.target_tets', label: 'target tets', type: 'integer', value: 60000, min: 100, max: 3000000, step: 1000,
+    testid: 'geodesic-target-tets', showIf: (v) => isGeodesic(v) && v['geodesic.tet_size_mm'] === 0, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.nozzle_angle_deg', label: 'nozzle angle (°, 0 = the machine\'s cone)', type: 'number', value: 0, min: 0, max: 89, step: 1,
+    testid: 'geodesic-nozzle-angle', showIf: isGeodesic, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.sequence', label: 'print sequence', type: 'select', value: 'a3', testid: 'geodesic-sequence',
+    options: [{ label: 'A3 (collision-aware, fewer air moves)', value: 'a3' }, { label: 'LPT (layer by layer)', value: 'lpt' },
+      { label: 'DPT (branch by branch)', value: 'dpt' }],
+    showIf: isGeodesic, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.remesh', label: 'remesh and smooth the IGDS', type: 'checkbox', value: true,
+    testid: 'geodesic-remesh', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', type: 'number', value: 0.8, min: 0, max: 20, step: 0.1 },

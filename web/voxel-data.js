@@ -27,6 +27,13 @@ export const STAGE_WEIGHTS = {
     read: 0.02, validate: 0.03, place: 0.01, slice: 0.04, toolpath: 0.08, feed: 0.2, direction: 0.15,
     paths: 0.12, benchmark: 0.2, motion: 0.1, program: 0.05,
   },
+  // Geodesic method (paper 002): tet mesh, heat-method field, IGDS, skeleton tree and print
+  // order (collision model), spiral paths, tool-path in the chosen sequence.
+  // Shares from the demo tree's timings (61k tets: the field's factorisation dominates).
+  geodesic: {
+    read: 0.01, validate: 0.08, place: 0.01, tetmesh: 0.16, field: 0.36, igds: 0.17, order: 0.01, collision: 0.04,
+    paths: 0.05, toolpath: 0.03, motion: 0.05, program: 0.03,
+  },
 };
 
 /**
