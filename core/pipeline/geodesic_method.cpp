@@ -9,6 +9,7 @@
 #include "geodesic/heat_geodesic.h"
 #include "geodesic/igds.h"
 #include "geodesic/print_order.h"
+#include "pipeline/curved_stage.h"
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/stage_support.h"
 #include "surface/curved_toolpath.h"
@@ -210,22 +211,11 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   std::vector<std::pair<uint32_t, uint32_t>> order;
   order.reserve(chosen->order.size());
   for (uint32_t node : chosen->order) order.emplace_back(tree.nodes[node].layer, tree.nodes[node].region);
-  CurvedToolpathOptions topt;
+  CurvedToolpathOptions topt =
+      stage::curvedToolpathOptions(settings, machine, interval, stage::machineTiltLimitDegrees(machine));
   topt.lineWidth = isoplanar ? settings.nozzleDiameter : lineWidth;
   topt.ellipseBeads = isoplanar;
   topt.axisFromNormals = true;
-  topt.nominalHeight = interval;
-  topt.filamentDiameter = settings.filamentDiameter;
-  topt.printSpeed = settings.printSpeed;
-  topt.firstLayerSpeed = settings.firstLayerSpeed;
-  topt.travelSpeed = settings.travelSpeed;
-  topt.retractLength = settings.retractLength;
-  topt.retractMinTravel = settings.retractMinTravel;
-  topt.retractSpeed = settings.retractSpeed;
-  topt.maxTiltDegrees = stage::machineTiltLimitDegrees(machine);
-  topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
-  topt.coneLength = machine.nozzle.coneLength;
-  topt.collisionClearance = interval;
   topt.skipUncorrectable = true;
   CurvedToolpathResult tp = buildCurvedToolpath(igds.layers, paths, order, topt, progress);
   if (!tp.ok()) return failure(tp);
@@ -233,24 +223,11 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   timings["toolpath"] = out.timingsMs.back().second;
   out.toolpath = std::move(tp.toolpath);
   out.layerHeight = interval;
-  int printed = 0;
-  for (const auto& layer : paths) {
-    bool any = false;
-    for (const auto& region : layer) any = any || !region.empty();
-    printed += any ? 1 : 0;
-  }
-  out.layers = printed;
+  out.layers = stage::printedLayerCount(paths);
 
   // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
   PreviewBuffers& p = out.preview;
-  for (size_t l = 0; l < igds.layers.size(); ++l) {
-    for (const LayerRegion& region : igds.layers[l].regions) {
-      const uint32_t base = static_cast<uint32_t>(p.surfacePositions.size() / 3);
-      for (double v : region.mesh.positions) p.surfacePositions.push_back(static_cast<float>(v));
-      for (uint32_t i : region.mesh.triangles) p.surfaceTriangles.push_back(base + i);
-      p.surfaceLayers.insert(p.surfaceLayers.end(), region.mesh.faceCount(), static_cast<uint32_t>(l));
-    }
-  }
+  stage::appendLayerSurfaces(igds.layers, p);
   {
     std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
     for (uint32_t v : boundary.triangles) {

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "pipeline/curved_stage.h"
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/stage_support.h"
 #include "slice/plan_layers.h"
@@ -105,22 +106,13 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   layers[0].regions.push_back(std::move(region));
   std::vector<std::vector<std::vector<SurfacePath>>> paths(1);
   paths[0].push_back(fill.paths);
-  CurvedToolpathOptions topt;
+  CurvedToolpathOptions topt =
+      stage::curvedToolpathOptions(settings, machine, h, stage::machineTiltLimitDegrees(machine));
   topt.lineWidth = s;             // the ellipse's major axis (paper 003 Table 1: s = nozzle)
-  topt.nominalHeight = h;
   topt.axisFromNormals = true;
   topt.ellipseBeads = true;
-  topt.filamentDiameter = settings.filamentDiameter;
   topt.printSpeed = fo.maxFeed;   // requested; the motion planner slows to the joint limits
   topt.firstLayerSpeed = fo.maxFeed;
-  topt.travelSpeed = settings.travelSpeed;
-  topt.retractLength = settings.retractLength;
-  topt.retractMinTravel = settings.retractMinTravel;
-  topt.retractSpeed = settings.retractSpeed;
-  topt.maxTiltDegrees = stage::machineTiltLimitDegrees(machine);
-  topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
-  topt.coneLength = machine.nozzle.coneLength;
-  topt.collisionClearance = h;
   CurvedToolpathResult curved = buildCurvedToolpath(layers, paths, topt, progress);
   if (!curved.ok()) return failure(curved);
   out.timingsMs.emplace_back("toolpath", msSince(t0));

@@ -9,6 +9,7 @@
 #include <limits>
 #include <nlohmann/json.hpp>
 
+#include "pipeline/curved_stage.h"
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/stage_support.h"
 #include "surface/curved_toolpath.h"
@@ -377,45 +378,21 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
     r["regions"] = isoRegions;
     out.isoplanarJson = r.dump();
   }
-  CurvedToolpathOptions topt;
+  CurvedToolpathOptions topt =
+      stage::curvedToolpathOptions(settings, machine, layers.thickness.samples > 0 ? layers.thickness.mean : w,
+                            machineTiltDegrees(settings, machine));
   topt.lineWidth = isoplanar ? nozzle : lineWidth;
   topt.ellipseBeads = isoplanar;
-  topt.nominalHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
-  topt.filamentDiameter = settings.filamentDiameter;
-  topt.printSpeed = settings.printSpeed;
-  topt.firstLayerSpeed = settings.firstLayerSpeed;
-  topt.travelSpeed = settings.travelSpeed;
-  topt.retractLength = settings.retractLength;
-  topt.retractMinTravel = settings.retractMinTravel;
-  topt.retractSpeed = settings.retractSpeed;
-  topt.maxTiltDegrees = machineTiltDegrees(settings, machine);
-  topt.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
-  topt.coneLength = machine.nozzle.coneLength;
-  topt.collisionClearance = topt.nominalHeight;  // the program header's layer_height (verify's h)
   CurvedToolpathResult tp = buildCurvedToolpath(layers.layers, paths, topt, progress);
   if (!tp.ok()) return failure(tp);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
   out.toolpath = std::move(tp.toolpath);
   out.layerHeight = topt.nominalHeight;
-  int printedLayers = 0;
-  for (const auto& layer : paths) {
-    bool any = false;
-    for (const auto& region : layer) any = any || !region.empty();
-    printedLayers += any ? 1 : 0;
-  }
-  out.layers = printedLayers;
+  out.layers = stage::printedLayerCount(paths);
 
   // Preview: layer surfaces, missed and support voxels.
   PreviewBuffers& p = out.preview;
-  for (size_t l = 0; l < layers.layers.size(); ++l) {
-    for (const LayerRegion& region : layers.layers[l].regions) {
-      const uint32_t base = static_cast<uint32_t>(p.surfacePositions.size() / 3);
-      for (double v : region.mesh.positions) p.surfacePositions.push_back(static_cast<float>(v));
-      for (uint32_t i : region.mesh.triangles) p.surfaceTriangles.push_back(base + i);
-      p.surfaceLayers.insert(p.surfaceLayers.end(), region.mesh.faceCount(),
-                             static_cast<uint32_t>(l));
-    }
-  }
+  stage::appendLayerSurfaces(layers.layers, p);
   size_t solid = 0, support = 0;
   auto centre = [&](size_t i) {
     const Eigen::Vector3i c = grid.cell(i);
