@@ -3,16 +3,21 @@
 // own side of the plane, volumes adding up to the input's, caps equal to the analytic cross-section
 // (box, cylinder, torus, voxel solids with holes and cavities), each degenerate position of the
 // plane in its own block, bad input statuses, the shared models (prepareMesh without repairs,
-// sliceMesh without open chains) and a measurement on the Kitten.
+// sliceMesh without open chains) and a measurement on the Kitten. OMNISLICE_DUMP_CLIP=1 writes a
+// failing clip's input and pieces as OBJ to the test temp folder.
 #include "mesh/clip_mesh.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
 #include <functional>
 #include <limits>
 #include <map>
@@ -92,8 +97,30 @@ void expectSides(const ClipResult& r, const Plane& plane, double tol, const std:
 }
 
 // Everything that must hold for any clip of a valid solid.
-void expectValidClip(const Mesh& input, const ClipResult& r, const Plane& plane, double tol,
-                     const std::string& what) {
+// With OMNISLICE_DUMP_CLIP set, a failing clip writes its input and pieces as OBJ files (the plane
+// in a comment line) to the test temp folder.
+void dumpClip(const Mesh& input, const ClipResult& r, const Plane& plane, const std::string& what) {
+  if (!std::getenv("OMNISLICE_DUMP_CLIP")) return;
+  std::string stem = "clip_" + what;
+  for (char& c : stem) c = std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  for (const auto& [suffix, m] : {std::pair<const char*, const Mesh*>{"input", &input},
+                                  {"below", &r.below},
+                                  {"above", &r.above}}) {
+    const std::filesystem::path path = test::tempDir() / (stem + "_" + suffix + ".obj");
+    std::ofstream out(path);
+    out.precision(17);
+    out << "# plane normal " << plane.normal.transpose() << " offset " << plane.offset << "\n";
+    for (size_t v = 0; v < m->vertexCount(); ++v) out << "v " << m->vertex(v).transpose() << "\n";
+    for (size_t f = 0; f < m->faceCount(); ++f) {
+      out << "f " << m->triangles[3 * f] + 1 << " " << m->triangles[3 * f + 1] + 1 << " "
+          << m->triangles[3 * f + 2] + 1 << "\n";
+    }
+    std::printf("dumped %s\n", path.string().c_str());
+  }
+}
+
+void checkClip(const Mesh& input, const ClipResult& r, const Plane& plane, double tol,
+               const std::string& what) {
   ASSERT_TRUE(r.ok()) << what << ": " << r.message;
   expectClosedSolid(r.below, what + " below");
   expectClosedSolid(r.above, what + " above");
@@ -107,6 +134,13 @@ void expectValidClip(const Mesh& input, const ClipResult& r, const Plane& plane,
   EXPECT_NEAR(r.aboveVolume, meshVolume(r.above), 1e-9 * std::abs(v)) << what;
   EXPECT_GE(r.capArea, 0) << what;
   EXPECT_EQ(r.forcedCapTriangles, 0u) << what;
+}
+
+void expectValidClip(const Mesh& input, const ClipResult& r, const Plane& plane, double tol,
+                     const std::string& what) {
+  const bool failedBefore = ::testing::Test::HasFailure();
+  checkClip(input, r, plane, tol, what);
+  if (!failedBefore && ::testing::Test::HasFailure()) dumpClip(input, r, plane, what);
 }
 
 // Cross-section area of the box [lo, hi] by the plane: the convex polygon through the points where
