@@ -3,9 +3,10 @@
 
 #include "common/disjoint_sets.h"
 
-#include <numeric>
-
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cmath>
+#include <numeric>
 
 namespace omnislice {
 namespace {
@@ -86,6 +87,109 @@ FaceComponents edgeComponents(const Mesh& mesh, const MeshEdges& edges) {
     const uint32_t root = sets.find(f);
     if (out.label[root] == kNoIndex) out.label[root] = static_cast<uint32_t>(out.count++);
     out.label[f] = out.label[root];
+  }
+  return out;
+}
+
+namespace {
+
+// Generalised winding number of the closed triangle set faces (of mesh) around point p: the sum
+// of the signed solid angles over 4 pi (van Oosterom and Strackee's formula per triangle).
+double windingNumber(const Mesh& mesh, const std::vector<uint32_t>& faces, const Eigen::Vector3d& p) {
+  double total = 0;
+  for (uint32_t f : faces) {
+    const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]) - p;
+    const Eigen::Vector3d b = mesh.vertex(mesh.triangles[3 * f + 1]) - p;
+    const Eigen::Vector3d c = mesh.vertex(mesh.triangles[3 * f + 2]) - p;
+    const double la = a.norm(), lb = b.norm(), lc = c.norm();
+    const double num = a.dot(b.cross(c));
+    const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
+    total += 2 * std::atan2(num, den);
+  }
+  return total / (4 * M_PI);
+}
+
+}  // namespace
+
+std::vector<Mesh> splitComponents(const Mesh& mesh, bool groupCavities) {
+  const FaceComponents comp = edgeComponents(mesh, buildEdges(mesh));
+  std::vector<std::vector<uint32_t>> facesOf(comp.count);
+  for (uint32_t f = 0; f < mesh.faceCount(); ++f) facesOf[comp.label[f]].push_back(f);
+  // owner[c] = the component whose mesh takes component c's faces.
+  std::vector<uint32_t> owner(comp.count);
+  std::iota(owner.begin(), owner.end(), 0u);
+  if (groupCavities && comp.count > 1) {
+    // Per-shell signed volume (about the mesh's bounding-box centre) and bounds, in one pass.
+    std::vector<double> volume(comp.count, 0);
+    std::vector<BoundingBox> box(comp.count);
+    std::vector<uint8_t> seen(comp.count, 0);
+    const BoundingBox all = boundingBox(mesh);
+    const Eigen::Vector3d o = 0.5 * (all.min + all.max);
+    for (uint32_t f = 0; f < mesh.faceCount(); ++f) {
+      const uint32_t c = comp.label[f];
+      const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]);
+      const Eigen::Vector3d b = mesh.vertex(mesh.triangles[3 * f + 1]);
+      const Eigen::Vector3d d = mesh.vertex(mesh.triangles[3 * f + 2]);
+      volume[c] += (a - o).dot((b - o).cross(d - o));
+      if (!seen[c]) {
+        seen[c] = 1;
+        box[c].min = box[c].max = a;
+      }
+      box[c].min = box[c].min.cwiseMin(a).cwiseMin(b).cwiseMin(d);
+      box[c].max = box[c].max.cwiseMax(a).cwiseMax(b).cwiseMax(d);
+    }
+    for (uint32_t c = 0; c < comp.count; ++c) {
+      if (!(volume[c] < 0)) continue;
+      const uint32_t f = facesOf[c][0];
+      const Eigen::Vector3d probe = (mesh.vertex(mesh.triangles[3 * f]) +
+                                     mesh.vertex(mesh.triangles[3 * f + 1]) +
+                                     mesh.vertex(mesh.triangles[3 * f + 2])) / 3;
+      uint32_t best = c;
+      for (uint32_t o = 0; o < comp.count; ++o) {
+        if (!(volume[o] > 0) || (best != c && volume[o] >= volume[best])) continue;
+        if ((box[c].min.array() < box[o].min.array()).any() ||
+            (box[c].max.array() > box[o].max.array()).any()) {
+          continue;
+        }
+        if (std::abs(windingNumber(mesh, facesOf[o], probe)) > 0.5) best = o;
+      }
+      owner[c] = best;
+    }
+  }
+  std::vector<Mesh> out;
+  std::vector<uint32_t> meshOf(comp.count, kNoIndex);
+  for (uint32_t c = 0; c < comp.count; ++c) {
+    if (owner[c] == c) {
+      meshOf[c] = static_cast<uint32_t>(out.size());
+      out.emplace_back();
+    }
+  }
+  std::vector<uint32_t> newIndex(mesh.vertexCount(), kNoIndex);
+  std::vector<std::vector<uint32_t>> groups(out.size());
+  for (uint32_t c = 0; c < comp.count; ++c) {
+    std::vector<uint32_t>& g = groups[meshOf[owner[c]]];
+    g.insert(g.end(), facesOf[c].begin(), facesOf[c].end());
+  }
+  for (size_t m = 0; m < out.size(); ++m) {
+    std::vector<uint32_t>& faces = groups[m];
+    std::sort(faces.begin(), faces.end());
+    std::vector<uint32_t> used;
+    for (uint32_t f : faces) {
+      for (int k = 0; k < 3; ++k) used.push_back(mesh.triangles[3 * f + k]);
+    }
+    std::sort(used.begin(), used.end());
+    used.erase(std::unique(used.begin(), used.end()), used.end());
+    Mesh& part = out[m];
+    part.positions.reserve(3 * used.size());
+    for (uint32_t i = 0; i < used.size(); ++i) {
+      newIndex[used[i]] = i;
+      part.positions.insert(part.positions.end(), mesh.positions.begin() + 3 * used[i],
+                            mesh.positions.begin() + 3 * used[i] + 3);
+    }
+    part.triangles.reserve(3 * faces.size());
+    for (uint32_t f : faces) {
+      for (int k = 0; k < 3; ++k) part.triangles.push_back(newIndex[mesh.triangles[3 * f + k]]);
+    }
   }
   return out;
 }

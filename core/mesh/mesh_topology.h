@@ -47,4 +47,12 @@ struct FaceComponents {
 // Edge-connected components of faces (faces sharing any edge, manifold or not, are connected).
 FaceComponents edgeComponents(const Mesh& mesh, const MeshEdges& edges);
 
+// Each edge-connected component (shell) of mesh as its own mesh, in the order of edgeComponents;
+// each keeps only its referenced vertices, in increasing order of their old index (a vertex where
+// shells touch is copied into each). With groupCavities, a shell of negative signed volume (an
+// inward cavity of a closed solid) stays with the smallest shell of positive volume containing
+// it (winding number at one of its face centroids), so each mesh is one solid; a cavity inside no
+// such shell stays alone. Cost O(F) plus O(F) per cavity. Precondition: indices < vertexCount().
+std::vector<Mesh> splitComponents(const Mesh& mesh, bool groupCavities = false);
+
 }  // namespace omnislice
