@@ -22,6 +22,7 @@
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/stage_support.h"
 #include "pipeline/geodesic_method.h"
+#include "pipeline/multidir_method.h"
 #include "pipeline/surface_method.h"
 #include "pipeline/voxel_method.h"
 #include "toolpath/toolpath.h"
@@ -196,15 +197,17 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     const bool voxel = settings.method == "voxel";
     const bool surface = settings.method == "surface";
     const bool geodesic = settings.method == "geodesic";
+    const bool multidir = settings.method == "multidir";
     const bool curvedMethod = voxel || surface || geodesic;
-    if (settings.method != "planar" && !voxel && !surface && !geodesic) {
+    if (settings.method != "planar" && !voxel && !surface && !geodesic && !multidir) {
       return failed<SliceOutput>(Status::InvalidOption, "method '" + settings.method + "' is not available");
     }
     StageClock clock;
     // cartesian3 lays every layer with the nozzle along +Z: a direction d is realised by turning
     // the part so that d points up (recorded in the placement). Curved-layer methods print on the
     // platform as placed.
-    const Eigen::Vector3d d = curvedMethod ? Eigen::Vector3d::UnitZ() : settings.direction.normalized();
+    const Eigen::Vector3d d =
+        curvedMethod || multidir ? Eigen::Vector3d::UnitZ() : settings.direction.normalized();
     const Eigen::Matrix3d turn = rotationToZ(d);
     PreparedInput in =
         prepareInput(data, size, fileName, settings.placement, turn, progress, clock);
@@ -231,6 +234,15 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       if (!surfaceOut.ok()) return failed<SliceOutput>(surfaceOut);
       in.placed.transform = surfaceOut.lift * in.placed.transform;
       in.placed.mesh = std::move(surfaceOut.part);
+      box = boundingBox(in.placed.mesh);
+    }
+    // The multidir method decomposes the solid first (a 4dof axis search may turn it about Z).
+    MultidirMethodOutput multidirOut;
+    if (multidir) {
+      multidirOut = runMultidirMethod(in.placed.mesh, settings, machine, progress);
+      if (!multidirOut.ok()) return failed<SliceOutput>(multidirOut);
+      in.placed.transform = multidirOut.turn * in.placed.transform;
+      in.placed.mesh = std::move(multidirOut.part);
       box = boundingBox(in.placed.mesh);
     }
     const Eigen::Vector3d extent = box.max - box.min;
@@ -284,6 +296,11 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       plan.toolpath = std::move(geodesicOut.toolpath);
       layerHeight = geodesicOut.layerHeight;
       slicedLayers = static_cast<size_t>(geodesicOut.layers);
+    } else if (multidir) {
+      for (const auto& [stage, ms] : multidirOut.timingsMs) clock.timings[stage] = ms;
+      clock.t0 = Clock::now();
+      plan.toolpath = std::move(multidirOut.toolpath);
+      slicedLayers = static_cast<size_t>(multidirOut.layers);
     } else if (voxel) {
       voxelOut = runVoxelMethod(in.placed.mesh, settings, machine, progress);
       if (!voxelOut.ok()) return failed<SliceOutput>(voxelOut);
@@ -436,6 +453,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     if (voxel && !voxelOut.isoplanarJson.empty()) report["isoplanar"] = Json::parse(voxelOut.isoplanarJson);
     if (surface) report["isoplanar"] = Json::parse(surfaceOut.reportJson);
     if (geodesic) report["geodesic"] = Json::parse(geodesicOut.reportJson);
+    if (multidir) report["multidir"] = Json::parse(multidirOut.reportJson);
     if (geodesic && !geodesicOut.isoplanarJson.empty()) report["isoplanar"] = Json::parse(geodesicOut.isoplanarJson);
     if (!planarIsoplanarJson.empty()) report["isoplanar"] = Json::parse(planarIsoplanarJson);
     report["fill"] = settings.fill;

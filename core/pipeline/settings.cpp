@@ -162,6 +162,18 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.geodesic.targetTets; }, 100, 3e6, "tets"}},
       {"geodesic.nozzle_angle_deg",
        {[](Settings& s) -> double& { return s.geodesic.nozzleAngleDeg; }, 0, 89, "degrees (0 = the machine's nozzle cone)"}},
+      {"multidir.alpha_max_deg",
+       {[](Settings& s) -> double& { return s.multidir.alphaMaxDeg; }, 1, 89, "degrees"}},
+      {"multidir.w",
+       {[](Settings& s) -> double& { return s.multidir.w; }, 1, 1000, "(parts >= V/w)"}},
+      {"multidir.offset_step_mm",
+       {[](Settings& s) -> double& { return s.multidir.offsetStepMm; }, 0.05, 100, "mm"}},
+      {"multidir.platform_margin_mm",
+       {[](Settings& s) -> double& { return s.multidir.platformMarginMm; }, 0, 1000, "mm"}},
+      {"multidir.max_tilt_deg",
+       {[](Settings& s) -> double& { return s.multidir.maxTiltDeg; }, 0, 180, "degrees (0 = machine)"}},
+      {"multidir.step_angle_deg",
+       {[](Settings& s) -> double& { return s.multidir.stepAngleDeg; }, 0, 90, "degrees (0 = machine)"}},
       {"voxel.max_voxels",
        {[](Settings& s) -> double& { return s.voxel.maxVoxels; }, 1000, 1e9, "voxels"}},
       {"motion.chord_tolerance",
@@ -177,6 +189,9 @@ const std::map<std::string, IntSpec>& intSpecs() {
       {"bottom_layers", {[](Settings& s) -> int& { return s.bottomLayers; }, 0, 200}},
       {"motion.free_rotation_samples",
        {[](Settings& s) -> int& { return s.freeRotationSamples; }, 1, 360}},
+      {"multidir.samples", {[](Settings& s) -> int& { return s.multidir.samples; }, 4, 20000}},
+      {"multidir.beam_width", {[](Settings& s) -> int& { return s.multidir.beamWidth; }, 1, 100}},
+      {"multidir.axis_search", {[](Settings& s) -> int& { return s.multidir.axisSearch; }, 0, 3600}},
   };
   return specs;
 }
@@ -228,9 +243,11 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
     return {};
   }
   if (key == "method") {
-    if (value != "planar" && value != "voxel" && value != "surface" && value != "geodesic") {
+    if (value != "planar" && value != "voxel" && value != "surface" && value != "geodesic" &&
+        value != "multidir") {
       return invalid(key, "'" + value +
-                              "' is not available in this build (available: planar, voxel, surface, geodesic)");
+                              "' is not available in this build (available: planar, voxel, surface, geodesic, "
+                              "multidir)");
     }
     settings.method = value;
     return {};
@@ -249,6 +266,20 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
       return invalid(key, "'" + value + "' is not a print sequence (a3, lpt, dpt)");
     }
     settings.geodesic.sequence = v;
+    return {};
+  }
+  if (key == "multidir.scheme") {
+    if (value != "beam" && value != "greedy" && value != "constrained") {
+      return invalid(key, "'" + value + "' is not a search scheme (beam, greedy, constrained)");
+    }
+    settings.multidir.scheme = value;
+    return {};
+  }
+  if (key == "multidir.dof") {
+    if (value != "auto" && value != "4dof" && value != "5dof") {
+      return invalid(key, "'" + value + "' is not a mode (auto, 4dof, 5dof)");
+    }
+    settings.multidir.dof = value;
     return {};
   }
   if (key == "geodesic.remesh") {
@@ -429,6 +460,10 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
     out.emplace_back("voxel.shadow", s.voxel.shadow);
     out.emplace_back("voxel.supports", s.voxel.supports ? "true" : "false");
     out.emplace_back("voxel.layer_field", s.voxel.layerField);
+  }
+  if (s.method == "multidir") {
+    out.emplace_back("multidir.scheme", s.multidir.scheme);
+    out.emplace_back("multidir.dof", s.multidir.dof);
   }
   if (s.method == "geodesic") {
     out.emplace_back("geodesic.sequence", s.geodesic.sequence);

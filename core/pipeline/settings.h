@@ -83,8 +83,25 @@ struct GeodesicSettings {
   bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
 };
 
+// `method = multidir` (paper 000): the solid cut by a sequence of planes into parts, each printed
+// with planar layers along its own direction (3+2 axes), the search of Section IV.
+struct MultidirSettings {
+  double alphaMaxDeg = 45;       // maximal self-supporting angle, degrees
+  double w = 10;                 // parts smaller than V(M)/w are refused (Criterion IV)
+  double offsetStepMm = 1;       // candidate plane offsets along each normal, mm
+  double platformMarginMm = 5;   // Criterion III: the platform is the footprint grown by this, mm
+  double maxTiltDeg = 0;         // 5dof: largest tilt of a part's direction from +Z, degrees;
+                                 // 0 = the machine's (table5: its B range, robot6: 90)
+  double stepAngleDeg = 0;       // 4dof: stepper angle, degrees; 0 = the machine's
+  int samples = 250;             // candidate normals on the sphere (or circle, 4dof)
+  int beamWidth = 8;             // b, beams per level
+  int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
+  std::string scheme = "beam";   // beam | greedy | constrained
+  std::string dof = "auto";      // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof
+};
+
 struct Settings {
-  std::string method = "planar";       // planar | voxel | surface | geodesic (later: multidir)
+  std::string method = "planar";       // planar | voxel | surface | geodesic | multidir
   std::string fill = "auto";           // how layers are filled: auto (planar: walls + infill,
                                        // voxel: Fermat spirals, surface: iso-planar) | isoplanar
                                        // | spiral (voxel only)
@@ -92,6 +109,7 @@ struct Settings {
   IsoplanarSettings isoplanar;
   SurfaceSettings surface;
   GeodesicSettings geodesic;
+  MultidirSettings multidir;
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty

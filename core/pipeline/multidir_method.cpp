@@ -1,0 +1,203 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/multidir_method.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "mesh/clip_mesh.h"
+#include "multidir/decomposition.h"
+#include "pipeline/stage_support.h"
+#include "slice/plan_layers.h"
+#include "slice/slice_mesh.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::ordered_json;
+using stage::Clock;
+using stage::finite;
+using stage::msSince;
+
+template <typename... Args>
+MultidirMethodOutput failure(Args&&... args) {
+  return stage::failed<MultidirMethodOutput>(std::forward<Args>(args)...);
+}
+
+Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
+
+}  // namespace
+
+MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settings,
+                                       const MachineProfile& machine, const ProgressFn& progress) {
+  MultidirMethodOutput out;
+  const MultidirSettings& ms = settings.multidir;
+  if (machine.kind == "cartesian3") {
+    return failure(Status::InvalidOption,
+                   "the multidir method turns the part between parts: choose a machine with a rotary "
+                   "axis or a robot (rotary4, table5, robot6), not cartesian3");
+  }
+  const bool fourDof = ms.dof == "4dof" || (ms.dof == "auto" && machine.kind == "rotary4");
+  if (fourDof && machine.kind != "rotary4") {
+    return failure(Status::InvalidOption, "multidir.dof = 4dof needs a rotary4 machine (one rotary axis)");
+  }
+  if (!fourDof && machine.kind == "rotary4") {
+    return failure(Status::InvalidOption, "a rotary4 machine turns the part about one axis: multidir.dof = 4dof");
+  }
+
+  // 1. The search (Section IV).
+  MultidirOptions o;
+  o.alphaMaxDeg = ms.alphaMaxDeg;
+  o.samples = ms.samples;
+  o.offsetStepMm = ms.offsetStepMm;
+  o.w = ms.w;
+  o.beamWidth = ms.beamWidth;
+  o.scheme = ms.scheme;
+  o.platformMarginMm = ms.platformMarginMm;
+  if (fourDof) {
+    o.dof = "4dof";
+    o.rotationAxis = Eigen::Vector3d::UnitX();  // rotary4 turns the part about X (A axis)
+    o.axisSearch = ms.axisSearch;
+    o.stepAngleDeg = ms.stepAngleDeg > 0 ? ms.stepAngleDeg : machine.stepAngleDegrees;
+    auto a = machine.axisLimits.find("A");
+    o.rangeDeg = a != machine.axisLimits.end()
+                     ? std::max(1.0, std::min(std::abs(a->second.first), std::abs(a->second.second)))
+                     : 90.0;
+  } else {
+    o.dof = "5dof";
+    o.maxTiltDeg = ms.maxTiltDeg > 0 ? ms.maxTiltDeg : stage::machineTiltLimitDegrees(machine);
+  }
+  auto t0 = Clock::now();
+  MultidirResult search = searchDecomposition(input, o, progress);
+  if (!search.ok()) return failure(search);
+  out.timingsMs.emplace_back("decompose", msSince(t0));
+
+  // 4dof with an axis search: turn the part about Z so the chosen axis lies on the machine's X.
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  if (fourDof && search.rotationAxis.squaredNorm() > 0.5) {
+    const Eigen::Vector3d a = search.rotationAxis.normalized();
+    r = Eigen::AngleAxisd(-std::atan2(a.y(), a.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  }
+  out.part = input;
+  if (!r.isIdentity(1e-15)) {
+    for (size_t v = 0; v < out.part.vertexCount(); ++v) {
+      const Eigen::Vector3d q = r * out.part.vertex(v);
+      for (int k = 0; k < 3; ++k) out.part.positions[3 * v + size_t(k)] = q[k];
+    }
+    out.turn.topLeftCorner<3, 3>() = r;
+  }
+
+  // 2. Closed parts in print order (Eq. 5-6).
+  t0 = Clock::now();
+  if (!reportProgress(progress, "clip", 0)) return failure(Status::Cancelled, "cancelled");
+  std::vector<Plane> planes;
+  for (const MultidirPlane& p : search.planes) planes.push_back({r * p.normal, p.offsetMm});
+  PartsResult parts = clipSequence(out.part, planes, 1e-6, progress);
+  if (!parts.ok()) return failure(parts);
+  out.timingsMs.emplace_back("clip", msSince(t0));
+
+  // 3. Each part sliced along its direction and planned; parts one after the other.
+  double sliceMs = 0, planMs = 0;
+  int layerOffset = 0;
+  Json partsJson = Json::array();
+  bool first = true;
+  for (size_t i = 0; i < parts.parts.size(); ++i) {
+    const ClipPart& cp = parts.parts[i];
+    const Eigen::Vector3d d = cp.planeIndex < 0 ? Eigen::Vector3d::UnitZ() : planes[size_t(cp.planeIndex)].normal.normalized();
+    // The search's part for this plane (parts[k] is cut off by planes[k]; back() = platform).
+    const MultidirPart* sp = nullptr;
+    if (cp.planeIndex < 0 && !search.parts.empty()) sp = &search.parts.back();
+    if (cp.planeIndex >= 0 && size_t(cp.planeIndex) < search.parts.size()) sp = &search.parts[size_t(cp.planeIndex)];
+    Json pj = {{"print_index", i},
+               {"direction", vec(d)},
+               {"plane", cp.planeIndex < 0 ? Json(nullptr)
+                                           : Json({{"normal", vec(d)}, {"offset_mm", planes[size_t(cp.planeIndex)].offset}})},
+               {"volume_mm3", finite(cp.volume)},
+               {"components", cp.components},
+               {"risky_area_mm2", sp ? finite(sp->riskyAreaMm2) : 0.0}};
+    if (cp.mesh.empty()) {
+      pj["layers"] = 0;
+      partsJson.push_back(pj);
+      continue;
+    }
+    auto s0 = Clock::now();
+    SliceOptions so;
+    so.direction = d;
+    so.layerHeight = settings.layerHeight;
+    so.firstLayerHeight = first ? settings.effectiveFirstLayerHeight() : settings.layerHeight;
+    SliceResult slices = sliceMesh(cp.mesh, so, progress);
+    if (!slices.ok()) return failure(slices.status, "part " + std::to_string(i) + ": " + slices.message);
+    sliceMs += msSince(s0);
+    s0 = Clock::now();
+    Settings ps = settings;
+    if (!first) {
+      // A part printed on an earlier one: its first layer is an ordinary layer.
+      ps.firstLayerHeight = 0;
+      ps.firstLayerSpeed = settings.printSpeed;
+    }
+    PlanLayersResult plan = planLayers(slices, ps, static_cast<int>(i), progress);
+    if (!plan.ok()) return failure(plan.status, "part " + std::to_string(i) + ": " + plan.message);
+    planMs += msSince(s0);
+    int maxLayer = -1;
+    for (Move m : plan.toolpath.moves) {
+      maxLayer = std::max(maxLayer, m.layer);
+      m.layer += layerOffset;
+      m.part = static_cast<int32_t>(i);
+      out.toolpath.moves.push_back(m);
+    }
+    if (first) out.toolpath.start = plan.toolpath.start;
+    layerOffset += maxLayer + 1;
+    pj["layers"] = maxLayer + 1;
+    partsJson.push_back(pj);
+    first = false;
+  }
+  if (out.toolpath.moves.empty()) return failure(Status::Internal, "multidir: no part produced a tool-path");
+  out.layers = layerOffset;
+  out.timingsMs.emplace_back("slice", sliceMs);
+  out.timingsMs.emplace_back("toolpath", planMs);
+
+  const MultidirStats& st = search.stats;
+  Json levels = Json::array();
+  for (double j : st.jgPerLevel) levels.push_back(finite(j));
+  Json report = {
+      {"J_G_before", finite(search.jgBeforeMm2)},
+      {"J_G_after", finite(search.jgAfterMm2)},
+      {"ratio", search.jgBeforeMm2 > 0 ? finite(search.jgAfterMm2 / search.jgBeforeMm2) : 0.0},
+      {"alpha_max_deg", o.alphaMaxDeg},
+      {"scheme", o.scheme},
+      {"dof", o.dof},
+      {"rotation_axis", fourDof ? vec(search.rotationAxis) : Json(nullptr)},
+      {"parts", partsJson},
+      {"part_count", parts.parts.size()},
+      {"volume_mm3", finite(parts.inputVolume)},
+      {"cap_area_mm2", finite(parts.totalCapArea)},
+      {"support_volume_mm3", 0.0},
+      {"search",
+       {{"normals", st.normals},
+        {"candidates_evaluated", st.candidatesEvaluated},
+        {"candidates_checked", st.candidatesChecked},
+        {"connectivity_checks", st.connectivityChecks},
+        {"refused_floating", st.refusedFloating},
+        {"refused_small", st.refusedSmall},
+        {"refused_similar", st.refusedSimilar},
+        {"beams", st.beams},
+        {"levels", st.levels},
+        {"axes_tried", st.axesTried},
+        {"J_G_per_level", levels},
+        {"grid_cells", st.gridCells},
+        {"cell_mm", finite(st.cellMm)}}},
+      {"timings_ms",
+       {{"prepare", finite(st.msPrepare)},
+        {"normals", finite(st.msNormals)},
+        {"sweep", finite(st.msSweep)},
+        {"checks", finite(st.msChecks)},
+        {"refine", finite(st.msRefine)},
+        {"exact", finite(st.msExact)},
+        {"search", finite(st.msTotal)}}}};
+  for (const auto& [k, v] : out.timingsMs) report["timings_ms"][k] = finite(v);
+  out.reportJson = report.dump();
+  return out;
+}
+
+}  // namespace omnislice
