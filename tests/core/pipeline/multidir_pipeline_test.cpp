@@ -1,0 +1,219 @@
+// SPDX-License-Identifier: MIT
+// Issue 7 end to end: `method = multidir` (paper 000) from a mesh to a verified 3+2 program: the
+// plane search, closed parts in print order, each sliced along its own direction, the motion
+// planner's safe rotations between parts, `verify` on the program.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <string>
+
+#include "box_union.h"
+#include "pipeline_fixtures.h"
+#include "pipeline/pipeline.h"
+#include "test_support.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::json;
+
+struct Sliced {
+  SliceOutput out;
+  Json report, verify;
+};
+
+Sliced sliceAndVerify(const std::vector<uint8_t>& bytes, const std::string& name, const Settings& s) {
+  Sliced r;
+  r.out = runSlice(bytes.data(), bytes.size(), name, s);
+  EXPECT_TRUE(r.out.ok()) << r.out.message;
+  if (!r.out.ok()) return r;
+  r.report = Json::parse(r.out.reportJson);
+  VerifyOutput v = runVerify(r.out.program, bytes.data(), bytes.size(), name);
+  EXPECT_TRUE(v.ok()) << v.message;
+  if (v.ok()) r.verify = Json::parse(v.verifyJson);
+  return r;
+}
+
+Settings multidirSettings(const std::string& machine) {
+  Settings s;
+  s.method = "multidir";
+  s.machine = machine;
+  s.layerHeight = 0.3;
+  s.infillPercent = 100;  // coverage is judged on solid prints
+  return s;
+}
+
+// What every multidir program keeps: parts in print order, each extruding move of a part lies
+// above its base plane, and every part printed earlier lies below the base plane of every later
+// one (the inverse order of clipping: the nozzle never reaches back into printed parts); the part
+// volumes sum to the solid's; each part prints along its plane's normal.
+void expectConsistentParts(const Sliced& r, double layerHeight) {
+  ASSERT_TRUE(r.report.contains("multidir")) << r.report.dump();
+  const Json& m = r.report["multidir"];
+  const Json& parts = m["parts"];
+  ASSERT_EQ(parts.size(), m["part_count"].get<size_t>());
+  double volume = 0;
+  for (const Json& p : parts) volume += p["volume_mm3"].get<double>();
+  EXPECT_NEAR(volume, m["volume_mm3"].get<double>(), 1e-6 * m["volume_mm3"].get<double>());
+  EXPECT_TRUE(parts[0]["plane"].is_null());
+  // Extruding segments per part from the preview (positions, features != 0) and the toolpath's
+  // part ids are not in the preview: use the report's per-part layer ranges instead.
+  const PreviewBuffers& pv = r.out.preview;
+  std::vector<int> firstLayer;
+  int layer = 0;
+  for (const Json& p : parts) {
+    firstLayer.push_back(layer);
+    layer += p["layers"].get<int>();
+  }
+  firstLayer.push_back(layer);
+  auto partOfLayer = [&](uint32_t l) {
+    for (size_t i = 0; i + 1 < firstLayer.size(); ++i)
+      if (int(l) >= firstLayer[i] && int(l) < firstLayer[i + 1]) return int(i);
+    return -1;
+  };
+  size_t checked = 0;
+  for (size_t sgm = 0; sgm < pv.features.size(); ++sgm) {
+    if (pv.features[sgm] == 0) continue;
+    const int i = partOfLayer(pv.layers[sgm]);
+    ASSERT_GE(i, 0);
+    const Eigen::Vector3d q(pv.positions[6 * sgm + 3], pv.positions[6 * sgm + 4], pv.positions[6 * sgm + 5]);
+    for (size_t k = 1; k < parts.size(); ++k) {
+      const Json& plane = parts[k]["plane"];
+      const Eigen::Vector3d n(plane["normal"][0], plane["normal"][1], plane["normal"][2]);
+      const double d = plane["offset_mm"].get<double>();
+      if (int(k) == i) EXPECT_GE(n.dot(q), d - 1e-6) << "part " << i << " below its base plane";
+      if (int(k) > i) EXPECT_LE(n.dot(q), d + layerHeight) << "part " << i << " above the plane of later part " << k;
+    }
+    // The nozzle axis of a part is its direction.
+    const Eigen::Vector3d u(pv.axes[3 * sgm], pv.axes[3 * sgm + 1], pv.axes[3 * sgm + 2]);
+    const Json& dir = parts[size_t(i)]["direction"];
+    EXPECT_NEAR(u.dot(Eigen::Vector3d(dir[0], dir[1], dir[2])), 1.0, 1e-4);
+    ++checked;
+  }
+  EXPECT_GT(checked, 100u);
+}
+
+void expectVerified(const Sliced& r) {
+  ASSERT_FALSE(r.verify.is_null());
+  EXPECT_GE(r.verify["inside"].get<double>(), 0.99) << r.verify.dump();
+  EXPECT_EQ(r.verify["collisions"].get<int>(), 0) << r.verify.dump();
+  EXPECT_EQ(r.verify["limits"].get<int>(), 0) << r.verify.dump();
+  EXPECT_GE(r.verify["coverage"].get<double>(), 0.98) << r.verify.dump();
+}
+
+double planarSupported(const std::vector<uint8_t>& bytes, const std::string& name, Settings s) {
+  s.method = "planar";
+  const Sliced r = sliceAndVerify(bytes, name, s);
+  return r.verify.is_null() ? 1.0 : r.verify["supported"].get<double>();
+}
+
+// An L-bracket (a column with an arm at the top): one tilted cut prints the arm along its own
+// direction, no risky face is left, and the program is fully supported where the planar print of
+// the same bracket is not.
+TEST(MultidirPipeline, LBracketOneCutIsSupportFreeOnTheTable) {
+  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const std::vector<uint8_t> bytes = test::binaryStl(l);
+  const Settings s = multidirSettings("table5");
+  const Sliced r = sliceAndVerify(bytes, "l.stl", s);
+  if (!r.out.ok()) return;
+  expectConsistentParts(r, s.layerHeight);
+  const Json& m = r.report["multidir"];
+  std::printf("L: %s\nverify %s\n", m.dump().substr(0, 900).c_str(), r.verify.dump().c_str());
+  EXPECT_NEAR(m["J_G_before"].get<double>(), 200.0, 1e-6);  // the arm's underside, 20 x 10 mm
+  EXPECT_LT(m["J_G_after"].get<double>(), 1e-6);
+  EXPECT_GE(m["part_count"].get<int>(), 2);
+  expectVerified(r);
+  const double planar = planarSupported(bytes, "l.stl", s);
+  EXPECT_LT(planar, 0.97);
+  EXPECT_GE(r.verify["supported"].get<double>(), 0.99) << "planar " << planar;
+  EXPECT_GE(r.report["motion"]["safe_rotations"].get<int>(), 1);
+}
+
+// The paper's Kitten (Y-up, fit 60 mm so the tilted parts stay within table5's reach).
+TEST(MultidirPipeline, KittenOnTableVerifiesAndBeatsPlanar) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
+  Settings s = multidirSettings("table5");
+  s.placement.up = UpAxis::PosY;
+  s.placement.fitMm = 60;
+  const Sliced r = sliceAndVerify(bytes, "kitten.off", s);
+  if (!r.out.ok()) return;
+  expectConsistentParts(r, s.layerHeight);
+  const Json& m = r.report["multidir"];
+  std::printf("kitten: %s\nverify %s\n", m.dump().substr(0, 1200).c_str(), r.verify.dump().c_str());
+  EXPECT_LT(m["J_G_after"].get<double>(), 0.1 * m["J_G_before"].get<double>());
+  expectVerified(r);
+  const double planar = planarSupported(bytes, "kitten.off", s);
+  EXPECT_GE(r.verify["supported"].get<double>(), planar);
+}
+
+// rotary4 (one stepper axis about X, +-60 degrees): every part direction is orthogonal to X,
+// within the range and on the stepper grid.
+TEST(MultidirPipeline, RotaryFourDofDirectionsStayOnTheAxisGrid) {
+  const Mesh t = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {0, 10, 20, 10, 25, 30}, {0, -15, 20, 10, 0, 30}});
+  const std::vector<uint8_t> bytes = test::binaryStl(t);
+  Settings s = multidirSettings("rotary4");
+  const Sliced r = sliceAndVerify(bytes, "t.stl", s);
+  if (!r.out.ok()) return;
+  expectConsistentParts(r, s.layerHeight);
+  const Json& m = r.report["multidir"];
+  std::printf("T on rotary4: %s\nverify %s\n", m.dump().substr(0, 900).c_str(), r.verify.dump().c_str());
+  EXPECT_EQ(m["dof"], "4dof");
+  EXPECT_LT(m["J_G_after"].get<double>(), 0.1 * m["J_G_before"].get<double>());
+  for (const Json& p : m["parts"]) {
+    const Eigen::Vector3d d(p["direction"][0], p["direction"][1], p["direction"][2]);
+    EXPECT_NEAR(d.x(), 0, 1e-9);
+    EXPECT_LE(std::acos(std::clamp(d.z(), -1.0, 1.0)) * 180 / M_PI, 60 + 1e-6);
+  }
+  expectVerified(r);
+}
+
+TEST(MultidirPipeline, RefusesBadSetUps) {
+  const std::vector<uint8_t> box = test::binaryStl(test::makeBox(-8, -8, 0, 8, 8, 12));
+  Settings s = multidirSettings("cartesian3");
+  EXPECT_EQ(runSlice(box.data(), box.size(), "box.stl", s).status, Status::InvalidOption);
+  s.machine = "table5";
+  Settings c = s;
+  ASSERT_TRUE(setSetting(c, "multidir.dof", "4dof").ok());
+  EXPECT_EQ(runSlice(box.data(), box.size(), "box.stl", c).status, Status::InvalidOption);
+  EXPECT_FALSE(setSetting(c, "multidir.scheme", "random").ok());
+  EXPECT_FALSE(setSetting(c, "multidir.alpha_max_deg", "90").ok());
+  EXPECT_FALSE(setSetting(c, "multidir.beam_width", "0").ok());
+  EXPECT_FALSE(setSetting(c, "multidir.w", "nan").ok());
+  // An open mesh is not a solid.
+  Mesh open = test::makeBox(-8, -8, 0, 8, 8, 12);
+  open.triangles.resize(open.triangles.size() - 3);
+  const std::vector<uint8_t> bytes = test::binaryStl(open);
+  EXPECT_FALSE(runSlice(bytes.data(), bytes.size(), "open.stl", s).ok());
+  // A box needs no cut: one part, the planar print.
+  const SliceOutput one = runSlice(box.data(), box.size(), "box.stl", s);
+  ASSERT_TRUE(one.ok()) << one.message;
+  const Json m = Json::parse(one.reportJson)["multidir"];
+  EXPECT_EQ(m["part_count"].get<int>(), 1);
+  EXPECT_EQ(m["J_G_after"].get<double>(), 0.0);
+}
+
+TEST(MultidirPipeline, CancelStopsInEveryStage) {
+  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const std::vector<uint8_t> bytes = test::binaryStl(l);
+  const Settings s = multidirSettings("table5");
+  std::set<std::string> seen;
+  SliceOutput full = runSlice(bytes.data(), bytes.size(), "l.stl", s, [&](const char* stage, double) {
+    seen.insert(stage);
+    return true;
+  });
+  ASSERT_TRUE(full.ok()) << full.message;
+  for (const char* stage : {"decompose", "clip", "motion", "program"}) {
+    EXPECT_TRUE(seen.count(stage)) << stage;
+    SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s, [&](const char* st, double) {
+      return std::string(st) != stage;
+    });
+    EXPECT_EQ(out.status, Status::Cancelled) << stage;
+  }
+}
+
+}  // namespace
+}  // namespace omnislice
