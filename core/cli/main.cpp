@@ -27,7 +27,7 @@ using namespace omnislice;
 const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
-    "  omnislice slice MESH -o OUT [--method planar|voxel|surface|geodesic]\n"
+    "  omnislice slice MESH -o OUT [--method planar|voxel|surface|geodesic|multidir]\n"
     "                 [--fill auto|isoplanar|spiral]\n"
     "                 [--machine NAME] [--machine-file JSON]\n"
     "                 [--gcode-flavor marlin|reprap|klipper] [--robot-format csv|urscript]\n"
@@ -47,7 +47,10 @@ const char* kUsage =
     "verify such a program with the same surface as --mesh.\n"
     "--method geodesic (paper 002) meshes the solid into tets (or uses a .tet file's), layers it\n"
     "by the geodesic distance from the platform and prints in the order of geodesic.sequence\n"
-    "(a3 | lpt | dpt).\n";
+    "(a3 | lpt | dpt).\n"
+    "--method multidir (paper 000) cuts the solid by planes found by a beam-guided search\n"
+    "(multidir.scheme beam | greedy | constrained) into parts printed one after the other with\n"
+    "planar layers along their own directions: rotary4 (4dof about its A axis), table5, robot6.\n";
 
 struct CliError {
   Status status;
