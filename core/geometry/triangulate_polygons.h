@@ -4,6 +4,7 @@
 // contour, with a uniform grid for the ear tests. Used for the caps of a clipped solid.
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -16,6 +17,9 @@ struct TriangulateOptions {
   double minArea = 0;  // mm^2; ears of this area or less are cut only when no larger ear is
                        // left (keeps slivers out of a mesh checked for degenerate faces); 0 =
                        // only nearly straight corners (sine of the turn < 1e-12) wait
+  // Point-index pairs (either order) that should not become triangle edges, e.g. edges a mesh
+  // closed by the triangles already has: used only where no other ear is left. Empty = none.
+  std::vector<std::array<uint32_t, 2>> avoidEdges;
 };
 
 struct PolygonTriangulation : Outcome {
