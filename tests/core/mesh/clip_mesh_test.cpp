@@ -21,6 +21,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <random>
 #include <string>
 #include <tuple>
@@ -864,6 +865,8 @@ struct ModelCase {
   const char* file;
   double scale;  // Fertility is normalised to ~1: scaled to ~120 mm
 };
+
+void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.file << " x" << c.scale; }
 
 class ClipMeshModels : public ::testing::TestWithParam<ModelCase> {};
 
