@@ -94,9 +94,9 @@ struct PartsResult : Outcome {
 // Apply planes in order (planes[k] is the paper's gamma_{k+1}): M_0 = solid, the piece of M_k
 // above planes[k] is cut off and M_{k+1} = M_k below planes[k] (Eq. 5), each step by
 // clipByPlane(M_k, planes[k], snapTolerance). Once the remaining model is empty every later part
-// is empty. Statuses: those of clipByPlane (the message names the
-// plane, and a bad plane is reported before any clipping), Cancelled (progress stage "clip",
-// fraction = planes done / planes).
+// is empty. Statuses: those of clipByPlane (the message names the plane, and a bad plane is
+// reported before any clipping), Cancelled (progress stage "clip", fraction = planes done /
+// planes).
 PartsResult clipSequence(const Mesh& solid, const std::vector<Plane>& planes,
                          double snapTolerance = 1e-6, const ProgressFn& progress = {});
 
