@@ -17,6 +17,9 @@ struct P2 {
 };
 
 inline bool samePos(const P2& a, const P2& b) { return a.x == b.x && a.y == b.y; }
+inline uint64_t edgeKey(uint32_t a, uint32_t b) {
+  return a < b ? uint64_t(a) << 32 | b : uint64_t(b) << 32 | a;
+}
 // Twice the signed area of (a, b, c): > 0 when counter-clockwise.
 inline double orient(const P2& a, const P2& b, const P2& c) {
   return (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x);
@@ -92,10 +95,27 @@ bool segmentsMeet(const P2& p, const P2& q, const P2& u, const P2& v) {
          (o3 == 0 && onSegment(u, v, p)) || (o4 == 0 && onSegment(u, v, q));
 }
 
+// Does edge [u, v] get in the way of a bridge [a, b]: crossing it, or an end of it lying on the
+// bridge's interior up to tol (a bridge along a line through other vertices would overlap their
+// edges)? Edges meeting the bridge only at a or b (by position) do not count.
+bool bridgeHits(const P2& a, const P2& b, const P2& u, const P2& v, double tol) {
+  const double dx = b.x - a.x, dy = b.y - a.y, len2 = dx * dx + dy * dy;
+  auto onInterior = [&](const P2& p) {
+    if (samePos(p, a) || samePos(p, b) || !(len2 > 0)) return false;
+    const double t = ((p.x - a.x) * dx + (p.y - a.y) * dy) / len2;
+    return t > 0 && t < 1 &&
+           std::abs(crossDir(dx, dy, p.x - a.x, p.y - a.y)) <= tol * std::sqrt(len2);
+  };
+  if (onInterior(u) || onInterior(v)) return true;
+  if (samePos(u, a) || samePos(u, b) || samePos(v, a) || samePos(v, b)) return false;
+  return segmentsMeet(a, b, u, v);
+}
+
 // Ear clipping of one polygon (an outer contour with its holes bridged in).
 class Polygon {
  public:
   std::vector<Node> nodes;
+  double tol = 0;  // distance below which a vertex counts as on a bridge (1e-12 x extent)
 
   uint32_t addLoop(const std::vector<P2>& pts, const std::vector<uint32_t>& loop) {
     const uint32_t first = static_cast<uint32_t>(nodes.size());
@@ -125,11 +145,10 @@ class Polygon {
     return !(crossDir(px, py, dx, dy) >= 0 && crossDir(dx, dy, nx, ny) >= 0);
   }
 
-  // Does segment [a, b] cross any edge of the cycle through start, apart from edges touching a or b
-  // (by position)?
+  // Does any edge of the cycle through start get in the way of the bridge [a, b] (bridgeHits)?
   bool segmentBlocked(const P2& a, const P2& b, uint32_t start) const {
-    const double x0 = std::min(a.x, b.x), x1 = std::max(a.x, b.x);
-    const double y0 = std::min(a.y, b.y), y1 = std::max(a.y, b.y);
+    const double x0 = std::min(a.x, b.x) - tol, x1 = std::max(a.x, b.x) + tol;
+    const double y0 = std::min(a.y, b.y) - tol, y1 = std::max(a.y, b.y) + tol;
     uint32_t u = start;
     do {
       const uint32_t v = nodes[u].next;
@@ -137,10 +156,7 @@ class Polygon {
       const P2& pv = nodes[v].p;
       const bool apart = std::max(pu.x, pv.x) < x0 || std::min(pu.x, pv.x) > x1 ||
                          std::max(pu.y, pv.y) < y0 || std::min(pu.y, pv.y) > y1;
-      if (!apart && !samePos(pu, a) && !samePos(pu, b) && !samePos(pv, a) && !samePos(pv, b) &&
-          segmentsMeet(a, b, pu, pv)) {
-        return true;
-      }
+      if (!apart && bridgeHits(a, b, pu, pv, tol)) return true;
       u = v;
     } while (u != start);
     return false;
@@ -321,11 +337,12 @@ inline bool entersCorner(const P2& o, const P2& from, const P2& to, const P2& q)
 
 class EarClipper {
  public:
-  EarClipper(std::vector<Node>& nodes, uint32_t start, double minArea2, std::vector<uint32_t>& out,
-             size_t& forced)
+  EarClipper(std::vector<Node>& nodes, uint32_t start, double minArea2,
+             const std::vector<uint64_t>& avoid, std::vector<uint32_t>& out, size_t& forced)
       : n_(nodes),
         start_(start),
         minArea2_(minArea2),
+        avoid_(avoid),
         out_(out),
         forced_(forced),
         grid_(nodes, start) {}
@@ -366,7 +383,7 @@ class EarClipper {
       ear = c;
       if (ear == stop) {
         ++level;
-        if (level >= 2) {
+        if (level >= 3) {
           // No valid ear anywhere: cut the most convex corner so that the loop still closes.
           const uint32_t b = mostConvex(ear);
           const uint32_t c = n_[b].next;
@@ -440,16 +457,21 @@ class EarClipper {
   }
 
   // level 0: a clearly convex corner (sine of the turn above 1e-12, area above minArea), and no
-  // vertex within 1e-12 of
-  // the polygon's extent outside the new diagonal c-a either (a vertex on the diagonal up to
-  // rounding would leave a T-junction or a zero-area triangle for later); level 1: any convex
-  // corner, exact tests. Either way no other vertex may lie in the closed triangle, and no edge
-  // leaving a vertex at the same point as a corner may enter the triangle (bridges, touching
-  // loops).
+  // vertex within 1e-12 of the polygon's extent outside the new diagonal c-a either (a vertex on
+  // the diagonal up to rounding would leave a T-junction or a zero-area triangle for later);
+  // level 1: any convex corner, exact tests; level 2: the same, allowing options.avoidEdges as
+  // the new diagonal. Always: no other vertex in the closed triangle, and no edge leaving a vertex
+  // at the same point as a corner entering the triangle (bridges, touching loops). Spikes and
+  // repeated points never reach the forced cut (level 3): every pass drops them first, so a
+  // forced triangle has three distinct points.
   bool isEar(uint32_t ia, uint32_t ib, uint32_t ic, int level) const {
     const P2 &a = n_[ia].p, &b = n_[ib].p, &c = n_[ic].p;
     const double o = orient(a, b, c);
     if (!(o > 0)) return false;
+    if (level < 2 && !avoid_.empty() &&
+        std::binary_search(avoid_.begin(), avoid_.end(), edgeKey(n_[ia].id, n_[ic].id))) {
+      return false;
+    }
     double slack = 0;  // how far outside the diagonal a vertex still blocks (as an orient value)
     if (level == 0) {
       const double lab = std::hypot(b.x - a.x, b.y - a.y), lbc = std::hypot(c.x - b.x, c.y - b.y);
@@ -474,7 +496,8 @@ class EarClipper {
 
   std::vector<Node>& n_;
   uint32_t start_;
-  double minArea2_;  // twice options.minArea
+  double minArea2_;                     // twice options.minArea
+  const std::vector<uint64_t>& avoid_;  // sorted edgeKey of options.avoidEdges
   std::vector<uint32_t>& out_;
   size_t& forced_;
   NodeGrid grid_;
@@ -516,6 +539,10 @@ PolygonTriangulation triangulatePolygons(const std::vector<Eigen::Vector2d>& poi
       }
     }
   }
+
+  std::vector<uint64_t> avoid;
+  for (const auto& e : options.avoidEdges) avoid.push_back(edgeKey(e[0], e[1]));
+  std::sort(avoid.begin(), avoid.end());
 
   std::vector<LoopInfo> info(loops.size());
   std::vector<uint32_t> outers, holes;
@@ -592,6 +619,7 @@ PolygonTriangulation triangulatePolygons(const std::vector<Eigen::Vector2d>& poi
   for (uint32_t o : outers) {
     Polygon poly;
     const uint32_t start = poly.addLoop(pts, loops[o]);
+    poly.tol = 1e-12 * std::hypot(info[o].box.x1 - info[o].box.x0, info[o].box.y1 - info[o].box.y0);
     std::vector<uint32_t>& hs = holesOf[o];
     // Right to left: a bridge to the right of a hole's rightmost point cannot cross holes not yet
     // merged.
@@ -658,7 +686,7 @@ PolygonTriangulation triangulatePolygons(const std::vector<Eigen::Vector2d>& poi
               for (size_t i = 0; i < other.size() && clear; ++i) {
                 const P2& a = pts[other[i]];
                 const P2& b = pts[other[(i + 1) % other.size()]];
-                if (!samePos(a, pv) && !samePos(b, pv) && segmentsMeet(pm, pv, a, b)) clear = false;
+                if (bridgeHits(pm, pv, a, b, poly.tol)) clear = false;
               }
             }
             if (clear) {
@@ -675,7 +703,8 @@ PolygonTriangulation triangulatePolygons(const std::vector<Eigen::Vector2d>& poi
       for (uint32_t id : hole) stamp[id] = o;
     }
     for (const Node& nd : poly.nodes) stamp[nd.id] = kNone;
-    EarClipper(poly.nodes, start, 2 * options.minArea, result.triangles, result.forcedTriangles)
+    EarClipper(poly.nodes, start, 2 * options.minArea, avoid, result.triangles,
+               result.forcedTriangles)
         .run();
   }
 
@@ -686,7 +715,8 @@ PolygonTriangulation triangulatePolygons(const std::vector<Eigen::Vector2d>& poi
     Polygon poly;
     const uint32_t start = poly.addLoop(pts, rev);
     const size_t first = result.triangles.size();
-    EarClipper(poly.nodes, start, 2 * options.minArea, result.triangles, result.forcedTriangles)
+    EarClipper(poly.nodes, start, 2 * options.minArea, avoid, result.triangles,
+               result.forcedTriangles)
         .run();
     for (size_t t = first; t < result.triangles.size(); t += 3) {
       std::swap(result.triangles[t + 1], result.triangles[t + 2]);

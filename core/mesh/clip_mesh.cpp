@@ -62,6 +62,80 @@ Outcome checkTolerance(double snapTolerance) {
   return o;
 }
 
+// The twin of every half-edge: on a two-face edge its other half-edge; on an edge with more faces
+// (solids touching along an edge, which a clip through a concave edge lying in the plane can
+// leave) the faces are sorted by angle round the edge, and a face running u -> v is paired with
+// the one just before it counter-clockwise about u -> v, across the solid wedge between them
+// (faces that do not alternate that way, e.g. at one angle, are paired in order). Empty, with why
+// set, when an edge has one face or more faces one way than the other.
+std::vector<uint32_t> pairHalfedges(const Mesh& mesh, const MeshEdges& edges, std::string& why) {
+  std::vector<uint32_t> twin(mesh.triangles.size(), kNoIndex);
+  size_t boundary = 0, unpaired = 0, misoriented = 0;
+  std::vector<std::pair<double, uint32_t>> fan;
+  for (size_t e = 0; e < edges.edgeCount(); ++e) {
+    const uint32_t n = edges.faceCount[e];
+    const uint32_t h1 = edges.firstHalfedge[e];
+    if (n == 1) {
+      ++boundary;
+      continue;
+    }
+    if (n == 2) {
+      const uint32_t h2 = edges.nextHalfedge[h1];
+      if (mesh.triangles[h1] == mesh.triangles[h2]) ++misoriented;
+      twin[h1] = h2;
+      twin[h2] = h1;
+      continue;
+    }
+    const uint32_t u = static_cast<uint32_t>(edges.keys[e] >> 32);
+    const Eigen::Vector3d pu = mesh.vertex(u);
+    const Eigen::Vector3d d =
+        (mesh.vertex(static_cast<uint32_t>(edges.keys[e] & 0xFFFFFFFFu)) - pu).normalized();
+    const Eigen::Vector3d e1 = d.unitOrthogonal(), e2 = d.cross(e1);
+    fan.clear();
+    for (uint32_t h = h1; h != kNoIndex; h = edges.nextHalfedge[h]) {
+      const Eigen::Vector3d r = mesh.vertex(mesh.triangles[h - h % 3 + (h % 3 + 2) % 3]) - pu;
+      fan.push_back({std::atan2(r.dot(e2), r.dot(e1)), h});
+    }
+    std::sort(fan.begin(), fan.end());
+    bool ok = n % 2 == 0;
+    for (uint32_t i = 0; i < n && ok; ++i) {
+      const uint32_t h = fan[i].second, g = fan[(i + n - 1) % n].second;
+      if (fan[i].first == fan[(i + n - 1) % n].first) ok = false;
+      if (mesh.triangles[h] != u) continue;  // v -> u faces are paired from their partner
+      if (mesh.triangles[g] == u) ok = false;
+      twin[h] = g;
+      twin[g] = h;
+    }
+    if (!ok) {
+      // Faces at one angle (a sliver far below any tolerance, left by many clips): pair the two
+      // directions in order, which keeps the topology consistent, if they balance.
+      std::vector<uint32_t> forward, backward;
+      for (uint32_t h = h1; h != kNoIndex; h = edges.nextHalfedge[h]) {
+        (mesh.triangles[h] == u ? forward : backward).push_back(h);
+      }
+      if (forward.size() != backward.size()) {
+        ++unpaired;
+        continue;
+      }
+      for (size_t i = 0; i < forward.size(); ++i) {
+        twin[forward[i]] = backward[i];
+        twin[backward[i]] = forward[i];
+      }
+    }
+  }
+  if (boundary > 0) {
+    why = std::to_string(boundary) + " boundary edges: not a closed solid";
+  } else if (unpaired > 0) {
+    why = std::to_string(unpaired) + " edges run more often one way than the other";
+  } else if (misoriented > 0) {
+    why = std::to_string(misoriented) +
+          " edges whose two faces run them the same way (not consistently oriented)";
+  } else {
+    return twin;
+  }
+  return {};
+}
+
 // The clipping preconditions that are cheap to check: indices, finite coordinates, every edge
 // shared by exactly two faces running it in opposite directions, not inside out.
 Outcome checkSolid(const Mesh& solid, MeshEdges& edges) {
@@ -93,27 +167,11 @@ Outcome checkSolid(const Mesh& solid, MeshEdges& edges) {
       return fail(Status::NonFiniteVertex, "a vertex coordinate is not finite");
   }
   edges = buildEdges(solid);
-  size_t boundary = 0, nonManifold = 0, misoriented = 0;
-  for (size_t e = 0; e < edges.edgeCount(); ++e) {
-    const uint32_t n = edges.faceCount[e];
-    if (n == 1) ++boundary;
-    if (n > 2) ++nonManifold;
-    if (n == 2) {
-      const uint32_t h1 = edges.firstHalfedge[e], h2 = edges.nextHalfedge[h1];
-      if (solid.triangles[h1] == solid.triangles[h2]) ++misoriented;
-    }
-  }
-  if (boundary > 0) {
-    return fail(Status::OpenMesh, std::to_string(boundary) + " boundary edges: not a closed solid");
-  }
-  if (nonManifold > 0) {
-    return fail(Status::NonManifoldInput,
-                std::to_string(nonManifold) + " edges with more than two faces");
-  }
-  if (misoriented > 0) {
-    return fail(Status::NonManifoldInput, std::to_string(misoriented) +
-                                              " edges whose two faces run them the same way "
-                                              "(not consistently oriented)");
+  std::string why;
+  if (pairHalfedges(solid, edges, why).empty()) {
+    return fail(
+        why.find("boundary") != std::string::npos ? Status::OpenMesh : Status::NonManifoldInput,
+        why);
   }
   // Inside out: a volume clearly negative against the rounding of its own sum.
   const BoundingBox box = boundingBox(solid);
@@ -327,16 +385,9 @@ ClipResult clipChecked(const Mesh& solid, const MeshEdges& edges, const UnitPlan
   // and form the cut loops, counter-clockwise around the cross-section seen from above.
   const MeshEdges se = buildEdges(split);
   const uint32_t halfedges = static_cast<uint32_t>(split.triangles.size());
-  std::vector<uint32_t> twin(halfedges, kNoIndex);
-  for (size_t e = 0; e < se.edgeCount(); ++e) {
-    if (se.faceCount[e] != 2) {
-      return failed<ClipResult>(
-          Status::Internal, "split mesh edge with " + std::to_string(se.faceCount[e]) + " faces");
-    }
-    const uint32_t h1 = se.firstHalfedge[e], h2 = se.nextHalfedge[h1];
-    twin[h1] = h2;
-    twin[h2] = h1;
-  }
+  std::string why;
+  const std::vector<uint32_t> twin = pairHalfedges(split, se, why);
+  if (twin.empty()) return failed<ClipResult>(Status::Internal, "split mesh: " + why);
   std::vector<uint8_t> boundary(halfedges, 0);
   for (uint32_t h = 0; h < halfedges; ++h) {
     boundary[h] = side[h / 3] > 0 && side[twin[h] / 3] < 0 ? 1 : 0;
@@ -396,6 +447,18 @@ ClipResult clipChecked(const Mesh& solid, const MeshEdges& edges, const UnitPlan
   }
   TriangulateOptions capOptions;
   capOptions.minArea = 0.5 * sliverArea2;
+  // Edges in the plane between cap points whose two faces lie on one side: where the surface
+  // touches the plane from one side along an edge inside the cross-section (a concave edge in
+  // the plane). A cap triangle on that edge would give it four faces; without it, that piece
+  // only touches itself there.
+  for (size_t e = 0; e < se.edgeCount(); ++e) {
+    const uint32_t a = static_cast<uint32_t>(se.keys[e] >> 32);
+    const uint32_t b = static_cast<uint32_t>(se.keys[e] & 0xFFFFFFFFu);
+    const uint32_t h = se.firstHalfedge[e];
+    if (local[a] != kNoIndex && local[b] != kNoIndex && side[h / 3] == side[twin[h] / 3]) {
+      capOptions.avoidEdges.push_back({local[a], local[b]});
+    }
+  }
   const PolygonTriangulation cap = triangulatePolygons(points, loops, capOptions);
   if (!cap.ok() || cap.skippedLoops > 0) {
     return failed<ClipResult>(Status::Internal, "cap triangulation failed: " + cap.message);

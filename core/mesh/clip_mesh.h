@@ -55,18 +55,23 @@ struct ClipResult : Outcome {
 // sliverSnaps). Above-piece vertices satisfy normal . x >= offset - snapTolerance, below-piece
 // ones normal . x <= offset + snapTolerance (with 1e-5 x diagonal instead when sliverSnaps > 0).
 // Vertices are never moved. A plane missing the solid leaves one piece empty and the other the
-// whole solid (compacted). Pieces touching only at a vertex of the plane (a plane through a
-// saddle vertex of the surface) come out as one mesh with that vertex shared: prepareMesh then
-// reports a non-manifold vertex, sliceMesh is unaffected, splitComponents separates them.
+// whole solid (compacted). Degenerate positions that the exact result has too: pieces touching
+// only at a vertex of the plane (a plane through a saddle vertex) come out as one mesh with that
+// vertex shared (prepareMesh reports a non-manifold vertex; sliceMesh is unaffected;
+// splitComponents separates them); where the surface touches the plane from one side inside the
+// cross-section (a vertex, or a concave edge lying in the plane), that piece touches its own cap
+// there (prepareMesh's self-intersection test counts the contact), the edge being kept out of the
+// cap triangulation unless unavoidable (then an edge with four faces, still a valid input here).
 // Cost: O(F) plus the cap triangulation (O(n log n) typical for n cut points); natively ~1.4 ms
 // for the 10k-face Kitten, ~10 ms for the 46k-face Fertility.
 // Preconditions: solid is closed, consistently and outwardly oriented, welded and not
 // self-intersecting, i.e. the output of prepareMesh with solid.ok().
 // Statuses: EmptyInput (no triangles), InvalidOption (non-finite or zero normal, non-finite offset,
 // negative or non-finite snapTolerance, index out of range, plane offset overflowing against the
-// coordinates), NonFiniteVertex, OpenMesh (boundary edges), NonManifoldInput (edges with more
-// than two faces or two faces running them the same way), DegenerateInput (a face repeating a
-// vertex, or a clearly negative volume: inside out), Internal (an invariant failed: a bug).
+// coordinates), NonFiniteVertex, OpenMesh (boundary edges), NonManifoldInput (an edge run more
+// often one way than the other, e.g. two faces running it the same way; solids touching along an
+// edge, four faces on it, are accepted), DegenerateInput (a face repeating a vertex, or a clearly
+// negative volume: inside out), Internal (an invariant failed).
 ClipResult clipByPlane(const Mesh& solid, const Plane& plane, double snapTolerance = 1e-6);
 
 struct ClipPart {
@@ -89,9 +94,9 @@ struct PartsResult : Outcome {
 // Apply planes in order (planes[k] is the paper's gamma_{k+1}): M_0 = solid, the piece of M_k
 // above planes[k] is cut off and M_{k+1} = M_k below planes[k] (Eq. 5), each step by
 // clipByPlane(M_k, planes[k], snapTolerance). Once the remaining model is empty every later part
-// is empty. Statuses: those of clipByPlane (the message names the
-// plane, and a bad plane is reported before any clipping), Cancelled (progress stage "clip",
-// fraction = planes done / planes).
+// is empty. Statuses: those of clipByPlane (the message names the plane, and a bad plane is
+// reported before any clipping), Cancelled (progress stage "clip", fraction = planes done /
+// planes).
 PartsResult clipSequence(const Mesh& solid, const std::vector<Plane>& planes,
                          double snapTolerance = 1e-6, const ProgressFn& progress = {});
 

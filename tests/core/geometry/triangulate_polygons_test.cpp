@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -315,6 +316,44 @@ TEST(TriangulatePolygons, MinAreaAvoidsSlivers) {
   expectValid(tiny, {{0, 1, 2}}, s, "tiny");
   options.minArea = -1;
   EXPECT_EQ(triangulatePolygons(p, loops, options).status, Status::InvalidOption);
+}
+
+// avoidEdges: a square takes the other diagonal; a concave quad, whose only diagonal is avoided,
+// still gets it (nothing else is left).
+TEST(TriangulatePolygons, AvoidEdges) {
+  const Pts p = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+  const Loops loops = {{0, 1, 2, 3}};
+  for (const std::array<uint32_t, 2> avoid : {std::array<uint32_t, 2>{0, 2}, {3, 1}}) {
+    TriangulateOptions options;
+    options.avoidEdges = {avoid};
+    const PolygonTriangulation t = triangulatePolygons(p, loops, options);
+    expectValid(p, loops, t, "square");
+    for (size_t i = 0; i < t.triangles.size(); i += 3) {
+      int hits = 0;
+      for (int k = 0; k < 3; ++k)
+        hits += t.triangles[i + k] == avoid[0] || t.triangles[i + k] == avoid[1];
+      EXPECT_LT(hits, 2) << "avoided edge used";
+    }
+  }
+  const Pts dart = {{0, 0}, {2, 1}, {0, 2}, {1, 1}};  // reflex at 3: only diagonal 1-3
+  TriangulateOptions options;
+  options.avoidEdges = {{1, 3}};
+  const PolygonTriangulation t = triangulatePolygons(dart, {{0, 1, 2, 3}}, options);
+  expectValid(dart, {{0, 1, 2, 3}}, t, "dart");
+}
+
+// A hole whose bridge would run along a line through other vertices (a hole edge collinear with
+// the contour's vertices, as voxel-like cross-sections have): no overlapping bridge, no
+// zero-area triangle.
+TEST(TriangulatePolygons, CollinearBridge) {
+  Pts p = {{0, 0}, {6, 0}, {6, 1}, {5, 1}, {5, 2}, {6, 2}, {6, 3}, {0, 3}};
+  Loops loops = {{0, 1, 2, 3, 4, 5, 6, 7}};
+  // Two triangular holes with their top edges on y = 1, the line of the contour's notch.
+  loops.push_back(addLoop(p, {{1, 1}, {2, 1}, {1.5, 0.5}}));
+  loops.push_back(addLoop(p, {{3, 1}, {4, 1}, {3.5, 0.5}}));
+  ASSERT_LT(loopArea(p, loops[1]), 0);
+  const PolygonTriangulation t = triangulatePolygons(p, loops);
+  expectValid(p, loops, t, "collinear bridge");
 }
 
 TEST(TriangulatePolygons, BadInput) {

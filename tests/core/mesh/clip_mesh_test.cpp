@@ -21,6 +21,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <ostream>
 #include <random>
 #include <string>
 #include <tuple>
@@ -618,6 +619,84 @@ TEST(ClipMesh, VoxelShapesRandomAndGridPlanes) {
   }
 }
 
+// Closed in the wider sense that solids touching along an edge need: every undirected edge run as
+// often one way as the other, no face repeating a vertex, positive volume.
+void expectBalancedSolid(const Mesh& m, const std::string& what) {
+  if (m.empty()) return;
+  std::map<std::pair<uint32_t, uint32_t>, int> balance;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const uint32_t* t = &m.triangles[3 * f];
+    EXPECT_TRUE(t[0] != t[1] && t[1] != t[2] && t[2] != t[0]) << what << ": face " << f;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t a = t[k], b = t[(k + 1) % 3];
+      balance[std::minmax(a, b)] += a < b ? 1 : -1;
+    }
+  }
+  size_t bad = 0;
+  for (const auto& [e, n] : balance) bad += n != 0 ? 1 : 0;
+  EXPECT_EQ(bad, 0u) << what << ": edges not run equally often both ways";
+  EXPECT_GT(meshVolume(m), 0) << what;
+}
+
+// Two cubes touching along an edge (an edge with four faces, as a clip through a concave edge in
+// the plane can leave): a valid input, the faces round the edge paired across each solid. Planes
+// across the edge, containing it, and random.
+TEST(ClipMesh, SolidsTouchingAlongAnEdge) {
+  const Mesh pair = voxelSolid(2, 2, 1, [](int i, int j, int) { return i == j; });
+  ASSERT_NEAR(meshVolume(pair), 2, 1e-12);
+  std::vector<Plane> planes = {plane(0, 0, 1, 0.5), plane(1, 1, 0, 2),   plane(1, -1, 0, 0),
+                               plane(1, 0, 0, 1),   plane(0, -1, 0, -1), plane(1, 1, 1, 2.5)};
+  std::mt19937 rng(13);
+  for (int i = 0; i < 40; ++i) planes.push_back(randomPlane(rng, pair, 1.0));
+  for (size_t i = 0; i < planes.size(); ++i) {
+    const std::string what = "edge-touching cubes, plane " + std::to_string(i);
+    const ClipResult r = clipByPlane(pair, planes[i]);
+    ASSERT_TRUE(r.ok()) << what << ": " << r.message;
+    expectBalancedSolid(r.below, what + " below");
+    expectBalancedSolid(r.above, what + " above");
+    expectSides(r, planes[i], 1e-6, what);
+    EXPECT_NEAR(meshVolume(r.below) + meshVolume(r.above), 2, 1e-12) << what;
+    EXPECT_EQ(r.forcedCapTriangles, 0u) << what;
+  }
+  // Through the contact edge along the cubes' faces: each cube on its own side, no cap.
+  const ClipResult x = clipByPlane(pair, plane(1, 0, 0, 1));
+  EXPECT_NEAR(x.belowVolume, 1, 1e-12);
+  EXPECT_NEAR(x.capArea, 0, 1e-12);
+}
+
+// A plane through a concave edge of a voxel solid, inside its cross-section: the cap does not
+// take that edge as a diagonal where it can avoid it (else the piece gets an edge with four
+// faces); either way the pieces are valid inputs to further clips.
+TEST(ClipMesh, ConcaveEdgeInPlane) {
+  const std::vector<std::array<int, 3>> cells = {
+      {0, 2, 0}, {0, 3, 0}, {1, 1, 0}, {1, 1, 1}, {1, 2, 0}, {1, 2, 1}, {1, 3, 0},
+      {2, 0, 0}, {2, 0, 1}, {2, 1, 0}, {2, 1, 1}, {2, 1, 2}, {2, 2, 0}, {2, 2, 1},
+      {2, 2, 2}, {2, 3, 0}, {2, 3, 1}, {3, 0, 0}, {3, 0, 1}, {3, 1, 0}, {3, 1, 1},
+      {3, 1, 2}, {3, 2, 0}, {3, 2, 1}, {3, 2, 2}, {3, 3, 0}, {3, 3, 1}, {3, 3, 2},
+      {4, 1, 0}, {4, 1, 1}, {4, 2, 0}, {4, 2, 1}, {4, 2, 2}, {4, 3, 0}, {4, 3, 1}};
+  const Mesh blob = voxelSolid(5, 5, 5, [&](int i, int j, int k) {
+    return std::find(cells.begin(), cells.end(), std::array<int, 3>{i, j, k}) != cells.end();
+  });
+  ASSERT_NEAR(meshVolume(blob), double(cells.size()), 1e-12);
+  for (double d : {2.0, 3.0, 4.0, 5.0, 6.0}) {
+    const Plane p = plane(1, 1, 0, d);
+    const std::string what = "x + y = " + std::to_string(d);
+    const ClipResult r = clipByPlane(blob, p);
+    ASSERT_TRUE(r.ok()) << what << ": " << r.message;
+    expectBalancedSolid(r.below, what + " below");
+    expectBalancedSolid(r.above, what + " above");
+    expectSides(r, p, 1e-6, what);
+    EXPECT_NEAR(meshVolume(r.below) + meshVolume(r.above), meshVolume(blob), 1e-12) << what;
+    for (const Mesh* piece : {&r.below, &r.above}) {
+      if (piece->empty()) continue;
+      const Plane q = plane(0.3, 0.5, 0.8, 2.2);
+      const ClipResult again = clipByPlane(*piece, q);
+      ASSERT_TRUE(again.ok()) << what << " then again: " << again.message;
+      EXPECT_NEAR(meshVolume(again.below) + meshVolume(again.above), meshVolume(*piece), 1e-12);
+    }
+  }
+}
+
 // ---- sequences (Eq. 5-6)
 // ---------------------------------------------------------------------------
 
@@ -741,7 +820,7 @@ TEST(ClipMesh, BadInputStatuses) {
   std::swap(m.triangles[0], m.triangles[1]);  // one face flipped
   EXPECT_EQ(clipByPlane(m, good).status, Status::NonManifoldInput);
   m = box;
-  m.triangles.insert(m.triangles.end(), {0, 1, 2, 0, 2, 1});  // a fin on an edge
+  m.triangles.insert(m.triangles.end(), {0, 2, 1});  // a face twice: its edges run 2:1
   EXPECT_EQ(clipByPlane(m, good).status, Status::NonManifoldInput);
   m = test::flipped(box);
   EXPECT_EQ(clipByPlane(m, good).status, Status::DegenerateInput);  // inside out
@@ -786,6 +865,8 @@ struct ModelCase {
   const char* file;
   double scale;  // Fertility is normalised to ~1: scaled to ~120 mm
 };
+
+void PrintTo(const ModelCase& c, std::ostream* os) { *os << c.file << " x" << c.scale; }
 
 class ClipMeshModels : public ::testing::TestWithParam<ModelCase> {};
 
