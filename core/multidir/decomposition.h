@@ -37,9 +37,10 @@ struct MultidirOptions {
   int axisSearch = 0;               // 4dof: > 0 = try this many horizontal axes at 180/axisSearch
                                     // degree spacing and keep the least J_G (paper VI-C: 180);
                                     // 0 = use rotationAxis only
-  int axisFullSearches = 8;         // 4dof axis search with scheme "beam": every axis is screened
-                                    // by the two greedy lines, the beam runs on this many best
-                                    // axes (0 = on every axis); >= 0
+  int axisFullSearches = 4;         // 4dof axis search with scheme "beam": every axis is screened
+                                    // by the two greedy lines (half grid resolution, half the
+                                    // normals), the beam runs on this many best axes at least 3
+                                    // deg apart (0 = on every axis); >= 0
   double stepAngleDeg = 0;          // 4dof: stepper angle, degrees; > 0 keeps only rotations that
                                     // are multiples of it (0 = off, spacing 360/samples)
   double rangeDeg = 90;             // 4dof: largest rotation from +Z, degrees, in (0, 180]
@@ -106,6 +107,9 @@ struct MultidirStats {
   size_t levels = 0;                // levels expanded
   std::vector<double> jgPerLevel;   // J_G (mm^2) after each plane of the returned sequence,
                                     // jgPerLevel[0] = J_G before
+  double searchJgMm2 = 0;           // J_G of the returned decomposition as the search summed it
+                                    // for its planes before refinement (= jgAfterMm2 when
+                                    // refine is false)
   size_t gridCells = 0;             // solid cells of the occupancy grid
   double cellMm = 0;                // its cell width
   size_t orphanCells = 0;           // solid cells not connected to the platform in the grid
