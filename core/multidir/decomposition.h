@@ -38,9 +38,9 @@ struct MultidirOptions {
                                     // degree spacing and keep the least J_G (paper VI-C: 180);
                                     // 0 = use rotationAxis only
   int axisFullSearches = 4;         // 4dof axis search with scheme "beam": every axis is screened
-                                    // by the two greedy lines (half grid resolution, half the
-                                    // normals), the beam runs on this many best axes at least 3
-                                    // deg apart (0 = on every axis); >= 0
+                                    // by the constrained greedy line (half grid resolution, half
+                                    // the normals), the beam runs on this many best axes at least
+                                    // 3 deg apart (0 = on every axis); >= 0
   double stepAngleDeg = 0;          // 4dof: stepper angle, degrees; > 0 keeps only rotations that
                                     // are multiples of it (0 = off, spacing 360/samples)
   double rangeDeg = 90;             // 4dof: largest rotation from +Z, degrees, in (0, 180]
@@ -153,7 +153,7 @@ struct MultidirResult : Outcome {
 // as wasm under Node 20; 4dof over 180 axes ~4 s.
 // Statuses: EmptyInput (no triangles), ParseError (index out of range), NonFiniteVertex,
 // InvalidOption (an option out of range or NaN, unknown dof/scheme, a non-horizontal rotation
-// axis, the mesh below z = 0), DegenerateInput (no grid cell inside the solid), Cancelled
+// axis, the mesh below z = 0, over 20000 offsets along a normal), DegenerateInput (no grid cell inside the solid), Cancelled
 // (progress stage "decompose").
 MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& options = {},
                                    const ProgressFn& progress = {});

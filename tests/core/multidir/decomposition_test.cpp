@@ -489,6 +489,11 @@ TEST(DecompStatus, BadOptionsAndInputs) {
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.relaxFactor = 1; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.samples = 0; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.offsetStepMm = 0; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.offsetStepMm = 1e-4; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.axisFullSearches = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.floatingToleranceCells = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.stepAngleDeg = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.rangeDeg = 0; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.scheme = "best"; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.dof = "6dof"; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) {
@@ -510,6 +515,8 @@ TEST(DecompStatus, BadOptionsAndInputs) {
   Mesh nonFinite = l;
   nonFinite.positions[7] = nan;
   EXPECT_EQ(searchDecomposition(nonFinite).status, Status::NonFiniteVertex);
+  // A sheet thinner than half a grid cell holds no cell centre.
+  EXPECT_EQ(searchDecomposition(test::makeBox(0, 0, 0, 100, 100, 0.1)).status, Status::DegenerateInput);
   const Mesh sunk = test::makeBox(0, 0, -5, 10, 10, 5);
   EXPECT_EQ(searchDecomposition(sunk).status, Status::InvalidOption);
   EXPECT_EQ(evaluateDecomposition(l, {{Eigen::Vector3d::Zero(), 1}}).status, Status::InvalidOption);
