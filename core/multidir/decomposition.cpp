@@ -1304,6 +1304,7 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
       // tail(n', d_i) = t0 - sum over pieces of (w - risky along n') * (area above d_i).
       struct Option {
         double tail;
+        size_t order;  // creation order: a total order, so every platform sorts alike
         Vec3 n;
         double d;
       };
@@ -1349,10 +1350,12 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
           above += diff[i];
           ++evaluated;
           const double t = t0 - above;
-          if (t < tail - 1e-6) options.push_back({t, n, d0 + i * delta});
+          if (t < tail - 1e-6) options.push_back({t, options.size(), n, d0 + i * delta});
         }
       }
-      std::sort(options.begin(), options.end(), [](const Option& x, const Option& y) { return x.tail < y.tail; });
+      std::sort(options.begin(), options.end(), [](const Option& x, const Option& y) {
+        return x.tail != y.tail ? x.tail < y.tail : x.order < y.order;
+      });
       size_t count = 0;
       const Bits kept = cellsKept(m, ns, ds, k, count);
       int tries = 0;
