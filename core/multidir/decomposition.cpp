@@ -1,16 +1,20 @@
 // SPDX-License-Identifier: MIT
-// Beam-guided search of clipping planes (paper 000 Sections III-IV). Design, see also the header:
-// - A search state (the remaining model, an intersection of half-spaces with the solid) keeps
-//   every face as removed, whole, or cut (the convex polygon left of it by the planes so far), and
-//   the cells of an occupancy grid whose centres it keeps.
-// - For one state and one normal, J_L (Eq. 8) and R (Eq. 11) of every offset come from one pass
-//   over the faces that matter (risky along +Z on the platform part or risky along the normal):
-//   a face wholly above offset k adds to bin floor(t_min / step) of a suffix sum; the offsets
-//   strictly inside its projection get the exact area above by the closed form of a triangle
-//   (cut faces: by clipping their polygon). So J_L, R and J_G are exact w.r.t. the planes.
-// - Volumes (Criterion IV) are suffix counts of grid cells by offset, built lazily per normal for
-//   the candidates actually tried; Criterion II is a flood fill over the remaining cells from the
-//   platform layer, run only for candidates in priority order until the beams are full.
+// Beam-guided search of clipping planes (paper 000 Sections III-IV). Design (measurements in the
+// commit messages and tests/core/multidir/decomposition_test.cpp):
+// - A search state (the remaining model: the solid cut by the planes so far) keeps every face as
+//   removed, whole, or cut (the convex polygon left of it), the occupancy cells whose centres it
+//   keeps, and ~1500 coarse volume samples (blocks of cells).
+// - J_L (Eq. 8) and R (Eq. 11) of every offset k * step of a normal are suffix sums of one
+//   difference array per normal: a whole face adds its area at floor(t_min / step) and, at each
+//   offset strictly inside its projection, the exact area above by the closed form of a
+//   triangle (stored per normal once); cut faces are clipped. Only faces risky along +Z or along
+//   the normal enter. So J_L, R and J_G are exact w.r.t. the planes, not centroid-classified.
+// - Criterion IV prefilters offsets by the coarse samples (lenient) and decides on the fine
+//   cells; Criterion II is a flood fill over the remaining cells from the platform layer, run in
+//   priority order until the beams are full (after one failure of a (state, normal), a
+//   union-find sweep answers all its offsets at once).
+// - Each node stores only its last plane and a parent link (backward links, Section IV-B).
+// - Refinement: coordinate descent on the found planes (nearby normals and offsets), exact.
 #include "multidir/decomposition.h"
 
 #include <Eigen/Geometry>
@@ -650,6 +654,7 @@ class Search {
                           progressBase + progressSpan * std::min(0.99, level / (o_.w + 1)))) {
         return false;
       }
+      progressNow_ = progressBase + progressSpan * std::min(0.99, level / (o_.w + 1));
       ++level;
       ++stats_.levels;
       auto t0 = Clock::now();
@@ -657,6 +662,7 @@ class Search {
       for (uint32_t id : frontier) emit(id);
       stats_.msSweep += msSince(t0);
       const std::vector<uint32_t> children = select(frontier, width, scheme);
+      if (cancelled_) return false;
       for (uint32_t id : frontier) {
         if (id == 0) continue;  // the root's arrays serve every line
         std::vector<double>().swap(nodes_[id].dJ);
@@ -995,6 +1001,11 @@ class Search {
     for (const auto& entry : order) {
       if (accepted.size() >= width) break;
       const Cand& c = pool_[entry.second];
+      // A candidate costs up to a flood fill or a child's arrays (~1 ms on 10^5 cells / faces).
+      if (!reportProgress(progress_, "decompose", progressNow_)) {
+        cancelled_ = true;
+        break;
+      }
       ++stats_.candidatesChecked;
       Node child;
       child.line = line_;
@@ -1089,6 +1100,8 @@ class Search {
   std::vector<uint8_t> dsuGrounded_;
   uint32_t dsuGen_ = 0;
   int line_ = 0;
+  double progressNow_ = 0;
+  bool cancelled_ = false;
 };
 
 // ---- candidate normals -----------------------------------------------------------------------
@@ -1225,7 +1238,8 @@ struct Piece {
 // sequence drops and Criteria II-IV still hold. Returns the number of (normal, offset) pairs
 // evaluated.
 size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-                    std::vector<Vec3>& ns, std::vector<double>& ds) {
+                    std::vector<Vec3>& ns, std::vector<double>& ds, const ProgressFn& progress,
+                    bool& cancelled) {
   const size_t np = ns.size();
   const double delta = 0.5 * o.offsetStepMm;
   const int half = static_cast<int>(std::lround(4.0 / delta));
@@ -1235,6 +1249,10 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
   for (int pass = 0; pass < 2; ++pass) {
     bool improved = false;
     for (size_t k = 0; k < np; ++k) {
+      if (!reportProgress(progress, "decompose", 0.99)) {
+        cancelled = true;
+        return evaluated;
+      }
       const std::vector<double> risk = exactRisk(m, ns, ds);
       double tail = 0;
       for (size_t i = k; i < risk.size(); ++i) tail += risk[i];
@@ -1286,6 +1304,7 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
       // tail(n', d_i) = t0 - sum over pieces of (w - risky along n') * (area above d_i).
       struct Option {
         double tail;
+        size_t order;  // creation order: a total order, so every platform sorts alike
         Vec3 n;
         double d;
       };
@@ -1331,10 +1350,12 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
           above += diff[i];
           ++evaluated;
           const double t = t0 - above;
-          if (t < tail - 1e-6) options.push_back({t, n, d0 + i * delta});
+          if (t < tail - 1e-6) options.push_back({t, options.size(), n, d0 + i * delta});
         }
       }
-      std::sort(options.begin(), options.end(), [](const Option& x, const Option& y) { return x.tail < y.tail; });
+      std::sort(options.begin(), options.end(), [](const Option& x, const Option& y) {
+        return x.tail != y.tail ? x.tail < y.tail : x.order < y.order;
+      });
       size_t count = 0;
       const Bits kept = cellsKept(m, ns, ds, k, count);
       int tries = 0;
@@ -1359,8 +1380,8 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
 // Fills planes/parts/numbers of `result` from a finished search: the best node of every line
 // (greedy, constrained, beam), each refined when asked; the least exact J_G wins (then fewer
 // planes).
-void collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-             const Search& s, MultidirResult& result) {
+bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
+             const Search& s, const ProgressFn& progress, MultidirResult& result) {
   std::vector<uint32_t> ends;
   for (int line = 1; line <= s.lines(); ++line) {
     const uint32_t id = s.best(line);
@@ -1381,8 +1402,10 @@ void collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
     std::reverse(ds.begin(), ds.end());
     if (o.refine && !ns.empty()) {
       const auto t0 = Clock::now();
-      result.stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns, ds);
+      bool cancelled = false;
+      result.stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns, ds, progress, cancelled);
       result.stats.msRefine += msSince(t0);
+      if (cancelled) return false;
     }
     const auto t0 = Clock::now();
     double jg = 0;
@@ -1392,6 +1415,7 @@ void collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
       bestJ = jg;
       bestN = ns;
       bestD = ds;
+      result.stats.searchJgMm2 = s.node(end).jg;
     }
   }
   const auto t0 = Clock::now();
@@ -1436,6 +1460,7 @@ void collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
     result.stats.jgPerLevel.push_back(jg);
   }
   result.stats.msExact += msSince(t0);
+  return true;
 }
 
 }  // namespace
@@ -1460,6 +1485,12 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
   if (!ok.ok()) {
     result.status = ok.status;
     result.message = ok.message;
+    return result;
+  }
+  // Each state holds two arrays of (extent / step) offsets per normal: refuse absurd steps.
+  if ((m.hi - m.lo).norm() / options.offsetStepMm > 20000) {
+    result.status = Status::InvalidOption;
+    result.message = "offsetStepMm is too small for the model (over 20000 offsets per normal)";
     return result;
   }
   result.jgBeforeMm2 = m.jgBefore;
@@ -1490,7 +1521,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
     result.stats.normals = normals.size();
     search.setNormals(normals);
     if (!runScheme(search, scheme, 0, 1)) return cancelled();
-    collect(m, options, false, Vec3::Zero(), search, result);
+    if (!collect(m, options, false, Vec3::Zero(), search, progress, result)) return cancelled();
   } else {
     std::vector<Vec3> axes;
     if (options.axisSearch > 0) {
@@ -1501,16 +1532,16 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
     } else {
       axes.push_back(options.rotationAxis.normalized());
     }
-    // Axis search with the beam: every axis is screened by the two greedy lines, the beam runs
-    // on the axisFullSearches best of them (all when 0).
+    // Axis search with the beam: every axis is screened by the constrained greedy line, the beam
+    // runs on the axisFullSearches best of them (all when 0).
     std::vector<size_t> full(axes.size());
     std::iota(full.begin(), full.end(), 0);
     const bool screen = scheme == Scheme::Beam && options.axisFullSearches > 0 &&
                         axes.size() > static_cast<size_t>(options.axisFullSearches);
     const double screenSpan = screen ? 0.5 : 0.0;
     if (screen) {
-      // The screening only ranks the axes: half the grid resolution and, without a stepper,
-      // half the normals on each circle (~4x cheaper; measured in decomposition_test).
+      // The screening only ranks the axes: the constrained greedy line on half the grid
+      // resolution and, without a stepper, half the normals on each circle.
       MultidirOptions coarse = options;
       coarse.gridResolution = std::max(16, options.gridResolution / 2);
       if (coarse.stepAngleDeg == 0) coarse.samples = std::max(1, options.samples / 2);
@@ -1528,10 +1559,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
         Search search(mc, coarse, result.stats, progress);
         search.setNormals(circleNormals(coarse, axes[a]));
         const double span = screenSpan / axes.size();
-        if (!search.runLine(Scheme::Greedy, 1, a * span, 0.5 * span) ||
-            !search.runLine(Scheme::Constrained, 1, (a + 0.5) * span, 0.5 * span)) {
-          return cancelled();
-        }
+        if (!search.runLine(Scheme::Constrained, 1, a * span, span)) return cancelled();
         const Node& b = search.node(search.best());
         rank.emplace_back(b.jg + 1e-9 * b.level, a);
       }
@@ -1560,7 +1588,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       const double span = (1 - screenSpan) / full.size();
       if (!runScheme(search, scheme, screenSpan + i * span, span)) return cancelled();
       MultidirResult trial;
-      collect(m, options, true, axes[a], search, trial);
+      if (!collect(m, options, true, axes[a], search, progress, trial)) return cancelled();
       result.stats.msExact += trial.stats.msExact;
       result.stats.msRefine += trial.stats.msRefine;
       result.stats.refineEvaluated += trial.stats.refineEvaluated;
@@ -1574,6 +1602,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
         result.jgAfterMm2 = trial.jgAfterMm2;
         result.rotationAxis = axes[a];
         result.stats.jgPerLevel = trial.stats.jgPerLevel;
+        result.stats.searchJgMm2 = trial.stats.searchJgMm2;
       }
     }
     result.stats.axesTried = axes.size();

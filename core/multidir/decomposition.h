@@ -37,9 +37,10 @@ struct MultidirOptions {
   int axisSearch = 0;               // 4dof: > 0 = try this many horizontal axes at 180/axisSearch
                                     // degree spacing and keep the least J_G (paper VI-C: 180);
                                     // 0 = use rotationAxis only
-  int axisFullSearches = 8;         // 4dof axis search with scheme "beam": every axis is screened
-                                    // by the two greedy lines, the beam runs on this many best
-                                    // axes (0 = on every axis); >= 0
+  int axisFullSearches = 4;         // 4dof axis search with scheme "beam": every axis is screened
+                                    // by the constrained greedy line (half grid resolution, half
+                                    // the normals), the beam runs on this many best axes at least
+                                    // 3 deg apart (0 = on every axis); >= 0
   double stepAngleDeg = 0;          // 4dof: stepper angle, degrees; > 0 keeps only rotations that
                                     // are multiples of it (0 = off, spacing 360/samples)
   double rangeDeg = 90;             // 4dof: largest rotation from +Z, degrees, in (0, 180]
@@ -98,7 +99,7 @@ struct MultidirStats {
   size_t normals = 0;               // candidate normals (per axis in 4dof)
   size_t candidatesEvaluated = 0;   // (state, normal, offset) planes whose J_L and R were summed
   size_t candidatesChecked = 0;     // planes tested against Criteria II/IV and similarity
-  size_t connectivityChecks = 0;    // Criterion II flood fills
+  size_t connectivityChecks = 0;    // Criterion II flood fills and union-find sweeps
   size_t refusedFloating = 0;       // refused by Criterion II
   size_t refusedSmall = 0;          // refused by Criterion IV
   size_t refusedSimilar = 0;        // discarded as close to a result already in the beam
@@ -106,6 +107,9 @@ struct MultidirStats {
   size_t levels = 0;                // levels expanded
   std::vector<double> jgPerLevel;   // J_G (mm^2) after each plane of the returned sequence,
                                     // jgPerLevel[0] = J_G before
+  double searchJgMm2 = 0;           // J_G of the returned decomposition as the search summed it
+                                    // for its planes before refinement (= jgAfterMm2 when
+                                    // refine is false)
   size_t gridCells = 0;             // solid cells of the occupancy grid
   double cellMm = 0;                // its cell width
   size_t orphanCells = 0;           // solid cells not connected to the platform in the grid
@@ -145,21 +149,23 @@ struct MultidirResult : Outcome {
 // The beam scheme also runs the greedy and constrained-greedy lines from the same root (two more
 // beams of width 1). The best end of each line (least J_G; within delta0 of it, fewest planes) is
 // refined (options.refine) and the least exact J_G wins, so the beam never ends above either
-// greedy scheme. Cost (default options, one core, 10k-face Kitten): ~0.25 s native, ~0.25-0.35 s
-// as wasm under Node 20; 4dof over 180 axes ~4 s.
+// greedy scheme. Native and wasm give the same planes. Cost (default options, 10k-face Kitten,
+// one core of an unloaded 2-core VM): ~0.25 s native, ~0.25-0.35 s as wasm under Node 20; 4dof
+// over 180 axes ~3.5-4 s.
 // Statuses: EmptyInput (no triangles), ParseError (index out of range), NonFiniteVertex,
 // InvalidOption (an option out of range or NaN, unknown dof/scheme, a non-horizontal rotation
-// axis, the mesh below z = 0), DegenerateInput (no grid cell inside the solid), Cancelled
-// (progress stage "decompose").
+// axis, the mesh below z = 0, over 20000 offsets along a normal), DegenerateInput (no grid cell
+// centre inside the solid: walls thinner than the grid), Cancelled (progress stage "decompose").
 MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& options = {},
                                    const ProgressFn& progress = {});
 
 struct MultidirPlaneCheck {
-  bool platformBelow = true;   // Criterion III
-  bool connected = true;       // Criterion II: no piece of the remaining model floats
+  bool platformBelow = true;     // Criterion III
+  bool connected = true;         // Criterion II: no piece of the remaining model floats (beyond
+                                 // floatingToleranceCells)
   double floatingVolumeMm3 = 0;  // grid volume of the remaining cells cut off from the platform
-  bool partLargeEnough = true; // Criterion IV: the part above has >= V/w
-  double partVolumeMm3 = 0;    // grid volume of the part above
+  bool partLargeEnough = true;   // Criterion IV: the part above has >= V/w
+  double partVolumeMm3 = 0;      // grid volume of the part above
 };
 
 struct MultidirEvaluation : Outcome {
@@ -173,8 +179,9 @@ struct MultidirEvaluation : Outcome {
 // turn, the piece above gamma_k goes to part k (risky along its normal), the rest to the platform
 // part (risky along +Z unless its face's centroid is below platformBandMm). Also checks each plane
 // against Criteria II-IV with the same occupancy grid as the search (only alphaMaxDeg,
-// platform*, w and gridResolution of the options are used). Statuses as searchDecomposition,
-// plus InvalidOption for a zero or non-finite plane.
+// platform*, w, gridResolution and floatingToleranceCells of the options are used). A normal
+// need not be unit (plane and offset are scaled together). Statuses as searchDecomposition, plus
+// InvalidOption for a zero or non-finite plane.
 MultidirEvaluation evaluateDecomposition(const Mesh& mesh, const std::vector<MultidirPlane>& planes,
                                          const MultidirOptions& options = {});
 

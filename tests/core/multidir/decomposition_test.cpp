@@ -113,10 +113,15 @@ void expectValid(const Mesh& mesh, const MultidirResult& r, const MultidirOption
     EXPECT_TRUE(e.checks[k].connected) << what << ": plane " << k << " leaves a floating piece";
     EXPECT_TRUE(e.checks[k].partLargeEnough) << what << ": plane " << k << " cuts a part < V/w";
   }
-  // The search's own running J_G (per level) ends at the exact value.
-  ASSERT_FALSE(r.stats.jgPerLevel.empty()) << what;
+  ASSERT_EQ(r.stats.jgPerLevel.size(), r.planes.size() + 1) << what;
   EXPECT_NEAR(r.stats.jgPerLevel.back(), r.jgAfterMm2, 1e-6 * (1 + r.jgBeforeMm2)) << what;
   EXPECT_NEAR(r.stats.jgPerLevel.front(), r.jgBeforeMm2, 1e-6 * (1 + r.jgBeforeMm2)) << what;
+  // The search's own sums (prefix sums with closed-form straddling areas) equal the exact
+  // clipping; refinement only ever lowers J_G.
+  if (!o.refine) {
+    EXPECT_NEAR(r.stats.searchJgMm2, r.jgAfterMm2, 1e-6 * (1 + r.jgBeforeMm2)) << what;
+  }
+  EXPECT_LE(r.jgAfterMm2, r.stats.searchJgMm2 + 1e-6 * (1 + r.jgBeforeMm2)) << what;
 }
 
 // ---- synthetic solids with a known optimum -----------------------------------------------------
@@ -305,6 +310,25 @@ TEST(DecompExact, KittenBeforeAndAfterMatchBruteForce) {
   EXPECT_NEAR(e.jgAfterMm2, bruteRandom, 0.01 * bruteRandom + 0.2);
 }
 
+TEST(DecompExact, SearchSumsEqualClippingAndRefinementOnlyLowers) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  MultidirOptions o;
+  o.refine = false;
+  const MultidirResult raw = searchDecomposition(kitten, o);
+  ASSERT_TRUE(raw.ok()) << raw.message;
+  printResult("Kitten beam, no refinement", raw);
+  expectValid(kitten, raw, o, "Kitten unrefined");
+  o.refine = true;
+  const MultidirResult refined = searchDecomposition(kitten, o);
+  ASSERT_TRUE(refined.ok());
+  printResult("Kitten beam, refined", refined);
+  expectValid(kitten, refined, o, "Kitten refined");
+  EXPECT_LE(refined.jgAfterMm2, raw.jgAfterMm2 + 1e-9);
+  EXPECT_GT(refined.stats.refineEvaluated, 0u);
+  EXPECT_LE(refined.jgAfterMm2, 0.81);  // paper Table I: 1481.36 -> 0.81 with 5 parts
+}
+
 // ---- schemes and 4dof ------------------------------------------------------------------------
 
 TEST(DecompSchemes, EachSchemeOnTheT) {
@@ -404,6 +428,11 @@ TEST(DecompStatus, BadOptionsAndInputs) {
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.relaxFactor = 1; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.samples = 0; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.offsetStepMm = 0; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.offsetStepMm = 1e-4; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.axisFullSearches = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.floatingToleranceCells = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.stepAngleDeg = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.rangeDeg = 0; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.scheme = "best"; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.dof = "6dof"; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) {
@@ -425,6 +454,8 @@ TEST(DecompStatus, BadOptionsAndInputs) {
   Mesh nonFinite = l;
   nonFinite.positions[7] = nan;
   EXPECT_EQ(searchDecomposition(nonFinite).status, Status::NonFiniteVertex);
+  // A sheet thinner than half a grid cell holds no cell centre.
+  EXPECT_EQ(searchDecomposition(test::makeBox(0, 0, 0, 100, 100, 0.1)).status, Status::DegenerateInput);
   const Mesh sunk = test::makeBox(0, 0, -5, 10, 10, 5);
   EXPECT_EQ(searchDecomposition(sunk).status, Status::InvalidOption);
   EXPECT_EQ(evaluateDecomposition(l, {{Eigen::Vector3d::Zero(), 1}}).status, Status::InvalidOption);
