@@ -719,6 +719,7 @@ bool Planner::emit() {
   MachineValues prev = layerValues_[0];
   Eigen::Vector3d prevPos = layerPos_[0], prevAxis = layerAxis_[0];
   bool retracted = false;
+  int32_t lastPart = -1;  // part of the last extruding move
   std::vector<MachineValues> vals;
   std::vector<Eigen::Vector3d> poss;
   for (size_t i = 0; i < pieces_.size(); ++i) {
@@ -729,8 +730,10 @@ bool Planner::emit() {
     const Piece& p = pieces_[i];
     const Move& src = tp_.moves[p.source];
     const MachineValues& v = layerValues_[p.layer];
+    // Between parts (3+2) every rotation is a safe one, however small (the writers' rule).
+    const bool newPart = lastPart >= 0 && src.part != lastPart;
     if (gcodeRotary_ && src.kind == MoveKind::Travel &&
-        rotaryChanges(prev, v, o_.rotationThresholdDegrees)) {
+        rotaryChanges(prev, v, newPart ? 1e-6 : o_.rotationThresholdDegrees)) {
       // 3+2 safe rotation: retract, lift, rotate at safe height, move over, lower, unretract.
       const bool ownRetract = !retracted && o_.safeRetract > 0;
       if (ownRetract) push(prev, src, p.source, -o_.safeRetract, MoveKind::Retract);
@@ -785,6 +788,7 @@ bool Planner::emit() {
     }
     if (src.kind == MoveKind::Retract) retracted = true;
     if (src.kind == MoveKind::Unretract || isExtruding(src.kind)) retracted = false;
+    if (isExtruding(src.kind)) lastPart = src.part;
     prev = v;
     prevPos = p.pos;
     prevAxis = p.axis;

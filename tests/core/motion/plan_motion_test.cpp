@@ -169,9 +169,9 @@ TEST(PlanMotion, Table5FeedLimitsHold) {
   EXPECT_GT(mp.stats.estimatedTimeS, free.stats.estimatedTimeS);
 }
 
-// Two parts on a rotary4 machine: part 0 printed along +Z, part 1 along (0, sin 30, cos 30)
-// (A = 30). The change of A must happen at the safe height with the filament retracted.
-Toolpath twoPartRotaryPath(bool retractBeforeSecondPart) {
+// Two parts on a rotary4 machine: part 0 printed along +Z, part 1 along (0, sin a, cos a)
+// (A = a degrees). The change of A must happen at the safe height with the filament retracted.
+Toolpath twoPartRotaryPath(bool retractBeforeSecondPart, double degrees = 30) {
   test::PathBuilder b(0.2, 0.45);
   b.path.start = {0, 0, 5};
   for (int l = 0; l < 3; ++l) {
@@ -179,7 +179,8 @@ Toolpath twoPartRotaryPath(bool retractBeforeSecondPart) {
     test::rectLoop(b, -5, -5, 5, 5, 0.2 * (l + 1), Feature::WallOuter);
   }
   Toolpath tp = b.path;
-  const Eigen::Vector3d u(0, std::sin(test::kMotionPi / 6), std::cos(test::kMotionPi / 6));
+  const double a = degrees * test::kMotionPi / 180;
+  const Eigen::Vector3d u(0, std::sin(a), std::cos(a));
   const Eigen::Vector3d e1(1, 0, 0), e2 = u.cross(e1);
   const Eigen::Vector3d c(0, 10, 4);
   auto add = [&](const Eigen::Vector3d& p, MoveKind k, double f, int layer) {
@@ -217,7 +218,7 @@ Toolpath twoPartRotaryPath(bool retractBeforeSecondPart) {
   return tp;
 }
 
-void checkSafeRotation(const Toolpath& tp) {
+void checkSafeRotation(const Toolpath& tp, double degrees = 30) {
   const MachineProfile m = rotary4TestProfile();
   MotionOptions o;
   const MachinePath mp = planMachineMotion(tp, m, o);
@@ -249,12 +250,17 @@ void checkSafeRotation(const Toolpath& tp) {
   }
   EXPECT_EQ(rotations, 1);
   EXPECT_NEAR(filamentOut, filamentIn, 1e-12);
-  EXPECT_NEAR(mp.moves.back().values[3], 30.0, 1e-9);
+  EXPECT_NEAR(mp.moves.back().values[3], degrees, 1e-9);
   EXPECT_LT(test::checkPlannedPoints(mp, tp), 1e-6);
 }
 
 TEST(PlanMotion, Rotary4SafeRotationAfterToolpathRetract) { checkSafeRotation(twoPartRotaryPath(true)); }
 TEST(PlanMotion, Rotary4SafeRotationAddsItsOwnRetract) { checkSafeRotation(twoPartRotaryPath(false)); }
+// Between parts even a turn below the within-part threshold (rotationThresholdDegrees = 5) is a
+// safe rotation: two parts of a 3+2 decomposition may differ by a fraction of a degree.
+TEST(PlanMotion, Rotary4SmallTurnBetweenPartsIsStillSafe) {
+  checkSafeRotation(twoPartRotaryPath(false, 0.3), 0.3);
+}
 
 TEST(PlanMotion, Errors) {
   const Toolpath tp = test::crestToolpath(5, 10, 1.0);
