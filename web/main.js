@@ -1111,10 +1111,12 @@ function showMachineProfile() {
   const hint = $('method-hint');
   const method = app.model.get('method');
   const needsTilt = ['voxel', 'surface', 'geodesic'].includes(method) && !['table5', 'robot6'].includes(kind);
-  hint.hidden = !needsTilt;
+  // The multidir method turns the part between parts: one rotary axis (rotary4) is enough.
+  const needsTurn = method === 'multidir' && kind === 'cartesian3';
+  hint.hidden = !needsTilt && !needsTurn;
   hint.textContent = needsTilt
     ? `the ${method} method ${method === 'surface' ? 'keeps the nozzle along the surface normal' : 'tilts the nozzle'}: choose table5 or a robot (${kind} has no tilt axes)`
-    : '';
+    : needsTurn ? 'the multidir method turns the part between parts: choose rotary4, table5 or a robot (cartesian3 has no rotary axis)' : '';
 }
 
 // ---- machine animation ----------------------------------------------------------------------
