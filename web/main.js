@@ -24,7 +24,7 @@ import { GeodesicView } from './geodesic-view.js';
 import { figure as geoFigure, geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
 import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
 import { MultidirView } from './multidir-view.js';
-import { hasMultidirBuffers, multidirDoneSummary } from './multidir-data.js';
+import { areaFigure, hasMultidirBuffers, multidirDoneSummary } from './multidir-data.js';
 import { drawJgChart, fillMultidirFigures, fillPartsTable } from './multidir-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
@@ -629,7 +629,7 @@ function showMultidirReport(m) {
   const stats = $('md-chart-stats');
   if (!chart) stats.textContent = '—';
   else if (chart.error) stats.textContent = `(${chart.error})`;
-  else stats.textContent = `${chart.points} levels, ${geoFigure(chart.first)} → ${geoFigure(chart.last)} mm²`;
+  else stats.textContent = `${chart.points} levels, ${areaFigure(chart.first)} → ${areaFigure(chart.last)} mm²`;
 }
 
 /** The multidir bar follows app.multidirView (hidden without one). */
@@ -667,7 +667,7 @@ function showMultidirStats() {
   const s = v.stats();
   $('md-order-text').textContent = s.parts ? `${s.order + 1} of ${s.parts}` : 'no parts';
   $('md-risky-text').textContent = s.risky === 'none' ? ''
-    : `${s.riskyTriangles[s.risky]} faces, ${geoFigure(s.riskyAreaMm2[s.risky])} mm²`;
+    : `${s.riskyTriangles[s.risky]} faces, ${areaFigure(s.riskyAreaMm2[s.risky])} mm²`;
   const slider = $('md-order-slider');
   slider.dataset.partsShown = String(s.partsShown);
   slider.dataset.trianglesDrawn = String(s.trianglesDrawn);

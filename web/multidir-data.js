@@ -236,16 +236,21 @@ export function jgChartGeometry(values, { width = 260, height = 110 } = {}) {
 
 const unit = (x, u) => (Number.isFinite(x) ? `${figure(x)} ${u}` : '—');
 
+/** An area (mm²) as text, to 0.01 mm² (exact J_G values carry rounding noise around 0). */
+export function areaFigure(x) {
+  return Number.isFinite(x) ? figure(Math.round(x * 100) / 100) : '—';
+}
+
 /** The figures of report.multidir as [key, label, text] rows. */
 export function multidirSummaryRows(m) {
   const r = m && typeof m === 'object' ? m : {};
   const s = r.search && typeof r.search === 'object' ? r.search : {};
   const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : {};
   const ms = (x) => (Number.isFinite(x) ? (x >= 1000 ? `${(x / 1000).toFixed(2)} s` : `${Math.round(x)} ms`) : '—');
-  const pct = Number.isFinite(r.ratio) ? ` (${figure(100 * r.ratio)} %)` : '';
+  const pct = Number.isFinite(r.ratio) ? ` (${figure(Math.round(1000 * r.ratio) / 10)} %)` : '';
   const axis = Array.isArray(r.rotation_axis) ? `, axis (${r.rotation_axis.map((x) => figure(Number(Number(x).toFixed(3)))).join(', ')})` : '';
   return [
-    ['jg', 'risky area J_G', `${unit(r.J_G_before, 'mm²')} → ${unit(r.J_G_after, 'mm²')}${pct}`],
+    ['jg', 'risky area J_G', `${areaFigure(r.J_G_before)} mm² → ${areaFigure(r.J_G_after)} mm²${pct}`],
     ['parts', 'parts', figure(r.part_count)],
     ['search', 'search', `${r.scheme || '?'}, ${r.dof || '?'}${axis}, α_max ${unit(r.alpha_max_deg, '°')}`],
     ['levels', 'levels, beams', `${figure(s.levels)}, ${figure(s.beams)}`],
@@ -268,7 +273,7 @@ export function partRows(m) {
       direction: `(${d.map((x) => (Math.abs(x) < 5e-4 ? '0' : x.toFixed(3))).join(', ')})`,
       tiltDeg: tilt,
       volume: Number(p.volume_mm3),
-      risky: Number(p.risky_area_mm2),
+      risky: Math.round(100 * Number(p.risky_area_mm2)) / 100,
       layers: Number(p.layers),
       platform: p.plane === null || p.plane === undefined,
     };
@@ -278,5 +283,5 @@ export function partRows(m) {
 /** The one-line summary after a multidir slice. */
 export function multidirDoneSummary(m) {
   if (!m || typeof m !== 'object') return '';
-  return `${figure(m.part_count)} parts, J_G ${figure(m.J_G_before)} → ${figure(m.J_G_after)} mm²`;
+  return `${figure(m.part_count)} parts, J_G ${areaFigure(m.J_G_before)} → ${areaFigure(m.J_G_after)} mm²`;
 }

@@ -5,7 +5,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, hasMultidirBuffers, jgChartGeometry, multidirDoneSummary,
+  areaFigure, arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, hasMultidirBuffers, jgChartGeometry, multidirDoneSummary,
   multidirSummaryRows, partCentroids, partColor, partDirections, partRows, sortPartTriangles,
 } from '../../web/multidir-data.js';
 
@@ -112,5 +112,8 @@ test('summary rows, parts table, done summary', () => {
   assert.equal(Math.round(parts[1].tiltDeg), 90);
   assert.equal(multidirDoneSummary(REPORT), '2 parts, J_G 200 → 0 mm²');
   assert.equal(multidirDoneSummary(null), '');
+  assert.equal(multidirDoneSummary({ ...REPORT, J_G_after: 3e-9 }), '2 parts, J_G 200 → 0 mm²', 'rounding noise shows as 0');
+  assert.equal(areaFigure(1234.567), '1235');
+  assert.equal(areaFigure(12.345), '12.35');
   assert.deepEqual(partRows(null), []);
 });
