@@ -4,6 +4,8 @@
 // planner's safe rotations between parts, `verify` on the program.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
