@@ -13,8 +13,9 @@ import {
   arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, partCentroids, partColor, partDirections, sortPartTriangles,
 } from './multidir-data.js';
 
-/** Colour of the risky-face overlay. */
+/** Colour of the risky-face overlay; opacity of the parts. */
 export const RISKY_COLOR = 0xff2b2b;
+export const PART_OPACITY = 0.55;
 
 export class MultidirView {
   /**
@@ -43,6 +44,8 @@ export class MultidirView {
     if (sorted.positions.length) pg.computeVertexNormals();
     this.partMesh = new THREE.Mesh(pg, new THREE.MeshStandardMaterial({
       vertexColors: true, roughness: 0.7, metalness: 0, side: THREE.DoubleSide,
+      // See-through, so the tool-paths and arrows inside the parts stay visible.
+      transparent: true, opacity: PART_OPACITY, depthWrite: false,
       polygonOffset: true, polygonOffsetFactor: -1, polygonOffsetUnits: -1,
     }));
     this.partMesh.name = 'multidir-parts';
@@ -55,7 +58,7 @@ export class MultidirView {
     pg.computeBoundingBox();
     const box = pg.boundingBox;
     const size = box && !box.isEmpty() ? box.getSize(new THREE.Vector3()).length() : 10;
-    this.arrowLength = Math.max(0.15 * size, 1);
+    this.arrowLength = Math.max(0.25 * size, 1);
     const segs = arrowSegments(centroids, directions, this.arrowLength);
     const colors = new Uint8Array(segs.length);
     for (let i = 0; i < this.partCount; i++) {
