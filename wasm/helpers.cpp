@@ -144,6 +144,15 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
                                        r.preview.treeEdges.size()));
     preview.set("sequence", copyArray("Uint32Array", r.preview.sequence.data(),
                                       r.preview.sequence.size()));
+    preview.set("partPositions", copyArray("Float32Array", r.preview.partPositions.data(),
+                                           r.preview.partPositions.size()));
+    preview.set("partTriangles", copyArray("Uint32Array", r.preview.partTriangles.data(),
+                                           r.preview.partTriangles.size()));
+    preview.set("partIds", copyArray("Uint32Array", r.preview.partIds.data(), r.preview.partIds.size()));
+    preview.set("riskyBefore", copyArray("Uint8Array", r.preview.riskyBefore.data(),
+                                         r.preview.riskyBefore.size()));
+    preview.set("riskyAfter", copyArray("Uint8Array", r.preview.riskyAfter.data(),
+                                        r.preview.riskyAfter.size()));
     out.set("preview", preview);
     out.set("programExtension", r.programExtension);
     out.set("mesh", meshToJs(r.partMesh));

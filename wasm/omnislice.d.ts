@@ -45,6 +45,14 @@ export interface PreviewBuffers {
   /** Iso-planar fill (paper 003): #S 1-based NL curve index of each segment in print order,
    *  0 = not on an NL curve (travel, joins, the planar base). Empty for other fills. */
   curves?: Uint32Array;
+  /** Multidir method (paper 000): every part's closed mesh as one soup (#V*3, #T*3) with the
+   *  part's print index per triangle; risky flags (1 = risky) per triangle of the placed mesh,
+   *  along +Z (before) and in the part each face ends up in (after). Empty for other methods. */
+  partPositions?: Float32Array;
+  partTriangles?: Uint32Array;
+  partIds?: Uint32Array;
+  riskyBefore?: Uint8Array;
+  riskyAfter?: Uint8Array;
 }
 
 /** A machine profile as the program header writes it (PROGRAM-FORMAT.md, docs/MACHINES.md). */

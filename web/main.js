@@ -23,6 +23,9 @@ import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './
 import { GeodesicView } from './geodesic-view.js';
 import { figure as geoFigure, geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
 import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
+import { MultidirView } from './multidir-view.js';
+import { areaFigure, hasMultidirBuffers, multidirDoneSummary } from './multidir-data.js';
+import { drawJgChart, fillMultidirFigures, fillPartsTable } from './multidir-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
@@ -51,6 +54,7 @@ const app = {
   preview: null,
   voxelView: null,   // VoxelView of the result's curved layers, missed voxels and nozzle axes
   geodesicView: null, // GeodesicView of the result's distance field, skeleton tree and air moves
+  multidirView: null, // MultidirView of the result's parts, print directions and risky faces
   model: new SettingsModel(),
   history: new History(),
   mesh: null,        // {name, meshId, info} of the loaded mesh
@@ -273,6 +277,7 @@ function showReport(report) {
   showVoxelReport(r.voxel && typeof r.voxel === 'object' ? r.voxel : null);
   showIsoReport(r.isoplanar && typeof r.isoplanar === 'object' ? r.isoplanar : null);
   showGeoReport(r.geodesic && typeof r.geodesic === 'object' ? r.geodesic : null);
+  showMultidirReport(r.multidir && typeof r.multidir === 'object' ? r.multidir : null);
   // Angular figures are radians for a robot's joints, degrees for the A, B, C axes.
   const unit = r.machine_kind === 'robot6' ? ' rad' : '°';
   for (const key of ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',
@@ -613,6 +618,69 @@ function setGeoLayerVisible(kind, visible) {
   showGeoStats();
 }
 
+// ---- multi-directional method (paper 000) -------------------------------------------------------
+
+/** The multidir figures, parts table and J_G chart (hidden without report.multidir). */
+function showMultidirReport(m) {
+  $('md-report').hidden = !m;
+  fillMultidirFigures($('md-figures'), m);
+  fillPartsTable($('md-parts-table').querySelector('tbody'), m);
+  const chart = drawJgChart($('md-jg-chart'), m);
+  const stats = $('md-chart-stats');
+  if (!chart) stats.textContent = '—';
+  else if (chart.error) stats.textContent = `(${chart.error})`;
+  else stats.textContent = `${chart.points} levels, ${areaFigure(chart.first)} → ${areaFigure(chart.last)} mm²`;
+}
+
+/** The multidir bar follows app.multidirView (hidden without one). */
+function setupMultidirBar() {
+  const v = app.multidirView;
+  $('md-bar').hidden = !v;
+  const slider = $('md-order-slider');
+  const n = v ? v.partCount : 0;
+  slider.max = String(Math.max(n - 1, 0));
+  slider.value = slider.max;
+  slider.disabled = n === 0;
+  if (v) {
+    v.setVisible('parts', $('show-parts').checked);
+    v.setVisible('arrows', $('show-arrows').checked);
+    v.setRisky($('md-risky').value);
+  }
+  applyMultidirOrder();
+}
+
+/** Show the parts printed up to the order slider's position; the texts follow. */
+function applyMultidirOrder() {
+  const v = app.multidirView;
+  if (!v) {
+    $('md-order-text').textContent = '—';
+    $('md-risky-text').textContent = '—';
+    return;
+  }
+  v.setOrder(Number($('md-order-slider').value));
+  showMultidirStats();
+}
+
+function showMultidirStats() {
+  const v = app.multidirView;
+  if (!v) return;
+  const s = v.stats();
+  $('md-order-text').textContent = s.parts ? `${s.order + 1} of ${s.parts}` : 'no parts';
+  $('md-risky-text').textContent = s.risky === 'none' ? ''
+    : `${s.riskyTriangles[s.risky]} faces, ${areaFigure(s.riskyAreaMm2[s.risky])} mm²`;
+  const slider = $('md-order-slider');
+  slider.dataset.partsShown = String(s.partsShown);
+  slider.dataset.trianglesDrawn = String(s.trianglesDrawn);
+  slider.dataset.arrowsDrawn = String(s.arrowsDrawn);
+  app.viewer && app.viewer.requestRender();
+}
+
+function setMultidirOption(apply) {
+  if (!app.multidirView) return;
+  apply(app.multidirView);
+  showMultidirStats();
+}
+
 // ---- layer range ------------------------------------------------------------------------------
 
 /** The layer sliders span layerCount layers, showing from `first` (default 0) to the last. */
@@ -808,13 +876,16 @@ async function loadFile(file) {
 async function setPreview(result, { fresh = false } = {}) {
   if (app.viewer) app.viewer.setPreview(null);
   if (app.geodesicView) app.geodesicView.dispose();
+  if (app.multidirView) app.multidirView.dispose();
   app.preview = null;
   app.voxelView = null;
   app.geodesicView = null;
+  app.multidirView = null;
   const buffers = result && result.preview;
   let preview = null;
   let voxel = null;
   let geodesic = null;
+  let multidir = null;
   if (buffers && buffers.features && buffers.features.length) preview = await ToolpathPreview.build(buffers);
   if (hasVoxelBuffers(buffers)) {
     try {
@@ -830,22 +901,32 @@ async function setPreview(result, { fresh = false } = {}) {
       showError({ code: 'internal', message: `geodesic view: ${err.message}` });
     }
   }
+  if (hasMultidirBuffers(buffers)) {
+    try {
+      multidir = timed('multidir-view', () => new MultidirView(buffers, result.report && result.report.multidir, result.mesh));
+    } catch (err) {
+      showError({ code: 'internal', message: `multidir view: ${err.message}` });
+    }
+  }
   if (fresh) $('show-surfaces').checked = !(preview && preview.curveCount > 0);
-  if (preview || voxel || geodesic) {
+  if (preview || voxel || geodesic || multidir) {
     timed('set-preview', () => {
       if (preview) preview.setTravelVisible($('show-travel').checked);
       app.preview = preview;
       app.voxelView = voxel;
       app.geodesicView = geodesic;
-      // One object for the viewer: the tool-paths with the voxel and geodesic views inside.
-      const root = preview ? preview.object : voxel ? voxel.object : geodesic.object;
+      app.multidirView = multidir;
+      // One object for the viewer: the tool-paths with the voxel, geodesic and multidir views inside.
+      const root = preview ? preview.object : voxel ? voxel.object : geodesic ? geodesic.object : multidir.object;
       if (voxel && root !== voxel.object) root.add(voxel.object);
       if (geodesic && root !== geodesic.object) root.add(geodesic.object);
+      if (multidir && root !== multidir.object) root.add(multidir.object);
       if (app.viewer) app.viewer.setPreview(root);
     });
   }
   timed('layer-sliders', () => {
     setupGeoBar();
+    setupMultidirBar();
     // With iso-planar NL curves the range starts at their layer (the surface layer above its base).
     setupLayerSliders(app.preview ? app.preview.layerCount : 0, app.preview ? Math.max(app.preview.curveLayerMin, 0) : 0);
     setupVoxelBar();
@@ -923,7 +1004,8 @@ async function showResult(result, started) {
   const wall = ((performance.now() - started) / 1000).toFixed(2);
   const voxel = result.report && result.report.voxel;
   const geo = result.report && result.report.geodesic;
-  const summary = geo ? geodesicDoneSummary(geo) : voxel ? voxelDoneSummary(voxel) : '';
+  const md = result.report && result.report.multidir;
+  const summary = geo ? geodesicDoneSummary(geo) : md ? multidirDoneSummary(md) : voxel ? voxelDoneSummary(voxel) : '';
   setProgressText(`done in ${wall} s${summary ? `: ${summary}` : ''}`, 1);
   showStages({ finished: true });
   setState('done');
@@ -1029,10 +1111,12 @@ function showMachineProfile() {
   const hint = $('method-hint');
   const method = app.model.get('method');
   const needsTilt = ['voxel', 'surface', 'geodesic'].includes(method) && !['table5', 'robot6'].includes(kind);
-  hint.hidden = !needsTilt;
+  // The multidir method turns the part between parts: one rotary axis (rotary4) is enough.
+  const needsTurn = method === 'multidir' && kind === 'cartesian3';
+  hint.hidden = !needsTilt && !needsTurn;
   hint.textContent = needsTilt
     ? `the ${method} method ${method === 'surface' ? 'keeps the nozzle along the surface normal' : 'tilts the nozzle'}: choose table5 or a robot (${kind} has no tilt axes)`
-    : '';
+    : needsTurn ? 'the multidir method turns the part between parts: choose rotary4, table5 or a robot (cartesian3 has no rotary axis)' : '';
 }
 
 // ---- machine animation ----------------------------------------------------------------------
@@ -1248,6 +1332,10 @@ function wireUi() {
   $('show-tree').addEventListener('change', (e) => setGeoLayerVisible('tree', e.target.checked));
   $('show-air').addEventListener('change', (e) => setGeoLayerVisible('air', e.target.checked));
   $('geo-step-slider').addEventListener('input', () => applyGeoStep());
+  $('show-parts').addEventListener('change', (e) => setMultidirOption((v) => v.setVisible('parts', e.target.checked)));
+  $('show-arrows').addEventListener('change', (e) => setMultidirOption((v) => v.setVisible('arrows', e.target.checked)));
+  $('md-risky').addEventListener('change', (e) => setMultidirOption((v) => v.setRisky(e.target.value)));
+  $('md-order-slider').addEventListener('input', () => applyMultidirOrder());
   $('show-travel').addEventListener('change', (e) => {
     if (app.preview) app.preview.setTravelVisible(e.target.checked);
     app.viewer && app.viewer.requestRender();
@@ -1355,6 +1443,8 @@ window.omnislice = {
   get voxel() { return app.voxelView ? app.voxelView.stats() : null; },
   /** The geodesic view: what it holds and draws (GeodesicView.stats()), or null. */
   get geodesic() { return app.geodesicView ? app.geodesicView.stats() : null; },
+  /** The multidir view: what it holds and draws (MultidirView.stats()), or null. */
+  get multidir() { return app.multidirView ? app.multidirView.stats() : null; },
   /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */
   get stages() {
     const list = [...app.progress.stages];

@@ -50,7 +50,10 @@ const isRobot = (values) => selectedMachineKind(values) === 'robot6';
 const isVoxel = (values) => values.method === 'voxel';
 /** The geodesic method is chosen. */
 export const isGeodesic = (values) => values.method === 'geodesic';
-/** Planar layers are printed: the planar method, or the surface method's base. */
+/** The multi-directional (3+2-axis) method is chosen. */
+export const isMultidir = (values) => values.method === 'multidir';
+/** Planar layers are printed: the planar method, the surface method's base, or the multidir
+ *  method's parts. */
 const isPlanar = (values) => !isVoxel(values) && !isGeodesic(values);
 const isSurface = (values) => values.method === 'surface';
 /** The iso-planar fill runs: the surface method, or fill = isoplanar on planar or curved layers. */
@@ -76,7 +79,8 @@ export const SETTINGS_SCHEMA = [
   { group: 'Slicing', key: 'method', label: 'method', type: 'select', value: 'planar',
     options: [{ label: 'planar layers', value: 'planar' }, { label: 'voxel (curved layers)', value: 'voxel' },
       { label: 'surface (open surface, one layer on a base)', value: 'surface' },
-      { label: 'geodesic (curved layers of a tet mesh)', value: 'geodesic' }] },
+      { label: 'geodesic (curved layers of a tet mesh)', value: 'geodesic' },
+      { label: 'multi-directional (3+2-axis parts by planar clipping)', value: 'multidir' }] },
   { group: 'Slicing', key: 'fill', label: 'fill', type: 'select', value: 'auto', testid: 'setting-fill',
     options: [{ label: 'auto', value: 'auto' }, { label: 'iso-planar (paper 003)', value: 'isoplanar' }, { label: 'spiral', value: 'spiral' }] },
   // The geodesic method's interval defaults to the layer height.
@@ -95,7 +99,8 @@ export const SETTINGS_SCHEMA = [
   { group: 'Slicing', key: 'infill_pattern', label: 'infill pattern', type: 'select', value: 'grid',
     options: [{ label: 'grid', value: 'grid' }, { label: 'lines', value: 'lines' }],
     showIf: isPlanar },
-  { group: 'Slicing', key: 'direction', label: 'slicing direction', type: 'direction', value: '0,0,1', showIf: isPlanar },
+  { group: 'Slicing', key: 'direction', label: 'slicing direction', type: 'direction', value: '0,0,1',
+    showIf: (v) => isPlanar(v) && !isMultidir(v) },
   // The voxel method (paper 001): conservative voxels, growing field, curved layers.
   { group: 'Voxel', key: 'voxel.width_mm', label: 'voxel width (mm, 0 = 0.8 × nozzle)', type: 'number', value: 0, min: 0, max: 50, step: 0.05,
     testid: 'voxel-width', showIf: isVoxel, sendIf: isVoxel },
@@ -155,6 +160,27 @@ export const SETTINGS_SCHEMA = [
     showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.remesh', label: 'remesh and smooth the IGDS', type: 'checkbox', value: true,
     testid: 'geodesic-remesh', showIf: isGeodesic, sendIf: isGeodesic },
+  // The multi-directional method (paper 000): clipping planes by a beam-guided search, each part
+  // printed along its plane's normal (core/pipeline/settings.cpp: names, ranges).
+  { group: 'Multi-directional', key: 'multidir.alpha_max_deg', label: 'self-supporting angle α_max (°)', type: 'number', value: 45, min: 1, max: 89, step: 1,
+    testid: 'multidir-alpha', showIf: isMultidir, sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.w', label: 'smallest part w (parts ≥ volume / w)', type: 'number', value: 10, min: 1, max: 1000, step: 1,
+    testid: 'multidir-w', showIf: isMultidir, sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.scheme', label: 'search', type: 'select', value: 'beam', testid: 'multidir-scheme',
+    options: [{ label: 'beam-guided', value: 'beam' }, { label: 'greedy', value: 'greedy' },
+      { label: 'constrained greedy', value: 'constrained' }],
+    showIf: isMultidir, sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.beam_width', label: 'beam width b', type: 'integer', value: 8, min: 1, max: 100, step: 1,
+    testid: 'multidir-beam-width', showIf: (v) => isMultidir(v) && v['multidir.scheme'] === 'beam', sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.dof', label: 'DOF mode', type: 'select', value: 'auto', testid: 'multidir-dof',
+    options: [{ label: 'auto (rotary4: 4 DOF, else 5 DOF)', value: 'auto' }, { label: '4 DOF (one rotary axis)', value: '4dof' },
+      { label: '5 DOF', value: '5dof' }],
+    showIf: isMultidir, sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.samples', label: 'candidate normals', type: 'integer', value: 250, min: 4, max: 20000, step: 10,
+    testid: 'multidir-samples', showIf: isMultidir, sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.axis_search', label: 'rotation axes searched (4 DOF, 0 = the machine\'s)', type: 'integer', value: 0, min: 0, max: 3600, step: 1,
+    testid: 'multidir-axis-search', showIf: (v) => isMultidir(v) && (v['multidir.dof'] === '4dof' || (v['multidir.dof'] === 'auto' && selectedMachineKind(v) === 'rotary4')),
+    sendIf: isMultidir },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', type: 'number', value: 0.8, min: 0, max: 20, step: 0.1 },

@@ -34,6 +34,11 @@ export const STAGE_WEIGHTS = {
     read: 0.01, validate: 0.08, place: 0.01, tetmesh: 0.16, field: 0.36, igds: 0.17, order: 0.01, collision: 0.04,
     paths: 0.05, toolpath: 0.03, motion: 0.05, program: 0.03,
   },
+  // Multi-directional method (paper 000): the plane search (one progress step per search level),
+  // clipping into parts, planar slicing and planning of each part along its direction.
+  multidir: {
+    read: 0.02, validate: 0.05, place: 0.01, decompose: 0.45, clip: 0.05, slice: 0.12, toolpath: 0.18, motion: 0.07, program: 0.05,
+  },
 };
 
 /**

@@ -113,7 +113,8 @@ const handlers = {
         r.preview.surfaceLayers, r.preview.missedVoxels, r.preview.supportVoxels, r.preview.curves,
         r.preview.fieldPositions, r.preview.fieldTriangles, r.preview.fieldValues,
         r.preview.nodePositions, r.preview.nodeLayers, r.preview.treeEdges, r.preview.sequence,
-        r.mesh.positions, r.mesh.indices));
+        r.preview.partPositions, r.preview.partTriangles, r.preview.partIds, r.preview.riskyBefore,
+        r.preview.riskyAfter, r.mesh.positions, r.mesh.indices));
   },
 
   async [Request.VERIFY](id, payload) {

@@ -27,6 +27,52 @@ MultidirMethodOutput failure(Args&&... args) {
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
 
+// Every part's mesh in one soup, the print index per triangle.
+void mergeParts(const std::vector<ClipPart>& parts, PreviewBuffers& p) {
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const Mesh& m = parts[i].mesh;
+    const uint32_t base = static_cast<uint32_t>(p.partPositions.size() / 3);
+    for (double x : m.positions) p.partPositions.push_back(static_cast<float>(x));
+    for (uint32_t v : m.triangles) p.partTriangles.push_back(base + v);
+    p.partIds.insert(p.partIds.end(), m.faceCount(), static_cast<uint32_t>(i));
+  }
+}
+
+// Risky flags per triangle of part (Eq. 1): along +Z on the platform (before) and along the
+// direction of the part the centroid falls in (after): the first plane in clipping order whose
+// above side (n . c >= d) holds it, else the platform part (+Z). Faces whose centroid lies below
+// bandMm are on the platform: never risky along +Z.
+void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alphaMaxDeg, double bandMm,
+                PreviewBuffers& p) {
+  const double sinAlpha = std::sin(alphaMaxDeg * 3.14159265358979323846 / 180);
+  const size_t nf = part.faceCount();
+  p.riskyBefore.assign(nf, 0);
+  p.riskyAfter.assign(nf, 0);
+  for (size_t f = 0; f < nf; ++f) {
+    const Eigen::Vector3d a = part.vertex(part.triangles[3 * f]);
+    const Eigen::Vector3d b = part.vertex(part.triangles[3 * f + 1]);
+    const Eigen::Vector3d c = part.vertex(part.triangles[3 * f + 2]);
+    const Eigen::Vector3d cross = (b - a).cross(c - a);
+    if (!(cross.norm() > 0)) continue;  // degenerate: never risky
+    const Eigen::Vector3d n = cross.normalized();
+    const Eigen::Vector3d centroid = (a + b + c) / 3;
+    const bool onPlatform = centroid.z() < bandMm;
+    const bool riskyUp = !onPlatform && n.z() + sinAlpha < 0;
+    p.riskyBefore[f] = riskyUp ? 1 : 0;
+    bool after = riskyUp;
+    for (const Plane& q : planes) {
+      const double len = q.normal.norm();
+      if (!(len > 0)) continue;
+      const Eigen::Vector3d d = q.normal / len;
+      if (d.dot(centroid) >= q.offset / len) {
+        after = n.dot(d) + sinAlpha < 0;
+        break;
+      }
+    }
+    p.riskyAfter[f] = after ? 1 : 0;
+  }
+}
+
 }  // namespace
 
 MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settings,
@@ -96,6 +142,8 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   PartsResult parts = clipSequence(out.part, planes, 1e-6, progress);
   if (!parts.ok()) return failure(parts);
   out.timingsMs.emplace_back("clip", msSince(t0));
+  mergeParts(parts.parts, out.preview);
+  riskyFlags(out.part, planes, o.alphaMaxDeg, o.platformBandMm, out.preview);
 
   // 3. Each part sliced along its direction and planned; parts one after the other.
   double sliceMs = 0, planMs = 0;

@@ -15,6 +15,7 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "mesh/mesh.h"
+#include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
 #include "program/machine.h"
 #include "toolpath/toolpath.h"
@@ -30,6 +31,8 @@ struct MultidirMethodOutput : Outcome {
                                                        // machine's (applied to part and placement)
   Mesh part;                // the part as printed (turned when turn is not the identity)
   std::vector<std::pair<std::string, double>> timingsMs;  // decompose, clip, slice, toolpath
+  PreviewBuffers preview;   // partPositions, partTriangles, partIds, riskyBefore, riskyAfter only
+                            // (risky flags per triangle of part)
 };
 
 // part: the placed, validated solid (min z = 0). machine: rotary4 (4dof about its A axis, X),

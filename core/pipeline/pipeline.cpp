@@ -409,6 +409,15 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       p.treeEdges = std::move(g.treeEdges);
       p.sequence = std::move(g.sequence);
     }
+    if (multidir) {
+      PreviewBuffers& p = out.preview;
+      PreviewBuffers& m = multidirOut.preview;
+      p.partPositions = std::move(m.partPositions);
+      p.partTriangles = std::move(m.partTriangles);
+      p.partIds = std::move(m.partIds);
+      p.riskyBefore = std::move(m.riskyBefore);
+      p.riskyAfter = std::move(m.riskyAfter);
+    }
     out.partMesh = std::move(in.placed.mesh);
     out.program = std::move(written.text);
     out.programExtension = programExtension(machine.kind, pinfo.robotFormat);

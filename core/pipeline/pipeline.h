@@ -46,6 +46,15 @@ struct PreviewBuffers {
   std::vector<uint32_t> nodeLayers;       // #N
   std::vector<uint32_t> treeEdges;        // #E*2
   std::vector<uint32_t> sequence;         // #N
+  // Multidir method (paper 000): every part's closed mesh (clipSequence) merged into one soup with
+  // the part's print index per triangle, and a risky flag per triangle of the placed part
+  // (SliceOutput.partMesh): along +Z (before; faces with centroid below the platform band are
+  // not risky) and along the direction of the part its centroid falls in (after).
+  std::vector<float> partPositions;       // #PV*3, part frame, mm
+  std::vector<uint32_t> partTriangles;    // #PT*3
+  std::vector<uint32_t> partIds;          // #PT print index
+  std::vector<uint8_t> riskyBefore;       // #T of partMesh, 1 = risky
+  std::vector<uint8_t> riskyAfter;        // #T of partMesh, 1 = risky
 };
 
 struct SliceOutput : Outcome {

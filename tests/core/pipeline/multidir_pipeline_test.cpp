@@ -4,6 +4,8 @@
 // planner's safe rotations between parts, `verify` on the program.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <cstdio>
 #include <nlohmann/json.hpp>
@@ -130,6 +132,81 @@ TEST(MultidirPipeline, LBracketOneCutIsSupportFreeOnTheTable) {
   EXPECT_LT(planar, 0.97);
   EXPECT_GE(r.verify["supported"].get<double>(), 0.99) << "planar " << planar;
   EXPECT_GE(r.report["motion"]["safe_rotations"].get<int>(), 1);
+}
+
+// The preview buffers for the page: every part's closed mesh with its print index per triangle,
+// and risky flags per triangle of the placed part whose areas give J_G before and after.
+TEST(MultidirPipeline, PreviewBuffersHoldPartsAndRiskyFaces) {
+  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const std::vector<uint8_t> bytes = test::binaryStl(l);
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", multidirSettings("table5"));
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json m = Json::parse(out.reportJson)["multidir"];
+  const PreviewBuffers& p = out.preview;
+  ASSERT_EQ(p.partPositions.size() % 3, 0u);
+  ASSERT_EQ(p.partTriangles.size(), 3 * p.partIds.size());
+  ASSERT_GT(p.partIds.size(), 0u);
+  const size_t parts = m["part_count"].get<size_t>();
+  std::set<uint32_t> seen;
+  for (uint32_t id : p.partIds) {
+    EXPECT_LT(id, parts);
+    seen.insert(id);
+  }
+  for (uint32_t v : p.partTriangles) ASSERT_LT(v, p.partPositions.size() / 3);
+  EXPECT_EQ(seen.size(), parts) << "every (non-empty) part has triangles";
+  // Volume per part from the soup matches the report.
+  std::vector<double> volume(parts, 0);
+  for (size_t t = 0; t < p.partIds.size(); ++t) {
+    Eigen::Vector3d q[3];
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = p.partTriangles[3 * t + size_t(k)];
+      q[k] = Eigen::Vector3d(p.partPositions[3 * v], p.partPositions[3 * v + 1], p.partPositions[3 * v + 2]);
+    }
+    volume[p.partIds[t]] += q[0].dot(q[1].cross(q[2])) / 6;
+  }
+  for (size_t i = 0; i < parts; ++i) {
+    const double want = m["parts"][i]["volume_mm3"].get<double>();
+    EXPECT_NEAR(volume[i], want, 1e-3 * std::max(1.0, want)) << "part " << i;
+  }
+  // Risky flags per triangle of the placed part.
+  const Mesh& mesh = out.partMesh;
+  ASSERT_EQ(p.riskyBefore.size(), mesh.faceCount());
+  ASSERT_EQ(p.riskyAfter.size(), mesh.faceCount());
+  double before = 0, after = 0;
+  for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]), b = mesh.vertex(mesh.triangles[3 * f + 1]),
+                          c = mesh.vertex(mesh.triangles[3 * f + 2]);
+    const double area = (b - a).cross(c - a).norm() / 2;
+    if (p.riskyBefore[f]) before += area;
+    if (p.riskyAfter[f]) after += area;
+  }
+  const double jgBefore = m["J_G_before"].get<double>();
+  EXPECT_GT(jgBefore, 0);
+  EXPECT_NEAR(before, jgBefore, 0.01 * jgBefore);
+  EXPECT_NEAR(after, m["J_G_after"].get<double>(), 0.01 * jgBefore);
+}
+
+// A turned 4dof decomposition (rotary4): the flags follow the part as printed, after <= before.
+TEST(MultidirPipeline, PreviewRiskyFacesOnRotary) {
+  const Mesh t = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {0, 10, 20, 10, 25, 30}, {0, -15, 20, 10, 0, 30}});
+  const std::vector<uint8_t> bytes = test::binaryStl(t);
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "t.stl", multidirSettings("rotary4"));
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json m = Json::parse(out.reportJson)["multidir"];
+  const Mesh& mesh = out.partMesh;
+  ASSERT_EQ(out.preview.riskyAfter.size(), mesh.faceCount());
+  double before = 0, after = 0;
+  for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]), b = mesh.vertex(mesh.triangles[3 * f + 1]),
+                          c = mesh.vertex(mesh.triangles[3 * f + 2]);
+    const double area = (b - a).cross(c - a).norm() / 2;
+    if (out.preview.riskyBefore[f]) before += area;
+    if (out.preview.riskyAfter[f]) after += area;
+  }
+  const double jgBefore = m["J_G_before"].get<double>();
+  EXPECT_NEAR(before, jgBefore, 0.01 * jgBefore);
+  EXPECT_NEAR(after, m["J_G_after"].get<double>(), 0.02 * jgBefore);
+  EXPECT_LT(after, before);
 }
 
 // The paper's Kitten (Y-up, fit 60 mm so the tilted parts stay within table5's reach).
