@@ -6,29 +6,12 @@
 // a line, overhang ratio as bars, the 45° line, a mark at the shown layer). The method's settings
 // rows are the 'Geodesic' group of web/settings-panel.js. No application state: main.js owns the
 // result and calls these.
+import { fillFigureList, svgElement } from './panel-dom.js';
 import { figure, geodesicSummaryRows, overhangChartGeometry, traversalRows } from './geodesic-data.js';
-
-const SVG_NS = 'http://www.w3.org/2000/svg';
-
-function svgElement(name, attributes, text) {
-  const el = document.createElementNS(SVG_NS, name);
-  for (const [k, v] of Object.entries(attributes)) el.setAttribute(k, String(v));
-  if (text !== undefined) el.textContent = text;
-  return el;
-}
 
 /** The figures of report.geodesic as dt/dd pairs (dd data-testid geo-<key>); empty without one. */
 export function fillGeoFigures(dl, g) {
-  dl.replaceChildren();
-  if (!g) return;
-  for (const [key, label, text] of geodesicSummaryRows(g)) {
-    const dt = document.createElement('dt');
-    dt.textContent = label;
-    const dd = document.createElement('dd');
-    dd.dataset.testid = `geo-${key}`;
-    dd.textContent = text;
-    dl.append(dt, dd);
-  }
+  fillFigureList(dl, g ? geodesicSummaryRows(g) : [], 'geo');
 }
 
 /**

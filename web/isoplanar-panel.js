@@ -3,18 +3,10 @@
 // isoplanar-data.js: the polar plot of v_e(theta) as SVG (rings, axes, the closed curve, theta*
 // and a compared direction marked), the figures list and the comparison table of two runs with
 // the benchmark means. No application state: main.js owns the runs and calls these.
+import { fillFigureList, svgElement } from './panel-dom.js';
 import {
   comparisonRows, figure, formatSeconds, isoplanarSummaryRows, percentText, polarPlotGeometry, thetaFromPlotPoint,
 } from './isoplanar-data.js';
-
-const SVG_NS = 'http://www.w3.org/2000/svg';
-
-function svgElement(name, attributes, text) {
-  const el = document.createElementNS(SVG_NS, name);
-  for (const [k, v] of Object.entries(attributes)) el.setAttribute(k, String(v));
-  if (text !== undefined) el.textContent = text;
-  return el;
-}
 
 /**
  * Draw the polar plot of iso.curve into `svg` (its viewBox is size x size): rings with their
@@ -83,16 +75,7 @@ export function plotThetaAt(svg, clientX, clientY) {
 
 /** The figures of report.isoplanar as dt/dd pairs (dd data-testid iso-<key>); empty without one. */
 export function fillIsoFigures(dl, iso) {
-  dl.replaceChildren();
-  if (!iso) return;
-  for (const [key, label, text] of isoplanarSummaryRows(iso)) {
-    const dt = document.createElement('dt');
-    dt.textContent = label;
-    const dd = document.createElement('dd');
-    dd.dataset.testid = `iso-${key}`;
-    dd.textContent = text;
-    dl.append(dt, dd);
-  }
+  fillFigureList(dl, iso ? isoplanarSummaryRows(iso) : [], 'iso');
 }
 
 /**

@@ -7,6 +7,7 @@
 // All heavy work runs in the engine's worker; the main thread only moves typed arrays around.
 // The page's state is mirrored on <body data-state> (starting, loading, ready, slicing, done,
 // error, cancelled) and <body data-slice-count>, which the end-to-end tests wait on.
+import { svgElement } from './panel-dom.js';
 import { Viewer } from './viewer.js';
 import { ToolpathPreview, FEATURES, featureCss } from './preview.js';
 import {
@@ -318,15 +319,6 @@ function showVoxelReport(v) {
     dd.textContent = text;
     dl.append(dt, dd);
   }
-}
-
-const SVG_NS = 'http://www.w3.org/2000/svg';
-
-function svgElement(name, attributes, text) {
-  const el = document.createElementNS(SVG_NS, name);
-  for (const [k, v] of Object.entries(attributes)) el.setAttribute(k, String(v));
-  if (text !== undefined) el.textContent = text;
-  return el;
 }
 
 /**

@@ -4,30 +4,13 @@
 // (print index with its colour, direction, volume, risky area, layers) and the chart of J_G per
 // search level as SVG. The method's settings rows are the 'Multi-directional' group of
 // web/settings-panel.js. No application state: main.js owns the result and calls these.
+import { fillFigureList, svgElement } from './panel-dom.js';
 import { figure } from './geodesic-data.js';
 import { jgChartGeometry, multidirSummaryRows, partColorCss, partRows } from './multidir-data.js';
 
-const SVG_NS = 'http://www.w3.org/2000/svg';
-
-function svgElement(name, attributes, text) {
-  const el = document.createElementNS(SVG_NS, name);
-  for (const [k, v] of Object.entries(attributes)) el.setAttribute(k, String(v));
-  if (text !== undefined) el.textContent = text;
-  return el;
-}
-
 /** The figures of report.multidir as dt/dd pairs (dd data-testid md-<key>); empty without one. */
 export function fillMultidirFigures(dl, m) {
-  dl.replaceChildren();
-  if (!m) return;
-  for (const [key, label, text] of multidirSummaryRows(m)) {
-    const dt = document.createElement('dt');
-    dt.textContent = label;
-    const dd = document.createElement('dd');
-    dd.dataset.testid = `md-${key}`;
-    dd.textContent = text;
-    dl.append(dt, dd);
-  }
+  fillFigureList(dl, m ? multidirSummaryRows(m) : [], 'md');
 }
 
 /**

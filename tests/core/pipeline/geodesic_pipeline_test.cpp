@@ -13,6 +13,7 @@
 #include "../test_support.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"
+#include "slice_and_verify.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {
@@ -30,22 +31,8 @@ Settings geodesicSettings(const std::string& machine, double interval) {
   return s;
 }
 
-struct Sliced {
-  SliceOutput out;
-  Json report, verify;
-};
-
-Sliced sliceAndVerify(const std::vector<uint8_t>& bytes, const std::string& name, const Settings& s) {
-  Sliced r;
-  r.out = runSlice(bytes.data(), bytes.size(), name, s);
-  EXPECT_TRUE(r.out.ok()) << r.out.message;
-  if (!r.out.ok()) return r;
-  r.report = Json::parse(r.out.reportJson);
-  VerifyOutput v = runVerify(r.out.program, bytes.data(), bytes.size(), name);
-  EXPECT_TRUE(v.ok()) << v.message;
-  if (v.ok()) r.verify = Json::parse(v.verifyJson);
-  return r;
-}
+using test::Sliced;
+using test::sliceAndVerify;
 
 // Properties every geodesic slice keeps: the sequence visits every skeleton node once and never
 // before its lower-nodes (Criterion 1), the preview carries the field and the tree, the report

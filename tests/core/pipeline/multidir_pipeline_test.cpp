@@ -14,6 +14,7 @@
 
 #include "box_union.h"
 #include "pipeline_fixtures.h"
+#include "slice_and_verify.h"
 #include "pipeline/pipeline.h"
 #include "test_support.h"
 
@@ -22,22 +23,8 @@ namespace {
 
 using Json = nlohmann::json;
 
-struct Sliced {
-  SliceOutput out;
-  Json report, verify;
-};
-
-Sliced sliceAndVerify(const std::vector<uint8_t>& bytes, const std::string& name, const Settings& s) {
-  Sliced r;
-  r.out = runSlice(bytes.data(), bytes.size(), name, s);
-  EXPECT_TRUE(r.out.ok()) << r.out.message;
-  if (!r.out.ok()) return r;
-  r.report = Json::parse(r.out.reportJson);
-  VerifyOutput v = runVerify(r.out.program, bytes.data(), bytes.size(), name);
-  EXPECT_TRUE(v.ok()) << v.message;
-  if (v.ok()) r.verify = Json::parse(v.verifyJson);
-  return r;
-}
+using test::Sliced;
+using test::sliceAndVerify;
 
 Settings multidirSettings(const std::string& machine) {
   Settings s;
