@@ -23,6 +23,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { browserUnavailable, openPage } from '../js/browser.mjs';
+import { pageControls } from './page-controls.mjs';
 import { saddleObj } from '../js/fixtures/meshes.js';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
@@ -54,16 +55,7 @@ after(async () => {
   if (tmpDir) fs.rmSync(tmpDir, { recursive: true, force: true });
 });
 
-async function setSetting(testid, value) {
-  const input = page.locator(tid(testid));
-  const tag = await input.evaluate((el) => el.tagName);
-  if (tag === 'SELECT') await input.selectOption(String(value));
-  else if ((await input.getAttribute('type')) === 'checkbox') await input.setChecked(!!value);
-  else {
-    await input.fill(String(value));
-    await input.dispatchEvent('change');
-  }
-}
+const { setSetting } = pageControls(() => page);
 
 const pageErrors = () => session.logs.filter((l) => l.startsWith('pageerror'));
 

@@ -18,6 +18,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { browserUnavailable, openPage } from '../js/browser.mjs';
+import { pageControls } from './page-controls.mjs';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const OUT_DIR = path.join(ROOT, 'build', 'e2e');
@@ -80,32 +81,7 @@ after(async () => {
   if (tmpDir) fs.rmSync(tmpDir, { recursive: true, force: true });
 });
 
-async function setSetting(testid, value) {
-  const input = page.locator(tid(testid));
-  const tag = await input.evaluate((el) => el.tagName);
-  if (tag === 'SELECT') await input.selectOption(String(value));
-  else if ((await input.getAttribute('type')) === 'checkbox') await input.setChecked(!!value);
-  else {
-    await input.fill(String(value));
-    await input.dispatchEvent('change');
-  }
-}
-
-async function slide(testid, value) {
-  await page.locator(tid(testid)).evaluate((el, v) => {
-    el.value = String(v);
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-  }, value);
-}
-
-const sliceCount = () => page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
-
-async function waitSliced(before, timeout = 300_000) {
-  await page.waitForFunction((n) => (document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) > n)
-    || document.body.dataset.state === 'error', before, { timeout });
-  if (await page.evaluate(() => document.body.dataset.state) === 'error') return page.textContent(tid('error-message'));
-  return null;
-}
+const { setSetting, slide, sliceCount, waitSliced } = pageControls(() => page);
 
 test('the method choice shows the multi-directional settings', async (t) => {
   if (skipWhy) return t.skip(skipWhy);

@@ -18,6 +18,7 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { browserUnavailable, openPage } from '../js/browser.mjs';
+import { pageControls } from './page-controls.mjs';
 import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
@@ -50,16 +51,7 @@ after(async () => {
   if (tmpDir) fs.rmSync(tmpDir, { recursive: true, force: true });
 });
 
-async function setSetting(testid, value) {
-  const input = page.locator(tid(testid));
-  const tag = await input.evaluate((el) => el.tagName);
-  if (tag === 'SELECT') await input.selectOption(String(value));
-  else if ((await input.getAttribute('type')) === 'checkbox') await input.setChecked(!!value);
-  else {
-    await input.fill(String(value));
-    await input.dispatchEvent('change');
-  }
-}
+const { setSetting, slide } = pageControls(() => page);
 
 async function downloadProgram() {
   const [download] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
@@ -69,13 +61,6 @@ async function downloadProgram() {
 }
 
 /** Set a range input's value and fire `input` (as a drag does). */
-async function slide(testid, value) {
-  await page.locator(tid(testid)).evaluate((el, v) => {
-    el.value = String(v);
-    el.dispatchEvent(new Event('input', { bubbles: true }));
-  }, value);
-}
-
 test('the method choice shows the voxel settings and hides the planar-only ones', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
   const visible = (id) => page.isVisible(tid(id));
