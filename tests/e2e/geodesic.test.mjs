@@ -18,15 +18,12 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { browserUnavailable, openPage } from '../js/browser.mjs';
-import { pageControls } from './page-controls.mjs';
+import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const IN_CI = process.env.CI === 'true';
 const tid = (id) => `[data-testid="${id}"]`;
 
 let session;
@@ -35,24 +32,10 @@ let tmpDir;
 let skipWhy = null;
 
 before(async () => {
-  skipWhy = await browserUnavailable();
-  if (skipWhy) {
-    if (IN_CI) throw new Error(`geodesic e2e prerequisites: ${skipWhy}`);
-    return;
-  }
-  fs.mkdirSync(OUT_DIR, { recursive: true });
-  tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-geo-e2e-'));
-  session = await openPage('/');
-  page = session.page;
-  await page.setViewportSize({ width: 1280, height: 900 });
-  // The overhang demo is sliced (planar) on load.
-  await page.waitForFunction(() => document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) >= 1, null, { timeout: 180_000 });
+  ({ skipWhy, session, page, tmpDir } = await openAppPage('geo'));
 });
 
-after(async () => {
-  if (session) await session.close();
-  if (tmpDir) fs.rmSync(tmpDir, { recursive: true, force: true });
-});
+after(() => closeAppPage({ session, tmpDir }));
 
 const { setSetting, slide, sliceCount, waitSliced } = pageControls(() => page);
 

@@ -2,6 +2,13 @@
 // Controls of the app page the method e2e tests share: settings by data-testid, range sliders,
 // the slice counter and waiting for a slice. `getPage` returns the Playwright page (opened later,
 // in the test file's `before`).
+import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { browserUnavailable, openPage } from '../js/browser.mjs';
+
+const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const tid = (id) => `[data-testid="${id}"]`;
 
 export function pageControls(getPage) {
@@ -33,4 +40,31 @@ export function pageControls(getPage) {
     return null;
   }
   return { setSetting, slide, sliceCount, waitSliced };
+}
+
+/**
+ * The app page of a method e2e test, opened in `before`: null skipWhy and an open session once
+ * the page has sliced its demo (the planar slice on load), a temporary folder for downloads, and
+ * build/e2e for screenshots. Without a browser: skipWhy says why (an error under CI=true).
+ * @returns {Promise<{skipWhy: string|null, session?: object, page?: object, tmpDir?: string}>}
+ */
+export async function openAppPage(label, { height = 900 } = {}) {
+  const skipWhy = await browserUnavailable();
+  if (skipWhy) {
+    if (process.env.CI === 'true') throw new Error(`${label} e2e prerequisites: ${skipWhy}`);
+    return { skipWhy };
+  }
+  fs.mkdirSync(path.join(ROOT, 'build', 'e2e'), { recursive: true });
+  const tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), `omnislice-${label}-e2e-`));
+  const session = await openPage('/');
+  const page = session.page;
+  await page.setViewportSize({ width: 1280, height });
+  await page.waitForFunction(() => document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) >= 1, null, { timeout: 180_000 });
+  return { skipWhy: null, session, page, tmpDir };
+}
+
+/** Close what openAppPage opened (either may be missing). */
+export async function closeAppPage({ session, tmpDir }) {
+  if (session) await session.close();
+  if (tmpDir) fs.rmSync(tmpDir, { recursive: true, force: true });
 }

@@ -14,11 +14,9 @@
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { browserUnavailable, openPage } from '../js/browser.mjs';
-import { pageControls } from './page-controls.mjs';
+import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
 import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
@@ -32,24 +30,10 @@ let tmpDir;
 let skipWhy = null;
 
 before(async () => {
-  skipWhy = await browserUnavailable();
-  if (skipWhy) {
-    if (IN_CI) throw new Error(`voxel e2e prerequisites: ${skipWhy}`);
-    return;
-  }
-  fs.mkdirSync(OUT_DIR, { recursive: true });
-  tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-voxel-e2e-'));
-  session = await openPage('/');
-  page = session.page;
-  await page.setViewportSize({ width: 1280, height: 800 });
-  // The demo is sliced (planar) on load.
-  await page.waitForFunction(() => document.body.dataset.state === 'done' && Number(document.body.dataset.sliceCount) >= 1, null, { timeout: 180_000 });
+  ({ skipWhy, session, page, tmpDir } = await openAppPage('voxel', { height: 800 }));
 });
 
-after(async () => {
-  if (session) await session.close();
-  if (tmpDir) fs.rmSync(tmpDir, { recursive: true, force: true });
-});
+after(() => closeAppPage({ session, tmpDir }));
 
 const { setSetting, slide } = pageControls(() => page);
 
