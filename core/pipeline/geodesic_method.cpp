@@ -150,9 +150,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   iso.travelSpeed = settings.travelSpeed;
   std::vector<std::vector<std::vector<SurfacePath>>> paths(igds.layers.size());
   size_t pathCount = 0, unfilled = 0;
-  double isoPath = 0, isoTime = 0, isoRateArea = 0, isoArea = 0, largestArea = -1;
-  std::string largestJson;
-  Json isoRegions = Json::array();
+  IsoplanarTotals isoTotals;
   for (size_t l = 0; l < igds.layers.size(); ++l) {
     const CurvedLayer& layer = igds.layers[l];
     paths[l].resize(layer.regions.size());
@@ -166,17 +164,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
           continue;
         }
         iso.firstCurve += fill.curves;
-        isoRegions.push_back({{"layer", l}, {"region", r}, {"theta_deg", fill.thetaDegrees},
-                              {"deposition_rate_mm3_s", fill.depositionRate},
-                              {"path_mm", fill.pathMm}, {"estimated_time_s", fill.estimatedTimeS}});
-        isoPath += fill.pathMm;
-        isoTime += fill.estimatedTimeS;
-        isoRateArea += fill.depositionRate * region.area;
-        isoArea += region.area;
-        if (region.area > largestArea) {
-          largestArea = region.area;
-          largestJson = fill.reportJson;
-        }
+        isoTotals.add(uint32_t(l), uint32_t(r), region.area, fill);
         pathCount += fill.paths.size();
         paths[l][r] = std::move(fill.paths);
         continue;
@@ -193,15 +181,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
       return failure(Status::Cancelled, "cancelled");
     }
   }
-  if (isoplanar && !largestJson.empty()) {
-    Json r = Json::parse(largestJson);
-    r["largest_region_theta_deg"] = r["theta_deg"];
-    r["path_mm"] = isoPath;
-    r["estimated_time_s"] = isoTime;
-    r["deposition_rate_mm3_s"] = isoArea > 0 ? isoRateArea / isoArea : 0.0;
-    r["regions"] = isoRegions;
-    out.isoplanarJson = r.dump();
-  }
+  if (isoplanar) out.isoplanarJson = isoTotals.json();
   out.timingsMs.emplace_back("paths", msSince(t0));
   timings["paths"] = out.timingsMs.back().second;
 

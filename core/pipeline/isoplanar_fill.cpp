@@ -300,4 +300,33 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
   return out;
 }
 
+void IsoplanarTotals::add(uint32_t layer, uint32_t region, double area, const IsoplanarFillResult& fill) {
+  nlohmann::ordered_json r = {{"layer", layer},
+                      {"region", region},
+                      {"theta_deg", fill.thetaDegrees},
+                      {"deposition_rate_mm3_s", fill.depositionRate},
+                      {"path_mm", fill.pathMm},
+                      {"estimated_time_s", fill.estimatedTimeS}};
+  regionsJson_ += (regionsJson_.size() > 1 ? "," : "") + r.dump();
+  path_ += fill.pathMm;
+  time_ += fill.estimatedTimeS;
+  rateArea_ += fill.depositionRate * area;
+  area_ += area;
+  if (area > largestArea_) {
+    largestArea_ = area;
+    largestJson_ = fill.reportJson;
+  }
+}
+
+std::string IsoplanarTotals::json() const {
+  if (largestJson_.empty()) return "";
+  nlohmann::ordered_json r = nlohmann::ordered_json::parse(largestJson_);
+  r["largest_region_theta_deg"] = r["theta_deg"];
+  r["path_mm"] = path_;
+  r["estimated_time_s"] = time_;
+  r["deposition_rate_mm3_s"] = area_ > 0 ? rateArea_ / area_ : 0.0;
+  r["regions"] = nlohmann::ordered_json::parse(regionsJson_ + "]");
+  return r.dump();
+}
+
 }  // namespace omnislice

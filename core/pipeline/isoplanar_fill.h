@@ -5,6 +5,7 @@
 // sampled direction. Used by `method = surface`, by `fill = isoplanar` on the voxel method's
 // curved layers and (direction only) on planar layers. Internal to core/pipeline.
 #pragma once
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -50,6 +51,19 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
                                       const IsoplanarSettings& settings,
                                       const IsoplanarFillOptions& options,
                                       const ProgressFn& progress = {});
+
+// The iso-planar fill of many layer regions summed for the report's "isoplanar" object: the
+// largest region's report (its curve and theta*, as largest_region_theta_deg) with path_mm,
+// estimated_time_s, the area-weighted deposition_rate_mm3_s and one entry per region.
+class IsoplanarTotals {
+ public:
+  void add(uint32_t layer, uint32_t region, double area, const IsoplanarFillResult& fill);
+  std::string json() const;  // "" when no region was added
+ private:
+  std::string largestJson_;
+  std::string regionsJson_ = "[";
+  double path_ = 0, time_ = 0, rateArea_ = 0, area_ = 0, largestArea_ = -1;
+};
 
 struct PlanarDirection : Outcome {
   double thetaDegrees = 0;   // theta* (or the forced angle): the lines' angle on every layer

@@ -323,9 +323,7 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
   iso.layerHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
   iso.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.printSpeed;
   iso.travelSpeed = settings.travelSpeed;
-  Json isoRegions = Json::array();
-  double isoPath = 0, isoTime = 0, isoRateArea = 0, isoArea = 0, largestArea = -1;
-  std::string largestJson;
+  IsoplanarTotals isoTotals;
   for (size_t l = 0; l < layers.layers.size(); ++l) {
     const CurvedLayer& layer = layers.layers[l];
     paths[l].resize(layer.regions.size());
@@ -339,18 +337,7 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
           continue;
         }
         iso.firstCurve += fill.curves;
-        const double area = layer.regions[r].area;
-        isoRegions.push_back({{"layer", l}, {"region", r}, {"theta_deg", fill.thetaDegrees},
-                              {"deposition_rate_mm3_s", fill.depositionRate},
-                              {"path_mm", fill.pathMm}, {"estimated_time_s", fill.estimatedTimeS}});
-        isoPath += fill.pathMm;
-        isoTime += fill.estimatedTimeS;
-        isoRateArea += fill.depositionRate * area;
-        isoArea += area;
-        if (area > largestArea) {
-          largestArea = area;
-          largestJson = fill.reportJson;
-        }
+        isoTotals.add(uint32_t(l), uint32_t(r), layer.regions[r].area, fill);
         pathCount += fill.paths.size();
         paths[l][r] = std::move(fill.paths);
         continue;
@@ -368,16 +355,8 @@ VoxelMethodOutput runVoxelMethod(const Mesh& part, const Settings& settings,
     }
   }
   const double spiralMs = msSince(t0);
-  if (isoplanar && !largestJson.empty()) {
-    // The largest region's curve and theta*; totals over every region.
-    Json r = Json::parse(largestJson);
-    r["largest_region_theta_deg"] = r["theta_deg"];
-    r["path_mm"] = isoPath;
-    r["estimated_time_s"] = isoTime;
-    r["deposition_rate_mm3_s"] = isoArea > 0 ? isoRateArea / isoArea : 0.0;
-    r["regions"] = isoRegions;
-    out.isoplanarJson = r.dump();
-  }
+  // The largest region's curve and theta*; totals over every region.
+  if (isoplanar) out.isoplanarJson = isoTotals.json();
   CurvedToolpathOptions topt =
       stage::curvedToolpathOptions(settings, machine, layers.thickness.samples > 0 ? layers.thickness.mean : w,
                             machineTiltDegrees(settings, machine));
