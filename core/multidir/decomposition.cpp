@@ -1165,20 +1165,27 @@ Bits cellsKept(const Model& m, const std::vector<Vec3>& ns, const std::vector<do
   return s;
 }
 
+// The cells of s whose centres lie on or below the plane {x : n.x = d}, and how many.
+Bits cellsBelow(const Model& m, const Bits& s, const Vec3& n, double d, size_t& count) {
+  Bits below(s.size(), 0);
+  count = 0;
+  forEachBit(s, [&](size_t c) {
+    if (n.dot(m.centre[c]) <= d) {
+      setBit(below, c);
+      ++count;
+    }
+  });
+  return below;
+}
+
 // Criteria II-IV for planes [from, end) starting from the cells kept before `from`.
 bool planesValid(const Model& m, const MultidirOptions& o, Bits s, size_t count,
                  const std::vector<Vec3>& ns, const std::vector<double>& ds, size_t from, FloodScratch& fs) {
   const size_t minPart = static_cast<size_t>(std::ceil(static_cast<double>(m.cells) / o.w - 1e-9));
   for (size_t k = from; k < ns.size(); ++k) {
     if (m.platformLimit(ns[k]) > ds[k] + 1e-9) return false;
-    Bits below(s.size(), 0);
     size_t nBelow = 0;
-    forEachBit(s, [&](size_t c) {
-      if (ns[k].dot(m.centre[c]) <= ds[k]) {
-        setBit(below, c);
-        ++nBelow;
-      }
-    });
+    Bits below = cellsBelow(m, s, ns[k], ds[k], nBelow);
     const size_t nAbove = count - nBelow;
     if (nAbove == 0 || nAbove < minPart) return false;
     const size_t reached = reachableBelow(m, s, ns[k], ds[k], fs);
@@ -1646,14 +1653,8 @@ MultidirEvaluation evaluateDecomposition(const Mesh& mesh, const std::vector<Mul
   FloodScratch fs;
   for (size_t k = 0; k < ns.size(); ++k) {
     MultidirPlaneCheck check;
-    Bits below(s.size(), 0);
     size_t nBelow = 0;
-    forEachBit(s, [&](size_t c) {
-      if (ns[k].dot(m.centre[c]) <= ds[k]) {
-        setBit(below, c);
-        ++nBelow;
-      }
-    });
+    Bits below = cellsBelow(m, s, ns[k], ds[k], nBelow);
     const size_t nAbove = count - nBelow;
     check.partVolumeMm3 = nAbove * cellVolume;
     check.partLargeEnough = nAbove > 0 && nAbove * options.w >= static_cast<double>(m.cells) - 1e-9;
