@@ -220,6 +220,8 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
       {"part_count", parts.parts.size()},
       {"volume_mm3", finite(parts.inputVolume)},
       {"cap_area_mm2", finite(parts.totalCapArea)},
+      // Projected supports (Section V) are not generated yet: no support is printed.
+      {"supports_generated", false},
       {"support_volume_mm3", 0.0},
       {"search",
        {{"normals", st.normals},
