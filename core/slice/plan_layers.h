@@ -36,7 +36,11 @@ struct PlanLayersResult : Outcome {
 // only in travel moves; travels longer than retractMinTravel are wrapped in Retract/Unretract
 // (none before the first extrusion). toolpath.start is 2 mm above the first point along d.
 // Statuses: InvalidOption (settings out of range, slices carrying an error), Cancelled, Internal.
+// supportRegions (optional, per layer of slices, in the layer plane's coordinates): support to
+// print in that layer before the part's islands, filled solid with lines at the solid spacing
+// (0 / 90 deg by layer), MoveKind::Support, Feature::Support.
 PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings, int partIndex = 0,
-                            const ProgressFn& progress = {});
+                            const ProgressFn& progress = {},
+                            const std::vector<std::vector<ExPolygon2>>* supportRegions = nullptr);
 
 }  // namespace omnislice

@@ -140,6 +140,8 @@ TEST(PlanLayers, BoxWallsSkinsInfillAlongZ) {
   checkToolpath(slices, s, plan, "box +Z");
   const std::vector<PrintRun> runs = runsOf(plan.toolpath);
   const double w = s.effectiveLineWidth();
+  // Solid spacing of the bead model: w - h (1 - pi/4) (Slic3r's flow), the layers all 0.2 mm.
+  const double sp = w - s.layerHeight * (1 - 3.14159265358979323846 / 4);
   for (int layer = 0; layer < 30; ++layer) {
     int outer = 0, inner = 0;
     double skin = 0, infill = 0;
@@ -154,7 +156,7 @@ TEST(PlanLayers, BoxWallsSkinsInfillAlongZ) {
       if (r.feature == Feature::WallInner) {
         ++inner;
         EXPECT_TRUE(r.closed());
-        EXPECT_NEAR(r.length(), 4 * (20 - 3 * w), 1e-3);
+        EXPECT_NEAR(r.length(), 4 * (20 - w - 2 * sp), 1e-3);
       }
       if (r.feature == Feature::Skin) skin += r.length();
       if (r.feature == Feature::Infill) infill += r.length();
@@ -166,15 +168,15 @@ TEST(PlanLayers, BoxWallsSkinsInfillAlongZ) {
       EXPECT_GT(skin, 0) << "layer " << layer;
       EXPECT_EQ(infill, 0) << "layer " << layer;
       EXPECT_EQ(plan.infillAreaMm2[layer], 0);
-      // Solid: skin lines at spacing w fill the region: length * w ~= area.
-      EXPECT_NEAR(skin * w / plan.skinAreaMm2[layer], 1.0, 0.05) << "layer " << layer;
+      // Solid: skin lines at the solid spacing fill the region: length * spacing ~= area.
+      EXPECT_NEAR(skin * sp / plan.skinAreaMm2[layer], 1.0, 0.05) << "layer " << layer;
     } else {
       EXPECT_EQ(skin, 0) << "layer " << layer;
       EXPECT_GT(infill, 0) << "layer " << layer;
       // Share of the sparse region covered by beads ~= infill percent.
       EXPECT_NEAR(infill * w / plan.infillAreaMm2[layer], s.infillPercent / 100, 0.03) << "layer " << layer;
-      // Fill region: inset walls * w - overlap.
-      const double side = 20 - 2 * (2 * w - 0.15 * w);
+      // Fill region: inset w + (walls - 1) spacing - overlap.
+      const double side = 20 - 2 * (w + sp - 0.15 * w);
       EXPECT_NEAR(plan.infillAreaMm2[layer], side * side, 1e-3);
     }
   }
@@ -197,7 +199,9 @@ TEST(PlanLayers, GridInfillShareAndFullInfill) {
     }
     for (double a : plan.infillAreaMm2) area += a;
     ASSERT_GT(area, 0);
-    EXPECT_NEAR(infill * w / area, pct / 100, 0.04 * pct / 100 + 0.005) << pct << " %";
+    // Sparse lines are one bead wide apart per share; 100 % is laid at the solid spacing.
+    const double lw = pct >= 100 ? w - s.layerHeight * (1 - 3.14159265358979323846 / 4) : w;
+    EXPECT_NEAR(infill * lw / area, pct / 100, 0.04 * pct / 100 + 0.005) << pct << " %";
   }
   // 0 %: no infill moves at all.
   Settings s = baseSettings();
