@@ -23,6 +23,7 @@
 //   and a rasterisation of each segment's reach over the grid cells near it: O(G + path * reach).
 #include "verify/verify_program.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -51,6 +52,7 @@ struct Segment {
   int bead = 0;
   int layer = -1;
   int line = 0;
+  bool support = false;  // a support feature: outside the part by design
 };
 
 struct Sample {
@@ -172,6 +174,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     s.bead = bead;
     s.layer = m.layer;
     s.line = m.line;
+    s.support = m.feature == "support";
     segments.push_back(s);
     beadS += len;
     rep.pathMm += len;
@@ -199,7 +202,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   // ---- inside and surface samples ----
   const AabbTree tree(partMesh);
   std::vector<uint8_t> nearSurface(samples.size(), 0);
-  size_t insideCount = 0;
+  size_t insideCount = 0, partSamples = 0;
   // Two samples both farther than w from the surface and closer than 2w to each other see no
   // surface between them (every point of the chord is within half its length of an end), so the
   // second has the first's winding: one winding query per run of far samples, same result.
@@ -219,12 +222,16 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     } else {
       in = tree.inside(p);
     }
-    if (in) ++insideCount;
+    if (!segments[samples[i].segment].support) {
+      ++partSamples;
+      if (in) ++insideCount;
+    }
     prevFar = far;
     prevInside = in;
     prevP = p;
   }
-  rep.inside = double(insideCount) / double(samples.size());
+  rep.supportSamples = samples.size() - partSamples;
+  rep.inside = partSamples ? double(insideCount) / double(partSamples) : 1.0;
 
   // ---- supported ----
   {
@@ -302,6 +309,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     }
     size_t nextPiece = 0;  // pieces [0, nextPiece) were laid before the current sample
     size_t supportedSurface = 0, surfaceCount = 0, supportedAll = 0;
+    std::vector<size_t> unsupported;  // surface samples not supported
     for (size_t i = 0; i < samples.size(); ++i) {
       if (!progress.tick(i, samples.size(), 0.3, 0.5)) return fail(Status::Cancelled, "verify cancelled");
       const Sample& smp = samples[i];
@@ -341,13 +349,36 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         }
       }
       if (ok) ++supportedAll;
-      if (nearSurface[i]) {
+      if (nearSurface[i] && !segments[smp.segment].support) {
         ++surfaceCount;
         if (ok) ++supportedSurface;
+        else unsupported.push_back(i);
       }
     }
     rep.supported = surfaceCount ? double(supportedSurface) / double(surfaceCount) : 1.0;
     rep.supportedAll = double(supportedAll) / double(samples.size());
+    const size_t shown = std::min<size_t>(10, unsupported.size());
+    for (size_t k = 0; k < shown; ++k) {
+      const Sample& smp = samples[unsupported[k * unsupported.size() / shown]];
+      UnsupportedExample ex;
+      for (int a = 0; a < 3; ++a) ex.tip[a] = smp.p[a];
+      ex.layer = segments[smp.segment].layer;
+      ex.line = segments[smp.segment].line;
+      const ClosestPoint c = tree.closest(smp.p);
+      if (c.triangle >= 0) {
+        const size_t f = size_t(c.triangle);
+        const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]),
+                              b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
+                              cc = partMesh.vertex(partMesh.triangles[3 * f + 2]);
+        const Eigen::Vector3d n = (b - a).cross(cc - a);
+        if (n.norm() > 0) {
+          const Eigen::Vector3d u = n.normalized();
+          const double overhang = std::acos(std::clamp(-u.dot(smp.u), -1.0, 1.0)) * 180 / kPi;
+          ex.overhangDeg = 90 - overhang;  // 90 = a face looking straight down along -u
+        }
+      }
+      rep.unsupportedExamples.push_back(ex);
+    }
   }
 
   // ---- collisions ----
@@ -551,6 +582,13 @@ std::string verifyReportJson(const VerifyReport& r) {
   j["coverage"] = r.coverage;
   j["supported"] = r.supported;
   j["supported_all"] = r.supportedAll;
+  j["support_samples"] = r.supportSamples;
+  nlohmann::ordered_json ue = nlohmann::ordered_json::array();
+  for (const UnsupportedExample& e : r.unsupportedExamples) {
+    ue.push_back({{"tip", {e.tip[0], e.tip[1], e.tip[2]}}, {"layer", e.layer}, {"line", e.line},
+                  {"overhang_deg", e.overhangDeg}});
+  }
+  j["unsupported_examples"] = ue;
   j["collisions"] = r.collisions;
   j["limits"] = r.limitViolations;
   j["extrusion_mm"] = r.extrusionMm;

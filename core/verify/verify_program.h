@@ -27,10 +27,23 @@ struct CollisionExample {
   int line = 0;
 };
 
+// A surface sample that nothing earlier supports (tip position, layer, program line).
+struct UnsupportedExample {
+  double tip[3] = {0, 0, 0};
+  int layer = -1;
+  int line = 0;
+  double overhangDeg = 0;  // the nearest face's angle from the nozzle axis: 0 = a wall along
+                           // it, 90 = facing straight against it (down), < 0 facing up
+};
+
 struct VerifyReport : Outcome {
-  double inside = 0;            // share of samples within w/2 of the solid
+  double inside = 0;            // share of the part's samples (support excluded: it lies outside
+                                // the part by design) within w/2 of the solid
   double coverage = 0;          // share of interior grid points inside some bead
-  double supported = 0;         // share of surface samples supported
+  double supported = 0;         // share of the part's surface samples supported (by anything
+                                // earlier, support included; support's own samples are not judged)
+  size_t supportSamples = 0;    // samples on support features
+  std::vector<UnsupportedExample> unsupportedExamples;  // up to 10, spread over all of them
   double supportedAll = 0;      // same over all samples
   size_t collisions = 0;        // samples with an earlier sample inside the nozzle cone
   std::vector<CollisionExample> collisionExamples;  // the first few (at most 10), in print order

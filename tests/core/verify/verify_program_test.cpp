@@ -60,6 +60,55 @@ TEST(VerifyProgram, SolidBoxPasses) {
   EXPECT_EQ(r.gridPoints, size_t(47) * 47 * 47);
 }
 
+// Support lies outside the part by design: its samples are left out of `inside` and are not
+// judged by `supported`, but still hold up what is printed on them. The same moves printed as part
+// material count as outside.
+TEST(VerifyProgram, SupportSamplesAreOutsideByDesign) {
+  const Toolpath box = test::boxToolpath({});
+  auto withColumn = [&](MoveKind kind, Feature feature) {
+    Toolpath tp = box;
+    // A 2 mm line beside the box (x = 7), on the first 5 layers.
+    Move t;
+    t.kind = MoveKind::Travel;
+    t.speed = 100;
+    for (int l = 0; l < 5; ++l) {
+      const double z = 0.2 * (l + 1);
+      t.position = {7, -1, z};
+      t.layer = l;
+      tp.moves.insert(tp.moves.begin() + 1, t);
+    }
+    std::vector<Move> column;
+    for (int l = 0; l < 5; ++l) {
+      const double z = 0.2 * (l + 1);
+      Move a = t;
+      a.position = {7, -1, z};
+      a.layer = l;
+      Move b = a;
+      b.kind = kind;
+      b.feature = feature;
+      b.position = {7, 1, z};
+      b.width = 0.45;
+      b.height = 0.2;
+      b.filament = 0.07;
+      b.speed = 30;
+      column.push_back(a);
+      column.push_back(b);
+    }
+    tp.moves.insert(tp.moves.end(), column.begin(), column.end());
+    return verifyProgram(throughGcode(tp), box10());
+  };
+  const VerifyReport asSupport = withColumn(MoveKind::Support, Feature::Support);
+  const VerifyReport asPart = withColumn(MoveKind::Print, Feature::Infill);
+  ASSERT_TRUE(asSupport.ok()) << asSupport.message;
+  ASSERT_TRUE(asPart.ok()) << asPart.message;
+  EXPECT_EQ(asSupport.supportSamples, 4u * 5u);  // 2 mm at 0.5 mm from its start: 4 per layer
+  EXPECT_EQ(asPart.supportSamples, 0u);
+  EXPECT_GE(asSupport.inside, 0.99);
+  EXPECT_DOUBLE_EQ(asSupport.inside, 1.0);
+  EXPECT_LT(asPart.inside, 1.0);
+  EXPECT_EQ(asSupport.samples, asPart.samples);
+}
+
 TEST(VerifyProgram, CoverageAndInsideMatchIndependentBruteForce) {
   // A small box so every grid point can be checked against every segment.
   const Mesh part = test::makeBox(-1.5, -1.5, 0, 1.5, 1.5, 1.2);
@@ -366,7 +415,9 @@ TEST(VerifyProgram, ReportJsonAndStatuses) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["samples"].get<size_t>(), r.samples);
-  EXPECT_EQ(j.size(), 12u);
+  EXPECT_EQ(j.size(), 14u);
+  EXPECT_EQ(j["support_samples"].get<size_t>(), 0u);
+  EXPECT_TRUE(j["unsupported_examples"].is_array());
   EXPECT_TRUE(j["collision_examples"].is_array() && j["collision_examples"].empty());
 
   VerifyOptions small;
