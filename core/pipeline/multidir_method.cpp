@@ -8,9 +8,12 @@
 
 #include "mesh/clip_mesh.h"
 #include "multidir/decomposition.h"
+#include "multidir/projected_supports.h"
 #include "pipeline/stage_support.h"
+#include "pipeline/support_stage.h"
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
+#include "slice/support_regions.h"
 
 namespace omnislice {
 namespace {
@@ -145,7 +148,20 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   mergeParts(parts.parts, out.preview);
   riskyFlags(out.part, planes, o.alphaMaxDeg, o.platformBandMm, out.preview);
 
-  // 3. Each part sliced along its direction and planned; parts one after the other.
+  // 3. Projected supports (Section V, Algorithm 2) for what stays risky.
+  const bool withSupports = stage::supportsWanted(settings);
+  const SupportOptions supportOptions = stage::supportOptionsFor(settings, o.alphaMaxDeg);
+  SupportResult supports;
+  double supportMs = 0, supportRegionVolume = 0;
+  if (withSupports) {
+    t0 = Clock::now();
+    supports = projectedSupports(out.part, planes, supportOptions, progress);
+    if (!supports.ok()) return failure(supports);
+    supportMs = msSince(t0);
+  }
+
+  // 4. Each part sliced along its direction and planned, with its subspace's supports; parts one
+  // after the other.
   double sliceMs = 0, planMs = 0;
   int layerOffset = 0;
   Json partsJson = Json::array();
@@ -173,7 +189,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     SliceOptions so;
     so.direction = d;
     so.layerHeight = settings.layerHeight;
-    so.firstLayerHeight = first ? settings.effectiveFirstLayerHeight() : settings.layerHeight;
+    so.firstLayerHeight = first ? settings.effectiveFirstLayerHeight() : 0.5 * settings.layerHeight;
     SliceResult slices = sliceMesh(cp.mesh, so, progress);
     if (!slices.ok()) return failure(slices.status, "part " + std::to_string(i) + ": " + slices.message);
     sliceMs += msSince(s0);
@@ -184,7 +200,19 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
       ps.firstLayerHeight = 0;
       ps.firstLayerSpeed = settings.printSpeed;
     }
-    PlanLayersResult plan = planLayers(slices, ps, static_cast<int>(i), progress);
+    SupportRegionsResult regions;
+    double partSupportVolume = 0;
+    if (withSupports) {
+      const int subspace = cp.planeIndex < 0 ? static_cast<int>(planes.size()) : cp.planeIndex;
+      const std::vector<Plane> earlier(planes.begin(), planes.begin() + subspace);
+      auto r0 = Clock::now();
+      regions = supportRegions(supportMesh(supports, subspace, supportOptions), slices, so, earlier, settings.support.gapMm);
+      if (!regions.ok()) return failure(regions.status, "part " + std::to_string(i) + ": " + regions.message);
+      supportMs += msSince(r0);
+      supportRegionVolume += regions.volumeMm3;
+      partSupportVolume = regions.volumeMm3;
+    }
+    PlanLayersResult plan = planLayers(slices, ps, static_cast<int>(i), progress, withSupports ? &regions.layers : nullptr);
     if (!plan.ok()) return failure(plan.status, "part " + std::to_string(i) + ": " + plan.message);
     planMs += msSince(s0);
     int maxLayer = -1;
@@ -197,6 +225,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     if (first) out.toolpath.start = plan.toolpath.start;
     layerOffset += maxLayer + 1;
     pj["layers"] = maxLayer + 1;
+    pj["support_region_mm3"] = finite(partSupportVolume);
     partsJson.push_back(pj);
     first = false;
   }
@@ -204,6 +233,8 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   out.layers = layerOffset;
   out.timingsMs.emplace_back("slice", sliceMs);
   out.timingsMs.emplace_back("toolpath", planMs);
+  if (withSupports) out.timingsMs.emplace_back("supports", supportMs);
+  const double printedSupport = stage::printedSupportVolume(out.toolpath, settings.filamentDiameter);
 
   const MultidirStats& st = search.stats;
   Json levels = Json::array();
@@ -220,9 +251,12 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
       {"part_count", parts.parts.size()},
       {"volume_mm3", finite(parts.inputVolume)},
       {"cap_area_mm2", finite(parts.totalCapArea)},
-      // Projected supports (Section V) are not generated yet: no support is printed.
-      {"supports_generated", false},
-      {"support_volume_mm3", 0.0},
+      // Projected supports (Section V): the deposited support volume, and the generator's figures.
+      {"supports_generated", withSupports},
+      {"support_volume_mm3", finite(printedSupport)},
+      {"supports", withSupports ? Json::parse(stage::supportReportJson(supports, supportOptions, supportRegionVolume,
+                                                                       printedSupport, supportMs))
+                                : Json({{"generated", false}})},
       {"search",
        {{"normals", st.normals},
         {"candidates_evaluated", st.candidatesEvaluated},

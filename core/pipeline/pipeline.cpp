@@ -7,6 +7,7 @@
 #include <cmath>
 #include <exception>
 #include <new>
+#include <optional>
 #include <nlohmann/json.hpp>
 
 #include "mesh/prepare_mesh.h"
@@ -21,6 +22,9 @@
 #include "kinematics/kinematics.h"
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/stage_support.h"
+#include "pipeline/support_stage.h"
+#include "multidir/projected_supports.h"
+#include "slice/support_regions.h"
 #include "pipeline/geodesic_method.h"
 #include "pipeline/multidir_method.h"
 #include "pipeline/surface_method.h"
@@ -275,6 +279,13 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     VoxelMethodOutput voxelOut;
     GeodesicMethodOutput geodesicOut;
     std::string planarIsoplanarJson;
+    struct PlanarSupport {
+      SupportResult result;
+      SupportOptions options;
+      double regionVolumeMm3 = 0;
+      double ms = 0;
+    };
+    std::optional<PlanarSupport> planarSupport;
     if (geodesic) {
       // A .tet input brings its own tets: the same placement as its boundary surface.
       TetMesh placedTets;
@@ -335,7 +346,20 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
         planarIsoplanarJson = dir.reportJson;
         clock.done("isoplanar");
       }
-      plan = planLayers(slices, planSettings, 0, progress);
+      // Supports along the one direction (the projected-support generator with no plane).
+      SupportRegionsResult regions;
+      const bool withSupports = stage::supportsWanted(settings);
+      if (withSupports) {
+        const SupportOptions so = stage::supportOptionsFor(settings, 45);
+        SupportResult sup = projectedSupports(in.placed.mesh, {}, so, progress);
+        if (!sup.ok()) return failed<SliceOutput>(sup);
+        regions = supportRegions(supportMesh(sup, 0, so), slices, sliceOptions, {}, settings.support.gapMm);
+        if (!regions.ok()) return failed<SliceOutput>(regions);
+        const double ms = msSince(clock.t0);
+        clock.done("supports");
+        planarSupport = PlanarSupport{std::move(sup), so, regions.volumeMm3, ms};
+      }
+      plan = planLayers(slices, planSettings, 0, progress, withSupports ? &regions.layers : nullptr);
       if (!plan.ok()) return failed<SliceOutput>(plan);
       clock.done("toolpath");
     }
@@ -465,6 +489,11 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     if (multidir) report["multidir"] = Json::parse(multidirOut.reportJson);
     if (geodesic && !geodesicOut.isoplanarJson.empty()) report["isoplanar"] = Json::parse(geodesicOut.isoplanarJson);
     if (!planarIsoplanarJson.empty()) report["isoplanar"] = Json::parse(planarIsoplanarJson);
+    if (planarSupport) {
+      report["support"] = Json::parse(stage::supportReportJson(
+          planarSupport->result, planarSupport->options, planarSupport->regionVolumeMm3,
+          stage::printedSupportVolume(plan.toolpath, settings.filamentDiameter), planarSupport->ms));
+    }
     report["fill"] = settings.fill;
     Json t = clock.timings;
     t["total"] = msSince(start);

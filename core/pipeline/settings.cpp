@@ -162,6 +162,16 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.geodesic.targetTets; }, 100, 3e6, "tets"}},
       {"geodesic.nozzle_angle_deg",
        {[](Settings& s) -> double& { return s.geodesic.nozzleAngleDeg; }, 0, 89, "degrees (0 = the machine's nozzle cone)"}},
+      {"support.sampling_mm",
+       {[](Settings& s) -> double& { return s.support.samplingMm; }, 0, 50, "mm (0 = 2.5 x nozzle + 1)"}},
+      {"support.angle_deg",
+       {[](Settings& s) -> double& { return s.support.angleDeg; }, 0, 89, "degrees (0 = the method's)"}},
+      {"support.lambda",
+       {[](Settings& s) -> double& { return s.support.lambda; }, 0, 1, "(Eq. 13)"}},
+      {"support.min_diameter_mm",
+       {[](Settings& s) -> double& { return s.support.minDiameterMm; }, 0, 20, "mm (0 = 2 x line width)"}},
+      {"support.gap_mm",
+       {[](Settings& s) -> double& { return s.support.gapMm; }, 0, 5, "mm"}},
       {"multidir.alpha_max_deg",
        {[](Settings& s) -> double& { return s.multidir.alphaMaxDeg; }, 1, 89, "degrees"}},
       {"multidir.w",
@@ -189,6 +199,7 @@ const std::map<std::string, IntSpec>& intSpecs() {
       {"bottom_layers", {[](Settings& s) -> int& { return s.bottomLayers; }, 0, 200}},
       {"motion.free_rotation_samples",
        {[](Settings& s) -> int& { return s.freeRotationSamples; }, 1, 360}},
+      {"support.roof_layers", {[](Settings& s) -> int& { return s.support.roofLayers; }, 0, 100}},
       {"multidir.samples", {[](Settings& s) -> int& { return s.multidir.samples; }, 4, 20000}},
       {"multidir.beam_width", {[](Settings& s) -> int& { return s.multidir.beamWidth; }, 1, 100}},
       {"multidir.axis_search", {[](Settings& s) -> int& { return s.multidir.axisSearch; }, 0, 3600}},
@@ -266,6 +277,13 @@ Outcome setSetting(Settings& settings, const std::string& rawKey, const std::str
       return invalid(key, "'" + value + "' is not a print sequence (a3, lpt, dpt)");
     }
     settings.geodesic.sequence = v;
+    return {};
+  }
+  if (key == "support") {
+    if (value != "auto" && value != "none" && value != "projected") {
+      return invalid(key, "'" + value + "' is not a support mode (auto, none, projected)");
+    }
+    settings.support.mode = value;
     return {};
   }
   if (key == "multidir.scheme") {
@@ -455,6 +473,7 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
   out.emplace_back("motion.smooth_orientations", s.smoothOrientations ? "true" : "false");
   out.emplace_back("fill", s.fill);
   out.emplace_back("isoplanar.benchmark", s.isoplanar.benchmark ? "true" : "false");
+  out.emplace_back("support", s.support.mode);
   if (s.method == "voxel") {
     out.emplace_back("voxel.strategy", s.voxel.strategy);
     out.emplace_back("voxel.shadow", s.voxel.shadow);

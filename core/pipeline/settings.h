@@ -100,6 +100,22 @@ struct MultidirSettings {
   std::string dof = "auto";      // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof
 };
 
+// Supports under what stays risky (paper 000 Section V: projected supports). The multidir method
+// projects them through its parts' subspaces; the planar method, printed along one direction,
+// gets the same generator with no clipping plane (ordinary supports along d = +Z).
+struct SupportSettings {
+  std::string mode = "auto";     // auto (multidir: projected, planar: none) | none | projected
+  double samplingMm = 0;         // R, overhang sampling interval, mm; 0 = 2.5 x nozzle + 1 (the
+                                 // paper: 2 mm for a 0.4 mm nozzle, 3 mm for 0.8 mm)
+  double angleDeg = 0;           // overhangs steeper than this need support, degrees; 0 =
+                                 // multidir.alpha_max_deg (multidir) or 45 (planar)
+  double lambda = 1e-6;          // Eq. 13, strut diameter growth with the torque above
+  double minDiameterMm = 0;      // strut diameter floor, mm; 0 = 2 x line width
+  int roofLayers = 2;            // solid support layers right under an overhang (roof)
+  double gapMm = 0;              // horizontal gap between support and the part, mm (0: the roof
+                                 // meets the part's outer wall, which verify's 1.5 h reach needs)
+};
+
 struct Settings {
   std::string method = "planar";       // planar | voxel | surface | geodesic | multidir
   std::string fill = "auto";           // how layers are filled: auto (planar: walls + infill,
@@ -110,6 +126,7 @@ struct Settings {
   SurfaceSettings surface;
   GeodesicSettings geodesic;
   MultidirSettings multidir;
+  SupportSettings support;
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty

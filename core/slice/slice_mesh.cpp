@@ -132,6 +132,14 @@ SliceResult sliceMesh(const Mesh& mesh, const SliceOptions& options, const Progr
       maxH = std::max(maxH, height[v]);
     }
   }
+  if (!std::isnan(options.baseHeight)) {
+    if (!std::isfinite(options.baseHeight)) return fail(Status::InvalidOption, "base height must be finite");
+    if (!(maxH > options.baseHeight)) {
+      result.minHeight = options.baseHeight;
+      return result;  // nothing above the base: no layers
+    }
+    minH = options.baseHeight;
+  }
   result.minHeight = minH;
   const double total = maxH - minH;
   if (!(total > 0)) return fail(Status::EmptyInput, "mesh has zero extent along the slice direction");
@@ -145,6 +153,7 @@ SliceResult sliceMesh(const Mesh& mesh, const SliceOptions& options, const Progr
   if (estimate > 2e6) return fail(Status::InvalidOption, "too many layers (over 2 million)");
   size_t layerCount = static_cast<size_t>(estimate) + 1;
   while (layerCount > 1 && !(minH + midOf(layerCount - 1) < maxH)) --layerCount;
+  if (options.maxLayers > 0) layerCount = std::min(layerCount, options.maxLayers);
   std::vector<double> planes(layerCount);
   result.layers.resize(layerCount);
   for (size_t i = 0; i < layerCount; ++i) {

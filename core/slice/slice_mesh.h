@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include "common/progress.h"
@@ -48,6 +49,13 @@ struct SliceOptions {
   double layerHeight = 0.2;            // mm, > 0
   double firstLayerHeight = 0;         // mm, 0 = layerHeight
   double closingRadius = 0;            // mm, morphological close of tiny gaps, 0 = off
+  double baseHeight = std::numeric_limits<double>::quiet_NaN();  // finite: layer 0's bottom at
+                                       // this height along d (mm, same origin as minHeight) instead
+                                       // of the mesh's lowest point, so the layers line up with
+                                       // another mesh's (supports with their part); what lies
+                                       // below it is not sliced, and a mesh wholly below gives no
+                                       // layers (ok)
+  size_t maxLayers = 0;                // > 0: at most this many layers (from the bottom)
 };
 
 struct SliceResult : Outcome {

@@ -1,0 +1,31 @@
+// SPDX-License-Identifier: MIT
+// Supports as a pipeline step shared by the planar and multidir methods (internal to
+// core/pipeline): settings -> generator options, the printed support volume, the report object.
+#pragma once
+#include <string>
+
+#include "multidir/projected_supports.h"
+#include "pipeline/settings.h"
+#include "toolpath/toolpath.h"
+
+namespace omnislice::stage {
+
+// support = projected, or auto with the multidir method.
+bool supportsWanted(const Settings& settings);
+
+// Generator options from the settings; methodAlphaDeg is the overhang angle when support.angle_deg
+// is 0 (multidir: its alpha_max; planar: 45).
+// Only faces within half the first layer of the platform rest on it: the overhangs J_G leaves out
+// near the platform (multidir's 2 mm band) still get support.
+SupportOptions supportOptionsFor(const Settings& settings, double methodAlphaDeg);
+
+// Volume deposited by the Support moves: their filament times the filament's section, mm^3.
+double printedSupportVolume(const Toolpath& path, double filamentDiameterMm);
+
+// The report object {generated, sampling_mm, angle_deg, samples, point_overhangs, patch_samples,
+// landed_on_model, landed_on_platform, blocked, struts, roofs, risky_area_mm2, strut_volume_mm3,
+// roof_volume_mm3, region_volume_mm3, printed_volume_mm3, ms} as JSON text.
+std::string supportReportJson(const SupportResult& supports, const SupportOptions& options, double regionVolumeMm3,
+                              double printedVolumeMm3, double ms);
+
+}  // namespace omnislice::stage
