@@ -17,8 +17,9 @@
 // the same placed model at the paper's Table I settings (scripts/cura-compare.mjs; installed by
 // scripts/install-cura.sh, skipped with a message when it cannot be).
 // Env: BENCH_REPS (default 3: best of N per stage), BENCH_SLICE_1M=1 (also slice the 1M mesh),
-// BENCH_GEODESIC=0 / BENCH_MULTIDIR=0 skip those cases, BENCH_CURA=0 skips the CuraEngine comparison, BENCH_ONLY=text keeps only the cases whose
-// name contains it.
+// BENCH_GEODESIC=0 / BENCH_MULTIDIR=0 skip those cases, BENCH_CURA=0 skips the CuraEngine
+// comparison, BENCH_ONLY=text keeps only the cases whose name contains it, OMNISLICE_SHARED_MODELS
+// the shared models folder (default ../shared/models).
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
@@ -30,6 +31,8 @@ import { generateBenchModels } from './gen-bench-models.mjs';
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const CLI = process.env.OMNISLICE_CLI || path.join(ROOT, 'build/native/omnislice');
 const WASM_DIR = process.env.OMNISLICE_WASM_DIR || path.join(ROOT, 'build/wasm');
+// The shared test models (next to the repository; OMNISLICE_SHARED_MODELS for a worktree elsewhere).
+const SHARED_MODELS = process.env.OMNISLICE_SHARED_MODELS || path.resolve(ROOT, '../shared/models');
 const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 3);
 const STAGES = ['read', 'validate', 'place', 'voxelize', 'peeling', 'growth', 'layers', 'slice', 'toolpath',
   'isoplanar_samples', 'isoplanar_feed', 'isoplanar_direction', 'isoplanar_paths', 'isoplanar_benchmark',
@@ -125,7 +128,7 @@ if (process.env.BENCH_SLICE_1M === '1') {
 // UR5: ~100k tool-path samples through IK (30 free-rotation samples x 8 branches) + pose continuity.
 cases.push({ case: 'torus-100k robot6-ur5 0.4mm', mode: 'slice', file: models['torus-100k.stl'],
   settings: { layer_height: 0.4, machine: 'robot6-ur5' } });
-const bunny = path.resolve(ROOT, '../shared/models/compas_bunny_closed_high_res.stl');
+const bunny = path.join(SHARED_MODELS, 'compas_bunny_closed_high_res.stl');
 if (fs.existsSync(bunny)) {
   cases.push({ case: 'bunny-70k (shared) slice 0.2mm fit 100', mode: 'slice', file: bunny,
     settings: { layer_height: 0.2, fit_mm: 100 } });
@@ -163,7 +166,7 @@ const GEO_YOGA = 'yoga.tet geodesic 52k tets (robot6)';
 const geo = { method: 'geodesic', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.8 };
 if (fs.existsSync(bunny) && process.env.BENCH_GEODESIC !== '0') {
   cases.push({ case: GEO_BUNNY, mode: 'slice', file: bunny, settings: { ...geo, machine: 'table5', fit_mm: 60, 'geodesic.target_tets': 60000 }, reps: 1 });
-  const yoga = path.resolve(ROOT, '../shared/models/reinforcedfdm_YogaNew.tet');
+  const yoga = path.join(SHARED_MODELS, 'reinforcedfdm_YogaNew.tet');
   if (fs.existsSync(yoga)) {
     cases.push({ case: GEO_YOGA, mode: 'slice', file: yoga, settings: { ...geo, machine: 'robot6-ur5', up: 'y', fit_mm: 100 }, reps: 1 });
   }
@@ -173,7 +176,7 @@ const geodesicCounts = {};
 // full 5-DOF beam search (robot6 reaches the full-size part) and the 4-DOF search over 180 axes.
 const MD_5DOF = 'kitten multidir 5-DOF beam (robot6)';
 const MD_4DOF = 'kitten multidir 4-DOF 180 axes (rotary4)';
-const kitten = path.resolve(ROOT, '../shared/models/pymdp_kitten.off');
+const kitten = path.join(SHARED_MODELS, 'pymdp_kitten.off');
 const multidirCounts = {};
 const multidirPrints = {};  // per multidir case: the program's layers, extrusion and time estimate
 if (fs.existsSync(kitten) && process.env.BENCH_MULTIDIR !== '0') {
