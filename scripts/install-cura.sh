@@ -44,7 +44,7 @@ if [ ! -f "$DEFS/fdmprinter.def.json" ] || [ ! -f "$DEFS/fdmextruder.def.json" ]
   command -v dpkg-deb >/dev/null || { echo "install-cura: dpkg-deb is missing" >&2; exit 1; }
   work=$(mktemp -d)
   trap 'rm -rf "$work"' EXIT
-  chmod 755 "$work"  # apt-get download fetches as the _apt user
+  chown _apt "$work" 2>/dev/null || true  # apt-get download fetches as the _apt user
   echo "install-cura: apt-get download cura (definitions only, not installed)" >&2
   if ! (cd "$work" && apt-get download -q cura >&2); then
     # The package lists may be stale or missing (fresh container): refresh once and retry.
