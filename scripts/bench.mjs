@@ -12,20 +12,27 @@
 // <= 0.5 s in wasm; geodesic method (issue 6), a ~60k-tet model in wasm: tet meshing <= 2 s,
 // field <= 0.5 s, IGDS extraction + remeshing <= 2 s, filling paths <= 3 s, mesh file to program
 // <= 8 s; multidir (issue 7): the 5-DOF beam search on the 10k-triangle Kitten <= 1 s in wasm,
-// the 4-DOF search over 180 axes <= 5 s.
+// the 4-DOF search over 180 axes <= 5 s. Each multidir case also gets a row (stage 'support')
+// with the Omnislice figures and a `cura` object: CuraEngine 4.13's fixed-direction (+Z) print of
+// the same placed model at the paper's Table I settings (scripts/cura-compare.mjs; installed by
+// scripts/install-cura.sh, skipped with a message when it cannot be).
 // Env: BENCH_REPS (default 3: best of N per stage), BENCH_SLICE_1M=1 (also slice the 1M mesh),
-// BENCH_GEODESIC=0 / BENCH_MULTIDIR=0 skip those cases, BENCH_ONLY=text keeps only the cases whose
-// name contains it.
+// BENCH_GEODESIC=0 / BENCH_MULTIDIR=0 skip those cases, BENCH_CURA=0 skips the CuraEngine
+// comparison, BENCH_ONLY=text keeps only the cases whose name contains it, OMNISLICE_SHARED_MODELS
+// the shared models folder (default ../shared/models).
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
+import { compareWithCura } from './cura-compare.mjs';
 import { generateBenchModels } from './gen-bench-models.mjs';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 const CLI = process.env.OMNISLICE_CLI || path.join(ROOT, 'build/native/omnislice');
 const WASM_DIR = process.env.OMNISLICE_WASM_DIR || path.join(ROOT, 'build/wasm');
+// The shared test models (next to the repository; OMNISLICE_SHARED_MODELS for a worktree elsewhere).
+const SHARED_MODELS = process.env.OMNISLICE_SHARED_MODELS || path.resolve(ROOT, '../shared/models');
 const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 3);
 const STAGES = ['read', 'validate', 'place', 'voxelize', 'peeling', 'growth', 'layers', 'slice', 'toolpath',
   'isoplanar_samples', 'isoplanar_feed', 'isoplanar_direction', 'isoplanar_paths', 'isoplanar_benchmark',
@@ -89,7 +96,11 @@ function wasmRun(mode, bytes, name, settings, label) {
   if (mode === 'slice' && settings.machine === 'robot6-ur5') robotSamples[label] = r.report.motion.samples;
   if (mode === 'slice' && r.report.voxel) voxelCounts[label] = r.report.voxel;
   if (mode === 'slice' && r.report.geodesic) geodesicCounts[label] = r.report.geodesic;
-  if (mode === 'slice' && r.report.multidir) multidirCounts[label] = r.report.multidir;
+  if (mode === 'slice' && r.report.multidir) {
+    multidirCounts[label] = r.report.multidir;
+    const { layers, layer_height_mm, extrusion_mm, estimated_time_s } = r.report;
+    multidirPrints[label] = { layers, layer_height_mm, extrusion_mm, estimated_time_s };
+  }
   const wall = performance.now() - t0;
   const timings = mode === 'slice' ? r.report.timings_ms : r.info.timings_ms;
   return withTotals(timings, wall);
@@ -117,7 +128,7 @@ if (process.env.BENCH_SLICE_1M === '1') {
 // UR5: ~100k tool-path samples through IK (30 free-rotation samples x 8 branches) + pose continuity.
 cases.push({ case: 'torus-100k robot6-ur5 0.4mm', mode: 'slice', file: models['torus-100k.stl'],
   settings: { layer_height: 0.4, machine: 'robot6-ur5' } });
-const bunny = path.resolve(ROOT, '../shared/models/compas_bunny_closed_high_res.stl');
+const bunny = path.join(SHARED_MODELS, 'compas_bunny_closed_high_res.stl');
 if (fs.existsSync(bunny)) {
   cases.push({ case: 'bunny-70k (shared) slice 0.2mm fit 100', mode: 'slice', file: bunny,
     settings: { layer_height: 0.2, fit_mm: 100 } });
@@ -155,7 +166,7 @@ const GEO_YOGA = 'yoga.tet geodesic 52k tets (robot6)';
 const geo = { method: 'geodesic', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.8 };
 if (fs.existsSync(bunny) && process.env.BENCH_GEODESIC !== '0') {
   cases.push({ case: GEO_BUNNY, mode: 'slice', file: bunny, settings: { ...geo, machine: 'table5', fit_mm: 60, 'geodesic.target_tets': 60000 }, reps: 1 });
-  const yoga = path.resolve(ROOT, '../shared/models/reinforcedfdm_YogaNew.tet');
+  const yoga = path.join(SHARED_MODELS, 'reinforcedfdm_YogaNew.tet');
   if (fs.existsSync(yoga)) {
     cases.push({ case: GEO_YOGA, mode: 'slice', file: yoga, settings: { ...geo, machine: 'robot6-ur5', up: 'y', fit_mm: 100 }, reps: 1 });
   }
@@ -165,8 +176,9 @@ const geodesicCounts = {};
 // full 5-DOF beam search (robot6 reaches the full-size part) and the 4-DOF search over 180 axes.
 const MD_5DOF = 'kitten multidir 5-DOF beam (robot6)';
 const MD_4DOF = 'kitten multidir 4-DOF 180 axes (rotary4)';
-const kitten = path.resolve(ROOT, '../shared/models/pymdp_kitten.off');
+const kitten = path.join(SHARED_MODELS, 'pymdp_kitten.off');
 const multidirCounts = {};
+const multidirPrints = {};  // per multidir case: the program's layers, extrusion and time estimate
 if (fs.existsSync(kitten) && process.env.BENCH_MULTIDIR !== '0') {
   const md = { method: 'multidir', up: 'y', layer_height: 0.3 };
   cases.push({ case: MD_5DOF, mode: 'slice', file: kitten, settings: { ...md, machine: 'robot6-ur5' }, reps: 1 });
@@ -207,6 +219,34 @@ for (const c of cases) {
     const ratio = native_ms > 0 && wasm_ms !== null ? wasm_ms / native_ms : null;
     rows.push({ case: c.case, stage, native_ms, wasm_ms, ratio });
   }
+}
+
+// CuraEngine on each multidir case's model, placed as the case places it, along the fixed +Z
+// direction (paper 000, Table I: "Fixed Dir." support volume and printing time with Cura at
+// 0.4 mm layers and 20% grid infill), once per model and placement.
+const curaRuns = {};
+const curaSkip = process.env.BENCH_CURA === '0' ? 'BENCH_CURA=0' : null;
+for (const c of cases.filter((k) => k.settings.method === 'multidir')) {
+  const placement = { up: c.settings.up, scale: c.settings.scale, fitMm: c.settings.fit_mm };
+  const key = JSON.stringify([c.file, placement]);
+  if (!(key in curaRuns)) {
+    if (curaSkip) curaRuns[key] = { skipped: curaSkip };
+    else {
+      console.error(`[bench] ${path.basename(c.file)}: CuraEngine fixed direction, with and without supports...`);
+      try {
+        curaRuns[key] = compareWithCura(c.file, placement);
+      } catch (e) {
+        curaRuns[key] = { skipped: `CuraEngine run failed: ${e.message}` };
+      }
+      if (curaRuns[key].skipped) console.error(`[bench] Cura comparison skipped: ${curaRuns[key].skipped}`);
+    }
+  }
+  const m = multidirCounts[c.case];
+  const omnislice = m ? {
+    J_G_before: m.J_G_before, J_G_after: m.J_G_after, part_count: m.part_count,
+    supports_generated: m.supports_generated, support_volume_mm3: m.support_volume_mm3, ...multidirPrints[c.case],
+  } : null;
+  rows.push({ case: c.case, stage: 'support', native_ms: null, wasm_ms: null, ratio: null, omnislice, cura: curaRuns[key] });
 }
 
 // Verification of a large program (~500k moves; the torus scaled to 150 mm so the coverage grid
@@ -313,6 +353,23 @@ for (const [label, limit] of [[MD_5DOF, 1000], [MD_4DOF, 5000]]) {
   if (!m || !row) continue;
   checks.push([`${label}: J_G ${round(m.J_G_before)} -> ${m.J_G_after.toFixed(3)} mm^2, ${m.part_count} parts: search in wasm (native ${row.native_ms} ms) <= ${limit} ms`,
     row.wasm_ms, row.wasm_ms <= limit]);
+}
+const hms = (s) => (typeof s === 'number' ? `${Math.floor(s / 3600)}h${String(Math.floor(s / 60) % 60).padStart(2, '0')}m` : '-');
+const supportRows = out.filter((r) => r.cura);
+if (supportRows.length) console.log('\nfixed direction (+Z) with CuraEngine vs multidir:');
+for (const r of supportRows) {
+  const c = r.cura, o = r.omnislice;
+  const omni = o ? `Omnislice multidir: J_G ${round(o.J_G_before)} -> ${round(o.J_G_after, 3)} mm^2, ${o.part_count} parts, ` +
+    `support ${round(o.support_volume_mm3)} mm^3${o.supports_generated ? '' : ' (supports not generated)'}, ` +
+    `${o.layers} layers at ${o.layer_height_mm} mm, estimated ${hms(o.estimated_time_s)}` : 'no Omnislice report';
+  if (c.skipped) console.log(`  ${r.case}: Cura skipped (${c.skipped}); ${omni}`);
+  else {
+    const w = c.without_supports;
+    console.log(`  ${r.case}: ${c.version} +Z at ${c.settings.layer_height} mm, ${c.settings.infill_sparse_density}% grid: ` +
+      `support ${round(c.support_volume_mm3)} mm^3 (${round(c.support_path_mm / 1000, 2)} m of path), model ${round(c.model_volume_mm3)} mm^3, ` +
+      `${hms(c.print_time_s)} (${c.print_time_s} s), ${c.layers} layers; without supports ${hms(w.print_time_s)} (${w.print_time_s} s)`);
+    console.log(`    ${omni}`);
+  }
 }
 console.log('\ntargets:');
 for (const [what, value, ok] of checks) console.log(`  ${ok ? 'PASS' : 'MISS'}  ${what}: ${value}`);

@@ -2,7 +2,9 @@
 // The omnislice command line: a thin wrapper over core/pipeline (the same functions the wasm API
 // calls). Any bad input or option: exit code 2 and one line `error: <code>: <message>` on stderr;
 // outputs are written to a temporary file and renamed, so no partial file is ever left behind.
+#include <Eigen/Geometry>
 #include <algorithm>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -16,6 +18,7 @@
 #include <vector>
 
 #include "common/status.h"
+#include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
 #include "program/machine.h"
@@ -27,6 +30,7 @@ using namespace omnislice;
 const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
+    "                 [--export-stl OUT.stl]   (also write the placed, repaired mesh)\n"
     "  omnislice slice MESH -o OUT [--method planar|voxel|surface|geodesic|multidir]\n"
     "                 [--fill auto|isoplanar|spiral]\n"
     "                 [--machine NAME] [--machine-file JSON]\n"
@@ -173,16 +177,39 @@ ProgressFn stderrProgress(bool enabled) {
   };
 }
 
+// Binary STL of a mesh (float32 coordinates, facet normals from the vertices).
+std::string binaryStl(const Mesh& m) {
+  std::string out(80, '\0');
+  const std::string header = "omnislice placed mesh";
+  std::copy(header.begin(), header.end(), out.begin());
+  auto put = [&out](const void* p, size_t n) { out.append(static_cast<const char*>(p), n); };
+  const uint32_t count = static_cast<uint32_t>(m.faceCount());
+  put(&count, 4);
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const Eigen::Vector3d a = m.vertex(m.triangles[3 * f]), b = m.vertex(m.triangles[3 * f + 1]),
+                          c = m.vertex(m.triangles[3 * f + 2]);
+    const Eigen::Vector3d n = (b - a).cross(c - a).normalized();
+    for (const Eigen::Vector3d& v : {n, a, b, c}) {
+      const float xyz[3] = {static_cast<float>(v.x()), static_cast<float>(v.y()), static_cast<float>(v.z())};
+      put(xyz, sizeof xyz);
+    }
+    const uint16_t attributes = 0;
+    put(&attributes, 2);
+  }
+  return out;
+}
+
 std::string fileName(const std::string& path) { return std::filesystem::path(path).filename().string(); }
 
 int cmdInfo(int argc, char** argv) {
-  Args a = parseArgs(argc, argv, 2, {"--scale", "--fit-mm", "--up", "--set"}, {});
+  Args a = parseArgs(argc, argv, 2, {"--scale", "--fit-mm", "--up", "--set", "--export-stl"}, {});
   if (a.positional.size() != 1) fail(Status::InvalidOption, "info takes one MESH argument");
   Settings s;
   applyOptions(a, s);
   const std::vector<uint8_t> bytes = readFile(a.positional[0]);
   InfoOutput out = runInfo(bytes.data(), bytes.size(), fileName(a.positional[0]), s.placement);
   check(out);
+  if (a.has("--export-stl")) writeFileAtomic(a.get("--export-stl"), binaryStl(out.partMesh));
   std::cout << out.infoJson << "\n";
   return 0;
 }
