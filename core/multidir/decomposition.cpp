@@ -15,6 +15,7 @@
 //   union-find sweep answers all its offsets at once).
 // - Each node stores only its last plane and a parent link (backward links, Section IV-B).
 // - Refinement: coordinate descent on the found planes (nearby normals and offsets), exact.
+#include "common/det_math.h"
 #include "multidir/decomposition.h"
 
 #include <Eigen/Geometry>
@@ -223,7 +224,7 @@ struct Model {
   double margin = 0, radius = 0;
 
   double platformLimit(const Vec3& n) const {  // max over P of n . p
-    const double nxy = std::hypot(n.x(), n.y());
+    const double nxy = std::sqrt(n.x() * n.x() + n.y() * n.y());  // not hypot: libm differs in wasm
     if (radius > 0) return radius * nxy;
     double best = -std::numeric_limits<double>::infinity();
     for (const auto& p : footprint) best = std::max(best, n.x() * p.x() + n.y() * p.y());
@@ -242,7 +243,7 @@ Outcome buildFaces(const Mesh& mesh, const MultidirOptions& o, Model& m) {
     m.lo = m.lo.cwiseMin(m.vert[i]);
     m.hi = m.hi.cwiseMax(m.vert[i]);
   }
-  m.sinAlpha = std::sin(o.alphaMaxDeg * kPi / 180);
+  m.sinAlpha = det::sin(o.alphaMaxDeg * kPi / 180);
   m.tri.resize(nf);
   m.area.resize(nf);
   m.normal.resize(nf);
@@ -853,7 +854,7 @@ class Search {
   bool similar(const Node& a, const Node& b) const {
     if (a.parent == b.parent && o_.similarityAngleDeg > 0 && o_.similarityOffsetMm > 0) {
       const double cosAngle = std::clamp(a.n.dot(b.n), -1.0, 1.0);
-      if (std::acos(cosAngle) * 180 / kPi <= o_.similarityAngleDeg &&
+      if (det::acos(cosAngle) * 180 / kPi <= o_.similarityAngleDeg &&
           std::abs(a.d - b.d) <= o_.similarityOffsetMm) {
         return true;
       }
@@ -1108,7 +1109,7 @@ class Search {
 
 std::vector<Vec3> sphereNormals(const MultidirOptions& o) {
   std::vector<Vec3> out;
-  const double minZ = std::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
+  const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
   if (!o.candidateNormals.empty()) {
     for (const Vec3& n : o.candidateNormals) {
       const Vec3 u = n.normalized();
@@ -1122,7 +1123,7 @@ std::vector<Vec3> sphereNormals(const MultidirOptions& o) {
     const double z = 1 - (2.0 * i + 1) / N;
     const double r = std::sqrt(std::max(0.0, 1 - z * z));
     const double phi = golden * i;
-    if (z >= minZ) out.emplace_back(r * std::cos(phi), r * std::sin(phi), z);
+    if (z >= minZ) out.emplace_back(r * det::cos(phi), r * det::sin(phi), z);
   }
   return out;
 }
@@ -1142,7 +1143,7 @@ std::vector<Vec3> circleNormals(const MultidirOptions& o, const Vec3& r) {
   for (int k = -kMax; k <= kMax; ++k) {
     const double th = k * stepDeg * kPi / 180;
     if (std::abs(k * stepDeg) > 180 - 1e-9 && k < 0) continue;  // theta = -180 equals +180
-    out.push_back(std::cos(th) * Vec3(0, 0, 1) + std::sin(th) * v);
+    out.push_back(det::cos(th) * Vec3(0, 0, 1) + det::sin(th) * v);
   }
   return out;
 }
@@ -1202,20 +1203,20 @@ std::vector<Vec3> nearbyNormals(const MultidirOptions& o, bool fourDof, const Ve
   std::vector<Vec3> out;
   if (!o.candidateNormals.empty()) return out;
   if (!fourDof) {
-    const double minZ = std::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
+    const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
     const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
     for (double deg : {1.5, 3.0, 4.5, 6.0, 8.0, 10.0, 12.0}) {
       const double a = deg * kPi / 180;
       for (int az = 0; az < 8; ++az) {
         const double b = (az + (deg == 3.0 || deg == 6.0 || deg == 10.0 ? 0.5 : 0.0)) * kPi / 4;
-        const Vec3 q = (std::cos(a) * n + std::sin(a) * (std::cos(b) * u + std::sin(b) * v)).normalized();
+        const Vec3 q = (det::cos(a) * n + det::sin(a) * (det::cos(b) * u + det::sin(b) * v)).normalized();
         if (q.z() >= minZ) out.push_back(q);
       }
     }
     return out;
   }
   const Vec3 side = axis.cross(Vec3(0, 0, 1)).normalized();
-  const double theta = std::atan2(n.dot(side), n.z()) * 180 / kPi;
+  const double theta = det::atan2(n.dot(side), n.z()) * 180 / kPi;
   std::vector<double> deltas;
   if (o.stepAngleDeg > 0) {
     for (int k = 1; k <= 3; ++k) deltas.insert(deltas.end(), {k * o.stepAngleDeg, -k * o.stepAngleDeg});
@@ -1227,7 +1228,7 @@ std::vector<Vec3> nearbyNormals(const MultidirOptions& o, bool fourDof, const Ve
     if (o.stepAngleDeg > 0) t = std::round(t / o.stepAngleDeg) * o.stepAngleDeg;
     if (std::abs(t) > o.rangeDeg + 1e-9) continue;
     const double r = t * kPi / 180;
-    out.push_back(std::cos(r) * Vec3(0, 0, 1) + std::sin(r) * side);
+    out.push_back(det::cos(r) * Vec3(0, 0, 1) + det::sin(r) * side);
   }
   return out;
 }
@@ -1534,7 +1535,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
     if (options.axisSearch > 0) {
       for (int i = 0; i < options.axisSearch; ++i) {
         const double phi = kPi * i / options.axisSearch;
-        axes.emplace_back(std::cos(phi), std::sin(phi), 0);
+        axes.emplace_back(det::cos(phi), det::sin(phi), 0);
       }
     } else {
       axes.push_back(options.rotationAxis.normalized());
@@ -1579,7 +1580,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
           bool near = false;
           for (size_t f : full) {
             const double cosAngle = std::abs(axes[f].dot(axes[r.second]));
-            near = near || f == r.second || (pass == 0 && cosAngle > std::cos(3 * kPi / 180));
+            near = near || f == r.second || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
           }
           if (!near) full.push_back(r.second);
         }

@@ -9,6 +9,7 @@
 #include <set>
 #include <tuple>
 
+#include "common/det_math.h"
 #include "common/disjoint_sets.h"
 #include "geometry/aabb_tree.h"
 
@@ -150,7 +151,7 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
   SupportResult res;
   for (const Plane& p : planes) res.directions.push_back(p.normal);
   res.directions.push_back(Eigen::Vector3d::UnitZ());
-  const double sinAlpha = std::sin(o.alphaMaxDeg * kPi / 180);
+  const double sinAlpha = det::sin(o.alphaMaxDeg * kPi / 180);
   const double R = o.samplingMm;
 
   // Faces: unit normals, areas; vertex neighbours (for point overhangs).
@@ -372,11 +373,11 @@ Mesh supportMesh(const SupportResult& supports, int subspace, const SupportOptio
     const Eigen::Vector3d axis = s.top - s.bottom;
     if (!(axis.norm() > 1e-6) || !(s.diameterMm > 0)) continue;
     // Circumscribed polygon: its inscribed circle has the strut's diameter.
-    const double r = 0.5 * s.diameterMm / std::cos(kPi / sides);
+    const double r = 0.5 * s.diameterMm / det::cos(kPi / sides);
     std::vector<Eigen::Vector3d> ring(static_cast<size_t>(sides));
     for (int k = 0; k < sides; ++k) {
       const double a = 2 * kPi * k / sides;
-      ring[size_t(k)] = s.top + r * (std::cos(a) * basis.e1 + std::sin(a) * basis.e2);
+      ring[size_t(k)] = s.top + r * (det::cos(a) * basis.e1 + det::sin(a) * basis.e2);
     }
     appendPrism(ring, -axis, out);
   }

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include "common/det_math.h"
 #include "mesh/clip_mesh.h"
 #include "multidir/decomposition.h"
 #include "multidir/projected_supports.h"
@@ -47,7 +48,7 @@ void mergeParts(const std::vector<ClipPart>& parts, PreviewBuffers& p) {
 // bandMm are on the platform: never risky along +Z.
 void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alphaMaxDeg, double bandMm,
                 PreviewBuffers& p) {
-  const double sinAlpha = std::sin(alphaMaxDeg * 3.14159265358979323846 / 180);
+  const double sinAlpha = det::sin(alphaMaxDeg * 3.14159265358979323846 / 180);
   const size_t nf = part.faceCount();
   p.riskyBefore.assign(nf, 0);
   p.riskyAfter.assign(nf, 0);
@@ -126,7 +127,10 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
   if (fourDof && search.rotationAxis.squaredNorm() > 0.5) {
     const Eigen::Vector3d a = search.rotationAxis.normalized();
-    r = Eigen::AngleAxisd(-std::atan2(a.y(), a.x()), Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // About Z by -atan2(a.y, a.x), from the axis itself (no libm: the same bits in wasm).
+    const double len = std::sqrt(a.x() * a.x() + a.y() * a.y());
+    const double c = a.x() / len, s = -a.y() / len;
+    r << c, -s, 0, s, c, 0, 0, 0, 1;
   }
   out.part = input;
   if (!r.isIdentity(1e-15)) {
