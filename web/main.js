@@ -25,7 +25,7 @@ import { GeodesicView } from './geodesic-view.js';
 import { figure as geoFigure, geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
 import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
 import { MultidirView } from './multidir-view.js';
-import { areaFigure, hasMultidirBuffers, multidirDoneSummary } from './multidir-data.js';
+import { areaFigure, hasMultidirBuffers, multidirDoneSummary, supportText } from './multidir-data.js';
 import { drawJgChart, fillMultidirFigures, fillPartsTable } from './multidir-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
@@ -267,6 +267,8 @@ function showReport(report) {
     $('report-filament').textContent = '—';
   }
   $('report-path').textContent = formatLength(r.path_mm);
+  // Projected supports: the planar report's `support`, or the multidir report's `supports`.
+  $('report-supports').textContent = supportText(r.support || (r.multidir && r.multidir.supports));
   const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : null;
   const total = t && (Number.isFinite(t.total) ? t.total
     : Object.values(t).filter(Number.isFinite).reduce((a, b) => a + b, 0));

@@ -258,7 +258,17 @@ export function multidirSummaryRows(m) {
     ['cap_area', 'cut area', unit(r.cap_area_mm2, 'mm²')],
     ['volume', 'volume', unit(r.volume_mm3, 'mm³')],
     ['time', 'search, clip', `${ms(t.search ?? t.decompose)}, ${ms(t.clip)}`],
+    ['supports', 'projected supports', supportText(r.supports)],
   ];
+}
+
+/** One line on a report's support object (multidir.supports or the planar report.support). */
+export function supportText(sup) {
+  if (!sup || typeof sup !== 'object' || !sup.generated) return 'off';
+  const blocked = Number(sup.blocked) > 0 ? `, ${figure(sup.blocked)} blocked` : '';
+  return `${unit(Math.round(Number(sup.printed_volume_mm3) * 10) / 10, 'mm³')} printed: ${figure(sup.struts)} struts `
+    + `from ${figure(sup.samples)} overhang samples (${figure(sup.landed_on_platform)} to the platform, `
+    + `${figure(sup.landed_on_model)} on the part${blocked}), ${figure(sup.roofs)} roof faces`;
 }
 
 /** The parts table of report.multidir: one row per part in print order. */
@@ -276,6 +286,7 @@ export function partRows(m) {
       risky: Math.round(100 * Number(p.risky_area_mm2)) / 100,
       layers: Number(p.layers),
       platform: p.plane === null || p.plane === undefined,
+      support: Number.isFinite(Number(p.support_region_mm3)) ? Number(p.support_region_mm3) : 0,
     };
   });
 }

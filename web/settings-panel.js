@@ -181,6 +181,18 @@ export const SETTINGS_SCHEMA = [
   { group: 'Multi-directional', key: 'multidir.axis_search', label: 'rotation axes searched (4 DOF, 0 = the machine\'s)', type: 'integer', value: 0, min: 0, max: 3600, step: 1,
     testid: 'multidir-axis-search', showIf: (v) => isMultidir(v) && (v['multidir.dof'] === '4dof' || (v['multidir.dof'] === 'auto' && selectedMachineKind(v) === 'rotary4')),
     sendIf: isMultidir },
+  // Supports (paper 000 Section V): projected through the multidir parts' subspaces, or along +Z
+  // for a planar print (core/pipeline/settings.h SupportSettings).
+  { group: 'Supports', key: 'support', label: 'supports', type: 'select', value: 'auto', testid: 'support-mode',
+    options: [{ label: 'auto (multidir: projected, planar: none)', value: 'auto' }, { label: 'none', value: 'none' },
+      { label: 'projected', value: 'projected' }],
+    showIf: isPlanar, sendIf: isPlanar },
+  { group: 'Supports', key: 'support.sampling_mm', label: 'overhang sampling R (mm, 0 = from the nozzle)', type: 'number', value: 0, min: 0, max: 50, step: 0.5,
+    testid: 'support-sampling', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
+  { group: 'Supports', key: 'support.roof_layers', label: 'solid roof layers under an overhang', type: 'integer', value: 2, min: 0, max: 100, step: 1,
+    testid: 'support-roof', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
+  { group: 'Supports', key: 'support.gap_mm', label: 'gap to the part (mm)', type: 'number', value: 0, min: 0, max: 5, step: 0.05,
+    testid: 'support-gap', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', type: 'number', value: 50, min: 1, max: 1000, step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', type: 'number', value: 150, min: 1, max: 2000, step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', type: 'number', value: 0.8, min: 0, max: 20, step: 0.1 },

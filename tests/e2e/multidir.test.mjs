@@ -173,6 +173,22 @@ test('a planar slice afterwards hides the multidir view and report', async (t) =
   assert.equal(await page.isHidden(tid('md-bar')), true);
   assert.equal(await page.isHidden(tid('md-report')), true);
   assert.equal(await page.evaluate(() => window.omnislice.multidir), null);
+  // Planar supports default off (auto); projected: struts under the arm, drawn as support lines.
+  assert.equal(await page.textContent(tid('report-supports')), 'off');
+  assert.equal((await page.evaluate(() => window.omnislice.featureCounts)).support, 0);
+  assert.equal(await page.isVisible(tid('support-roof')), true);
+  await setSetting('support-mode', 'none');
+  assert.equal(await page.isVisible(tid('support-roof')), false, 'no support settings without supports');
+  await setSetting('support-mode', 'projected');
+  const again = await sliceCount();
+  await page.click(tid('slice-button'), { timeout: 120_000 });
+  const failedAgain = await waitSliced(again);
+  if (failedAgain) assert.fail(`planar slice with supports failed: ${failedAgain}`);
+  const sup = (await page.evaluate(() => window.omnislice.report)).support;
+  assert.ok(sup && sup.generated && sup.struts > 0 && sup.printed_volume_mm3 > 0, JSON.stringify(sup));
+  assert.match(await page.textContent(tid('report-supports')), /mm³ printed: \d+ struts/);
+  assert.ok((await page.evaluate(() => window.omnislice.featureCounts)).support > 0, 'support segments in the preview');
+  await page.screenshot({ path: path.join(OUT_DIR, 'planar-supports.png') });
 });
 
 test('no uncaught page error', (t) => {

@@ -6,7 +6,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   areaFigure, arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, hasMultidirBuffers, jgChartGeometry, multidirDoneSummary,
-  multidirSummaryRows, partCentroids, partColor, partDirections, partRows, sortPartTriangles,
+  multidirSummaryRows, partCentroids, partColor, partDirections, partRows, sortPartTriangles, supportText,
 } from '../../web/multidir-data.js';
 
 // Two unit-square "parts" (two triangles each): part 1 listed first at z = 5, part 0 at z = 0.
@@ -116,4 +116,17 @@ test('summary rows, parts table, done summary', () => {
   assert.equal(areaFigure(1234.567), '1235');
   assert.equal(areaFigure(12.345), '12.35');
   assert.deepEqual(partRows(null), []);
+  assert.equal(rows.supports, 'off');
+});
+
+test('supports line: off unless generated, counts and printed volume when they are', () => {
+  assert.equal(supportText(undefined), 'off');
+  assert.equal(supportText({ generated: false }), 'off');
+  const sup = { generated: true, printed_volume_mm3: 64.024, struts: 50, samples: 50, landed_on_platform: 41,
+    landed_on_model: 7, blocked: 2, roofs: 244 };
+  assert.equal(supportText(sup), '64 mm³ printed: 50 struts from 50 overhang samples (41 to the platform, 7 on the part, 2 blocked), 244 roof faces');
+  assert.doesNotMatch(supportText({ ...sup, blocked: 0 }), /blocked/);
+  const rows = Object.fromEntries(multidirSummaryRows({ ...REPORT, supports: sup }).map(([k, , t]) => [k, t]));
+  assert.match(rows.supports, /^64 mm³ printed: 50 struts/);
+  assert.deepEqual(partRows({ parts: [{ print_index: 0, plane: null, support_region_mm3: 12.5 }] }).map((r) => r.support), [12.5]);
 });
