@@ -63,6 +63,19 @@ function setArgs(settings) {
   return Object.entries(settings).flatMap(([k, v]) => ['--set', `${k}=${v}`]);
 }
 
+// The native CLI's report of one slice (null when it fails).
+function reportOf(file, settings) {
+  const report = path.join(tmp, 'table-report.json');
+  try {
+    execFileSync(CLI, ['slice', file, '-o', path.join(tmp, 'table.gcode'), '--report', report, ...setArgs(settings)],
+      { stdio: 'ignore' });
+    return JSON.parse(fs.readFileSync(report, 'utf8'));
+  } catch (e) {
+    console.error(`[bench] ${path.basename(file)} ${JSON.stringify(settings)}: ${e.message}`);
+    return null;
+  }
+}
+
 // Stage timings of one run: {stage: ms, total, wall}.
 function nativeRun(mode, file, settings) {
   const t0 = performance.now();
@@ -241,12 +254,27 @@ for (const c of cases.filter((k) => k.settings.method === 'multidir')) {
       if (curaRuns[key].skipped) console.error(`[bench] Cura comparison skipped: ${curaRuns[key].skipped}`);
     }
   }
+  // Omnislice at the same Table I settings (0.4 mm layers, 20 % grid infill): the fixed direction
+  // (planar, projected supports along +Z) and this case's decomposition with projected supports.
+  const tableI = { layer_height: 0.4, infill: 20, up: c.settings.up };
+  if (c.settings.fit_mm) tableI.fit_mm = c.settings.fit_mm;
+  const omniFixed = reportOf(c.file, { ...tableI, machine: 'cartesian3', support: 'projected' });
+  const omniMulti = reportOf(c.file, { ...c.settings, ...tableI });
+  const table = {
+    settings: tableI,
+    fixed_dir: omniFixed && { support_volume_mm3: omniFixed.support?.printed_volume_mm3 ?? 0,
+      estimated_time_s: omniFixed.estimated_time_s, layers: omniFixed.layers },
+    multi_dir: omniMulti && { support_volume_mm3: omniMulti.multidir?.support_volume_mm3 ?? 0,
+      estimated_time_s: omniMulti.estimated_time_s, layers: omniMulti.layers, part_count: omniMulti.multidir?.part_count,
+      J_G_after: omniMulti.multidir?.J_G_after },
+  };
   const m = multidirCounts[c.case];
   const omnislice = m ? {
     J_G_before: m.J_G_before, J_G_after: m.J_G_after, part_count: m.part_count,
     supports_generated: m.supports_generated, support_volume_mm3: m.support_volume_mm3, ...multidirPrints[c.case],
   } : null;
-  rows.push({ case: c.case, stage: 'support', native_ms: null, wasm_ms: null, ratio: null, omnislice, cura: curaRuns[key] });
+  rows.push({ case: c.case, stage: 'support', native_ms: null, wasm_ms: null, ratio: null, omnislice, table_i: table,
+    cura: curaRuns[key] });
 }
 
 // Verification of a large program (~500k moves; the torus scaled to 150 mm so the coverage grid
@@ -369,6 +397,12 @@ for (const r of supportRows) {
       `support ${round(c.support_volume_mm3)} mm^3 (${round(c.support_path_mm / 1000, 2)} m of path), model ${round(c.model_volume_mm3)} mm^3, ` +
       `${hms(c.print_time_s)} (${c.print_time_s} s), ${c.layers} layers; without supports ${hms(w.print_time_s)} (${w.print_time_s} s)`);
     console.log(`    ${omni}`);
+  }
+  const t = r.table_i;
+  if (t && t.fixed_dir && t.multi_dir) {
+    console.log(`    Omnislice at ${t.settings.layer_height} mm, ${t.settings.infill}% (Table I): fixed dir support ` +
+      `${round(t.fixed_dir.support_volume_mm3)} mm^3, ${hms(t.fixed_dir.estimated_time_s)}; multi-dir support ` +
+      `${round(t.multi_dir.support_volume_mm3)} mm^3, ${hms(t.multi_dir.estimated_time_s)} (${t.multi_dir.part_count} parts)`);
   }
 }
 console.log('\ntargets:');
