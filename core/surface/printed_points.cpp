@@ -25,16 +25,17 @@ int64_t key(int64_t x, int64_t y, int64_t z) {
 
 // Conservative: false only when no point of the box can be in the cone.
 // cosT, sinT: cos and sin of the cone's half-angle, from its tangent as coneCosSin gives them.
-bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& s, const Vector3d& u,
-               const GougingCone& cone, double cosT, double sinT) {
+// center, halfDiagonal: the box's, as boxSphere gives them.
+bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& center, double halfDiagonal,
+               const Vector3d& s, const Vector3d& u, const GougingCone& cone, double cosT, double sinT) {
   double top = 0;  // max of (p - s).u over the box
   for (int k = 0; k < 3; ++k) top += u[k] * ((u[k] > 0 ? hi[k] : lo[k]) - s[k]);
   if (top <= cone.clearance) return false;
   const Vector3d q = s.cwiseMax(lo).cwiseMin(hi);
   if ((q - s).squaredNorm() >= cone.length * cone.length) return false;
   // Bounding sphere against the cone widened by the point radius.
-  const Vector3d c = 0.5 * (lo + hi);
-  const double r = 0.5 * (hi - lo).norm() + cone.radius;
+  const Vector3d& c = center;
+  const double r = halfDiagonal + cone.radius;
   const Vector3d d = c - s;
   const double a = d.dot(u);
   const double lat = (d - a * u).norm();
@@ -43,6 +44,11 @@ bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& s, const 
   const double along = a * cosT + lat * sinT;
   const double dist = along >= 0 ? lat * cosT - a * sinT : d.norm();
   return dist < r;
+}
+
+void boxSphere(const Vector3d& lo, const Vector3d& hi, Vector3d& center, double& halfDiagonal) {
+  center = 0.5 * (lo + hi);
+  halfDiagonal = 0.5 * (hi - lo).norm();
 }
 
 void coneCosSin(const GougingCone& cone, double& cosT, double& sinT) {
@@ -70,6 +76,8 @@ bool inCone(const Vector3d& p, const Vector3d& s, const Vector3d& u, const Gougi
 struct PrintedPoints::Node {
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity());
   Vector3d hi = Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  Vector3d center = Vector3d::Zero();  // of the box (kept with it: queries test it many times)
+  double halfDiagonal = 0;
   uint32_t minSeq = std::numeric_limits<uint32_t>::max();
   Node* parent = nullptr;
   std::vector<Node*> children;  // creation order
@@ -124,6 +132,7 @@ void PrintedPoints::add(const Vector3d& p, uint32_t seq) {
   for (Node* n = cell; n; n = n->parent) {
     n->lo = n->lo.cwiseMin(p);
     n->hi = n->hi.cwiseMax(p);
+    boxSphere(n->lo, n->hi, n->center, n->halfDiagonal);
     n->minSeq = std::min(n->minSeq, seq);
   }
 }
@@ -142,7 +151,9 @@ bool PrintedPoints::visit(const Node& node, int level, const Query& q) const {
   if (node.minSeq >= q.limit) return false;
   // Cells and blocks take the exact test of the block scan, the boxes between the loose one.
   const bool exact = level == 0 || level == kBlockLevel;
-  if (!boxMayHit(node.lo, node.hi, q.s, q.u, exact ? q.cone : q.loose, q.cosT, q.sinT)) return false;
+  if (!boxMayHit(node.lo, node.hi, node.center, node.halfDiagonal, q.s, q.u, exact ? q.cone : q.loose, q.cosT, q.sinT)) {
+    return false;
+  }
   if (level > 0) {
     // Newest first: the material just printed is the likeliest in the way (any order answers the same).
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) {
@@ -188,7 +199,8 @@ bool PrintedPoints::hit(const Vector3d& s, const Vector3d& u, uint32_t limit, co
       Vector3d lateral;
       double lat;
       if (inCone(c->points[lastIndex_], s, u, cone, lateral, lat) &&
-          boxMayHit(c->lo, c->hi, s, u, cone, q.cosT, q.sinT) && boxMayHit(b->lo, b->hi, s, u, cone, q.cosT, q.sinT)) {
+          boxMayHit(c->lo, c->hi, c->center, c->halfDiagonal, s, u, cone, q.cosT, q.sinT) &&
+          boxMayHit(b->lo, b->hi, b->center, b->halfDiagonal, s, u, cone, q.cosT, q.sinT)) {
         return true;
       }
     }
