@@ -315,7 +315,9 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
         {"collision", timings["collision"]},
         {"order", timings["order"]},
         {"paths", timings["paths"]},
-        {"toolpath", timings["toolpath"]}}}};
+        {"toolpath", timings["toolpath"]},
+        {"toolpath_orientation", tp.orientationMs},
+        {"toolpath_gouging", tp.gougingMs}}}};
   out.reportJson = report.dump();
   return out;
 }

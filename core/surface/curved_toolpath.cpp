@@ -13,11 +13,11 @@
 #include <string>
 
 #include <Eigen/Geometry>
-#include <unordered_map>
 
 #include "geometry/aabb_tree.h"
 #include "motion/orientation_smoothing.h"
 #include "slice/plan_layers.h"
+#include "surface/printed_points.h"
 
 namespace omnislice {
 
@@ -53,127 +53,6 @@ struct Sample {
   double distance = std::numeric_limits<double>::infinity();  // |q - c_q|
   int64_t layer = -1, triangle = -1;  // where c_q lies (-1: the platform)
   bool fallback = false;
-};
-
-// The nozzle cone of the gouging check: apex s (the tip), axis u, points p with d = p - s counted
-// when d.u > clearance, |d| < length and their distance from the axis < d.u tan(angle) + radius
-// (radius: the sample points blown up to balls, for the positions between samples).
-struct Cone {
-  double clearance = 0, length = 0, tanAngle = 0, radius = 0;
-};
-
-// Points printed so far with their sequence numbers, hashed in cubic cells grouped in blocks; the
-// cells and blocks keep their bounding boxes so a cone query skips everything below the plane
-// d.u = clearance or out of reach. Queries see only points with seq < limit.
-class PrintedPoints {
- public:
-  void add(const Vector3d& p, uint32_t seq) {
-    const Eigen::Array3d g = (p.array() / kCell).floor();
-    const int64_t x = int64_t(g.x()), y = int64_t(g.y()), z = int64_t(g.z());
-    auto [cit, freshCell] = cells_.try_emplace(key(x, y, z));
-    Cell& c = cit->second;
-    if (freshCell) {
-      c.lo = c.hi = p;
-      auto [bit, freshBlock] = blocks_.try_emplace(key(floorDiv(x), floorDiv(y), floorDiv(z)));
-      if (freshBlock) {
-        bit->second.lo = bit->second.hi = p;
-        blockList_.push_back(&bit->second);
-      }
-      bit->second.cells.push_back(&c);
-      c.block = &bit->second;
-    }
-    c.points.push_back(p);
-    c.seq.push_back(seq);
-    c.lo = c.lo.cwiseMin(p);
-    c.hi = c.hi.cwiseMax(p);
-    c.minSeq = std::min(c.minSeq, seq);
-    c.block->lo = c.block->lo.cwiseMin(p);
-    c.block->hi = c.block->hi.cwiseMax(p);
-    c.block->minSeq = std::min(c.block->minSeq, seq);
-  }
-
-  // Takes the point p added with seq out of every later query (a segment that is not printed).
-  void retire(const Vector3d& p, uint32_t seq) {
-    const Eigen::Array3d g = (p.array() / kCell).floor();
-    auto it = cells_.find(key(int64_t(g.x()), int64_t(g.y()), int64_t(g.z())));
-    if (it == cells_.end()) return;
-    Cell& c = it->second;
-    for (size_t k = 0; k < c.points.size(); ++k) {
-      if (c.seq[k] == seq && c.points[k] == p) c.seq[k] = std::numeric_limits<uint32_t>::max();
-    }
-  }
-
-  // True when a point with seq < limit lies in the cone at s along u. away (optional): collects
-  // the sum of the unit lateral directions from the axis toward every such point (no early exit).
-  bool hit(const Vector3d& s, const Vector3d& u, uint32_t limit, const Cone& cone, Vector3d* away = nullptr) const {
-    bool any = false;
-    for (const Block* b : blockList_) {
-      if (b->minSeq >= limit || !boxMayHit(b->lo, b->hi, s, u, cone)) continue;
-      for (const Cell* c : b->cells) {
-        if (c->minSeq >= limit || !boxMayHit(c->lo, c->hi, s, u, cone)) continue;
-        for (size_t k = 0; k < c->points.size(); ++k) {
-          if (c->seq[k] >= limit) continue;
-          const Vector3d d = c->points[k] - s;
-          const double a = d.dot(u);
-          if (a <= cone.clearance) continue;
-          const double len2 = d.squaredNorm();
-          if (len2 >= cone.length * cone.length) continue;
-          const Vector3d lateral = d - a * u;
-          const double lat = lateral.norm();
-          if (lat >= a * cone.tanAngle + cone.radius) continue;
-          if (!away) return true;
-          any = true;
-          if (lat > 1e-9) *away -= lateral / lat;
-        }
-      }
-    }
-    return any;
-  }
-
- private:
-  static constexpr double kCell = 2.0;  // mm
-  static constexpr int64_t kBlockCells = 4;
-  struct Block;
-  struct Cell {
-    std::vector<Vector3d> points;
-    std::vector<uint32_t> seq;
-    Vector3d lo, hi;
-    uint32_t minSeq = std::numeric_limits<uint32_t>::max();
-    Block* block = nullptr;
-  };
-  struct Block {
-    std::vector<Cell*> cells;
-    Vector3d lo, hi;
-    uint32_t minSeq = std::numeric_limits<uint32_t>::max();
-  };
-  static int64_t floorDiv(int64_t v) { return v >= 0 ? v / kBlockCells : -((-v + kBlockCells - 1) / kBlockCells); }
-  static int64_t key(int64_t x, int64_t y, int64_t z) {
-    return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
-  }
-  // Conservative: false only when no point of the box can be in the cone.
-  static bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& s, const Vector3d& u,
-                        const Cone& cone) {
-    double top = 0;  // max of (p - s).u over the box
-    for (int k = 0; k < 3; ++k) top += u[k] * ((u[k] > 0 ? hi[k] : lo[k]) - s[k]);
-    if (top <= cone.clearance) return false;
-    const Vector3d q = s.cwiseMax(lo).cwiseMin(hi);
-    if ((q - s).squaredNorm() >= cone.length * cone.length) return false;
-    // Bounding sphere against the cone widened by the point radius.
-    const Vector3d c = 0.5 * (lo + hi);
-    const double r = 0.5 * (hi - lo).norm() + cone.radius;
-    const Vector3d d = c - s;
-    const double a = d.dot(u);
-    const double lat = (d - a * u).norm();
-    const double cosT = 1 / std::sqrt(1 + cone.tanAngle * cone.tanAngle), sinT = cone.tanAngle * cosT;
-    if (lat <= a * cone.tanAngle) return true;
-    // Distance from c to the cone surface in the (axial, lateral) half-plane.
-    const double along = a * cosT + lat * sinT;
-    const double dist = along >= 0 ? lat * cosT - a * sinT : d.norm();
-    return dist < r;
-  }
-  std::unordered_map<int64_t, Cell> cells_;
-  std::unordered_map<int64_t, Block> blocks_;
-  std::vector<Block*> blockList_;
 };
 
 // Axis u turned toward +Z onto the cone of half-angle maxTilt when it leans further.
@@ -359,7 +238,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
   constexpr double kSpacing = 0.5;  // mm between printed points, as `omnislice verify` samples
   PrintedPoints printed;
   uint32_t nextSeq = 0;
-  Cone cone;
+  GougingCone cone;
   cone.clearance = o.collisionClearance > 0 ? o.collisionClearance : o.nominalHeight;
   cone.length = o.coneLength;
   cone.tanAngle = std::tan((o.coneHalfAngleDegrees + o.gougingMarginDegrees) * kDeg);

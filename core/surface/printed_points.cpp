@@ -1,0 +1,236 @@
+// SPDX-License-Identifier: MIT
+#include "surface/printed_points.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace omnislice {
+
+namespace {
+
+using Eigen::Vector3d;
+
+constexpr double kCell = 2.0;  // mm, edge of a level-0 cell
+constexpr int kBlockLevel = 2;  // 8 mm blocks: the boxes the scan this index replaced tested
+constexpr int kTopLevel = 5;    // 64 mm roots
+// Added to the cone of the octree boxes above the cells and blocks (mm): their test only skips
+// boxes no point in the cone can lie in, so it must not reject by rounding (~1e-13 mm here)
+// what the cell and block tests and the point test accept.
+constexpr double kMargin = 1e-6;
+
+int64_t floorDiv(int64_t v, int64_t d) { return v >= 0 ? v / d : -((-v + d - 1) / d); }
+int64_t key(int64_t x, int64_t y, int64_t z) {
+  return ((x & 0x1FFFFF) << 42) | ((y & 0x1FFFFF) << 21) | (z & 0x1FFFFF);
+}
+
+// Conservative: false only when no point of the box can be in the cone.
+// cosT, sinT: cos and sin of the cone's half-angle, from its tangent as coneCosSin gives them.
+// center, halfDiagonal: the box's, as boxSphere gives them.
+bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& center, double halfDiagonal,
+               const Vector3d& s, const Vector3d& u, const GougingCone& cone, double cosT, double sinT) {
+  double top = 0;  // max of (p - s).u over the box
+  for (int k = 0; k < 3; ++k) top += u[k] * ((u[k] > 0 ? hi[k] : lo[k]) - s[k]);
+  if (top <= cone.clearance) return false;
+  const Vector3d q = s.cwiseMax(lo).cwiseMin(hi);
+  if ((q - s).squaredNorm() >= cone.length * cone.length) return false;
+  // Bounding sphere against the cone widened by the point radius.
+  const Vector3d& c = center;
+  const double r = halfDiagonal + cone.radius;
+  const Vector3d d = c - s;
+  const double a = d.dot(u);
+  const double lat = (d - a * u).norm();
+  if (lat <= a * cone.tanAngle) return true;
+  // Distance from c to the cone surface in the (axial, lateral) half-plane.
+  const double along = a * cosT + lat * sinT;
+  const double dist = along >= 0 ? lat * cosT - a * sinT : d.norm();
+  return dist < r;
+}
+
+void boxSphere(const Vector3d& lo, const Vector3d& hi, Vector3d& center, double& halfDiagonal) {
+  center = 0.5 * (lo + hi);
+  halfDiagonal = 0.5 * (hi - lo).norm();
+}
+
+void coneCosSin(const GougingCone& cone, double& cosT, double& sinT) {
+  cosT = 1 / std::sqrt(1 + cone.tanAngle * cone.tanAngle);
+  sinT = cone.tanAngle * cosT;
+}
+
+// Point p in the cone at s along u; lateral, lat: p's offset from the axis and its length.
+bool inCone(const Vector3d& p, const Vector3d& s, const Vector3d& u, const GougingCone& cone, Vector3d& lateral,
+            double& lat) {
+  const Vector3d d = p - s;
+  const double a = d.dot(u);
+  if (a <= cone.clearance) return false;
+  const double len2 = d.squaredNorm();
+  if (len2 >= cone.length * cone.length) return false;
+  lateral = d - a * u;
+  lat = lateral.norm();
+  return lat < a * cone.tanAngle + cone.radius;
+}
+
+}  // namespace
+
+// Level 0: a cell with its points; above: a box over 2 x 2 x 2 nodes of the level below. Every
+// node keeps the bounding box and the least seq of the points under it.
+struct PrintedPoints::Node {
+  Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Vector3d hi = Vector3d::Constant(-std::numeric_limits<double>::infinity());
+  Vector3d center = Vector3d::Zero();  // of the box (kept with it: queries test it many times)
+  double halfDiagonal = 0;
+  uint32_t minSeq = std::numeric_limits<uint32_t>::max();
+  Node* parent = nullptr;
+  std::vector<Node*> children;  // creation order
+  std::vector<Vector3d> points;  // level 0
+  std::vector<uint32_t> seq;     // level 0, per point
+  uint32_t order = 0;          // cells and blocks: creation index among their level
+  const Node* block = nullptr;  // cells: their block
+};
+
+struct PrintedPoints::Query {
+  Vector3d s, u;
+  uint32_t limit = 0;
+  GougingCone cone, loose;
+  double cosT = 1, sinT = 0;  // of the cone's half-angle (loose: the same angle)
+  mutable const Node* hitCell = nullptr;  // the cell and index of the point found
+  mutable size_t hitIndex = 0;
+  std::vector<const Node*>* found = nullptr;  // collect the cells that pass instead of testing points
+};
+
+PrintedPoints::PrintedPoints() : levels_(kTopLevel + 1) {}
+PrintedPoints::~PrintedPoints() = default;
+
+void PrintedPoints::add(const Vector3d& p, uint32_t seq) {
+  const Eigen::Array3d g = (p.array() / kCell).floor();
+  const int64_t x = int64_t(g.x()), y = int64_t(g.y()), z = int64_t(g.z());
+  Node* cell = nullptr;
+  Node* child = nullptr;
+  for (int level = 0; level <= kTopLevel; ++level) {
+    const int64_t d = int64_t(1) << level;
+    auto [it, fresh] = levels_[size_t(level)].try_emplace(key(floorDiv(x, d), floorDiv(y, d), floorDiv(z, d)));
+    if (fresh) {
+      it->second = std::make_unique<Node>();
+      if (level == 0) it->second->order = cellCount_++;
+      if (level == kBlockLevel) it->second->order = blockCount_++;
+      if (level == kTopLevel) roots_.push_back(it->second.get());
+    }
+    Node* n = it->second.get();
+    if (level == 0) cell = n;
+    if (child) {
+      n->children.push_back(child);
+      child->parent = n;
+    }
+    if (!fresh) break;
+    child = n;
+  }
+  if (!cell->block) {
+    cell->block = cell;
+    for (int level = 0; level < kBlockLevel; ++level) cell->block = cell->block->parent;
+  }
+  cell->points.push_back(p);
+  cell->seq.push_back(seq);
+  for (Node* n = cell; n; n = n->parent) {
+    n->lo = n->lo.cwiseMin(p);
+    n->hi = n->hi.cwiseMax(p);
+    boxSphere(n->lo, n->hi, n->center, n->halfDiagonal);
+    n->minSeq = std::min(n->minSeq, seq);
+  }
+}
+
+void PrintedPoints::retire(const Vector3d& p, uint32_t seq) {
+  const Eigen::Array3d g = (p.array() / kCell).floor();
+  auto it = levels_[0].find(key(int64_t(g.x()), int64_t(g.y()), int64_t(g.z())));
+  if (it == levels_[0].end()) return;
+  Node& c = *it->second;
+  for (size_t k = 0; k < c.points.size(); ++k) {
+    if (c.seq[k] == seq && c.points[k] == p) c.seq[k] = std::numeric_limits<uint32_t>::max();
+  }
+}
+
+bool PrintedPoints::visit(const Node& node, int level, const Query& q) const {
+  if (node.minSeq >= q.limit) return false;
+  // Cells and blocks take the exact test of the block scan, the boxes between the loose one.
+  const bool exact = level == 0 || level == kBlockLevel;
+  if (!boxMayHit(node.lo, node.hi, node.center, node.halfDiagonal, q.s, q.u, exact ? q.cone : q.loose, q.cosT, q.sinT)) {
+    return false;
+  }
+  if (level > 0) {
+    // Newest first: the material just printed is the likeliest in the way (any order answers the same).
+    for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) {
+      if (visit(**c, level - 1, q)) return true;
+    }
+    return false;
+  }
+  if (q.found) {
+    q.found->push_back(&node);
+    return false;
+  }
+  Vector3d lateral;
+  double lat;
+  for (size_t k = 0; k < node.points.size(); ++k) {
+    if (node.seq[k] < q.limit && inCone(node.points[k], q.s, q.u, q.cone, lateral, lat)) {
+      q.hitCell = &node;
+      q.hitIndex = k;
+      return true;
+    }
+  }
+  return false;
+}
+
+bool PrintedPoints::hit(const Vector3d& s, const Vector3d& u, uint32_t limit, const GougingCone& cone,
+                        Vector3d* away) const {
+  Query q;
+  q.s = s;
+  q.u = u;
+  q.limit = limit;
+  q.cone = cone;
+  q.loose = cone;
+  q.loose.clearance -= kMargin;
+  q.loose.length += kMargin;
+  q.loose.radius += kMargin;
+  coneCosSin(cone, q.cosT, q.sinT);
+  if (!away) {
+    // The point that answered the last query first: the gouging search asks about many axes
+    // around one, and one point is often in the way of the next axis too. It answers when it
+    // passes the tests of its cell and block and the point test, as in the scan.
+    if (lastCell_ && lastCell_->seq[lastIndex_] < limit) {
+      const Node* c = lastCell_;
+      const Node* b = c->block;
+      Vector3d lateral;
+      double lat;
+      if (inCone(c->points[lastIndex_], s, u, cone, lateral, lat) &&
+          boxMayHit(c->lo, c->hi, c->center, c->halfDiagonal, s, u, cone, q.cosT, q.sinT) &&
+          boxMayHit(b->lo, b->hi, b->center, b->halfDiagonal, s, u, cone, q.cosT, q.sinT)) {
+        return true;
+      }
+    }
+    for (auto r = roots_.rbegin(); r != roots_.rend(); ++r) {
+      if (visit(**r, kTopLevel, q)) {
+        lastCell_ = q.hitCell;
+        lastIndex_ = q.hitIndex;
+        return true;
+      }
+    }
+    return false;
+  }
+  // The sum in the scan's order: blocks, then their cells, in creation order.
+  std::vector<const Node*> found;
+  q.found = &found;
+  for (const Node* r : roots_) visit(*r, kTopLevel, q);
+  std::sort(found.begin(), found.end(), [](const Node* a, const Node* b) {
+    return a->block->order != b->block->order ? a->block->order < b->block->order : a->order < b->order;
+  });
+  bool any = false;
+  for (const Node* c : found) {
+    for (size_t k = 0; k < c->points.size(); ++k) {
+      Vector3d lateral;
+      double lat;
+      if (c->seq[k] >= limit || !inCone(c->points[k], s, u, cone, lateral, lat)) continue;
+      any = true;
+      if (lat > 1e-9) *away -= lateral / lat;
+    }
+  }
+  return any;
+}
+
+}  // namespace omnislice
