@@ -143,6 +143,32 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.ok(p.voxelWidth > 0.6 && p.voxelWidth < 0.7, `voxel width ${p.voxelWidth}`);
   });
 
+  // Issue 7: the multidir method (paper 000) finds the same planes, parts and projected supports in
+  // wasm and natively (the search is deterministic; the slicer works on integers).
+  test('same multidir report as the native CLI: the Kitten on table5 with projected supports', { skip: nativeWhy || false }, (t) => {
+    const file = sharedModel('pymdp_kitten.off');
+    if (!file) return t.skip('../shared/models absent');
+    const s = { method: 'multidir', machine: 'table5', up: 'y', fit_mm: 60, layer_height: 0.3 };
+    const native = nativeSlice(file, s);
+    const wasm = m.slice(new Uint8Array(fs.readFileSync(file)), 'pymdp_kitten.off', s);
+    const a = wasm.report.multidir, b = native.report.multidir;
+    console.log(`multidir parity: J_G ${b.J_G_before} -> ${b.J_G_after}, ${b.part_count} parts, support ` +
+      `${b.support_volume_mm3} mm3; wasm ${a.J_G_after}, ${a.part_count}, ${a.support_volume_mm3}`);
+    assert.equal(a.part_count, b.part_count, 'parts');
+    close(a.J_G_before, b.J_G_before, 1e-9, 'J_G before');
+    close(a.J_G_after, b.J_G_after, 1e-6, 'J_G after');
+    a.parts.forEach((p, i) => {
+      for (let k = 0; k < 3; k++) close(p.direction[k], b.parts[i].direction[k], 1e-9, `part ${i} direction`);
+      assert.equal(p.layers, b.parts[i].layers, `part ${i} layers`);
+    });
+    assert.equal(a.supports_generated, true);
+    for (const k of ['samples', 'struts', 'roofs', 'blocked', 'landed_on_model', 'landed_on_platform']) {
+      assert.equal(a.supports[k], b.supports[k], `supports.${k}`);
+    }
+    close(a.support_volume_mm3, b.support_volume_mm3, 1e-3, 'support volume');
+    close(wasm.report.moves, native.report.moves, 2e-3 * native.report.moves, 'moves');
+  });
+
   // Issue 5: the surface method (paper 003) gives the same theta*, curve and paths in wasm and natively.
   test('same iso-planar report as the native CLI: saddle surface on robot6', { skip: nativeWhy || false }, () => {
     const s = { method: 'surface', machine: 'robot6-ur5', nozzle_diameter: 1, layer_height: 0.75, line_width: 1.125,
