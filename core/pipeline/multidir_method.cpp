@@ -215,6 +215,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
       supportMs += msSince(r0);
       supportRegionVolume += regions.volumeMm3;
       partSupportVolume = regions.volumeMm3;
+      s0 = Clock::now();  // the tool-path time leaves the support regions out
     }
     PlanLayersResult plan = planLayers(slices, ps, static_cast<int>(i), progress, withSupports ? &regions.layers : nullptr);
     if (!plan.ok()) return failure(plan.status, "part " + std::to_string(i) + ": " + plan.message);

@@ -67,15 +67,10 @@ SupportRegionsResult supportRegions(const Mesh& support, const SliceResult& part
       Path keep;
       for (const Eigen::Vector2d& p : poly) keep.push_back(clip::toPoint(p));
       if (!Orientation(keep)) ReversePath(keep);
-      Paths part2 = clip::offset(clip::toPaths(part.layers[i].islands), gapMm);
-      Clipper c;
-      c.AddPaths(region, ptSubject, true);
-      c.AddPath(keep, ptClip, true);
-      Paths kept;
-      c.Execute(ctIntersection, kept, pftNonZero, pftNonZero);
+      // Inside the subspace, minus the part grown by the gap (islands need the tree).
       Clipper d;
-      d.AddPaths(kept, ptSubject, true);
-      d.AddPaths(part2, ptClip, true);
+      d.AddPaths(clip::intersect(region, {keep}), ptSubject, true);
+      d.AddPaths(clip::offset(clip::toPaths(part.layers[i].islands), gapMm), ptClip, true);
       PolyTree tree;
       d.Execute(ctDifference, tree, pftNonZero, pftNonZero);
       out.layers[i] = clip::toIslands(tree);

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "../test_support.h"
@@ -83,6 +84,39 @@ TEST(SliceMesh, PolygonAndIslandArea) {
   Polygon2 hole = {{0.5, 0.5}, {0.5, 1.5}, {1.5, 1.5}, {1.5, 0.5}};
   EXPECT_DOUBLE_EQ(polygonArea(hole), -1);
   EXPECT_DOUBLE_EQ(islandArea(ExPolygon2{square, {hole}}), 3);
+}
+
+// baseHeight lines a mesh's layers up with another's (supports with their part): layer i keeps
+// its heights from the given base, what lies below the base is not sliced, a mesh wholly below
+// gives no layers; maxLayers caps the count.
+TEST(SliceMesh, BaseHeightAndMaxLayers) {
+  const Mesh box = makeBox(0, 0, 2, 4, 4, 3);  // z in [2, 3]
+  SliceOptions o;
+  o.layerHeight = 0.2;
+  o.baseHeight = 1.0;
+  const SliceResult r = sliceMesh(box, o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  EXPECT_DOUBLE_EQ(r.minHeight, 1.0);
+  ASSERT_EQ(r.layers.size(), 10u);  // planes at 1.1 ... 2.9
+  for (size_t i = 0; i < r.layers.size(); ++i) {
+    EXPECT_NEAR(r.layers[i].sliceHeight, 0.1 + 0.2 * double(i), 1e-12);
+    const double plane = 1.0 + r.layers[i].sliceHeight;
+    EXPECT_EQ(r.layers[i].islands.size(), plane > 2 && plane < 3 ? 1u : 0u) << i;
+  }
+  o.baseHeight = 2.5;  // the lower half is not sliced
+  const SliceResult half = sliceMesh(box, o);
+  ASSERT_TRUE(half.ok());
+  ASSERT_EQ(half.layers.size(), 2u);
+  EXPECT_NEAR(islandArea(half.layers[0].islands[0]), 16, 1e-9);
+  o.baseHeight = 3.5;
+  const SliceResult none = sliceMesh(box, o);
+  ASSERT_TRUE(none.ok());
+  EXPECT_TRUE(none.layers.empty());
+  o.baseHeight = 1.0;
+  o.maxLayers = 3;
+  EXPECT_EQ(sliceMesh(box, o).layers.size(), 3u);
+  o.baseHeight = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(sliceMesh(box, o).status, Status::InvalidOption);
 }
 
 TEST(SliceMesh, BoxAlongZLayerCountAndSections) {
