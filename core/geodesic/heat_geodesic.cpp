@@ -21,6 +21,7 @@
 #include <chrono>
 #include <cmath>
 #include <numeric>
+#include <queue>
 #include <limits>
 #include <string>
 
@@ -99,6 +100,82 @@ int pcg(const SpMat& A, const Precond& M, const Eigen::VectorXd& b, Eigen::Vecto
   return -2;
 }
 
+// Order in which the heat sweeps visit the vertices: increasing edge-path length from the sources
+// (Dijkstra on the matrix graph). Vertices no source reaches (other components, unused ones) are
+// left out: their heat stays 0.
+std::vector<uint32_t> sweepOrder(const SpMat& A, const std::vector<double>& vertexVolume,
+                                 const std::vector<uint32_t>& sources,
+                                 const std::vector<double>& positions) {
+  const size_t n = size_t(A.rows());
+  std::vector<double> dist(n, std::numeric_limits<double>::infinity());
+  using Item = std::pair<double, uint32_t>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<Item>> queue;
+  for (uint32_t s : sources)
+    if (dist[s] != 0) {
+      dist[s] = 0;
+      queue.push({0.0, s});
+    }
+  std::vector<uint32_t> order;
+  order.reserve(n);
+  std::vector<uint8_t> done(n, 0);
+  while (!queue.empty()) {
+    const auto [d, i] = queue.top();
+    queue.pop();
+    if (done[i]) continue;
+    done[i] = 1;
+    order.push_back(i);
+    for (SpMat::InnerIterator e(A, Eigen::Index(i)); e; ++e) {
+      const auto j = uint32_t(e.row());
+      if (j == i || done[j] || !(vertexVolume[j] > 0)) continue;
+      const double dx = positions[3 * j] - positions[3 * i], dy = positions[3 * j + 1] - positions[3 * i + 1],
+                   dz = positions[3 * j + 2] - positions[3 * i + 2];
+      const double nd = d + std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (nd < dist[j]) {
+        dist[j] = nd;
+        queue.push({nd, j});
+      }
+    }
+  }
+  return order;
+}
+
+// Eq. 6 by symmetric Gauss-Seidel: a forward sweep in order of distance from the sources, then a
+// backward one, until the largest change of any vertex relative to its own value is below
+// tolerance. Heat flows outward from the sources, so the forward sweep carries it across the whole
+// part in one pass; each vertex is solved from its own row, which keeps the relative accuracy of
+// the exponentially small far-field values (the heat matrix V + h^2 K is symmetric positive
+// definite, so the sweeps converge). Returns the number of symmetric sweeps, -1 when cancelled,
+// -2 when not converged in maxSweeps.
+int heatSweeps(const SpMat& A, const std::vector<double>& invDiagonal,
+               const std::vector<double>& vertexVolume, const std::vector<uint32_t>& sources,
+               const Eigen::VectorXd& b, Eigen::VectorXd& u, double tolerance, int maxSweeps,
+               const ProgressFn& progress, const std::vector<double>& positions) {
+  const std::vector<uint32_t> order = sweepOrder(A, vertexVolume, sources, positions);
+  const int* outer = A.outerIndexPtr();
+  const int* inner = A.innerIndexPtr();
+  const double* value = A.valuePtr();
+  auto relax = [&](uint32_t i) {
+    double s = b[i];
+    for (int k = outer[i]; k < outer[i + 1]; ++k)
+      if (uint32_t(inner[k]) != i) s -= value[k] * u[inner[k]];
+    const double next = s * invDiagonal[i];
+    const double change = std::abs(next - u[i]);
+    u[i] = next;
+    return next != 0 ? change / std::abs(next) : 0.0;
+  };
+  for (int sweep = 1; sweep <= maxSweeps; ++sweep) {
+    double largest = 0;
+    for (uint32_t i : order) largest = std::max(largest, relax(i));
+    for (auto r = order.rbegin(); r != order.rend(); ++r) largest = std::max(largest, relax(*r));
+    if (sweep > 1 && largest <= tolerance) return sweep;
+    if (progress && sweep % 4 == 0) {
+      const double done = std::clamp(std::log(std::max(largest, 1e-300)) / std::log(tolerance), 0.0, 1.0);
+      if (!reportProgress(progress, "field", 0.4 * done)) return -1;
+    }
+  }
+  return -2;
+}
+
 }  // namespace
 
 struct HeatGeodesic::Impl {
@@ -115,7 +192,8 @@ struct HeatGeodesic::Impl {
   std::vector<uint32_t> component;        // per vertex: its component's pinned vertex
   SpMat heatMatrix, poissonMatrix;        // V + t K, K with pinned rows/columns = identity
   SpMat laplacian;                        // L_c (Eq. 5), kept for tests and diagnostics
-  Eigen::SimplicialLDLT<SpMat> heatSolver;
+  Eigen::SimplicialLDLT<SpMat> heatSolver;  // HeatSolver::Direct only
+  std::vector<double> invDiagonal;          // of heatMatrix (HeatSolver::Sweep)
   Eigen::IncompleteCholesky<double, Eigen::Lower, Eigen::AMDOrdering<int>> poissonPre;
   double setupMs = 0;
 
@@ -273,9 +351,18 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
   poissonMatrix.resize(Eigen::Index(n), Eigen::Index(n));
   poissonMatrix.setFromTriplets(poisson.begin(), poisson.end());
 
-  heatSolver.compute(heatMatrix);
+  if (opt.heatSolver == HeatSolver::Direct) {
+    heatSolver.compute(heatMatrix);
+    if (heatSolver.info() != Eigen::Success)
+      return fail(Status::Internal, "heat geodesic: LDLT factorisation failed");
+  } else {
+    invDiagonal.assign(n, 0.0);
+    for (int c = 0; c < heatMatrix.outerSize(); ++c)
+      for (SpMat::InnerIterator it(heatMatrix, c); it; ++it)
+        if (it.row() == it.col()) invDiagonal[size_t(c)] = 1.0 / it.value();
+  }
   poissonPre.compute(poissonMatrix);
-  if (heatSolver.info() != Eigen::Success || poissonPre.info() != Eigen::Success)
+  if (poissonPre.info() != Eigen::Success)
     return fail(Status::Internal, "heat geodesic: incomplete Cholesky factorisation failed");
   setupMs = msSince(t0);
   return true;
@@ -326,8 +413,13 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(n);
   for (uint32_t s : sources) rhs[s] = m.vertexVolume[s];
   Eigen::VectorXd u = Eigen::VectorXd::Zero(n);
-  u = m.heatSolver.solve(rhs);
   int it = 0;
+  if (m.options.heatSolver == HeatSolver::Direct)
+    u = m.heatSolver.solve(rhs);
+  else
+    it = heatSweeps(m.heatMatrix, m.invDiagonal, m.vertexVolume, sources, rhs, u,
+                    m.options.heatTolerance, m.options.maxIterations, progress,
+                    m.mesh.positions);
   if (it == -1) return fail(Status::Cancelled, "cancelled");
   if (it < 0)
     return fail(Status::Internal, "heat geodesic: the heat solve did not converge in " +

@@ -6,18 +6,19 @@
 // as (V - t L_c) u = V u0, symmetric positive definite) with t = h^2 (h the mean edge length,
 // times timeFactor), per-tet gradients (Eq. 7) normalised to -grad u / |grad u|, integrated
 // divergence (Eq. 8), Poisson L_c phi = b (Eq. 9), shifted so the sources' mean distance is 0.
-// Solvers chosen by measurement: the heat step uses a sparse LDLT factorisation (Eigen
-// SimplicialLDLT, factored once). Conjugate gradients were tried first (../shared/TOOLCHAIN.md: on
-// tet Laplacians they beat direct Cholesky 25-100x) but a relative residual of 1e-8 cannot resolve
-// the heat far from point-like sources (u decays like exp(-d/h), e^-100 at 100 edges): on the
-// ../shared/models tet meshes the field then fell up to 69 mm below the Euclidean distance. The
-// direct solve keeps those tiny values accurate. The Poisson step (a smooth, well-scaled
-// right-hand side) uses Eigen-based conjugate gradients with an incomplete-Cholesky preconditioner
-// (measured against diagonal: 5-11 % faster on the three real meshes, 3.5-4x fewer iterations).
-// A HeatGeodesic object keeps both matrices, the factorisation and the preconditioner for solves
-// from other sources. Measured (native / wasm -O3 in Node 20) on 52k-70k-tet meshes: construction
-// 170-740 / 460-2250 ms (mostly the LDLT factorisation; a structured 22^3 box fills in most),
-// distanceFrom 35-100 / 45-180 ms.
+// Solvers chosen by measurement. The heat step: conjugate gradients were tried first
+// (../shared/TOOLCHAIN.md: on tet Laplacians they beat direct Cholesky 25-100x), but a relative
+// residual of 1e-8 cannot resolve the heat far from point-like sources (u decays like exp(-d/h),
+// e^-100 at 100 edges): on the ../shared/models tet meshes the field then fell up to 69 mm below
+// the Euclidean distance. A sparse LDLT keeps those values but fills in badly on compact solids
+// (12k-vertex bunny: 2.6M entries, 580 ms native). The default is symmetric Gauss-Seidel in the
+// order of distance from the sources (HeatSolver::Sweep): each vertex is solved from its own row,
+// so a tiny value keeps its relative accuracy, and sweeps stop when no vertex changes by more than
+// 1e-7 of itself. Against LDLT: distances within 3e-6 mm on the real tet models, 110-330 sweeps,
+// 10-400 ms native and no factorisation. The Poisson step (a smooth, well-scaled right-hand side)
+// uses conjugate gradients with an incomplete-Cholesky preconditioner (measured against
+// diagonal: 5-11 % faster on the three real meshes, 3.5-4x fewer iterations).
+// A HeatGeodesic object keeps both matrices and the preconditioner for solves from other sources.
 #pragma once
 #include <Eigen/SparseCore>
 #include <memory>
@@ -29,16 +30,25 @@
 
 namespace omnislice {
 
+// How the heat step (Eq. 6) is solved. Sweep: symmetric Gauss-Seidel sweeps in the order of the
+// vertices' edge-path distance from the sources, until no vertex's value changes by more than
+// heatTolerance relative to itself (each vertex is solved from its own row, so the exponentially
+// small far-field values keep their relative accuracy, which a residual norm cannot see). Direct:
+// a sparse LDLT factorisation at construction (the reference the sweeps are tested against).
+enum class HeatSolver { Sweep, Direct };
+
 struct HeatGeodesicOptions {
   double timeFactor = 1.0;      // t = timeFactor * h^2
   double tolerance = 1e-8;      // relative residual of the conjugate-gradient (Poisson) solve
-  int maxIterations = 5000;     // of the Poisson solve
+  int maxIterations = 5000;     // of the Poisson solve, and of the heat sweeps
+  HeatSolver heatSolver = HeatSolver::Sweep;
+  double heatTolerance = 1e-7;  // largest relative change of a vertex's heat in the last sweep
 };
 
 struct GeodesicField : Outcome {
   std::vector<double> distance;   // per vertex, mm
   double maxDistance = 0;
-  int heatIterations = 0, poissonIterations = 0;  // heat: 0 (direct solve)
+  int heatIterations = 0, poissonIterations = 0;  // heat: symmetric sweeps (0 for Direct)
   double setupMs = 0, heatMs = 0, gradientMs = 0, poissonMs = 0;
 };
 

@@ -480,5 +480,40 @@ TEST(HeatGeodesic, RealTetModelsBoundedByEdgePathsAndTimed) {
   }
 }
 
+// The default heat solve (ordered Gauss-Seidel sweeps) against the direct LDLT solve: the same
+// distances also where the heat is exponentially small.
+void expectSweepsEqualDirect(const std::string& name, const TetMesh& mesh,
+                             const std::vector<uint32_t>& sources) {
+  HeatGeodesicOptions direct;
+  direct.heatSolver = HeatSolver::Direct;
+  const GeodesicField a = HeatGeodesic(mesh).distanceFrom(sources);
+  const GeodesicField b = HeatGeodesic(mesh, direct).distanceFrom(sources);
+  ASSERT_TRUE(a.ok() && b.ok()) << name << ": " << a.message << b.message;
+  double worst = 0;
+  for (size_t i = 0; i < a.distance.size(); ++i)
+    worst = std::max(worst, std::abs(a.distance[i] - b.distance[i]));
+  std::printf("%s: sweeps %d (heat %.1f ms) vs LDLT (setup %.1f ms, heat %.1f ms): max distance "
+              "%.3f mm, largest difference %.2e mm\n",
+              name.c_str(), a.heatIterations, a.heatMs, b.setupMs, b.heatMs, a.maxDistance, worst);
+  EXPECT_GT(a.heatIterations, 0) << name;
+  EXPECT_EQ(b.heatIterations, 0) << name;
+  EXPECT_LT(worst, 1e-6 * a.maxDistance) << name;
+}
+
+TEST(HeatGeodesic, SweepsEqualTheDirectSolveFromACorner) {
+  // A point source: the far corner is ~50 edges away, where u ~ e^-50.
+  expectSweepsEqualDirect("16^3 box, corner source", box(16, 40, 40, 40), {0});
+  const TetMesh b = box(16, 40, 40, 40);
+  expectSweepsEqualDirect("16^3 box, bottom face", b, platformVertices(b));
+}
+
+TEST(HeatGeodesic, SweepsEqualTheDirectSolveOnRealTetModels) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  for (const char* name : {"reinforcedfdm_YogaNew.tet", "reinforcedfdm_bunnyhead.tet"}) {
+    const TetMesh m = loadTet(test::sharedModelsDir() / name);
+    expectSweepsEqualDirect(name, m, platformVertices(m, 1.0));
+  }
+}
+
 }  // namespace
 }  // namespace omnislice
