@@ -450,7 +450,7 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
     std::vector<BoundarySegment> segs = boundarySegments(layer);
     // P' on the previous layer's boundary curves (segments as degenerate triangles), or the
     // platform below P for the first layer (and after a layer without boundary).
-    std::unique_ptr<AabbTree> prevTree;
+    std::unique_ptr<AabbTree> prevTree, prevSurface;
     if (li > 0 && !previous.empty()) {
       Mesh m;
       for (const BoundarySegment& s : previous) {
@@ -459,6 +459,13 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
         m.triangles.insert(m.triangles.end(), {base, base + 1, base + 1});
       }
       prevTree = std::make_unique<AabbTree>(m);
+      Mesh surface;
+      for (const LayerRegion& r : layers[li - 1].regions) {
+        const uint32_t base = uint32_t(surface.vertexCount());
+        surface.positions.insert(surface.positions.end(), r.mesh.positions.begin(), r.mesh.positions.end());
+        for (uint32_t v : r.mesh.triangles) surface.triangles.push_back(base + v);
+      }
+      prevSurface = std::make_unique<AabbTree>(surface);
     }
     double layerAlpha = 0;
     for (const BoundarySegment& s : segs) {
@@ -469,6 +476,12 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
       if (prevTree) Pp = prevTree->closest(P).point;
       const Eigen::Vector3d v = P - Pp;
       const double vn = v.norm();
+      // P lies over the previous IGDS, not beyond its boundary: the nearest point of the previous
+      // surface is inside it, nearer than any boundary point. This happens where a layer splits
+      // (a saddle of the field: the new boundary between two branches is printed on the previous
+      // layer's interior, while the nearest boundary point is across a branch). Not an overhang.
+      if (prevSurface && (P - prevSurface->closest(P).point).norm() < vn * (1 - 1e-9) - 1e-12)
+        continue;
       // Outward of P' (Fig. 8): a positive component along the outward conormal. The small
       // tolerance keeps vertical walls (component zero up to roundoff) at alpha = 0.
       if (vn <= 0 || v.dot(s.conormal) <= 1e-6 * vn) continue;

@@ -32,7 +32,10 @@
 // minimum angle 32 -> 51 degrees (tests/core/geodesic/igds_test.cpp).
 //
 // Metrics: average overhang angle and overhang ratio of Eq. 11 along each IGDS boundary, layer
-// thickness deviation (Fig. 10).
+// thickness deviation (Fig. 10). A boundary point P whose nearest point on the previous layer's
+// surface is inside that surface (nearer than its boundary curve B_i) stands on it and has
+// alpha = 0: this is where a layer splits at a saddle of the field, and Fig. 8's P' on B_i would
+// lie across a branch (the Kitten's ears read 63-68 degrees on that layer otherwise).
 #pragma once
 
 #include <Eigen/Core>

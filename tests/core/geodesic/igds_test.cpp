@@ -492,6 +492,40 @@ TEST(Igds, FrustumWallsOutwardThirtyDegreesInwardZero) {
   }
 }
 
+// A U: a bar 30 x 40 x 4 with two 3 mm prongs up to 16 mm (grid tets with the slot between the
+// prongs removed), phi = z. Every wall is vertical, so no boundary overhangs. Where the layer splits
+// into the two prongs, the new inner walls stand on the previous layer's interior while the
+// nearest boundary point of that layer is on the outer wall behind the prong, 3 mm away and
+// "outward" of the inner wall: that must not count as overhang (it read 77 degrees before).
+TEST(Igds, LayerSplittingIntoTwoProngsHasNoOverhang) {
+  const TetMesh full = gridTets(30, 20, 16, [](double u, double v, double w) {
+    return Eigen::Vector3d(30 * u, 40 * v, 16 * w);
+  });
+  TetMesh u;
+  u.positions = full.positions;
+  for (size_t k = 0; k < full.tetCount(); ++k) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int j = 0; j < 4; ++j) c += full.vertex(full.tets[4 * k + j]) / 4;
+    if (c.x() > 3 && c.x() < 27 && c.z() > 4) continue;
+    u.tets.insert(u.tets.end(), full.tets.begin() + 4 * k, full.tets.begin() + 4 * k + 4);
+  }
+  const std::vector<double> phi = fieldOf(u, [](const Eigen::Vector3d& p) { return p.z(); });
+  IgdsOptions o;
+  o.interval = 0.7;
+  const IgdsResult r = extractIgds(u, phi, o);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const IgdsMetrics mt = igdsMetrics(r.layers, o.interval, 0.5);
+  size_t split = 0;
+  for (size_t i = 0; i < r.layers.size(); ++i) {
+    if (r.layers[i].regions.size() == 2 && !split) split = i;
+    EXPECT_EQ(mt.layers[i].overhangLengthMm, 0.0) << "layer " << i;
+    EXPECT_EQ(mt.layers[i].overhangAverageDegrees, 0.0) << "layer " << i;
+  }
+  EXPECT_GT(split, 0u);  // the split happens (layers below it are one region)
+  EXPECT_EQ(r.layers[split - 1].regions.size(), 1u);
+  EXPECT_EQ(mt.overhangMaxLayerDegrees, 0.0);
+}
+
 // ---- bad input, cancellation ----
 
 TEST(Igds, BadInputReturnsDocumentedStatuses) {
