@@ -189,6 +189,8 @@ export const SETTINGS_SCHEMA = [
     showIf: isPlanar, sendIf: isPlanar },
   { group: 'Supports', key: 'support.sampling_mm', label: 'overhang sampling R (mm, 0 = from the nozzle)', type: 'number', value: 0, min: 0, max: 50, step: 0.5,
     testid: 'support-sampling', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
+  { group: 'Supports', key: 'support.merge_angle_deg', label: 'tree branch angle (deg, 0 = straight columns)', type: 'number', value: 30, min: 0, max: 60, step: 5,
+    testid: 'support-merge', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
   { group: 'Supports', key: 'support.roof_layers', label: 'solid roof layers under an overhang', type: 'integer', value: 2, min: 0, max: 100, step: 1,
     testid: 'support-roof', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
   { group: 'Supports', key: 'support.gap_mm', label: 'gap to the part (mm)', type: 'number', value: 0, min: 0, max: 5, step: 0.05,

@@ -27,6 +27,8 @@ SupportResult fail(Status s, std::string message) {
   return r;
 }
 
+double sq(double v) { return v * v; }
+
 struct Basis {
   Eigen::Vector3d e1, e2, d;
 };
@@ -128,6 +130,9 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
   if (!finiteNonNeg(o.platformBandMm) || !finiteNonNeg(o.lambda) || !finiteNonNeg(o.minDiameterMm) ||
       !finiteNonNeg(o.roofMm)) {
     return fail(Status::InvalidOption, "support band, lambda, minimum diameter and roof must be finite and >= 0");
+  }
+  if (!(o.mergeAngleDeg >= 0 && o.mergeAngleDeg <= 60)) {
+    return fail(Status::InvalidOption, "support merge angle must be in [0, 60] degrees");
   }
   if (mesh.empty()) return fail(Status::EmptyInput, "mesh has no triangles");
   const size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
@@ -285,18 +290,135 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
   }
   res.samples = samples.size();
 
-  // Progressive projection (Algorithm 2) of every sample.
+  // A strut piece with its diameter, and Eq. 13's torque of pieces above a point.
+  struct Piece {
+    Eigen::Vector3d top, bottom;
+    int s;
+    double diameter = 0;
+  };
+  // A piece's prism keeps its cross-section orthogonal to d (the layers' plane), so its volume is
+  // that area times its height along d (its length for a straight strut).
+  auto pieceVolume = [&](const Piece& q) {
+    return kPi * 0.25 * q.diameter * q.diameter * (q.top - q.bottom).dot(res.directions[size_t(q.s)]);
+  };
+  auto diameterBelow = [&](const std::vector<Piece>& above, const Eigen::Vector3d& top) {
+    Eigen::Vector3d torque = Eigen::Vector3d::Zero();
+    for (const Piece& q : above) {
+      const double vol = pieceVolume(q);
+      torque += vol * (0.5 * (q.top + q.bottom) - top).cross(-kGravity * res.directions[size_t(q.s)]);
+    }
+    return std::max(o.minDiameterMm, (1 + o.lambda * torque.norm()) * R / 4);
+  };
   constexpr double kSkin = 1e-4;  // mm: a ray ignores its own starting surface
-  for (size_t n = 0; n < samples.size(); ++n) {
-    if ((n & 255) == 0 && !reportProgress(progress, "supports", 0.5 + 0.5 * double(n) / double(samples.size()))) {
+  // Straight length along -d of subspace s from x to the model, the platform or the base plane.
+  auto straightLength = [&](const Eigen::Vector3d& x, int s) {
+    const double tExit = s == platform ? std::max(0.0, x.z())
+                                       : std::max(0.0, planes[size_t(s)].normal.dot(x) - planes[size_t(s)].offset);
+    return std::min(tExit, rays[size_t(s)]->firstHit(x, kSkin));
+  };
+
+  // Tree merging (Vanek et al., as the paper's Section V): within each subspace, from the highest
+  // node down, a node joins its nearest neighbour at the highest point both reach with branches
+  // at most mergeAngleDeg from -d, when both branches keep clear of the model, the meeting point
+  // stays in the subspace, and the two branches plus one trunk are shorter than two trunks.
+  struct Node {
+    Eigen::Vector3d p;
+    int s;
+    size_t samples = 1;
+    std::vector<Piece> above;  // the branches of this node's tree
+  };
+  std::vector<Node> nodes;
+  nodes.reserve(samples.size());
+  for (const Sample& sm : samples) nodes.push_back({sm.p, sm.subspace, 1, {}});
+  std::unique_ptr<AabbTree> surfaceTree;
+  if (o.mergeAngleDeg > 0 && !samples.empty()) surfaceTree = std::make_unique<AabbTree>(mesh);
+  const double tanMerge = det::sin(o.mergeAngleDeg * kPi / 180) / det::cos(o.mergeAngleDeg * kPi / 180);
+  const double clearance = 0.5 * o.minDiameterMm + 0.2;
+  auto branchClear = [&](const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
+    const double len = (to - from).norm();
+    const double step = std::max(0.1, 0.5 * clearance);
+    // Skip the first stretch near the overhang the branch starts from (it leaves that surface at
+    // >= cos(alpha_max + mergeAngle) per mm).
+    for (double t = 2 * clearance; t <= len; t += step) {
+      if (surfaceTree->anyWithin(from + (to - from) * (t / len), clearance)) return false;
+    }
+    return !surfaceTree->anyWithin(to, clearance);
+  };
+  std::vector<size_t> finals;  // nodes that go straight down (roots of the trees)
+  if (o.mergeAngleDeg > 0) {
+    for (size_t si = 0; si < subspaces; ++si) {
+      const Basis& basis = bases[si];
+      const Eigen::Vector3d& d = basis.d;
+      std::vector<size_t> active;
+      for (size_t n = 0; n < nodes.size(); ++n)
+        if (size_t(nodes[n].s) == si) active.push_back(n);
+      while (!active.empty()) {
+        if ((++res.mergeSteps & 255) == 0 && !reportProgress(progress, "supports", 0.5)) {
+          return fail(Status::Cancelled, "cancelled");
+        }
+        // The highest active node (ties: lowest index, for a deterministic order).
+        size_t ai = 0;
+        for (size_t k = 1; k < active.size(); ++k) {
+          const double hk = nodes[active[k]].p.dot(d), ha = nodes[active[ai]].p.dot(d);
+          if (hk > ha || (hk == ha && active[k] < active[ai])) ai = k;
+        }
+        const size_t A = active[ai];
+        active.erase(active.begin() + std::ptrdiff_t(ai));
+        const Eigen::Vector3d pa = nodes[A].p;
+        const double ha = pa.dot(d);
+        const double maxReach = 4 * R;
+        // Candidates by horizontal distance, nearest first (at most three tried).
+        std::vector<std::pair<double, size_t>> near;
+        for (size_t k = 0; k < active.size(); ++k) {
+          const Eigen::Vector3d dp = nodes[active[k]].p - pa;
+          const double D = std::sqrt(sq(dp.dot(basis.e1)) + sq(dp.dot(basis.e2)));
+          if (D <= maxReach) near.push_back({D, k});
+        }
+        std::sort(near.begin(), near.end());
+        bool merged = false;
+        for (size_t c = 0; c < near.size() && c < 3 && !merged; ++c) {
+          const size_t bk = near[c].second, B = active[bk];
+          const Eigen::Vector3d pb = nodes[B].p;
+          const double hb = pb.dot(d), D = near[c].first;
+          // Meeting point: x along the horizontal from A to B with ha - x / tan = hb - (D - x) / tan.
+          double x = 0.5 * ((ha - hb) * tanMerge + D);
+          x = std::clamp(x, 0.0, D);
+          const double hm = std::min(ha - x / tanMerge, hb - (D - x) / tanMerge);
+          const Eigen::Vector3d horiz = (pb - pa) - (pb - pa).dot(d) * d;
+          const Eigen::Vector3d m = pa - pa.dot(d) * d + (D > 0 ? Eigen::Vector3d(horiz * (x / D)) : Eigen::Vector3d::Zero()) + hm * d;
+          if (subspaceOf(m, planes) != int(si) || (int(si) == platform && m.z() < o.platformBandMm)) continue;
+          const double lm = straightLength(m, int(si));
+          const double la = straightLength(pa, int(si)), lb = straightLength(pb, int(si));
+          if (!((m - pa).norm() + (m - pb).norm() + lm < la + lb)) continue;
+          if (!branchClear(pa, m) || !branchClear(pb, m)) continue;
+          Node joined{m, int(si), nodes[A].samples + nodes[B].samples, {}};
+          for (size_t from : {A, B}) {
+            Piece q{nodes[from].p, m, int(si), 0};
+            q.diameter = diameterBelow(nodes[from].above, q.top);
+            joined.above.insert(joined.above.end(), nodes[from].above.begin(), nodes[from].above.end());
+            joined.above.push_back(q);
+          }
+          active.erase(active.begin() + std::ptrdiff_t(bk));
+          nodes.push_back(std::move(joined));
+          active.push_back(nodes.size() - 1);
+          ++res.merges;
+          merged = true;
+        }
+        if (!merged) finals.push_back(A);
+      }
+    }
+  } else {
+    for (size_t n = 0; n < nodes.size(); ++n) finals.push_back(n);
+  }
+
+  // Progressive projection (Algorithm 2) of every tree's root (every sample without merging).
+  for (size_t fi = 0; fi < finals.size(); ++fi) {
+    if ((fi & 255) == 0 && !reportProgress(progress, "supports", 0.5 + 0.5 * double(fi) / double(finals.size()))) {
       return fail(Status::Cancelled, "cancelled");
     }
-    Eigen::Vector3d x = samples[n].p;
-    int s = samples[n].subspace;
-    struct Piece {
-      Eigen::Vector3d top, bottom;
-      int s;
-    };
+    const size_t n = finals[fi];
+    Eigen::Vector3d x = nodes[n].p;
+    int s = nodes[n].s;
     std::vector<Piece> pieces;
     bool ok = false, onModel = false;
     for (size_t guard = 0; guard <= subspaces; ++guard) {
@@ -315,7 +437,7 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
       if (tBlock < tExit && tBlock < tHit) break;  // blocked
       const double t = std::min(tExit, tHit);
       const Eigen::Vector3d end = x - t * d;
-      if (t > 1e-9) pieces.push_back({x, end, s});
+      if (t > 1e-9) pieces.push_back({x, end, s, 0});
       if (tHit <= tExit) {
         ok = onModel = true;
         break;
@@ -336,26 +458,23 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
       s = next;
     }
     if (!ok) {
-      ++res.blocked;
+      res.blocked += nodes[n].samples;
       continue;
     }
     if (onModel) ++res.landedOnModel;
     else ++res.landedOnPlatform;
-    // Eq. 13, top-down: the torque of the pieces above about this piece's top.
-    const size_t trace = n;
-    std::vector<double> diam(pieces.size());
-    for (size_t m = 0; m < pieces.size(); ++m) {
-      Eigen::Vector3d torque = Eigen::Vector3d::Zero();
-      for (size_t i = 0; i < m; ++i) {
-        const double len = (pieces[i].top - pieces[i].bottom).norm();
-        const double vol = kPi * 0.25 * diam[i] * diam[i] * len;
-        const Eigen::Vector3d c = 0.5 * (pieces[i].top + pieces[i].bottom);
-        const Eigen::Vector3d g = -kGravity * res.directions[size_t(pieces[i].s)];
-        torque += vol * (c - pieces[m].top).cross(g);
-      }
-      diam[m] = std::max(o.minDiameterMm, (1 + o.lambda * torque.norm()) * R / 4);
-      res.struts.push_back({pieces[m].top, pieces[m].bottom, diam[m], pieces[m].s, static_cast<int>(trace)});
-      res.strutVolumeMm3 += kPi * 0.25 * diam[m] * diam[m] * (pieces[m].top - pieces[m].bottom).norm();
+    // Eq. 13, top-down: the torque of the tree's branches and the trunk pieces above.
+    std::vector<Piece> above = nodes[n].above;
+    const int trace = static_cast<int>(n);
+    for (const Piece& q : above) {
+      res.struts.push_back({q.top, q.bottom, q.diameter, q.s, trace});
+      res.strutVolumeMm3 += pieceVolume(q);
+    }
+    for (Piece& q : pieces) {
+      q.diameter = diameterBelow(above, q.top);
+      above.push_back(q);
+      res.struts.push_back({q.top, q.bottom, q.diameter, q.s, trace});
+      res.strutVolumeMm3 += pieceVolume(q);
     }
   }
   if (!reportProgress(progress, "supports", 1.0)) return fail(Status::Cancelled, "cancelled");

@@ -24,8 +24,14 @@
 //   nozzle).
 // - Roofs: each risky face (piece in the subspace) gets a prism roofMm thick below it along -d, so
 //   the first layers under an overhang are solid support rather than the tops of sparse struts.
-// Differences from the paper: the struts are straight columns per subspace (the paper grows
-// Vanek-style trees that merge at 30 deg); a strut meeting another strut is not merged.
+// - Trees (Vanek et al., as the paper): within each subspace, from the highest node down, a node
+//   joins its nearest neighbour (within 4 R, horizontally) at the highest point both reach with
+//   branches at most mergeAngleDeg (30) from -d, when both branches keep half a diameter + 0.2 mm
+//   off the model, the meeting point stays in the subspace, and two branches plus one trunk are
+//   shorter than two straight struts. The joined node continues like a sample; a blocked trunk
+//   blocks its whole tree. Eq. 13 then sums the torque of every branch above a piece.
+// Differences from the paper: trees merge within a subspace only; below its base plane a trunk
+// runs straight on.
 #pragma once
 #include <Eigen/Core>
 #include <cstddef>
@@ -46,13 +52,14 @@ struct SupportOptions {
   double lambda = 1e-6;         // Eq. 13
   double minDiameterMm = 0.9;   // strut diameter floor, mm, >= 0
   double roofMm = 0.4;          // roof thickness below risky faces, mm, >= 0 (0 = no roofs)
+  double mergeAngleDeg = 30;    // tree branches at most this far from -d; 0 = straight struts
 };
 
 struct SupportStrut {
   Eigen::Vector3d top{0, 0, 0}, bottom{0, 0, 0};  // part frame, mm; top - bottom along +d
   double diameterMm = 0;
   int subspace = 0;  // index into the subspaces (planes.size() = platform subspace)
-  int trace = 0;     // the sample it continues down from
+  int trace = 0;     // the tree (or, without merging, the sample) it belongs to
 };
 
 struct SupportRoof {
@@ -70,8 +77,11 @@ struct SupportResult : Outcome {
   size_t landedOnModel = 0;  // traces ending on the model
   size_t landedOnPlatform = 0;
   size_t blocked = 0;        // samples whose strut would cross into a later subspace (no strut)
+  size_t merges = 0;         // pairs of nodes joined into one trunk (tree merging)
+  size_t mergeSteps = 0;     // nodes visited by the merging
   double riskyAreaMm2 = 0;   // risky area that the roofs cover (per subspace, Eq. 1)
-  double strutVolumeMm3 = 0; // sum over struts of pi D^2 / 4 L (overlaps counted twice)
+  double strutVolumeMm3 = 0; // sum over struts of pi D^2 / 4 times the height along d (overlaps
+                             // counted twice)
   double roofVolumeMm3 = 0;  // sum over roofs of the projected area times roofMm
 };
 

@@ -168,6 +168,8 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.support.angleDeg; }, 0, 89, "degrees (0 = the method's)"}},
       {"support.lambda",
        {[](Settings& s) -> double& { return s.support.lambda; }, 0, 1, "(Eq. 13)"}},
+      {"support.merge_angle_deg",
+       {[](Settings& s) -> double& { return s.support.mergeAngleDeg; }, 0, 60, "degrees (0 = straight columns)"}},
       {"support.min_diameter_mm",
        {[](Settings& s) -> double& { return s.support.minDiameterMm; }, 0, 20, "mm (0 = 2 x line width)"}},
       {"support.gap_mm",

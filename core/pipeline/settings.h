@@ -112,6 +112,7 @@ struct SupportSettings {
   double lambda = 1e-6;          // Eq. 13, strut diameter growth with the torque above
   double minDiameterMm = 0;      // strut diameter floor, mm; 0 = 2 x line width
   int roofLayers = 2;            // solid support layers right under an overhang (roof)
+  double mergeAngleDeg = 30;     // tree branches at most this far from the direction (0 = columns)
   double gapMm = 0;              // horizontal gap between support and the part, mm (0: the roof
                                  // meets the part's outer wall, which verify's 1.5 h reach needs)
 };

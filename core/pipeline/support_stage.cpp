@@ -19,6 +19,7 @@ SupportOptions supportOptionsFor(const Settings& s, double methodAlphaDeg) {
   o.lambda = s.support.lambda;
   o.minDiameterMm = s.support.minDiameterMm > 0 ? s.support.minDiameterMm : 2 * s.effectiveLineWidth();
   o.roofMm = s.support.roofLayers * s.layerHeight;
+  o.mergeAngleDeg = s.support.mergeAngleDeg;
   return o;
 }
 
@@ -37,12 +38,14 @@ std::string supportReportJson(const SupportResult& r, const SupportOptions& o, d
                               {"angle_deg", finite(o.alphaMaxDeg)},
                               {"min_diameter_mm", finite(o.minDiameterMm)},
                               {"roof_mm", finite(o.roofMm)},
+                              {"merge_angle_deg", finite(o.mergeAngleDeg)},
                               {"samples", r.samples},
                               {"point_overhangs", r.pointOverhangs},
                               {"patch_samples", r.patchSamples},
                               {"landed_on_model", r.landedOnModel},
                               {"landed_on_platform", r.landedOnPlatform},
                               {"blocked", r.blocked},
+                              {"merges", r.merges},
                               {"struts", r.struts.size()},
                               {"roofs", r.roofs.size()},
                               {"risky_area_mm2", finite(r.riskyAreaMm2)},

@@ -35,6 +35,7 @@ Mesh makeL() { return test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30,
 TEST(ProjectedSupports, FixedDirectionSamplesTheUndersideAndReachesThePlatform) {
   SupportOptions o;
   o.samplingMm = 2;
+  o.mergeAngleDeg = 0;  // straight columns (trees: ProjectedSupports.TreesMerge...)
   const SupportResult r = projectedSupports(makeL(), {}, o);
   ASSERT_TRUE(r.ok()) << r.message;
   // Grid nodes (2i, 2j) inside the underside [10,30] x [0,10] (closed): 11 x 6, less the column
@@ -58,7 +59,9 @@ TEST(ProjectedSupports, StrutsLandOnTheModelBelow) {
   // 2 mm grid, so no sample lies on the silhouette edge, where the ray grazes the step's side.)
   const Mesh m =
       test::makeBoxUnion({{0, 0.5, 0, 31, 9.5, 5}, {0, 0.5, 5, 10, 9.5, 30}, {10, 0.5, 20, 30, 9.5, 30}});
-  const SupportResult r = projectedSupports(m, {});
+  SupportOptions o;
+  o.mergeAngleDeg = 0;
+  const SupportResult r = projectedSupports(m, {}, o);
   ASSERT_TRUE(r.ok()) << r.message;
   ASSERT_GT(r.samples, 0u);
   EXPECT_EQ(r.landedOnModel, r.samples);
@@ -74,6 +77,7 @@ TEST(ProjectedSupports, ProgressiveProjectionChainsPiecesThroughSubspaces) {
   const std::vector<Plane> planes = {{n, n.dot(Eigen::Vector3d(20, 0, 20))}};
   SupportOptions o;
   o.lambda = 1e-3;  // large enough for Eq. 13 to matter
+  o.mergeAngleDeg = 0;
   const SupportResult r = projectedSupports(m, planes, o);
   ASSERT_TRUE(r.ok()) << r.message;
   ASSERT_EQ(r.directions.size(), 2u);
@@ -152,12 +156,52 @@ TEST(ProjectedSupports, SupportMeshIsClosedOutwardAndHasThePrimitivesVolume) {
   double expect = 0;
   for (const SupportStrut& s : r.struts) {
     const double rin = s.diameterMm / 2;
-    expect += sides * rin * rin * std::tan(kPi / sides) * (s.top - s.bottom).norm();
+    expect += sides * rin * rin * std::tan(kPi / sides) * (s.top - s.bottom).z();  // height along d
   }
   expect += r.roofVolumeMm3;
   EXPECT_NEAR(signedVolume(mesh), expect, 1e-6 * expect);
   EXPECT_NEAR(r.roofVolumeMm3, 200 * 0.4, 1e-9);
   EXPECT_TRUE(supportMesh(r, 1, o).empty());  // no such subspace
+}
+
+// Trees: the L's arm underside (50 samples at R = 2) merges into a few trunks. Every branch
+// leans at most 30 degrees from -Z and keeps clear of the model below its start; every piece ends
+// on the platform or at the top of another piece of its tree; trees use less strut volume than
+// the straight columns and hold every sample.
+TEST(ProjectedSupports, TreesMergeWithinThirtyDegreesAndSaveVolume) {
+  const Mesh m = makeL();
+  SupportOptions columns;
+  columns.mergeAngleDeg = 0;
+  const SupportResult straight = projectedSupports(m, {}, columns);
+  const SupportResult trees = projectedSupports(m, {});
+  ASSERT_TRUE(straight.ok() && trees.ok()) << trees.message;
+  EXPECT_EQ(straight.merges, 0u);
+  EXPECT_GT(trees.merges, 10u);
+  EXPECT_EQ(trees.samples, straight.samples);
+  EXPECT_EQ(trees.blocked, 0u);
+  EXPECT_EQ(trees.landedOnPlatform + trees.landedOnModel, trees.samples - trees.merges);  // roots
+  EXPECT_LT(trees.strutVolumeMm3, 0.8 * straight.strutVolumeMm3);
+  const AabbTree tree(m);
+  const double clearance = 0.5 * SupportOptions{}.minDiameterMm + 0.2;
+  size_t leaning = 0;
+  for (const SupportStrut& s : trees.struts) {
+    const Eigen::Vector3d axis = s.top - s.bottom;
+    ASSERT_GT(axis.z(), 0);
+    EXPECT_GE(axis.normalized().z(), std::cos(30 * kPi / 180) - 1e-9);
+    EXPECT_GE(s.diameterMm, SupportOptions{}.minDiameterMm);
+    bool joins = std::abs(s.bottom.z()) < 1e-9;
+    for (const SupportStrut& t : trees.struts)
+      joins = joins || (&t != &s && t.trace == s.trace && (t.top - s.bottom).norm() < 1e-9);
+    EXPECT_TRUE(joins) << s.bottom.transpose();
+    if (axis.normalized().z() < 1 - 1e-12) {
+      ++leaning;
+      for (double t = 2 * clearance; t <= axis.norm(); t += 0.1)
+        EXPECT_GT(tree.closest(s.top - axis * (t / axis.norm())).distance, clearance - 1e-9);
+    }
+  }
+  EXPECT_GT(leaning, 10u);
+  std::printf("L arm: %zu samples, %zu merges, %zu pieces; strut volume %.1f mm^3 (columns %.1f)\n",
+              trees.samples, trees.merges, trees.struts.size(), trees.strutVolumeMm3, straight.strutVolumeMm3);
 }
 
 TEST(ProjectedSupports, BadOptionsAndCancel) {
@@ -167,6 +211,9 @@ TEST(ProjectedSupports, BadOptionsAndCancel) {
   EXPECT_EQ(projectedSupports(m, {}, o).status, Status::InvalidOption);
   o = {};
   o.alphaMaxDeg = 90;
+  EXPECT_EQ(projectedSupports(m, {}, o).status, Status::InvalidOption);
+  o = {};
+  o.mergeAngleDeg = 61;
   EXPECT_EQ(projectedSupports(m, {}, o).status, Status::InvalidOption);
   o = {};
   o.lambda = std::nan("");

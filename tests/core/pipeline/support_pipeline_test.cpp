@@ -92,7 +92,9 @@ TEST(SupportPipeline, PlanarSupportsHoldTheOverhang) {
   EXPECT_EQ(sup.verify["collisions"].get<int>(), 0);
   const Json& j = sup.report["support"];
   EXPECT_TRUE(j["generated"].get<bool>());
-  EXPECT_EQ(j["landed_on_platform"].get<size_t>(), j["samples"].get<size_t>());
+  // Every tree (samples less merges) reaches the platform.
+  EXPECT_GT(j["merges"].get<size_t>(), 0u);
+  EXPECT_EQ(j["landed_on_platform"].get<size_t>(), j["samples"].get<size_t>() - j["merges"].get<size_t>());
   EXPECT_NEAR(j["risky_area_mm2"].get<double>(), 200.0, 1e-6);
   // What was printed is what the regions hold (lines at the solid spacing fill them).
   const double printed = j["printed_volume_mm3"].get<double>(), region = j["region_volume_mm3"].get<double>();
