@@ -51,12 +51,19 @@ val statusObject(Status status, const std::string& message) {
   return out;
 }
 
-// A progress callback calling the JS function; false from JS cancels, anything else continues.
+// A progress callback calling the JS function with (stage, fraction) or, when a search level is
+// done, (stage, fraction, {line, level, J_G, beams}); false from JS cancels, anything else
+// continues.
 ProgressFn progressFromJs(const val& fn) {
   if (fn.typeOf().as<std::string>() != "function") return {};
-  return [fn](const char* stage, double fraction) {
-    val r = fn(std::string(stage), fraction);
-    return !r.isFalse();
+  return [fn](const ProgressEvent& e) {
+    if (!e.search) return !fn(std::string(e.stage), e.fraction).isFalse();
+    val search = val::object();
+    search.set("line", std::string(e.search->line));
+    search.set("level", e.search->level);
+    search.set("J_G", e.search->jgMm2);
+    search.set("beams", e.search->beams);
+    return !fn(std::string(e.stage), e.fraction, search).isFalse();
   };
 }
 

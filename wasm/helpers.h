@@ -11,7 +11,9 @@ namespace omnislice::wasm {
 
 // Slice mesh bytes. bytes: Uint8Array (or ArrayBuffer) of the file; name: file name (extension
 // picks the format); settingsLines: "key=value" lines applied with setSetting(); progress: JS
-// function(stage, fraction) or undefined (returning false cancels).
+// function(stage, fraction, search) or undefined (returning false cancels); search is undefined
+// or, when a search level is done, {line, level, J_G, beams} (common/progress.h
+// SearchLevelProgress).
 // Returns {status, message, program: Uint8Array, report, info (JSON strings), layers,
 // preview: {positions: Float32Array, features: Uint8Array, layers: Uint32Array,
 // machine: Float32Array (6 machine values per segment end)}, programExtension ("gcode" | "csv" |

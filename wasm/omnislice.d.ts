@@ -69,7 +69,18 @@ export interface MachineProfileJson {
   [key: string]: any;
 }
 
-export interface Progress { stage: string; fraction: number }
+/** A level of the multidir plane search is done (stage 'decompose'; workers/protocol.js SEARCH_LINES). */
+export interface SearchLevel {
+  line: 'greedy' | 'constrained' | 'beam' | 'screen' | 'chosen';
+  /** Planes in the line's sequences at this level (0 = the uncut model). */
+  level: number;
+  /** mm²: the least J_G the line reached with at most `level` planes ('chosen': after `level` planes). */
+  J_G: number;
+  /** Sequences the line goes on extending after this level (0: the line ends). */
+  beams: number;
+}
+
+export interface Progress { stage: string; fraction: number; search?: SearchLevel }
 
 export interface SliceResult<P = string> {
   program: P;

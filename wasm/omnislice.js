@@ -81,9 +81,11 @@ function parseJson(text, what) {
   }
 }
 
+// The core calls back with (stage, fraction) or, when a search level is done, (stage, fraction,
+// search {line, level, J_G, beams}).
 function progressAdapter(onProgress) {
   if (typeof onProgress !== 'function') return undefined;
-  return (stage, fraction) => onProgress({ stage, fraction }) !== false;
+  return (stage, fraction, search) => onProgress(search ? { stage, fraction, search } : { stage, fraction }) !== false;
 }
 
 /**
@@ -149,8 +151,10 @@ export class Omnislice {
    * @param {ArrayBuffer|Uint8Array} bytes file content
    * @param {string} name file name (extension picks the format)
    * @param {object} [settings] setting key -> value
-   * @param {{onProgress?: (p: {stage: string, fraction: number}) => (boolean|void),
-   *          programAs?: 'string'|'bytes'}} [options]
+   * @param {{onProgress?: (p: {stage: string, fraction: number, search?: object}) => (boolean|void),
+   *          programAs?: 'string'|'bytes'}} [options] onProgress: search {line, level, J_G,
+   *   beams} when a level of the multidir plane search is done (workers/protocol.js
+   *   SEARCH_LINES); returning false cancels
    */
   slice(bytes, name, settings = {}, { onProgress, programAs = 'string' } = {}) {
     const data = toBytes(bytes, 'bytes');

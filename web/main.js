@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: MIT
 // App wiring: file input and drag-and-drop -> slicer.loadMesh; Slice/Cancel -> slicer.slice with
-// progress; result -> viewer (model + tool-path preview), report figures and program download
-// (G-code, robot CSV or URScript, by the result's programExtension); the machine panel (built-in
-// machine, flavour, a user's profile file checked by the core); the machine animation
-// (MachineView: the articulated machine moving the part, driven by preview.machine).
+// progress (a multidir search's levels as the decompose stage's text and a live J_G chart);
+// result -> viewer (model + tool-path preview), report figures and program download (G-code,
+// robot CSV or URScript, by the result's programExtension); the machine panel (built-in machine,
+// flavour, a user's profile file checked by the core); the machine animation (MachineView: the
+// articulated machine moving the part, driven by preview.machine).
 // All heavy work runs in the engine's worker; the main thread only moves typed arrays around.
 // The page's state is mirrored on <body data-state> (starting, loading, ready, slicing, done,
 // error, cancelled) and <body data-slice-count>, which the end-to-end tests wait on.
@@ -25,8 +26,10 @@ import { GeodesicView } from './geodesic-view.js';
 import { figure as geoFigure, geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
 import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
 import { MultidirView } from './multidir-view.js';
-import { areaFigure, hasMultidirBuffers, multidirDoneSummary, supportText } from './multidir-data.js';
-import { drawJgChart, fillMultidirFigures, fillPartsTable } from './multidir-panel.js';
+import {
+  areaFigure, hasMultidirBuffers, liveJgLevels, multidirDoneSummary, searchLevelText, supportText,
+} from './multidir-data.js';
+import { drawJgChart, drawJgLevels, fillMultidirFigures, fillPartsTable } from './multidir-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';
@@ -128,17 +131,26 @@ function setProgressText(text, fraction) {
   if (fraction !== undefined) bar.value = fraction;
 }
 
-/** Progress state of one slice: the method's stage weights, and every stage seen with its times. */
+/**
+ * Progress state of one slice: the method's stage weights, every stage seen with its times, and
+ * the search levels of a multidir decomposition as they come.
+ */
 function newProgress(method) {
   return {
     stage: '', fraction: 0, overall: 0, pending: false,
     weights: STAGE_WEIGHTS[method] || STAGE_WEIGHTS.planar,
-    stages: new Map(),  // stage -> {fraction, start, end} (performance.now() ms), in arrival order
+    stages: new Map(),  // stage -> {fraction, start, end (performance.now() ms), detail}, in arrival order
+    levels: [],         // progress.search of every search-level event, in arrival order
+    levelsDrawn: 0,     // levels shown by the live J_G chart
+    liveDraws: [],      // the live chart's values at each drawing (for the tests)
   };
 }
 
-/** Progress callback: keep the latest value, paint once per frame. */
-function onProgress({ stage, fraction }) {
+/**
+ * Progress callback: keep the latest value, paint once per frame. A search-level event (stage
+ * 'decompose', progress.search) becomes its stage's detail text and a point of the live chart.
+ */
+function onProgress({ stage, fraction, search }) {
   const p = app.progress;
   p.stage = stage;
   p.fraction = Math.min(Math.max(Number(fraction) || 0, 0), 1);
@@ -154,13 +166,22 @@ function onProgress({ stage, fraction }) {
   }
   entry.fraction = Math.max(entry.fraction, p.fraction);
   entry.end = now;
+  if (search) {
+    p.levels.push(search);
+    entry.detail = searchLevelText(search);
+  }
   if (p.pending) return;
   p.pending = true;
   requestAnimationFrame(() => {
     p.pending = false;
-    if (app.busy) {
-      setProgressText(`${p.stage} ${Math.round(p.fraction * 100)}%`, p.overall);
+    if (app.busy && app.progress === p) {
+      const detail = p.stages.get(p.stage)?.detail;
+      setProgressText(`${p.stage} ${Math.round(p.fraction * 100)}%${detail ? ` — ${detail}` : ''}`, p.overall);
       showStages();
+      // The chosen sequence's levels come in a burst at the end of decompose: drawn once the
+      // next stage starts, not one by one (the chart would shrink to its first point).
+      const chosenComing = p.stage === 'decompose' && p.levels.at(-1)?.line === 'chosen';
+      if (p.levels.length !== p.levelsDrawn && !chosenComing) showLiveSearch(p);
     }
   });
 }
@@ -190,6 +211,12 @@ function showStages({ finished = false } = {}) {
     const dt = end - e.start;
     ms.textContent = dt >= 1000 ? `${(dt / 1000).toFixed(1)} s` : `${Math.round(dt)} ms`;
     li.append(name, pct, ms);
+    if (e.detail) {
+      const detail = document.createElement('span');
+      detail.className = 'detail';
+      detail.textContent = e.detail;
+      li.append(detail);
+    }
     items.push(li);
   }
   list.replaceChildren(...items);
@@ -626,6 +653,26 @@ function showMultidirReport(m) {
   else stats.textContent = `${chart.points} levels, ${areaFigure(chart.first)} → ${areaFigure(chart.last)} mm²`;
 }
 
+/**
+ * The J_G chart of a running decomposition, from its search levels so far (the report's chart
+ * replaces it when the result comes). Its first drawing in a slice shows the multidir report
+ * group and clears the previous result's figures and parts table.
+ */
+function showLiveSearch(p) {
+  p.levelsDrawn = p.levels.length;
+  const values = liveJgLevels(p.levels);
+  if (values.length === 0) return;
+  if (p.liveDraws.length === 0) {
+    $('md-report').hidden = false;
+    fillMultidirFigures($('md-figures'), null);
+    fillPartsTable($('md-parts-table').querySelector('tbody'), null);
+  }
+  p.liveDraws.push(values);
+  const chart = drawJgLevels($('md-jg-chart'), values, { live: true });
+  $('md-chart-stats').textContent = chart && !chart.error
+    ? `searching: ${chart.points} levels, ${areaFigure(chart.first)} → ${areaFigure(chart.last)} mm²` : '—';
+}
+
 /** The multidir bar follows app.multidirView (hidden without one). */
 function setupMultidirBar() {
   const v = app.multidirView;
@@ -951,6 +998,8 @@ async function slice() {
     await showResult(result, started);
     app.resultSettings = settings;
   } catch (err) {
+    // A live search chart goes: the report group shows the last result again.
+    if (app.progress.liveDraws.length > 0) showMultidirReport(app.result?.report?.multidir ?? null);
     if (err && err.code === 'cancelled') {
       showError(err);
       setProgressText('cancelled', 0);
@@ -1439,6 +1488,17 @@ window.omnislice = {
   get geodesic() { return app.geodesicView ? app.geodesicView.stats() : null; },
   /** The multidir view: what it holds and draws (MultidirView.stats()), or null. */
   get multidir() { return app.multidirView ? app.multidirView.stats() : null; },
+  /**
+   * The search levels of the last slice's multidir decomposition: {levels: progress.search of
+   * every event in arrival order, liveDraws: the live J_G chart's values at each of its drawings}.
+   */
+  get searchProgress() {
+    return { levels: app.progress.levels.map((s) => ({ ...s })), liveDraws: app.progress.liveDraws.map((v) => v.slice()) };
+  },
+  /** The stage details of the last slice (a search level's text for 'decompose'): {stage: text}. */
+  get stageDetails() {
+    return Object.fromEntries([...app.progress.stages].filter(([, e]) => e.detail).map(([k, e]) => [k, e.detail]));
+  },
   /** The progress stages of the last slice in arrival order: [[stage, fraction, ms]]. */
   get stages() {
     const list = [...app.progress.stages];

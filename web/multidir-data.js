@@ -8,7 +8,9 @@
 //   - an arrow per part: its print direction from its surface centroid;
 //   - the risky faces of the placed part (before / after) as an index list and their area;
 //   - the J_G-per-search-level chart geometry (SVG units), the summary rows and the parts table
-//     of report.multidir.
+//     of report.multidir;
+//   - the search-level progress events of a running decomposition (progress.search) as a line of
+//     text and as the live chart's values.
 import { figure, niceTicks } from './geodesic-data.js';
 
 /** A slice result carries multidir buffers (the parts' meshes). */
@@ -232,6 +234,59 @@ export function jgChartGeometry(values, { width = 260, height = 110 } = {}) {
   const yTicks = niceTicks(0, top, 3).map((v) => ({ y: yOf(v), value: v }));
   const xTicks = points.filter((p, k) => n <= 8 || k % Math.ceil(n / 8) === 0 || k === n - 1).map((p) => ({ x: p.x, value: p.level }));
   return { plot, points, path, yTicks, xTicks, maxValue };
+}
+
+/**
+ * A progress event's search level is well formed: a line name (workers/protocol.js SEARCH_LINES;
+ * not imported: the page's own modules load without the engine's), level >= 0, J_G >= 0.
+ */
+function validLevel(s) {
+  return !!s && typeof s.line === 'string' && s.line !== '' && Number.isInteger(s.level) && s.level >= 0
+    && typeof s.J_G === 'number' && Number.isFinite(s.J_G) && s.J_G >= 0;
+}
+
+/**
+ * One line on a search-level progress event (progress.search {line, level, J_G, beams}):
+ * "search level 3: J_G = 1.25 mm² (beam, 8 beams)"; the returned sequence's levels end in
+ * "(chosen)". Empty for anything else.
+ */
+export function searchLevelText(s) {
+  if (!validLevel(s)) return '';
+  const beams = Number(s.beams);
+  const tail = s.line === 'chosen' || !(beams > 0) ? s.line : `${s.line}, ${figure(beams)} beam${beams === 1 ? '' : 's'}`;
+  return `search level ${s.level}: J_G = ${areaFigure(s.J_G)} mm² (${tail})`;
+}
+
+/**
+ * The live J_G chart of a running search from its level events (in arrival order): once the
+ * search has reported its chosen sequence, J_G after each of its levels (what
+ * report.multidir.search.J_G_per_level will hold); before that, at each level k the least J_G
+ * found so far with at most k planes by the greedy, constrained and beam lines (the 4dof axis
+ * screening runs on a coarse grid and only ranks axes: left out).
+ * @param {{line, level, J_G}[]} events progress.search of every event so far
+ * @returns {number[]} J_G (mm²) per level, level 0 first; [] without a usable event
+ */
+export function liveJgLevels(events) {
+  const list = (Array.isArray(events) ? events : []).filter(validLevel);
+  const chosenStart = list.findLastIndex((s) => s.line === 'chosen' && s.level === 0);
+  if (chosenStart >= 0) {
+    const out = [];
+    for (const s of list.slice(chosenStart)) if (s.line === 'chosen' && s.level === out.length) out.push(s.J_G);
+    return out;
+  }
+  const least = [];
+  for (const s of list) {
+    if (s.line === 'screen' || s.line === 'chosen') continue;
+    least[s.level] = least[s.level] === undefined ? s.J_G : Math.min(least[s.level], s.J_G);
+  }
+  const out = [];
+  let best = Infinity;
+  for (let k = 0; k < least.length; k++) {
+    if (least[k] !== undefined) best = Math.min(best, least[k]);
+    if (best === Infinity) return [];
+    out.push(best);
+  }
+  return out;
 }
 
 const unit = (x, u) => (Number.isFinite(x) ? `${figure(x)} ${u}` : '—');

@@ -2,7 +2,7 @@
 // DOM of the multi-directional method's report (paper 000), drawn from report.multidir by the
 // data helpers of multidir-data.js: the figures (J_G before -> after, search), the parts table
 // (print index with its colour, direction, volume, risky area, layers) and the chart of J_G per
-// search level as SVG. The method's settings rows are the 'Multi-directional' group of
+// search level as SVG (also drawn live from the search's progress while it runs). The method's settings rows are the 'Multi-directional' group of
 // web/settings-panel.js. No application state: main.js owns the result and calls these.
 import { fillFigureList, svgElement } from './panel-dom.js';
 import { figure } from './geodesic-data.js';
@@ -48,11 +48,21 @@ export function fillPartsTable(tbody, m) {
  * tests); clears the chart without a report.
  * @returns {{points: number, maxValue: number, first: number, last: number} | {error: string} | null}
  */
-export function drawJgChart(svg, m, { width = 260, height = 110 } = {}) {
-  svg.replaceChildren();
-  for (const k of ['points', 'max']) delete svg.dataset[k];
+export function drawJgChart(svg, m, options = {}) {
   const values = m && m.search && Array.isArray(m.search.J_G_per_level) ? m.search.J_G_per_level : null;
-  if (!values) return null;
+  return drawJgLevels(svg, values, options);
+}
+
+/**
+ * Draw J_G per level from a list of values (level 0 first) into `svg`, as drawJgChart does. With
+ * `live` (a search still running: multidir-data.js liveJgLevels) the chart is marked data-live
+ * and its line titled as the best found so far; null or no values clear the chart.
+ * @returns {{points: number, maxValue: number, first: number, last: number} | {error: string} | null}
+ */
+export function drawJgLevels(svg, values, { width = 260, height = 110, live = false } = {}) {
+  svg.replaceChildren();
+  for (const k of ['points', 'max', 'live']) delete svg.dataset[k];
+  if (!values || (live && values.length === 0)) return null;
   let c;
   try {
     c = jgChartGeometry(values, { width, height });
@@ -70,7 +80,8 @@ export function drawJgChart(svg, m, { width = 260, height = 110 } = {}) {
   }
   if (c.path) {
     const line = svgElement('path', { class: 'overhang', d: c.path });
-    line.append(svgElement('title', {}, 'J_G (mm²) of the best beam after each level'));
+    line.append(svgElement('title', {}, live ? 'J_G (mm²) of the best decomposition found so far with at most this many planes'
+      : 'J_G (mm²) of the best beam after each level'));
     svg.append(line);
   }
   for (const p of c.points) {
@@ -80,5 +91,6 @@ export function drawJgChart(svg, m, { width = 260, height = 110 } = {}) {
   }
   svg.dataset.points = String(c.points.length);
   svg.dataset.max = String(c.maxValue);
+  if (live) svg.dataset.live = 'true';
   return { points: c.points.length, maxValue: c.maxValue, first: values[0], last: values[values.length - 1] };
 }

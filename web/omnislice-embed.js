@@ -67,8 +67,9 @@ export function programBlob(result) {
  * @param {object} settings  slicing settings by key (layer_height, infill, direction, ...); the
  *   placement keys (fit_mm, up, rotate_*_deg, scale, center) place the mesh first
  * @param {{onProgress?: Function, signal?: AbortSignal, slicer?: object, name?: string}} options
- *   onProgress({stage, fraction}); signal aborts (rejects with code 'cancelled'); slicer: use this
- *   facade instead of the shared one; name: file name when `file` is a Blob without one
+ *   onProgress({stage, fraction, search?}) (search: a multidir search level, docs/EMBEDDING.md);
+ *   signal aborts (rejects with code 'cancelled'); slicer: use this facade instead of the shared
+ *   one; name: file name when `file` is a Blob without one
  * @returns {Promise<object>} the facade's slice result plus fileName (the program's file name:
  *   .gcode, or .csv / .script for a robot)
  * @throws {OmnisliceError} code and human message (e.g. 'truncated_file', 'open_mesh', 'cancelled')

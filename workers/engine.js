@@ -6,7 +6,7 @@
 //   const slicer = await createSlicer();
 //   const { meshId, info, mesh } = await slicer.loadMesh('part.stl', arrayBuffer, { up: 'y' });
 //   const { program, report, preview } = await slicer.slice(meshId, { layer_height: 0.2 },
-//     { onProgress: ({ stage, fraction }) => {}, signal: abortController.signal });
+//     { onProgress: ({ stage, fraction, search }) => {}, signal: abortController.signal });
 //   const verification = await slicer.verify(program, meshId);
 //   slicer.dispose();
 import { OmnisliceError, Reply, Request } from './protocol.js';
@@ -81,7 +81,9 @@ class Slicer {
     switch (msg.type) {
       case Reply.PROGRESS:
         if (entry.onProgress) {
-          try { entry.onProgress({ stage: msg.stage, fraction: msg.fraction }); } catch { /* caller bug */ }
+          const p = { stage: msg.stage, fraction: msg.fraction };
+          if (msg.search) p.search = msg.search;
+          try { entry.onProgress(p); } catch { /* caller bug */ }
         }
         break;
       case Reply.READY:

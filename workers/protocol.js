@@ -5,8 +5,11 @@
 // Request (main -> worker):  {id: number, type: RequestType, payload: object}
 // Reply   (worker -> main):  {id, type: 'ready'|'progress'|'result'|'error', ...}
 //   ready:    {id, type: 'ready', version}                      answers `init`, before any work
-//   progress: {id, type: 'progress', stage, fraction}           interim; stages in pipeline order,
-//                                                               fraction nondecreasing per stage
+//   progress: {id, type: 'progress', stage, fraction, search?}  interim; stages in pipeline order,
+//                                                               fraction nondecreasing per stage;
+//                                                               search: a level of the multidir
+//                                                               plane search is done (stage
+//                                                               'decompose'; see SEARCH_LINES)
 //   result:   {id, type: 'result', result}                      ArrayBuffers inside are transferred
 //   error:    {id, type: 'error', code, message, fatal}         code: a STATUS_CODES string;
 //                                                               fatal: the worker must be discarded
@@ -64,6 +67,21 @@ export const Request = Object.freeze({
   /** Test hook, payload {}: aborts the wasm instance. Reply: `error` {code: 'internal', fatal}. */
   DEBUG_CRASH: 'debug-crash',
 });
+
+/**
+ * Lines of the `search` of a progress reply {line, level, J_G, beams} (core/common/progress.h
+ * SearchLevelProgress), one reply per level of each search line; never throttled.
+ *   line:  'greedy' | 'constrained' | 'beam' (the lines of the beam scheme, in that order; one of
+ *          them alone for the greedy schemes) | 'screen' (4dof axis search: the constrained line
+ *          per axis on a coarse grid, ranking the axes) | 'chosen' (last: the returned sequence,
+ *          levels 0..N, J_G exact after refinement = report.multidir.search.J_G_per_level)
+ *   level: planes in the line's sequences at this level, 0 = the uncut model (J_G before)
+ *   J_G:   mm²; search lines: the least J_G the line reached with at most `level` planes
+ *          (nonincreasing along a line); 'chosen': J_G after the first `level` planes
+ *   beams: sequences the line goes on extending after this level (0: the line ends here)
+ * Levels >= 1 of the search lines number report.multidir.search.levels in all.
+ */
+export const SEARCH_LINES = Object.freeze(['greedy', 'constrained', 'beam', 'screen', 'chosen']);
 
 /** Reply types (worker -> main). */
 export const Reply = Object.freeze({

@@ -13,15 +13,23 @@ function post(message, transfer = []) {
   self.postMessage(message, transfer);
 }
 
-// Progress replies, throttled: every stage change, every +1 % and the end of a stage.
+// Progress replies, throttled: every stage change, every +1 % and the end of a stage. A report
+// with a search level (progress.search) is always posted, at no less than the stage's last
+// fraction: the page draws every level (a few dozen per decomposition).
 function progressPoster(id) {
   let lastStage = null;
   let lastFraction = -1;
-  return ({ stage, fraction }) => {
+  return ({ stage, fraction, search }) => {
     const f = Math.min(1, Math.max(0, Number(fraction) || 0));
     if (stage !== lastStage) {
       lastStage = stage;
       lastFraction = -1;
+    }
+    if (search) {
+      lastFraction = Math.max(lastFraction, f);
+      const { line, level, J_G, beams } = search;
+      post({ id, type: Reply.PROGRESS, stage, fraction: lastFraction, search: { line, level, J_G, beams } });
+      return;
     }
     if (f < lastFraction) return;  // never let a stage go backwards
     if (lastFraction < 0 || f >= 1 || f - lastFraction >= 0.01) {

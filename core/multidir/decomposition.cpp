@@ -643,19 +643,26 @@ class Search {
     nodes_.push_back(std::move(root));
   }
 
-  // One line of search from the root: greedy / constrained (width 1) or the beam.
-  // Returns false when cancelled.
-  bool runLine(Scheme scheme, size_t width, double progressBase, double progressSpan) {
+  // One line of search from the root: greedy / constrained (width 1) or the beam. Reports each
+  // level as SearchLevelProgress `name` (level 0: the root). Returns false when cancelled.
+  bool runLine(Scheme scheme, size_t width, double progressBase, double progressSpan, const char* name) {
     ++line_;
     std::vector<uint32_t> frontier;
     if (!nodes_[0].terminal) frontier.push_back(0);
+    auto fractionAt = [&](int level) {
+      return progressBase + progressSpan * std::min(0.99, level / (o_.w + 1));
+    };
+    double least = nodes_[0].jg;  // least J_G of the line's nodes so far
+    auto reportLevel = [&](int level) {
+      // A node's J_G is its parent's minus the plane's gain: it can end a few ulps below zero.
+      const SearchLevelProgress s{name, level, std::max(0.0, least), static_cast<int>(frontier.size())};
+      return reportProgress(progress_, "decompose", fractionAt(level), s);
+    };
+    if (!reportLevel(0)) return false;
     int level = 0;
     while (!frontier.empty() && level < kMaxLevels) {
-      if (!reportProgress(progress_, "decompose",
-                          progressBase + progressSpan * std::min(0.99, level / (o_.w + 1)))) {
-        return false;
-      }
-      progressNow_ = progressBase + progressSpan * std::min(0.99, level / (o_.w + 1));
+      if (!reportProgress(progress_, "decompose", fractionAt(level))) return false;
+      progressNow_ = fractionAt(level);
       ++level;
       ++stats_.levels;
       auto t0 = Clock::now();
@@ -671,8 +678,10 @@ class Search {
       }
       frontier.clear();
       for (uint32_t c : children) {
+        least = std::min(least, nodes_[c].jg);
         if (!nodes_[c].terminal) frontier.push_back(c);
       }
+      if (!reportLevel(level)) return false;
     }
     return true;
   }
@@ -1518,10 +1527,11 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
   // The beam scheme also runs the greedy and constrained-greedy lines from the same root (two
   // extra beams of width 1): the best J_G over all of them wins, so the beam never does worse.
   auto runScheme = [&](Search& search, Scheme s, double base, double span) {
-    if (s != Scheme::Beam) return search.runLine(s, 1, base, span);
-    return search.runLine(Scheme::Greedy, 1, base, 0.1 * span) &&
-           search.runLine(Scheme::Constrained, 1, base + 0.1 * span, 0.1 * span) &&
-           search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span, 0.8 * span);
+    if (s != Scheme::Beam) return search.runLine(s, 1, base, span, s == Scheme::Greedy ? "greedy" : "constrained");
+    return search.runLine(Scheme::Greedy, 1, base, 0.1 * span, "greedy") &&
+           search.runLine(Scheme::Constrained, 1, base + 0.1 * span, 0.1 * span, "constrained") &&
+           search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span,
+                          0.8 * span, "beam");
   };
   if (!fourDof) {
     Search search(m, options, result.stats, progress);
@@ -1567,7 +1577,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
         Search search(mc, coarse, result.stats, progress);
         search.setNormals(circleNormals(coarse, axes[a]));
         const double span = screenSpan / axes.size();
-        if (!search.runLine(Scheme::Constrained, 1, a * span, span)) return cancelled();
+        if (!search.runLine(Scheme::Constrained, 1, a * span, span, "screen")) return cancelled();
         const Node& b = search.node(search.best());
         rank.emplace_back(b.jg + 1e-9 * b.level, a);
       }
@@ -1616,6 +1626,11 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
     result.stats.axesTried = axes.size();
   }
   result.stats.msTotal = msSince(tStart);
+  // The returned sequence level by level, once the search (and in 4dof the axis) is decided.
+  for (size_t k = 0; k < result.stats.jgPerLevel.size(); ++k) {
+    const SearchLevelProgress s{"chosen", static_cast<int>(k), result.stats.jgPerLevel[k], 0};
+    if (!reportProgress(progress, "decompose", 1.0, s)) return cancelled();
+  }
   reportProgress(progress, "decompose", 1.0);
   return result;
 }

@@ -152,6 +152,12 @@ struct MultidirResult : Outcome {
 // greedy scheme. Native and wasm give the same planes. Cost (default options, 10k-face Kitten,
 // one core of an unloaded 2-core VM): ~0.25 s native, ~0.25-0.35 s as wasm under Node 20; 4dof
 // over 180 axes ~3.5-4 s.
+// Progress: stage "decompose". Each line reports its levels as they are done, each with a
+// SearchLevelProgress (common/progress.h): level 0 (the root, J_G before) and every level it
+// expands, named "greedy", "constrained" or "beam" (4dof axis search: "screen" for each screened
+// axis, then the lines of each fully searched axis); levels >= 1 of all lines number
+// stats.levels. Last, at fraction 1, the returned sequence as "chosen" levels 0..N with J_G =
+// stats.jgPerLevel[level]. Cancelling on any report stops the search.
 // Statuses: EmptyInput (no triangles), ParseError (index out of range), NonFiniteVertex,
 // InvalidOption (an option out of range or NaN, unknown dof/scheme, a non-horizontal rotation
 // axis, the mesh below z = 0, over 20000 offsets along a normal), DegenerateInput (no grid cell

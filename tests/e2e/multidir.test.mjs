@@ -8,7 +8,8 @@
 //     loaded through the file input and sliced with multidir on table5: the report's J_G before
 //     -> after, the parts table (one row per part), the J_G-per-level chart, the parts drawn in
 //     their colours with an arrow each, the order slider, the risky faces before / after (their
-//     areas match the report), the program downloads;
+//     areas match the report), the program downloads; while the search ran, every search level
+//     reached the page (progress.search), drew the live J_G chart and the decompose stage's text;
 //   - a planar slice afterwards hides the multidir view and report; no page errors.
 // Screenshots go to build/e2e/multidir-*.png.
 import { test, before, after } from 'node:test';
@@ -121,6 +122,19 @@ test('an L-bracket sliced with multidir on table5: parts, arrows, chart, risky f
   assert.equal(await page.getAttribute(tid('md-jg-chart'), 'data-points'), String(levels));
   assert.match(await page.textContent(tid('md-chart-stats')), new RegExp(`^${levels} levels`));
   assert.match(await page.textContent(tid('progress-text')), /parts, J_G 200 → 0 mm²/);
+  // While the search ran: every search level reached the page, the live J_G chart was drawn from
+  // them (the last drawing: the chosen sequence, the report's values) before the report's chart
+  // replaced it, and the stage list's decompose row keeps the last level's text.
+  const sp = await page.evaluate(() => window.omnislice.searchProgress);
+  assert.deepEqual(sp.levels.filter((s) => s.line === 'chosen').map((s) => s.J_G), m.search.J_G_per_level);
+  assert.equal(sp.levels.filter((s) => s.line !== 'chosen' && s.level >= 1).length, m.search.levels);
+  assert.ok(sp.liveDraws.length >= 1, 'the live chart was drawn while slicing');
+  assert.deepEqual(sp.liveDraws[sp.liveDraws.length - 1], m.search.J_G_per_level);
+  assert.equal(await page.getAttribute(tid('md-jg-chart'), 'data-live'), null, 'the report replaced the live chart');
+  const levelText = /^search level \d+: J_G = [\d.,]+ mm² \((greedy|constrained|beam|chosen)(, \d+ beams?)?\)$/;
+  assert.match(await page.textContent(`${tid('stage-list')} li[data-stage="decompose"] .detail`), levelText);
+  assert.match((await page.evaluate(() => window.omnislice.stageDetails)).decompose,
+    new RegExp(`^search level ${levels - 1}: J_G = 0 mm² \\(chosen\\)$`));
   // The view: every part and its arrow.
   assert.equal(await page.isVisible(tid('md-bar')), true);
   let v = await page.evaluate(() => window.omnislice.multidir);

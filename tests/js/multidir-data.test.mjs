@@ -1,12 +1,14 @@
 // SPDX-License-Identifier: MIT
 // The multidir page's pure data (web/multidir-data.js) in Node: buffer checks, parts sorted by
 // print index with one colour each, centroids and direction arrows, risky-face index lists and
-// areas, the J_G-per-level chart, the report's rows.
+// areas, the J_G-per-level chart, the report's rows, the search-level progress text and the live
+// chart's values.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  areaFigure, arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, hasMultidirBuffers, jgChartGeometry, multidirDoneSummary,
-  multidirSummaryRows, partCentroids, partColor, partDirections, partRows, sortPartTriangles, supportText,
+  areaFigure, arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, hasMultidirBuffers, jgChartGeometry, liveJgLevels,
+  multidirDoneSummary, multidirSummaryRows, partCentroids, partColor, partDirections, partRows, searchLevelText, sortPartTriangles,
+  supportText,
 } from '../../web/multidir-data.js';
 
 // Two unit-square "parts" (two triangles each): part 1 listed first at z = 5, part 0 at z = 0.
@@ -129,4 +131,38 @@ test('supports line: off unless generated, counts and printed volume when they a
   const rows = Object.fromEntries(multidirSummaryRows({ ...REPORT, supports: sup }).map(([k, , t]) => [k, t]));
   assert.match(rows.supports, /^64 mm³ printed: 50 struts/);
   assert.deepEqual(partRows({ parts: [{ print_index: 0, plane: null, support_region_mm3: 12.5 }] }).map((r) => r.support), [12.5]);
+});
+
+test('searchLevelText: level, J_G to 0.01 mm², the line and its live beams', () => {
+  assert.equal(searchLevelText({ line: 'beam', level: 3, J_G: 1.2345, beams: 8 }), 'search level 3: J_G = 1.23 mm² (beam, 8 beams)');
+  assert.equal(searchLevelText({ line: 'greedy', level: 1, J_G: 50, beams: 1 }), 'search level 1: J_G = 50 mm² (greedy, 1 beam)');
+  assert.equal(searchLevelText({ line: 'constrained', level: 4, J_G: 2e-9, beams: 0 }), 'search level 4: J_G = 0 mm² (constrained)');
+  assert.equal(searchLevelText({ line: 'chosen', level: 2, J_G: 0.0312, beams: 0 }), 'search level 2: J_G = 0.03 mm² (chosen)');
+  for (const bad of [undefined, null, {}, { line: 'beam', level: -1, J_G: 1 }, { line: 'beam', level: 1.5, J_G: 1 },
+    { line: 'beam', level: 1, J_G: NaN }, { line: '', level: 1, J_G: 1 }]) {
+    assert.equal(searchLevelText(bad), '', JSON.stringify(bad));
+  }
+});
+
+test('liveJgLevels: least J_G with at most k planes over the search lines, then the chosen sequence', () => {
+  const ev = (line, level, J_G, beams = 1) => ({ line, level, J_G, beams });
+  assert.deepEqual(liveJgLevels([]), []);
+  assert.deepEqual(liveJgLevels(null), []);
+  // The greedy line alone: its values.
+  const greedy = [ev('greedy', 0, 200), ev('greedy', 1, 120), ev('greedy', 2, 40), ev('greedy', 3, 40, 0)];
+  assert.deepEqual(liveJgLevels(greedy), [200, 120, 40, 40]);
+  // The beam, two levels in, is better at level 1 and reaches 10 at level 2: levels 2-3 follow it
+  // (at most k planes), the chart never rises.
+  const withBeam = [...greedy, ev('constrained', 0, 200), ev('constrained', 1, 150), ev('beam', 0, 200, 1), ev('beam', 1, 60, 8), ev('beam', 2, 10, 8)];
+  assert.deepEqual(liveJgLevels(withBeam), [200, 60, 10, 10]);
+  // The axis screening (coarse grid) is left out.
+  assert.deepEqual(liveJgLevels([ev('screen', 0, 200), ev('screen', 1, 1)]), []);
+  assert.deepEqual(liveJgLevels([...greedy, ev('screen', 1, 1)]), [200, 120, 40, 40]);
+  // The chosen sequence replaces the search's values: exactly its levels.
+  const chosen = [...withBeam, ev('chosen', 0, 200, 0), ev('chosen', 1, 61, 0), ev('chosen', 2, 8.5, 0)];
+  assert.deepEqual(liveJgLevels(chosen), [200, 61, 8.5]);
+  // Half of a chosen sequence so far: the levels that came.
+  assert.deepEqual(liveJgLevels(chosen.slice(0, -1)), [200, 61]);
+  // Malformed events are skipped.
+  assert.deepEqual(liveJgLevels([...greedy, { line: 'beam', level: 1, J_G: -3 }, { line: 'beam' }]), [200, 120, 40, 40]);
 });

@@ -7,7 +7,8 @@ import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
-import { boxStl, saddleObj, sphereStl, torusStl, writeBinaryStl } from './fixtures/meshes.js';
+import { boxStl, lBracketStl, saddleObj, sphereStl, torusStl, writeBinaryStl } from './fixtures/meshes.js';
+import { checkSearchLevels } from './search-levels.mjs';
 import { CI, NATIVE_CLI, loadShipped, sharedModel, wasmUnavailable } from './wasm-support.mjs';
 
 const why = wasmUnavailable();
@@ -290,6 +291,33 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.ok(calls > 0);
     // The module keeps working after a cancel.
     assert.equal(m.slice(boxStl(10, 10, 3), 'b.stl', settings).report.layers, 10);
+  });
+
+  // Issue 7 item 9: the multidir plane search reports every level with its J_G (progress.search).
+  test('progress: multidir search levels reach JS as progress.search; false on a level cancels', () => {
+    const s = { method: 'multidir', machine: 'table5', layer_height: 0.3 };
+    const events = [];
+    const r = m.slice(lBracketStl(), 'l.stl', s, { onProgress: (p) => { events.push(p); } });
+    const { chosen } = checkSearchLevels(events, r.report.multidir);
+    assert.ok(chosen.length >= 2, `the bracket is cut: ${chosen}`);
+    assert.ok(events.filter((p) => !p.search).every((p) => !('search' in p)), 'plain reports carry no search');
+    const decompose = events.filter((p) => p.stage === 'decompose').map((p) => p.fraction);
+    decompose.forEach((f, i) => assert.ok(i === 0 || f >= decompose[i - 1], `decompose went back to ${f}`));
+    // Cancelling on the beam's first level: Cancelled, and no report after it.
+    let stopped = false;
+    let after = 0;
+    expectCode(() => m.slice(lBracketStl(), 'l.stl', s, {
+      onProgress: (p) => {
+        if (stopped) {
+          after += 1;
+          return false;
+        }
+        stopped = !!p.search && p.search.line === 'beam' && p.search.level === 1;
+        return !stopped;
+      },
+    }), 'cancelled');
+    assert.ok(stopped, 'the beam reached level 1');
+    assert.equal(after, 0, 'reports after the cancel');
   });
 
   test('verify accepts the program sliced from the same mesh', () => {

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
 // The worker protocol through the engine facade (workers/engine.js) in headless Chromium: real
-// module workers, transfers, progress order, cancel, error and crash recovery.
+// module workers, transfers, progress order, every search level of a multidir slice, cancel,
+// error and crash recovery.
 import { after, before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { browserUnavailable, openPage } from './browser.mjs';
+import { checkSearchLevels } from './search-levels.mjs';
 
 const why = await browserUnavailable();
 if (why && process.env.CI === 'true') throw new Error(`browser tests cannot run under CI: ${why}`);
@@ -124,6 +126,23 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     }
     assert.ok(spy.before[0] === r.programLength, 'program bytes (ASCII G-code) transferred');
     assert.ok(spy.after.every((n) => n === 0), `detached after postMessage: ${spy.after}`);
+  });
+
+  // Issue 7 item 9: the worker posts every level of the multidir plane search (never throttled)
+  // with its J_G, before the result.
+  test('slice: every multidir search level comes as progress.search before the result', async () => {
+    const r = await page.evaluate(async () => {
+      const events = [];
+      const result = await window.slicer.slice({ name: 'l.stl', bytes: window.meshes.lBracketStl() },
+        { method: 'multidir', machine: 'table5', layer_height: 0.3 }, { onProgress: (p) => events.push(p) });
+      return { events, settledEarly: events.length === 0, multidir: result.report.multidir };
+    });
+    assert.equal(r.settledEarly, false, 'progress came before the result');
+    const { levels } = checkSearchLevels(r.events, r.multidir);
+    assert.ok(levels.length >= 5, `${levels.length} search levels`);
+    const decompose = r.events.filter((p) => p.stage === 'decompose').map((p) => p.fraction);
+    decompose.forEach((f, i) => assert.ok(f >= 0 && f <= 1 && (i === 0 || f >= decompose[i - 1]), `decompose fraction ${f} at ${i}`));
+    assert.equal(decompose[decompose.length - 1], 1);
   });
 
   test('cancel rejects with cancelled within 200 ms and the slicer works again', async (t) => {

@@ -8,9 +8,11 @@
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <regex>
 #include <sstream>
 #include <string>
 
+#include "../box_union.h"
 #include "../pipeline/pipeline_fixtures.h"
 #include "../test_support.h"
 
@@ -103,6 +105,46 @@ TEST(Cli, SliceWritesProgramAndReport) {
   const Json vj = Json::parse(v.out);
   EXPECT_GE(vj["inside"].get<double>(), 0.99);
   EXPECT_EQ(vj["layers"].get<int>(), 16);
+}
+
+// --progress: a line at each stage's start and end, and one per level of a multidir search
+// ("progress: decompose P% search level K: J_G = X mm^2 (LINE[, N beams])"); the chosen levels
+// are the report's J_G per level, the search lines' levels >= 1 its level count.
+TEST(Cli, ProgressPrintsStagesAndSearchLevels) {
+  const fs::path l = writeTemp("cli_l.stl", test::binaryStl(test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}})));
+  const fs::path gcode = test::tempDir() / "cli_l.gcode";
+  const fs::path report = test::tempDir() / "cli_l.json";
+  CliRun r = runCli("slice " + l.string() + " -o " + gcode.string() + " --method multidir --machine table5 " +
+                    "--layer-height 0.3 --progress --report " + report.string());
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  std::ifstream rf(report);
+  const Json m = Json::parse(rf)["multidir"];
+  EXPECT_NE(r.err.find("progress: read 0%\n"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("progress: program 100%\n"), std::string::npos) << r.err;
+  const std::regex level(R"(progress: decompose \d+% search level (\d+): J_G = ([0-9.]+) mm\^2 \((greedy|constrained|beam|chosen)(, \d+ beams?)?\))");
+  std::istringstream lines(r.err);
+  std::string line;
+  size_t searched = 0;
+  std::vector<std::string> chosen;
+  while (std::getline(lines, line)) {
+    if (line.find("search level") == std::string::npos) continue;
+    std::smatch g;
+    ASSERT_TRUE(std::regex_match(line, g, level)) << line;
+    if (g[3] == "chosen") {
+      EXPECT_EQ(std::stoi(g[1]), static_cast<int>(chosen.size())) << line;
+      chosen.push_back(g[2]);
+    } else if (std::stoi(g[1]) >= 1) {
+      ++searched;
+    }
+  }
+  EXPECT_EQ(searched, m["search"]["levels"].get<size_t>()) << r.err;
+  const auto perLevel = m["search"]["J_G_per_level"].get<std::vector<double>>();
+  ASSERT_EQ(chosen.size(), perLevel.size()) << r.err;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.2f", perLevel.front());
+  EXPECT_EQ(chosen.front(), text);
+  std::snprintf(text, sizeof text, "%.2f", perLevel.back());
+  EXPECT_EQ(chosen.back(), text);
 }
 
 // Bad input and options: exit 2, one error line, and no output file left behind.

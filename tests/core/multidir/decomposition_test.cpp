@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 #include <string>
 #include <tuple>
@@ -478,6 +479,165 @@ TEST(DecompStatus, CancellationStopsTheSearch) {
   });
   EXPECT_TRUE(done.ok());
   EXPECT_TRUE(sawEnd);
+}
+
+// ---- progress per search level ---------------------------------------------------------------
+
+struct LevelReport {
+  std::string line;
+  int level = 0;
+  double jg = 0;
+  int beams = 0;
+};
+
+// Every progress report of a search: its search levels in order, the fractions in order.
+struct Recorded {
+  std::vector<LevelReport> levels;
+  std::vector<double> fractions;
+  bool otherStage = false;
+};
+
+ProgressFn recorder(Recorded& rec) {
+  return [&rec](const ProgressEvent& e) {
+    rec.otherStage = rec.otherStage || std::string(e.stage) != "decompose";
+    rec.fractions.push_back(e.fraction);
+    if (e.search) rec.levels.push_back({e.search->line, e.search->level, e.search->jgMm2, e.search->beams});
+    return true;
+  };
+}
+
+// The level reports of a finished search against its result: one run per line (levels 0, 1, 2,
+// ... from J_G before, nonincreasing, ending with no live beam) in the order `lines`, then the
+// chosen sequence, exactly stats.jgPerLevel; the search lines' levels >= 1 number stats.levels;
+// the search's own J_G of the returned sequence is one a line reported.
+void expectLevels(const Recorded& rec, const MultidirResult& r, const std::vector<std::string>& lines,
+                  const std::string& what) {
+  EXPECT_FALSE(rec.otherStage) << what;
+  for (double f : rec.fractions) {
+    EXPECT_GE(f, 0) << what;
+    EXPECT_LE(f, 1) << what;
+  }
+  std::vector<std::vector<LevelReport>> runs;
+  for (const LevelReport& l : rec.levels) {
+    if (l.level == 0) {
+      runs.push_back({l});
+      continue;
+    }
+    ASSERT_FALSE(runs.empty()) << what << ": " << l.line << " level " << l.level << " before any level 0";
+    ASSERT_EQ(l.line, runs.back().front().line) << what << ": a line's levels are not contiguous";
+    runs.back().push_back(l);
+  }
+  std::vector<std::string> names;
+  for (const auto& run : runs) names.push_back(run.front().line);
+  std::vector<std::string> expected = lines;
+  expected.push_back("chosen");
+  ASSERT_EQ(names, expected) << what;
+  size_t searched = 0;
+  double least = std::numeric_limits<double>::infinity();
+  bool lineEndsAtSearchJg = false;
+  for (const auto& run : runs) {
+    const std::string& line = run.front().line;
+    for (size_t k = 0; k < run.size(); ++k) {
+      EXPECT_EQ(run[k].level, static_cast<int>(k)) << what << ": " << line;
+      EXPECT_GE(run[k].jg, 0) << what << ": " << line << " level " << k;
+    }
+    if (line == "chosen") continue;
+    searched += run.size() - 1;
+    if (line == "screen") continue;  // the coarse model's numbers
+    EXPECT_EQ(run.front().jg, r.jgBeforeMm2) << what << ": " << line << " starts at J_G before";
+    for (size_t k = 1; k < run.size(); ++k) EXPECT_LE(run[k].jg, run[k - 1].jg) << what << ": " << line << " level " << k;
+    EXPECT_EQ(run.back().beams, 0) << what << ": " << line << " ends with live beams";
+    least = std::min(least, run.back().jg);
+    lineEndsAtSearchJg = lineEndsAtSearchJg || (run.back().jg <= r.stats.searchJgMm2 + 1e-9 &&
+                                                r.stats.searchJgMm2 <= run.back().jg + MultidirOptions{}.delta0 + 1e-9);
+  }
+  EXPECT_EQ(searched, r.stats.levels) << what;
+  EXPECT_GE(r.stats.searchJgMm2, least - 1e-9) << what;
+  EXPECT_TRUE(lineEndsAtSearchJg) << what << ": no line ended near the search's J_G " << r.stats.searchJgMm2;
+  std::vector<double> chosen;
+  for (const LevelReport& l : runs.back()) {
+    chosen.push_back(l.jg);
+    EXPECT_EQ(l.beams, 0) << what;
+  }
+  EXPECT_EQ(chosen, r.stats.jgPerLevel) << what;
+}
+
+TEST(DecompProgress, EachSchemeReportsItsLinesLevelByLevelThenTheChosenSequence) {
+  const Mesh t = makeT();
+  const std::pair<const char*, std::vector<std::string>> cases[] = {
+      {"greedy", {"greedy"}}, {"constrained", {"constrained"}}, {"beam", {"greedy", "constrained", "beam"}}};
+  for (const auto& [scheme, lines] : cases) {
+    MultidirOptions o;
+    o.platformMarginMm = 2;
+    o.scheme = scheme;
+    Recorded rec;
+    const MultidirResult r = searchDecomposition(t, o, recorder(rec));
+    ASSERT_TRUE(r.ok()) << r.message;
+    ASSERT_FALSE(r.planes.empty()) << scheme;
+    expectLevels(rec, r, lines, scheme);
+    // 5dof: one pass, the fractions never go back.
+    for (size_t i = 1; i < rec.fractions.size(); ++i) EXPECT_GE(rec.fractions[i], rec.fractions[i - 1]) << scheme;
+    EXPECT_EQ(rec.fractions.back(), 1.0);
+  }
+  // A box needs no plane: every line stops at level 0, the chosen sequence is the box alone.
+  Recorded box;
+  const MultidirResult r = searchDecomposition(test::makeBox(0, 0, 0, 20, 20, 20), {}, recorder(box));
+  ASSERT_TRUE(r.ok()) << r.message;
+  expectLevels(box, r, {"greedy", "constrained", "beam"}, "box");
+  EXPECT_EQ(box.levels.size(), 4u);
+}
+
+// 4dof axis search: each screened axis, then the lines of every fully searched axis; the chosen
+// sequence once, for the winning axis, after all of them.
+TEST(DecompProgress, AxisSearchScreensThenSearchesThenReportsTheWinner) {
+  const Mesh l = makeL();
+  MultidirOptions o;
+  o.alphaMaxDeg = 40;
+  o.dof = "4dof";
+  o.axisSearch = 12;
+  o.axisFullSearches = 3;
+  o.samples = 72;
+  o.platformMarginMm = 2;
+  Recorded rec;
+  const MultidirResult r = searchDecomposition(l, o, recorder(rec));
+  ASSERT_TRUE(r.ok()) << r.message;
+  std::vector<std::string> lines(12, "screen");
+  for (int a = 0; a < 3; ++a) lines.insert(lines.end(), {"greedy", "constrained", "beam"});
+  expectLevels(rec, r, lines, "L 4dof, 12 axes");
+}
+
+TEST(DecompProgress, CancellingOnASearchLevelStopsTheSearch) {
+  const Mesh t = makeT();
+  for (const char* at : {"greedy", "beam", "chosen"}) {
+    size_t after = 0;
+    bool cancelled = false;
+    const MultidirResult r = searchDecomposition(t, {}, [&](const ProgressEvent& e) {
+      if (cancelled) {
+        ++after;
+        return false;
+      }
+      cancelled = e.search && std::string(e.search->line) == at && (e.search->level >= 1 || std::string(at) == "chosen");
+      return !cancelled;
+    });
+    EXPECT_TRUE(cancelled) << at;
+    EXPECT_EQ(r.status, Status::Cancelled) << at;
+    EXPECT_TRUE(r.planes.empty()) << at;
+    EXPECT_EQ(after, 0u) << at << ": reports after the cancel";
+  }
+}
+
+TEST(DecompProgress, KittenLevelsMatchTheResult) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  Recorded rec;
+  const MultidirResult r = searchDecomposition(kitten, {}, recorder(rec));
+  ASSERT_TRUE(r.ok()) << r.message;
+  expectLevels(rec, r, {"greedy", "constrained", "beam"}, "Kitten");
+  // The same search without a callback: the levels cost nothing in the result.
+  const MultidirResult quiet = searchDecomposition(kitten);
+  ASSERT_TRUE(quiet.ok()) << quiet.message;
+  EXPECT_EQ(quiet.jgAfterMm2, r.jgAfterMm2);
+  EXPECT_EQ(quiet.stats.jgPerLevel, r.stats.jgPerLevel);
 }
 
 // ---- shared closed models --------------------------------------------------------------------

@@ -6,11 +6,14 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "box_union.h"
 #include "pipeline_fixtures.h"
@@ -216,6 +219,75 @@ TEST(MultidirPipeline, KittenOnTableVerifiesAndBeatsPlanar) {
   expectVerified(r);
   const double planar = planarSupported(bytes, "kitten.off", s);
   EXPECT_GE(r.verify["supported"].get<double>(), planar);
+}
+
+// Issue 7 item 9: the page draws J_G per search level while the search runs. The Kitten as the
+// README's CLI example slices it (Y-up, robot6): the progress reports' chosen levels are the
+// report's search.J_G_per_level (same count, same values), the search lines report one level per
+// level the search expanded (search.levels), each line's J_G never rises and starts at J_G
+// before; cancelling on a level of the beam line ends the slice with Cancelled.
+TEST(MultidirPipeline, KittenSearchLevelsMatchTheReport) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
+  Settings s;
+  s.method = "multidir";
+  s.machine = "robot6";
+  s.placement.up = UpAxis::PosY;
+  struct Level {
+    std::string line;
+    int level;
+    double jg;
+  };
+  std::vector<Level> levels;
+  std::vector<std::string> stagesAfterChosen;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "pymdp_kitten.off", s, [&](const ProgressEvent& e) {
+    if (e.search) {
+      EXPECT_STREQ(e.stage, "decompose");
+      levels.push_back({e.search->line, e.search->level, e.search->jgMm2});
+    } else if (!levels.empty() && levels.back().line == "chosen") {
+      stagesAfterChosen.push_back(e.stage);
+    }
+    return true;
+  });
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json m = Json::parse(out.reportJson)["multidir"];
+  const std::vector<double> perLevel = m["search"]["J_G_per_level"].get<std::vector<double>>();
+  std::vector<double> chosen;
+  size_t searched = 0;
+  std::map<std::string, std::vector<double>> lines;
+  for (const Level& l : levels) {
+    if (l.line == "chosen") {
+      EXPECT_EQ(l.level, static_cast<int>(chosen.size()));
+      chosen.push_back(l.jg);
+      continue;
+    }
+    EXPECT_TRUE(chosen.empty()) << "a " << l.line << " level after the chosen sequence";
+    searched += l.level >= 1 ? 1 : 0;
+    std::vector<double>& run = lines[l.line];
+    EXPECT_EQ(l.level, static_cast<int>(run.size())) << l.line;
+    if (run.empty()) EXPECT_EQ(l.jg, m["J_G_before"].get<double>()) << l.line;
+    if (!run.empty()) EXPECT_LE(l.jg, run.back()) << l.line << " level " << l.level;
+    run.push_back(l.jg);
+  }
+  std::printf("kitten search levels: greedy %zu, constrained %zu, beam %zu; chosen %zu, report %zu\n",
+              lines["greedy"].size(), lines["constrained"].size(), lines["beam"].size(), chosen.size(),
+              perLevel.size());
+  EXPECT_EQ(lines.size(), 3u);
+  ASSERT_EQ(chosen.size(), perLevel.size());
+  for (size_t k = 0; k < chosen.size(); ++k) EXPECT_EQ(chosen[k], perLevel[k]) << "level " << k;
+  EXPECT_EQ(chosen.back(), m["J_G_after"].get<double>());
+  EXPECT_EQ(searched, m["search"]["levels"].get<size_t>());
+  EXPECT_FALSE(stagesAfterChosen.empty());
+  EXPECT_NE(std::find(stagesAfterChosen.begin(), stagesAfterChosen.end(), "clip"), stagesAfterChosen.end());
+
+  bool cancelled = false;
+  const SliceOutput stopped = runSlice(bytes.data(), bytes.size(), "pymdp_kitten.off", s, [&](const ProgressEvent& e) {
+    EXPECT_FALSE(cancelled) << "a report after the cancel (" << e.stage << ")";
+    cancelled = e.search && std::string(e.search->line) == "beam" && e.search->level == 2;
+    return !cancelled;
+  });
+  EXPECT_TRUE(cancelled);
+  EXPECT_EQ(stopped.status, Status::Cancelled);
 }
 
 // rotary4 (one stepper axis about X, +-60 degrees): every part direction is orthogonal to X,
