@@ -17,8 +17,9 @@
 // - supported: each centre-line piece (<= one hash cell long) is inserted into the cells its
 //   1.5 h neighbourhood touches; one cell lookup per sample: O(n + m) typical.
 // - collisions: O(1) per sample while all earlier material lies at or below the sample's plane
-//   orthogonal to u plus h (every layer-by-layer print); otherwise a scan of the occupied cells of a
-//   2 mm hash near the cone with early exit, O(cells + samples in the cone) per sample.
+//   orthogonal to u plus h (every layer-by-layer print); otherwise a descent through 2 / 8 / 32 /
+//   128 mm cells of the earlier samples, skipping every cell whose box lies below that plane, beyond
+//   the cone length or outside the cone, with early exit: O(cells near the cone + samples in it).
 // - coverage: one vertical-line query per grid column plus a near-surface check per interior point,
 //   and a rasterisation of each segment's reach over the grid cells near it: O(G + path * reach).
 #include "verify/verify_program.h"
@@ -93,6 +94,170 @@ struct Progress {
     if (!reportProgress(fn, "verify", f)) cancelled = true;
     return !cancelled;
   }
+};
+
+
+// The nozzle cone at a sample (PROGRAM-FORMAT.md, collisions) and the tests on it.
+struct Cone {
+  Eigen::Vector3d tip, u;
+  double level = 0;  // tip.u + h + tol: earlier material at or below this height along u is clear
+  double h = 0, tol = 0, length = 0, tanT = 0;
+  double cosT = 0, sinT = 0;  // of the half-angle, from tanT; both 0 when the cone is not narrow
+
+  // Largest x.u over the box [lo, hi].
+  double support(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    double s = 0;
+    for (int k = 0; k < 3; ++k) s += u[k] * (u[k] > 0 ? hi[k] : lo[k]);
+    return s;
+  }
+  // The point p strictly inside the cone (the definition of a collision).
+  bool hits(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d d = p - tip;
+    const double a = d.dot(u);
+    if (a <= h + tol) return false;
+    const double len2 = d.squaredNorm();
+    if (len2 >= (length - tol) * (length - tol)) return false;
+    const double lat = std::sqrt(std::max(0.0, len2 - a * a));
+    return lat < a * tanT - tol;
+  }
+  // The box tests of the scan in print order: a box wholly at or below the level, or at least the
+  // cone length away, holds no point the cone hits.
+  bool boxClear(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    if (support(lo, hi) <= level) return true;
+    const Eigen::Vector3d q = tip.cwiseMax(lo).cwiseMin(hi);
+    return (q - tip).norm() >= length;
+  }
+  // A further test that only prunes: the ball around the box lies outside the (untrimmed) cone by
+  // more than 1e-6 mm. In the meridian plane of the ball's centre c (axial a, lateral l), the cone
+  // lies on the side l cos t - a sin t <= 0 of its edge line, and 3D distances are at least the
+  // meridian ones; a point hit lies inside the cone by about tol, far more than rounding.
+  bool ballOutside(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    if (!(cosT > 0)) return false;
+    const Eigen::Vector3d d = 0.5 * (lo + hi) - tip;
+    const double a = d.dot(u);
+    const double lateral = (d - a * u).norm();
+    return lateral * cosT - a * sinT > 0.5 * (hi - lo).norm() + 1e-6;
+  }
+};
+
+// The earlier samples of the collision test: 2 mm cells (as the scan in print order keys and
+// orders them) under coarser levels of 4, 16 and 64 cells a side, each node with the box of its
+// samples. Samples are added in print order, lazily (addUpTo) when a cone has to look at them.
+// A node's box contains its children's boxes, so the support and distance tests clear it only when
+// they clear every cell under it (min, max, sums and the square root round monotonically).
+class EarlierSamples {
+ public:
+  static constexpr double kCell = 2.0;
+
+  explicit EarlierSamples(const std::vector<Sample>& samples) : samples_(samples) {
+    for (int l = 0; l < kLevels; ++l) lastKey_[l] = std::numeric_limits<int64_t>::min();
+  }
+
+  void addUpTo(size_t end) {
+    for (; added_ < end; ++added_) {
+      const Eigen::Vector3d& p = samples_[added_].p;
+      const int64_t c[3] = {int64_t(std::floor(p.x() / kCell)), int64_t(std::floor(p.y() / kCell)),
+                            int64_t(std::floor(p.z() / kCell))};
+      uint32_t child = uint32_t(added_);
+      bool childFresh = true;
+      for (int l = 0; l < kLevels; ++l) {
+        const int shift = 2 * l;  // 4^l cells a side
+        const int64_t key = cellKey(c[0] >> shift, c[1] >> shift, c[2] >> shift);
+        bool fresh = false;
+        if (key != lastKey_[l]) {
+          auto [it, inserted] = index_[l].try_emplace(key, uint32_t(nodes_[l].size()));
+          if (inserted) {
+            nodes_[l].push_back({p, p, {}, key});
+            fresh = true;
+          }
+          lastKey_[l] = key;
+          lastId_[l] = it->second;
+        }
+        Node& n = nodes_[l][lastId_[l]];
+        n.lo = n.lo.cwiseMin(p);
+        n.hi = n.hi.cwiseMax(p);
+        if (childFresh) n.children.push_back(child);
+        childFresh = fresh;
+        child = lastId_[l];
+      }
+      if (childFresh) top_.push_back(child);
+    }
+  }
+
+  // Some earlier sample (all added) inside the cone.
+  bool anyHit(const Cone& cone) const {
+    for (uint32_t id : top_) {
+      if (anyHit(kLevels - 1, id, cone)) return true;
+    }
+    return false;
+  }
+
+  // The first earlier sample inside the cone in the order of the plain scan: the occupied cells in
+  // the order they were first occupied, or (when there are more of them than cells in the box of
+  // side 2 ceil(L / C) + 1 around the tip) the cells of that box, x then y then z; the samples of
+  // a cell in print order. Returns false when there is none.
+  bool firstHitInScanOrder(const Cone& cone, uint32_t& hitPoint) const {
+    auto checkCell = [&](const Node& cell) {
+      if (cone.boxClear(cell.lo, cell.hi)) return false;
+      for (uint32_t pi : cell.children) {
+        if (cone.hits(samples_[pi].p)) {
+          hitPoint = pi;
+          return true;
+        }
+      }
+      return false;
+    };
+    const std::vector<Node>& cells = nodes_[0];
+    const int64_t span = int64_t(std::ceil(cone.length / kCell));
+    const size_t boxCells = size_t(2 * span + 1) * size_t(2 * span + 1) * size_t(2 * span + 1);
+    if (cells.size() < boxCells) {
+      for (const Node& cell : cells) {
+        if (checkCell(cell)) return true;
+      }
+      return false;
+    }
+    const Eigen::Vector3d& p = cone.tip;
+    const int64_t cx = int64_t(std::floor(p.x() / kCell)), cy = int64_t(std::floor(p.y() / kCell)),
+                  cz = int64_t(std::floor(p.z() / kCell));
+    for (int64_t x = cx - span; x <= cx + span; ++x)
+      for (int64_t y = cy - span; y <= cy + span; ++y)
+        for (int64_t z = cz - span; z <= cz + span; ++z) {
+          auto it = index_[0].find(cellKey(x, y, z));
+          if (it != index_[0].end() && checkCell(cells[it->second])) return true;
+        }
+    return false;
+  }
+
+ private:
+  static constexpr int kLevels = 4;  // 2, 8, 32, 128 mm
+  struct Node {
+    Eigen::Vector3d lo, hi;
+    std::vector<uint32_t> children;  // level 0: samples in print order; else nodes one level down
+    int64_t key = 0;
+  };
+
+  bool anyHit(int l, uint32_t id, const Cone& cone) const {
+    const Node& n = nodes_[l][id];
+    if (cone.boxClear(n.lo, n.hi) || cone.ballOutside(n.lo, n.hi)) return false;
+    if (l == 0) {
+      for (uint32_t pi : n.children) {
+        if (cone.hits(samples_[pi].p)) return true;
+      }
+      return false;
+    }
+    for (uint32_t c : n.children) {
+      if (anyHit(l - 1, c, cone)) return true;
+    }
+    return false;
+  }
+
+  const std::vector<Sample>& samples_;
+  size_t added_ = 0;
+  std::vector<Node> nodes_[kLevels];
+  std::unordered_map<int64_t, uint32_t> index_[kLevels];
+  int64_t lastKey_[kLevels];
+  uint32_t lastId_[kLevels] = {0, 0, 0, 0};
+  std::vector<uint32_t> top_;  // nodes of the top level
 };
 
 }  // namespace
@@ -382,73 +547,35 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   }
 
   // ---- collisions ----
+  // Exactly the samples that have an earlier sample in their cone (PROGRAM-FORMAT.md): while all
+  // earlier material lies at or below the level no scan is needed (every layer-by-layer print);
+  // otherwise the cell hierarchy of EarlierSamples prunes whole regions, and the example's earlier
+  // point is the one the plain scan in print order meets first.
   {
-    const double tol = 0.001;
-    const double L = program.machine.nozzle.coneLength;
-    const double tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
-    const double C = 2.0;
-    struct Cell {
-      std::vector<uint32_t> items;
-      Eigen::Vector3d lo, hi;
-    };
-    std::unordered_map<int64_t, Cell> cells;
-    std::vector<int64_t> occupied;
+    Cone cone;
+    cone.h = h;
+    cone.tol = 0.001;
+    cone.length = program.machine.nozzle.coneLength;
+    cone.tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
+    if (cone.tanT > 0 && std::isfinite(cone.tanT)) {
+      cone.cosT = 1.0 / std::sqrt(1.0 + cone.tanT * cone.tanT);
+      cone.sinT = cone.tanT * cone.cosT;
+    }
+    EarlierSamples earlier(samples);
     const double inf = std::numeric_limits<double>::infinity();
     Eigen::Vector3d glo(inf, inf, inf), ghi(-inf, -inf, -inf);
-    auto support = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& u) {
-      double s = 0;
-      for (int k = 0; k < 3; ++k) s += u[k] * (u[k] > 0 ? hi[k] : lo[k]);
-      return s;
-    };
-    auto hits = [&](const Sample& s, uint32_t pi) {
-      const Eigen::Vector3d d = samples[pi].p - s.p;
-      const double a = d.dot(s.u);
-      if (a <= h + tol) return false;
-      const double len2 = d.squaredNorm();
-      if (len2 >= (L - tol) * (L - tol)) return false;
-      const double lat = std::sqrt(std::max(0.0, len2 - a * a));
-      return lat < a * tanT - tol;
-    };
     for (size_t i = 0; i < samples.size(); ++i) {
       if (!progress.tick(i, samples.size(), 0.5, 0.6)) return fail(Status::Cancelled, "verify cancelled");
       const Sample& s = samples[i];
-      const double level = s.p.dot(s.u) + h + tol;
-      if (i > 0 && support(glo, ghi, s.u) > level) {
-        bool hit = false;
-        uint32_t hitPoint = 0;
-        const int64_t cx = int64_t(std::floor(s.p.x() / C)), cy = int64_t(std::floor(s.p.y() / C)),
-                      cz = int64_t(std::floor(s.p.z() / C));
-        const int64_t span = int64_t(std::ceil(L / C));
-        const size_t boxCells = size_t(2 * span + 1) * size_t(2 * span + 1) * size_t(2 * span + 1);
-        auto checkCell = [&](const Cell& cell) {
-          if (support(cell.lo, cell.hi, s.u) <= level) return;
-          Eigen::Vector3d q = s.p.cwiseMax(cell.lo).cwiseMin(cell.hi);
-          if ((q - s.p).norm() >= L) return;
-          for (uint32_t pi : cell.items) {
-            if (hits(s, pi)) {
-              hit = true;
-              hitPoint = pi;
-              return;
-            }
-          }
-        };
-        if (occupied.size() < boxCells) {
-          for (int64_t key : occupied) {
-            checkCell(cells[key]);
-            if (hit) break;
-          }
-        } else {
-          for (int64_t x = cx - span; x <= cx + span && !hit; ++x)
-            for (int64_t y = cy - span; y <= cy + span && !hit; ++y)
-              for (int64_t z = cz - span; z <= cz + span && !hit; ++z) {
-                auto it = cells.find(cellKey(x, y, z));
-                if (it != cells.end()) checkCell(it->second);
-                if (hit) break;
-              }
-        }
-        if (hit) {
+      cone.tip = s.p;
+      cone.u = s.u;
+      cone.level = s.p.dot(s.u) + h + cone.tol;
+      if (i > 0 && cone.support(glo, ghi) > cone.level) {
+        earlier.addUpTo(i);
+        if (earlier.anyHit(cone)) {
           ++rep.collisions;
-          if (rep.collisionExamples.size() < 10) {
+          uint32_t hitPoint = 0;
+          if (rep.collisionExamples.size() < 10 && earlier.firstHitInScanOrder(cone, hitPoint)) {
             CollisionExample e;
             for (int k = 0; k < 3; ++k) {
               e.tip[k] = s.p[k];
@@ -461,20 +588,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           }
         }
       }
-      // Add s to the earlier samples.
       glo = glo.cwiseMin(s.p);
       ghi = ghi.cwiseMax(s.p);
-      const int64_t key = cellKey(int64_t(std::floor(s.p.x() / C)), int64_t(std::floor(s.p.y() / C)),
-                                  int64_t(std::floor(s.p.z() / C)));
-      auto [it, fresh] = cells.try_emplace(key);
-      if (fresh) {
-        it->second.lo = s.p;
-        it->second.hi = s.p;
-        occupied.push_back(key);
-      }
-      it->second.items.push_back(uint32_t(i));
-      it->second.lo = it->second.lo.cwiseMin(s.p);
-      it->second.hi = it->second.hi.cwiseMax(s.p);
     }
   }
 
