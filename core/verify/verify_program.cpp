@@ -20,8 +20,9 @@
 //   orthogonal to u plus h (every layer-by-layer print); otherwise a descent through 2 / 8 / 32 /
 //   128 mm cells of the earlier samples, skipping every cell whose box lies below that plane, beyond
 //   the cone length or outside the cone, with early exit: O(cells near the cone + samples in it).
-// - coverage: one vertical-line query per grid column plus a near-surface check per interior point,
-//   and a rasterisation of each segment's reach over the grid cells near it: O(G + path * reach).
+// - coverage: one vertical-line query per grid column, each triangle clearing the candidates
+//   within w/2 of it (O(F) point tests near the surface, none deep inside), and a rasterisation of
+//   each segment's reach over the grid cells near it: O(G + F + path * reach).
 #include "verify/verify_program.h"
 
 #include <Eigen/Geometry>
@@ -71,6 +72,7 @@ class Bits {
  public:
   explicit Bits(size_t n = 0) : w_((n + 63) / 64, 0) {}
   void set(size_t i) { w_[i >> 6] |= uint64_t(1) << (i & 63); }
+  void clear(size_t i) { w_[i >> 6] &= ~(uint64_t(1) << (i & 63)); }
   bool get(size_t i) const { return (w_[i >> 6] >> (i & 63)) & 1; }
   size_t countAnd(const Bits& o) const {
     size_t c = 0;
@@ -614,15 +616,19 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     auto index = [&](int64_t i, int64_t j, int64_t k) {
       return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));
     };
+    // Interior points: the candidates lie between a crossing where their column enters the solid
+    // and the next one, at least w/2 from both; a candidate is interior when no triangle lies
+    // within w/2 of it (the test of AabbTree::anyWithin, same expression and bound). Each triangle
+    // clears the candidates it is that close to: those lie in its box grown by w/2 and, on a
+    // column, within w/2 / |n_z| of its plane.
     Bits interior(n), covered(n);
     const double half = 0.5 * w;
-    constexpr int64_t kRun = 8;  // column points admitted by one distance query deep inside
     std::vector<ColumnCrossing> xs;
     size_t column = 0;
     const size_t columns = size_t(nx * ny);
     for (int64_t j = j0; j <= j1; ++j) {
       for (int64_t i = i0; i <= i1; ++i, ++column) {
-        if (!progress.tick(column, columns, 0.6, 0.8)) return fail(Status::Cancelled, "verify cancelled");
+        if (!progress.tick(column, columns, 0.6, 0.7)) return fail(Status::Cancelled, "verify cancelled");
         const double x = double(i) * g, y = double(j) * g;
         tree.columnCrossings(x, y, xs);
         std::sort(xs.begin(), xs.end(),
@@ -633,21 +639,54 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           if (wind == 0) continue;
           const double zLo = xs[m].z + half, zHi = xs[m + 1].z - half;
           const int64_t kEnd = std::min(k1, int64_t(std::floor(zHi / g)));
-          int64_t nextRun = std::numeric_limits<int64_t>::min();
-          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g))); k <= kEnd;) {
-            const Eigen::Vector3d p(x, y, double(k) * g);
-            // The distance to the surface is 1-Lipschitz: no triangle within w/2 + R g of p
-            // means the next R points of the column are all at least w/2 away (one query for R + 1
-            // points deep inside; after a miss, points are tested one by one for R steps).
-            if (k >= nextRun && k + kRun <= kEnd) {
-              if (!tree.anyWithin(p, half * (1 - 1e-9) + double(kRun) * g)) {
-                for (const int64_t last = k + kRun; k <= last; ++k) interior.set(index(i, j, k));
-                continue;
-              }
-              nextRun = k + kRun;
+          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g))); k <= kEnd; ++k) {
+            interior.set(index(i, j, k));
+          }
+        }
+      }
+    }
+    {
+      const double r = half * (1 - 1e-9), r2 = r * r;
+      const double reach = r + 1e-9;  // grows the boxes by far more than rounding
+      const size_t nv = partMesh.vertexCount(), faces = partMesh.faceCount();
+      for (size_t f = 0; f < faces; ++f) {
+        if (!progress.tick(f, faces, 0.7, 0.8)) return fail(Status::Cancelled, "verify cancelled");
+        const uint32_t* t = &partMesh.triangles[3 * f];
+        if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;  // as AabbTree
+        const Eigen::Vector3d a = partMesh.vertex(t[0]), b = partMesh.vertex(t[1]),
+                              c = partMesh.vertex(t[2]);
+        const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
+                              hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+        const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
+                      ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
+        const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),
+                      jb = std::min(j1, int64_t(std::floor(hi.y() / g)));
+        const int64_t ka = std::max(k0, int64_t(std::ceil(lo.z() / g))),
+                      kb = std::min(k1, int64_t(std::floor(hi.z() / g)));
+        if (ia > ib || ja > jb || ka > kb) continue;
+        // The plane: |n.(p - a)| <= reach for every point that close. Only for faces not steeper
+        // than about 78 degrees; the 1e-6 mm margin covers the rounding of zc.
+        Eigen::Vector3d nrm = (b - a).cross(c - a);
+        const double nn = nrm.norm();
+        const bool slab = nn > 0 && std::abs(nrm.z()) > 0.2 * nn;
+        if (slab) nrm /= nn;
+        const double slabHalf = slab ? reach / std::abs(nrm.z()) + 1e-6 : 0.0;
+        for (int64_t j = ja; j <= jb; ++j) {
+          const double y = double(j) * g;
+          for (int64_t i = ia; i <= ib; ++i) {
+            const double x = double(i) * g;
+            int64_t kLo = ka, kHi = kb;
+            if (slab) {
+              const double zc = a.z() - (nrm.x() * (x - a.x()) + nrm.y() * (y - a.y())) / nrm.z();
+              kLo = std::max(kLo, int64_t(std::ceil((zc - slabHalf) / g)));
+              kHi = std::min(kHi, int64_t(std::floor((zc + slabHalf) / g)));
             }
-            if (!tree.anyWithin(p, half * (1 - 1e-9))) interior.set(index(i, j, k));
-            ++k;
+            for (int64_t k = kLo; k <= kHi; ++k) {
+              const size_t idx = index(i, j, k);
+              if (!interior.get(idx)) continue;
+              const Eigen::Vector3d p(x, y, double(k) * g);
+              if ((closestPointOnTriangle(p, a, b, c) - p).squaredNorm() <= r2) interior.clear(idx);
+            }
           }
         }
       }

@@ -303,6 +303,27 @@ TEST(VerifyProgram, SphereOf30mmPasses) {
   EXPECT_EQ(r.collisions, 0u);
 }
 
+// The interior grid points (inside, at least w/2 from the surface) equal the point-by-point
+// count with the AABB tree: winding number and "any triangle within w/2".
+TEST(VerifyProgram, InteriorGridPointsMatchPointByPointDistance) {
+  const double R = 4;
+  const Mesh sphere = test::makeUvSphere(R, {0.07, -0.03, R}, 48, 24);
+  const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
+  const VerifyReport r = verifyProgram(p, sphere);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const AabbTree tree(sphere);
+  const double g = 0.2, half = 0.5 * 0.45;
+  size_t interior = 0;
+  for (int i = -25; i <= 25; ++i)
+    for (int j = -25; j <= 25; ++j)
+      for (int k = 0; k <= 45; ++k) {
+        const Eigen::Vector3d q(i * g, j * g, k * g);
+        if (tree.inside(q) && !tree.anyWithin(q, half * (1 - 1e-9))) ++interior;
+      }
+  EXPECT_GT(interior, 10000u);
+  EXPECT_EQ(r.gridPoints, interior);
+}
+
 // Minimal ASCII OFF reader for the shared models (triangles only).
 Mesh readOff(const std::filesystem::path& path) {
   std::ifstream in(path);
