@@ -692,18 +692,26 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       }
     }
     rep.gridPoints = interior.count();
-    const double rax = 0.75 * h, rlat = 0.75 * w, rb = std::max(rax, rlat);
+    const double rax = 0.75 * h, rlat = 0.75 * w;
     const double pieceLen = std::max(4.0 * g, 1.0);
     for (size_t si = 0; si < segments.size(); ++si) {
       if (!progress.tick(si, segments.size(), 0.8, 1.0)) return fail(Status::Cancelled, "verify cancelled");
       const Segment& s = segments[si];
       const Eigen::Vector3d ab = s.b - s.a;
       const double len2 = ab.squaredNorm();
+      // A covered point lies within the bead's ellipsoid of a point of the segment, so within the
+      // ellipsoid's extent along each grid axis, sqrt(rax^2 u_k^2 + rlat^2 (1 - u_k^2)), of the
+      // piece holding that point (1e-9 mm over it: far more than rounding).
+      Eigen::Vector3d reach;
+      for (int k = 0; k < 3; ++k) {
+        const double uk2 = s.u[k] * s.u[k];
+        reach[k] = std::sqrt(std::max(0.0, rax * rax * uk2 + rlat * rlat * (1 - uk2))) + 1e-9;
+      }
       const int pieces = std::max(1, int(std::ceil(s.length / pieceLen)));
       for (int q = 0; q < pieces; ++q) {
         const Eigen::Vector3d pa = s.a + (double(q) / pieces) * ab,
                               pb = s.a + (double(q + 1) / pieces) * ab;
-        const Eigen::Vector3d lo = pa.cwiseMin(pb).array() - rb, hi = pa.cwiseMax(pb).array() + rb;
+        const Eigen::Vector3d lo = pa.cwiseMin(pb) - reach, hi = pa.cwiseMax(pb) + reach;
         const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
                       ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
         const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),

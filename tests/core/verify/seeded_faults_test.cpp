@@ -216,6 +216,55 @@ TEST(SeededFaults, CollisionCountEqualsThePairByPairCount) {
   }
 }
 
+TEST(SeededFaults, CoverageOfLeaningBeadsEqualsThePointBySegmentCount) {
+  // A 3 x 3 x 1.2 mm box whose layers lean by -20, 0 and 20 degrees: every interior point of a
+  // 0.043 mm grid against every extruding segment, with the bead's reach in the segment's frame.
+  test::BoxPathOptions o;
+  o.half = 1.5;
+  o.height = 1.2;
+  o.keepLayer = [](int l) { return l % 2 == 0; };  // beads apart, each point reached by few
+  TableFault f;
+  f.tiltB = [](int l) { return 20.0 * (l % 3) - 20.0; };
+  ProgramInfo info;
+  info.isoDate = "2026-11-21T12:00:00Z";
+  info.machine = table5();
+  info.layerHeight = 0.2;
+  info.lineWidth = 0.45;
+  const WriteProgramResult w = writeProgram(table5Box(o, f), info);
+  ASSERT_TRUE(w.ok()) << w.message;
+  const ParsedProgram p = readProgram(w.text);
+  ASSERT_TRUE(p.ok()) << p.message;
+  VerifyOptions fine;
+  fine.gridSpacing = 0.043;  // off the layer heights: points fall anywhere in the beads
+  const VerifyReport r = verifyProgram(p, test::makeBox(-1.5, -1.5, 0, 1.5, 1.5, 1.2), fine);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const double g = 0.043, rax = 0.75 * 0.2, rlat = 0.75 * 0.45;
+  size_t interior = 0, covered = 0;
+  for (int i = -40; i <= 40; ++i)
+    for (int j = -40; j <= 40; ++j)
+      for (int k = 0; k <= 30; ++k) {
+        const Eigen::Vector3d q(i * g, j * g, k * g);
+        const double d = std::min({q.x() + 1.5, 1.5 - q.x(), q.y() + 1.5, 1.5 - q.y(), q.z(), 1.2 - q.z()});
+        if (d < 0.225) continue;
+        ++interior;
+        for (const ProgramMove& m : p.moves) {
+          const Eigen::Vector3d ab = m.to - m.from;
+          if (!(m.filament > 0) || !(ab.norm() > 1e-9)) continue;
+          const Eigen::Vector3d u = m.axis.normalized();
+          const double t = std::clamp((q - m.from).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+          const Eigen::Vector3d dd = q - (m.from + t * ab);
+          const double ax = dd.dot(u), lat2 = std::max(0.0, dd.squaredNorm() - ax * ax);
+          if ((ax * ax) / (rax * rax) + lat2 / (rlat * rlat) <= 1.0) {
+            ++covered;
+            break;
+          }
+        }
+      }
+  EXPECT_EQ(r.gridPoints, interior);
+  EXPECT_EQ(r.coverage, double(covered) / double(interior));
+  EXPECT_GT(r.coverage, 0.2);
+}
+
 TEST(SeededFaults, Table5RotaryAxisOverItsLimit) {
   // Layers 10-11 with C + 720: the same orientation, but C beyond its +-360 limit.
   TableFault f;
