@@ -17,7 +17,8 @@
 //   squared distance below w^2 per sample), one winding query per run of samples not within w/2:
 //   O(n + F * samples near a triangle) typical.
 // - supported: each centre-line piece (<= one hash cell long) is inserted into the cells its
-//   1.5 h neighbourhood touches; one cell lookup per sample: O(n + m) typical.
+//   1.5 h neighbourhood touches; one cell lookup per sample, its pieces laid before the sample
+//   scanned latest first (found by binary search): O(n + m) typical.
 // - collisions: O(1) per sample while all earlier material lies at or below the sample's plane
 //   orthogonal to u plus h (every layer-by-layer print); otherwise a descent through 2 / 8 / 32 /
 //   128 mm cells of the earlier samples, skipping every cell whose box lies below that plane, beyond
@@ -507,6 +508,12 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     };
     std::vector<Piece> pieces;
     std::vector<int> pieceBead;
+    {
+      size_t count = 0;
+      for (const Segment& s : segments) count += size_t(std::max(1, int(std::ceil(s.length / cs))));
+      pieces.reserve(count);
+      pieceBead.reserve(count);
+    }
     for (const Segment& s : segments) {
       const int n = std::max(1, int(std::ceil(s.length / cs)));
       for (int k = 0; k < n; ++k) {
@@ -601,9 +608,14 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           cx[a] = inGrid ? int64_t(f) : 0;
         }
         if (inGrid) {
+          // The pieces of the cell laid before the sample, latest first (the layer below is met
+          // before older ones): "any within R" does not depend on the order.
           const size_t c = size_t((cx[2] * dims[1] + cx[1]) * dims[0] + cx[0]);
-          for (uint32_t e = offsets[c]; e < offsets[c + 1] && entries[e] < nextPiece; ++e) {
-            const Piece& p = pieces[entries[e]];
+          const uint32_t* const first = entries.data() + offsets[c];
+          const uint32_t* const last = entries.data() + offsets[c + 1];
+          const uint32_t* end = std::lower_bound(first, last, uint32_t(nextPiece));
+          while (end != first) {
+            const Piece& p = pieces[*--end];
             if (pointSegmentDistance2(smp.p, p.a, p.b) <= R * R) {
               ok = true;
               break;
