@@ -61,8 +61,8 @@ struct Segment {
 };
 
 struct Sample {
-  Eigen::Vector3d p, u;
-  int segment = 0;
+  Eigen::Vector3d p;
+  int segment = 0;   // its segment (nozzle axis, bead, layer, line)
   double beadS = 0;  // arc length within its bead
 };
 
@@ -428,12 +428,22 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     return fail(Status::InvalidOption, "program has more than maxSamples path samples");
   }
   std::vector<Sample> samples;
+  auto sampleCount = [&](const Segment& s) {  // k = 0, 1, ... while k = 0 or k spacing < length
+    size_t k = 1;
+    while (double(k) * options.sampleSpacing < s.length) ++k;
+    return k;
+  };
+  {
+    size_t count = 0;
+    for (const Segment& s : segments) count += sampleCount(s);
+    samples.reserve(count);
+  }
   for (size_t si = 0; si < segments.size(); ++si) {
     const Segment& s = segments[si];
-    for (size_t k = 0;; ++k) {
+    const size_t n = sampleCount(s);
+    for (size_t k = 0; k < n; ++k) {
       const double t = double(k) * options.sampleSpacing;
-      if (k > 0 && t >= s.length) break;
-      samples.push_back({s.a + (t / s.length) * (s.b - s.a), s.u, int(si), s.beadStart + t});
+      samples.push_back({s.a + (t / s.length) * (s.b - s.a), int(si), s.beadStart + t});
     }
   }
   rep.samples = samples.size();
@@ -648,7 +658,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         const Eigen::Vector3d n = (b - a).cross(cc - a);
         if (n.norm() > 0) {
           const Eigen::Vector3d u = n.normalized();
-          const double overhang = std::acos(std::clamp(-u.dot(smp.u), -1.0, 1.0)) * 180 / kPi;
+          const double overhang =
+              std::acos(std::clamp(-u.dot(segments[smp.segment].u), -1.0, 1.0)) * 180 / kPi;
           ex.overhangDeg = 90 - overhang;  // 90 = a face looking straight down along -u
         }
       }
@@ -678,8 +689,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       if (!progress.tick(i, samples.size(), 0.5, 0.6)) return fail(Status::Cancelled, "verify cancelled");
       const Sample& s = samples[i];
       cone.tip = s.p;
-      cone.u = s.u;
-      cone.level = s.p.dot(s.u) + h + cone.tol;
+      cone.u = segments[size_t(s.segment)].u;
+      cone.level = s.p.dot(cone.u) + h + cone.tol;
       if (i > 0 && cone.support(glo, ghi) > cone.level) {
         earlier.addUpTo(i);
         if (earlier.anyHit(cone)) {
@@ -689,7 +700,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
             CollisionExample e;
             for (int k = 0; k < 3; ++k) {
               e.tip[k] = s.p[k];
-              e.axis[k] = s.u[k];
+              e.axis[k] = cone.u[k];
               e.earlier[k] = samples[hitPoint].p[k];
             }
             e.layer = segments[size_t(s.segment)].layer;
