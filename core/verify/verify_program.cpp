@@ -466,9 +466,16 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
                             c = partMesh.vertex(t[2]);
       const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
                             hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+      // A sample that close lies within w of the triangle's plane too (1e-9 mm over it: far more
+      // than rounding); degenerate triangles skip this test.
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      const double nn = n.norm();
+      const bool plane = nn > 0;
+      if (plane) n /= nn;
       grid.forEachIn(lo, hi, [&](uint32_t i) {
         const Eigen::Vector3d& p = samples[i].p;
         if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return;
+        if (plane && std::abs(n.dot(p - a)) > reach) return;
         const double d2 = (closestPointOnTriangle(p, a, b, c) - p).squaredNorm();
         if (d2 < near2[i]) near2[i] = d2;
       });
