@@ -20,9 +20,10 @@
 //   1.5 h neighbourhood touches; one cell lookup per sample, its pieces laid before the sample
 //   scanned latest first (found by binary search): O(n + m) typical.
 // - collisions: O(1) per sample while all earlier material lies at or below the sample's plane
-//   orthogonal to u plus h (every layer-by-layer print); otherwise a descent through 2 / 8 / 32 /
-//   128 mm cells of the earlier samples, skipping every cell whose box lies below that plane, beyond
-//   the cone length or outside the cone, with early exit: O(cells near the cone + samples in it).
+//   orthogonal to u plus h (every layer-by-layer print); otherwise a descent through 128 / 64 /
+//   ... / 2 / 1 mm cells of the earlier samples, skipping every cell whose box lies below that
+//   plane, beyond the cone length or outside the cone, with early exit: O(cells near the cone +
+//   samples in it).
 // - coverage: one vertical-line query per grid column, each triangle clearing the candidates
 //   within w/2 of it (O(F) point tests near the surface, none deep inside), and a rasterisation of
 //   each segment's reach over the grid cells near it: O(G + F + path * reach).
@@ -214,14 +215,15 @@ struct Cone {
   }
 };
 
-// The earlier samples of the collision test: 2 mm cells (as the scan in print order keys and
-// orders them) under coarser levels of 4, 16 and 64 cells a side, each node with the box of its
-// samples. Samples are added in print order, lazily (addUpTo) when a cone has to look at them.
-// A node's box contains its children's boxes, so the support and distance tests clear it only when
-// they clear every cell under it (min, max, sums and the square root round monotonically).
+// The earlier samples of the collision test in a hierarchy of cells, each node with the box of
+// its samples: 1 mm cells under the 2 mm cells of the scan in print order (keyed and ordered as
+// that scan needs), under coarser levels of 4, 16 and 64 of those a side. Samples are added in
+// print order, lazily (addUpTo) when a cone has to look at them. A node's box contains its
+// children's boxes, so the support and distance tests clear it only when they clear every cell
+// under it (min, max, sums and the square root round monotonically).
 class EarlierSamples {
  public:
-  static constexpr double kCell = 2.0;
+  static constexpr double kCell = 2.0;  // the cells of the scan in print order
 
   explicit EarlierSamples(const std::vector<Sample>& samples) : samples_(samples) {
     for (int l = 0; l < kLevels; ++l) lastKey_[l] = std::numeric_limits<int64_t>::min();
@@ -230,18 +232,20 @@ class EarlierSamples {
   void addUpTo(size_t end) {
     for (; added_ < end; ++added_) {
       const Eigen::Vector3d& p = samples_[added_].p;
-      const int64_t c[3] = {int64_t(std::floor(p.x() / kCell)), int64_t(std::floor(p.y() / kCell)),
-                            int64_t(std::floor(p.z() / kCell))};
+      // p / kFine and p / kCell are exact (powers of two), so floor(p / kCell), the scan's cell,
+      // is the finest index shifted right (floor division by 2).
+      const int64_t c[3] = {int64_t(std::floor(p.x() / kFine)), int64_t(std::floor(p.y() / kFine)),
+                            int64_t(std::floor(p.z() / kFine))};
       uint32_t child = uint32_t(added_);
       bool childFresh = true;
       for (int l = 0; l < kLevels; ++l) {
-        const int shift = 2 * l;  // 4^l cells a side
+        const int shift = kShift[l];
         const int64_t key = cellKey(c[0] >> shift, c[1] >> shift, c[2] >> shift);
         bool fresh = false;
         if (key != lastKey_[l]) {
           auto [it, inserted] = index_[l].try_emplace(key, uint32_t(nodes_[l].size()));
           if (inserted) {
-            nodes_[l].push_back({p, p, {}, key});
+            nodes_[l].push_back({p, p, {}, {}});
             fresh = true;
           }
           lastKey_[l] = key;
@@ -251,6 +255,7 @@ class EarlierSamples {
         n.lo = n.lo.cwiseMin(p);
         n.hi = n.hi.cwiseMax(p);
         if (childFresh) n.children.push_back(child);
+        if (l == kScanLevel) n.samples.push_back(uint32_t(added_));
         childFresh = fresh;
         child = lastId_[l];
       }
@@ -273,7 +278,7 @@ class EarlierSamples {
   bool firstHitInScanOrder(const Cone& cone, uint32_t& hitPoint) const {
     auto checkCell = [&](const Node& cell) {
       if (cone.boxClear(cell.lo, cell.hi)) return false;
-      for (uint32_t pi : cell.children) {
+      for (uint32_t pi : cell.samples) {
         if (cone.hits(samples_[pi].p)) {
           hitPoint = pi;
           return true;
@@ -281,7 +286,7 @@ class EarlierSamples {
       }
       return false;
     };
-    const std::vector<Node>& cells = nodes_[0];
+    const std::vector<Node>& cells = nodes_[kScanLevel];
     const int64_t span = int64_t(std::ceil(cone.length / kCell));
     const size_t boxCells = size_t(2 * span + 1) * size_t(2 * span + 1) * size_t(2 * span + 1);
     if (cells.size() < boxCells) {
@@ -296,18 +301,21 @@ class EarlierSamples {
     for (int64_t x = cx - span; x <= cx + span; ++x)
       for (int64_t y = cy - span; y <= cy + span; ++y)
         for (int64_t z = cz - span; z <= cz + span; ++z) {
-          auto it = index_[0].find(cellKey(x, y, z));
-          if (it != index_[0].end() && checkCell(cells[it->second])) return true;
+          auto it = index_[kScanLevel].find(cellKey(x, y, z));
+          if (it != index_[kScanLevel].end() && checkCell(cells[it->second])) return true;
         }
     return false;
   }
 
  private:
-  static constexpr int kLevels = 4;  // 2, 8, 32, 128 mm
+  static constexpr int kLevels = 8;      // 1, 2, 4, ..., 128 mm
+  static constexpr int kScanLevel = 1;   // the 2 mm cells
+  static constexpr double kFine = 1.0;   // kCell / 2
+  static constexpr int kShift[kLevels] = {0, 1, 2, 3, 4, 5, 6, 7};  // from the 1 mm index
   struct Node {
     Eigen::Vector3d lo, hi;
-    std::vector<uint32_t> children;  // level 0: samples in print order; else nodes one level down
-    int64_t key = 0;
+    std::vector<uint32_t> children;  // level 0: samples; else nodes one level down
+    std::vector<uint32_t> samples;   // the scan's cells: their samples in print order
   };
 
   bool anyHit(int l, uint32_t id, const Cone& cone) const {
@@ -330,7 +338,7 @@ class EarlierSamples {
   std::vector<Node> nodes_[kLevels];
   std::unordered_map<int64_t, uint32_t> index_[kLevels];
   int64_t lastKey_[kLevels];
-  uint32_t lastId_[kLevels] = {0, 0, 0, 0};
+  uint32_t lastId_[kLevels] = {};
   std::vector<uint32_t> top_;  // nodes of the top level
 };
 
