@@ -14,6 +14,7 @@
 #include "program/read_program.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
 #include <cstdint>
@@ -186,6 +187,7 @@ class Reader {
   int lineNo_ = 0;
   Format format_ = Format::Gcode;
   int n_ = 3;  // values of the machine kind
+  std::array<bool, 6> angular_{};  // isAngularAxis(kind, i) of the machine kind (cartesian3: none)
   bool haveMachine_ = false, haveExtrusionMode_ = false, haveLayerHeight_ = false;
   bool haveLineWidth_ = false, haveNozzle_ = false, haveFilament_ = false;
   double plainLayerHeight_ = 0;  // `;Layer height:` of other slicers
@@ -232,6 +234,7 @@ bool Reader::setMachine(const std::string& json) {
   }
   r_.machine = m.machine;
   n_ = n;
+  for (int i = 0; i < 6; ++i) angular_[i] = isAngularAxis(m.machine.kind, i);
   if (format_ == Format::Gcode) letters_ = machineAxisLetters(m.machine.kind);
   values_ = MachineValues{};
   haveMachine_ = true;
@@ -375,7 +378,7 @@ void Reader::comment(const std::string& c, bool first) {
 void Reader::emit(const MachineValues& a, const MachineValues& b, double filament,
                   double feedMmPerMin, double durationS) {
   bool angular = false;
-  for (int i = 0; i < n_; ++i) angular = angular || (isAngularAxis(r_.machine.kind, i) && a[i] != b[i]);
+  for (int i = 0; i < n_; ++i) angular = angular || (angular_[i] && a[i] != b[i]);
   if (!angular) {
     // Straight tip path: one piece, no interpolation buffers (the common case of 3-axis moves).
     ProgramMove m;
@@ -400,7 +403,7 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
   // (degrees or radians), and the whole program at most kMaxPieces pieces.
   const double turn = r_.machine.kind == "robot6" ? 2 * 3.14159265358979323846 : 360.0;
   for (int i = 0; i < n_; ++i) {
-    if (isAngularAxis(r_.machine.kind, i) && std::abs(b[i] - a[i]) > 10 * turn) {
+    if (angular_[i] && std::abs(b[i] - a[i]) > 10 * turn) {
       return fail(Status::ParseError, "a move turns an angular value by more than 10 turns");
     }
   }
