@@ -224,7 +224,7 @@ bool AabbTree::crossing(int32_t t, double x, double y, ColumnCrossing& out) cons
 }
 
 template <class Visit>
-void AabbTree::visitColumn(double x, double y, Visit&& visit) const {
+void AabbTree::visitColumn(double x, double y, double zAbove, Visit&& visit) const {
   if (nodes_.empty()) return;
   int32_t stack[128];
   int top = 0;
@@ -232,6 +232,7 @@ void AabbTree::visitColumn(double x, double y, Visit&& visit) const {
   while (top > 0) {
     const Node& node = nodes_[stack[--top]];
     if (x < node.lo.x() || x > node.hi.x() || y < node.lo.y() || y > node.hi.y()) continue;
+    if (node.hi.z() <= zAbove) continue;
     if (node.left < 0) {
       for (int32_t i = node.first; i < node.first + node.count; ++i) visit(order_[i], node);
       continue;
@@ -243,7 +244,7 @@ void AabbTree::visitColumn(double x, double y, Visit&& visit) const {
 
 void AabbTree::columnCrossings(double x, double y, std::vector<ColumnCrossing>& out) const {
   out.clear();
-  visitColumn(x, y, [&](int32_t t, const Node&) {
+  visitColumn(x, y, -std::numeric_limits<double>::infinity(), [&](int32_t t, const Node&) {
     ColumnCrossing c;
     if (crossing(t, x, y, c)) out.push_back(c);
   });
@@ -251,8 +252,8 @@ void AabbTree::columnCrossings(double x, double y, std::vector<ColumnCrossing>& 
 
 int AabbTree::winding(const Eigen::Vector3d& p) const {
   int w = 0;
-  visitColumn(p.x(), p.y(), [&](int32_t t, const Node& leaf) {
-    if (leaf.hi.z() <= p.z()) return;
+  // Subtrees wholly at or below p hold no crossing above it: not visited.
+  visitColumn(p.x(), p.y(), p.z(), [&](int32_t t, const Node&) {
     ColumnCrossing c;
     if (crossing(t, p.x(), p.y(), c) && c.z > p.z()) w -= c.sign;  // leaving above counts +1
   });

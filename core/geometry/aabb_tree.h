@@ -61,8 +61,9 @@ class AabbTree {
   int32_t build(int32_t first, int32_t count, std::vector<Eigen::Vector3d>& centroids);
   // Crossing of the vertical line through (x, y) with triangle t: z and sign, false if none.
   bool crossing(int32_t t, double x, double y, ColumnCrossing& out) const;
+  // Visits the triangles of every leaf whose box holds (x, y) and reaches above zAbove.
   template <class Visit>
-  void visitColumn(double x, double y, Visit&& visit) const;
+  void visitColumn(double x, double y, double zAbove, Visit&& visit) const;
 
   std::vector<Eigen::Vector3d> a_, b_, c_;  // triangle corners
   std::vector<int32_t> order_;              // triangle indices grouped by leaf

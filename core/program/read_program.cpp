@@ -14,12 +14,15 @@
 #include "program/read_program.h"
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string_view>
 
 #include "kinematics/kinematics.h"
 #include "program/interpolate_machine_move.h"
@@ -29,11 +32,68 @@ namespace omnislice {
 
 namespace {
 
-std::string trim(const std::string& s) {
+std::string_view trimView(std::string_view s) {
   size_t b = 0, e = s.size();
   while (b < e && std::isspace(static_cast<unsigned char>(s[b]))) ++b;
   while (e > b && std::isspace(static_cast<unsigned char>(s[e - 1]))) --e;
   return s.substr(b, e - b);
+}
+
+std::string trim(const std::string& s) { return std::string(trimView(s)); }
+
+// std::strtod on the text [begin, end) as if it ended there: the characters used (0 when no number
+// starts there) and the value. Plain decimals whose digits form an integer m <= 2^53 and whose
+// decimal exponent e has |e| <= 22 are converted as m * 10^e or m / 10^-e: m and 10^|e| are exact
+// doubles, so that one correctly rounded operation gives the correctly rounded value, the one
+// strtod returns (Clinger's fast path). Everything else (more digits, larger exponents, inf, nan,
+// hexadecimal) goes to strtod itself.
+size_t scanNumber(const char* begin, const char* end, double& out) {
+  auto viaStrtod = [&]() {
+    const std::string text(begin, end);
+    char* stop = nullptr;
+    out = std::strtod(text.c_str(), &stop);
+    return static_cast<size_t>(stop - text.c_str());
+  };
+  static constexpr double kPow10[] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                                      1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                                      1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+  constexpr uint64_t kDigitLimit = ((uint64_t(1) << 53) - 9) / 10;  // m * 10 + 9 <= 2^53
+  auto digit = [](char c) { return c >= '0' && c <= '9'; };
+  const char* s = begin;
+  while (s < end && std::isspace(static_cast<unsigned char>(*s))) ++s;
+  bool negative = false;
+  if (s < end && (*s == '+' || *s == '-')) negative = *s++ == '-';
+  uint64_t m = 0;
+  int exponent = 0;
+  bool digits = false;
+  const char* integer = s;
+  for (; s < end && digit(*s); ++s, digits = true) {
+    if (m > kDigitLimit) return viaStrtod();
+    m = m * 10 + uint64_t(*s - '0');
+  }
+  if (s - integer == 1 && *integer == '0' && s < end && (*s == 'x' || *s == 'X')) return viaStrtod();
+  if (s < end && *s == '.') {
+    for (++s; s < end && digit(*s); ++s, digits = true, --exponent) {
+      if (m > kDigitLimit) return viaStrtod();
+      m = m * 10 + uint64_t(*s - '0');
+    }
+  }
+  if (!digits) return viaStrtod();
+  if (s < end && (*s == 'e' || *s == 'E')) {
+    const char* t = s + 1;
+    bool negativeExponent = false;
+    if (t < end && (*t == '+' || *t == '-')) negativeExponent = *t++ == '-';
+    if (t < end && digit(*t)) {  // else the 'e' is not part of the number
+      int e = 0;
+      for (; t < end && digit(*t); ++t) e = e < 100000 ? e * 10 + (*t - '0') : e;
+      exponent += negativeExponent ? -e : e;
+      s = t;
+    }
+  }
+  if (exponent < -22 || exponent > 22) return viaStrtod();
+  const double v = exponent < 0 ? double(m) / kPow10[-exponent] : double(m) * kPow10[exponent];
+  out = negative ? -v : v;
+  return static_cast<size_t>(s - begin);
 }
 
 bool startsWith(const std::string& s, const char* prefix) {
@@ -41,15 +101,13 @@ bool startsWith(const std::string& s, const char* prefix) {
 }
 
 // Strict finite number from the whole (trimmed) text.
-bool parseNumber(const std::string& text, double& out) {
-  const std::string t = trim(text);
+bool parseNumber(std::string_view text, double& out) {
+  const std::string_view t = trimView(text);
   if (t.empty()) return false;
-  char* end = nullptr;
-  out = std::strtod(t.c_str(), &end);
-  return end == t.c_str() + t.size() && std::isfinite(out);
+  return scanNumber(t.data(), t.data() + t.size(), out) == t.size() && std::isfinite(out);
 }
 
-bool parseInt(const std::string& text, int& out) {
+bool parseInt(std::string_view text, int& out) {
   double v = 0;
   if (!parseNumber(text, v) || v != std::floor(v) || std::abs(v) > 1e9) return false;
   out = static_cast<int>(v);
@@ -113,7 +171,7 @@ class Reader {
     message_ = "line " + std::to_string(lineNo_) + ": " + msg;
   }
   void comment(const std::string& body, bool first);
-  void gcodeLine(const std::string& lineText);
+  void gcodeLine(std::string_view lineText);
   void csvRow(const std::string& lineText);
   void scriptLine(const std::string& lineText);
   bool setMachine(const std::string& json);
@@ -129,6 +187,7 @@ class Reader {
   int lineNo_ = 0;
   Format format_ = Format::Gcode;
   int n_ = 3;  // values of the machine kind
+  std::array<bool, 6> angular_{};  // isAngularAxis(kind, i) of the machine kind (cartesian3: none)
   bool haveMachine_ = false, haveExtrusionMode_ = false, haveLayerHeight_ = false;
   bool haveLineWidth_ = false, haveNozzle_ = false, haveFilament_ = false;
   double plainLayerHeight_ = 0;  // `;Layer height:` of other slicers
@@ -138,6 +197,7 @@ class Reader {
   std::set<int> layers_;
   // G-code state
   std::vector<std::string> letters_{"X", "Y", "Z"};
+  std::vector<Word> words_;  // of the current line (kept for its capacity)
   MachineValues values_{};
   double e_ = 0, feed_ = 0;
   bool relativeAll_ = false, relativeE_ = false;
@@ -174,6 +234,7 @@ bool Reader::setMachine(const std::string& json) {
   }
   r_.machine = m.machine;
   n_ = n;
+  for (int i = 0; i < 6; ++i) angular_[i] = isAngularAxis(m.machine.kind, i);
   if (format_ == Format::Gcode) letters_ = machineAxisLetters(m.machine.kind);
   values_ = MachineValues{};
   haveMachine_ = true;
@@ -317,7 +378,7 @@ void Reader::comment(const std::string& c, bool first) {
 void Reader::emit(const MachineValues& a, const MachineValues& b, double filament,
                   double feedMmPerMin, double durationS) {
   bool angular = false;
-  for (int i = 0; i < n_; ++i) angular = angular || (isAngularAxis(r_.machine.kind, i) && a[i] != b[i]);
+  for (int i = 0; i < n_; ++i) angular = angular || (angular_[i] && a[i] != b[i]);
   if (!angular) {
     // Straight tip path: one piece, no interpolation buffers (the common case of 3-axis moves).
     ProgramMove m;
@@ -342,7 +403,7 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
   // (degrees or radians), and the whole program at most kMaxPieces pieces.
   const double turn = r_.machine.kind == "robot6" ? 2 * 3.14159265358979323846 : 360.0;
   for (int i = 0; i < n_; ++i) {
-    if (isAngularAxis(r_.machine.kind, i) && std::abs(b[i] - a[i]) > 10 * turn) {
+    if (angular_[i] && std::abs(b[i] - a[i]) > 10 * turn) {
       return fail(Status::ParseError, "a move turns an angular value by more than 10 turns");
     }
   }
@@ -372,20 +433,20 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
   sawMoves_ = true;
 }
 
-void Reader::gcodeLine(const std::string& lineText) {
-  std::string code = lineText.substr(0, lineText.find(';'));
+void Reader::gcodeLine(std::string_view lineText) {
+  std::string_view code = lineText.substr(0, lineText.find(';'));
   const size_t paren = code.find('(');
-  if (paren != std::string::npos) code = code.substr(0, paren);
-  code = trim(code);
+  if (paren != std::string_view::npos) code = code.substr(0, paren);
+  code = trimView(code);
   if (code.empty()) return;
   // Line numbers "N123 ... *cs" of host protocols.
   if (code[0] == 'N' || code[0] == 'n') {
     size_t p = 1;
     while (p < code.size() && std::isdigit(static_cast<unsigned char>(code[p]))) ++p;
-    code = trim(code.substr(p));
+    code = trimView(code.substr(p));
   }
   const size_t star = code.find('*');
-  if (star != std::string::npos) code = trim(code.substr(0, star));
+  if (star != std::string_view::npos) code = trimView(code.substr(0, star));
   if (code.empty()) return;
   const char cmdLetter = static_cast<char>(std::toupper(static_cast<unsigned char>(code[0])));
   size_t p = 1;
@@ -408,7 +469,8 @@ void Reader::gcodeLine(const std::string& lineText) {
   if (cmdLetter == 'M' && cmdNumber == 83) relativeE_ = true;
   if (!isMove && !isG92 && !isG28) return;
 
-  std::vector<Word> words;
+  std::vector<Word>& words = words_;
+  words.clear();
   while (p < code.size()) {
     if (std::isspace(static_cast<unsigned char>(code[p]))) {
       ++p;
@@ -419,10 +481,9 @@ void Reader::gcodeLine(const std::string& lineText) {
       return fail(Status::ParseError, std::string("unexpected character '") + code[p] + "'");
     }
     ++p;
-    const char* begin = code.c_str() + p;
-    char* end = nullptr;
-    const double v = std::strtod(begin, &end);
-    if (end == begin) {
+    double v = 0;
+    const size_t used = scanNumber(code.data() + p, code.data() + code.size(), v);
+    if (used == 0) {
       if (isG28) {  // "G28 X Y" homes the named axes
         words.push_back({letter, 0.0});
         continue;
@@ -430,7 +491,7 @@ void Reader::gcodeLine(const std::string& lineText) {
       return fail(Status::ParseError, std::string("word ") + letter + " has no number");
     }
     if (!std::isfinite(v)) return fail(Status::ParseError, std::string("word ") + letter + " is not finite");
-    p += static_cast<size_t>(end - begin);
+    p += used;
     words.push_back({letter, v});
   }
   auto axisIndex = [&](char letter) -> int {
@@ -617,7 +678,7 @@ void Reader::scriptLine(const std::string& lineText) {
 }
 
 ParsedProgram Reader::run() {
-  if (trim(text_).empty()) {
+  if (trimView(text_).empty()) {
     r_.status = Status::EmptyInput;
     r_.message = "program text is empty";
     return r_;
@@ -627,11 +688,9 @@ ParsedProgram Reader::run() {
   while (pos <= text_.size() && !failed()) {
     size_t nl = text_.find('\n', pos);
     if (nl == std::string::npos) nl = text_.size();
-    std::string raw = text_.substr(pos, nl - pos);
+    const std::string_view lineText = trimView(std::string_view(text_).substr(pos, nl - pos));
     pos = nl + 1;
     ++lineNo_;
-    if (!raw.empty() && raw.back() == '\r') raw.pop_back();
-    const std::string lineText = trim(raw);
     if (lineText.empty()) {
       if (nl == text_.size()) break;
       continue;
@@ -646,24 +705,25 @@ ParsedProgram Reader::run() {
     }
     if (format_ == Format::Gcode) {
       if (lineText[0] == ';') {
-        comment(trim(lineText.substr(1)), first);
+        comment(std::string(trimView(lineText.substr(1))), first);
       } else {
         gcodeLine(lineText);
       }
       continue;
     }
     if (lineText[0] == '#') {
-      comment(trim(lineText.substr(1)), first);
+      comment(std::string(trimView(lineText.substr(1))), first);
       continue;
     }
-    if (format_ == Format::Csv && !sawRow_ && startsWith(lineText, "def ")) {
+    const std::string line(lineText);
+    if (format_ == Format::Csv && !sawRow_ && startsWith(line, "def ")) {
       format_ = Format::UrScript;
       r_.format = "urscript";
     }
     if (format_ == Format::Csv) {
-      csvRow(lineText);
+      csvRow(line);
     } else {
-      scriptLine(lineText);
+      scriptLine(line);
     }
   }
   if (!failed() && format_ == Format::UrScript && (inDef_ || !defEnded_)) {

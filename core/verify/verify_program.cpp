@@ -13,14 +13,20 @@
 //   the axis is < (d.u) tan t - tol.
 //
 // Complexity (n samples, m segments, F triangles, G grid points):
-// - inside / surface distance: one closest-point query per sample, O(n log F) typical.
+// - inside / surface distance: each triangle visits the samples of a cell grid near it (the least
+//   squared distance below w^2 per sample), one winding query per run of samples not within w/2:
+//   O(n + F * samples near a triangle) typical.
 // - supported: each centre-line piece (<= one hash cell long) is inserted into the cells its
-//   1.5 h neighbourhood touches; one cell lookup per sample: O(n + m) typical.
+//   1.5 h neighbourhood touches; one cell lookup per sample, its pieces laid before the sample
+//   scanned latest first (found by binary search): O(n + m) typical.
 // - collisions: O(1) per sample while all earlier material lies at or below the sample's plane
-//   orthogonal to u plus h (every layer-by-layer print); otherwise a scan of the occupied cells of a
-//   2 mm hash near the cone with early exit, O(cells + samples in the cone) per sample.
-// - coverage: one vertical-line query per grid column plus a near-surface check per interior point,
-//   and a rasterisation of each segment's reach over the grid cells near it: O(G + path * reach).
+//   orthogonal to u plus h (every layer-by-layer print); otherwise a descent through 128 / 64 /
+//   ... / 2 / 1 mm cells of the earlier samples, skipping every cell whose box lies below that
+//   plane, beyond the cone length or outside the cone, with early exit: O(cells near the cone +
+//   samples in it).
+// - coverage: one vertical-line query per grid column, each triangle clearing the candidates
+//   within w/2 of it (O(F) point tests near the surface, none deep inside), and a rasterisation of
+//   each segment's reach over the grid cells near it: O(G + F + path * reach).
 #include "verify/verify_program.h"
 
 #include <Eigen/Geometry>
@@ -56,8 +62,8 @@ struct Segment {
 };
 
 struct Sample {
-  Eigen::Vector3d p, u;
-  int segment = 0;
+  Eigen::Vector3d p;
+  int segment = 0;   // its segment (nozzle axis, bead, layer, line)
   double beadS = 0;  // arc length within its bead
 };
 
@@ -70,6 +76,7 @@ class Bits {
  public:
   explicit Bits(size_t n = 0) : w_((n + 63) / 64, 0) {}
   void set(size_t i) { w_[i >> 6] |= uint64_t(1) << (i & 63); }
+  void clear(size_t i) { w_[i >> 6] &= ~(uint64_t(1) << (i & 63)); }
   bool get(size_t i) const { return (w_[i >> 6] >> (i & 63)) & 1; }
   size_t countAnd(const Bits& o) const {
     size_t c = 0;
@@ -93,6 +100,246 @@ struct Progress {
     if (!reportProgress(fn, "verify", f)) cancelled = true;
     return !cancelled;
   }
+};
+
+
+// The samples bucketed into a dense grid of cells (CSR), for visiting those in a box. The cell
+// size starts at `cell` and grows until the grid has at most about two cells per sample.
+class SampleGrid {
+ public:
+  SampleGrid(const std::vector<Sample>& samples, double cell) : size_(cell) {
+    const double inf = std::numeric_limits<double>::infinity();
+    lo_ = Eigen::Vector3d::Constant(inf);
+    Eigen::Vector3d hi = -lo_;
+    for (const Sample& s : samples) {
+      lo_ = lo_.cwiseMin(s.p);
+      hi = hi.cwiseMax(s.p);
+    }
+    if (samples.empty()) return;
+    const double maxCells = std::max(double(1 << 20), 2.0 * double(samples.size()));
+    for (;;) {
+      double cells = 1;
+      for (int a = 0; a < 3; ++a) {
+        dims_[a] = int64_t(std::floor((hi[a] - lo_[a]) / size_)) + 1;
+        cells *= double(dims_[a]);
+      }
+      if (cells <= maxCells) break;
+      size_ *= 1.5;
+    }
+    const size_t cellCount = size_t(dims_[0] * dims_[1] * dims_[2]);
+    std::vector<uint32_t> cellOf(samples.size());
+    offsets_.assign(cellCount + 1, 0);
+    for (size_t i = 0; i < samples.size(); ++i) {
+      int64_t c[3];
+      for (int a = 0; a < 3; ++a) c[a] = clampIndex((samples[i].p[a] - lo_[a]) / size_, a);
+      cellOf[i] = uint32_t((c[2] * dims_[1] + c[1]) * dims_[0] + c[0]);
+      ++offsets_[cellOf[i] + 1];
+    }
+    for (size_t c = 0; c < cellCount; ++c) offsets_[c + 1] += offsets_[c];
+    items_.resize(samples.size());
+    std::vector<uint32_t> fill(offsets_.begin(), offsets_.end() - 1);
+    for (size_t i = 0; i < samples.size(); ++i) items_[fill[cellOf[i]]++] = uint32_t(i);
+  }
+
+  // Calls visit(sample index) for every sample in the cells the box [lo, hi] touches (a superset
+  // of the samples in the box).
+  template <class Visit>
+  void forEachIn(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Visit&& visit) const {
+    if (items_.empty()) return;
+    int64_t c0[3], c1[3];
+    for (int a = 0; a < 3; ++a) {
+      const double f0 = (lo[a] - lo_[a]) / size_, f1 = (hi[a] - lo_[a]) / size_;
+      if (f1 < 0 || f0 >= double(dims_[a])) return;
+      c0[a] = clampIndex(f0, a);
+      c1[a] = clampIndex(f1, a);
+    }
+    for (int64_t z = c0[2]; z <= c1[2]; ++z)
+      for (int64_t y = c0[1]; y <= c1[1]; ++y) {
+        const size_t row = size_t((z * dims_[1] + y) * dims_[0]);
+        for (uint32_t e = offsets_[row + size_t(c0[0])]; e < offsets_[row + size_t(c1[0]) + 1]; ++e) {
+          visit(items_[e]);
+        }
+      }
+  }
+
+ private:
+  int64_t clampIndex(double f, int a) const {
+    return std::clamp(int64_t(std::floor(std::max(f, 0.0))), int64_t(0), dims_[a] - 1);
+  }
+  double size_;
+  Eigen::Vector3d lo_;
+  int64_t dims_[3] = {0, 0, 0};
+  std::vector<uint32_t> offsets_, items_;
+};
+
+// The nozzle cone at a sample (PROGRAM-FORMAT.md, collisions) and the tests on it.
+struct Cone {
+  Eigen::Vector3d tip, u;
+  double level = 0;  // tip.u + h + tol: earlier material at or below this height along u is clear
+  double h = 0, tol = 0, length = 0, tanT = 0;
+  double cosT = 0, sinT = 0;  // of the half-angle, from tanT; both 0 when the cone is not narrow
+
+  // Largest x.u over the box [lo, hi].
+  double support(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    double s = 0;
+    for (int k = 0; k < 3; ++k) s += u[k] * (u[k] > 0 ? hi[k] : lo[k]);
+    return s;
+  }
+  // The point p strictly inside the cone (the definition of a collision).
+  bool hits(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d d = p - tip;
+    const double a = d.dot(u);
+    if (a <= h + tol) return false;
+    const double len2 = d.squaredNorm();
+    if (len2 >= (length - tol) * (length - tol)) return false;
+    const double lat = std::sqrt(std::max(0.0, len2 - a * a));
+    return lat < a * tanT - tol;
+  }
+  // The box tests of the scan in print order: a box wholly at or below the level, or at least the
+  // cone length away, holds no point the cone hits.
+  bool boxClear(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    if (support(lo, hi) <= level) return true;
+    const Eigen::Vector3d q = tip.cwiseMax(lo).cwiseMin(hi);
+    return (q - tip).norm() >= length;
+  }
+  // A further test that only prunes: the ball around the box lies outside the (untrimmed) cone by
+  // more than 1e-6 mm. In the meridian plane of the ball's centre c (axial a, lateral l), the cone
+  // lies on the side l cos t - a sin t <= 0 of its edge line, and 3D distances are at least the
+  // meridian ones; a point hit lies inside the cone by about tol, far more than rounding.
+  bool ballOutside(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) const {
+    if (!(cosT > 0)) return false;
+    const Eigen::Vector3d d = 0.5 * (lo + hi) - tip;
+    const double a = d.dot(u);
+    const double lateral = (d - a * u).norm();
+    return lateral * cosT - a * sinT > 0.5 * (hi - lo).norm() + 1e-6;
+  }
+};
+
+// The earlier samples of the collision test in a hierarchy of cells, each node with the box of
+// its samples: 1 mm cells under the 2 mm cells of the scan in print order (keyed and ordered as
+// that scan needs), under coarser levels of 4, 16 and 64 of those a side. Samples are added in
+// print order, lazily (addUpTo) when a cone has to look at them. A node's box contains its
+// children's boxes, so the support and distance tests clear it only when they clear every cell
+// under it (min, max, sums and the square root round monotonically).
+class EarlierSamples {
+ public:
+  static constexpr double kCell = 2.0;  // the cells of the scan in print order
+
+  explicit EarlierSamples(const std::vector<Sample>& samples) : samples_(samples) {
+    for (int l = 0; l < kLevels; ++l) lastKey_[l] = std::numeric_limits<int64_t>::min();
+  }
+
+  void addUpTo(size_t end) {
+    for (; added_ < end; ++added_) {
+      const Eigen::Vector3d& p = samples_[added_].p;
+      // p / kFine and p / kCell are exact (powers of two), so floor(p / kCell), the scan's cell,
+      // is the finest index shifted right (floor division by 2).
+      const int64_t c[3] = {int64_t(std::floor(p.x() / kFine)), int64_t(std::floor(p.y() / kFine)),
+                            int64_t(std::floor(p.z() / kFine))};
+      uint32_t child = uint32_t(added_);
+      bool childFresh = true;
+      for (int l = 0; l < kLevels; ++l) {
+        const int shift = kShift[l];
+        const int64_t key = cellKey(c[0] >> shift, c[1] >> shift, c[2] >> shift);
+        bool fresh = false;
+        if (key != lastKey_[l]) {
+          auto [it, inserted] = index_[l].try_emplace(key, uint32_t(nodes_[l].size()));
+          if (inserted) {
+            nodes_[l].push_back({p, p, {}, {}});
+            fresh = true;
+          }
+          lastKey_[l] = key;
+          lastId_[l] = it->second;
+        }
+        Node& n = nodes_[l][lastId_[l]];
+        n.lo = n.lo.cwiseMin(p);
+        n.hi = n.hi.cwiseMax(p);
+        if (childFresh) n.children.push_back(child);
+        if (l == kScanLevel) n.samples.push_back(uint32_t(added_));
+        childFresh = fresh;
+        child = lastId_[l];
+      }
+      if (childFresh) top_.push_back(child);
+    }
+  }
+
+  // Some earlier sample (all added) inside the cone.
+  bool anyHit(const Cone& cone) const {
+    for (uint32_t id : top_) {
+      if (anyHit(kLevels - 1, id, cone)) return true;
+    }
+    return false;
+  }
+
+  // The first earlier sample inside the cone in the order of the plain scan: the occupied cells in
+  // the order they were first occupied, or (when there are more of them than cells in the box of
+  // side 2 ceil(L / C) + 1 around the tip) the cells of that box, x then y then z; the samples of
+  // a cell in print order. Returns false when there is none.
+  bool firstHitInScanOrder(const Cone& cone, uint32_t& hitPoint) const {
+    auto checkCell = [&](const Node& cell) {
+      if (cone.boxClear(cell.lo, cell.hi)) return false;
+      for (uint32_t pi : cell.samples) {
+        if (cone.hits(samples_[pi].p)) {
+          hitPoint = pi;
+          return true;
+        }
+      }
+      return false;
+    };
+    const std::vector<Node>& cells = nodes_[kScanLevel];
+    const int64_t span = int64_t(std::ceil(cone.length / kCell));
+    const size_t boxCells = size_t(2 * span + 1) * size_t(2 * span + 1) * size_t(2 * span + 1);
+    if (cells.size() < boxCells) {
+      for (const Node& cell : cells) {
+        if (checkCell(cell)) return true;
+      }
+      return false;
+    }
+    const Eigen::Vector3d& p = cone.tip;
+    const int64_t cx = int64_t(std::floor(p.x() / kCell)), cy = int64_t(std::floor(p.y() / kCell)),
+                  cz = int64_t(std::floor(p.z() / kCell));
+    for (int64_t x = cx - span; x <= cx + span; ++x)
+      for (int64_t y = cy - span; y <= cy + span; ++y)
+        for (int64_t z = cz - span; z <= cz + span; ++z) {
+          auto it = index_[kScanLevel].find(cellKey(x, y, z));
+          if (it != index_[kScanLevel].end() && checkCell(cells[it->second])) return true;
+        }
+    return false;
+  }
+
+ private:
+  static constexpr int kLevels = 8;      // 1, 2, 4, ..., 128 mm
+  static constexpr int kScanLevel = 1;   // the 2 mm cells
+  static constexpr double kFine = 1.0;   // kCell / 2
+  static constexpr int kShift[kLevels] = {0, 1, 2, 3, 4, 5, 6, 7};  // from the 1 mm index
+  struct Node {
+    Eigen::Vector3d lo, hi;
+    std::vector<uint32_t> children;  // level 0: samples; else nodes one level down
+    std::vector<uint32_t> samples;   // the scan's cells: their samples in print order
+  };
+
+  bool anyHit(int l, uint32_t id, const Cone& cone) const {
+    const Node& n = nodes_[l][id];
+    if (cone.boxClear(n.lo, n.hi) || cone.ballOutside(n.lo, n.hi)) return false;
+    if (l == 0) {
+      for (uint32_t pi : n.children) {
+        if (cone.hits(samples_[pi].p)) return true;
+      }
+      return false;
+    }
+    for (uint32_t c : n.children) {
+      if (anyHit(l - 1, c, cone)) return true;
+    }
+    return false;
+  }
+
+  const std::vector<Sample>& samples_;
+  size_t added_ = 0;
+  std::vector<Node> nodes_[kLevels];
+  std::unordered_map<int64_t, uint32_t> index_[kLevels];
+  int64_t lastKey_[kLevels];
+  uint32_t lastId_[kLevels] = {};
+  std::vector<uint32_t> top_;  // nodes of the top level
 };
 
 }  // namespace
@@ -189,18 +436,59 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     return fail(Status::InvalidOption, "program has more than maxSamples path samples");
   }
   std::vector<Sample> samples;
+  auto sampleCount = [&](const Segment& s) {  // k = 0, 1, ... while k = 0 or k spacing < length
+    size_t k = 1;
+    while (double(k) * options.sampleSpacing < s.length) ++k;
+    return k;
+  };
+  {
+    size_t count = 0;
+    for (const Segment& s : segments) count += sampleCount(s);
+    samples.reserve(count);
+  }
   for (size_t si = 0; si < segments.size(); ++si) {
     const Segment& s = segments[si];
-    for (size_t k = 0;; ++k) {
+    const size_t n = sampleCount(s);
+    for (size_t k = 0; k < n; ++k) {
       const double t = double(k) * options.sampleSpacing;
-      if (k > 0 && t >= s.length) break;
-      samples.push_back({s.a + (t / s.length) * (s.b - s.a), s.u, int(si), s.beadStart + t});
+      samples.push_back({s.a + (t / s.length) * (s.b - s.a), int(si), s.beadStart + t});
     }
   }
   rep.samples = samples.size();
 
   // ---- inside and surface samples ----
   const AabbTree tree(partMesh);
+  // Squared distance of each sample to the surface where it is below w^2 (else w^2): the least
+  // (closestPointOnTriangle(p, a, b, c) - p).squaredNorm() over the triangles, the expression of
+  // AabbTree::closest(p, w), found by each triangle visiting the samples in its box grown by w.
+  std::vector<double> near2(samples.size(), w * w);
+  {
+    const SampleGrid grid(samples, w);
+    const size_t nv = partMesh.vertexCount(), faces = partMesh.faceCount();
+    const double reach = w + 1e-9;  // grows the boxes by far more than rounding
+    for (size_t f = 0; f < faces; ++f) {
+      if (!progress.tick(f, faces, 0.0, 0.2)) return fail(Status::Cancelled, "verify cancelled");
+      const uint32_t* t = &partMesh.triangles[3 * f];
+      if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;  // as AabbTree
+      const Eigen::Vector3d a = partMesh.vertex(t[0]), b = partMesh.vertex(t[1]),
+                            c = partMesh.vertex(t[2]);
+      const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
+                            hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+      // A sample that close lies within w of the triangle's plane too (1e-9 mm over it: far more
+      // than rounding); degenerate triangles skip this test.
+      Eigen::Vector3d n = (b - a).cross(c - a);
+      const double nn = n.norm();
+      const bool plane = nn > 0;
+      if (plane) n /= nn;
+      grid.forEachIn(lo, hi, [&](uint32_t i) {
+        const Eigen::Vector3d& p = samples[i].p;
+        if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return;
+        if (plane && std::abs(n.dot(p - a)) > reach) return;
+        const double d2 = (closestPointOnTriangle(p, a, b, c) - p).squaredNorm();
+        if (d2 < near2[i]) near2[i] = d2;
+      });
+    }
+  }
   std::vector<uint8_t> nearSurface(samples.size(), 0);
   size_t insideCount = 0, partSamples = 0;
   // Two samples both farther than w from the surface and closer than 2w to each other see no
@@ -209,9 +497,10 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   bool prevFar = false, prevInside = false;
   Eigen::Vector3d prevP(0, 0, 0);
   for (size_t i = 0; i < samples.size(); ++i) {
-    if (!progress.tick(i, samples.size(), 0.0, 0.3)) return fail(Status::Cancelled, "verify cancelled");
+    if (!progress.tick(i, samples.size(), 0.2, 0.3)) return fail(Status::Cancelled, "verify cancelled");
     const Eigen::Vector3d& p = samples[i].p;
-    const ClosestPoint c = tree.closest(p, w);
+    ClosestPoint c;
+    if (near2[i] < w * w) c.distance = std::sqrt(near2[i]);
     const bool far = !(c.distance <= w);
     if (!far) nearSurface[i] = 1;
     bool in;
@@ -244,6 +533,12 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     };
     std::vector<Piece> pieces;
     std::vector<int> pieceBead;
+    {
+      size_t count = 0;
+      for (const Segment& s : segments) count += size_t(std::max(1, int(std::ceil(s.length / cs))));
+      pieces.reserve(count);
+      pieceBead.reserve(count);
+    }
     for (const Segment& s : segments) {
       const int n = std::max(1, int(std::ceil(s.length / cs)));
       for (int k = 0; k < n; ++k) {
@@ -338,9 +633,14 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           cx[a] = inGrid ? int64_t(f) : 0;
         }
         if (inGrid) {
+          // The pieces of the cell laid before the sample, latest first (the layer below is met
+          // before older ones): "any within R" does not depend on the order.
           const size_t c = size_t((cx[2] * dims[1] + cx[1]) * dims[0] + cx[0]);
-          for (uint32_t e = offsets[c]; e < offsets[c + 1] && entries[e] < nextPiece; ++e) {
-            const Piece& p = pieces[entries[e]];
+          const uint32_t* const first = entries.data() + offsets[c];
+          const uint32_t* const last = entries.data() + offsets[c + 1];
+          const uint32_t* end = std::lower_bound(first, last, uint32_t(nextPiece));
+          while (end != first) {
+            const Piece& p = pieces[*--end];
             if (pointSegmentDistance2(smp.p, p.a, p.b) <= R * R) {
               ok = true;
               break;
@@ -373,7 +673,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         const Eigen::Vector3d n = (b - a).cross(cc - a);
         if (n.norm() > 0) {
           const Eigen::Vector3d u = n.normalized();
-          const double overhang = std::acos(std::clamp(-u.dot(smp.u), -1.0, 1.0)) * 180 / kPi;
+          const double overhang =
+              std::acos(std::clamp(-u.dot(segments[smp.segment].u), -1.0, 1.0)) * 180 / kPi;
           ex.overhangDeg = 90 - overhang;  // 90 = a face looking straight down along -u
         }
       }
@@ -382,77 +683,39 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   }
 
   // ---- collisions ----
+  // Exactly the samples that have an earlier sample in their cone (PROGRAM-FORMAT.md): while all
+  // earlier material lies at or below the level no scan is needed (every layer-by-layer print);
+  // otherwise the cell hierarchy of EarlierSamples prunes whole regions, and the example's earlier
+  // point is the one the plain scan in print order meets first.
   {
-    const double tol = 0.001;
-    const double L = program.machine.nozzle.coneLength;
-    const double tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
-    const double C = 2.0;
-    struct Cell {
-      std::vector<uint32_t> items;
-      Eigen::Vector3d lo, hi;
-    };
-    std::unordered_map<int64_t, Cell> cells;
-    std::vector<int64_t> occupied;
+    Cone cone;
+    cone.h = h;
+    cone.tol = 0.001;
+    cone.length = program.machine.nozzle.coneLength;
+    cone.tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
+    if (cone.tanT > 0 && std::isfinite(cone.tanT)) {
+      cone.cosT = 1.0 / std::sqrt(1.0 + cone.tanT * cone.tanT);
+      cone.sinT = cone.tanT * cone.cosT;
+    }
+    EarlierSamples earlier(samples);
     const double inf = std::numeric_limits<double>::infinity();
     Eigen::Vector3d glo(inf, inf, inf), ghi(-inf, -inf, -inf);
-    auto support = [](const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, const Eigen::Vector3d& u) {
-      double s = 0;
-      for (int k = 0; k < 3; ++k) s += u[k] * (u[k] > 0 ? hi[k] : lo[k]);
-      return s;
-    };
-    auto hits = [&](const Sample& s, uint32_t pi) {
-      const Eigen::Vector3d d = samples[pi].p - s.p;
-      const double a = d.dot(s.u);
-      if (a <= h + tol) return false;
-      const double len2 = d.squaredNorm();
-      if (len2 >= (L - tol) * (L - tol)) return false;
-      const double lat = std::sqrt(std::max(0.0, len2 - a * a));
-      return lat < a * tanT - tol;
-    };
     for (size_t i = 0; i < samples.size(); ++i) {
       if (!progress.tick(i, samples.size(), 0.5, 0.6)) return fail(Status::Cancelled, "verify cancelled");
       const Sample& s = samples[i];
-      const double level = s.p.dot(s.u) + h + tol;
-      if (i > 0 && support(glo, ghi, s.u) > level) {
-        bool hit = false;
-        uint32_t hitPoint = 0;
-        const int64_t cx = int64_t(std::floor(s.p.x() / C)), cy = int64_t(std::floor(s.p.y() / C)),
-                      cz = int64_t(std::floor(s.p.z() / C));
-        const int64_t span = int64_t(std::ceil(L / C));
-        const size_t boxCells = size_t(2 * span + 1) * size_t(2 * span + 1) * size_t(2 * span + 1);
-        auto checkCell = [&](const Cell& cell) {
-          if (support(cell.lo, cell.hi, s.u) <= level) return;
-          Eigen::Vector3d q = s.p.cwiseMax(cell.lo).cwiseMin(cell.hi);
-          if ((q - s.p).norm() >= L) return;
-          for (uint32_t pi : cell.items) {
-            if (hits(s, pi)) {
-              hit = true;
-              hitPoint = pi;
-              return;
-            }
-          }
-        };
-        if (occupied.size() < boxCells) {
-          for (int64_t key : occupied) {
-            checkCell(cells[key]);
-            if (hit) break;
-          }
-        } else {
-          for (int64_t x = cx - span; x <= cx + span && !hit; ++x)
-            for (int64_t y = cy - span; y <= cy + span && !hit; ++y)
-              for (int64_t z = cz - span; z <= cz + span && !hit; ++z) {
-                auto it = cells.find(cellKey(x, y, z));
-                if (it != cells.end()) checkCell(it->second);
-                if (hit) break;
-              }
-        }
-        if (hit) {
+      cone.tip = s.p;
+      cone.u = segments[size_t(s.segment)].u;
+      cone.level = s.p.dot(cone.u) + h + cone.tol;
+      if (i > 0 && cone.support(glo, ghi) > cone.level) {
+        earlier.addUpTo(i);
+        if (earlier.anyHit(cone)) {
           ++rep.collisions;
-          if (rep.collisionExamples.size() < 10) {
+          uint32_t hitPoint = 0;
+          if (rep.collisionExamples.size() < 10 && earlier.firstHitInScanOrder(cone, hitPoint)) {
             CollisionExample e;
             for (int k = 0; k < 3; ++k) {
               e.tip[k] = s.p[k];
-              e.axis[k] = s.u[k];
+              e.axis[k] = cone.u[k];
               e.earlier[k] = samples[hitPoint].p[k];
             }
             e.layer = segments[size_t(s.segment)].layer;
@@ -461,20 +724,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           }
         }
       }
-      // Add s to the earlier samples.
       glo = glo.cwiseMin(s.p);
       ghi = ghi.cwiseMax(s.p);
-      const int64_t key = cellKey(int64_t(std::floor(s.p.x() / C)), int64_t(std::floor(s.p.y() / C)),
-                                  int64_t(std::floor(s.p.z() / C)));
-      auto [it, fresh] = cells.try_emplace(key);
-      if (fresh) {
-        it->second.lo = s.p;
-        it->second.hi = s.p;
-        occupied.push_back(key);
-      }
-      it->second.items.push_back(uint32_t(i));
-      it->second.lo = it->second.lo.cwiseMin(s.p);
-      it->second.hi = it->second.hi.cwiseMax(s.p);
     }
   }
 
@@ -499,15 +750,19 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     auto index = [&](int64_t i, int64_t j, int64_t k) {
       return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));
     };
+    // Interior points: the candidates lie between a crossing where their column enters the solid
+    // and the next one, at least w/2 from both; a candidate is interior when no triangle lies
+    // within w/2 of it (the test of AabbTree::anyWithin, same expression and bound). Each triangle
+    // clears the candidates it is that close to: those lie in its box grown by w/2 and, on a
+    // column, within w/2 / |n_z| of its plane.
     Bits interior(n), covered(n);
     const double half = 0.5 * w;
-    constexpr int64_t kRun = 8;  // column points admitted by one distance query deep inside
     std::vector<ColumnCrossing> xs;
     size_t column = 0;
     const size_t columns = size_t(nx * ny);
     for (int64_t j = j0; j <= j1; ++j) {
       for (int64_t i = i0; i <= i1; ++i, ++column) {
-        if (!progress.tick(column, columns, 0.6, 0.8)) return fail(Status::Cancelled, "verify cancelled");
+        if (!progress.tick(column, columns, 0.6, 0.7)) return fail(Status::Cancelled, "verify cancelled");
         const double x = double(i) * g, y = double(j) * g;
         tree.columnCrossings(x, y, xs);
         std::sort(xs.begin(), xs.end(),
@@ -518,38 +773,79 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
           if (wind == 0) continue;
           const double zLo = xs[m].z + half, zHi = xs[m + 1].z - half;
           const int64_t kEnd = std::min(k1, int64_t(std::floor(zHi / g)));
-          int64_t nextRun = std::numeric_limits<int64_t>::min();
-          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g))); k <= kEnd;) {
-            const Eigen::Vector3d p(x, y, double(k) * g);
-            // The distance to the surface is 1-Lipschitz: no triangle within w/2 + R g of p
-            // means the next R points of the column are all at least w/2 away (one query for R + 1
-            // points deep inside; after a miss, points are tested one by one for R steps).
-            if (k >= nextRun && k + kRun <= kEnd) {
-              if (!tree.anyWithin(p, half * (1 - 1e-9) + double(kRun) * g)) {
-                for (const int64_t last = k + kRun; k <= last; ++k) interior.set(index(i, j, k));
-                continue;
-              }
-              nextRun = k + kRun;
+          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g))); k <= kEnd; ++k) {
+            interior.set(index(i, j, k));
+          }
+        }
+      }
+    }
+    {
+      const double r = half * (1 - 1e-9), r2 = r * r;
+      const double reach = r + 1e-9;  // grows the boxes by far more than rounding
+      const size_t nv = partMesh.vertexCount(), faces = partMesh.faceCount();
+      for (size_t f = 0; f < faces; ++f) {
+        if (!progress.tick(f, faces, 0.7, 0.8)) return fail(Status::Cancelled, "verify cancelled");
+        const uint32_t* t = &partMesh.triangles[3 * f];
+        if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;  // as AabbTree
+        const Eigen::Vector3d a = partMesh.vertex(t[0]), b = partMesh.vertex(t[1]),
+                              c = partMesh.vertex(t[2]);
+        const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
+                              hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+        const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
+                      ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
+        const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),
+                      jb = std::min(j1, int64_t(std::floor(hi.y() / g)));
+        const int64_t ka = std::max(k0, int64_t(std::ceil(lo.z() / g))),
+                      kb = std::min(k1, int64_t(std::floor(hi.z() / g)));
+        if (ia > ib || ja > jb || ka > kb) continue;
+        // The plane: |n.(p - a)| <= reach for every point that close. Only for faces not steeper
+        // than about 78 degrees; the 1e-6 mm margin covers the rounding of zc.
+        Eigen::Vector3d nrm = (b - a).cross(c - a);
+        const double nn = nrm.norm();
+        const bool slab = nn > 0 && std::abs(nrm.z()) > 0.2 * nn;
+        if (slab) nrm /= nn;
+        const double slabHalf = slab ? reach / std::abs(nrm.z()) + 1e-6 : 0.0;
+        for (int64_t j = ja; j <= jb; ++j) {
+          const double y = double(j) * g;
+          for (int64_t i = ia; i <= ib; ++i) {
+            const double x = double(i) * g;
+            int64_t kLo = ka, kHi = kb;
+            if (slab) {
+              const double zc = a.z() - (nrm.x() * (x - a.x()) + nrm.y() * (y - a.y())) / nrm.z();
+              kLo = std::max(kLo, int64_t(std::ceil((zc - slabHalf) / g)));
+              kHi = std::min(kHi, int64_t(std::floor((zc + slabHalf) / g)));
             }
-            if (!tree.anyWithin(p, half * (1 - 1e-9))) interior.set(index(i, j, k));
-            ++k;
+            for (int64_t k = kLo; k <= kHi; ++k) {
+              const size_t idx = index(i, j, k);
+              if (!interior.get(idx)) continue;
+              const Eigen::Vector3d p(x, y, double(k) * g);
+              if ((closestPointOnTriangle(p, a, b, c) - p).squaredNorm() <= r2) interior.clear(idx);
+            }
           }
         }
       }
     }
     rep.gridPoints = interior.count();
-    const double rax = 0.75 * h, rlat = 0.75 * w, rb = std::max(rax, rlat);
+    const double rax = 0.75 * h, rlat = 0.75 * w;
     const double pieceLen = std::max(4.0 * g, 1.0);
     for (size_t si = 0; si < segments.size(); ++si) {
       if (!progress.tick(si, segments.size(), 0.8, 1.0)) return fail(Status::Cancelled, "verify cancelled");
       const Segment& s = segments[si];
       const Eigen::Vector3d ab = s.b - s.a;
       const double len2 = ab.squaredNorm();
+      // A covered point lies within the bead's ellipsoid of a point of the segment, so within the
+      // ellipsoid's extent along each grid axis, sqrt(rax^2 u_k^2 + rlat^2 (1 - u_k^2)), of the
+      // piece holding that point (1e-9 mm over it: far more than rounding).
+      Eigen::Vector3d reach;
+      for (int k = 0; k < 3; ++k) {
+        const double uk2 = s.u[k] * s.u[k];
+        reach[k] = std::sqrt(std::max(0.0, rax * rax * uk2 + rlat * rlat * (1 - uk2))) + 1e-9;
+      }
       const int pieces = std::max(1, int(std::ceil(s.length / pieceLen)));
       for (int q = 0; q < pieces; ++q) {
         const Eigen::Vector3d pa = s.a + (double(q) / pieces) * ab,
                               pb = s.a + (double(q + 1) / pieces) * ab;
-        const Eigen::Vector3d lo = pa.cwiseMin(pb).array() - rb, hi = pa.cwiseMax(pb).array() + rb;
+        const Eigen::Vector3d lo = pa.cwiseMin(pb) - reach, hi = pa.cwiseMax(pb) + reach;
         const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
                       ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
         const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),

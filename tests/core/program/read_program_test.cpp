@@ -3,7 +3,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstdlib>
 #include <random>
+#include <string>
+#include <vector>
 
 #include "program/write_gcode.h"
 #include "test_toolpaths.h"
@@ -153,6 +157,56 @@ TEST(ReadProgram, PlainGcodeOfOtherSlicers) {
   EXPECT_EQ(q.moves[6].to, Eigen::Vector3d(8, 1, 0.9));
   EXPECT_EQ(q.moves[6].filament, 0.5);
   EXPECT_EQ(q.layerCount, 0);
+}
+
+TEST(ReadProgram, NumbersAreReadAsStrtodReadsThem) {
+  // Axis words in many spellings (signs, leading and trailing zeros, no integer or no fraction
+  // part, exponents, up to 20 significant digits, hexadecimal): every value equals std::strtod's.
+  std::mt19937 rng(77);
+  auto pick = [&](int n) { return std::uniform_int_distribution<int>(0, n - 1)(rng); };
+  auto number = [&]() {
+    std::string t;
+    if (pick(3) == 0) t += pick(2) ? "-" : "+";
+    if (pick(40) == 0) return t + (pick(2) ? "0x1A.8p-3" : "0X7f");
+    const int lead = pick(5) == 0 ? pick(4) : 0;
+    t += std::string(size_t(lead), '0');
+    const int intDigits = pick(4) == 0 ? 0 : 1 + pick(pick(5) == 0 ? 20 : 4);
+    for (int i = 0; i < intDigits; ++i) t += char('0' + pick(10));
+    const int fracDigits = pick(5) == 0 ? 0 : pick(pick(5) == 0 ? 22 : 7);
+    if (fracDigits > 0 || intDigits == 0 || pick(10) == 0) t += '.';
+    for (int i = 0; i < fracDigits; ++i) t += char('0' + pick(10));
+    if (intDigits == 0 && fracDigits == 0) t += '5';
+    if (pick(4) == 0) {
+      t += pick(2) ? 'e' : 'E';
+      if (pick(2)) t += pick(2) ? "-" : "+";
+      t += std::to_string(pick(pick(4) == 0 ? 40 : 25));
+    }
+    return t;
+  };
+  std::string text = "G21\n";
+  std::vector<Eigen::Vector3d> expected;
+  Eigen::Vector3d at(0, 0, 0);
+  for (int line = 0; line < 20000; ++line) {
+    const std::string x = number(), y = number(), z = number();
+    text += "G1 X" + x + " Y " + y + " Z" + z + (pick(3) == 0 ? " ; note\n" : "\n");
+    const Eigen::Vector3d v(std::strtod(x.c_str(), nullptr), std::strtod(y.c_str(), nullptr),
+                            std::strtod(z.c_str(), nullptr));
+    if (!v.allFinite()) {
+      text.erase(text.rfind("G1 X"));
+      continue;
+    }
+    if (v != at) expected.push_back(v);
+    at = v;
+  }
+  const ParsedProgram p = readProgram(text);
+  ASSERT_TRUE(p.ok()) << p.message;
+  ASSERT_EQ(p.moves.size(), expected.size());
+  for (size_t i = 0; i < expected.size(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      ASSERT_EQ(p.moves[i].to[k], expected[i][k]) << "move " << i << " axis " << k;
+      ASSERT_EQ(std::signbit(p.moves[i].to[k]), std::signbit(expected[i][k]));
+    }
+  }
 }
 
 TEST(ReadProgram, GarbageAndMutatedProgramsNeverCrash) {

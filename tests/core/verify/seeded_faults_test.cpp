@@ -4,6 +4,8 @@
 // that should catch it fail, on more than one machine kind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <functional>
 
@@ -141,6 +143,126 @@ TEST(SeededFaults, Table5TiltedNozzleHitsEarlierMaterial) {
   // A 30 degree lean keeps the cone clear of a planar layer (90 - 30 > 40 degrees).
   f.tiltB = [](int l) { return l >= 45 ? 30.0 : 0.0; };
   EXPECT_EQ(verifyPath(table5Box({}, f)).collisions, 0u);
+}
+
+// Samples with an earlier sample strictly inside their nozzle cone, by the definition of
+// PROGRAM-FORMAT.md checked pair by pair (independent of the verifier's cell hierarchy).
+size_t bruteForceCollisions(const ParsedProgram& p, double h, double halfAngleDeg, double length) {
+  std::vector<Eigen::Vector3d> tips, axes;
+  for (const ProgramMove& m : p.moves) {
+    const double len = (m.to - m.from).norm();
+    if (!(m.filament > 0) || !(len > 1e-9)) continue;
+    for (int k = 0; k == 0 || k * 0.5 < len; ++k) {
+      tips.push_back(m.from + (k * 0.5 / len) * (m.to - m.from));
+      axes.push_back(m.axis.normalized());
+    }
+  }
+  const double tol = 0.001, tanT = std::tan(halfAngleDeg * M_PI / 180);
+  size_t n = 0;
+  for (size_t i = 0; i < tips.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      const Eigen::Vector3d d = tips[j] - tips[i];
+      const double a = d.dot(axes[i]);
+      const double lat = std::sqrt(std::max(0.0, d.squaredNorm() - a * a));
+      if (a > h + tol && d.norm() < length - tol && lat < a * tanT - tol) {
+        ++n;
+        break;
+      }
+    }
+  }
+  return n;
+}
+
+TEST(SeededFaults, CollisionCountEqualsThePairByPairCount) {
+  // A small box whose layers lean by -20, 0 or 20 degrees, the top ones by 60 (the cone sweeps
+  // over the beads of the same layer), and the same box printed from the top layer down.
+  test::BoxPathOptions o;
+  o.half = 3;
+  o.height = 4;
+  TableFault f;
+  f.tiltB = [](int l) { return l >= 15 ? 60.0 : 20.0 * (l % 3) - 20.0; };
+  const MachinePath leaning = table5Box(o, f);
+  Toolpath downward = test::boxToolpath(o);
+  std::stable_sort(downward.moves.begin(), downward.moves.end(),
+                   [](const Move& a, const Move& b) { return a.layer > b.layer; });
+  const MachinePath topDown = mapToolpath(
+      downward, table5(), [&](const Eigen::Vector3d& q, int layer, const MachineValues&, MachineValues& out) {
+        out = test::gcodeValues(table5(), q, 15.0 * (layer % 2), 7.0 * layer);
+        return true;
+      });
+  for (const MachinePath* path : {&leaning, &topDown}) {
+    ProgramInfo info;
+    info.isoDate = "2026-11-21T12:00:00Z";
+    info.machine = path->machine;
+    info.layerHeight = 0.2;
+    info.lineWidth = 0.45;
+    const WriteProgramResult w = writeProgram(*path, info);
+    ASSERT_TRUE(w.ok()) << w.message;
+    const ParsedProgram p = readProgram(w.text);
+    ASSERT_TRUE(p.ok()) << p.message;
+    const VerifyReport r = verifyProgram(p, box10());
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_GT(r.collisions, 100u);
+    EXPECT_EQ(r.collisions, bruteForceCollisions(p, 0.2, p.machine.nozzle.coneHalfAngleDegrees,
+                                                 p.machine.nozzle.coneLength));
+    ASSERT_EQ(r.collisionExamples.size(), 10u);
+    for (const CollisionExample& e : r.collisionExamples) {
+      const Eigen::Vector3d tip(e.tip[0], e.tip[1], e.tip[2]), u(e.axis[0], e.axis[1], e.axis[2]),
+          q(e.earlier[0], e.earlier[1], e.earlier[2]);
+      const Eigen::Vector3d d = q - tip;
+      EXPECT_GT(d.dot(u), 0.2);
+      EXPECT_LT(d.norm(), p.machine.nozzle.coneLength);
+    }
+  }
+}
+
+TEST(SeededFaults, CoverageOfLeaningBeadsEqualsThePointBySegmentCount) {
+  // A 3 x 3 x 1.2 mm box whose layers lean by -20, 0 and 20 degrees: every interior point of a
+  // 0.043 mm grid against every extruding segment, with the bead's reach in the segment's frame.
+  test::BoxPathOptions o;
+  o.half = 1.5;
+  o.height = 1.2;
+  o.keepLayer = [](int l) { return l % 2 == 0; };  // beads apart, each point reached by few
+  TableFault f;
+  f.tiltB = [](int l) { return 20.0 * (l % 3) - 20.0; };
+  ProgramInfo info;
+  info.isoDate = "2026-11-21T12:00:00Z";
+  info.machine = table5();
+  info.layerHeight = 0.2;
+  info.lineWidth = 0.45;
+  const WriteProgramResult w = writeProgram(table5Box(o, f), info);
+  ASSERT_TRUE(w.ok()) << w.message;
+  const ParsedProgram p = readProgram(w.text);
+  ASSERT_TRUE(p.ok()) << p.message;
+  VerifyOptions fine;
+  fine.gridSpacing = 0.043;  // off the layer heights: points fall anywhere in the beads
+  const VerifyReport r = verifyProgram(p, test::makeBox(-1.5, -1.5, 0, 1.5, 1.5, 1.2), fine);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const double g = 0.043, rax = 0.75 * 0.2, rlat = 0.75 * 0.45;
+  size_t interior = 0, covered = 0;
+  for (int i = -40; i <= 40; ++i)
+    for (int j = -40; j <= 40; ++j)
+      for (int k = 0; k <= 30; ++k) {
+        const Eigen::Vector3d q(i * g, j * g, k * g);
+        const double d = std::min({q.x() + 1.5, 1.5 - q.x(), q.y() + 1.5, 1.5 - q.y(), q.z(), 1.2 - q.z()});
+        if (d < 0.225) continue;
+        ++interior;
+        for (const ProgramMove& m : p.moves) {
+          const Eigen::Vector3d ab = m.to - m.from;
+          if (!(m.filament > 0) || !(ab.norm() > 1e-9)) continue;
+          const Eigen::Vector3d u = m.axis.normalized();
+          const double t = std::clamp((q - m.from).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+          const Eigen::Vector3d dd = q - (m.from + t * ab);
+          const double ax = dd.dot(u), lat2 = std::max(0.0, dd.squaredNorm() - ax * ax);
+          if ((ax * ax) / (rax * rax) + lat2 / (rlat * rlat) <= 1.0) {
+            ++covered;
+            break;
+          }
+        }
+      }
+  EXPECT_EQ(r.gridPoints, interior);
+  EXPECT_EQ(r.coverage, double(covered) / double(interior));
+  EXPECT_GT(r.coverage, 0.2);
 }
 
 TEST(SeededFaults, Table5RotaryAxisOverItsLimit) {

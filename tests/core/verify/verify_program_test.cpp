@@ -303,6 +303,55 @@ TEST(VerifyProgram, SphereOf30mmPasses) {
   EXPECT_EQ(r.collisions, 0u);
 }
 
+// The interior grid points (inside, at least w/2 from the surface) equal the point-by-point
+// count with the AABB tree: winding number and "any triangle within w/2".
+TEST(VerifyProgram, InteriorGridPointsMatchPointByPointDistance) {
+  const double R = 4;
+  const Mesh sphere = test::makeUvSphere(R, {0.07, -0.03, R}, 48, 24);
+  const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
+  const VerifyReport r = verifyProgram(p, sphere);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const AabbTree tree(sphere);
+  const double g = 0.2, half = 0.5 * 0.45;
+  size_t interior = 0;
+  for (int i = -25; i <= 25; ++i)
+    for (int j = -25; j <= 25; ++j)
+      for (int k = 0; k <= 45; ++k) {
+        const Eigen::Vector3d q(i * g, j * g, k * g);
+        if (tree.inside(q) && !tree.anyWithin(q, half * (1 - 1e-9))) ++interior;
+      }
+  EXPECT_GT(interior, 10000u);
+  EXPECT_EQ(r.gridPoints, interior);
+}
+
+// `inside` equals the sample-by-sample count with the AABB tree (closest point within w/2, else
+// the winding number) on a curved part, for a program shifted so that part of it lies outside.
+TEST(VerifyProgram, InsideMatchesSampleBySampleDistance) {
+  const double R = 4;
+  const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 40, 20);
+  Toolpath tp = test::sphereToolpath(R, 0.2, 0.45);
+  for (Move& m : tp.moves) m.position += Eigen::Vector3d(0.61, -0.37, 0.05);
+  tp.start += Eigen::Vector3d(0.61, -0.37, 0.05);
+  const ParsedProgram p = throughGcode(tp);
+  const VerifyReport r = verifyProgram(p, sphere);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const AabbTree tree(sphere);
+  size_t in = 0, n = 0;
+  for (const ProgramMove& m : p.moves) {
+    const double len = (m.to - m.from).norm();
+    if (!(m.filament > 0) || !(len > 1e-9)) continue;
+    for (int k = 0; k == 0 || k * 0.5 < len; ++k) {
+      const Eigen::Vector3d q = m.from + (k * 0.5 / len) * (m.to - m.from);
+      ++n;
+      if (tree.closest(q).distance <= 0.5 * 0.45 || tree.inside(q)) ++in;
+    }
+  }
+  EXPECT_EQ(r.samples, n);
+  EXPECT_EQ(r.inside, double(in) / double(n));
+  EXPECT_LT(r.inside, 0.99);
+  EXPECT_GT(r.inside, 0.5);
+}
+
 // Minimal ASCII OFF reader for the shared models (triangles only).
 Mesh readOff(const std::filesystem::path& path) {
   std::ifstream in(path);
