@@ -102,7 +102,6 @@ struct Progress {
   }
 };
 
-
 // The samples bucketed into a dense grid of cells (CSR), for visiting those in a box. The cell
 // size starts at `cell` and grows until the grid has at most about two cells per sample.
 class SampleGrid {
@@ -215,12 +214,12 @@ struct Cone {
   }
 };
 
-// The earlier samples of the collision test in a hierarchy of cells, each node with the box of
-// its samples: 1 mm cells under the 2 mm cells of the scan in print order (keyed and ordered as
-// that scan needs), under coarser levels of 4, 16 and 64 of those a side. Samples are added in
-// print order, lazily (addUpTo) when a cone has to look at them. A node's box contains its
-// children's boxes, so the support and distance tests clear it only when they clear every cell
-// under it (min, max, sums and the square root round monotonically).
+// The earlier samples of the collision test in a hierarchy of cells of 1, 2, 4, ..., 128 mm, each
+// node with the box of its samples; the 2 mm cells are those of the scan in print order (keyed and
+// ordered as that scan needs). Samples are added in print order, lazily (addUpTo) when a cone has
+// to look at them. A node's box contains its children's boxes, so the support and distance tests
+// clear it only when they clear every cell under it (min, max, sums and the square root round
+// monotonically).
 class EarlierSamples {
  public:
   static constexpr double kCell = 2.0;  // the cells of the scan in print order
@@ -238,9 +237,8 @@ class EarlierSamples {
                             int64_t(std::floor(p.z() / kFine))};
       uint32_t child = uint32_t(added_);
       bool childFresh = true;
-      for (int l = 0; l < kLevels; ++l) {
-        const int shift = kShift[l];
-        const int64_t key = cellKey(c[0] >> shift, c[1] >> shift, c[2] >> shift);
+      for (int l = 0; l < kLevels; ++l) {  // cells of 2^l mm
+        const int64_t key = cellKey(c[0] >> l, c[1] >> l, c[2] >> l);
         bool fresh = false;
         if (key != lastKey_[l]) {
           auto [it, inserted] = index_[l].try_emplace(key, uint32_t(nodes_[l].size()));
@@ -308,10 +306,9 @@ class EarlierSamples {
   }
 
  private:
-  static constexpr int kLevels = 8;      // 1, 2, 4, ..., 128 mm
-  static constexpr int kScanLevel = 1;   // the 2 mm cells
-  static constexpr double kFine = 1.0;   // kCell / 2
-  static constexpr int kShift[kLevels] = {0, 1, 2, 3, 4, 5, 6, 7};  // from the 1 mm index
+  static constexpr int kLevels = 8;     // 1, 2, 4, ..., 128 mm
+  static constexpr int kScanLevel = 1;  // the 2 mm cells
+  static constexpr double kFine = 1.0;  // kCell / 2
   struct Node {
     Eigen::Vector3d lo, hi;
     std::vector<uint32_t> children;  // level 0: samples; else nodes one level down
@@ -499,12 +496,13 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   for (size_t i = 0; i < samples.size(); ++i) {
     if (!progress.tick(i, samples.size(), 0.2, 0.3)) return fail(Status::Cancelled, "verify cancelled");
     const Eigen::Vector3d& p = samples[i].p;
-    ClosestPoint c;
-    if (near2[i] < w * w) c.distance = std::sqrt(near2[i]);
-    const bool far = !(c.distance <= w);
+    // As AabbTree::closest(p, w).distance: infinity when no triangle is closer than w.
+    const double distance =
+        near2[i] < w * w ? std::sqrt(near2[i]) : std::numeric_limits<double>::infinity();
+    const bool far = !(distance <= w);
     if (!far) nearSurface[i] = 1;
     bool in;
-    if (c.distance <= 0.5 * w) {
+    if (distance <= 0.5 * w) {
       in = true;
     } else if (far && prevFar && (p - prevP).squaredNorm() < 4 * w * w * (1 - 1e-9)) {
       in = prevInside;
