@@ -288,6 +288,8 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
     return fail(Status::InvalidOption, "heat geodesic: timeFactor must be a positive number");
   if (!(opt.tolerance > 0 && opt.tolerance < 1))
     return fail(Status::InvalidOption, "heat geodesic: tolerance must be in (0, 1)");
+  if (!(opt.heatTolerance > 0 && opt.heatTolerance < 1))
+    return fail(Status::InvalidOption, "heat geodesic: heatTolerance must be in (0, 1)");
   if (opt.maxIterations < 1)
     return fail(Status::InvalidOption, "heat geodesic: maxIterations must be at least 1");
   TetLaplacian lap = tetCotanLaplacian(input);

@@ -299,6 +299,11 @@ TEST(HeatGeodesic, BadInputReturnsStatus) {
   bad = {};
   bad.tolerance = 2;
   EXPECT_EQ(HeatGeodesic(m, bad).status().status, Status::InvalidOption);
+  for (double t : {0.0, 1.0, std::nan("")}) {
+    bad = {};
+    bad.heatTolerance = t;
+    EXPECT_EQ(HeatGeodesic(m, bad).status().status, Status::InvalidOption) << t;
+  }
 
   // Cancel: at the start, and in the middle of the solves (after the heat stage).
   int calls = 0;
