@@ -450,7 +450,18 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
     std::vector<BoundarySegment> segs = boundarySegments(layer);
     // P' on the previous layer's boundary curves (segments as degenerate triangles), or the
     // platform below P for the first layer (and after a layer without boundary).
-    std::unique_ptr<AabbTree> prevTree, prevSurface;
+    // The previous layer's surfaces (for the split test below and the thickness samples).
+    std::unique_ptr<AabbTree> prevSurface;
+    if (li > 0 && !layers[li - 1].regions.empty()) {
+      Mesh surface;
+      for (const LayerRegion& r : layers[li - 1].regions) {
+        const uint32_t base = uint32_t(surface.vertexCount());
+        surface.positions.insert(surface.positions.end(), r.mesh.positions.begin(), r.mesh.positions.end());
+        for (uint32_t v : r.mesh.triangles) surface.triangles.push_back(base + v);
+      }
+      prevSurface = std::make_unique<AabbTree>(surface);
+    }
+    std::unique_ptr<AabbTree> prevTree;
     if (li > 0 && !previous.empty()) {
       Mesh m;
       for (const BoundarySegment& s : previous) {
@@ -459,13 +470,6 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
         m.triangles.insert(m.triangles.end(), {base, base + 1, base + 1});
       }
       prevTree = std::make_unique<AabbTree>(m);
-      Mesh surface;
-      for (const LayerRegion& r : layers[li - 1].regions) {
-        const uint32_t base = uint32_t(surface.vertexCount());
-        surface.positions.insert(surface.positions.end(), r.mesh.positions.begin(), r.mesh.positions.end());
-        for (uint32_t v : r.mesh.triangles) surface.triangles.push_back(base + v);
-      }
-      prevSurface = std::make_unique<AabbTree>(surface);
     }
     double layerAlpha = 0;
     for (const BoundarySegment& s : segs) {
@@ -480,7 +484,7 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
       // surface is inside it, nearer than any boundary point. This happens where a layer splits
       // (a saddle of the field: the new boundary between two branches is printed on the previous
       // layer's interior, while the nearest boundary point is across a branch). Not an overhang.
-      if (prevSurface && (P - prevSurface->closest(P).point).norm() < vn * (1 - 1e-9) - 1e-12)
+      if (prevTree && prevSurface && (P - prevSurface->closest(P).point).norm() < vn * (1 - 1e-9) - 1e-12)
         continue;
       // Outward of P' (Fig. 8): a positive component along the outward conormal. The small
       // tolerance keeps vertical walls (component zero up to roundoff) at alpha = 0.
@@ -501,16 +505,6 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
     // Thickness: distance from samples of this layer to the previous layer's surfaces (the
     // platform z = 0 for the first layer; none after an empty layer).
     if (sampleThickness && (li == 0 || !layers[li - 1].regions.empty())) {
-      std::unique_ptr<AabbTree> prevSurface;
-      if (li > 0) {
-        Mesh m;
-        for (const LayerRegion& r : layers[li - 1].regions) {
-          const uint32_t base = uint32_t(m.vertexCount());
-          m.positions.insert(m.positions.end(), r.mesh.positions.begin(), r.mesh.positions.end());
-          for (uint32_t x : r.mesh.triangles) m.triangles.push_back(base + x);
-        }
-        prevSurface = std::make_unique<AabbTree>(m);
-      }
       double sum = 0, sumDev = 0;
       lm.thicknessMinMm = std::numeric_limits<double>::infinity();
       double carry = 0.5;
