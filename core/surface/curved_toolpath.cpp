@@ -581,6 +581,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
     for (const SurfacePath& path : paths[l][pick]) {
       const size_t np = path.points.size();
       if (np < 2) continue;
+      const double width = path.width > 0 ? std::min(path.width, o.lineWidth) : o.lineWidth;
       const auto s0 = Clock::now();
       samples.resize(np);
       const bool haveNormals = path.normals.size() == np;
@@ -605,11 +606,10 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
         // The bead of a segment takes the mean of its end heights.
         const double h = 0.5 * (samples[i - 1].height + samples[i].height);
         Move* m = push(target, samples[i].axis, printKind, layer);
-        m->width = o.lineWidth;
+        m->width = width;
         m->height = h;
-        m->filament = o.ellipseBeads
-                          ? ellipseBeadFilament(o.lineWidth, h, len, o.filamentDiameter)
-                          : filamentForBead(o.lineWidth, h, len, o.filamentDiameter);
+        m->filament = o.ellipseBeads ? ellipseBeadFilament(width, h, len, o.filamentDiameter)
+                                     : filamentForBead(width, h, len, o.filamentDiameter);
         if (path.curves.size() == np) m->curve = path.curves[i];
         m->speed = speed;
         m->feature = feature;

@@ -779,11 +779,13 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
     }
   }
   // Narrower than about 1.5 beads (a single level would give a loop thinner than half a bead):
-  // one centre line instead.
+  // one centre line instead, as wide as the region (up to a bead). Slivers down to an eighth of a
+  // bead are printed: a layer region left out leaves the region above it two layers over the
+  // last printed one (a split front entering a side branch starts as such a sliver).
   const bool narrow = D < 0.75 * s;
-  if (narrow && !(D > s / 4)) {
+  if (narrow && !(D > s / 16)) {
     result.contourMs = msSince(t1);
-    return result;  // narrower than half a bead: nothing to print
+    return result;  // narrower than an eighth of a bead: nothing to print
   }
   const AabbTree tree(mesh);
   // Contours at levels, connected into paths (raw); returns the number of contours.
@@ -1051,6 +1053,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   for (const auto& path : raw) {
     // 1 % short of the step: projecting hop points onto the surface may lengthen a step slightly.
     SurfacePath sp = resamplePath(path, 0.99 * options.resample, tree, faceNormal);
+    if (narrow) sp.width = std::min(s, 2 * D);
     if (sp.points.size() >= 2) result.paths.push_back(std::move(sp));
   }
   result.connectMs = msSince(t1) - result.contourMs;

@@ -61,6 +61,8 @@ struct SurfacePath {
   std::vector<Eigen::Vector3d> normals;
   std::vector<uint32_t> curves;  // optional, per point: the segment ending at the point lies on
                                  // iso-planar NL curve curves[i] (1-based; 0 = a join)
+  double width = 0;              // bead width of this path, mm (0 = the tool-path's line width);
+                                 // a narrow region's centre line: the region's width, at most the spacing
 };
 
 struct SpiralResult : Outcome {
@@ -71,8 +73,8 @@ struct SpiralResult : Outcome {
 
 // region: one connected layer region (triangles, with boundary; edge-manifold; bit-identical
 // positions are welded first, so an unwelded region is fine). Regions narrower
-// than about 1.5 beads (max distance < 0.75 spacing) give a single centre-line path when the max
-// distance exceeds spacing/4, else no path (not an error). Points lie on the region (contour
+// than about 1.5 beads (max distance D < 0.75 spacing) give a single centre-line path of width
+// min(2 D, spacing) when D exceeds spacing/16, else no path (not an error). Points lie on the region (contour
 // points on its edges, hops projected onto it), consecutive points at most `resample` apart,
 // corners kept within 0.05 mm. Statuses: those of boundaryGeodesicDistance, InvalidOption for
 // spacing/resample <= 0 or not finite, or a spacing too small for the region (> 20000 levels).

@@ -126,6 +126,11 @@ TEST(PlanLayers, FilamentForBeadFormula) {
   EXPECT_DOUBLE_EQ(filamentForBead(0.45, 0.2, 0, 1.75), 0);
   // h = w: a round bead of diameter w.
   EXPECT_NEAR(filamentForBead(1, 1, 1, 1), 1, 1e-12);
+  // Narrower than tall (w = 0.1, h = 0.8): the upright stadium 0.7 * 0.1 + pi 0.01 / 4, positive
+  // and continuous at w = h (the flat formula gave -0.02 mm^2 here).
+  EXPECT_NEAR(filamentForBead(0.1, 0.8, 1, 1), (0.7 * 0.1 + M_PI * 0.01 / 4) / (M_PI / 4), 1e-12);
+  EXPECT_NEAR(filamentForBead(0.8 - 1e-9, 0.8, 1, 1), filamentForBead(0.8, 0.8, 1, 1), 1e-8);
+  for (const double w : {0.01, 0.05, 0.2, 0.5}) EXPECT_GT(filamentForBead(w, 0.8, 1, 1.75), 0) << w;
 }
 
 TEST(PlanLayers, BoxWallsSkinsInfillAlongZ) {

@@ -97,7 +97,11 @@ SurfacePath sphericalPath(const Vector3d& c, double r, double thetaEndDeg) {
   return p;
 }
 
-double bead(double w, double h) { return (w - h) * h + kPi * h * h / 4; }
+// A stadium cross-section: a rectangle with round ends on its smaller side.
+double bead(double w, double h) {
+  const double r = std::min(w, h) / 2;
+  return w * h - (4 - kPi) * r * r;
+}
 
 // Properties every tool-path must have: unit axes; travel moves never extrude; every Retract is
 // answered by an Unretract before the next print move and the filament of the moves between two
@@ -137,7 +141,8 @@ void expectWellFormed(const CurvedToolpathResult& r, const CurvedToolpathOptions
         between = 0;
         const double len = (m.position - pos).norm();
         ASSERT_GT(len, 0);
-        ASSERT_EQ(m.width, o.lineWidth);
+        ASSERT_GT(m.width, 0);
+        ASSERT_LE(m.width, o.lineWidth);  // narrow regions: their own width
         ASSERT_GE(m.height, o.minHeightFactor * o.nominalHeight - 1e-12);
         ASSERT_LE(m.height, o.maxHeightFactor * o.nominalHeight + 1e-12);
         const double expected = bead(m.width, m.height) * len / (kPi * o.filamentDiameter * o.filamentDiameter / 4);
@@ -214,6 +219,36 @@ TEST(CurvedToolpath, StackedFlatDiscsGivePlusZAndTheSpacing) {
   double total = 0;
   for (double L : length) total += L;
   EXPECT_NEAR(total, input, 1e-9 * input);
+}
+
+TEST(CurvedToolpath, NarrowPathsPrintWithTheirOwnWidth) {
+  // Region 0 of every layer a sliver's centre line (0.12 mm wide), region 1 wider than a bead
+  // (capped at the line width), region 2 the tool-path's width: the filament follows each width.
+  DiscStack s = discStack(3, 0.16, 0.4);
+  const double widths[3] = {0.12, 2.0, 0};
+  for (auto& layer : s.paths)
+    for (int r = 0; r < 3; ++r) layer[size_t(r)][0].width = widths[r];
+  CurvedToolpathOptions o;
+  const CurvedToolpathResult r = buildCurvedToolpath(s.layers, s.paths, o);
+  expectWellFormed(r, o);
+  double filament[3] = {0, 0, 0}, length[3] = {0, 0, 0};
+  Vector3d pos = r.toolpath.start;
+  for (const Move& m : r.toolpath.moves) {
+    if (m.kind == MoveKind::Print && m.layer > 0) {
+      const int region = m.position.x() < 15 ? 0 : m.position.x() > 45 ? 1 : 2;
+      EXPECT_EQ(m.width, region == 0 ? 0.12 : o.lineWidth) << region;
+      filament[region] += m.filament;
+      length[region] += (m.position - pos).norm();
+    }
+    pos = m.position;
+  }
+  const double section = kPi * 1.75 * 1.75 / 4;
+  EXPECT_NEAR(filament[0], bead(0.12, 0.4) * length[0] / section, 1e-9 * filament[0]);
+  EXPECT_NEAR(filament[1], bead(o.lineWidth, 0.4) * length[1] / section, 1e-9 * filament[1]);
+  EXPECT_NEAR(filament[2], filament[1] * length[2] / length[1], 1e-9 * filament[2]);
+  // The sliver's bead is narrower than it is tall: about a third of a full bead's filament
+  // (0.045 against 0.146 mm^2), not the full bead.
+  EXPECT_LT(filament[0] / length[0], 0.35 * filament[2] / length[2]);
 }
 
 TEST(CurvedToolpath, RegionsNearestFirstAndLongTravelsRetractAndLeaveAlongTheAxis) {

@@ -365,24 +365,33 @@ TEST(FermatSpiral, Timing20kVertexRegion) {
 }
 
 TEST(FermatSpiral, NarrowRegionGivesCentreLineOrNothing) {
-  // Strips 0.6 and 0.4 mm wide (max distance 0.3 and 0.2: below 0.75 spacing, above spacing/4):
-  // one centre line along the strip, not a loop folded onto itself.
-  for (const double width : {0.6, 0.4}) {
-    const Mesh m = test::makeRectangle(20, width, 0.05);
+  // Strips 0.6, 0.4 and 0.16 mm wide (max distance 0.3, 0.2, 0.08: below 0.75 spacing, above
+  // spacing/16): one centre line along the strip, not a loop folded onto itself, as wide as the
+  // strip up to one bead (so the filament matches the strip's area).
+  for (const double width : {0.6, 0.4, 0.16}) {
+    const Mesh m = test::makeRectangle(20, width, std::min(0.05, width / 4));
     const SpiralResult r = fermatSpiralPaths(m, SpiralOptions{});
     ASSERT_TRUE(r.ok()) << r.message;
     ASSERT_EQ(r.paths.size(), 1u) << width;
     double length = 0;
     for (size_t i = 0; i < r.paths[0].points.size(); ++i) {
-      EXPECT_NEAR(r.paths[0].points[i].y(), width / 2, 0.1) << width;
+      EXPECT_NEAR(r.paths[0].points[i].y(), width / 2, std::min(0.1, width / 4)) << width;
       if (i) length += (r.paths[0].points[i] - r.paths[0].points[i - 1]).norm();
     }
     EXPECT_GT(length, 18.0) << width;
     EXPECT_LT(length, 20.5) << width;
+    EXPECT_NEAR(r.paths[0].width, std::min(width, SpiralOptions{}.spacing), 0.1 * width) << width;
   }
-  // A 0.16 mm strip (max distance 0.08 < spacing/4): nothing to print, not an error.
+  // A wide region's paths keep the tool-path's line width.
   {
-    const Mesh m = test::makeRectangle(20, 0.16, 0.04);
+    const SpiralResult r = fermatSpiralPaths(test::makeRectangle(10, 3, 0.1), SpiralOptions{});
+    ASSERT_TRUE(r.ok()) << r.message;
+    ASSERT_FALSE(r.paths.empty());
+    for (const SurfacePath& p : r.paths) EXPECT_EQ(p.width, 0.0);
+  }
+  // A 0.04 mm strip (max distance 0.02 < spacing/16): nothing to print, not an error.
+  {
+    const Mesh m = test::makeRectangle(20, 0.04, 0.01);
     const SpiralResult r = fermatSpiralPaths(m, SpiralOptions{});
     ASSERT_TRUE(r.ok()) << r.message;
     EXPECT_TRUE(r.paths.empty());
