@@ -176,6 +176,8 @@ export const SETTINGS_SCHEMA = [
     options: [{ label: 'auto (rotary4: 4 DOF, else 5 DOF)', value: 'auto' }, { label: '4 DOF (one rotary axis)', value: '4dof' },
       { label: '5 DOF', value: '5dof' }],
     showIf: isMultidir, sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.interface_overlap', label: 'reach across later parts\' planes (× the safe depth, 0 = flush)', type: 'number', value: 0.8, min: 0, max: 1, step: 0.1,
+    testid: 'multidir-interface-overlap', showIf: isMultidir, sendIf: isMultidir },
   { group: 'Multi-directional', key: 'multidir.samples', label: 'candidate normals', type: 'integer', value: 250, min: 4, max: 20000, step: 10,
     testid: 'multidir-samples', showIf: isMultidir, sendIf: isMultidir },
   { group: 'Multi-directional', key: 'multidir.axis_search', label: 'rotation axes searched (4 DOF, 0 = the machine\'s)', type: 'integer', value: 0, min: 0, max: 3600, step: 1,

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <nlohmann/json.hpp>
 
 #include "common/det_math.h"
@@ -40,6 +41,47 @@ void mergeParts(const std::vector<ClipPart>& parts, PreviewBuffers& p) {
     for (uint32_t v : m.triangles) p.partTriangles.push_back(base + v);
     p.partIds.insert(p.partIds.end(), m.faceCount(), static_cast<uint32_t>(i));
   }
+}
+
+// The solid a part is sliced from: its piece of the model (above its own plane, planeIndex; the
+// platform part has none) reaching across every plane that bounds it from above (the planes
+// clipped before its own: their parts print after it) by delta = halfHeightScale (1 - |n . d|),
+// d its direction, n that plane's normal. Where a later part's base plane crosses the earlier
+// part's layers steeply (beta near 90 degrees), the earlier part's outer beads end w/2 inside the
+// plane and the later part's first tips lie h/2 above it: w/2 + h/2 apart, beyond the 1.5 h that
+// holds a bead. Reaching across brings them within it. The bound keeps the later part's nozzle
+// clear: the earlier part's layers stand out of their cut by up to (h/2)|cos beta|, so with
+// halfHeightScale <= h/2 they stay under the later part's first tip. The pieces overlap by delta
+// (report volumes are the exact pieces'). `reaching` stays empty when no plane bounds the part;
+// deepest = the largest delta of a plane that crosses the part's reach (0 if none).
+Outcome reachAcross(const Mesh& model, const std::vector<Plane>& planes, int planeIndex, const Eigen::Vector3d& d,
+                    double halfHeightScale, Mesh& reaching, double& deepest) {
+  const size_t bound = planeIndex < 0 ? planes.size() : static_cast<size_t>(planeIndex);
+  reaching = Mesh();
+  deepest = 0;
+  if (bound == 0) return {};
+  Mesh s;
+  if (planeIndex >= 0) {
+    ClipResult c = clipByPlane(model, planes[static_cast<size_t>(planeIndex)]);
+    if (!c.ok()) return c;
+    s = std::move(c.above);
+  } else {
+    s = model;
+  }
+  for (size_t j = 0; j < bound && !s.empty(); ++j) {
+    const double len = planes[j].normal.norm();
+    const Eigen::Vector3d n = planes[j].normal / len;
+    const Plane shifted{n, planes[j].offset / len + halfHeightScale * (1 - std::abs(n.dot(d)))};
+    double highest = -std::numeric_limits<double>::infinity();
+    for (size_t v = 0; v < s.vertexCount(); ++v) highest = std::max(highest, n.dot(s.vertex(v)));
+    if (highest <= shifted.offset) continue;  // wholly below: nothing to cut
+    if (highest > planes[j].offset / len) deepest = std::max(deepest, shifted.offset - planes[j].offset / len);
+    ClipResult c = clipByPlane(s, shifted);
+    if (!c.ok()) return c;
+    s = std::move(c.below);
+  }
+  reaching = std::move(s);
+  return {};
 }
 
 // Risky flags per triangle of part (Eq. 1): along +Z on the platform (before) and along the
@@ -190,11 +232,18 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
       continue;
     }
     auto s0 = Clock::now();
+    Mesh reaching;
+    double reachMm = 0;
+    if (settings.multidir.interfaceOverlap > 0) {
+      Outcome o = reachAcross(out.part, planes, cp.planeIndex, d,
+                              settings.multidir.interfaceOverlap * 0.5 * settings.layerHeight, reaching, reachMm);
+      if (!o.ok()) return failure(o.status, "part " + std::to_string(i) + ": " + o.message);
+    }
     SliceOptions so;
     so.direction = d;
     so.layerHeight = settings.layerHeight;
     so.firstLayerHeight = first ? settings.effectiveFirstLayerHeight() : 0.5 * settings.layerHeight;
-    SliceResult slices = sliceMesh(cp.mesh, so, progress);
+    SliceResult slices = sliceMesh(reaching.empty() ? cp.mesh : reaching, so, progress);
     if (!slices.ok()) return failure(slices.status, "part " + std::to_string(i) + ": " + slices.message);
     sliceMs += msSince(s0);
     s0 = Clock::now();
@@ -231,6 +280,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     layerOffset += maxLayer + 1;
     pj["layers"] = maxLayer + 1;
     pj["support_region_mm3"] = finite(partSupportVolume);
+    pj["reach_across_mm"] = finite(reachMm);
     partsJson.push_back(pj);
     first = false;
   }

@@ -98,6 +98,8 @@ struct MultidirSettings {
   int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
   std::string scheme = "beam";   // beam | greedy | constrained
   std::string dof = "auto";      // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof
+  double interfaceOverlap = 0.8; // an earlier part reaches across a later part's plane by this
+                                 // fraction of (h/2)(1 - |cos beta|) (multidir_method.cpp); 0 = none
 };
 
 // Supports under what stays risky (paper 000 Section V: projected supports). The multidir method

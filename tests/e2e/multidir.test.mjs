@@ -71,7 +71,8 @@ const { setSetting, slide, sliceCount, waitSliced } = pageControls(() => page);
 test('the method choice shows the multi-directional settings', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
   const visible = (id) => page.isVisible(tid(id));
-  const rows = ['multidir-alpha', 'multidir-w', 'multidir-scheme', 'multidir-beam-width', 'multidir-dof', 'multidir-samples'];
+  const rows = ['multidir-alpha', 'multidir-w', 'multidir-scheme', 'multidir-beam-width', 'multidir-dof', 'multidir-samples',
+    'multidir-interface-overlap'];
   for (const id of rows) assert.equal(await visible(id), false, `${id} hidden for planar`);
   await setSetting('machine', 'cartesian3');
   await setSetting('setting-method', 'multidir');

@@ -76,8 +76,14 @@ void expectConsistentParts(const Sliced& r, double layerHeight) {
       const Json& plane = parts[k]["plane"];
       const Eigen::Vector3d n(plane["normal"][0], plane["normal"][1], plane["normal"][2]);
       const double d = plane["offset_mm"].get<double>();
-      if (int(k) == i) EXPECT_GE(n.dot(q), d - 1e-6) << "part " << i << " below its base plane";
-      if (int(k) > i) EXPECT_LE(n.dot(q), d + layerHeight) << "part " << i << " above the plane of later part " << k;
+      if (int(k) == i) {
+        EXPECT_GE(n.dot(q), d - 1e-6) << "part " << i << " below its base plane";
+      }
+      // An earlier part reaches across a later part's plane (multidir.interface_overlap) but its
+      // tips stay under the later part's first tips, h/2 above the plane.
+      if (int(k) > i) {
+        EXPECT_LE(n.dot(q), d + 0.5 * layerHeight + 1e-6) << "part " << i << " above the plane of later part " << k;
+      }
     }
     // The nozzle axis of a part is its direction.
     const Eigen::Vector3d u(pv.axes[3 * sgm], pv.axes[3 * sgm + 1], pv.axes[3 * sgm + 2]);
@@ -265,8 +271,12 @@ TEST(MultidirPipeline, KittenSearchLevelsMatchTheReport) {
     searched += l.level >= 1 ? 1 : 0;
     std::vector<double>& run = lines[l.line];
     EXPECT_EQ(l.level, static_cast<int>(run.size())) << l.line;
-    if (run.empty()) EXPECT_EQ(l.jg, m["J_G_before"].get<double>()) << l.line;
-    if (!run.empty()) EXPECT_LE(l.jg, run.back()) << l.line << " level " << l.level;
+    if (run.empty()) {
+      EXPECT_EQ(l.jg, m["J_G_before"].get<double>()) << l.line;
+    }
+    if (!run.empty()) {
+      EXPECT_LE(l.jg, run.back()) << l.line << " level " << l.level;
+    }
     run.push_back(l.jg);
   }
   std::printf("kitten search levels: greedy %zu, constrained %zu, beam %zu; chosen %zu, report %zu\n",
