@@ -1256,7 +1256,7 @@ struct Piece {
 // evaluated.
 size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
                     std::vector<Vec3>& ns, std::vector<double>& ds, const ProgressFn& progress,
-                    bool& cancelled) {
+                    double fraction, bool& cancelled) {
   const size_t np = ns.size();
   const double delta = 0.5 * o.offsetStepMm;
   const int half = static_cast<int>(std::lround(4.0 / delta));
@@ -1266,7 +1266,7 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
   for (int pass = 0; pass < 2; ++pass) {
     bool improved = false;
     for (size_t k = 0; k < np; ++k) {
-      if (!reportProgress(progress, "decompose", 0.99)) {
+      if (!reportProgress(progress, "decompose", fraction)) {
         cancelled = true;
         return evaluated;
       }
@@ -1396,9 +1396,9 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
 
 // Fills planes/parts/numbers of `result` from a finished search: the best node of every line
 // (greedy, constrained, beam), each refined when asked; the least exact J_G wins (then fewer
-// planes).
+// planes). The refinement reports progress at `fraction` (the end of this search's span).
 bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-             const Search& s, const ProgressFn& progress, MultidirResult& result) {
+             const Search& s, const ProgressFn& progress, double fraction, MultidirResult& result) {
   std::vector<uint32_t> ends;
   for (int line = 1; line <= s.lines(); ++line) {
     const uint32_t id = s.best(line);
@@ -1420,7 +1420,7 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
     if (o.refine && !ns.empty()) {
       const auto t0 = Clock::now();
       bool cancelled = false;
-      result.stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns, ds, progress, cancelled);
+      result.stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns, ds, progress, fraction, cancelled);
       result.stats.msRefine += msSince(t0);
       if (cancelled) return false;
     }
@@ -1539,7 +1539,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
     result.stats.normals = normals.size();
     search.setNormals(normals);
     if (!runScheme(search, scheme, 0, 1)) return cancelled();
-    if (!collect(m, options, false, Vec3::Zero(), search, progress, result)) return cancelled();
+    if (!collect(m, options, false, Vec3::Zero(), search, progress, 0.99, result)) return cancelled();
   } else {
     std::vector<Vec3> axes;
     if (options.axisSearch > 0) {
@@ -1606,7 +1606,9 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       const double span = (1 - screenSpan) / full.size();
       if (!runScheme(search, scheme, screenSpan + i * span, span)) return cancelled();
       MultidirResult trial;
-      if (!collect(m, options, true, axes[a], search, progress, trial)) return cancelled();
+      if (!collect(m, options, true, axes[a], search, progress, std::min(0.99, screenSpan + (i + 1) * span), trial)) {
+        return cancelled();
+      }
       result.stats.msExact += trial.stats.msExact;
       result.stats.msRefine += trial.stats.msRefine;
       result.stats.refineEvaluated += trial.stats.refineEvaluated;
