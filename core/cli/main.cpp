@@ -170,18 +170,20 @@ void applyOptions(const Args& a, Settings& s) {
 // ("progress: decompose 37% search level 3: J_G = 1.25 mm^2 (beam, 8 beams)").
 ProgressFn stderrProgress(bool enabled) {
   if (!enabled) return {};
-  return [last = std::string()](const ProgressEvent& e) mutable {
+  // A stage's end once: several layers of the pipeline may each report a stage's 100 %.
+  return [last = std::string(), ended = false](const ProgressEvent& e) mutable {
+    if (e.stage != last) ended = false;
     if (e.search) {
       const SearchLevelProgress& s = *e.search;
       std::string line = s.line;
       if (s.beams > 0) line += ", " + std::to_string(s.beams) + (s.beams == 1 ? " beam" : " beams");
       std::fprintf(stderr, "progress: %s %.0f%% search level %d: J_G = %.2f mm^2 (%s)\n", e.stage,
                    100.0 * e.fraction, s.level, s.jgMm2, line.c_str());
-      last = e.stage;
-    } else if (e.stage != last || e.fraction >= 1.0) {
+    } else if (e.stage != last || (e.fraction >= 1.0 && !ended)) {
       std::fprintf(stderr, "progress: %s %.0f%%\n", e.stage, 100.0 * e.fraction);
-      last = e.stage;
+      ended = e.fraction >= 1.0;
     }
+    last = e.stage;
     return true;
   };
 }

@@ -121,6 +121,19 @@ TEST(Cli, ProgressPrintsStagesAndSearchLevels) {
   const Json m = Json::parse(rf)["multidir"];
   EXPECT_NE(r.err.find("progress: read 0%\n"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("progress: program 100%\n"), std::string::npos) << r.err;
+  // Outside the search levels, a stage's lines alternate: start (0 %), end (100 %), never the
+  // same end twice in a row (validate used to print its 100 % twice).
+  {
+    std::istringstream stages(r.err);
+    std::string previous;
+    for (std::string line; std::getline(stages, line);) {
+      if (line.find("search level") != std::string::npos) continue;
+      if (line.find(" 100%") != std::string::npos) {
+        EXPECT_NE(line, previous) << r.err;
+      }
+      previous = line;
+    }
+  }
   const std::regex level(R"(progress: decompose \d+% search level (\d+): J_G = ([0-9.]+) mm\^2 \((greedy|constrained|beam|chosen)(, \d+ beams?)?\))");
   std::istringstream lines(r.err);
   std::string line;
