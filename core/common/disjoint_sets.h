@@ -2,6 +2,7 @@
 // Union-find over 0..n-1 with path halving; the smaller index becomes the root, so roots are
 // deterministic. Used for shells, layer regions, boundary loops and contour cells.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <numeric>
 #include <vector>

@@ -5,7 +5,8 @@
 // L_c is negative semi-definite; we store K = -L_c (positive semi-definite) and solve
 //   heat (Eq. 6 times V):   (V + t K) u = V u0,
 //   Poisson (Eq. 9):        K phi = -b,   b_i = sum_k -(S_k n_k . g_k) / 3   (Eq. 8),
-// (heat: sparse LDLT, factored once; Poisson: IC-preconditioned conjugate gradients, see the header)
+// (heat: symmetric Gauss-Seidel sweeps in order of distance from the sources, or the sparse LDLT
+// reference, HeatSolver; Poisson: IC-preconditioned conjugate gradients, see the header)
 // where g_k is the normalised gradient of u in tet k (Eq. 7, g_k / |g_k|) and S_k n_k the outward
 // area vector of the face of tet k opposite vertex i. (The header's X = -grad u / |grad u| is -g_k;
 // the two readings give the same phi, growing away from the sources.) K is singular (constants);
@@ -20,10 +21,12 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <queue>
-#include <limits>
 #include <string>
+
+#include "common/disjoint_sets.h"
 
 namespace omnislice {
 namespace {
@@ -42,23 +45,6 @@ constexpr int kFace[4][3] = {{1, 2, 3}, {0, 3, 2}, {0, 1, 3}, {0, 2, 1}};
 // The six edges (i, j) of a tet and their opposite edges (p, q).
 constexpr int kEdge[6][4] = {{0, 1, 2, 3}, {0, 2, 1, 3}, {0, 3, 1, 2},
                              {1, 2, 0, 3}, {1, 3, 0, 2}, {2, 3, 0, 1}};
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) {
-      parent[x] = parent[parent[x]];
-      x = parent[x];
-    }
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 // Preconditioned conjugate gradients on a symmetric positive definite matrix, with a progress /
 // cancel check every few iterations. Returns the iteration count, -1 when cancelled, -2 when not
@@ -304,7 +290,7 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
 
   areaVectors.assign(T * 12, 0.0);
   invThreeVolume.assign(T, 0.0);
-  UnionFind components(n);
+  DisjointSets components(n);
   for (size_t k = 0; k < T; ++k) {
     uint32_t* t = &mesh.tets[4 * k];
     Eigen::Vector3d v[4];
