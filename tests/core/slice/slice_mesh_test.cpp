@@ -331,6 +331,33 @@ TEST(SliceMesh, OverlappingShellsAreUnited) {
   }
 }
 
+TEST(SliceMesh, ManyOverlappingShellsFormIslandsWithHoles) {
+  // A support-like soup past the direct island-tree union (over 64 loops a layer): 164 unit
+  // boxes overlapping by half along the four sides of a 21 x 21 square frame. One island, the
+  // frame minus its 19 x 19 hole (area 80), and a second island of 30 overlapping boxes inside
+  // the hole, a 15.5 x 1 strip: areas from the union, not from the loop count.
+  Mesh soup;
+  for (int k = 0; k <= 40; ++k) {
+    const double t = 0.5 * k;
+    soup = test::appendMesh(soup, makeBox(t, 0, 0, t + 1, 1, 1));
+    soup = test::appendMesh(soup, makeBox(t, 20, 0, t + 1, 21, 1));
+    soup = test::appendMesh(soup, makeBox(0, t, 0, 1, t + 1, 1));
+    soup = test::appendMesh(soup, makeBox(20, t, 0, 21, t + 1, 1));
+  }
+  for (int k = 0; k < 30; ++k) soup = test::appendMesh(soup, makeBox(3 + 0.5 * k, 10, 0, 4 + 0.5 * k, 11, 1));
+  SliceOptions o;
+  o.layerHeight = 0.25;
+  const SliceResult r = sliceMesh(soup, o);
+  expectWellFormed(r, soup, 0.25, "frame soup");
+  for (const SliceLayer& layer : r.layers) {
+    ASSERT_EQ(layer.islands.size(), 2u);
+    size_t holes = 0;
+    for (const ExPolygon2& ex : layer.islands) holes += ex.holes.size();
+    EXPECT_EQ(holes, 1u);
+    EXPECT_NEAR(layerArea(layer), 21.0 * 21.0 - 19.0 * 19.0 + 15.5, 1e-6);
+  }
+}
+
 TEST(SliceMesh, InsideOutMeshGivesTheSameRegions) {
   // Non-zero union: with every face flipped, loops reverse (outer CW, holes CCW) yet the winding
   // is still non-zero exactly inside the solid, so islands and holes are unchanged.
