@@ -1390,8 +1390,8 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
         return fail(Status::InvalidOption, "sequence: collision model index out of range");
   }
 
-  std::vector<uint32_t> lowerLeft(n), blockersLeft(n, 0);
-  for (size_t i = 0; i < n; ++i) lowerLeft[i] = uint32_t(tree.nodes[i].lower.size());
+  std::vector<uint32_t> lowerLeft0(n), blockers0(n, 0);
+  for (size_t i = 0; i < n; ++i) lowerLeft0[i] = uint32_t(tree.nodes[i].lower.size());
   // Ancestors (through lower-nodes) as bitsets, nodes in (layer, region) order so lower-nodes
   // come first.
   const size_t words = (n + 63) / 64;
@@ -1406,7 +1406,8 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
   };
   // Criterion 2: x may be printed only once every u with x in pcs[u] is printed, except where x
   // is an ancestor of u (that collision happens in every order).
-  std::vector<std::vector<uint32_t>> avoidable(n);
+  std::vector<std::vector<uint32_t>> avoidable(n), blockedBy(n);
+  size_t unavoidable = 0;
   for (size_t u = 0; u < n; ++u) {
     bool stuck = false;
     for (uint32_t x : collisions.pcs[u]) {
@@ -1415,99 +1416,145 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
         continue;
       }
       avoidable[u].push_back(x);
-      ++blockersLeft[x];
+      blockedBy[x].push_back(uint32_t(u));
+      ++blockers0[x];
     }
-    out.unavoidableNodes += stuck;
+    unavoidable += stuck;
   }
-  std::vector<uint8_t> printed(n, 0);
   auto dist = [&](uint32_t a, uint32_t b) {
     return (tree.nodes[a].centroid - tree.nodes[b].centroid).norm();
   };
-  auto c2 = [&](uint32_t x) { return blockersLeft[x] == 0; };
   auto isUpper = [&](uint32_t a, uint32_t b) {
     const auto& up = tree.nodes[a].upper;
     return std::binary_search(up.begin(), up.end(), b);
   };
-
   // Start: the first layer's lowest centroid (first non-empty layer = nodes[0].layer).
   uint32_t lowest = 0;
   for (uint32_t i = 0; i < n && tree.nodes[i].layer == tree.nodes[0].layer; ++i)
     if (tree.nodes[i].centroid.z() < tree.nodes[lowest].centroid.z()) lowest = i;
 
-  std::vector<uint32_t> avail;  // Criterion-1 candidates
-  for (uint32_t i = 0; i < n; ++i)
-    if (lowerLeft[i] == 0) avail.push_back(i);
-
-  int64_t cur = -1;
-  while (out.order.size() < n) {
-    if (avail.empty())
-      return fail(Status::Internal, "sequence: no node meets Criterion 1 (cyclic links)");
-    const Eigen::Vector3d from = cur >= 0 ? tree.nodes[cur].centroid : tree.nodes[lowest].centroid;
-    auto nearestOf = [&](auto&& pred) {
-      int64_t best = -1;
-      double bestD = std::numeric_limits<double>::infinity();
-      for (uint32_t c : avail) {
-        if (!pred(c)) continue;
-        const double d = (tree.nodes[c].centroid - from).norm();
-        if (d < bestD || (d == bestD && c < best)) {
-          bestD = d;
-          best = c;
-        }
-      }
-      return best;
+  // Where A3 must break Criterion 2 (no candidate meets it), three policies (Relaxation); A3
+  // keeps the order with the fewest colliding nodes, then retractions, then air moves.
+  enum class Relaxation {
+    Blockers,   // the candidates with the fewest unprinted blockers
+    Undecided,  // ... the fewest blockers whose collision is not yet decided
+    Release,    // a node whose collision is decided (a node of its PCS printed first) stops
+                // blocking the rest of its PCS: that would only shift collisions onto others
+  };
+  auto run = [&](Relaxation policy, PrintSequence& seq) -> bool {
+    std::vector<uint32_t> lowerLeft = lowerLeft0, blockersLeft = blockers0;
+    std::vector<uint8_t> printed(n, 0), released(n, 0), decided(n, 0);
+    auto release = [&](uint32_t u) {
+      if (released[u]) return;
+      released[u] = 1;
+      for (uint32_t x : avoidable[u]) --blockersLeft[x];
     };
-    int64_t pick = -1;
-    switch (kind) {
-      case TraversalKind::LPT: {
-        uint32_t minLayer = std::numeric_limits<uint32_t>::max();
-        for (uint32_t c : avail) minLayer = std::min(minLayer, tree.nodes[c].layer);
-        pick = nearestOf([&](uint32_t c) { return tree.nodes[c].layer == minLayer; });
-        break;
-      }
-      case TraversalKind::DPT:
-        if (cur >= 0) pick = nearestOf([&](uint32_t c) { return isUpper(uint32_t(cur), c); });
-        if (pick < 0) pick = nearestOf([](uint32_t) { return true; });
-        break;
-      case TraversalKind::A3:
-        if (cur >= 0)
-          pick = nearestOf([&](uint32_t c) { return c2(c) && isUpper(uint32_t(cur), c); });
-        if (pick < 0) pick = nearestOf([&](uint32_t c) { return c2(c); });
-        if (pick < 0) {
-          // No candidate meets Criterion 2 (cycles of potential collisions, e.g. where two
-          // fronts close a loop): among the candidates that would break it for the fewest
-          // unprinted nodes, an upper-node of the current node first, else the nearest.
-          uint32_t fewest = std::numeric_limits<uint32_t>::max();
-          for (uint32_t c : avail) fewest = std::min(fewest, blockersLeft[c]);
-          if (cur >= 0)
-            pick = nearestOf([&](uint32_t c) { return blockersLeft[c] == fewest && isUpper(uint32_t(cur), c); });
-          if (pick < 0) pick = nearestOf([&](uint32_t c) { return blockersLeft[c] == fewest; });
-          ++out.criterion2Relaxed;
+    auto c2 = [&](uint32_t x) { return blockersLeft[x] == 0; };
+    auto cost = [&](uint32_t c) {
+      if (policy != Relaxation::Undecided) return blockersLeft[c];
+      uint32_t k = 0;
+      for (uint32_t u : blockedBy[c]) k += !printed[u] && !decided[u];
+      return k;
+    };
+    std::vector<uint32_t> avail;  // Criterion-1 candidates
+    for (uint32_t i = 0; i < n; ++i)
+      if (lowerLeft[i] == 0) avail.push_back(i);
+    int64_t cur = -1;
+    while (seq.order.size() < n) {
+      if (avail.empty()) return false;
+      const Eigen::Vector3d from = cur >= 0 ? tree.nodes[cur].centroid : tree.nodes[lowest].centroid;
+      auto nearestOf = [&](auto&& pred) {
+        int64_t best = -1;
+        double bestD = std::numeric_limits<double>::infinity();
+        for (uint32_t c : avail) {
+          if (!pred(c)) continue;
+          const double d = (tree.nodes[c].centroid - from).norm();
+          if (d < bestD || (d == bestD && c < best)) {
+            bestD = d;
+            best = c;
+          }
         }
-        break;
-    }
-    const uint32_t p = uint32_t(pick);
-    if (cur >= 0 && !isUpper(uint32_t(cur), p)) {
-      ++out.retractions;
-      out.airMoveMm += dist(uint32_t(cur), p);
-    }
-    out.order.push_back(p);
-    printed[p] = 1;
-    avail.erase(std::find(avail.begin(), avail.end(), p));
-    for (uint32_t x : avoidable[p]) --blockersLeft[x];
-    for (uint32_t u : tree.nodes[p].upper)
-      if (--lowerLeft[u] == 0) avail.push_back(u);
-    cur = p;
-  }
-  // Collision check: node u printed after some x in pcs[u].
-  std::vector<size_t> pos(n);
-  for (size_t i = 0; i < n; ++i) pos[out.order[i]] = i;
-  for (size_t u = 0; u < n; ++u)
-    for (uint32_t x : collisions.pcs[u])
-      if (pos[x] < pos[u]) {
-        ++out.collidingNodes;
-        break;
+        return best;
+      };
+      int64_t pick = -1;
+      switch (kind) {
+        case TraversalKind::LPT: {
+          uint32_t minLayer = std::numeric_limits<uint32_t>::max();
+          for (uint32_t c : avail) minLayer = std::min(minLayer, tree.nodes[c].layer);
+          pick = nearestOf([&](uint32_t c) { return tree.nodes[c].layer == minLayer; });
+          break;
+        }
+        case TraversalKind::DPT:
+          if (cur >= 0) pick = nearestOf([&](uint32_t c) { return isUpper(uint32_t(cur), c); });
+          if (pick < 0) pick = nearestOf([](uint32_t) { return true; });
+          break;
+        case TraversalKind::A3:
+          if (cur >= 0)
+            pick = nearestOf([&](uint32_t c) { return c2(c) && isUpper(uint32_t(cur), c); });
+          if (pick < 0) pick = nearestOf([&](uint32_t c) { return c2(c); });
+          if (pick < 0) {
+            // No candidate meets Criterion 2 (cycles of potential collisions, e.g. where two
+            // fronts close a loop): among the candidates that would break it for the fewest
+            // nodes, an upper-node of the current node first, else the nearest.
+            uint32_t fewest = std::numeric_limits<uint32_t>::max();
+            for (uint32_t c : avail) fewest = std::min(fewest, cost(c));
+            if (cur >= 0)
+              pick = nearestOf([&](uint32_t c) { return cost(c) == fewest && isUpper(uint32_t(cur), c); });
+            if (pick < 0) pick = nearestOf([&](uint32_t c) { return cost(c) == fewest; });
+            ++seq.criterion2Relaxed;
+          }
+          break;
       }
-  out.collisionFree = out.collidingNodes == 0;
+      const uint32_t p = uint32_t(pick);
+      if (cur >= 0 && !isUpper(uint32_t(cur), p)) {
+        ++seq.retractions;
+        seq.airMoveMm += dist(uint32_t(cur), p);
+      }
+      seq.order.push_back(p);
+      printed[p] = 1;
+      avail.erase(std::find(avail.begin(), avail.end(), p));
+      release(p);
+      for (uint32_t u : blockedBy[p]) {
+        if (printed[u]) continue;
+        decided[u] = 1;  // p printed before u: u collides whatever comes next
+        if (policy == Relaxation::Release) release(u);
+      }
+      for (uint32_t u : tree.nodes[p].upper)
+        if (--lowerLeft[u] == 0) avail.push_back(u);
+      cur = p;
+    }
+    // Collision check: node u printed after some x in pcs[u].
+    std::vector<size_t> pos(n);
+    for (size_t i = 0; i < n; ++i) pos[seq.order[i]] = i;
+    for (size_t u = 0; u < n; ++u)
+      for (uint32_t x : collisions.pcs[u])
+        if (pos[x] < pos[u]) {
+          ++seq.collidingNodes;
+          break;
+        }
+    seq.collisionFree = seq.collidingNodes == 0;
+    return true;
+  };
+  const std::vector<Relaxation> policies =
+      kind == TraversalKind::A3
+          ? std::vector<Relaxation>{Relaxation::Blockers, Relaxation::Undecided, Relaxation::Release}
+          : std::vector<Relaxation>{Relaxation::Blockers};
+  bool have = false;
+  for (const Relaxation policy : policies) {
+    PrintSequence seq;
+    seq.kind = kind;
+    if (!run(policy, seq)) return fail(Status::Internal, "sequence: no node meets Criterion 1 (cyclic links)");
+    const bool better = !have || seq.collidingNodes < out.collidingNodes ||
+                        (seq.collidingNodes == out.collidingNodes &&
+                         (seq.retractions < out.retractions ||
+                          (seq.retractions == out.retractions && seq.airMoveMm < out.airMoveMm)));
+    if (better) {
+      out = std::move(seq);
+      have = true;
+    }
+    if (out.criterion2Relaxed == 0) break;  // Criterion 2 held throughout: the policies agree
+  }
+  out.unavoidableNodes = unavoidable;
   out.ms = msSince(t0);
   return out;
 }

@@ -120,8 +120,8 @@ struct PrintSequence : Outcome {
   size_t unavoidableNodes = 0;   // nodes whose PCS holds one of their own ancestors (through
                                  // lower-nodes): Criterion 1 makes them collide in every order
   size_t criterion2Relaxed = 0;  // A3 only: steps where no candidate met Criterion 2 (then
-                                 // the candidates blocking the fewest unprinted nodes, an
-                                 // upper-node of the current one first, else the nearest)
+                                 // the candidates blocking the fewest nodes, an upper-node of
+                                 // the current one first, else the nearest)
   double ms = 0;
 };
 
@@ -132,7 +132,10 @@ struct PrintSequence : Outcome {
 // to the first layer's lowest centroid. Criterion 2 leaves out the unavoidable PCS entries (a
 // node's own ancestors, printed before it whatever the order): they would block their ancestors
 // for nothing. So with criterion2Relaxed == 0, A3's colliding nodes are exactly the unavoidable
-// ones. LPT and DPT also start at that lowest centroid; ties in distance go to the lower node
+// ones. Where no candidate meets Criterion 2, A3 breaks it for the candidates blocking the fewest
+// nodes, counted three ways (all unprinted blockers; only those whose collision is not yet
+// decided; or letting a decided node stop blocking the rest of its PCS), and keeps the order with
+// the fewest colliding nodes, then retractions, then air moves (print_order.cpp, Relaxation). LPT and DPT also start at that lowest centroid; ties in distance go to the lower node
 // index. Linear in the PCS entries plus O(k^2) nearest-candidate scans (k nodes).
 // Statuses: InvalidOption (tree or collision model carries an error, pcs size differs from the
 // node count, links not symmetric or not between consecutive layers, indices out of range),

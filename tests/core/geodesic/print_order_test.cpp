@@ -1081,6 +1081,24 @@ TEST(PrintOrderTraversal, BadInputAndNames) {
   EXPECT_EQ(r.unavoidableNodes, 0u);
   EXPECT_FALSE(r.collisionFree);
   expectCriterion1(tree, r);
+  // Two stacks a (nodes 0, 2, 4) and b (1, 3, 5) whose tops reach across: a's top has b's two
+  // lower discs in its PCS and b's top a's. Every order collides (a cycle through Criterion 1),
+  // but one colliding node suffices: once A3 breaks Criterion 2 for one bottom disc, the other
+  // stack's top collides whatever follows. Each relaxation policy finds that node (the first
+  // breaks Criterion 2 twice while that top keeps blocking, the release policy once); A3 keeps
+  // the fewest collisions, then retractions, then air moves.
+  ASSERT_EQ(tree.nodes.size(), 6u);
+  CollisionModel across;
+  across.pcs.assign(6, {});
+  across.pcs[4] = {1, 3};
+  across.pcs[5] = {0, 2};
+  const PrintSequence x = printSequence(tree, across, TraversalKind::A3);
+  ASSERT_TRUE(x.ok()) << x.message;
+  EXPECT_EQ(x.unavoidableNodes, 0u);
+  EXPECT_GE(x.criterion2Relaxed, 1u);
+  EXPECT_EQ(x.collidingNodes, 1u);
+  EXPECT_FALSE(x.collisionFree);
+  expectCriterion1(tree, x);
   TraversalKind k = TraversalKind::LPT;
   EXPECT_TRUE(parseTraversal("a3", k));
   EXPECT_EQ(k, TraversalKind::A3);
