@@ -1348,6 +1348,79 @@ bool parseTraversal(const std::string& text, TraversalKind& kind) {
   return true;
 }
 
+namespace {
+
+// Strongly connected components (iterative Tarjan) of the precedence graph: lower-node -> node
+// (Criterion 1) and u -> x for x in pcs[u] (Criterion 2). A component holding a PCS link u -> x
+// is a cycle of constraints, so every order breaks one of its PCS links and makes one of its
+// nodes collide; components are disjoint, so their count bounds the colliding nodes from below.
+size_t cyclesWithPcsLink(const SkeletonTree& tree, const CollisionModel& collisions) {
+  const size_t n = tree.nodes.size();
+  auto successors = [&](uint32_t v, size_t k, uint32_t& w) {
+    const auto& up = tree.nodes[v].upper;
+    if (k < up.size()) {
+      w = up[k];
+      return true;
+    }
+    k -= up.size();
+    if (k < collisions.pcs[v].size()) {
+      w = collisions.pcs[v][k];
+      return true;
+    }
+    return false;
+  };
+  constexpr uint32_t kUnseen = std::numeric_limits<uint32_t>::max();
+  std::vector<uint32_t> index(n, kUnseen), low(n, 0), comp(n, kUnseen), stack;
+  std::vector<uint8_t> onStack(n, 0);
+  std::vector<std::pair<uint32_t, size_t>> call;  // (node, next successor)
+  uint32_t next = 0, comps = 0;
+  for (uint32_t root = 0; root < n; ++root) {
+    if (index[root] != kUnseen) continue;
+    call.push_back({root, 0});
+    index[root] = low[root] = next++;
+    stack.push_back(root);
+    onStack[root] = 1;
+    while (!call.empty()) {
+      auto& [v, k] = call.back();
+      uint32_t w = 0;
+      if (successors(v, k, w)) {
+        ++k;
+        if (index[w] == kUnseen) {
+          index[w] = low[w] = next++;
+          stack.push_back(w);
+          onStack[w] = 1;
+          call.push_back({w, 0});
+        } else if (onStack[w]) {
+          low[v] = std::min(low[v], index[w]);
+        }
+        continue;
+      }
+      if (low[v] == index[v]) {
+        uint32_t x;
+        do {
+          x = stack.back();
+          stack.pop_back();
+          onStack[x] = 0;
+          comp[x] = comps;
+        } while (x != v);
+        ++comps;
+      }
+      const uint32_t done = v;
+      call.pop_back();
+      if (!call.empty()) low[call.back().first] = std::min(low[call.back().first], low[done]);
+    }
+  }
+  std::vector<uint8_t> cyclic(comps, 0);
+  for (uint32_t u = 0; u < n; ++u)
+    for (uint32_t x : collisions.pcs[u])
+      if (comp[x] == comp[u]) cyclic[comp[u]] = 1;
+  size_t count = 0;
+  for (uint8_t c : cyclic) count += c;
+  return count;
+}
+
+}  // namespace
+
 PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& collisions,
                             TraversalKind kind) {
   const auto t0 = Clock::now();
@@ -1555,6 +1628,7 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
     if (out.criterion2Relaxed == 0) break;  // Criterion 2 held throughout: the policies agree
   }
   out.unavoidableNodes = unavoidable;
+  out.collidingLowerBound = cyclesWithPcsLink(tree, collisions);
   out.ms = msSince(t0);
   return out;
 }

@@ -119,6 +119,9 @@ struct PrintSequence : Outcome {
   size_t collidingNodes = 0;     // nodes printed after one of their PCS
   size_t unavoidableNodes = 0;   // nodes whose PCS holds one of their own ancestors (through
                                  // lower-nodes): Criterion 1 makes them collide in every order
+  size_t collidingLowerBound = 0;  // no order has fewer colliding nodes: the cycles (strongly
+                                   // connected components) of "lower-node before node" and "u
+                                   // before every node of pcs[u]" that hold a PCS link
   size_t criterion2Relaxed = 0;  // A3 only: steps where no candidate met Criterion 2 (then
                                  // the candidates blocking the fewest nodes, an upper-node of
                                  // the current one first, else the nearest)

@@ -35,6 +35,7 @@ Json sequenceJson(const PrintSequence& s) {
           {"air_move_mm", finite(s.airMoveMm)},
           {"collision_free", s.collisionFree},
           {"colliding_nodes", s.collidingNodes},
+          {"colliding_lower_bound", s.collidingLowerBound},
           {"criterion2_relaxed", s.criterion2Relaxed},
           {"unavoidable_nodes", s.unavoidableNodes},
           {"ms", s.ms}};

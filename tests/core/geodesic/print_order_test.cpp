@@ -393,6 +393,7 @@ void expectCounts(const SkeletonTree& tree, const CollisionModel& cm, const Prin
   }
   EXPECT_EQ(seq.collidingNodes, colliding);
   EXPECT_EQ(seq.collisionFree, colliding == 0);
+  EXPECT_GE(seq.collidingNodes, seq.collidingLowerBound) << traversalName(seq.kind);
 }
 
 // Ancestors of every node (through lower-nodes), written apart from the library.
@@ -1099,6 +1100,10 @@ TEST(PrintOrderTraversal, BadInputAndNames) {
   EXPECT_EQ(x.collidingNodes, 1u);
   EXPECT_FALSE(x.collisionFree);
   expectCriterion1(tree, x);
+  EXPECT_EQ(u.collidingLowerBound, 1u);
+  EXPECT_EQ(r.collidingLowerBound, 1u);
+  EXPECT_EQ(x.collidingLowerBound, 1u);
+  EXPECT_EQ(printSequence(tree, cm, TraversalKind::A3).collidingLowerBound, 0u);
   TraversalKind k = TraversalKind::LPT;
   EXPECT_TRUE(parseTraversal("a3", k));
   EXPECT_EQ(k, TraversalKind::A3);
@@ -1110,6 +1115,61 @@ TEST(PrintOrderTraversal, BadInputAndNames) {
   EXPECT_STREQ(traversalName(TraversalKind::A3), "A3");
   EXPECT_STREQ(traversalName(TraversalKind::LPT), "LPT");
   EXPECT_STREQ(traversalName(TraversalKind::DPT), "DPT");
+}
+
+// The lower bound against every order: on two stacks of three discs with random PCS links (6
+// nodes, each order respecting Criterion 1 enumerated), no order collides on fewer nodes than the
+// bound, the bound is reached whenever the cycles are disjoint single links, and A3 never beats
+// the best order (it is one of them).
+TEST(PrintOrderTraversal, LowerBoundHoldsForEveryOrder) {
+  std::vector<CurvedLayer> layers;
+  SkeletonTree tree;
+  discStacks({0, 14}, 3, 5, layers, tree);
+  const size_t n = tree.nodes.size();
+  uint64_t state = 12345;
+  auto rnd = [&]() {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return uint32_t(state >> 33);
+  };
+  size_t tight = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    CollisionModel cm;
+    cm.pcs.assign(n, {});
+    const int links = 1 + int(rnd() % 5);
+    for (int l = 0; l < links; ++l) {
+      const uint32_t u = rnd() % n, x = rnd() % n;
+      if (u != x) cm.pcs[u].push_back(x);
+    }
+    for (auto& p : cm.pcs) {
+      std::sort(p.begin(), p.end());
+      p.erase(std::unique(p.begin(), p.end()), p.end());
+    }
+    std::vector<uint32_t> order(n);
+    std::iota(order.begin(), order.end(), 0u);
+    size_t best = n + 1;
+    do {
+      std::vector<size_t> pos(n);
+      for (size_t k = 0; k < n; ++k) pos[order[k]] = k;
+      bool valid = true;
+      for (size_t v = 0; v < n && valid; ++v)
+        for (uint32_t l : tree.nodes[v].lower) valid = valid && pos[l] < pos[v];
+      if (!valid) continue;
+      size_t colliding = 0;
+      for (size_t u = 0; u < n; ++u) {
+        bool c = false;
+        for (uint32_t x : cm.pcs[u]) c = c || pos[x] < pos[u];
+        colliding += c;
+      }
+      best = std::min(best, colliding);
+    } while (std::next_permutation(order.begin(), order.end()));
+    const PrintSequence a3 = printSequence(tree, cm, TraversalKind::A3);
+    ASSERT_TRUE(a3.ok()) << a3.message;
+    EXPECT_LE(a3.collidingLowerBound, best) << "trial " << trial;
+    EXPECT_GE(a3.collidingNodes, best) << "trial " << trial;
+    expectCounts(tree, cm, a3);
+    tight += a3.collidingLowerBound == best;
+  }
+  EXPECT_GT(tight, 150u);  // mostly exact on small graphs
 }
 
 // ================================================================================================
