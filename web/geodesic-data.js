@@ -363,7 +363,8 @@ export const TRAVERSALS = ['LPT', 'DPT', 'A3'];
 
 /**
  * Rows of the traversal table from report.geodesic.traversals: {name, retractions, airMoveMm,
- * collisionFree, collidingNodes, chosen (the sequence the program follows), fewestRetractions,
+ * collisionFree, collidingNodes, collidingLowerBound (no order collides on fewer nodes), chosen
+ * (the sequence the program follows), fewestRetractions,
  * shortestAir (among the collision-free ones; all when none is)}. Absent traversals are left out.
  */
 export function traversalRows(g) {
@@ -375,6 +376,7 @@ export function traversalRows(g) {
     airMoveMm: Number.isFinite(t[name].air_move_mm) ? t[name].air_move_mm : NaN,
     collisionFree: t[name].collision_free === true,
     collidingNodes: Number.isFinite(t[name].colliding_nodes) ? t[name].colliding_nodes : NaN,
+    collidingLowerBound: Number.isFinite(t[name].colliding_lower_bound) ? t[name].colliding_lower_bound : NaN,
     chosen: name === chosen,
   }));
   const pool = rows.some((r) => r.collisionFree) ? rows.filter((r) => r.collisionFree) : rows;

@@ -41,6 +41,9 @@ export function fillTraversalTable(tbody, g, { onChoose, disabled = false } = {}
     name.title = { LPT: 'layer priority: layer by layer', DPT: 'depth priority: up each branch', A3: 'Algorithm 3: up a branch while no collision is possible' }[r.name] || '';
     const free = cell(r.collisionFree ? 'yes' : `no${Number.isFinite(r.collidingNodes) ? ` (${figure(r.collidingNodes)})` : ''}`);
     free.className = r.collisionFree ? 'ok' : 'alert';
+    if (!r.collisionFree && r.collidingLowerBound > 0) {
+      free.title = `${figure(r.collidingNodes)} IGDS collide; no order has fewer than ${figure(r.collidingLowerBound)} (cycles of collisions, e.g. where two growth fronts close a loop)`;
+    }
     const action = document.createElement('td');
     if (r.chosen) {
       action.textContent = 'printed';

@@ -270,11 +270,13 @@ test('traversal rows: the chosen one marked, the best figures among the collisio
     sequence: 'A3',
     traversals: {
       LPT: { retractions: 120, air_move_mm: 2300, collision_free: true, colliding_nodes: 0 },
-      DPT: { retractions: 2, air_move_mm: 90, collision_free: false, colliding_nodes: 14 },
+      DPT: { retractions: 2, air_move_mm: 90, collision_free: false, colliding_nodes: 14, colliding_lower_bound: 3 },
       A3: { retractions: 20, air_move_mm: 600, collision_free: true, colliding_nodes: 0 },
     },
   };
   const rows = traversalRows(g);
+  assert.equal(rows[1].collidingLowerBound, 3);
+  assert.ok(Number.isNaN(rows[0].collidingLowerBound), 'absent: NaN');
   assert.deepEqual(rows.map((r) => r.name), TRAVERSALS);
   assert.deepEqual(rows.map((r) => r.chosen), [false, false, true]);
   assert.deepEqual(rows.map((r) => r.fewestRetractions), [false, false, true], 'DPT collides: not counted');

@@ -59,7 +59,7 @@ describe('geodesic method: wasm (Node) vs native CLI', { skip: why || nativeWhy 
     }
     for (const k of ['nodes', 'edges', 'is_tree', 'branch_points', 'merges']) assert.equal(a.tree[k], b.tree[k], `tree.${k}`);
     for (const name of TRAVERSALS) {
-      for (const k of ['retractions', 'collision_free', 'colliding_nodes', 'unavoidable_nodes', 'criterion2_relaxed']) {
+      for (const k of ['retractions', 'collision_free', 'colliding_nodes', 'colliding_lower_bound', 'unavoidable_nodes', 'criterion2_relaxed']) {
         assert.equal(a.traversals[name][k], b.traversals[name][k], `${name}.${k}`);
       }
       close(a.traversals[name].air_move_mm, b.traversals[name].air_move_mm, 1e-5, `${name}.air_move_mm`);
