@@ -102,6 +102,24 @@ struct Progress {
   }
 };
 
+// Each triangle of m with indices in range (as AabbTree), its corners and its bounding box grown
+// by reach: visit(a, b, c, lo, hi). Progress ticks over the faces in [from, to]; false when
+// cancelled.
+template <class Visit>
+bool forEachTriangleBox(const Mesh& m, double reach, Progress& progress, double from, double to, Visit&& visit) {
+  const size_t nv = m.vertexCount(), faces = m.faceCount();
+  for (size_t f = 0; f < faces; ++f) {
+    if (!progress.tick(f, faces, from, to)) return false;
+    const uint32_t* t = &m.triangles[3 * f];
+    if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;
+    const Eigen::Vector3d a = m.vertex(t[0]), b = m.vertex(t[1]), c = m.vertex(t[2]);
+    const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
+                          hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+    visit(a, b, c, lo, hi);
+  }
+  return true;
+}
+
 // The samples bucketed into a dense grid of cells (CSR), for visiting those in a box. The cell
 // size starts at `cell` and grows until the grid has at most about two cells per sample.
 class SampleGrid {
@@ -461,16 +479,9 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   std::vector<double> near2(samples.size(), w * w);
   {
     const SampleGrid grid(samples, w);
-    const size_t nv = partMesh.vertexCount(), faces = partMesh.faceCount();
     const double reach = w + 1e-9;  // grows the boxes by far more than rounding
-    for (size_t f = 0; f < faces; ++f) {
-      if (!progress.tick(f, faces, 0.0, 0.2)) return fail(Status::Cancelled, "verify cancelled");
-      const uint32_t* t = &partMesh.triangles[3 * f];
-      if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;  // as AabbTree
-      const Eigen::Vector3d a = partMesh.vertex(t[0]), b = partMesh.vertex(t[1]),
-                            c = partMesh.vertex(t[2]);
-      const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
-                            hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+    const bool done = forEachTriangleBox(partMesh, reach, progress, 0.0, 0.2, [&](const Eigen::Vector3d& a,
+        const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
       // A sample that close lies within w of the triangle's plane too (1e-9 mm over it: far more
       // than rounding); degenerate triangles skip this test.
       Eigen::Vector3d n = (b - a).cross(c - a);
@@ -484,7 +495,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         const double d2 = (closestPointOnTriangle(p, a, b, c) - p).squaredNorm();
         if (d2 < near2[i]) near2[i] = d2;
       });
-    }
+    });
+    if (!done) return fail(Status::Cancelled, "verify cancelled");
   }
   std::vector<uint8_t> nearSurface(samples.size(), 0);
   size_t insideCount = 0, partSamples = 0;
@@ -780,22 +792,15 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     {
       const double r = half * (1 - 1e-9), r2 = r * r;
       const double reach = r + 1e-9;  // grows the boxes by far more than rounding
-      const size_t nv = partMesh.vertexCount(), faces = partMesh.faceCount();
-      for (size_t f = 0; f < faces; ++f) {
-        if (!progress.tick(f, faces, 0.7, 0.8)) return fail(Status::Cancelled, "verify cancelled");
-        const uint32_t* t = &partMesh.triangles[3 * f];
-        if (t[0] >= nv || t[1] >= nv || t[2] >= nv) continue;  // as AabbTree
-        const Eigen::Vector3d a = partMesh.vertex(t[0]), b = partMesh.vertex(t[1]),
-                              c = partMesh.vertex(t[2]);
-        const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - reach,
-                              hi = a.cwiseMax(b).cwiseMax(c).array() + reach;
+      const bool done = forEachTriangleBox(partMesh, reach, progress, 0.7, 0.8, [&](const Eigen::Vector3d& a,
+          const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
         const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
                       ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
         const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),
                       jb = std::min(j1, int64_t(std::floor(hi.y() / g)));
         const int64_t ka = std::max(k0, int64_t(std::ceil(lo.z() / g))),
                       kb = std::min(k1, int64_t(std::floor(hi.z() / g)));
-        if (ia > ib || ja > jb || ka > kb) continue;
+        if (ia > ib || ja > jb || ka > kb) return;
         // The plane: |n.(p - a)| <= reach for every point that close. Only for faces not steeper
         // than about 78 degrees; the 1e-6 mm margin covers the rounding of zc.
         Eigen::Vector3d nrm = (b - a).cross(c - a);
@@ -821,7 +826,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
             }
           }
         }
-      }
+      });
+      if (!done) return fail(Status::Cancelled, "verify cancelled");
     }
     rep.gridPoints = interior.count();
     const double rax = 0.75 * h, rlat = 0.75 * w;
