@@ -757,6 +757,21 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
                   j1 = int64_t(hi.y()), k0 = int64_t(lo.z()), k1 = int64_t(hi.z());
     const int64_t nx = std::max<int64_t>(0, i1 - i0 + 1), ny = std::max<int64_t>(0, j1 - j0 + 1);
     const size_t n = size_t(total);
+    // The grid points inside the box [lo, hi], clamped to the grid: indices [a, b] per axis
+    // (empty when a > b on some axis).
+    struct Cells {
+      int64_t a[3], b[3];
+      bool empty() const { return a[0] > b[0] || a[1] > b[1] || a[2] > b[2]; }
+    };
+    auto cellsIn = [&](const Eigen::Vector3d& boxLo, const Eigen::Vector3d& boxHi) {
+      const int64_t first[3] = {i0, j0, k0}, last[3] = {i1, j1, k1};
+      Cells c;
+      for (int d = 0; d < 3; ++d) {
+        c.a[d] = std::max(first[d], int64_t(std::ceil(boxLo[d] / g)));
+        c.b[d] = std::min(last[d], int64_t(std::floor(boxHi[d] / g)));
+      }
+      return c;
+    };
     auto index = [&](int64_t i, int64_t j, int64_t k) {
       return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));
     };
@@ -794,13 +809,10 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       const double reach = r + 1e-9;  // grows the boxes by far more than rounding
       const bool done = forEachTriangleBox(partMesh, reach, progress, 0.7, 0.8, [&](const Eigen::Vector3d& a,
           const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-        const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
-                      ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
-        const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),
-                      jb = std::min(j1, int64_t(std::floor(hi.y() / g)));
-        const int64_t ka = std::max(k0, int64_t(std::ceil(lo.z() / g))),
-                      kb = std::min(k1, int64_t(std::floor(hi.z() / g)));
-        if (ia > ib || ja > jb || ka > kb) return;
+        const Cells cells = cellsIn(lo, hi);
+        if (cells.empty()) return;
+        const int64_t ia = cells.a[0], ib = cells.b[0], ja = cells.a[1], jb = cells.b[1], ka = cells.a[2],
+                      kb = cells.b[2];
         // The plane: |n.(p - a)| <= reach for every point that close. Only for faces not steeper
         // than about 78 degrees; the 1e-6 mm margin covers the rounding of zc.
         Eigen::Vector3d nrm = (b - a).cross(c - a);
@@ -850,15 +862,10 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
         const Eigen::Vector3d pa = s.a + (double(q) / pieces) * ab,
                               pb = s.a + (double(q + 1) / pieces) * ab;
         const Eigen::Vector3d lo = pa.cwiseMin(pb) - reach, hi = pa.cwiseMax(pb) + reach;
-        const int64_t ia = std::max(i0, int64_t(std::ceil(lo.x() / g))),
-                      ib = std::min(i1, int64_t(std::floor(hi.x() / g)));
-        const int64_t ja = std::max(j0, int64_t(std::ceil(lo.y() / g))),
-                      jb = std::min(j1, int64_t(std::floor(hi.y() / g)));
-        const int64_t ka = std::max(k0, int64_t(std::ceil(lo.z() / g))),
-                      kb = std::min(k1, int64_t(std::floor(hi.z() / g)));
-        for (int64_t k = ka; k <= kb; ++k)
-          for (int64_t j = ja; j <= jb; ++j)
-            for (int64_t i = ia; i <= ib; ++i) {
+        const Cells cells = cellsIn(lo, hi);
+        for (int64_t k = cells.a[2]; k <= cells.b[2]; ++k)
+          for (int64_t j = cells.a[1]; j <= cells.b[1]; ++j)
+            for (int64_t i = cells.a[0]; i <= cells.b[0]; ++i) {
               const size_t idx = index(i, j, k);
               if (!interior.get(idx) || covered.get(idx)) continue;
               const Eigen::Vector3d p(double(i) * g, double(j) * g, double(k) * g);
