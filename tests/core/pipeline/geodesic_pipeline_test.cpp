@@ -32,6 +32,17 @@ Settings geodesicSettings(const std::string& machine, double interval) {
   return s;
 }
 
+// compas_branches_16 fitted to 80 mm through Omnislice's own ~30k tets, 0.8 mm layers.
+std::vector<uint8_t> branchesBytes() {
+  return test::readBytes(test::sharedModelsDir() / "compas_branches_16_closed_mid_res.stl");
+}
+Settings branchesSettings(const std::string& machine) {
+  Settings s = geodesicSettings(machine, 0.8);
+  s.placement.fitMm = 80;
+  s.geodesic.targetTets = 30000;
+  return s;
+}
+
 using test::Sliced;
 using test::sliceAndVerify;
 
@@ -119,11 +130,8 @@ TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
 // tool-path turning or leaving out what would collide.
 TEST(GeodesicPipeline, BranchesA3BeatsLayerPriority) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const std::vector<uint8_t> bytes =
-      test::readBytes(test::sharedModelsDir() / "compas_branches_16_closed_mid_res.stl");
-  Settings s = geodesicSettings("table5", 0.8);
-  s.placement.fitMm = 80;
-  s.geodesic.targetTets = 30000;
+  const std::vector<uint8_t> bytes = branchesBytes();
+  Settings s = branchesSettings("table5");
   s.geodesic.nozzleAngleDeg = 15;
   const Sliced r = sliceAndVerify(bytes, "branches.stl", s);
   if (!r.out.ok()) return;
@@ -152,11 +160,8 @@ TEST(GeodesicPipeline, BranchesA3BeatsLayerPriority) {
 // supported 0.9897). Such a bead is narrower than it is tall; every print row extrudes.
 TEST(GeodesicPipeline, BranchesOnRobotPrintTheirSlivers) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const std::vector<uint8_t> bytes =
-      test::readBytes(test::sharedModelsDir() / "compas_branches_16_closed_mid_res.stl");
-  Settings s = geodesicSettings("robot6-ur5", 0.8);
-  s.placement.fitMm = 80;
-  s.geodesic.targetTets = 30000;
+  const std::vector<uint8_t> bytes = branchesBytes();
+  const Settings s = branchesSettings("robot6-ur5");
   const Sliced r = sliceAndVerify(bytes, "branches.stl", s);
   if (!r.out.ok()) return;
   expectConsistent(r);
