@@ -9,6 +9,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <deque>
 #include <limits>
 #include <numeric>
 #include <unordered_map>
@@ -1350,27 +1351,14 @@ bool parseTraversal(const std::string& text, TraversalKind& kind) {
 
 namespace {
 
-// Strongly connected components (iterative Tarjan) of the precedence graph: lower-node -> node
-// (Criterion 1) and u -> x for x in pcs[u] (Criterion 2). A component holding a PCS link u -> x
-// is a cycle of constraints, so every order breaks one of its PCS links and makes one of its
-// nodes collide; components are disjoint, so their count bounds the colliding nodes from below.
-size_t cyclesWithPcsLink(const SkeletonTree& tree, const CollisionModel& collisions) {
-  const size_t n = tree.nodes.size();
-  auto successors = [&](uint32_t v, size_t k, uint32_t& w) {
-    const auto& up = tree.nodes[v].upper;
-    if (k < up.size()) {
-      w = up[k];
-      return true;
-    }
-    k -= up.size();
-    if (k < collisions.pcs[v].size()) {
-      w = collisions.pcs[v][k];
-      return true;
-    }
-    return false;
-  };
+// Strongly connected components (iterative Tarjan) of a graph on n nodes whose successors of v
+// are given by successor(v, k, w): true and the k-th successor in w, false past the last one.
+// comp[v] gets its component; returns the number of components.
+template <class Successor>
+uint32_t strongComponents(size_t n, const Successor& successor, std::vector<uint32_t>& comp) {
   constexpr uint32_t kUnseen = std::numeric_limits<uint32_t>::max();
-  std::vector<uint32_t> index(n, kUnseen), low(n, 0), comp(n, kUnseen), stack;
+  std::vector<uint32_t> index(n, kUnseen), low(n, 0), stack;
+  comp.assign(n, kUnseen);
   std::vector<uint8_t> onStack(n, 0);
   std::vector<std::pair<uint32_t, size_t>> call;  // (node, next successor)
   uint32_t next = 0, comps = 0;
@@ -1383,7 +1371,7 @@ size_t cyclesWithPcsLink(const SkeletonTree& tree, const CollisionModel& collisi
     while (!call.empty()) {
       auto& [v, k] = call.back();
       uint32_t w = 0;
-      if (successors(v, k, w)) {
+      if (successor(v, k, w)) {
         ++k;
         if (index[w] == kUnseen) {
           index[w] = low[w] = next++;
@@ -1410,12 +1398,169 @@ size_t cyclesWithPcsLink(const SkeletonTree& tree, const CollisionModel& collisi
       if (!call.empty()) low[call.back().first] = std::min(low[call.back().first], low[done]);
     }
   }
+  return comps;
+}
+
+// The precedence graph: lower-node -> node (Criterion 1) and u -> x for x in links[u] unless u
+// is exempt (Criterion 2). Its strongly connected components in comp; returns which of them hold
+// a link u -> x of a non-exempt u (a cycle of constraints: every order breaks one such link).
+std::vector<uint8_t> cyclicComponents(const SkeletonTree& tree,
+                                      const std::vector<std::vector<uint32_t>>& links,
+                                      const std::vector<uint8_t>& exempt,
+                                      std::vector<uint32_t>& comp) {
+  const size_t n = tree.nodes.size();
+  auto successor = [&](uint32_t v, size_t k, uint32_t& w) {
+    const auto& up = tree.nodes[v].upper;
+    if (k < up.size()) {
+      w = up[k];
+      return true;
+    }
+    k -= up.size();
+    if (exempt[v] || k >= links[v].size()) return false;
+    w = links[v][k];
+    return true;
+  };
+  const uint32_t comps = strongComponents(n, successor, comp);
   std::vector<uint8_t> cyclic(comps, 0);
   for (uint32_t u = 0; u < n; ++u)
-    for (uint32_t x : collisions.pcs[u])
-      if (comp[x] == comp[u]) cyclic[comp[u]] = 1;
+    if (!exempt[u])
+      for (uint32_t x : links[u])
+        if (comp[x] == comp[u]) cyclic[comp[u]] = 1;
+  return cyclic;
+}
+
+// A component holding a PCS link u -> x is a cycle of constraints, so every order breaks one of
+// its PCS links and makes one of its nodes collide; components are disjoint, so their count
+// bounds the colliding nodes from below.
+size_t cyclesWithPcsLink(const SkeletonTree& tree, const CollisionModel& collisions) {
+  std::vector<uint32_t> comp;
+  const std::vector<uint8_t> none(tree.nodes.size(), 0);
   size_t count = 0;
-  for (uint8_t c : cyclic) count += c;
+  for (uint8_t c : cyclicComponents(tree, collisions.pcs, none, comp)) count += c;
+  return count;
+}
+
+// Gives back, in the order given, every exemption whose links close no cycle (no target of
+// u's links reaches u; the graph without u's links is acyclic already).
+void giveBack(const SkeletonTree& tree, const std::vector<std::vector<uint32_t>>& links,
+              const std::vector<uint32_t>& order, std::vector<uint8_t>& exempt) {
+  const size_t n = tree.nodes.size();
+  std::vector<uint32_t> seen(n, 0), stack;
+  uint32_t stamp = 0;
+  for (uint32_t u : order) {
+    if (!exempt[u] || links[u].empty()) continue;
+    ++stamp;
+    stack.assign(links[u].begin(), links[u].end());
+    for (uint32_t x : stack) seen[x] = stamp;
+    bool cycle = false;
+    while (!stack.empty() && !cycle) {
+      const uint32_t v = stack.back();
+      stack.pop_back();
+      auto visit = [&](uint32_t w) {
+        if (w == u) cycle = true;
+        if (seen[w] == stamp) return;
+        seen[w] = stamp;
+        stack.push_back(w);
+      };
+      for (uint32_t w : tree.nodes[v].upper) visit(w);
+      if (!exempt[v])
+        for (uint32_t w : links[v]) visit(w);
+    }
+    if (!cycle) exempt[u] = 0;
+  }
+}
+
+// Nodes allowed to collide so that the precedence graph without their Criterion-2 links is
+// acyclic (a feedback set over PCS sources), greedily: from the nodes that collide in any order
+// (stuck), while a component holds a cycle, exempt in each such component the node with the most
+// links inside it (ties: lower index); then give back every exemption (latest first) whose links
+// close no cycle. Every order consistent with the rest makes at most the exempt nodes collide.
+std::vector<uint8_t> feedbackExemptions(const SkeletonTree& tree,
+                                        const std::vector<std::vector<uint32_t>>& links,
+                                        const std::vector<uint8_t>& stuck) {
+  const size_t n = tree.nodes.size();
+  std::vector<uint8_t> exempt = stuck;
+  std::vector<uint32_t> comp, added;
+  for (;;) {
+    const std::vector<uint8_t> cyclic = cyclicComponents(tree, links, exempt, comp);
+    std::vector<uint32_t> bestNode(cyclic.size(), 0), bestLinks(cyclic.size(), 0);
+    for (uint32_t u = 0; u < n; ++u) {
+      if (exempt[u] || !cyclic[comp[u]]) continue;
+      uint32_t inside = 0;
+      for (uint32_t x : links[u]) inside += comp[x] == comp[u];
+      if (inside > bestLinks[comp[u]]) {
+        bestLinks[comp[u]] = inside;
+        bestNode[comp[u]] = u;
+      }
+    }
+    const size_t before = added.size();
+    for (size_t c = 0; c < cyclic.size(); ++c)
+      if (cyclic[c] && bestLinks[c] > 0) {
+        exempt[bestNode[c]] = 1;
+        added.push_back(bestNode[c]);
+      }
+    if (added.size() == before) break;
+  }
+  giveBack(tree, links, std::vector<uint32_t>(added.rbegin(), added.rend()), exempt);
+  return exempt;
+}
+
+// A lower bound on the colliding nodes of any order: cycles of the precedence graph whose PCS
+// links come from pairwise different nodes (each cycle makes one of its link sources collide).
+// The stuck nodes are one-link cycles; the others are packed greedily, by 0-1 breadth-first
+// search (a lower-node link costs 0, a PCS link 1) for the cycle through each node u with the
+// fewest other sources, accepting cycles of at most 1, 2 and then 4 other sources, over links of
+// sources not used yet. links holds the lowest PCS entries (the cycles are the same).
+size_t packedCycles(const SkeletonTree& tree, const std::vector<std::vector<uint32_t>>& links,
+                    const std::vector<uint8_t>& stuck) {
+  const size_t n = tree.nodes.size();
+  constexpr uint32_t kFar = std::numeric_limits<uint32_t>::max();
+  std::vector<uint8_t> used = stuck;
+  size_t count = 0;
+  for (uint8_t s : stuck) count += s;
+  std::vector<uint32_t> cost(n, kFar), from(n, kFar), touched;
+  std::deque<uint32_t> queue;
+  std::vector<uint32_t> comp;
+  const std::vector<uint8_t> cyclic = cyclicComponents(tree, links, stuck, comp);
+  for (const uint32_t limit : {1u, 2u, 4u}) {
+    for (uint32_t u = 0; u < n; ++u) {
+      if (used[u] || !cyclic[comp[u]]) continue;
+      for (uint32_t v : touched) cost[v] = kFar;
+      touched.clear();
+      queue.clear();
+      for (uint32_t x : links[u])
+        if (cost[x] != 0) {
+          cost[x] = 0;
+          from[x] = u;
+          touched.push_back(x);
+          queue.push_back(x);
+        }
+      while (!queue.empty() && cost[u] == kFar) {
+        const uint32_t v = queue.front();
+        queue.pop_front();
+        if (cost[v] > limit) break;
+        auto relax = [&](uint32_t w, uint32_t c, bool front) {
+          if (c >= cost[w]) return;
+          if (cost[w] == kFar) touched.push_back(w);
+          cost[w] = c;
+          from[w] = v;
+          front ? queue.push_front(w) : queue.push_back(w);
+        };
+        for (uint32_t w : tree.nodes[v].upper) relax(w, cost[v], true);
+        if (v != u && !used[v])
+          for (uint32_t w : links[v]) relax(w, cost[v] + 1, false);
+      }
+      if (cost[u] > limit) continue;
+      // Walk back from u to one of its own link targets, marking the sources of PCS links.
+      used[u] = 1;
+      for (uint32_t w = u; cost[w] != 0 || from[w] != u;) {
+        const uint32_t v = from[w];
+        if (cost[v] != cost[w]) used[v] = 1;  // v -> w was a PCS link
+        w = v;
+      }
+      ++count;
+    }
+  }
   return count;
 }
 
@@ -1480,19 +1625,19 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
   // Criterion 2: x may be printed only once every u with x in pcs[u] is printed, except where x
   // is an ancestor of u (that collision happens in every order).
   std::vector<std::vector<uint32_t>> avoidable(n), blockedBy(n);
+  std::vector<uint8_t> stuck(n, 0);
   size_t unavoidable = 0;
   for (size_t u = 0; u < n; ++u) {
-    bool stuck = false;
     for (uint32_t x : collisions.pcs[u]) {
       if (isAncestor(x, u)) {
-        stuck = true;
+        stuck[u] = 1;
         continue;
       }
       avoidable[u].push_back(x);
       blockedBy[x].push_back(uint32_t(u));
       ++blockers0[x];
     }
-    unavoidable += stuck;
+    unavoidable += stuck[u];
   }
   auto dist = [&](uint32_t a, uint32_t b) {
     return (tree.nodes[a].centroid - tree.nodes[b].centroid).norm();
@@ -1506,15 +1651,34 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
   for (uint32_t i = 0; i < n && tree.nodes[i].layer == tree.nodes[0].layer; ++i)
     if (tree.nodes[i].centroid.z() < tree.nodes[lowest].centroid.z()) lowest = i;
 
-  // Where A3 must break Criterion 2 (no candidate meets it), three policies (Relaxation); A3
+  // Where A3 must break Criterion 2 (no candidate meets it), four policies (Relaxation); A3
   // keeps the order with the fewest colliding nodes, then retractions, then air moves.
   enum class Relaxation {
     Blockers,   // the candidates with the fewest unprinted blockers
     Undecided,  // ... the fewest blockers whose collision is not yet decided
     Release,    // a node whose collision is decided (a node of its PCS printed first) stops
                 // blocking the rest of its PCS: that would only shift collisions onto others
+    Exempt,     // as Release, and a feedback set of nodes (feedbackExemptions), chosen before
+                // the walk so that the remaining constraints are acyclic, never blocks
   };
-  auto run = [&](Relaxation policy, PrintSequence& seq) -> bool {
+  // Only the lowest entries of each PCS matter for cycles and collisions: x in pcs[u] above
+  // another entry y (y an ancestor of x) is printed after y anyway.
+  std::vector<std::vector<uint32_t>> lowestLinks(n);
+  {
+    std::vector<uint64_t> mask(words, 0);
+    for (size_t u = 0; u < n; ++u) {
+      for (uint32_t x : avoidable[u]) mask[x / 64] |= uint64_t(1) << (x % 64);
+      for (uint32_t x : avoidable[u]) {
+        bool above = false;
+        for (size_t w = 0; w < words && !above; ++w) above = (anc[x * words + w] & mask[w]) != 0;
+        if (!above) lowestLinks[u].push_back(x);
+      }
+      for (uint32_t x : avoidable[u]) mask[x / 64] = 0;
+    }
+  }
+  std::vector<uint8_t> exempt;
+  auto run = [&](TraversalKind kind, Relaxation policy, PrintSequence& seq) -> bool {
+    seq.kind = kind;
     std::vector<uint32_t> lowerLeft = lowerLeft0, blockersLeft = blockers0;
     std::vector<uint8_t> printed(n, 0), released(n, 0), decided(n, 0);
     auto release = [&](uint32_t u) {
@@ -1522,6 +1686,10 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
       released[u] = 1;
       for (uint32_t x : avoidable[u]) --blockersLeft[x];
     };
+    if (policy == Relaxation::Exempt) {
+      for (uint32_t u = 0; u < n; ++u)
+        if (exempt[u]) release(u);
+    }
     auto c2 = [&](uint32_t x) { return blockersLeft[x] == 0; };
     auto cost = [&](uint32_t c) {
       if (policy != Relaxation::Undecided) return blockersLeft[c];
@@ -1590,7 +1758,7 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
       for (uint32_t u : blockedBy[p]) {
         if (printed[u]) continue;
         decided[u] = 1;  // p printed before u: u collides whatever comes next
-        if (policy == Relaxation::Release) release(u);
+        if (policy == Relaxation::Release || policy == Relaxation::Exempt) release(u);
       }
       for (uint32_t u : tree.nodes[p].upper)
         if (--lowerLeft[u] == 0) avail.push_back(u);
@@ -1599,6 +1767,13 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
     // Collision check: node u printed after some x in pcs[u].
     std::vector<size_t> pos(n);
     for (size_t i = 0; i < n; ++i) pos[seq.order[i]] = i;
+    if (policy == Relaxation::Exempt)  // the nodes whose avoidable entries the order breaks
+      for (size_t u = 0; u < n; ++u)
+        for (uint32_t x : lowestLinks[u])
+          if (pos[x] < pos[u]) {
+            ++seq.criterion2Relaxed;
+            break;
+          }
     for (size_t u = 0; u < n; ++u)
       for (uint32_t x : collisions.pcs[u])
         if (pos[x] < pos[u]) {
@@ -1608,27 +1783,53 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
     seq.collisionFree = seq.collidingNodes == 0;
     return true;
   };
-  const std::vector<Relaxation> policies =
-      kind == TraversalKind::A3
-          ? std::vector<Relaxation>{Relaxation::Blockers, Relaxation::Undecided, Relaxation::Release}
-          : std::vector<Relaxation>{Relaxation::Blockers};
-  bool have = false;
-  for (const Relaxation policy : policies) {
-    PrintSequence seq;
-    seq.kind = kind;
-    if (!run(policy, seq)) return fail(Status::Internal, "sequence: no node meets Criterion 1 (cyclic links)");
-    const bool better = !have || seq.collidingNodes < out.collidingNodes ||
-                        (seq.collidingNodes == out.collidingNodes &&
-                         (seq.retractions < out.retractions ||
-                          (seq.retractions == out.retractions && seq.airMoveMm < out.airMoveMm)));
-    if (better) {
-      out = std::move(seq);
-      have = true;
+  auto better = [](const PrintSequence& a, const PrintSequence& b) {
+    return a.collidingNodes < b.collidingNodes ||
+           (a.collidingNodes == b.collidingNodes &&
+            (a.retractions < b.retractions ||
+             (a.retractions == b.retractions && a.airMoveMm < b.airMoveMm)));
+  };
+  const char* cyclicLinks = "sequence: no node meets Criterion 1 (cyclic links)";
+  if (!run(kind, Relaxation::Blockers, out)) return fail(Status::Internal, cyclicLinks);
+  if (kind == TraversalKind::A3 && out.criterion2Relaxed > 0) {
+    for (const Relaxation policy : {Relaxation::Undecided, Relaxation::Release}) {
+      PrintSequence seq;
+      if (!run(kind, policy, seq)) return fail(Status::Internal, cyclicLinks);
+      if (better(seq, out)) out = std::move(seq);
     }
-    if (out.criterion2Relaxed == 0) break;  // Criterion 2 held throughout: the policies agree
+    // Exempt: the smallest of the greedy feedback set and the colliding nodes of the best order
+    // so far, of LPT's and of DPT's, each with every exemption given back (latest printed first)
+    // whose links close no cycle. So A3 never collides on more nodes than LPT or DPT.
+    auto count = [&](const std::vector<uint8_t>& e) {
+      size_t k = 0;
+      for (size_t u = 0; u < n; ++u) k += e[u] && !stuck[u];
+      return k;
+    };
+    exempt = feedbackExemptions(tree, lowestLinks, stuck);
+    std::vector<PrintSequence> seeds(3);
+    seeds[0] = out;
+    if (!run(TraversalKind::LPT, Relaxation::Blockers, seeds[1]) ||
+        !run(TraversalKind::DPT, Relaxation::Blockers, seeds[2]))
+      return fail(Status::Internal, cyclicLinks);
+    for (const PrintSequence& seed : seeds) {
+      std::vector<uint8_t> seeded = stuck;
+      std::vector<size_t> pos(n);
+      for (size_t i = 0; i < n; ++i) pos[seed.order[i]] = i;
+      for (uint32_t u = 0; u < n; ++u)
+        for (uint32_t x : lowestLinks[u]) seeded[u] = seeded[u] || pos[x] < pos[u];
+      std::vector<uint32_t> latestFirst;
+      for (auto it = seed.order.rbegin(); it != seed.order.rend(); ++it)
+        if (!stuck[*it]) latestFirst.push_back(*it);
+      giveBack(tree, lowestLinks, latestFirst, seeded);
+      if (count(seeded) < count(exempt)) exempt.swap(seeded);
+    }
+    PrintSequence seq;
+    if (!run(kind, Relaxation::Exempt, seq)) return fail(Status::Internal, cyclicLinks);
+    if (better(seq, out)) out = std::move(seq);
   }
   out.unavoidableNodes = unavoidable;
-  out.collidingLowerBound = cyclesWithPcsLink(tree, collisions);
+  out.collidingLowerBound =
+      std::max(cyclesWithPcsLink(tree, collisions), packedCycles(tree, lowestLinks, stuck));
   out.ms = msSince(t0);
   return out;
 }
