@@ -5,7 +5,7 @@
 // incident tets' volume, L = V^-1 L_c (Eq. 4-5), heat step (I - t V^-1 L_c) u = u0 (Eq. 6, solved
 // as (V - t L_c) u = V u0, symmetric positive definite) with t = h^2 (h the mean edge length,
 // times timeFactor), per-tet gradients (Eq. 7) normalised to -grad u / |grad u|, integrated
-// divergence (Eq. 8), Poisson L_c phi = b (Eq. 9), shifted so the sources' mean distance is 0.
+// divergence (Eq. 8), Poisson L_c phi = b (Eq. 9) with the sources held at distance 0.
 // Solvers chosen by measurement. The heat step: conjugate gradients were tried first
 // (../shared/TOOLCHAIN.md: on tet Laplacians they beat direct Cholesky 25-100x), but a relative
 // residual of 1e-8 cannot resolve the heat far from point-like sources (u decays like exp(-d/h),
@@ -18,7 +18,9 @@
 // 10-400 ms native and no factorisation. The Poisson step (a smooth, well-scaled right-hand side)
 // uses conjugate gradients with an incomplete-Cholesky preconditioner (measured against
 // diagonal: 5-11 % faster on the three real meshes, 3.5-4x fewer iterations).
-// A HeatGeodesic object keeps both matrices and the preconditioner for solves from other sources.
+// A HeatGeodesic object keeps the heat matrix for solves from other sources; the Poisson matrix
+// and its preconditioner depend on the sources (their rows are fixed) and are built per solve
+// (12k-vertex tet models: 15-25 ms native).
 #pragma once
 #include <Eigen/SparseCore>
 #include <memory>
@@ -68,9 +70,9 @@ class HeatGeodesic {
  public:
   // Statuses through status(): DegenerateInput (no tets, zero-volume tets, bad index, non-finite
   // coordinate), InvalidOption (options out of range), Internal (a factorisation failed).
-  // Negatively oriented tets are accepted. Each connected component has one vertex pinned in the
-  // Poisson solve; each component is shifted so its sources' mean distance is 0; components
-  // holding no source get distance 0 (no heat reaches them).
+  // Negatively oriented tets are accepted. The sources are held at distance 0 in the Poisson
+  // solve (a Dirichlet condition); components holding no source get distance 0 (no heat reaches
+  // them).
   HeatGeodesic(const TetMesh& mesh, const HeatGeodesicOptions& options = {});
   ~HeatGeodesic();
   HeatGeodesic(HeatGeodesic&&) noexcept;
@@ -78,8 +80,14 @@ class HeatGeodesic {
   const Outcome& status() const;
 
   // Distance from the source vertices (indices; at least one, all in range) — InvalidOption
-  // otherwise; Cancelled through progress (stage "field"); Internal if a solve does not converge.
+  // otherwise; Cancelled through progress (stage "field"); Internal if a solve does not converge
+  // or the Poisson preconditioner cannot be built. sourceDistance, if given, holds each source's
+  // own distance (one finite value >= 0 per source, e.g. its height above the platform when the
+  // sources are taken within a tolerance of it); the sources are held at it, else at 0.
   GeodesicField distanceFrom(const std::vector<uint32_t>& sources,
+                             const ProgressFn& progress = {}) const;
+  GeodesicField distanceFrom(const std::vector<uint32_t>& sources,
+                             const std::vector<double>& sourceDistance,
                              const ProgressFn& progress = {}) const;
 
  private:
@@ -90,5 +98,8 @@ class HeatGeodesic {
 // Vertices on the platform: boundary vertices with z <= minZ + tolerance (the default heat
 // source of paper 002, "the vertices at the bottom face").
 std::vector<uint32_t> platformVertices(const TetMesh& mesh, double tolerance = 1e-6);
+// Each vertex's height above the lowest of them (z - min z): the distance of platform vertices
+// taken within a tolerance from the platform.
+std::vector<double> heightsAboveLowest(const TetMesh& mesh, const std::vector<uint32_t>& vertices);
 
 }  // namespace omnislice

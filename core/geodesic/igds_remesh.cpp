@@ -32,6 +32,10 @@ class Remesher {
   Remesher(const RemeshInput& in, const RemeshParams& params) : params_(params) {
     P_ = in.positions;
     const size_t nf = in.triangles.size();
+    steep_.assign(nf, 1.0);
+    for (size_t f = 0; f < in.slope.size() && f < nf; ++f)
+      if (in.slope[f] > 1 && std::isfinite(in.slope[f])) steep_[f] = in.slope[f];
+    steepest_ = *std::max_element(steep_.begin(), steep_.end());
     F_.resize(3 * nf);
     for (size_t f = 0; f < nf; ++f)
       for (int k = 0; k < 3; ++k) F_[3 * f + k] = int32_t(in.triangles[f][k]);
@@ -143,11 +147,15 @@ class Remesher {
   }
 
   // True when some triangle centroid lies farther than limit from the interpolated surface.
+  // A centroid farther from the input surface than limit, or than limit / slope of the nearest
+  // input triangle where that is steeper than 1.
   bool centroidBeyond(double limit) const {
     for (size_t f = 0; 3 * f < F_.size(); ++f) {
       if (F_[3 * f] < 0) continue;
       const Eigen::Vector3d c = (P_[F_[3 * f]] + P_[F_[3 * f + 1]] + P_[F_[3 * f + 2]]) / 3;
-      if (!surface_->anyWithin(c, limit)) return true;
+      if (surface_->anyWithin(c, limit / steepest_)) continue;
+      const ClosestPoint q = surface_->closest(c);
+      if (q.triangle < 0 || q.distance > limit / steep_[size_t(q.triangle)]) return true;
     }
     return false;
   }
@@ -599,6 +607,8 @@ class Remesher {
   std::vector<int32_t> F_, O_, out_;
   std::vector<uint8_t> bnd_, corner_, lock_;
   std::unique_ptr<AabbTree> surface_, border_;
+  std::vector<double> steep_;  // per input triangle: max(1, slope)
+  double steepest_ = 1;
   std::vector<int32_t> ringU_, ringV_, nbU_, nbV_, scratch_;
   std::vector<Eigen::Vector3d> normals_;
 };

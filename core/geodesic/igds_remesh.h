@@ -18,6 +18,8 @@ namespace omnislice {
 struct RemeshInput {
   std::vector<Eigen::Vector3d> positions;
   std::vector<std::array<uint32_t, 3>> triangles;  // consistently oriented, edge-manifold
+  std::vector<double> slope;  // per triangle (or empty): the field's |grad| there; the allowed
+                              // deviation near it is maxDeviation / max(1, slope)
 };
 
 struct RemeshParams {
@@ -25,7 +27,8 @@ struct RemeshParams {
   int remeshIterations = 5;   // split / collapse / flip / relax rounds
   int smoothIterations = 3;   // HC Laplacian rounds
   double cornerDegrees = 40;  // boundary turning angle above which a boundary vertex is a corner
-  double maxDeviation = 0;    // mm, centroid distance checked after remeshing (0 = no check)
+  double maxDeviation = 0;    // mm, centroid distance checked after remeshing (0 = no check),
+                              // divided by the nearest input triangle's slope where above 1
 };
 
 struct RemeshStats {

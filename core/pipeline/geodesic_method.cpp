@@ -84,12 +84,12 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   HeatGeodesic heat(tets);
   if (!heat.status().ok()) return failure(heat.status());
   // The heat source: the vertices on the platform (within a quarter of the interval: they print
-  // in the first layer anyway).
+  // in the first layer anyway), held at their height above it.
   const std::vector<uint32_t> sources = platformVertices(tets, std::max(1e-4, 0.25 * interval));
   if (sources.empty()) {
     return failure(Status::DegenerateInput, "no vertex of the tet mesh lies on the platform");
   }
-  GeodesicField field = heat.distanceFrom(sources, progress);
+  GeodesicField field = heat.distanceFrom(sources, heightsAboveLowest(tets, sources), progress);
   if (!field.ok()) return failure(field);
   out.timingsMs.emplace_back("field", msSince(t0));
   timings["field"] = out.timingsMs.back().second;

@@ -623,7 +623,8 @@ const Model& model(const std::string& name) {
   slot->mesh = m;
   const HeatGeodesic hg(slot->mesh);
   EXPECT_TRUE(hg.status().ok()) << hg.status().message;
-  const GeodesicField f = hg.distanceFrom(platformVertices(slot->mesh, 1.0));
+  const std::vector<uint32_t> sources = platformVertices(slot->mesh, 1.0);
+  const GeodesicField f = hg.distanceFrom(sources, heightsAboveLowest(slot->mesh, sources));
   EXPECT_TRUE(f.ok()) << f.message;
   slot->phi = f.distance;
   slot->maxPhi = f.maxDistance;
@@ -874,6 +875,12 @@ TEST(IgdsModels, OverhangAndThicknessMetrics) {
     std::printf("\n");
     if (std::string(name) == "reinforcedfdm_YogaNew.tet") {
       EXPECT_GE(double(below45), 0.9 * double(withBoundary)) << name;
+    }
+    // Issue 6's target on the Yoga (and the bunny head): every layer's average overhang below
+    // 45 deg, here at full size. Measured 21.4 and 21.3 deg; 51.3 and 47.2 deg (the first IGDS
+    // over the sole reaching the platform outside it) before the sources were held.
+    if (std::string(name) != "reinforcedfdm_topopt_new.tet") {
+      EXPECT_LT(mt.overhangMaxLayerDegrees, 45) << name;
     }
   }
 }
