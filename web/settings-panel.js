@@ -152,6 +152,8 @@ export const SETTINGS_SCHEMA = [
     testid: 'geodesic-tet-size', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.target_tets', label: 'target tets', type: 'integer', value: 60000, min: 100, max: 3000000, step: 1000,
     testid: 'geodesic-target-tets', showIf: (v) => isGeodesic(v) && v['geodesic.tet_size_mm'] === 0, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.base_band_mm', label: 'base band (mm, the heat source: the part this close to the platform; 0 = a quarter interval)', type: 'number', value: 0, min: 0, max: 20, step: 0.1,
+    testid: 'geodesic-base-band', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.nozzle_angle_deg', label: 'nozzle angle (°, 0 = the machine\'s cone)', type: 'number', value: 0, min: 0, max: 89, step: 1,
     testid: 'geodesic-nozzle-angle', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.sequence', label: 'print sequence', type: 'select', value: 'a3', testid: 'geodesic-sequence',

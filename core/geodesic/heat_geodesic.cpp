@@ -281,6 +281,8 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
     return fail(Status::InvalidOption, "heat geodesic: heatTolerance must be in (0, 1)");
   if (opt.maxIterations < 1)
     return fail(Status::InvalidOption, "heat geodesic: maxIterations must be at least 1");
+  if (opt.renormalizations < 0 || opt.renormalizations > 10)
+    return fail(Status::InvalidOption, "heat geodesic: renormalizations must be in 0-10");
   TetLaplacian lap = tetCotanLaplacian(input);
   if (!lap.ok()) return fail(lap.status, lap.message);
   mesh = input;
@@ -472,6 +474,33 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   it = pcg(poissonMatrix, poissonPre, rhs2, phi, m.options.tolerance, m.options.maxIterations,
            progress, 0.5, 1.0);
   if (it == -1) return fail(Status::Cancelled, "cancelled");
+  if (it < 0)
+    return fail(Status::Internal, "heat geodesic: the Poisson solve did not converge in " +
+                                      std::to_string(m.options.maxIterations) + " iterations");
+  // Renormalisation passes (HeatGeodesicOptions::renormalizations): X from phi's own gradient.
+  // grad phi per tet is -(the Eq. 7 sum over phi), so b is accumulated with the sign flipped.
+  const Eigen::VectorXd coupling = rhs2 + b;  // the held rows and their couplings
+  for (int pass = 0; pass < m.options.renormalizations && it >= 0; ++pass) {
+    Eigen::VectorXd b2 = Eigen::VectorXd::Zero(n);
+    for (size_t k = 0; k < T; ++k) {
+      const uint32_t* t = &m.mesh.tets[4 * k];
+      const double* a = &m.areaVectors[12 * k];
+      Eigen::Vector3d g = Eigen::Vector3d::Zero();
+      for (int c = 0; c < 4; ++c) g += phi[t[c]] * Eigen::Vector3d(a[3 * c], a[3 * c + 1], a[3 * c + 2]);
+      const double len = g.norm();
+      if (!(len > 0) || !std::isfinite(len)) continue;
+      g /= len;
+      for (int c = 0; c < 4; ++c)
+        b2[t[c]] -= (a[3 * c] * g[0] + a[3 * c + 1] * g[1] + a[3 * c + 2] * g[2]) / 3.0;
+    }
+    Eigen::VectorXd rhs3 = coupling - b2;
+    for (uint32_t i = 0; i < m.n; ++i)
+      if (fixed[i]) rhs3[i] = held[i];
+    const int more = pcg(poissonMatrix, poissonPre, rhs3, phi, m.options.tolerance,
+                         m.options.maxIterations, progress, 0.5, 1.0);
+    if (more == -1) return fail(Status::Cancelled, "cancelled");
+    it = more < 0 ? more : it + more;
+  }
   if (it < 0)
     return fail(Status::Internal, "heat geodesic: the Poisson solve did not converge in " +
                                       std::to_string(m.options.maxIterations) + " iterations");

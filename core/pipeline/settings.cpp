@@ -160,6 +160,8 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.geodesic.tetSizeMm; }, 0, 100, "mm (0 = from geodesic.target_tets)"}},
       {"geodesic.target_tets",
        {[](Settings& s) -> double& { return s.geodesic.targetTets; }, 100, 3e6, "tets"}},
+      {"geodesic.base_band_mm",
+       {[](Settings& s) -> double& { return s.geodesic.baseBandMm; }, 0, 20, "mm (heat source: the part within this of the platform; 0 = a quarter interval)"}},
       {"geodesic.nozzle_angle_deg",
        {[](Settings& s) -> double& { return s.geodesic.nozzleAngleDeg; }, 0, 89, "degrees (0 = the machine's nozzle cone)"}},
       {"support.sampling_mm",

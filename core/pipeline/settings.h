@@ -79,6 +79,8 @@ struct GeodesicSettings {
   double targetTets = 60000;    // tets the mesher aims at when tet_size_mm = 0
   double nozzleAngleDeg = 0;    // nozzle cone angle of the collision model (the paper's NA),
                                 // degrees; 0 = the machine's nozzle cone half-angle
+  double baseBandMm = 0;        // boundary vertices this close to the platform are the heat
+                                // source, held at their height; 0 = a quarter interval
   std::string sequence = "a3";  // print order: a3 (Algorithm 3) | lpt | dpt
   bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
 };

@@ -561,5 +561,62 @@ TEST(HeatGeodesic, SweepsEqualTheDirectSolveOnRealTetModels) {
   }
 }
 
+// |grad phi| per tet (1 for a distance): the share outside [2/3, 3/2], where iso-surfaces one
+// interval apart in phi lie more than 1.5 or less than 2/3 intervals apart in space.
+double unevenShare(const TetMesh& m, const std::vector<double>& phi) {
+  size_t uneven = 0;
+  for (size_t k = 0; k < m.tetCount(); ++k) {
+    const uint32_t* t = &m.tets[4 * k];
+    Eigen::Matrix3d a;
+    Eigen::Vector3d b;
+    for (int r = 0; r < 3; ++r) {
+      a.row(r) = (m.vertex(t[r + 1]) - m.vertex(t[0])).transpose();
+      b[r] = phi[t[r + 1]] - phi[t[0]];
+    }
+    const double g = a.fullPivLu().solve(b).norm();
+    uneven += g < 2.0 / 3.0 || g > 1.5;
+  }
+  return double(uneven) / double(m.tetCount());
+}
+
+// One renormalisation pass (X from phi's own gradient, Eq. 9 again) evens the layer spacing from
+// a broad source: fewer tets whose slope is off by more than half, and a smaller error against the
+// exact distance from a box's bottom face (0.047 -> 0.040 mm at 12^3) and on the shared tet models
+// from their flat base.
+TEST(HeatGeodesic, RenormalisationEvensTheSpacing) {
+  HeatGeodesicOptions once;
+  once.renormalizations = 1;
+  {
+    const TetMesh m = box(12, 20, 20, 30);
+    const std::vector<uint32_t> src = platformVertices(m);
+    const GeodesicField f0 = HeatGeodesic(m).distanceFrom(src), f1 = HeatGeodesic(m, once).distanceFrom(src);
+    ASSERT_TRUE(f0.ok() && f1.ok());
+    auto height = [](const Eigen::Vector3d& p) { return p.z(); };
+    auto all = [](const Eigen::Vector3d&) { return true; };
+    const Errors e0 = compare(m, f0.distance, height, all), e1 = compare(m, f1.distance, height, all);
+    std::printf("box 12^3 bottom face: mean error %.4f -> %.4f mm, max %.4f -> %.4f mm\n", e0.mean,
+                e1.mean, e0.max, e1.max);
+    EXPECT_LT(e1.mean, 0.9 * e0.mean);
+    EXPECT_LT(e1.max, e0.max);
+    for (uint32_t s : src) EXPECT_EQ(f1.distance[s], 0.0);
+  }
+  HeatGeodesicOptions bad;
+  bad.renormalizations = 11;
+  EXPECT_EQ(HeatGeodesic(box(2, 1, 1, 1), bad).status().status, Status::InvalidOption);
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  for (const char* name : {"reinforcedfdm_YogaNew.tet", "reinforcedfdm_bunnyhead.tet"}) {
+    const TetMesh m = loadTet(test::sharedModelsDir() / name);
+    const std::vector<uint32_t> src = platformVertices(m, 1.0);
+    const std::vector<double> held = heightsAboveLowest(m, src);
+    const GeodesicField f0 = HeatGeodesic(m).distanceFrom(src, held),
+                        f1 = HeatGeodesic(m, once).distanceFrom(src, held);
+    ASSERT_TRUE(f0.ok() && f1.ok()) << name;
+    const double u0 = unevenShare(m, f0.distance), u1 = unevenShare(m, f1.distance);
+    std::printf("%s: tets with |grad phi| outside [2/3, 3/2]: %.2f %% -> %.2f %%; max distance "
+                "%.2f -> %.2f mm\n", name, 100 * u0, 100 * u1, f0.maxDistance, f1.maxDistance);
+    EXPECT_LT(u1, 0.5 * u0) << name;
+  }
+}
+
 }  // namespace
 }  // namespace omnislice
