@@ -416,23 +416,29 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   out.heatIterations = it;
   out.heatMs = msSince(t0);
 
-  // Eq. 7-8: normalised per-tet gradients and the integrated divergence b.
-  t0 = Clock::now();
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(n);
+  // Eq. 7-8: normalised per-tet gradients and the integrated divergence b, of a per-vertex field
+  // f (g = sign grad f / |grad f|; sign -1 for the renormalisation passes below, whose X is the
+  // solved distance's own gradient).
   const size_t T = m.mesh.tetCount();
-  for (size_t k = 0; k < T; ++k) {
-    const uint32_t* t = &m.mesh.tets[4 * k];
-    const double* a = &m.areaVectors[12 * k];
-    // grad u = sum_c u_c grad(lambda_c), grad(lambda_c) = -S_c n_c / (3 vol) (= Eq. 7).
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    for (int c = 0; c < 4; ++c) g -= u[t[c]] * Eigen::Vector3d(a[3 * c], a[3 * c + 1], a[3 * c + 2]);
-    g *= m.invThreeVolume[k];
-    const double len = g.norm();
-    if (!(len > 0) || !std::isfinite(len)) continue;  // no heat reached this tet
-    g /= len;
-    for (int c = 0; c < 4; ++c)
-      b[t[c]] -= (a[3 * c] * g[0] + a[3 * c + 1] * g[1] + a[3 * c + 2] * g[2]) / 3.0;
-  }
+  auto divergence = [&](const Eigen::VectorXd& f, double sign) {
+    Eigen::VectorXd div = Eigen::VectorXd::Zero(n);
+    for (size_t k = 0; k < T; ++k) {
+      const uint32_t* t = &m.mesh.tets[4 * k];
+      const double* a = &m.areaVectors[12 * k];
+      // grad f = sum_c f_c grad(lambda_c), grad(lambda_c) = -S_c n_c / (3 vol) (= Eq. 7).
+      Eigen::Vector3d g = Eigen::Vector3d::Zero();
+      for (int c = 0; c < 4; ++c) g -= f[t[c]] * Eigen::Vector3d(a[3 * c], a[3 * c + 1], a[3 * c + 2]);
+      g *= sign * m.invThreeVolume[k];
+      const double len = g.norm();
+      if (!(len > 0) || !std::isfinite(len)) continue;  // no heat reached this tet
+      g /= len;
+      for (int c = 0; c < 4; ++c)
+        div[t[c]] -= (a[3 * c] * g[0] + a[3 * c + 1] * g[1] + a[3 * c + 2] * g[2]) / 3.0;
+    }
+    return div;
+  };
+  t0 = Clock::now();
+  const Eigen::VectorXd b = divergence(u, 1.0);
   out.gradientMs = msSince(t0);
   if (!reportProgress(progress, "field", 0.5)) return fail(Status::Cancelled, "cancelled");
 
@@ -477,23 +483,11 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   if (it < 0)
     return fail(Status::Internal, "heat geodesic: the Poisson solve did not converge in " +
                                       std::to_string(m.options.maxIterations) + " iterations");
-  // Renormalisation passes (HeatGeodesicOptions::renormalizations): X from phi's own gradient.
-  // grad phi per tet is -(the Eq. 7 sum over phi), so b is accumulated with the sign flipped.
+  // Renormalisation passes (HeatGeodesicOptions::renormalizations): X from phi's own gradient
+  // (the heat's X is -grad u, growing away from the sources; phi's is +grad phi).
   const Eigen::VectorXd coupling = rhs2 + b;  // the held rows and their couplings
   for (int pass = 0; pass < m.options.renormalizations && it >= 0; ++pass) {
-    Eigen::VectorXd b2 = Eigen::VectorXd::Zero(n);
-    for (size_t k = 0; k < T; ++k) {
-      const uint32_t* t = &m.mesh.tets[4 * k];
-      const double* a = &m.areaVectors[12 * k];
-      Eigen::Vector3d g = Eigen::Vector3d::Zero();
-      for (int c = 0; c < 4; ++c) g += phi[t[c]] * Eigen::Vector3d(a[3 * c], a[3 * c + 1], a[3 * c + 2]);
-      const double len = g.norm();
-      if (!(len > 0) || !std::isfinite(len)) continue;
-      g /= len;
-      for (int c = 0; c < 4; ++c)
-        b2[t[c]] -= (a[3 * c] * g[0] + a[3 * c + 1] * g[1] + a[3 * c + 2] * g[2]) / 3.0;
-    }
-    Eigen::VectorXd rhs3 = coupling - b2;
+    Eigen::VectorXd rhs3 = coupling - divergence(phi, -1.0);
     for (uint32_t i = 0; i < m.n; ++i)
       if (fixed[i]) rhs3[i] = held[i];
     const int more = pcg(poissonMatrix, poissonPre, rhs3, phi, m.options.tolerance,
