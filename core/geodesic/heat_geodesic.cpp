@@ -14,10 +14,10 @@
 // condition), and so is one vertex of each component without a source, which keeps the system
 // positive definite for the incomplete Cholesky preconditioner. (Solving K free and shifting the
 // field so the sources' mean distance is 0 leaves the rim of a source face above 0: on the shared
-// Yoga, bunny head and bracket at 0.6 mm the iso-surface at 1.2 mm then reached the platform 2-4 mm
-// outside the sole, and the first layers read 47-51 deg of overhang, 16-28 deg with the sources
-// held; errors against the exact distance from a box's and a cylinder's bottom face fall by a
-// quarter to a third, heat_geodesic_test.cpp.)
+// Yoga at 0.6 mm the iso-surface at 1.2 mm then reached the platform 2-4 mm outside the sole; the
+// first layers of the Yoga and bunny head read 51 and 47 deg of average overhang, 17 and 21 deg
+// with the sources held (igds_test.cpp); errors against the exact distance from a box's and a
+// cylinder's bottom face fall by a quarter to a third, heat_geodesic_test.cpp.)
 #include "geodesic/heat_geodesic.h"
 
 #include <Eigen/Dense>
