@@ -398,6 +398,29 @@ TEST(FermatSpiral, NarrowRegionGivesCentreLineOrNothing) {
   }
 }
 
+// A coarse sliver as the IGDS remesher leaves them: a 20 x 0.3 mm strip of 12 vertices, all on its
+// boundary (10 triangles 4 mm long). Its boundary distance was 0 everywhere and it printed
+// nothing; split at the edge midpoints it gets a centre line as wide as the strip.
+TEST(FermatSpiral, CoarseSliverGetsItsCentreLine) {
+  Mesh m;
+  for (int i = 0; i <= 5; ++i)
+    for (double y : {0.0, 0.3}) m.positions.insert(m.positions.end(), {4.0 * i, y, 0.0});
+  for (uint32_t i = 0; i < 5; ++i) {
+    const uint32_t a = 2 * i, b = 2 * i + 1, c = 2 * i + 2, d = 2 * i + 3;
+    m.triangles.insert(m.triangles.end(), {a, c, d, a, d, b});
+  }
+  const SpiralResult r = fermatSpiralPaths(m, SpiralOptions{});
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(r.paths.size(), 1u);
+  double length = 0;
+  for (size_t i = 1; i < r.paths[0].points.size(); ++i) {
+    length += (r.paths[0].points[i] - r.paths[0].points[i - 1]).norm();
+    EXPECT_NEAR(r.paths[0].points[i].y(), 0.15, 0.1);
+  }
+  EXPECT_GT(length, 15.0);
+  EXPECT_NEAR(r.paths[0].width, 0.3, 0.1);
+}
+
 TEST(FermatSpiral, NeckNarrowerThanABeadGivesTwoPaths) {
   // Neck 0.2 mm wide: {distance >= spacing/2} has two components, so two spirals (the fewest
   // without printing across the neck).
