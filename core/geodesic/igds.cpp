@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Iso-geodesic distance surfaces (paper 002 Section 2.2) and their Eq. 11 / Fig. 10 metrics.
+#include "common/det_math.h"
 #include "geodesic/igds.h"
 
 #include <Eigen/Geometry>
@@ -506,7 +507,7 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
       // tolerance keeps vertical walls (component zero up to roundoff) at alpha = 0.
       if (vn <= 0 || v.dot(s.conormal) <= 1e-6 * vn) continue;
       const double alpha =
-          std::atan2(v.cross(s.normal).norm(), v.dot(s.normal)) * 180.0 / M_PI;
+          det::atan2(v.cross(s.normal).norm(), v.dot(s.normal)) * 180.0 / M_PI;
       if (!(alpha > 0)) continue;
       lm.overhangLengthMm += w;
       layerAlpha += alpha * w;

@@ -4,6 +4,7 @@
 // Mesh representation: faces in a flat array F (3 per face), half-edge h = 3 f + k runs from
 // F[h] to F[next(h)]; O[h] is its twin or -1 on the open boundary; out[v] is some half-edge
 // leaving v. Dead faces keep F = -1. Vertices are never reused once collapsed away.
+#include "common/det_math.h"
 #include "geodesic/igds_remesh.h"
 
 #include <Eigen/Geometry>
@@ -87,7 +88,7 @@ class Remesher {
         const double n1 = e1.norm(), n2 = e2.norm();
         if (n1 > 0 && n2 > 0) {
           const double c = std::clamp(e1.dot(e2) / (n1 * n2), -1.0, 1.0);
-          if (std::acos(c) * 180 / M_PI > params_.cornerDegrees) corner_[v] = 1;
+          if (det::acos(c) * 180 / M_PI > params_.cornerDegrees) corner_[v] = 1;
         }
       }
     }

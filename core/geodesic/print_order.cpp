@@ -2,6 +2,7 @@
 // Print order of the IGDS (paper 002 Section 3.1): skeleton tree by steepest paths on the part's
 // boundary surface (Algorithm 1, Fig. 12), potential collision surfaces of the nozzle's bounding
 // cone swept over each IGDS (Algorithm 2, Fig. 15) and the LPT / DPT / A3 traversals.
+#include "common/det_math.h"
 #include "geodesic/print_order.h"
 
 #include <Eigen/Geometry>
@@ -825,7 +826,7 @@ struct NodeShape {
 double angleBetween(const Vec3& a, const Vec3& b) {
   const double na = a.norm(), nb = b.norm();
   if (!(na > 0) || !(nb > 0)) return 0;
-  return std::atan2(a.cross(b).norm(), a.dot(b));
+  return det::atan2(a.cross(b).norm(), a.dot(b));
 }
 
 bool inPrism(const Vec3& q, const std::array<Vec3, 3>& t, const Vec3& n, const ConeParams& k) {
@@ -972,7 +973,7 @@ void primitiveBounds(uint32_t b, uint32_t e, BvhNode& nd, const ForPoints& forPo
       const double sn = std::sqrt(std::max(0.0, 1 - c * c));
       minCos = std::min(minCos, c * cosExtra - sn * sinExtra);
     });
-  nd.spread = whole ? kPi : std::acos(std::clamp(minCos, -1.0, 1.0)) + 1e-7;
+  nd.spread = whole ? kPi : det::acos(std::clamp(minCos, -1.0, 1.0)) + 1e-7;
   nd.lowAlongAxis = std::numeric_limits<double>::infinity();
   for (uint32_t i = b; i < e; ++i)
     forPoints(i, [&](const Vec3& p) { nd.lowAlongAxis = std::min(nd.lowAlongAxis, p.dot(nd.axis)); });
@@ -986,8 +987,8 @@ void setGamma(BvhNode& nd, double alphaEff) {
     nd.cosGamma = -1;
     nd.sinGamma = 0;
   } else {
-    nd.cosGamma = std::cos(g);
-    nd.sinGamma = std::sin(g);
+    nd.cosGamma = det::cos(g);
+    nd.sinGamma = det::sin(g);
   }
 }
 
@@ -1062,7 +1063,7 @@ NodeShape makeShape(const LayerRegion& reg, double spacing, double alpha) {
     }
   for (size_t v = 0; v < nv; ++v)
     if (!onRing[v] && vOwner[v] >= 0 && vn[v].squaredNorm() > 0 && beta[v] > 1e-9)
-      s.fans[vOwner[v]].push_back({P[v], vn[v], std::cos(beta[v]), std::sin(beta[v])});
+      s.fans[vOwner[v]].push_back({P[v], vn[v], det::cos(beta[v]), det::sin(beta[v])});
   // Ring: boundary edges with their face normal; each boundary vertex owned by its first edge.
   std::vector<uint8_t> ringOwned(nv, 0);
   for (const auto& [key, f] : ringEdges) {
@@ -1292,7 +1293,7 @@ CollisionModel potentialCollisionSurfaces(const std::vector<CurvedLayer>& layers
   k.tanA = std::tan(k.alpha);
   k.length = options.length;
   k.clearance = options.clearance;
-  const double ringReach = options.length / std::cos(k.alpha);
+  const double ringReach = options.length / det::cos(k.alpha);
 
   const size_t n = tree.nodes.size();
   std::vector<NodeShape> shapes(n);

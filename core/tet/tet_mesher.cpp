@@ -19,6 +19,7 @@
 // would flatten a tet. Output tets are oriented by their position in the undeformed lattice (cut
 // points at edge midpoints), where every stencil is a true subdivision of its BCC tet, so an
 // inverted tet would show as negative volume rather than being silently flipped.
+#include "common/det_math.h"
 #include "tet/tet_mesher.h"
 
 #include <Eigen/Geometry>
@@ -86,7 +87,7 @@ double minDihedralDegrees(const Vec3 p[4]) {
     v -= axis.dot(v) * axis;
     const double c = u.dot(v) / (u.norm() * v.norm());
     if (!std::isfinite(c)) return 0;
-    best = std::min(best, std::acos(std::clamp(c, -1.0, 1.0)) * 57.29577951308232);
+    best = std::min(best, det::acos(std::clamp(c, -1.0, 1.0)) * 57.29577951308232);
   }
   return best;
 }
@@ -585,7 +586,9 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
     if (dv < limit) violations.push_back({ends[1], ends[0], c, dv});
   }
   std::sort(violations.begin(), violations.end(), [](const Violation& p, const Violation& q) {
-    return p.vertex != q.vertex ? p.vertex < q.vertex : p.distance < q.distance;
+    // A total order (ties by cut): std::sort differs between libstdc++ and libc++ on equal keys.
+    if (p.vertex != q.vertex) return p.vertex < q.vertex;
+    return p.distance != q.distance ? p.distance < q.distance : p.cut < q.cut;
   });
   // Each vertex takes its nearest violating cut whose edge is still cut (other end not warped).
   // Re-run after vertices are put back: their neighbours' cuts on edges to them count again.
@@ -781,7 +784,7 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
         for (uint32_t x = first[v]; x < first[v + 1]; ++x) w = std::min(w, angleOf(inc[x]));
         return w;
       };
-      const double shapeLimit = std::sin(kSliverDegrees * 0.017453292519943295);
+      const double shapeLimit = det::sin(kSliverDegrees * 0.017453292519943295);
       std::vector<uint32_t> movable;
       for (uint32_t t = 0; t < mesh.tetCount(); ++t) {
         if (shapeOf(t) >= shapeLimit || angleOf(t) >= kSliverDegrees) continue;

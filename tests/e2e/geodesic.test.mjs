@@ -303,10 +303,9 @@ test('the tree demo: geodesic slice, field, tree, air moves, chart, traversal sw
   assert.equal(geo.sequence, 'A3');
   assert.equal(geo.nozzle_angle_deg, 45);
   t.diagnostic(`${geo.tets} tets, ${geo.layers} layers, ${geo.igds} IGDS; traversals ${JSON.stringify(geo.traversals)}`);
-  // A3 collides on no more IGDS than every order must (colliding_lower_bound). On the demo that
-  // is none in the native build; the wasm field differs from the native one by ~1e-5 relative
-  // (as before the renormalisation pass: 8.7e-4 mm of 49 mm), and in wasm one IGDS's cone then
-  // holds its own ancestor at every angle from 35 to 45 deg (an unavoidable collision).
+  // A3 collides on no more IGDS than every order must (colliding_lower_bound). Since the field's
+  // changes of 2026-11-27 one IGDS of the demo holds its own ancestor in its cone at every angle
+  // from 35 to 45 deg (an unavoidable collision), natively and in wasm alike.
   assert.equal(geo.traversals.A3.colliding_nodes, geo.traversals.A3.colliding_lower_bound, 'A3 reaches the lower bound on the demo');
   assert.ok(geo.traversals.A3.retractions < geo.traversals.LPT.retractions, 'with fewer retractions than LPT');
   // The view holds the report's tree; the air moves drawn are its retractions.
