@@ -672,21 +672,14 @@ namespace {
 
 constexpr size_t kCoarseRegionVertices = 64;
 
-// True when some vertex lies on no boundary edge (an edge used by one face).
+// True when some vertex of a face lies on no boundary edge (an edge used by one face).
 bool hasInteriorVertex(const Mesh& m) {
-  std::unordered_map<uint64_t, int> uses;
-  for (size_t f = 0; f < m.faceCount(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      const uint32_t a = m.triangles[3 * f + k], b = m.triangles[3 * f + (k + 1) % 3];
-      ++uses[(uint64_t(std::min(a, b)) << 32) | std::max(a, b)];
-    }
-  std::vector<uint8_t> onBoundary(m.vertexCount(), 0), used(m.vertexCount(), 0);
-  for (const auto& [key, n] : uses) {
-    used[key >> 32] = used[key & 0xffffffffu] = 1;
-    if (n == 1) onBoundary[key >> 32] = onBoundary[key & 0xffffffffu] = 1;
-  }
-  for (size_t v = 0; v < m.vertexCount(); ++v)
-    if (used[v] && !onBoundary[v]) return true;
+  const MeshEdges edges = buildEdges(m);
+  std::vector<uint8_t> onBoundary(m.vertexCount(), 0);
+  for (size_t e = 0; e < edges.edgeCount(); ++e)
+    if (edges.faceCount[e] == 1) onBoundary[edges.keys[e] >> 32] = onBoundary[edges.keys[e] & 0xffffffffu] = 1;
+  for (uint32_t v : m.triangles)
+    if (!onBoundary[v]) return true;
   return false;
 }
 
