@@ -1677,6 +1677,15 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
       for (uint32_t x : avoidable[u]) mask[x / 64] = 0;
     }
   }
+  // Per node: does the order print one of its (lowest) avoidable PCS entries before it?
+  auto breaksLinks = [&](const std::vector<uint32_t>& order) {
+    std::vector<size_t> pos(n);
+    for (size_t i = 0; i < n; ++i) pos[order[i]] = i;
+    std::vector<uint8_t> breaks(n, 0);
+    for (uint32_t u = 0; u < n; ++u)
+      for (uint32_t x : lowestLinks[u]) breaks[u] = breaks[u] || pos[x] < pos[u];
+    return breaks;
+  };
   std::vector<uint8_t> exempt;
   auto run = [&](TraversalKind kind, Relaxation policy, PrintSequence& seq) -> bool {
     seq.kind = kind;
@@ -1769,12 +1778,7 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
     std::vector<size_t> pos(n);
     for (size_t i = 0; i < n; ++i) pos[seq.order[i]] = i;
     if (policy == Relaxation::Exempt)  // the nodes whose avoidable entries the order breaks
-      for (size_t u = 0; u < n; ++u)
-        for (uint32_t x : lowestLinks[u])
-          if (pos[x] < pos[u]) {
-            ++seq.criterion2Relaxed;
-            break;
-          }
+      for (uint8_t b : breaksLinks(seq.order)) seq.criterion2Relaxed += b;
     for (size_t u = 0; u < n; ++u)
       for (uint32_t x : collisions.pcs[u])
         if (pos[x] < pos[u]) {
@@ -1813,11 +1817,8 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
         !run(TraversalKind::DPT, Relaxation::Blockers, seeds[2]))
       return fail(Status::Internal, cyclicLinks);
     for (const PrintSequence& seed : seeds) {
-      std::vector<uint8_t> seeded = stuck;
-      std::vector<size_t> pos(n);
-      for (size_t i = 0; i < n; ++i) pos[seed.order[i]] = i;
-      for (uint32_t u = 0; u < n; ++u)
-        for (uint32_t x : lowestLinks[u]) seeded[u] = seeded[u] || pos[x] < pos[u];
+      std::vector<uint8_t> seeded = breaksLinks(seed.order);
+      for (uint32_t u = 0; u < n; ++u) seeded[u] = seeded[u] || stuck[u];
       std::vector<uint32_t> latestFirst;
       for (auto it = seed.order.rbegin(); it != seed.order.rend(); ++it)
         if (!stuck[*it]) latestFirst.push_back(*it);
