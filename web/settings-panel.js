@@ -154,6 +154,8 @@ export const SETTINGS_SCHEMA = [
     testid: 'geodesic-target-tets', showIf: (v) => isGeodesic(v) && v['geodesic.tet_size_mm'] === 0, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.base_band_mm', label: 'base band (mm, the heat source: the part this close to the platform; 0 = a quarter interval)', type: 'number', value: 0, min: 0, max: 20, step: 0.1,
     testid: 'geodesic-base-band', showIf: isGeodesic, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.max_thickness_ratio', label: 'thickest layer at the surface (× interval; 0 = uniform steps as in the paper)', type: 'number', value: 1, min: 0, max: 3, step: 0.05,
+    testid: 'geodesic-max-thickness', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.nozzle_angle_deg', label: 'nozzle angle (°, 0 = the machine\'s cone)', type: 'number', value: 0, min: 0, max: 89, step: 1,
     testid: 'geodesic-nozzle-angle', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.sequence', label: 'print sequence', type: 'select', value: 'a3', testid: 'geodesic-sequence',

@@ -270,20 +270,34 @@ IgdsResult extractIgds(const TetMesh& mesh, const std::vector<double>& distance,
     maxPhi = std::max(maxPhi, x);
   }
   const double d = options.interval;
-  const double ratio = maxPhi / d;
-  if (ratio > double(options.maxLayers) + 1)
-    return fail(Status::InvalidOption, "interval gives more than " + std::to_string(options.maxLayers) +
-                                           " iso-values");
-  // Iso-values i d for i = 1, 2, ... while i d < max phi.
-  size_t layerCount = ratio >= 1 ? size_t(std::floor(ratio)) : 0;
-  while (layerCount > 0 && double(layerCount) * d >= maxPhi) --layerCount;
+  // The iso-values: i d for i = 1, 2, ... while i d < max phi, or the given ones below max phi.
+  std::vector<double> iso;
+  if (options.isoValues.empty()) {
+    const double ratio = maxPhi / d;
+    if (ratio > double(options.maxLayers) + 1)
+      return fail(Status::InvalidOption, "interval gives more than " + std::to_string(options.maxLayers) +
+                                             " iso-values");
+    size_t layerCount = ratio >= 1 ? size_t(std::floor(ratio)) : 0;
+    while (layerCount > 0 && double(layerCount) * d >= maxPhi) --layerCount;
+    iso.resize(layerCount);
+    for (size_t i = 0; i < layerCount; ++i) iso[i] = double(i + 1) * d;
+  } else {
+    for (size_t i = 0; i < options.isoValues.size(); ++i) {
+      const double c = options.isoValues[i];
+      if (!std::isfinite(c) || !(c > 0) || (i > 0 && !(c > options.isoValues[i - 1])))
+        return fail(Status::InvalidOption, "iso-values must be finite, positive and increasing");
+      if (c < maxPhi) iso.push_back(c);
+    }
+  }
+  const size_t layerCount = iso.size();
   if (layerCount > options.maxLayers)
     return fail(Status::InvalidOption, "interval gives more than " + std::to_string(options.maxLayers) +
                                            " iso-values");
   if (layerCount == 0) return fail(Status::EmptyInput, "max distance below one interval: no IGDS");
 
   IgdsResult result;
-  // Tets per iso-value (CSR): tet k crosses phi_i when min < i d <= max.
+  // Tets per iso-value (CSR, layer i from 1 at iso[i - 1]): tet k crosses phi_i when
+  // min < phi_i <= max.
   std::vector<uint32_t> start(layerCount + 2, 0), list;
   std::vector<std::pair<uint32_t, uint32_t>> range(nt);
   for (size_t k = 0; k < nt; ++k) {
@@ -292,9 +306,8 @@ IgdsResult extractIgds(const TetMesh& mesh, const std::vector<double>& distance,
       lo = std::min(lo, distance[mesh.tets[4 * k + c]]);
       hi = std::max(hi, distance[mesh.tets[4 * k + c]]);
     }
-    double first = std::floor(lo / d) + 1, last = std::floor(hi / d);
-    first = std::max(first, 1.0);
-    last = std::min(last, double(layerCount));
+    const size_t first = size_t(std::upper_bound(iso.begin(), iso.end(), lo) - iso.begin()) + 1;
+    const size_t last = size_t(std::upper_bound(iso.begin(), iso.end(), hi) - iso.begin());
     if (first > last) {
       range[k] = {1, 0};
       continue;
@@ -325,7 +338,11 @@ IgdsResult extractIgds(const TetMesh& mesh, const std::vector<double>& distance,
   for (size_t i = 1; i <= layerCount; ++i) {
     const double fraction = double(i - 1) / double(layerCount);
     if (!reportProgress(progress, "igds", fraction)) return fail(Status::Cancelled, "cancelled");
-    const double c = double(i) * d;
+    const double c = iso[i - 1];
+    // Half the nearer neighbouring iso-value's distance (d / 2 for uniform layers).
+    const double below = i == 1 ? c : c - iso[i - 2];
+    const double above = i == layerCount ? below : iso[i] - c;
+    params.maxDeviation = kMaxDeviation * (options.isoValues.empty() ? d : std::min(below, above));
     CurvedLayer& layer = result.layers[i - 1];
     layer.isoValue = c;
     const double ta = nowMs();
@@ -522,6 +539,9 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
     // Thickness: distance from samples of this layer to the previous layer's surfaces (the
     // platform z = 0 for the first layer; none after an empty layer).
     if (sampleThickness && (li == 0 || !layers[li - 1].regions.empty())) {
+      // The layer's step in phi (d itself for uniform layers, whatever the rounding of i d).
+      const double step = li == 0 ? layer.isoValue : layer.isoValue - layers[li - 1].isoValue;
+      const double ref = std::abs(step - interval) <= 1e-9 * interval || !(step > 0) ? interval : step;
       double sum = 0, sumDev = 0;
       lm.thicknessMinMm = std::numeric_limits<double>::infinity();
       double carry = 0.5;
@@ -544,17 +564,17 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
             if (!std::isfinite(t)) continue;
             ++lm.thicknessSamples;
             sum += t;
-            sumDev += std::abs(t - interval);
+            sumDev += std::abs(t - ref);
             lm.thicknessMinMm = std::min(lm.thicknessMinMm, t);
             lm.thicknessMaxMm = std::max(lm.thicknessMaxMm, t);
             lm.thicknessMaxDeviationPercent =
-                std::max(lm.thicknessMaxDeviationPercent, std::abs(t - interval) / interval * 100);
+                std::max(lm.thicknessMaxDeviationPercent, std::abs(t - ref) / ref * 100);
           }
         }
       }
       if (lm.thicknessSamples > 0) {
         lm.thicknessMeanMm = sum / double(lm.thicknessSamples);
-        lm.thicknessMeanDeviationPercent = sumDev / double(lm.thicknessSamples) / interval * 100;
+        lm.thicknessMeanDeviationPercent = sumDev / double(lm.thicknessSamples) / ref * 100;
       } else {
         lm.thicknessMinMm = 0;
       }
@@ -566,6 +586,95 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
   }
   if (overhangLength > 0) metrics.overhangAverageDegrees = weightedAlpha / overhangLength;
   return metrics;
+}
+
+std::vector<double> surfaceLimitedIsoValues(const TetMesh& mesh, const std::vector<double>& distance,
+                                            double interval, double maxRatio, double quantile) {
+  std::vector<double> iso;
+  const size_t nv = mesh.vertexCount();
+  if (!(interval > 0) || !std::isfinite(interval) || !(maxRatio > 0) || !std::isfinite(maxRatio) ||
+      distance.size() != nv || mesh.positions.size() != 3 * nv || mesh.tets.size() % 4 != 0)
+    return iso;
+  quantile = std::clamp(std::isfinite(quantile) ? quantile : 0.0, 0.0, 1.0);
+  double maxPhi = 0;
+  for (double x : distance) {
+    if (!std::isfinite(x)) return iso;
+    maxPhi = std::max(maxPhi, x);
+  }
+  if (maxPhi / interval > 1e7) return iso;
+  // Per boundary face: its phi range (the IGDS boundary curves cross it there), |grad phi| in its
+  // tet (the linear field's gradient) and its area.
+  struct Sample {
+    double lo, hi, slope, area;
+  };
+  std::vector<Sample> samples;
+  for (const TetBoundaryFace& f : tetBoundaryFaces(mesh)) {
+    const uint32_t* v = &mesh.tets[4 * f.tet];
+    const Eigen::Vector3d p0 = mesh.vertex(v[0]);
+    const Eigen::Vector3d e1 = mesh.vertex(v[1]) - p0, e2 = mesh.vertex(v[2]) - p0,
+                          e3 = mesh.vertex(v[3]) - p0;
+    const double det = e1.dot(e2.cross(e3));
+    const Eigen::Vector3d a = mesh.vertex(f.v[0]);
+    const Eigen::Vector3d n2 = (mesh.vertex(f.v[1]) - a).cross(mesh.vertex(f.v[2]) - a);
+    const double area = 0.5 * n2.norm();
+    if (!(std::abs(det) > 0) || !(area > 0)) continue;
+    // grad phi solves e_j . g = phi_j - phi_0 (j = 1..3), by Cramer's rule.
+    const Eigen::Vector3d g = ((distance[v[1]] - distance[v[0]]) * e2.cross(e3) +
+                               (distance[v[2]] - distance[v[0]]) * e3.cross(e1) +
+                               (distance[v[3]] - distance[v[0]]) * e1.cross(e2)) /
+                              det;
+    const double slope = g.norm();
+    double lo = distance[f.v[0]], hi = lo;
+    for (int c = 1; c < 3; ++c) {
+      lo = std::min(lo, distance[f.v[c]]);
+      hi = std::max(hi, distance[f.v[c]]);
+    }
+    samples.push_back({lo, hi, slope, area});
+  }
+  // Buckets of one interval: a band (c, c + s], s <= d, meets at most two.
+  const size_t buckets = size_t(std::floor(maxPhi / interval)) + 2;
+  std::vector<std::vector<uint32_t>> bucket(buckets);
+  for (size_t k = 0; k < samples.size(); ++k) {
+    const size_t b0 = size_t(std::max(0.0, std::floor(samples[k].lo / interval)));
+    const size_t b1 = std::min(buckets - 1, size_t(std::max(0.0, std::floor(samples[k].hi / interval))));
+    for (size_t b = b0; b <= b1; ++b) bucket[b].push_back(uint32_t(k));
+  }
+  std::vector<uint32_t> stamp(samples.size(), 0);
+  uint32_t round = 0;
+  std::vector<std::pair<double, double>> band;  // (slope, area)
+  auto stepFrom = [&](double c, double s) {
+    band.clear();
+    ++round;
+    const size_t b0 = size_t(std::floor(c / interval));
+    for (size_t b = b0; b <= b0 + 1 && b < buckets; ++b) {
+      for (uint32_t k : bucket[b]) {
+        if (stamp[k] == round) continue;
+        stamp[k] = round;
+        if (samples[k].hi > c && samples[k].lo <= c + s) band.push_back({samples[k].slope, samples[k].area});
+      }
+    }
+    if (band.empty()) return interval;
+    std::sort(band.begin(), band.end());
+    double total = 0;
+    for (const auto& x : band) total += x.second;
+    double acc = 0, q = band.back().first;
+    for (const auto& x : band) {
+      acc += x.second;
+      if (acc >= quantile * total) {
+        q = x.first;
+        break;
+      }
+    }
+    return interval * std::min(1.0, std::max(0.5, maxRatio * q));
+  };
+  for (double c = 0;;) {
+    double s = interval;
+    for (int refine = 0; refine < 3; ++refine) s = stepFrom(c, s);
+    c += s;
+    if (!(c < maxPhi)) break;
+    iso.push_back(c);
+  }
+  return iso;
 }
 
 }  // namespace omnislice

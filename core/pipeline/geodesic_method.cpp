@@ -106,6 +106,11 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   t0 = Clock::now();
   IgdsOptions iopt;
   iopt.interval = interval;
+  // Steps shortened where the field is slow at the surface (geodesic.max_thickness_ratio; 0 =
+  // the paper's i d): the interval is then the thickest layer at the part's surface.
+  if (gs.maxThicknessRatio > 0) {
+    iopt.isoValues = surfaceLimitedIsoValues(tets, field.distance, interval, gs.maxThicknessRatio);
+  }
   iopt.remesh = gs.remesh;
   IgdsResult igds = extractIgds(tets, field.distance, iopt, progress);
   if (!igds.ok()) return failure(igds);
@@ -247,7 +252,11 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   Json overhangAvg = Json::array(), overhangRatio = Json::array(), overhangMax = Json::array(),
        thicknessMean = Json::array(), thicknessMaxDev = Json::array(), thicknessMeanDev = Json::array(),
        isoValues = Json::array();
+  double stepMin = 0, previousIso = 0;
   for (const IgdsLayerMetrics& m : metrics.layers) {
+    const double step = m.isoValue - previousIso;
+    stepMin = previousIso == 0 ? step : std::min(stepMin, step);
+    previousIso = m.isoValue;
     isoValues.push_back(m.isoValue);
     overhangAvg.push_back(finite(m.overhangAverageDegrees));
     overhangRatio.push_back(finite(m.overhangRatio));
@@ -269,8 +278,10 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
         {"min_radius_ratio", finite(quality.minRadiusRatio)}}},
       {"sources", sources.size()},
       {"base_band_mm", baseBand},
+      {"max_thickness_ratio", gs.maxThicknessRatio},
       {"max_geodesic_mm", finite(field.maxDistance)},
       {"interval_mm", interval},
+      {"step_min_mm", finite(stepMin)},  // the shortest step between iso-values
       {"layers", igds.layers.size()},
       {"printed_layers", out.layers},
       {"igds", tree.nodes.size()},

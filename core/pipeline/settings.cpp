@@ -162,6 +162,8 @@ const std::map<std::string, NumberSpec>& numberSpecs() {
        {[](Settings& s) -> double& { return s.geodesic.targetTets; }, 100, 3e6, "tets"}},
       {"geodesic.base_band_mm",
        {[](Settings& s) -> double& { return s.geodesic.baseBandMm; }, 0, 20, "mm (heat source: the part within this of the platform; 0 = a quarter interval)"}},
+      {"geodesic.max_thickness_ratio",
+       {[](Settings& s) -> double& { return s.geodesic.maxThicknessRatio; }, 0, 3, "intervals (largest layer thickness at the surface; 0 = uniform iso-values i d)"}},
       {"geodesic.nozzle_angle_deg",
        {[](Settings& s) -> double& { return s.geodesic.nozzleAngleDeg; }, 0, 89, "degrees (0 = the machine's nozzle cone)"}},
       {"support.sampling_mm",

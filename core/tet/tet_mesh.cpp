@@ -372,16 +372,26 @@ TetMeshResult validateTetMesh(TetMesh mesh) {
   return r;
 }
 
-Mesh tetBoundary(const TetMesh& mesh) {
-  Mesh out;
-  out.positions = mesh.positions;
+std::vector<TetBoundaryFace> tetBoundaryFaces(const TetMesh& mesh) {
+  std::vector<TetBoundaryFace> out;
   if (!indicesInRange(mesh)) return out;
   const FaceGroups g = groupFaces(mesh);
   for (size_t f = 0; f < g.group.size(); ++f) {
     if (g.groupSize[g.group[f]] != 1) continue;
     const size_t t = f / 4, k = f % 4;
-    for (int j = 0; j < 3; ++j) out.triangles.push_back(mesh.tets[4 * t + kFaceCorners[k][j]]);
+    TetBoundaryFace face;
+    face.tet = uint32_t(t);
+    for (int j = 0; j < 3; ++j) face.v[j] = mesh.tets[4 * t + kFaceCorners[k][j]];
+    out.push_back(face);
   }
+  return out;
+}
+
+Mesh tetBoundary(const TetMesh& mesh) {
+  Mesh out;
+  out.positions = mesh.positions;
+  for (const TetBoundaryFace& f : tetBoundaryFaces(mesh))
+    out.triangles.insert(out.triangles.end(), f.v.begin(), f.v.end());
   return out;
 }
 

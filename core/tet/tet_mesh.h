@@ -4,6 +4,7 @@
 // validation, the boundary surface and quality statistics.
 #pragma once
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -51,6 +52,13 @@ TetMeshResult validateTetMesh(TetMesh mesh);
 // more tets are not boundary. Expects positively oriented tets (validateTetMesh); returns no
 // triangles when an index is out of range.
 Mesh tetBoundary(const TetMesh& mesh);
+
+// The same faces with the tet each belongs to (in tetBoundary's order).
+struct TetBoundaryFace {
+  uint32_t tet = 0;
+  std::array<uint32_t, 3> v{};  // outward-oriented
+};
+std::vector<TetBoundaryFace> tetBoundaryFaces(const TetMesh& mesh);
 
 struct TetQuality {
   double volume = 0;                 // mm^3, sum of signed tet volumes

@@ -42,7 +42,7 @@ const { setSetting, slide, sliceCount, waitSliced } = pageControls(() => page);
 test('the method choice shows the geodesic settings and hides the planar-only ones', async (t) => {
   if (skipWhy) return t.skip(skipWhy);
   const visible = (id) => page.isVisible(tid(id));
-  const rows = ['geodesic-interval', 'geodesic-tet-size', 'geodesic-target-tets', 'geodesic-base-band', 'geodesic-nozzle-angle', 'geodesic-sequence', 'geodesic-remesh'];
+  const rows = ['geodesic-interval', 'geodesic-tet-size', 'geodesic-target-tets', 'geodesic-base-band', 'geodesic-max-thickness', 'geodesic-nozzle-angle', 'geodesic-sequence', 'geodesic-remesh'];
   for (const id of rows) assert.equal(await visible(id), false, `${id} hidden for planar`);
   await setSetting('setting-method', 'geodesic');
   for (const id of rows) assert.equal(await visible(id), true, `${id} shown for geodesic`);

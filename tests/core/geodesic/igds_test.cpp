@@ -528,6 +528,86 @@ TEST(Igds, LayerSplittingIntoTwoProngsHasNoOverhang) {
 
 // ---- bad input, cancellation ----
 
+// A field that slows down above z = 6 (phi = 6 + 0.7 (z - 6)): uniform iso-values i d stand
+// d / 0.7 = 1.43 d apart up there; surfaceLimitedIsoValues steps by 0.805 d from the first band
+// that reaches z = 6, so the planes stand at most 1.15 d apart, and exactly at i d below.
+TEST(Igds, SurfaceLimitedStepsKeepLayersWithinTheRatio) {
+  const TetMesh box = gridTets(10, 8, 12, [](double u, double v, double w) {
+    return Eigen::Vector3d(10 * u, 8 * v, 12 * w);
+  });
+  auto phiOfZ = [](double z) { return z <= 6 ? z : 6 + 0.7 * (z - 6); };
+  const std::vector<double> phi = fieldOf(box, [&](const Eigen::Vector3d& p) { return phiOfZ(p.z()); });
+  const double d = 0.5, maxPhi = phiOfZ(12);
+  // Plane heights of the extracted layers (no remeshing: exact planes).
+  auto heights = [&](const std::vector<double>& iso) {
+    IgdsOptions o;
+    o.interval = d;
+    o.remesh = false;
+    o.isoValues = iso;
+    const IgdsResult r = extractIgds(box, phi, o);
+    EXPECT_TRUE(r.ok()) << r.message;
+    std::vector<double> z;
+    for (const CurvedLayer& layer : r.layers) {
+      EXPECT_EQ(layer.regions.size(), 1u);
+      double lo = 1e9, hi = -1e9;
+      for (const LayerRegion& region : layer.regions)
+        for (size_t v = 0; v < region.mesh.vertexCount(); ++v) {
+          lo = std::min(lo, region.mesh.vertex(v).z());
+          hi = std::max(hi, region.mesh.vertex(v).z());
+        }
+      EXPECT_LT(hi - lo, 1e-9);
+      z.push_back(lo);
+    }
+    return z;
+  };
+  auto maxGap = [](const std::vector<double>& z) {
+    double g = z.empty() ? 0 : z[0];
+    for (size_t i = 1; i < z.size(); ++i) g = std::max(g, z[i] - z[i - 1]);
+    return g;
+  };
+  const std::vector<double> uniform = heights({});
+  EXPECT_NEAR(maxGap(uniform), d / 0.7, 1e-9);  // what the paper's i d gives
+
+  const std::vector<double> iso = surfaceLimitedIsoValues(box, phi, d, 1.15);
+  ASSERT_GT(iso.size(), 20u);
+  EXPECT_LT(iso.back(), maxPhi);
+  EXPECT_GT(iso.back() + d, maxPhi);
+  double previous = 0;
+  for (double c : iso) {
+    const double step = c - previous;
+    if (c + d < 6) EXPECT_NEAR(step, d, 1e-12) << c;   // unit speed: i d
+    if (previous >= 6) EXPECT_NEAR(step, 0.805 * d, 1e-12) << c;
+    EXPECT_GE(step, 0.805 * d - 1e-12);
+    EXPECT_LE(step, d + 1e-12);
+    previous = c;
+  }
+  const std::vector<double> z = heights(iso);
+  ASSERT_EQ(z.size(), iso.size());
+  EXPECT_LE(maxGap(z), 1.15 * d + 1e-9);
+  for (size_t i = 0; i < z.size(); ++i) EXPECT_NEAR(phiOfZ(z[i]), iso[i], 1e-9);
+  // Thickness deviation is relative to each layer's step: the planes are exact.
+  IgdsOptions o;
+  o.interval = d;
+  o.remesh = false;
+  o.isoValues = iso;
+  const IgdsMetrics mt = igdsMetrics(extractIgds(box, phi, o).layers, d, 0.5);
+  for (size_t i = 0; i < mt.layers.size(); ++i) {
+    const double step = iso[i] - (i ? iso[i - 1] : 0.0);
+    const double expected = (z[i] - (i ? z[i - 1] : 0.0)) / step;  // 1 below z = 6
+    EXPECT_NEAR(mt.layers[i].thicknessMeanMm, z[i] - (i ? z[i - 1] : 0.0), 1e-9) << i;
+    EXPECT_NEAR(mt.layers[i].thicknessMaxDeviationPercent, std::abs(expected - 1) * 100, 1e-6) << i;
+  }
+
+  // A unit-speed field gives the paper's i d; bad arguments give nothing.
+  const std::vector<double> zphi = fieldOf(box, [](const Eigen::Vector3d& p) { return p.z(); });
+  const std::vector<double> plain = surfaceLimitedIsoValues(box, zphi, d, 1.15);
+  ASSERT_EQ(plain.size(), 23u);  // i d < 12
+  for (size_t i = 0; i < plain.size(); ++i) EXPECT_NEAR(plain[i], double(i + 1) * d, 1e-12);
+  EXPECT_TRUE(surfaceLimitedIsoValues(box, zphi, 0.0, 1.15).empty());
+  EXPECT_TRUE(surfaceLimitedIsoValues(box, zphi, d, std::nan("")).empty());
+  EXPECT_TRUE(surfaceLimitedIsoValues(box, std::vector<double>(3, 1.0), d, 1.15).empty());
+}
+
 TEST(Igds, BadInputReturnsDocumentedStatuses) {
   const TetMesh box = gridTets(3, 3, 3, [](double u, double v, double w) {
     return Eigen::Vector3d(3 * u, 3 * v, 3 * w);
@@ -569,6 +649,22 @@ TEST(Igds, BadInputReturnsDocumentedStatuses) {
   TetMesh badIndex = box;
   badIndex.tets[3] = 999;
   EXPECT_EQ(extractIgds(badIndex, phi, IgdsOptions{}).status, Status::DegenerateInput);
+  // Given iso-values that do not increase, or are not finite and positive; those beyond max phi
+  // are dropped, and none left is EmptyInput.
+  for (const std::vector<double>& bad :
+       {std::vector<double>{1.0, 0.5}, {1.0, 1.0}, {0.0, 1.0}, {1.0, std::nan("")}}) {
+    o = IgdsOptions{};
+    o.isoValues = bad;
+    EXPECT_EQ(extractIgds(box, phi, o).status, Status::InvalidOption);
+  }
+  o = IgdsOptions{};
+  o.isoValues = {1.5, 2.5, 3.5, 4.5};
+  const IgdsResult given = extractIgds(box, phi, o);
+  ASSERT_TRUE(given.ok()) << given.message;
+  ASSERT_EQ(given.layers.size(), 2u);
+  EXPECT_EQ(given.layers[1].isoValue, 2.5);
+  o.isoValues = {3.5};
+  EXPECT_EQ(extractIgds(box, phi, o).status, Status::EmptyInput);
   // Metrics with a bad interval: empty.
   EXPECT_TRUE(igdsMetrics({}, 1.0).layers.empty());
   EXPECT_TRUE(igdsMetrics(extractIgds(box, phi).layers, 0.0).layers.empty());
@@ -807,6 +903,48 @@ TEST(IgdsModels, InvariantsOnSharedTetModels) {
     EXPECT_LT(fracBadR, 0.5 * fracBadI) << name;
     EXPECT_LT(worstVertex, 1e-6) << name;
     EXPECT_LT(worstCentroid, 0.25 * L) << name;
+  }
+}
+
+// The heat field is slowest at the part's surface; uniform iso-values leave the layers' edges
+// farther apart there than the interval. surfaceLimitedIsoValues (ratio 1) keeps the 95th
+// percentile of the edge-to-previous-layer distance near d (the quantile is by face area, this
+// check by boundary vertex, hence 5 % slack) and below the uniform layers' on every model.
+TEST(IgdsModels, SurfaceLimitedStepsThinTheEdgesOnRealFields) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const double d = 0.6;
+  for (const char* name : kModels) {
+    const Model& m = model(name);
+    auto edgeGap95 = [&](const std::vector<double>& iso, size_t& layers) {
+      IgdsOptions o;
+      o.interval = d;
+      o.remesh = false;
+      o.isoValues = iso;
+      const IgdsResult r = extractIgds(m.mesh, m.phi, o);
+      EXPECT_TRUE(r.ok()) << r.message;
+      layers = r.layers.size();
+      std::vector<double> gaps;
+      for (size_t i = 1; i < r.layers.size(); ++i) {
+        if (r.layers[i - 1].regions.empty()) continue;
+        const AabbTree below(mergeLayer(r.layers[i - 1]));
+        for (const LayerRegion& region : r.layers[i].regions)
+          for (size_t v = 0; v < region.mesh.vertexCount(); ++v)
+            if (region.boundaryVertex[v]) gaps.push_back(below.closest(region.mesh.vertex(v)).distance);
+      }
+      std::sort(gaps.begin(), gaps.end());
+      return gaps.empty() ? 0.0 : gaps[gaps.size() * 95 / 100];
+    };
+    size_t uniformLayers = 0, limitedLayers = 0;
+    const double uniform = edgeGap95({}, uniformLayers);
+    const std::vector<double> iso = surfaceLimitedIsoValues(m.mesh, m.phi, d, 1.0);
+    const double limited = edgeGap95(iso, limitedLayers);
+    std::printf("%s at %.1f mm: edge gap (95th pct) uniform %.3f mm (%zu layers), limited %.3f mm "
+                "(%zu layers)\n",
+                name, d, uniform, uniformLayers, limited, limitedLayers);
+    EXPECT_LT(limited, 1.05 * d) << name;
+    EXPECT_LT(limited, uniform) << name;
+    EXPECT_GT(uniform, 1.1 * d) << name << ": the uniform layers' edges are too far apart";
+    EXPECT_LT(double(limitedLayers), 2.0 * double(uniformLayers)) << name;
   }
 }
 
