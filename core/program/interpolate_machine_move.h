@@ -38,4 +38,13 @@ MoveInterpolation interpolateMachineMove(const MachineProfile& machine, const Ma
                                          const MachineValues& b,
                                          const InterpolateOptions& options = {});
 
+// interpolateMachineMove(machine, a, b, options).length (the same pieces, summed in the same
+// order) without storing the pieces, from the end points' forward maps already known (tipA, axisA
+// = forwardMap of a; tipB, axisB of b). -1 where interpolateMachineMove fails. For writers: no
+// allocation, two forward maps fewer per move.
+double interpolatedTipLength(const MachineProfile& machine, const MachineValues& a,
+                             const MachineValues& b, const Eigen::Vector3d& tipA,
+                             const Eigen::Vector3d& axisA, const Eigen::Vector3d& tipB,
+                             const Eigen::Vector3d& axisB, const InterpolateOptions& options = {});
+
 }  // namespace omnislice

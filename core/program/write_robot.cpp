@@ -68,6 +68,9 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
   }
 
   MachineValues written{};
+  MachineValues cachedValues{};  // forwardMap(cachedValues) = (cachedTip, cachedAxis) when haveCached
+  Eigen::Vector3d cachedTip, cachedAxis;
+  bool haveCached = false;
   auto joints = [&](const MachineValues& v, MachineValues& as, const char* sep) {
     std::string s;
     for (int i = 0; i < 6; ++i) {
@@ -144,12 +147,33 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
     } else {
       double f = 0;
       if (moved && m.durationS > 0) {
-        const MoveInterpolation pieces = interpolateMachineMove(machine, written, next);
-        if (!pieces.ok()) return fail("move " + std::to_string(k) + ": " + pieces.message);
-        f = pieces.length / m.durationS;
+        // The tip path's length as the reader replays it (interpolateMachineMove), from the
+        // forward maps of the values as written (the previous row's kept).
+        auto unmapped = [&] { return "move " + std::to_string(k) + ": machine values cannot be mapped to the part frame"; };
+        if (!(haveCached && cachedValues == written) &&
+            !forwardMap(machine, written, cachedTip, cachedAxis)) {
+          return fail(unmapped());
+        }
+        Eigen::Vector3d tipNext, axisNext;
+        if (!forwardMap(machine, next, tipNext, axisNext)) return fail(unmapped());
+        const double length =
+            interpolatedTipLength(machine, written, next, cachedTip, cachedAxis, tipNext, axisNext);
+        if (!(length >= 0)) return fail(unmapped());
+        f = length / m.durationS;
+        cachedValues = next;
+        cachedTip = tipNext;
+        cachedAxis = axisNext;
+        haveCached = true;
       }
-      line(q + "," + formatNumber("%.8f", m.filament) + "," + fixedNumber(f, 9) + "," +
-           rowKind(m.kind));
+      // appendFixed, not snprintf (musl formats through long double, emulated in wasm).
+      std::string row = q;
+      row += ',';
+      appendFixed(row, m.filament, 8);
+      row += ',';
+      row += fixedNumber(f, 9);
+      row += ',';
+      row += rowKind(m.kind);
+      line(row);
     }
     written = next;
   }

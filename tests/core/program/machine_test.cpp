@@ -13,6 +13,7 @@
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
 #include "program/machine.h"
+#include "program/interpolate_machine_move.h"
 #include "program/machine_json.h"
 
 namespace omnislice {
@@ -156,6 +157,38 @@ TEST(MachineProfile, ParsedRobotDrivesTheKinematics) {
     EXPECT_LT((t - tip).norm(), 1e-6);
     EXPECT_LT((u - axis).norm(), 1e-6);
   }
+}
+
+// The writers' length-only walk gives interpolateMachineMove's length to the bit (the robot feed
+// f must be what the reader replays), on random moves of every rotating machine, small and large.
+TEST(MachineProfile, TipLengthWalkEqualsTheInterpolatedLength) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  size_t multiPiece = 0;
+  for (const char* name : {"rotary4", "table5", "robot6-ur5"}) {
+    const MachineProfile m = builtinMachine(name, kBed, 0.4).machine;
+    const int n = machineAxisCount(m.kind);
+    for (int k = 0; k < 300; ++k) {
+      MachineValues a{}, b{};
+      const double scale = k % 3 == 0 ? 0.01 : k % 3 == 1 ? 0.3 : 1.5;  // rad, or x 57 for degrees
+      for (int i = 0; i < n; ++i) {
+        const double s = isAngularAxis(m.kind, i) ? (m.kind == "robot6" ? 1.0 : 57.3) : 40.0;
+        a[i] = s * unit(rng);
+        b[i] = a[i] + s * scale * unit(rng);
+      }
+      const MoveInterpolation full = interpolateMachineMove(m, a, b);
+      ASSERT_TRUE(full.ok()) << full.message;
+      Eigen::Vector3d ta, xa, tb, xb;
+      ASSERT_TRUE(forwardMap(m, a, ta, xa));
+      ASSERT_TRUE(forwardMap(m, b, tb, xb));
+      EXPECT_EQ(interpolatedTipLength(m, a, b, ta, xa, tb, xb), full.length) << name << " " << k;
+      multiPiece += full.t.size() > 2 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(multiPiece, 300u);  // most moves were bisected
+  MachineProfile unknown = builtinMachine("table5", kBed, 0.4).machine;
+  unknown.kind = "hexapod";
+  EXPECT_EQ(interpolatedTipLength(unknown, {}, {}, {}, {}, {}, {}), -1.0);
 }
 
 TEST(MachineProfile, MalformedJsonGivesParseError) {
