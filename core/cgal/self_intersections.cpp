@@ -6,6 +6,8 @@
 #include <CGAL/intersections.h>
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 #include <exception>
 
 namespace omnislice {
@@ -36,17 +38,142 @@ constexpr std::ptrdiff_t kCutoff = 2000;
 
 struct StopSearch {};  // thrown from the callback to end box_intersection_d early
 
+// The axis (0-2) on which all the points have bitwise the same coordinate (they lie exactly in
+// that axis plane), or -1.
+template <size_t N>
+int commonAxis(const std::array<const Point*, N>& p) {
+  for (int k = 0; k < 3; ++k) {
+    bool same = true;
+    for (size_t i = 1; i < N && same; ++i) same = (*p[i])[k] == (*p[0])[k];
+    if (same) return k;
+  }
+  return -1;
+}
+
+// Sign of the 2D orientation of (p, q, r) in the plane of axes (i, j): +1, -1, or 0 when the
+// static error bound (Shewchuk's ccwerrboundA) cannot decide (the caller then asks CGAL).
+int orient2(const Point& p, const Point& q, const Point& r, int i, int j) {
+  const double l = (q[i] - p[i]) * (r[j] - p[j]), rr = (q[j] - p[j]) * (r[i] - p[i]);
+  const double det = l - rr;
+  const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(rr));
+  return det > bound ? 1 : det < -bound ? -1 : 0;
+}
+
+// Tri-state answers of the shortcuts: decided (true / false) or ask CGAL.
+enum class Answer { No, Yes, Unknown };
+
 class PairTester {
  public:
-  PairTester(const Mesh& mesh, std::vector<Point>& points) : mesh_(mesh), points_(points) {}
+
+  PairTester(const Mesh& mesh, std::vector<Point>& points, bool shortcuts)
+      : mesh_(mesh), points_(points), shortcuts_(shortcuts) {}
 
   bool degenerate(uint32_t f) const {
     const uint32_t* t = mesh_.triangles.data() + 3 * f;
-    return t[0] == t[1] || t[1] == t[2] || t[0] == t[2] ||
-           CGAL::collinear(points_[t[0]], points_[t[1]], points_[t[2]]);
+    if (t[0] == t[1] || t[1] == t[2] || t[0] == t[2]) return true;
+    const Point& a = points_[t[0]];
+    const Point& b = points_[t[1]];
+    const Point& c = points_[t[2]];
+    if (shortcuts_) {
+      const int k = commonAxis<3>({&a, &b, &c});
+      if (k >= 0 && orient2(a, b, c, (k + 1) % 3, (k + 2) % 3) != 0) return false;
+    }
+    return CGAL::collinear(a, b, c);
   }
 
   bool intersect(uint32_t f, uint32_t g) const {
+    if (shortcuts_) {
+      const Answer a = planar(f, g);
+      if (a != Answer::Unknown) {
+        ++planarDecided;
+        return a == Answer::Yes;
+      }
+    }
+    return exact(f, g);
+  }
+
+  mutable size_t planarDecided = 0;
+
+ private:
+  // Both faces exactly in one axis plane: the 2D decision where every orientation is certain.
+  Answer planar(uint32_t f, uint32_t g) const {
+    const uint32_t* a = mesh_.triangles.data() + 3 * f;
+    const uint32_t* b = mesh_.triangles.data() + 3 * g;
+    const std::array<const Point*, 6> p = {&points_[a[0]], &points_[a[1]], &points_[a[2]],
+                                           &points_[b[0]], &points_[b[1]], &points_[b[2]]};
+    const int k = commonAxis<6>(p);
+    if (k < 0) return Answer::Unknown;
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    int ia[3], shared = 0;
+    for (int x = 0; x < 3; ++x) {
+      ia[x] = -1;
+      for (int y = 0; y < 3; ++y)
+        if (a[x] == b[y]) ia[x] = y;
+      if (ia[x] >= 0) ++shared;
+    }
+    if (shared == 3) return Answer::Yes;
+    if (shared == 2) {
+      // Common edge p-q, r opposite in f, s in g: folded onto each other iff r and s lie on the
+      // same side of p-q (CGAL::coplanar_orientation(P, Q, R, S) == POSITIVE).
+      int r = 0;
+      while (ia[r] >= 0) ++r;
+      const int pp = (r + 1) % 3, q = (r + 2) % 3;
+      int s = 0;
+      while (s == ia[pp] || s == ia[q]) ++s;
+      const int o1 = orient2(*p[pp], *p[q], *p[r], i, j), o2 = orient2(*p[pp], *p[q], *p[3 + s], i, j);
+      if (o1 == 0 || o2 == 0) return Answer::Unknown;
+      return o1 == o2 ? Answer::Yes : Answer::No;
+    }
+    if (shared == 1) {
+      // Common vertex v: the faces overlap beyond it iff their open corners at v do, i.e. no
+      // line along one of the four edges at v separates them (touching along an edge: CGAL).
+      int va = 0;
+      while (ia[va] < 0) ++va;
+      const int vb = ia[va];
+      const Point& v = *p[va];
+      const Point* ra[2] = {p[(va + 1) % 3], p[(va + 2) % 3]};
+      const Point* rb[2] = {p[3 + (vb + 1) % 3], p[3 + (vb + 2) % 3]};
+      auto separates = [&](const Point* const (&own)[2], const Point* const (&other)[2]) {
+        // own[e]'s line separates when other's rays lie on the side away from own[1 - e].
+        for (int e = 0; e < 2; ++e) {
+          const int inner = orient2(v, *own[e], *own[1 - e], i, j);
+          const int s0 = orient2(v, *own[e], *other[0], i, j), s1 = orient2(v, *own[e], *other[1], i, j);
+          if (inner == 0 || s0 == 0 || s1 == 0) return Answer::Unknown;
+          if (s0 == -inner && s1 == -inner) return Answer::Yes;
+        }
+        return Answer::No;
+      };
+      const Answer sa = separates(ra, rb);
+      if (sa == Answer::Unknown) return Answer::Unknown;
+      const Answer sb = separates(rb, ra);
+      if (sb == Answer::Unknown) return Answer::Unknown;
+      return sa == Answer::Yes || sb == Answer::Yes ? Answer::No : Answer::Yes;
+    }
+    // No common vertex: disjoint iff the line of some edge separates (convex polygons in 2D).
+    auto edgeSeparates = [&](int base, int other) {
+      for (int e = 0; e < 3; ++e) {
+        const Point& u = *p[base + e];
+        const Point& w = *p[base + (e + 1) % 3];
+        const int inner = orient2(u, w, *p[base + (e + 2) % 3], i, j);
+        if (inner == 0) return Answer::Unknown;
+        bool all = true;
+        for (int x = 0; x < 3; ++x) {
+          const int o = orient2(u, w, *p[other + x], i, j);
+          if (o == 0) return Answer::Unknown;
+          all = all && o == -inner;
+        }
+        if (all) return Answer::Yes;
+      }
+      return Answer::No;
+    };
+    const Answer ea = edgeSeparates(0, 3);
+    if (ea != Answer::No) return ea == Answer::Yes ? Answer::No : Answer::Unknown;
+    const Answer eb = edgeSeparates(3, 0);
+    if (eb != Answer::No) return eb == Answer::Yes ? Answer::No : Answer::Unknown;
+    return Answer::Yes;
+  }
+
+  bool exact(uint32_t f, uint32_t g) const {
     const uint32_t* a = mesh_.triangles.data() + 3 * f;
     const uint32_t* b = mesh_.triangles.data() + 3 * g;
     // Shared corners: ia[k] is the corner of g equal to a[k], or -1.
@@ -99,9 +226,9 @@ class PairTester {
            CGAL::do_intersect(oppositeB, Triangle(a0, a1, a2));
   }
 
- private:
   const Mesh& mesh_;
   std::vector<Point>& points_;
+  bool shortcuts_;
 };
 
 }  // namespace
@@ -116,7 +243,7 @@ SelfIntersectionResult findSelfIntersections(const Mesh& mesh, const SelfInterse
       const double* p = mesh.positions.data() + 3 * i;
       points.emplace_back(p[0], p[1], p[2]);
     }
-    PairTester tester(mesh, points);
+    PairTester tester(mesh, points, options.planarShortcuts);
     std::vector<FaceBox> boxes;
     boxes.reserve(mesh.faceCount());
     for (uint32_t f = 0; f < mesh.faceCount(); ++f) {
@@ -161,6 +288,8 @@ SelfIntersectionResult findSelfIntersections(const Mesh& mesh, const SelfInterse
       return result;
     }
     std::sort(result.pairs.begin(), result.pairs.end());
+    result.candidates = candidates;
+    result.planarDecided = tester.planarDecided;
     if (!reportProgress(progress, "validate", to)) {
       result = SelfIntersectionResult{};
       result.status = Status::Cancelled;

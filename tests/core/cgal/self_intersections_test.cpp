@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <random>
 #include <set>
 
 #include "mesh/generated_meshes.h"
@@ -129,6 +130,49 @@ TEST(SelfIntersections, VertexNeighbours) {
   EXPECT_EQ(findSelfIntersections(m, {}).count, 1u);
   m.triangles = {0, 1, 2, 0, 5, 6};
   EXPECT_EQ(findSelfIntersections(m, {}).count, 0u);
+}
+
+// The axis-plane shortcuts decide exactly as CGAL does: random triangles with corners on a coarse
+// grid in the planes z = 0 and x = 3 (shared corners, shared edges, folds, touching edges,
+// collinear corners, duplicates), some off the planes; every pair found, with and without them.
+TEST(SelfIntersections, PlanarShortcutsAgreeWithCgal) {
+  std::mt19937 rng(11);
+  std::uniform_int_distribution<int> coord(0, 6), axisPick(0, 9);
+  size_t total = 0, decided = 0, candidates = 0;
+  for (int trial = 0; trial < 40; ++trial) {
+    Mesh m;
+    // Vertices: a 7 x 7 grid in z = 0, the same grid in x = 3, and a few off both planes.
+    for (int a = 0; a <= 6; ++a)
+      for (int b = 0; b <= 6; ++b) m.positions.insert(m.positions.end(), {0.5 * a, 0.5 * b, 0.0});
+    for (int a = 0; a <= 6; ++a)
+      for (int b = 0; b <= 6; ++b) m.positions.insert(m.positions.end(), {3.0, 0.5 * a, 0.5 * b - 1});
+    for (int k = 0; k < 10; ++k)
+      m.positions.insert(m.positions.end(), {0.37 * coord(rng), 0.41 * coord(rng), 0.29 * coord(rng) - 0.9});
+    const uint32_t offPlane = 98;
+    for (int f = 0; f < 60; ++f) {
+      const int pick = axisPick(rng);
+      uint32_t v[3];
+      for (uint32_t& x : v) {
+        if (pick < 6) x = uint32_t(7 * coord(rng) + coord(rng));              // z = 0 grid
+        else if (pick < 9) x = uint32_t(49 + 7 * coord(rng) + coord(rng));    // x = 3 grid
+        else x = offPlane + uint32_t(coord(rng)) % 10;
+      }
+      m.triangles.insert(m.triangles.end(), {v[0], v[1], v[2]});
+    }
+    SelfIntersectionOptions fast, reference;
+    fast.cap = reference.cap = 0;
+    reference.planarShortcuts = false;
+    const SelfIntersectionResult a = findSelfIntersections(m, fast), b = findSelfIntersections(m, reference);
+    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_EQ(a.pairs, b.pairs) << "trial " << trial;
+    EXPECT_EQ(b.planarDecided, 0u);
+    total += b.count;
+    decided += a.planarDecided;
+    candidates += a.candidates;
+  }
+  EXPECT_GT(total, 200u);  // the cases do intersect, often
+  std::printf("planar shortcuts decided %zu of %zu candidate pairs\n", decided, candidates);
+  EXPECT_GT(decided, candidates / 3);
 }
 
 // The cap stops the search; progress can cancel it.
