@@ -62,6 +62,35 @@ int orient2(const Point& p, const Point& q, const Point& r, int i, int j) {
 // Tri-state answers of the shortcuts: decided (true / false) or ask CGAL.
 enum class Answer { No, Yes, Unknown };
 
+// The corners faces a and b share: ia[k] is the corner of b equal to corner k of a, or -1.
+struct Sharing {
+  int ia[3];
+  int count = 0;
+  Sharing(const uint32_t* a, const uint32_t* b) {
+    for (int x = 0; x < 3; ++x) {
+      ia[x] = -1;
+      for (int y = 0; y < 3; ++y)
+        if (a[x] == b[y]) ia[x] = y;
+      if (ia[x] >= 0) ++count;
+    }
+  }
+  // count == 2: a's corners p, q on the common edge, r opposite; s the corner of b opposite it.
+  void edge(int& p, int& q, int& r, int& s) const {
+    r = 0;
+    while (ia[r] >= 0) ++r;
+    p = (r + 1) % 3;
+    q = (r + 2) % 3;
+    s = 0;
+    while (s == ia[p] || s == ia[q]) ++s;
+  }
+  // count == 1: the common vertex is a's corner va, b's corner vb.
+  void vertex(int& va, int& vb) const {
+    va = 0;
+    while (ia[va] < 0) ++va;
+    vb = ia[va];
+  }
+};
+
 class PairTester {
  public:
 
@@ -82,54 +111,44 @@ class PairTester {
   }
 
   bool intersect(uint32_t f, uint32_t g) const {
+    const uint32_t* a = mesh_.triangles.data() + 3 * f;
+    const uint32_t* b = mesh_.triangles.data() + 3 * g;
+    const Sharing sh(a, b);
     if (shortcuts_) {
-      const Answer a = planar(f, g);
-      if (a != Answer::Unknown) {
+      const Answer a2 = planar(a, b, sh);
+      if (a2 != Answer::Unknown) {
         ++planarDecided;
-        return a == Answer::Yes;
+        return a2 == Answer::Yes;
       }
     }
-    return exact(f, g);
+    return exact(a, b, sh);
   }
 
   mutable size_t planarDecided = 0;
 
  private:
   // Both faces exactly in one axis plane: the 2D decision where every orientation is certain.
-  Answer planar(uint32_t f, uint32_t g) const {
-    const uint32_t* a = mesh_.triangles.data() + 3 * f;
-    const uint32_t* b = mesh_.triangles.data() + 3 * g;
+  Answer planar(const uint32_t* a, const uint32_t* b, const Sharing& sh) const {
     const std::array<const Point*, 6> p = {&points_[a[0]], &points_[a[1]], &points_[a[2]],
                                            &points_[b[0]], &points_[b[1]], &points_[b[2]]};
     const int k = commonAxis<6>(p);
     if (k < 0) return Answer::Unknown;
     const int i = (k + 1) % 3, j = (k + 2) % 3;
-    int ia[3], shared = 0;
-    for (int x = 0; x < 3; ++x) {
-      ia[x] = -1;
-      for (int y = 0; y < 3; ++y)
-        if (a[x] == b[y]) ia[x] = y;
-      if (ia[x] >= 0) ++shared;
-    }
-    if (shared == 3) return Answer::Yes;
-    if (shared == 2) {
+    if (sh.count == 3) return Answer::Yes;
+    if (sh.count == 2) {
       // Common edge p-q, r opposite in f, s in g: folded onto each other iff r and s lie on the
       // same side of p-q (CGAL::coplanar_orientation(P, Q, R, S) == POSITIVE).
-      int r = 0;
-      while (ia[r] >= 0) ++r;
-      const int pp = (r + 1) % 3, q = (r + 2) % 3;
-      int s = 0;
-      while (s == ia[pp] || s == ia[q]) ++s;
+      int pp, q, r, s;
+      sh.edge(pp, q, r, s);
       const int o1 = orient2(*p[pp], *p[q], *p[r], i, j), o2 = orient2(*p[pp], *p[q], *p[3 + s], i, j);
       if (o1 == 0 || o2 == 0) return Answer::Unknown;
       return o1 == o2 ? Answer::Yes : Answer::No;
     }
-    if (shared == 1) {
+    if (sh.count == 1) {
       // Common vertex v: the faces overlap beyond it iff their open corners at v do, i.e. no
       // line along one of the four edges at v separates them (touching along an edge: CGAL).
-      int va = 0;
-      while (ia[va] < 0) ++va;
-      const int vb = ia[va];
+      int va, vb;
+      sh.vertex(va, vb);
       const Point& v = *p[va];
       const Point* ra[2] = {p[(va + 1) % 3], p[(va + 2) % 3]};
       const Point* rb[2] = {p[3 + (vb + 1) % 3], p[3 + (vb + 2) % 3]};
@@ -173,33 +192,19 @@ class PairTester {
     return Answer::Yes;
   }
 
-  bool exact(uint32_t f, uint32_t g) const {
-    const uint32_t* a = mesh_.triangles.data() + 3 * f;
-    const uint32_t* b = mesh_.triangles.data() + 3 * g;
-    // Shared corners: ia[k] is the corner of g equal to a[k], or -1.
-    int ia[3], shared = 0;
-    for (int i = 0; i < 3; ++i) {
-      ia[i] = -1;
-      for (int j = 0; j < 3; ++j) {
-        if (a[i] == b[j]) ia[i] = j;
-      }
-      if (ia[i] >= 0) ++shared;
-    }
+  bool exact(const uint32_t* a, const uint32_t* b, const Sharing& sh) const {
     const Point& a0 = points_[a[0]];
     const Point& a1 = points_[a[1]];
     const Point& a2 = points_[a[2]];
     const Point& b0 = points_[b[0]];
     const Point& b1 = points_[b[1]];
     const Point& b2 = points_[b[2]];
-    if (shared == 0) return CGAL::do_intersect(Triangle(a0, a1, a2), Triangle(b0, b1, b2));
-    if (shared == 3) return true;
-    if (shared == 2) {
+    if (sh.count == 0) return CGAL::do_intersect(Triangle(a0, a1, a2), Triangle(b0, b1, b2));
+    if (sh.count == 3) return true;
+    if (sh.count == 2) {
       // Common edge p-q; r opposite in f, s opposite in g. Non-coplanar faces meet only on p-q.
-      int r = 0;
-      while (ia[r] >= 0) ++r;
-      const int p = (r + 1) % 3, q = (r + 2) % 3;
-      int s = 0;
-      while (s == ia[p] || s == ia[q]) ++s;
+      int p, q, r, s;
+      sh.edge(p, q, r, s);
       const Point& P = points_[a[p]];
       const Point& Q = points_[a[q]];
       const Point& R = points_[a[r]];
@@ -211,9 +216,8 @@ class PairTester {
     // other face (the intersection is a segment from v ending on such an edge). Quick exit, the
     // usual case in a smooth surface: the far corners of one face lie strictly on one side of the
     // other's plane, so that face touches the plane at v only.
-    int va = 0;
-    while (ia[va] < 0) ++va;
-    const int vb = ia[va];
+    int va, vb;
+    sh.vertex(va, vb);
     const CGAL::Orientation s1 = CGAL::orientation(a0, a1, a2, points_[b[(vb + 1) % 3]]);
     const CGAL::Orientation s2 = CGAL::orientation(a0, a1, a2, points_[b[(vb + 2) % 3]]);
     if (s1 != CGAL::COPLANAR && s1 == s2) return false;
