@@ -270,17 +270,15 @@ void unwrapPoses(std::vector<MachineValues>& values, const PoseMetric& metric,
       const double hi = i < static_cast<int>(limits.size()) ? limits[i].second : 1e300;
       const double tol = 1e-9 * p;
       if (v < lo - tol || v > hi + tol) {
-        // Nearest alias inside the limits (an unwinding move).
-        double bestV = values[k][i], bestD = std::numeric_limits<double>::infinity();
-        const double base = values[k][i];
-        for (int m = -4; m <= 4; ++m) {
-          const double a = base + m * p;
-          if (a >= lo - tol && a <= hi + tol && std::abs(a - prev) < bestD) {
-            bestD = std::abs(a - prev);
-            bestV = a;
-          }
-        }
-        v = bestV;
+        // The alias inside the limits nearest the previous value: whole turns back from the
+        // continuous value (an unwinding move, one turn when the limits span more than one).
+        // Aliases of the raw value within 4 turns of it were tried before: from a value wound up
+        // near a limit (the table's C at -3587 deg after a Fermat spiral's many loops) the nearest
+        // of those was 14 turns away, and verify refused the program.
+        const double turns = v < lo - tol ? std::ceil((lo - tol - v) / p) : -std::ceil((v - hi - tol) / p);
+        const double a = v + turns * p;
+        if (a >= lo - tol && a <= hi + tol) v = a;
+        else v = values[k][i];  // limits narrower than a turn: no alias may fit; the raw value
       }
       values[k][i] = v;
     }

@@ -109,6 +109,30 @@ TEST(PoseContinuity, WrappedDistanceAndUnwrap) {
   std::vector<MachineValues> lim{{0, 0, 0, 0, 350, 0}, {0, 0, 0, 0, 20, 0}};
   unwrapPoses(lim, m, {{-1e9, 1e9}, {-1e9, 1e9}, {-1e9, 1e9}, {-90, 90}, {-360, 360}});
   EXPECT_NEAR(lim[1][4], 20, 1e-9);  // 380 is outside [-360, 360]: the alias 20 is nearest
+  // Winding down 11 turns (a spiral's loops) against limits of +-10 turns: one-turn unwinding
+  // steps, never a jump of several turns, every value inside and an alias of the raw one.
+  std::vector<MachineValues> wind;
+  for (int k = 0; k <= 11 * 36; ++k) {
+    const double c = -10.0 * k;  // degrees, continuous
+    wind.push_back({0, 0, 0, 0, std::remainder(c, 360.0), 0});
+  }
+  std::vector<MachineValues> raw = wind;
+  unwrapPoses(wind, m, {{-1e9, 1e9}, {-1e9, 1e9}, {-1e9, 1e9}, {-90, 90}, {-3600, 3600}});
+  int unwinds = 0;
+  for (size_t k = 0; k < wind.size(); ++k) {
+    EXPECT_GE(wind[k][4], -3600 - 1e-9);
+    EXPECT_LE(wind[k][4], 3600 + 1e-9);
+    EXPECT_NEAR(std::remainder(wind[k][4] - raw[k][4], 360.0), 0, 1e-9) << k;
+    if (k == 0) continue;
+    const double step = wind[k][4] - wind[k - 1][4];
+    if (std::abs(step) > 180) {
+      ++unwinds;
+      EXPECT_NEAR(step, 350, 1e-9) << k;  // -10 deg and one turn back
+    } else {
+      EXPECT_NEAR(step, -10, 1e-9) << k;
+    }
+  }
+  EXPECT_EQ(unwinds, 1);
 }
 
 }  // namespace
