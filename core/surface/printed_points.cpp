@@ -193,21 +193,29 @@ bool PrintedPoints::hit(const Vector3d& s, const Vector3d& u, uint32_t limit, co
     // The point that answered the last query first: the gouging search asks about many axes
     // around one, and one point is often in the way of the next axis too. It answers when it
     // passes the tests of its cell and block and the point test, as in the scan.
-    if (lastCell_ && lastCell_->seq[lastIndex_] < limit) {
-      const Node* c = lastCell_;
+    for (int e = 0; e < kRecent && recentCell_[e]; ++e) {
+      const Node* c = recentCell_[e];
+      const size_t k = recentIndex_[e];
+      if (c->seq[k] >= limit) continue;
       const Node* b = c->block;
       Vector3d lateral;
       double lat;
-      if (inCone(c->points[lastIndex_], s, u, cone, lateral, lat) &&
+      if (inCone(c->points[k], s, u, cone, lateral, lat) &&
           boxMayHit(c->lo, c->hi, c->center, c->halfDiagonal, s, u, cone, q.cosT, q.sinT) &&
           boxMayHit(b->lo, b->hi, b->center, b->halfDiagonal, s, u, cone, q.cosT, q.sinT)) {
+        std::swap(recentCell_[e], recentCell_[0]);
+        std::swap(recentIndex_[e], recentIndex_[0]);
         return true;
       }
     }
     for (auto r = roots_.rbegin(); r != roots_.rend(); ++r) {
       if (visit(**r, kTopLevel, q)) {
-        lastCell_ = q.hitCell;
-        lastIndex_ = q.hitIndex;
+        for (int e = kRecent - 1; e > 0; --e) {
+          recentCell_[e] = recentCell_[e - 1];
+          recentIndex_[e] = recentIndex_[e - 1];
+        }
+        recentCell_[0] = q.hitCell;
+        recentIndex_[0] = q.hitIndex;
         return true;
       }
     }

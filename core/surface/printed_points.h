@@ -56,9 +56,11 @@ class PrintedPoints {
   std::vector<std::unordered_map<int64_t, std::unique_ptr<Node>>> levels_;  // [0] cells ... [top]
   std::vector<Node*> roots_;                                                // top level, creation order
   uint32_t cellCount_ = 0, blockCount_ = 0;
-  // The point that answered the last hit without `away` (tried first by the next one).
-  mutable const Node* lastCell_ = nullptr;
-  mutable size_t lastIndex_ = 0;
+  // The points that answered the last hits without `away`, latest first (tried before the scan:
+  // the gouging search asks about many axes around one, and a few points block most of them).
+  static constexpr int kRecent = 8;
+  mutable const Node* recentCell_[kRecent] = {};
+  mutable size_t recentIndex_[kRecent] = {};
 };
 
 }  // namespace omnislice

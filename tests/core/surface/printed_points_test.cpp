@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 #include <vector>
@@ -90,6 +92,37 @@ TEST(PrintedPoints, AnswersAsAScanOverEveryPoint) {
   // Both answers were exercised.
   EXPECT_GT(hits, 400);
   EXPECT_GT(misses, 400);
+}
+
+// As the gouging search asks: rings of axes around one at a tip, the limit changing between
+// queries, so the recently hitting points answer many of them, or must not (seq >= limit).
+TEST(PrintedPoints, RingQueriesAnswerAsTheScan) {
+  std::vector<Printed> pts = sheets(8);
+  PrintedPoints index;
+  for (const Printed& q : pts) index.add(q.p, q.seq);
+  const GougingCone cone = testCone();
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> coord(-30, 30), height(-4, 4);
+  std::uniform_int_distribution<uint32_t> limit(0, uint32_t(pts.size()));
+  int hits = 0, misses = 0;
+  for (int n = 0; n < 12; ++n) {
+    const Vector3d s(coord(rng), coord(rng), height(rng));
+    const uint32_t lims[2] = {uint32_t(pts.size()), limit(rng)};
+    const Vector3d u = Vector3d(0.3 * n - 2, 0.5, 1).normalized();
+    const Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+    for (int ring = 0; ring <= 30; ring += 3) {
+      for (int k = 0; k < 48; ++k) {
+        const double d = ring * 2 * 3.14159265358979 / 180, phi = k * 2 * 3.14159265358979 / 48;
+        const Vector3d c = (std::cos(d) * u + std::sin(d) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
+        const uint32_t lim = lims[(ring + k) % 7 == 0 ? 1 : 0];
+        const bool expected = scanHit(pts, s, c, lim, cone, nullptr);
+        ASSERT_EQ(index.hit(s, c, lim, cone), expected) << n << " " << ring << " " << k;
+        (expected ? hits : misses) += 1;
+      }
+    }
+  }
+  EXPECT_GT(hits, 1000);
+  EXPECT_GT(misses, 1000);
 }
 
 TEST(PrintedPoints, RetiredPointsAreNotSeen) {
