@@ -410,7 +410,11 @@ export function geodesicSummaryRows(g) {
   return [
     ['tets', r.tet_source === 'input' ? 'tets (from the file)' : 'tets', figure(r.tets)],
     ['max_geodesic', 'max geodesic distance', unit(r.max_geodesic_mm, 'mm')],
-    ['interval', 'IGDS interval', unit(r.interval_mm, 'mm')],
+    // Steps shorter than the interval where the field is slow at the surface (the core's
+    // geodesic.max_thickness_ratio): the range of steps, so a layer count above max / interval reads.
+    ['interval', 'IGDS interval', Number.isFinite(r.step_min_mm) && Number.isFinite(r.interval_mm) && r.step_min_mm < r.interval_mm * (1 - 1e-9)
+      ? `${unit(r.interval_mm, 'mm')} (steps ${figure(r.step_min_mm)}–${figure(r.interval_mm)} mm)`
+      : unit(r.interval_mm, 'mm')],
     ['layers', 'layers', figure(r.layers)],
     ['igds', 'IGDS (tree nodes)', figure(r.igds)],
     ['tree', 'tree', Number.isFinite(tree.edges)

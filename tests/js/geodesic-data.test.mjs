@@ -310,6 +310,11 @@ test('summary rows and the done line show the report\'s figures; absent ones a d
   assert.equal(byKey.time_tetmesh, '1.50 s');
   assert.equal(byKey.time_igds, '2.30 s');
   assert.equal(byKey.time_field, '420 ms');
+  assert.equal(byKey.interval, '0.8 mm', 'no step range without step_min_mm');
+  assert.equal(Object.fromEntries(geodesicSummaryRows({ ...g, step_min_mm: 0.41847 }).map(([k, , text]) => [k, text])).interval,
+    '0.8 mm (steps 0.4185–0.8 mm)');
+  assert.equal(Object.fromEntries(geodesicSummaryRows({ ...g, step_min_mm: 0.8 }).map(([k, , text]) => [k, text])).interval,
+    '0.8 mm', 'uniform steps: the interval alone');
   assert.equal(geodesicDoneSummary(g), '61,234 tets → 64 layers, 140 IGDS; A3: 12 retractions, 212.5 mm air, collision-free');
   const blank = Object.fromEntries(geodesicSummaryRows({}).map(([k, , text]) => [k, text]));
   for (const k of ['tets', 'layers', 'retractions', 'air_move', 'collision_free', 'tree']) assert.equal(blank[k], '—', k);
