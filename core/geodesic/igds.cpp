@@ -27,6 +27,13 @@ double nowMs() {
       .count();
 }
 
+// det(e1, e2, e3) times the gradient of the linear function that changes by d_j along edge e_j
+// of a tet (Cramer's rule): d1 e2 x e3 + d2 e3 x e1 + d3 e1 x e2.
+Eigen::Vector3d scaledGradient(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
+                               const Eigen::Vector3d& e3, double d1, double d2, double d3) {
+  return d1 * e2.cross(e3) + d2 * e3.cross(e1) + d3 * e1.cross(e2);
+}
+
 IgdsResult fail(Status s, std::string message) {
   IgdsResult r;
   r.status = s;
@@ -102,12 +109,10 @@ class IsoExtractor {
       for (int k = 0; k < 4; ++k) s[k] = phi_[t[k]] < c ? -1.0 : 1.0;
       const Eigen::Vector3d e1 = x[1] - x[0], e2 = x[2] - x[0], e3 = x[3] - x[0];
       const double det = e1.dot(e2.cross(e3));
-      const Eigen::Vector3d g = ((s[1] - s[0]) * e2.cross(e3) + (s[2] - s[0]) * e3.cross(e1) +
-                                 (s[3] - s[0]) * e1.cross(e2)) *
-                                (det < 0 ? -1.0 : 1.0);
-      const double slope = det != 0 ? ((phi_[t[1]] - phi_[t[0]]) * e2.cross(e3) +
-                                       (phi_[t[2]] - phi_[t[0]]) * e3.cross(e1) +
-                                       (phi_[t[3]] - phi_[t[0]]) * e1.cross(e2))
+      const Eigen::Vector3d g =
+          scaledGradient(e1, e2, e3, s[1] - s[0], s[2] - s[0], s[3] - s[0]) * (det < 0 ? -1.0 : 1.0);
+      const double slope = det != 0 ? scaledGradient(e1, e2, e3, phi_[t[1]] - phi_[t[0]],
+                                                     phi_[t[2]] - phi_[t[0]], phi_[t[3]] - phi_[t[0]])
                                               .norm() / std::abs(det)
                                     : 0.0;
       auto emit = [&](std::array<int, 2> ea, std::array<int, 2> eb, std::array<int, 2> ec) {
@@ -618,12 +623,11 @@ std::vector<double> surfaceLimitedIsoValues(const TetMesh& mesh, const std::vect
     const Eigen::Vector3d n2 = (mesh.vertex(f.v[1]) - a).cross(mesh.vertex(f.v[2]) - a);
     const double area = 0.5 * n2.norm();
     if (!(std::abs(det) > 0) || !(area > 0)) continue;
-    // grad phi solves e_j . g = phi_j - phi_0 (j = 1..3), by Cramer's rule.
-    const Eigen::Vector3d g = ((distance[v[1]] - distance[v[0]]) * e2.cross(e3) +
-                               (distance[v[2]] - distance[v[0]]) * e3.cross(e1) +
-                               (distance[v[3]] - distance[v[0]]) * e1.cross(e2)) /
-                              det;
-    const double slope = g.norm();
+    // |grad phi| of the tet's linear field (Cramer's rule).
+    const double slope = (scaledGradient(e1, e2, e3, distance[v[1]] - distance[v[0]],
+                                         distance[v[2]] - distance[v[0]], distance[v[3]] - distance[v[0]]) /
+                          det)
+                             .norm();
     double lo = distance[f.v[0]], hi = lo;
     for (int c = 1; c < 3; ++c) {
       lo = std::min(lo, distance[f.v[c]]);
