@@ -93,7 +93,6 @@ struct Sharing {
 
 class PairTester {
  public:
-
   PairTester(const Mesh& mesh, std::vector<Point>& points, bool shortcuts)
       : mesh_(mesh), points_(points), shortcuts_(shortcuts) {}
 
@@ -115,10 +114,10 @@ class PairTester {
     const uint32_t* b = mesh_.triangles.data() + 3 * g;
     const Sharing sh(a, b);
     if (shortcuts_) {
-      const Answer a2 = planar(a, b, sh);
-      if (a2 != Answer::Unknown) {
+      const Answer answer = planar(a, b, sh);
+      if (answer != Answer::Unknown) {
         ++planarDecided;
-        return a2 == Answer::Yes;
+        return answer == Answer::Yes;
       }
     }
     return exact(a, b, sh);
