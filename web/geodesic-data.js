@@ -430,6 +430,9 @@ export function geodesicSummaryRows(g) {
     ['thickness_dev', 'max thickness deviation', Number.isFinite(th.max_deviation_all_percent) ? `${figure(th.max_deviation_all_percent)} %` : '—'],
     ['paths', 'spiral paths', figure(r.paths)],
     ...(r.unfilled_regions ? [['unfilled', 'unfilled IGDS', figure(r.unfilled_regions)]] : []),
+    // Tool path left out where no nozzle axis clears the part (drawn red in the view).
+    ...(r.skipped_segments > 0 ? [['skipped', 'path left out', `${unit(r.skipped_mm, 'mm')} (${plural(r.skipped_segments, 'segment')})${
+      Array.isArray(r.skipped_layers) && r.skipped_layers.length === 2 ? `, layers ${r.skipped_layers[0] + 1}–${r.skipped_layers[1] + 1}` : ''}`]] : []),
     ...['tetmesh', 'field', 'igds', 'tree', 'collision', 'paths', 'toolpath']
       .filter((k) => t[k] !== undefined).map((k) => [`time_${k}`, `time: ${k}`, ms(t[k])]),
   ];

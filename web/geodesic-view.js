@@ -7,7 +7,10 @@
 //     and its edges as lines, drawn over the part (no depth test) for the layer range and the
 //     print step, the node printed at that step marked;
 //   - the air moves of the print sequence (transitions to a node that is not an upper-node of
-//     the previous one: the retractions) as lines of their own colour, up to the print step.
+//     the previous one: the retractions) as lines of their own colour, up to the print step;
+//   - the tool path left out where no nozzle axis clears the part (the report's
+//     skipped_tool_path warning) as red lines over the part, whatever the layer range: the gaps
+//     the print will have.
 // The IGDS surfaces themselves are the curved-layer surfaces of web/voxel-view.js. The data
 // preparation is in geodesic-data.js (pure, unit-tested).
 import * as THREE from 'three';
@@ -19,12 +22,13 @@ import {
 export const TREE_EDGE_COLOR = 0xe8edf5;
 export const AIR_MOVE_COLOR = 0xff3fa4;
 export const CURRENT_NODE_COLOR = 0xffffff;
+export const SKIPPED_COLOR = 0xff3b30;
 
 export class GeodesicView {
   /**
    * Build the view of a slice's geodesic buffers (core/pipeline/pipeline.h PreviewBuffers).
    * @param {object} preview fieldPositions, fieldTriangles, fieldValues, nodePositions, nodeLayers,
-   *   treeEdges, sequence
+   *   treeEdges, sequence, skippedSegments (optional)
    * @param {object} [geodesic] report.geodesic: iso_values_mm (the layers' distances, for the
    *   field's draw range) and layers
    * @throws Error when the buffers disagree (geodesic-data.js checkGeodesicBuffers)
@@ -96,22 +100,30 @@ export class GeodesicView {
     [this.edgeLines, this.edgeIndex] = lines(pairSegments(nodeP, edges), this.edgeCount, TREE_EDGE_COLOR, 0.8, 'tree-edges');
     this.moves = airMoves(nodeP, edges, sequence);
     [this.airLines, this.airIndex] = lines(pairSegments(nodeP, this.moves.pairs), this.moves.count, AIR_MOVE_COLOR, 0.95, 'air-moves');
+    // The skipped tool path: its own segment pairs, all drawn.
+    const skipped = preview.skippedSegments instanceof Float32Array ? preview.skippedSegments : empty(Float32Array);
+    this.skippedCount = Math.floor(skipped.length / 6);
+    const sg = new THREE.BufferGeometry();
+    sg.setAttribute('position', new THREE.BufferAttribute(skipped.subarray(0, 6 * this.skippedCount), 3));
+    this.skippedLines = new THREE.LineSegments(sg, new THREE.LineBasicMaterial({ ...overlay, color: SKIPPED_COLOR, opacity: 1 }));
+    this.skippedLines.name = 'skipped-path';
     const cg = new THREE.BufferGeometry();
     this.currentPosition = new THREE.BufferAttribute(new Float32Array(3), 3);
     cg.setAttribute('position', this.currentPosition);
     this.currentPoint = new THREE.Points(cg, new THREE.PointsMaterial({ ...overlay, size: 12, sizeAttenuation: false, color: CURRENT_NODE_COLOR }));
     this.currentPoint.name = 'tree-current-node';
-    for (const o of [this.fieldMesh, this.edgeLines, this.airLines, this.nodePoints, this.currentPoint]) {
+    for (const o of [this.fieldMesh, this.edgeLines, this.airLines, this.skippedLines, this.nodePoints, this.currentPoint]) {
       o.frustumCulled = false;
       this.object.add(o);
     }
     // Overlays last, nodes over lines, the current node on top.
     this.edgeLines.renderOrder = 10;
     this.airLines.renderOrder = 11;
+    this.skippedLines.renderOrder = 11;
     this.nodePoints.renderOrder = 12;
     this.currentPoint.renderOrder = 13;
 
-    this.show = { field: true, tree: true, air: true };
+    this.show = { field: true, tree: true, air: true, skipped: true };
     this.range = [0, Math.max(this.layerCount - 1, 0)];
     this.step = Math.max(this.nodeCount - 1, 0);
     this.selection = null;
@@ -143,7 +155,7 @@ export class GeodesicView {
   }
 
   setVisible(kind, visible) {
-    if (!(kind in this.show)) throw new Error(`geodesic view: no layer '${kind}' (field, tree, air)`);
+    if (!(kind in this.show)) throw new Error(`geodesic view: no layer '${kind}' (field, tree, air, skipped)`);
     this.show[kind] = !!visible;
     this.update();
   }
@@ -173,6 +185,7 @@ export class GeodesicView {
     this.nodePoints.visible = this.show.tree && s.nodes.length > 0;
     this.edgeLines.visible = this.show.tree && s.edges.length > 0;
     this.airLines.visible = this.show.air && s.moves.length > 0;
+    this.skippedLines.visible = this.show.skipped && this.skippedCount > 0;
     const c = s.current;
     const shownCurrent = c >= 0 && this.show.tree && this.nodeLayers[c] >= lo && this.nodeLayers[c] <= hi && this.step < this.nodeCount - 1;
     if (c >= 0) {
@@ -211,6 +224,8 @@ export class GeodesicView {
       airMoveMm: this.moves.lengthMm,
       airDrawn: drawnMoves,
       airDrawnMm: drawnAirMm,
+      skipped: this.skippedCount,
+      skippedDrawn: this.skippedLines.visible ? this.skippedCount : 0,
       current: this.currentNode(),
       show: { ...this.show },
     };

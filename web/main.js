@@ -302,6 +302,16 @@ function showReport(report) {
   $('report-took').textContent = t ? `${(total / 1000).toFixed(2)} s in the engine` : '—';
   $('report-machine').textContent = r.machine ? `${r.machine}${r.machine_kind && r.machine_kind !== r.machine ? ` (${r.machine_kind})` : ''}` : '—';
   $('report-program').textContent = r.program_format || r.program_extension || '—';
+  // What the user should know about this result (e.g. tool path left out): code and message.
+  const notes = $('report-warnings');
+  notes.replaceChildren();
+  for (const w of Array.isArray(r.warnings) ? r.warnings : []) {
+    const li = document.createElement('li');
+    li.className = 'warning';
+    li.dataset.code = w && w.code ? String(w.code) : '';
+    li.textContent = describeList([w])[0];
+    notes.append(li);
+  }
   const motion = r.motion && typeof r.motion === 'object' ? r.motion : null;
   $('report-motion').hidden = !motion;
   showVoxelReport(r.voxel && typeof r.voxel === 'object' ? r.voxel : null);

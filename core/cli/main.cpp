@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The omnislice command line: a thin wrapper over core/pipeline (the same functions the wasm API
 // calls). Any bad input or option: exit code 2 and one line `error: <code>: <message>` on stderr;
+// a result delivered with warnings: one line `warning: <code>: <message>` each, exit code 0;
 // outputs are written to a temporary file and renamed, so no partial file is ever left behind.
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -243,6 +244,7 @@ int cmdSlice(int argc, char** argv) {
   check(out);
   writeFileAtomic(outPath, out.program);
   if (a.has("--report")) writeFileAtomic(a.get("--report"), out.reportJson + "\n");
+  for (const Warning& w : out.warnings) std::fprintf(stderr, "warning: %s: %s\n", w.code.c_str(), w.message.c_str());
   return 0;
 }
 

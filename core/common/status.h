@@ -33,4 +33,11 @@ struct Outcome {
   bool ok() const { return status == Status::Ok; }
 };
 
+// Something the user should know about a result that is still delivered (e.g. tool path left out
+// where the nozzle would hit the part): a stable code and a human message.
+struct Warning {
+  std::string code;     // e.g. "skipped_tool_path"
+  std::string message;  // says what, how much and where
+};
+
 }  // namespace omnislice

@@ -41,6 +41,34 @@ Json sequenceJson(const PrintSequence& s) {
           {"ms", s.ms}};
 }
 
+// The warning for tool path left out where no nozzle axis clears the part (skipUncorrectable):
+// how much, its share of the tool path and where (layers 1-based, as the page counts them, and
+// the box around it), so a user can see the gaps before printing.
+Warning skippedPathWarning(const CurvedToolpathResult& tp, const Toolpath& printed, size_t layerCount) {
+  double printedMm = 0;
+  for (size_t i = 1; i < printed.moves.size(); ++i) {
+    const MoveKind k = printed.moves[i].kind;
+    if (k == MoveKind::Print || k == MoveKind::Support) {
+      printedMm += (printed.moves[i].position - printed.moves[i - 1].position).norm();
+    }
+  }
+  const auto [lo, hi] = std::minmax_element(tp.skippedLayers.begin(), tp.skippedLayers.end());
+  Eigen::Vector3d bmin = tp.skippedEnds.front(), bmax = bmin;
+  for (const Eigen::Vector3d& p : tp.skippedEnds) {
+    bmin = bmin.cwiseMin(p);
+    bmax = bmax.cwiseMax(p);
+  }
+  const double share = 100 * tp.skippedMm / std::max(printedMm + tp.skippedMm, 1e-9);
+  char text[512];
+  std::snprintf(text, sizeof text,
+                "%.0f mm of tool path (%.2g %% of it, %zu segments) left out on layers %d-%d of %zu, within "
+                "x %.0f..%.0f, y %.0f..%.0f, z %.0f..%.0f mm: no nozzle axis within the tilt range clears the "
+                "part there (growth fronts meeting, e.g. where a loop of the part closes); the print has gaps there",
+                tp.skippedMm, share, tp.skippedPoints, *lo + 1, *hi + 1, layerCount, bmin.x(), bmax.x(), bmin.y(),
+                bmax.y(), bmin.z(), bmax.z());
+  return {"skipped_tool_path", text};
+}
+
 }  // namespace
 
 GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, const Settings& settings,
@@ -216,12 +244,16 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   out.timingsMs.emplace_back("toolpath", msSince(t0));
   timings["toolpath"] = out.timingsMs.back().second;
   out.toolpath = std::move(tp.toolpath);
+  if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
   out.layerHeight = interval;
   out.layers = stage::printedLayerCount(paths);
 
   // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
   PreviewBuffers& p = out.preview;
   stage::appendLayerSurfaces(igds.layers, p);
+  for (const Eigen::Vector3d& e : tp.skippedEnds) {
+    for (int a = 0; a < 3; ++a) p.skippedSegments.push_back(static_cast<float>(e[a]));
+  }
   {
     std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
     for (uint32_t v : boundary.triangles) {
@@ -322,6 +354,9 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
       {"gouging_uncorrected", tp.gougingUncorrected},
       {"skipped_segments", tp.skippedPoints},
       {"skipped_mm", finite(tp.skippedMm)},
+      {"skipped_layers", tp.skippedLayers.empty() ? Json(nullptr)
+                         : Json::array({*std::min_element(tp.skippedLayers.begin(), tp.skippedLayers.end()),
+                                        *std::max_element(tp.skippedLayers.begin(), tp.skippedLayers.end())})},
       {"timings_ms",
        {{"tetmesh", timings["tetmesh"]},
         {"field", timings["field"]},

@@ -33,7 +33,8 @@ struct GeodesicMethodOutput : Outcome {
   int layers = 0;             // IGDS layers with at least one path
   std::vector<std::pair<std::string, double>> timingsMs;  // tetmesh, field, igds, order, paths,
                                                           // toolpath (pipeline stage names)
-  PreviewBuffers preview;     // surface (IGDS), field and skeleton fields only
+  PreviewBuffers preview;     // surface (IGDS), field, skeleton and skipped-segment fields only
+  std::vector<Warning> warnings;  // e.g. skipped_tool_path
 };
 
 // part: the placed, validated solid (min z = 0). tets: the placed tet mesh when the input was a

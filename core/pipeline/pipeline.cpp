@@ -432,6 +432,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       p.nodeLayers = std::move(g.nodeLayers);
       p.treeEdges = std::move(g.treeEdges);
       p.sequence = std::move(g.sequence);
+      p.skippedSegments = std::move(g.skippedSegments);
     }
     if (multidir) {
       PreviewBuffers& p = out.preview;
@@ -495,6 +496,23 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
           stage::printedSupportVolume(plan.toolpath, settings.filamentDiameter), planarSupport->ms));
     }
     report["fill"] = settings.fill;
+    // What the user should know about this result (never empty of meaning: each says what, how
+    // much and where); [] when nothing.
+    if (geodesic) out.warnings = geodesicOut.warnings;
+    // The voxel and surface methods print the points the gouging search could not clear (the
+    // geodesic method leaves them out): verify counts them as collisions.
+    auto collisionWarning = [&](const Json& methodReport) {
+      const Json left = methodReport.value("gouging_uncorrected", Json(0));
+      if (!left.is_number() || left.get<size_t>() == 0) return;
+      out.warnings.push_back({"nozzle_collision", std::to_string(left.get<size_t>()) +
+                              " tool-path points print with the nozzle cone touching printed material: no "
+                              "nozzle axis within the correction and tilt limits clears the part there"});
+    };
+    if (voxel) collisionWarning(report["voxel"]);
+    if (surface) collisionWarning(report["isoplanar"]);
+    Json warnings = Json::array();
+    for (const Warning& w : out.warnings) warnings.push_back({{"code", w.code}, {"message", w.message}});
+    report["warnings"] = warnings;
     Json t = clock.timings;
     t["total"] = msSince(start);
     report["timings_ms"] = t;

@@ -46,6 +46,9 @@ struct PreviewBuffers {
   std::vector<uint32_t> nodeLayers;       // #N
   std::vector<uint32_t> treeEdges;        // #E*2
   std::vector<uint32_t> sequence;         // #N
+  // Segments of the tool path left out because no nozzle axis clears the part there (the
+  // geodesic method's skipped_tool_path warning): start and end per segment.
+  std::vector<float> skippedSegments;     // #K*6, part frame, mm
   // Multidir method (paper 000): every part's closed mesh (clipSequence) merged into one soup with
   // the part's print index per triangle, and a risky flag per triangle of the placed part
   // (SliceOutput.partMesh): along +Z (before; faces with centroid below the platform band are
@@ -67,6 +70,7 @@ struct SliceOutput : Outcome {
   PreviewBuffers preview;
   Mesh partMesh;             // the placed solid (part frame), for viewers
   int layers = 0;
+  std::vector<Warning> warnings;  // also the report's "warnings" ([{code, message}])
 };
 
 // Slice mesh bytes with settings. Every failure is a Status with a message (never throws).

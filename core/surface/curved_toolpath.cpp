@@ -327,7 +327,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
   // one and the turn is tapered over the neighbours (so the motion planner's low-pass filter,
   // which acts on neighbours more than 10 degrees apart, leaves it), re-checked until stable.
   std::vector<uint8_t> skip;  // per path point: the segment ending there is not printed
-  auto correctPath = [&](const std::vector<Vector3d>& pts, std::vector<Sample>& smp) {
+  auto correctPath = [&](const std::vector<Vector3d>& pts, std::vector<Sample>& smp, int32_t layer) {
     const auto g0 = Clock::now();
     const size_t np = pts.size();
     skip.assign(np, 0);
@@ -497,6 +497,9 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
           added = true;
           ++result.skippedPoints;
           result.skippedMm += (pts[i] - pts[i - 1]).norm();
+          result.skippedEnds.push_back(pts[i - 1]);
+          result.skippedEnds.push_back(pts[i]);
+          result.skippedLayers.push_back(layer);
           // Later checks see only what is printed.
           for (size_t k = 1; k < positions[i].size(); ++k) printed.retire(positions[i][k], seqOf[i]);
         }
@@ -595,7 +598,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
         result.orientationFallbacks += samples[i].fallback;
       }
       orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
-      correctPath(path.points, samples);
+      correctPath(path.points, samples, layer);
       travelTo(path.points[0], samples[0].axis, layer);
       for (size_t i = 1; i < np; ++i) {
         if (skip[i]) continue;

@@ -74,6 +74,8 @@ struct CurvedToolpathResult : Outcome {
   size_t gougingUncorrected = 0;    // path points left colliding (no free axis within the limits)
   size_t skippedPoints = 0;         // skipUncorrectable: segments left out
   double skippedMm = 0;             // their length, mm
+  std::vector<Eigen::Vector3d> skippedEnds;  // start and end of each segment left out (2 per segment)
+  std::vector<int32_t> skippedLayers;        // the layer of each segment left out
   double orientationMs = 0;
   double gougingMs = 0;
 };

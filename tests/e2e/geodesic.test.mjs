@@ -141,13 +141,14 @@ function syntheticGeodesic({ L }) {
   const report = {
     method: 'geodesic', layers: L, path_mm: 800, extrusion_mm: 30, estimated_time_s: 240, timings_ms: { total: 3000 },
     program_format: 'gcode', machine: 'table5', machine_kind: 'table5',
+    warnings: [{ code: 'skipped_tool_path', message: '3 mm of tool path left out on layers 11-12 of 12' }],
     geodesic: {
       tets: 23456, tet_source: 'mesher', max_geodesic_mm: L, interval_mm: 1, layers: L, igds: N,
       iso_values_mm: Array.from({ length: L }, (_, l) => l + 1),
       tree: { nodes: N, edges: treeEdges.length / 2, is_tree: true, branch_points: 1, merges: 0 },
       sequence: 'A3', retractions: 1, air_move_mm: Math.hypot(8, L - fork - 1), collision_free: true, nozzle_angle_deg: 45,
       overhang_avg_deg: avg, overhang_ratio: ratio, overhang_avg_all_deg: 30, overhang_max_layer_deg: 50,
-      thickness: { max_deviation_all_percent: 20 }, paths: N,
+      thickness: { max_deviation_all_percent: 20 }, paths: N, skipped_segments: 2, skipped_mm: 3, skipped_layers: [10, 11],
       traversals: {
         LPT: { retractions: 11, air_move_mm: 88, collision_free: true, colliding_nodes: 0 },
         DPT: { retractions: 1, air_move_mm: Math.hypot(8, L - fork - 1), collision_free: false, colliding_nodes: 2 },
@@ -169,7 +170,7 @@ function syntheticGeodesic({ L }) {
       curves: new Uint32Array(0),
       fieldPositions: new Float32Array(fieldPositions), fieldTriangles: new Uint32Array(fieldTriangles), fieldValues: new Float32Array(fieldValues),
       nodePositions: new Float32Array(nodePositions), nodeLayers: new Uint32Array(nodeLayers), treeEdges: new Uint32Array(treeEdges),
-      sequence: new Uint32Array(sequence),
+      sequence: new Uint32Array(sequence), skippedSegments: new Float32Array([-4, 0, L - 1, -3, 0, L - 1, -3, 0, L - 1, -1, 0, L]),
     },
     program,
   };
@@ -189,6 +190,11 @@ test('a synthetic geodesic result: figures, chart, traversals, field, tree, air 
   assert.equal(await page.textContent(tid('geo-layers')), '12');
   assert.equal(await page.textContent(tid('geo-collision_free')), 'yes');
   assert.equal(await page.textContent(tid('geo-time_field')), '500 ms');
+  // The tool path left out: the warning under the result, the summary row, red lines in the view.
+  assert.deepEqual(await page.$$eval(`${tid('report-warnings')} li`, (lis) => lis.map((li) => [li.dataset.code, li.textContent])),
+    [['skipped_tool_path', '3 mm of tool path left out on layers 11-12 of 12']]);
+  assert.equal(await page.textContent(tid('geo-skipped')), '3 mm (2 segments), layers 11–12');
+  assert.deepEqual(await page.evaluate(() => [window.omnislice.geodesic.skipped, window.omnislice.geodesic.skippedDrawn]), [2, 2]);
   assert.match(await page.textContent(tid('progress-text')), /done in [\d.]+ s: 23,456 tets → 12 layers, 18 IGDS; A3: 1 retractions, [\d.]+ mm air, collision-free/);
   // The chart: one point per layer, ratio bars, the mark at the layer slider's top layer.
   const chart = await page.evaluate(() => {
@@ -378,6 +384,7 @@ test('a planar slice afterwards hides the geodesic view and report', async (t) =
   assert.equal(await page.isHidden(tid('geo-report')), true);
   assert.equal(await page.evaluate(() => window.omnislice.geodesic), null);
   assert.equal(await page.isVisible(tid('show-missed')), false, 'no voxel bar either');
+  assert.equal(await page.$$eval(`${tid('report-warnings')} li`, (lis) => lis.length), 0, 'the earlier warning is gone');
 });
 
 test('no uncaught page error', (t) => {

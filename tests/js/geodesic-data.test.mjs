@@ -315,6 +315,9 @@ test('summary rows and the done line show the report\'s figures; absent ones a d
     '0.8 mm (steps 0.4185–0.8 mm)');
   assert.equal(Object.fromEntries(geodesicSummaryRows({ ...g, step_min_mm: 0.8 }).map(([k, , text]) => [k, text])).interval,
     '0.8 mm', 'uniform steps: the interval alone');
+  assert.equal(byKey.skipped, undefined, 'no row when nothing was left out');
+  assert.equal(Object.fromEntries(geodesicSummaryRows({ ...g, skipped_segments: 136, skipped_mm: 68.57, skipped_layers: [119, 126] })
+    .map(([k, , text]) => [k, text])).skipped, '68.57 mm (136 segments), layers 120–127', 'layers counted from 1 as the slider');
   assert.equal(geodesicDoneSummary(g), '61,234 tets → 64 layers, 140 IGDS; A3: 12 retractions, 212.5 mm air, collision-free');
   const blank = Object.fromEntries(geodesicSummaryRows({}).map(([k, , text]) => [k, text]));
   for (const k of ['tets', 'layers', 'retractions', 'air_move', 'collision_free', 'tree']) assert.equal(blank[k], '—', k);

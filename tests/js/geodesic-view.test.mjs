@@ -6,7 +6,7 @@
 // message; dispose frees every geometry.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { GeodesicView } from '../../web/geodesic-view.js';
+import { GeodesicView, SKIPPED_COLOR } from '../../web/geodesic-view.js';
 import { FIELD_RAMP } from '../../web/geodesic-data.js';
 
 // A cylinder-like field surface (rings of 12 vertices, z = 0..L-1 mm, value = z) and a fork tree
@@ -116,6 +116,16 @@ test('GeodesicView: tree points, edges and air moves follow the range, the step 
   s = v.stats();
   assert.equal(s.nodesDrawn + s.edgesDrawn + s.airDrawn, 0);
   assert.throws(() => v.setVisible('bogus', true), /no layer 'bogus'/);
+  // Skipped tool path: every segment drawn in its colour whatever the range, off by its toggle.
+  assert.deepEqual([s.skipped, s.skippedDrawn], [0, 0], 'none in this preview');
+  assert.equal(v.skippedLines.visible, false);
+  const gaps = new GeodesicView({ ...makePreview(LAYER_BY_LAYER), skippedSegments: new Float32Array([0, 0, 6, 1, 0, 6, 1, 0, 6, 2, 0, 6.5]) }, REPORT);
+  gaps.setLayerRange(0, 1);
+  assert.deepEqual([gaps.stats().skipped, gaps.stats().skippedDrawn], [2, 2]);
+  assert.deepEqual([...gaps.skippedLines.geometry.getAttribute('position').array.subarray(9, 12)], [2, 0, 6.5]);
+  assert.equal(gaps.skippedLines.material.color.getHex(), SKIPPED_COLOR);
+  gaps.setVisible('skipped', false);
+  assert.deepEqual([gaps.stats().skippedDrawn, gaps.skippedLines.visible], [0, false]);
   // Branch by branch: one air move (from the left tip down to the right fork).
   const depth = new GeodesicView(makePreview([0, 1, 2, 3, 4, 6, 8, 5, 7, 9]), REPORT);
   assert.equal(depth.stats().airMoves, 1);
@@ -134,5 +144,5 @@ test('GeodesicView: bad buffers fail with a clear message; dispose frees the geo
   const v = new GeodesicView(p, REPORT);
   v.object.traverse((o) => { if (o.geometry) o.geometry.addEventListener('dispose', () => disposed++); });
   v.dispose();
-  assert.equal(disposed, 5, 'field, nodes, edges, air moves, current mark');
+  assert.equal(disposed, 6, 'field, nodes, edges, air moves, skipped path, current mark');
 });

@@ -575,8 +575,12 @@ TEST(Igds, SurfaceLimitedStepsKeepLayersWithinTheRatio) {
   double previous = 0;
   for (double c : iso) {
     const double step = c - previous;
-    if (c + d < 6) EXPECT_NEAR(step, d, 1e-12) << c;   // unit speed: i d
-    if (previous >= 6) EXPECT_NEAR(step, 0.805 * d, 1e-12) << c;
+    if (c + d < 6) {
+      EXPECT_NEAR(step, d, 1e-12) << c;  // unit speed: i d
+    }
+    if (previous >= 6) {
+      EXPECT_NEAR(step, 0.805 * d, 1e-12) << c;
+    }
     EXPECT_GE(step, 0.805 * d - 1e-12);
     EXPECT_LE(step, d + 1e-12);
     previous = c;

@@ -131,6 +131,14 @@ TEST_P(VoxelPipeline, MushroomPrintsWithCurvedLayersAndVerifies) {
   }
   EXPECT_EQ(vx["missed_voxels"].get<int>(), 0) << vx.dump();
   EXPECT_EQ(vx["strategy"], "pg-sp-gcfa");
+  // Points left colliding by the gouging search are told as a warning, with their count.
+  const size_t uncorrected = vx["gouging_uncorrected"].get<size_t>();
+  ASSERT_TRUE(report["warnings"].is_array());
+  ASSERT_EQ(out.warnings.size(), uncorrected > 0 ? 1u : 0u) << report["warnings"].dump();
+  if (uncorrected > 0) {
+    EXPECT_EQ(out.warnings[0].code, "nozzle_collision");
+    EXPECT_EQ(out.warnings[0].message.rfind(std::to_string(uncorrected) + " tool-path points", 0), 0u);
+  }
   // Stem 113 mm^3, cap frustum 2,170 mm^3, dome ~1,900 mm^3 at 0.64 mm voxels: ~16,000 voxels.
   EXPECT_GT(vx["voxels"].get<int>(), 12000);
   EXPECT_LT(vx["voxels"].get<int>(), 24000);
