@@ -104,8 +104,8 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   std::printf("yoga: %s\nverify %s\n", g.dump().substr(0, 1500).c_str(), r.verify.dump().c_str());
   expectVerified(r, 0.99);
 
-  // The hands close a loop over the head: the two growth fronts meet there and the last gap
-  // faces the nozzle from both sides, so some tool path is left out. The user is told how much
+  // Two limbs meet at the top of the part and close a loop: the two growth fronts meet there and
+  // the last gap faces the nozzle from both sides, so some tool path is left out. The user is told how much
   // and where (report warning, CLI line, page), and the preview holds exactly those segments,
   // none of which the program prints.
   const size_t skipped = g["skipped_segments"].get<size_t>();
@@ -137,7 +137,7 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
     if (k % 4 == 0) EXPECT_GT(nearestPrinted(0.5 * (a + b)), 0.01) << "skipped segment " << k << " is printed";
   }
   EXPECT_NEAR(length, g["skipped_mm"].get<double>(), 1e-3 * length);
-  // Where the hands meet: the top of the part (fit 80 mm of height).
+  // Where the limbs meet: the top of the part (fit 80 mm of height).
   EXPECT_GT(zLo, 60.0);
   const Json& layers = g["skipped_layers"];
   ASSERT_EQ(layers.size(), 2u);
