@@ -13,9 +13,8 @@ using Eigen::Vector3d;
 constexpr double kCell = 2.0;  // mm, edge of a level-0 cell
 constexpr int kBlockLevel = 2;  // 8 mm blocks: the boxes the scan this index replaced tested
 constexpr int kTopLevel = 5;    // 64 mm roots
-// Added to the cone of the octree boxes above the cells and blocks (mm): their test only skips
-// boxes no point in the cone can lie in, so it must not reject by rounding (~1e-13 mm here)
-// what the cell and block tests and the point test accept.
+// Added to the cone of the search's box tests (mm): they only skip boxes no point in the cone can
+// lie in, so they must not reject by rounding (~1e-13 mm here) what the point test accepts.
 constexpr double kMargin = 1e-6;
 
 int64_t floorDiv(int64_t v, int64_t d) { return v >= 0 ? v / d : -((-v + d - 1) / d); }
@@ -46,6 +45,35 @@ bool boxMayHit(const Vector3d& lo, const Vector3d& hi, const Vector3d& center, d
   return dist < r;
 }
 
+// The cone at s along u as the search's box tests use it, widened by kMargin (computed once a query).
+struct SearchCone {
+  Vector3d s, u, absU, tanU;     // absU: |u| per coordinate; tanU: tanAngle u
+  double floor, reach2, radius;  // clearance - margin, (length + margin)^2, radius + margin
+  SearchCone(const Vector3d& s, const Vector3d& u, const GougingCone& cone)
+      : s(s), u(u), absU(u.cwiseAbs()), tanU(cone.tanAngle * u), floor(cone.clearance - kMargin),
+        reach2((cone.length + kMargin) * (cone.length + kMargin)), radius(cone.radius + kMargin) {}
+};
+
+// Conservative with a margin far above rounding: false only when no point of the box (centre c,
+// half its edges halfSize) can be in the cone, i.e. the box lies below the clearance, beyond the
+// length, or beyond the cone's tangent plane on the side of c. A point p in the cone has
+// (p - s).w <= its distance from the axis < (p - s).u tanAngle + radius for every unit w across
+// the axis, so (p - s).(w - tanAngle u) < radius; with w toward c, the box's least value of that
+// linear function (at a corner) decides. Sharper than the bounding sphere for the flat cells of a
+// layer, whose half-diagonal overstates their reach.
+inline bool boxMayHold(const Vector3d& c, const Vector3d& halfSize, const SearchCone& k) {
+  const Vector3d d = c - k.s;
+  const double a = d.dot(k.u);
+  if (a + k.absU.dot(halfSize) <= k.floor) return false;
+  if ((d.cwiseAbs() - halfSize).cwiseMax(0.0).squaredNorm() >= k.reach2) return false;
+  const Vector3d lateral = d - a * k.u;
+  const double lat = lateral.norm();
+  // Near the axis the direction toward c is ill-conditioned (and the plane would not reject).
+  if (lat <= 1e-3) return true;
+  const Vector3d n = (1 / lat) * lateral - k.tanU;
+  return d.dot(n) - n.cwiseAbs().dot(halfSize) < k.radius;
+}
+
 void boxSphere(const Vector3d& lo, const Vector3d& hi, Vector3d& center, double& halfDiagonal) {
   center = 0.5 * (lo + hi);
   halfDiagonal = 0.5 * (hi - lo).norm();
@@ -74,11 +102,13 @@ bool inCone(const Vector3d& p, const Vector3d& s, const Vector3d& u, const Gougi
 // Level 0: a cell with its points; above: a box over 2 x 2 x 2 nodes of the level below. Every
 // node keeps the bounding box and the least seq of the points under it.
 struct PrintedPoints::Node {
+  // What the search reads of every node it meets, side by side.
+  uint32_t minSeq = std::numeric_limits<uint32_t>::max();
+  Vector3d center = Vector3d::Zero();  // of the box (kept with it: queries test it many times)
+  Vector3d halfSize = Vector3d::Zero();
   Vector3d lo = Vector3d::Constant(std::numeric_limits<double>::infinity());
   Vector3d hi = Vector3d::Constant(-std::numeric_limits<double>::infinity());
-  Vector3d center = Vector3d::Zero();  // of the box (kept with it: queries test it many times)
   double halfDiagonal = 0;
-  uint32_t minSeq = std::numeric_limits<uint32_t>::max();
   Node* parent = nullptr;
   std::vector<Node*> children;  // creation order
   std::vector<Vector3d> points;  // level 0
@@ -88,10 +118,15 @@ struct PrintedPoints::Node {
 };
 
 struct PrintedPoints::Query {
+  Query(const Vector3d& s, const Vector3d& u, uint32_t limit, const GougingCone& cone)
+      : s(s), u(u), limit(limit), cone(cone), search(s, u, cone) {
+    coneCosSin(cone, cosT, sinT);
+  }
   Vector3d s, u;
   uint32_t limit = 0;
-  GougingCone cone, loose;
-  double cosT = 1, sinT = 0;  // of the cone's half-angle (loose: the same angle)
+  GougingCone cone;
+  SearchCone search;
+  double cosT = 1, sinT = 0;  // of the cone's half-angle
   mutable const Node* hitCell = nullptr;  // the cell and index of the point found
   mutable size_t hitIndex = 0;
   std::vector<const Node*>* found = nullptr;  // collect the cells that pass instead of testing points
@@ -133,6 +168,7 @@ void PrintedPoints::add(const Vector3d& p, uint32_t seq) {
     n->lo = n->lo.cwiseMin(p);
     n->hi = n->hi.cwiseMax(p);
     boxSphere(n->lo, n->hi, n->center, n->halfDiagonal);
+    n->halfSize = 0.5 * (n->hi - n->lo);
     n->minSeq = std::min(n->minSeq, seq);
   }
 }
@@ -147,17 +183,24 @@ void PrintedPoints::retire(const Vector3d& p, uint32_t seq) {
   }
 }
 
+// The scan's tests of the cell and its block, for a point the point test accepts: the box tests
+// of the search only skip boxes without such points, so the answers are those of the scan.
+bool PrintedPoints::scanTakes(const Node& cell, const Query& q) const {
+  const Node& b = *cell.block;
+  return boxMayHit(cell.lo, cell.hi, cell.center, cell.halfDiagonal, q.s, q.u, q.cone, q.cosT, q.sinT) &&
+         boxMayHit(b.lo, b.hi, b.center, b.halfDiagonal, q.s, q.u, q.cone, q.cosT, q.sinT);
+}
+
+bool PrintedPoints::mayHold(const Node& node, const Query& q) const {
+  return node.minSeq < q.limit && boxMayHold(node.center, node.halfSize, q.search);
+}
+
+// For a node that passed mayHold.
 bool PrintedPoints::visit(const Node& node, int level, const Query& q) const {
-  if (node.minSeq >= q.limit) return false;
-  // Cells and blocks take the exact test of the block scan, the boxes between the loose one.
-  const bool exact = level == 0 || level == kBlockLevel;
-  if (!boxMayHit(node.lo, node.hi, node.center, node.halfDiagonal, q.s, q.u, exact ? q.cone : q.loose, q.cosT, q.sinT)) {
-    return false;
-  }
   if (level > 0) {
     // Newest first: the material just printed is the likeliest in the way (any order answers the same).
     for (auto c = node.children.rbegin(); c != node.children.rend(); ++c) {
-      if (visit(**c, level - 1, q)) return true;
+      if (mayHold(**c, q) && visit(**c, level - 1, q)) return true;
     }
     return false;
   }
@@ -169,6 +212,8 @@ bool PrintedPoints::visit(const Node& node, int level, const Query& q) const {
   double lat;
   for (size_t k = 0; k < node.points.size(); ++k) {
     if (node.seq[k] < q.limit && inCone(node.points[k], q.s, q.u, q.cone, lateral, lat)) {
+      // The scan's box tests hold for all points of the cell or none.
+      if (!scanTakes(node, q)) return false;
       q.hitCell = &node;
       q.hitIndex = k;
       return true;
@@ -179,37 +224,25 @@ bool PrintedPoints::visit(const Node& node, int level, const Query& q) const {
 
 bool PrintedPoints::hit(const Vector3d& s, const Vector3d& u, uint32_t limit, const GougingCone& cone,
                         Vector3d* away) const {
-  Query q;
-  q.s = s;
-  q.u = u;
-  q.limit = limit;
-  q.cone = cone;
-  q.loose = cone;
-  q.loose.clearance -= kMargin;
-  q.loose.length += kMargin;
-  q.loose.radius += kMargin;
-  coneCosSin(cone, q.cosT, q.sinT);
+  Query q(s, u, limit, cone);
   if (!away) {
     // The point that answered the last query first: the gouging search asks about many axes
     // around one, and one point is often in the way of the next axis too. It answers when it
-    // passes the tests of its cell and block and the point test, as in the scan.
+    // passes the point test and the tests of its cell and block, as in the scan.
     for (int e = 0; e < kRecent && recentCell_[e]; ++e) {
       const Node* c = recentCell_[e];
       const size_t k = recentIndex_[e];
       if (c->seq[k] >= limit) continue;
-      const Node* b = c->block;
       Vector3d lateral;
       double lat;
-      if (inCone(c->points[k], s, u, cone, lateral, lat) &&
-          boxMayHit(c->lo, c->hi, c->center, c->halfDiagonal, s, u, cone, q.cosT, q.sinT) &&
-          boxMayHit(b->lo, b->hi, b->center, b->halfDiagonal, s, u, cone, q.cosT, q.sinT)) {
+      if (inCone(c->points[k], s, u, cone, lateral, lat) && scanTakes(*c, q)) {
         std::swap(recentCell_[e], recentCell_[0]);
         std::swap(recentIndex_[e], recentIndex_[0]);
         return true;
       }
     }
     for (auto r = roots_.rbegin(); r != roots_.rend(); ++r) {
-      if (visit(**r, kTopLevel, q)) {
+      if (mayHold(**r, q) && visit(**r, kTopLevel, q)) {
         for (int e = kRecent - 1; e > 0; --e) {
           recentCell_[e] = recentCell_[e - 1];
           recentIndex_[e] = recentIndex_[e - 1];
@@ -224,16 +257,21 @@ bool PrintedPoints::hit(const Vector3d& s, const Vector3d& u, uint32_t limit, co
   // The sum in the scan's order: blocks, then their cells, in creation order.
   std::vector<const Node*> found;
   q.found = &found;
-  for (const Node* r : roots_) visit(*r, kTopLevel, q);
+  for (const Node* r : roots_) {
+    if (mayHold(*r, q)) visit(*r, kTopLevel, q);
+  }
   std::sort(found.begin(), found.end(), [](const Node* a, const Node* b) {
     return a->block->order != b->block->order ? a->block->order < b->block->order : a->order < b->order;
   });
   bool any = false;
   for (const Node* c : found) {
+    int takes = -1;  // the scan's box tests, once the cell has a point in the cone
     for (size_t k = 0; k < c->points.size(); ++k) {
       Vector3d lateral;
       double lat;
       if (c->seq[k] >= limit || !inCone(c->points[k], s, u, cone, lateral, lat)) continue;
+      if (takes < 0) takes = scanTakes(*c, q);
+      if (!takes) break;
       any = true;
       if (lat > 1e-9) *away -= lateral / lat;
     }

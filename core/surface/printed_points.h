@@ -26,9 +26,10 @@ struct GougingCone {
 
 // Points with sequence numbers (their print order). Queries see only points with seq < limit.
 // The answers are those of a scan over 8 mm blocks of 2 mm cells in creation order, each box
-// tested against the cone before its points: the octree levels between and above (4, 16, 32,
-// 64 mm) only skip boxes that cannot hold a point in the cone, tested with a margin far above
-// rounding, so neither the answers nor the order of the sum in hit's `away` depend on them.
+// tested against the cone before its points: the search's box tests (every octree level, 2 to
+// 64 mm) only skip boxes that cannot hold a point in the cone, with a margin far above rounding,
+// and a point in the cone counts when its cell and block pass the scan's tests, so neither the
+// answers nor the order of the sum in hit's `away` depend on the octree.
 class PrintedPoints {
  public:
   PrintedPoints();
@@ -51,7 +52,9 @@ class PrintedPoints {
  private:
   struct Node;
   struct Query;
+  bool mayHold(const Node& node, const Query& q) const;
   bool visit(const Node& node, int level, const Query& q) const;
+  bool scanTakes(const Node& cell, const Query& q) const;
 
   std::vector<std::unordered_map<int64_t, std::unique_ptr<Node>>> levels_;  // [0] cells ... [top]
   std::vector<Node*> roots_;                                                // top level, creation order
