@@ -63,7 +63,8 @@ Warning skippedPathWarning(const CurvedToolpathResult& tp, const Toolpath& print
   std::snprintf(text, sizeof text,
                 "%.0f mm of tool path (%.2g %% of it, %zu segments) left out on layers %d-%d of %zu, within "
                 "x %.0f..%.0f, y %.0f..%.0f, z %.0f..%.0f mm: no nozzle axis within the tilt range clears the "
-                "part there (growth fronts meeting, e.g. where a loop of the part closes); the print has gaps there",
+                "material printed before (growth fronts meeting where a loop of the part closes, layers "
+                "facing down past the tilt range); the print has gaps there",
                 tp.skippedMm, share, tp.skippedPoints, *lo + 1, *hi + 1, layerCount, bmin.x(), bmax.x(), bmin.y(),
                 bmax.y(), bmin.z(), bmax.z());
   return {"skipped_tool_path", text};

@@ -82,7 +82,7 @@ struct GeodesicSettings {
   double baseBandMm = 0;        // boundary vertices this close to the platform are the heat
                                 // source, held at their height; 0 = a quarter interval
   double maxThicknessRatio = 1;  // iso-values stepped so the layers stand at most this many
-                                // intervals apart where they meet the surface (95 % of it;
+                                // intervals apart where they meet the surface (99 % of it;
                                 // surfaceLimitedIsoValues): the interval is the thickest layer
                                 // there, as a layer height is; 0 = phi_i = i d (the paper)
   std::string sequence = "a3";  // print order: a3 (Algorithm 3) | lpt | dpt
