@@ -3,6 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <utility>
 
 namespace omnislice {
 
@@ -129,7 +131,9 @@ struct PrintedPoints::Query {
   double cosT = 1, sinT = 0;  // of the cone's half-angle
   mutable const Node* hitCell = nullptr;  // the cell and index of the point found
   mutable size_t hitIndex = 0;
-  std::vector<const Node*>* found = nullptr;  // collect the cells that pass instead of testing points
+  // Collect the cells that pass instead of testing points, keyed by their place in the scan's
+  // order (block, then cell, creation order).
+  std::vector<std::pair<uint64_t, const Node*>>* found = nullptr;
 };
 
 PrintedPoints::PrintedPoints() : levels_(kTopLevel + 1) {}
@@ -205,7 +209,7 @@ bool PrintedPoints::visit(const Node& node, int level, const Query& q) const {
     return false;
   }
   if (q.found) {
-    q.found->push_back(&node);
+    q.found->emplace_back(uint64_t(node.block->order) << 32 | node.order, &node);
     return false;
   }
   Vector3d lateral;
@@ -255,22 +259,31 @@ bool PrintedPoints::hit(const Vector3d& s, const Vector3d& u, uint32_t limit, co
     return false;
   }
   // The sum in the scan's order: blocks, then their cells, in creation order.
-  std::vector<const Node*> found;
+  std::vector<std::pair<uint64_t, const Node*>> found;
   q.found = &found;
   for (const Node* r : roots_) {
     if (mayHold(*r, q)) visit(*r, kTopLevel, q);
   }
-  std::sort(found.begin(), found.end(), [](const Node* a, const Node* b) {
-    return a->block->order != b->block->order ? a->block->order < b->block->order : a->order < b->order;
-  });
+  std::sort(found.begin(), found.end());
   bool any = false;
-  for (const Node* c : found) {
+  // The cells come block by block: each block's test of the scan is made once (at the first cell
+  // with a point in the cone), the cell's at its first point in the cone.
+  const Node* block = nullptr;
+  int blockTakes = -1;
+  for (const auto& [order, c] : found) {
+    if (c->block != block) {
+      block = c->block;
+      blockTakes = -1;
+    }
     int takes = -1;  // the scan's box tests, once the cell has a point in the cone
     for (size_t k = 0; k < c->points.size(); ++k) {
       Vector3d lateral;
       double lat;
       if (c->seq[k] >= limit || !inCone(c->points[k], s, u, cone, lateral, lat)) continue;
-      if (takes < 0) takes = scanTakes(*c, q);
+      if (takes < 0) {
+        if (blockTakes < 0) blockTakes = boxMayHit(block->lo, block->hi, block->center, block->halfDiagonal, s, u, cone, q.cosT, q.sinT);
+        takes = blockTakes && boxMayHit(c->lo, c->hi, c->center, c->halfDiagonal, s, u, cone, q.cosT, q.sinT);
+      }
       if (!takes) break;
       any = true;
       if (lat > 1e-9) *away -= lateral / lat;
