@@ -344,6 +344,10 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
     for (size_t i = 0; i < np; ++i) base[i] = limitTilt(base[i].normalized(), maxTilt);
     std::vector<Vector3d> axes = base;
     std::vector<uint8_t> bad(np, 0), changed(np, 0);
+    // noFree[i]: the search around base[i] found no free axis. Whether one exists depends only on
+    // the point, its base axis and the printed set, which stays fixed while a path is corrected
+    // (the preferred turn and the window only choose among free ones), so it is not searched again.
+    std::vector<uint8_t> noFree(np, 0);
     bool anyChange = false;
     for (size_t i = 0; i < np; ++i) {
       Vector3d u = axes[i];
@@ -354,6 +358,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
         changed[i] = 1;
       } else {
         bad[i] = 1;
+        noFree[i] = 1;
       }
     }
     // Consistent turns: the changed points again, backward then forward, preferring the turn
@@ -429,7 +434,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
             continue;
           }
           u = base[j];
-          if (searchFree(j, u, next[j], 8)) {
+          if (!noFree[j] && searchFree(j, u, next[j], 8)) {
             if ((u - axes[j]).norm() > 1e-9) stable = false;
             axes[j] = u;
             changed[j] = 1;
@@ -437,6 +442,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
           } else {
             axes[j] = next[j];
             bad[j] = 1;
+            noFree[j] = 1;
           }
         }
         if (stable) break;
