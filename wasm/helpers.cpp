@@ -153,6 +153,8 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
                                       r.preview.sequence.size()));
     preview.set("skippedSegments", copyArray("Float32Array", r.preview.skippedSegments.data(),
                                              r.preview.skippedSegments.size()));
+    preview.set("skippedLayers", copyArray("Uint32Array", r.preview.skippedLayers.data(),
+                                           r.preview.skippedLayers.size()));
     preview.set("partPositions", copyArray("Float32Array", r.preview.partPositions.data(),
                                            r.preview.partPositions.size()));
     preview.set("partTriangles", copyArray("Uint32Array", r.preview.partTriangles.data(),

@@ -46,8 +46,10 @@ export interface PreviewBuffers {
    *  0 = not on an NL curve (travel, joins, the planar base). Empty for other fills. */
   curves?: Uint32Array;
   /** Geodesic method: segments left out because no nozzle axis clears the part there (the
-   *  report's skipped_tool_path warning), #K*6 start and end, part frame, mm. */
+   *  report's skipped_tool_path warning), #K*6 start and end, part frame, mm, and the layer of
+   *  each (#K). */
   skippedSegments?: Float32Array;
+  skippedLayers?: Uint32Array;
   /** Multidir method (paper 000): every part's closed mesh as one soup (#V*3, #T*3) with the
    *  part's print index per triangle; risky flags (1 = risky) per triangle of the placed mesh,
    *  along +Z (before) and in the part each face ends up in (after). Empty for other methods. */

@@ -9,8 +9,8 @@
 //   - the air moves of the print sequence (transitions to a node that is not an upper-node of
 //     the previous one: the retractions) as lines of their own colour, up to the print step;
 //   - the tool path left out where no nozzle axis clears the part (the report's
-//     skipped_tool_path warning) as red lines over the part, whatever the layer range: the gaps
-//     the print will have.
+//     skipped_tool_path warning) as red lines over the part, for the layer range: the gaps the
+//     print will have.
 // The IGDS surfaces themselves are the curved-layer surfaces of web/voxel-view.js. The data
 // preparation is in geodesic-data.js (pure, unit-tested).
 import * as THREE from 'three';
@@ -28,7 +28,7 @@ export class GeodesicView {
   /**
    * Build the view of a slice's geodesic buffers (core/pipeline/pipeline.h PreviewBuffers).
    * @param {object} preview fieldPositions, fieldTriangles, fieldValues, nodePositions, nodeLayers,
-   *   treeEdges, sequence, skippedSegments (optional)
+   *   treeEdges, sequence, skippedSegments and skippedLayers (optional)
    * @param {object} [geodesic] report.geodesic: iso_values_mm (the layers' distances, for the
    *   field's draw range) and layers
    * @throws Error when the buffers disagree (geodesic-data.js checkGeodesicBuffers)
@@ -100,13 +100,15 @@ export class GeodesicView {
     [this.edgeLines, this.edgeIndex] = lines(pairSegments(nodeP, edges), this.edgeCount, TREE_EDGE_COLOR, 0.8, 'tree-edges');
     this.moves = airMoves(nodeP, edges, sequence);
     [this.airLines, this.airIndex] = lines(pairSegments(nodeP, this.moves.pairs), this.moves.count, AIR_MOVE_COLOR, 0.95, 'air-moves');
-    // The skipped tool path: its own segment pairs, all drawn.
+    // The skipped tool path: its own segment pairs, those of the layer range drawn.
     const skipped = preview.skippedSegments instanceof Float32Array ? preview.skippedSegments : empty(Float32Array);
     this.skippedCount = Math.floor(skipped.length / 6);
-    const sg = new THREE.BufferGeometry();
-    sg.setAttribute('position', new THREE.BufferAttribute(skipped.subarray(0, 6 * this.skippedCount), 3));
-    this.skippedLines = new THREE.LineSegments(sg, new THREE.LineBasicMaterial({ ...overlay, color: SKIPPED_COLOR, opacity: 1 }));
-    this.skippedLines.name = 'skipped-path';
+    const skippedLayers = preview.skippedLayers instanceof Uint32Array ? preview.skippedLayers : empty(Uint32Array);
+    if (skippedLayers.length !== this.skippedCount) {
+      throw new Error(`geodesic view: ${skippedLayers.length} skipped-segment layers for ${this.skippedCount} skipped segments`);
+    }
+    this.skippedLayers = skippedLayers;
+    [this.skippedLines, this.skippedIndex] = lines(skipped.subarray(0, 6 * this.skippedCount), this.skippedCount, SKIPPED_COLOR, 1, 'skipped-path');
     const cg = new THREE.BufferGeometry();
     this.currentPosition = new THREE.BufferAttribute(new Float32Array(3), 3);
     cg.setAttribute('position', this.currentPosition);
@@ -185,7 +187,17 @@ export class GeodesicView {
     this.nodePoints.visible = this.show.tree && s.nodes.length > 0;
     this.edgeLines.visible = this.show.tree && s.edges.length > 0;
     this.airLines.visible = this.show.air && s.moves.length > 0;
-    this.skippedLines.visible = this.show.skipped && this.skippedCount > 0;
+    let shownSkipped = 0;
+    for (let k = 0; k < this.skippedCount; k++) {
+      if (this.skippedLayers[k] < lo || this.skippedLayers[k] > hi) continue;
+      this.skippedIndex.array[2 * shownSkipped] = 2 * k;
+      this.skippedIndex.array[2 * shownSkipped + 1] = 2 * k + 1;
+      shownSkipped++;
+    }
+    this.skippedIndex.needsUpdate = true;
+    this.skippedLines.geometry.setDrawRange(0, 2 * shownSkipped);
+    this.skippedShown = shownSkipped;
+    this.skippedLines.visible = this.show.skipped && shownSkipped > 0;
     const c = s.current;
     const shownCurrent = c >= 0 && this.show.tree && this.nodeLayers[c] >= lo && this.nodeLayers[c] <= hi && this.step < this.nodeCount - 1;
     if (c >= 0) {
@@ -225,7 +237,7 @@ export class GeodesicView {
       airDrawn: drawnMoves,
       airDrawnMm: drawnAirMm,
       skipped: this.skippedCount,
-      skippedDrawn: this.skippedLines.visible ? this.skippedCount : 0,
+      skippedDrawn: this.skippedLines.visible ? this.skippedShown : 0,
       current: this.currentNode(),
       show: { ...this.show },
     };

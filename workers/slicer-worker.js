@@ -121,7 +121,7 @@ const handlers = {
         r.preview.surfaceLayers, r.preview.missedVoxels, r.preview.supportVoxels, r.preview.curves,
         r.preview.fieldPositions, r.preview.fieldTriangles, r.preview.fieldValues,
         r.preview.nodePositions, r.preview.nodeLayers, r.preview.treeEdges, r.preview.sequence,
-        r.preview.skippedSegments,
+        r.preview.skippedSegments, r.preview.skippedLayers,
         r.preview.partPositions, r.preview.partTriangles, r.preview.partIds, r.preview.riskyBefore,
         r.preview.riskyAfter, r.mesh.positions, r.mesh.indices));
   },

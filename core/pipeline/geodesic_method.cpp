@@ -255,6 +255,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   for (const Eigen::Vector3d& e : tp.skippedEnds) {
     for (int a = 0; a < 3; ++a) p.skippedSegments.push_back(static_cast<float>(e[a]));
   }
+  p.skippedLayers.assign(tp.skippedLayers.begin(), tp.skippedLayers.end());
   {
     std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
     for (uint32_t v : boundary.triangles) {

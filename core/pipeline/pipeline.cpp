@@ -433,6 +433,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       p.treeEdges = std::move(g.treeEdges);
       p.sequence = std::move(g.sequence);
       p.skippedSegments = std::move(g.skippedSegments);
+      p.skippedLayers = std::move(g.skippedLayers);
     }
     if (multidir) {
       PreviewBuffers& p = out.preview;
@@ -496,8 +497,8 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
           stage::printedSupportVolume(plan.toolpath, settings.filamentDiameter), planarSupport->ms));
     }
     report["fill"] = settings.fill;
-    // What the user should know about this result (never empty of meaning: each says what, how
-    // much and where); [] when nothing.
+    // What the user should know about this result, each saying what, how much and where ([] when
+    // nothing): the geodesic method's, and collisions the other curved methods print.
     if (geodesic) out.warnings = geodesicOut.warnings;
     // The voxel and surface methods print the points the gouging search could not clear (the
     // geodesic method leaves them out): verify counts them as collisions.

@@ -49,6 +49,7 @@ struct PreviewBuffers {
   // Segments of the tool path left out because no nozzle axis clears the part there (the
   // geodesic method's skipped_tool_path warning): start and end per segment.
   std::vector<float> skippedSegments;     // #K*6, part frame, mm
+  std::vector<uint32_t> skippedLayers;    // #K, the layer of each
   // Multidir method (paper 000): every part's closed mesh (clipSequence) merged into one soup with
   // the part's print index per triangle, and a risky flag per triangle of the placed part
   // (SliceOutput.partMesh): along +Z (before; faces with centroid below the platform band are

@@ -171,6 +171,7 @@ function syntheticGeodesic({ L }) {
       fieldPositions: new Float32Array(fieldPositions), fieldTriangles: new Uint32Array(fieldTriangles), fieldValues: new Float32Array(fieldValues),
       nodePositions: new Float32Array(nodePositions), nodeLayers: new Uint32Array(nodeLayers), treeEdges: new Uint32Array(treeEdges),
       sequence: new Uint32Array(sequence), skippedSegments: new Float32Array([-4, 0, L - 1, -3, 0, L - 1, -3, 0, L - 1, -1, 0, L]),
+      skippedLayers: new Uint32Array([L - 2, L - 1]),
     },
     program,
   };
@@ -239,6 +240,7 @@ test('a synthetic geodesic result: figures, chart, traversals, field, tree, air 
     // iso-value of layer hi is hi + 1: the bands j with j + 1 <= hi + 1.
     assert.equal(g.fieldDrawn, 32 * (hi + 1), `field up to layer ${hi}`);
     assert.equal(g.nodesDrawn, hi < 6 ? hi + 1 : 6 + 2 * (hi - 5), `nodes of layers 0..${hi}`);
+    assert.equal(g.skippedDrawn, 0, 'the skipped path lies on the last two layers');
     assert.equal(await page.evaluate(() => document.querySelector('[data-testid="geo-overhang-chart"]').dataset.layer), String(hi));
     assert.equal(await page.inputValue(tid('layer-surface-slider')), String(hi), 'the IGDS surfaces follow');
   }

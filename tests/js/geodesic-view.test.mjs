@@ -116,16 +116,28 @@ test('GeodesicView: tree points, edges and air moves follow the range, the step 
   s = v.stats();
   assert.equal(s.nodesDrawn + s.edgesDrawn + s.airDrawn, 0);
   assert.throws(() => v.setVisible('bogus', true), /no layer 'bogus'/);
-  // Skipped tool path: every segment drawn in its colour whatever the range, off by its toggle.
+  // Skipped tool path: the segments of the layer range drawn in their colour, off by the toggle.
   assert.deepEqual([s.skipped, s.skippedDrawn], [0, 0], 'none in this preview');
   assert.equal(v.skippedLines.visible, false);
-  const gaps = new GeodesicView({ ...makePreview(LAYER_BY_LAYER), skippedSegments: new Float32Array([0, 0, 6, 1, 0, 6, 1, 0, 6, 2, 0, 6.5]) }, REPORT);
-  gaps.setLayerRange(0, 1);
+  const gaps = new GeodesicView({
+    ...makePreview(LAYER_BY_LAYER),
+    skippedSegments: new Float32Array([0, 0, 5, 1, 0, 5, 1, 0, 6, 2, 0, 6.5]), skippedLayers: new Uint32Array([5, 6]),
+  }, REPORT);
   assert.deepEqual([gaps.stats().skipped, gaps.stats().skippedDrawn], [2, 2]);
-  assert.deepEqual([...gaps.skippedLines.geometry.getAttribute('position').array.subarray(9, 12)], [2, 0, 6.5]);
+  gaps.setLayerRange(6, 6);
+  assert.deepEqual([gaps.stats().skipped, gaps.stats().skippedDrawn], [2, 1]);
+  const drawn = gaps.skippedLines.geometry;
+  assert.equal(drawn.drawRange.count, 2);
+  assert.deepEqual([...drawn.index.array.subarray(0, 2)].map((i) => [...drawn.getAttribute('position').array.subarray(3 * i, 3 * i + 3)]),
+    [[1, 0, 6], [2, 0, 6.5]], 'the layer-6 segment');
+  gaps.setLayerRange(0, 4);
+  assert.deepEqual([gaps.stats().skippedDrawn, gaps.skippedLines.visible], [0, false]);
+  gaps.setLayerRange(0, 6);
   assert.equal(gaps.skippedLines.material.color.getHex(), SKIPPED_COLOR);
   gaps.setVisible('skipped', false);
   assert.deepEqual([gaps.stats().skippedDrawn, gaps.skippedLines.visible], [0, false]);
+  assert.throws(() => new GeodesicView({ ...makePreview(LAYER_BY_LAYER), skippedSegments: new Float32Array(6) }, REPORT),
+    /0 skipped-segment layers for 1 skipped segments/);
   // Branch by branch: one air move (from the left tip down to the right fork).
   const depth = new GeodesicView(makePreview([0, 1, 2, 3, 4, 6, 8, 5, 7, 9]), REPORT);
   assert.equal(depth.stats().airMoves, 1);

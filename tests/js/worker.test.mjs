@@ -115,13 +115,13 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     const spy = r.spy.find((s) => s.replyType === 'result');
     assert.ok(spy, 'spy saw the slice result');
     const previewBuffers = Object.keys(r.previewArrays).length;
-    assert.ok(previewBuffers === 4 || previewBuffers === 24, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
+    assert.ok(previewBuffers === 4 || previewBuffers === 25, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
     assert.equal(spy.before.length, 1 + previewBuffers + 2, `program + ${previewBuffers} preview + 2 mesh buffers in the transfer list`);
-    if (previewBuffers === 24) {
+    if (previewBuffers === 25) {
       // A planar slice: nozzle axes per segment, no surfaces or voxel cells; NL curve indices
       // (iso-planar fill) either none or one per segment.
       assert.equal(r.previewArrays.axes, 3 * r.segments);
-      for (const k of ['surfacePositions', 'surfaceTriangles', 'surfaceLayers', 'missedVoxels', 'supportVoxels', 'fieldPositions', 'fieldTriangles', 'fieldValues', 'nodePositions', 'nodeLayers', 'treeEdges', 'sequence', 'skippedSegments', 'partPositions', 'partTriangles', 'partIds', 'riskyBefore', 'riskyAfter']) assert.equal(r.previewArrays[k], 0, k);
+      for (const k of ['surfacePositions', 'surfaceTriangles', 'surfaceLayers', 'missedVoxels', 'supportVoxels', 'fieldPositions', 'fieldTriangles', 'fieldValues', 'nodePositions', 'nodeLayers', 'treeEdges', 'sequence', 'skippedSegments', 'skippedLayers', 'partPositions', 'partTriangles', 'partIds', 'riskyBefore', 'riskyAfter']) assert.equal(r.previewArrays[k], 0, k);
       assert.ok(r.previewArrays.curves === 0 || r.previewArrays.curves === r.segments, `curves: ${r.previewArrays.curves}`);
     }
     assert.ok(spy.before[0] === r.programLength, 'program bytes (ASCII G-code) transferred');

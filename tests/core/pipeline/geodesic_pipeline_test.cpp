@@ -112,6 +112,7 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   ASSERT_GT(skipped, 0u) << "the loop closure of this model skips no path any more: update this test";
   const std::vector<float>& seg = r.out.preview.skippedSegments;
   ASSERT_EQ(seg.size(), 6 * skipped);
+  ASSERT_EQ(r.out.preview.skippedLayers.size(), skipped);
   double length = 0, zLo = 1e9, zHi = -1e9;
   // The printed segments of the preview (feature != travel), against each skipped one's middle.
   const std::vector<float>& pos = r.out.preview.positions;
@@ -143,6 +144,9 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   ASSERT_EQ(layers.size(), 2u);
   EXPECT_LE(layers[0].get<int>(), layers[1].get<int>());
   EXPECT_LT(layers[1].get<int>(), g["layers"].get<int>());
+  const auto [lowest, highest] = std::minmax_element(r.out.preview.skippedLayers.begin(), r.out.preview.skippedLayers.end());
+  EXPECT_EQ(*lowest, layers[0].get<uint32_t>());
+  EXPECT_EQ(*highest, layers[1].get<uint32_t>());
   ASSERT_EQ(r.out.warnings.size(), 1u);
   EXPECT_EQ(r.out.warnings[0].code, "skipped_tool_path");
   EXPECT_EQ(r.report["warnings"][0]["code"], "skipped_tool_path");
