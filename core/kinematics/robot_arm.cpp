@@ -12,19 +12,25 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2 * kPi;
 
-// Standard DH link transform: Rz(theta) Tz(d) Tx(a) Rx(alpha).
-Eigen::Matrix4d dhLink(const DhRow& row, double q) {
+// frame times the standard DH link transform of row at joint value q.
+void appendLink(const Eigen::Matrix4d& frame, const DhRow& row, double q, Eigen::Matrix4d& next) {
   const double th = q + row.thetaOffset;
-  const double ct = std::cos(th), st = std::sin(th);
-  const double ca = std::cos(row.alpha), sa = std::sin(row.alpha);
-  Eigen::Matrix4d t;
-  t << ct, -st * ca, st * sa, row.a * ct,  //
-      st, ct * ca, -ct * sa, row.a * st,   //
-      0, sa, ca, row.d,                    //
-      0, 0, 0, 1;
-  return t;
+  appendDhLink(frame, row, std::cos(th), std::sin(th), std::cos(row.alpha), std::sin(row.alpha), next);
 }
 }  // namespace
+
+void appendDhLink(const Eigen::Matrix4d& frame, const DhRow& row, double ct, double st, double ca, double sa,
+                  Eigen::Matrix4d& next) {
+  // Link [ct -st ca st sa a ct; st ct ca -ct sa a st; 0 sa ca d; 0 0 0 1]: its first column mixes
+  // the frame's x and y, the next two its z and w = ct y - st x, the translation moves along both.
+  const Eigen::Vector3d x = frame.block<3, 1>(0, 0), y = frame.block<3, 1>(0, 1), z = frame.block<3, 1>(0, 2);
+  const Eigen::Vector3d c0 = ct * x + st * y, w = ct * y - st * x;
+  next.block<3, 1>(0, 0) = c0;
+  next.block<3, 1>(0, 1) = ca * w + sa * z;
+  next.block<3, 1>(0, 2) = ca * z - sa * w;
+  next.block<3, 1>(0, 3) = frame.block<3, 1>(0, 3) + row.a * c0 + row.d * z;
+  next.row(3) << 0, 0, 0, 1;
+}
 
 DhTable ur5DhTable() {
   DhTable dh{};
@@ -36,15 +42,18 @@ DhTable ur5DhTable() {
 }
 
 Eigen::Matrix4d armForward(const DhTable& dh, const JointValues& q) {
-  Eigen::Matrix4d t = Eigen::Matrix4d::Identity();
-  for (int i = 0; i < 6; ++i) t = t * dhLink(dh[i], q[i]);
+  Eigen::Matrix4d t = Eigen::Matrix4d::Identity(), next;
+  for (int i = 0; i < 6; ++i) {
+    appendLink(t, dh[i], q[i], next);
+    t = next;
+  }
   return t;
 }
 
 std::array<Eigen::Matrix4d, 7> armFrames(const DhTable& dh, const JointValues& q) {
   std::array<Eigen::Matrix4d, 7> frames;
   frames[0] = Eigen::Matrix4d::Identity();
-  for (int i = 0; i < 6; ++i) frames[i + 1] = frames[i] * dhLink(dh[i], q[i]);
+  for (int i = 0; i < 6; ++i) appendLink(frames[i], dh[i], q[i], frames[i + 1]);
   return frames;
 }
 

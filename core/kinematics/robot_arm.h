@@ -20,6 +20,12 @@ DhTable ur5DhTable();
 // Pose of the flange (DH frame 6) in the base frame (DH frame 0), mm.
 Eigen::Matrix4d armForward(const DhTable& dh, const JointValues& q);
 
+// next = frame times the standard DH link transform Rz(theta) Tz(d) Tx(a) Rx(alpha) of row, given
+// ct, st = cos, sin(theta) and ca, sa = cos, sin(alpha): the product written out for the link's
+// zeros (31 products instead of a 4x4 product's 64). frame's last row must be 0 0 0 1.
+void appendDhLink(const Eigen::Matrix4d& frame, const DhRow& row, double ct, double st, double ca, double sa,
+                  Eigen::Matrix4d& next);
+
 // Poses of every DH frame 0..6 in the base frame (frames[0] = identity), for drawing the arm and
 // for self-collision checks.
 std::array<Eigen::Matrix4d, 7> armFrames(const DhTable& dh, const JointValues& q);

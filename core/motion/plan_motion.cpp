@@ -295,25 +295,13 @@ void Planner::buildPieces() {
 
 PoseNodeInfo Planner::robotInfo(const MachineValues& q) const {
   PoseNodeInfo info;
-  // armFrames() with the cosines and sines of the DH twists computed once, each frame times the
-  // DH transform [ct -st ca st sa a ct; st ct ca -ct sa a st; 0 sa ca d; 0 0 0 1] written out for
-  // its zeros (31 products instead of a 4x4 product's 64; the same values up to rounding).
+  // armFrames() with the cosines and sines of the DH twists computed once (the same values).
   std::array<Eigen::Matrix4d, 7> frames;
   frames[0] = Eigen::Matrix4d::Identity();
   for (int i = 0; i < 6; ++i) {
     const DhRow& row = m_.dh[i];
     const double th = q[i] + row.thetaOffset;
-    const double ct = std::cos(th), st = std::sin(th);
-    const double ca = dhCos_[i], sa = dhSin_[i];
-    const Eigen::Matrix4d& f = frames[i];
-    Eigen::Matrix4d& g = frames[i + 1];
-    const Eigen::Vector3d x = f.block<3, 1>(0, 0), y = f.block<3, 1>(0, 1), z = f.block<3, 1>(0, 2);
-    const Eigen::Vector3d c0 = ct * x + st * y, w = ct * y - st * x;
-    g.block<3, 1>(0, 0) = c0;
-    g.block<3, 1>(0, 1) = ca * w + sa * z;
-    g.block<3, 1>(0, 2) = ca * z - sa * w;
-    g.block<3, 1>(0, 3) = f.block<3, 1>(0, 3) + row.a * c0 + row.d * z;
-    g.row(3) << 0, 0, 0, 1;
+    appendDhLink(frames[i], row, std::cos(th), std::sin(th), dhCos_[i], dhSin_[i], frames[i + 1]);
   }
   const Eigen::Vector3d& n = m_.nozzleTip;
   const Eigen::Vector3d u = m_.nozzleAxis.normalized();
