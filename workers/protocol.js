@@ -40,15 +40,16 @@ export const Request = Object.freeze({
    *  'csv' | 'script', report: object, info: object, layers: number, preview: {positions,
    *  features, layers, machine, axes, surfacePositions, surfaceTriangles, surfaceLayers,
    *  missedVoxels, supportVoxels, voxelWidth, curves, fieldPositions, fieldTriangles,
-   *  fieldValues, nodePositions, nodeLayers, treeEdges, sequence, skippedSegments, skippedLayers, partPositions, partTriangles,
-   *  partIds, riskyBefore, riskyAfter} (core/pipeline/pipeline.h PreviewBuffers; the
-   *  curved-layer, voxel, geodesic and multidir buffers are empty for other methods; curves: #S
-   *  1-based NL curve index per segment, 0 = none, empty unless the iso-planar fill ran; field*:
-   *  the boundary surface with the geodesic distance per vertex; node* and treeEdges: the
-   *  skeleton tree; sequence: node indices in print order; skippedSegments: #K*6 ends of the tool
-   *  path left out where no nozzle axis clears the part, skippedLayers: #K their layers; part*: the multidir parts' closed
-   *  meshes with the print index per triangle; risky*: Uint8 flag per triangle of mesh, risky
-   *  along +Z (before) and in its part (after)), mesh: {positions, indices}}
+   *  fieldValues, nodePositions, nodeLayers, treeEdges, sequence, skippedSegments,
+   *  skippedLayers, partPositions, partTriangles, partIds, riskyBefore, riskyAfter}
+   *  (core/pipeline/pipeline.h PreviewBuffers; the curved-layer, voxel, geodesic and multidir
+   *  buffers are empty for other methods; curves: #S 1-based NL curve index per segment, 0 =
+   *  none, empty unless the iso-planar fill ran; field*: the boundary surface with the geodesic
+   *  distance per vertex; node* and treeEdges: the skeleton tree; sequence: node indices in print
+   *  order; skippedSegments: #K*6 ends of the tool path left out where no nozzle axis clears the
+   *  part, skippedLayers: #K their layers; part*: the multidir parts' closed meshes with the print
+   *  index per triangle; risky*: Uint8 flag per triangle of mesh, risky along +Z (before) and in
+   *  its part (after)), mesh: {positions, indices}}
    *  (all buffers transferred). */
   SLICE: 'slice',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
