@@ -59,12 +59,13 @@ Warning skippedPathWarning(const CurvedToolpathResult& tp, const Toolpath& print
     bmax = bmax.cwiseMax(p);
   }
   const double share = 100 * tp.skippedMm / std::max(printedMm + tp.skippedMm, 1e-9);
-  char text[512];
+  char text[640];
   std::snprintf(text, sizeof text,
                 "%.0f mm of tool path (%.2g %% of it, %zu segments) left out on layers %d-%d of %zu, within "
                 "x %.0f..%.0f, y %.0f..%.0f, z %.0f..%.0f mm: no nozzle axis within the tilt range clears the "
                 "material printed before (growth fronts meeting where a loop of the part closes, layers "
-                "facing down past the tilt range); the print has gaps there",
+                "facing down past the tilt range); the print has gaps there. Another placement of the part "
+                "(up axis, rotation) or a slimmer nozzle cone in the machine profile may avoid them",
                 tp.skippedMm, share, tp.skippedPoints, *lo + 1, *hi + 1, layerCount, bmin.x(), bmax.x(), bmin.y(),
                 bmax.y(), bmin.z(), bmax.z());
   return {"skipped_tool_path", text};
