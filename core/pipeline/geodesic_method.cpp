@@ -284,6 +284,11 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   }
   p.sequence = chosen->order;
 
+  Json skippedLayers = nullptr;  // [first, last]
+  if (!tp.skippedLayers.empty()) {
+    const auto [lo, hi] = std::minmax_element(tp.skippedLayers.begin(), tp.skippedLayers.end());
+    skippedLayers = Json::array({*lo, *hi});
+  }
   Json overhangAvg = Json::array(), overhangRatio = Json::array(), overhangMax = Json::array(),
        thicknessMean = Json::array(), thicknessMaxDev = Json::array(), thicknessMeanDev = Json::array(),
        isoValues = Json::array();
@@ -357,9 +362,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
       {"gouging_uncorrected", tp.gougingUncorrected},
       {"skipped_segments", tp.skippedPoints},
       {"skipped_mm", finite(tp.skippedMm)},
-      {"skipped_layers", tp.skippedLayers.empty() ? Json(nullptr)
-                         : Json::array({*std::min_element(tp.skippedLayers.begin(), tp.skippedLayers.end()),
-                                        *std::max_element(tp.skippedLayers.begin(), tp.skippedLayers.end())})},
+      {"skipped_layers", skippedLayers},
       {"timings_ms",
        {{"tetmesh", timings["tetmesh"]},
         {"field", timings["field"]},
