@@ -12,10 +12,36 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2 * kPi;
 
+// cos and sin of a DH twist. The UR family's twists are 0 and +-pi/2: their values are taken
+// from std::cos / std::sin once (the same bits as every call would give), which halves the
+// trigonometry of each forward map (half its cost in wasm, where sin and cos are software).
+void twistTrig(double alpha, double& ca, double& sa) {
+  // Through a volatile: the compiler would fold a constant argument with its own (correctly
+  // rounded) arithmetic, which need not be the library's bits.
+  static volatile double half = kPi / 2;
+  static const double cPos = std::cos(half), sPos = std::sin(half);
+  static const double cNeg = std::cos(-half), sNeg = std::sin(-half);
+  if (alpha == 0) {
+    ca = 1;      // std::cos(+-0) is exactly 1
+    sa = alpha;  // std::sin(+-0) is +-0
+  } else if (alpha == kPi / 2) {
+    ca = cPos;
+    sa = sPos;
+  } else if (alpha == -kPi / 2) {
+    ca = cNeg;
+    sa = sNeg;
+  } else {
+    ca = std::cos(alpha);
+    sa = std::sin(alpha);
+  }
+}
+
 // frame times the standard DH link transform of row at joint value q.
 void appendLink(const Eigen::Matrix4d& frame, const DhRow& row, double q, Eigen::Matrix4d& next) {
   const double th = q + row.thetaOffset;
-  appendDhLink(frame, row, std::cos(th), std::sin(th), std::cos(row.alpha), std::sin(row.alpha), next);
+  double ca, sa;
+  twistTrig(row.alpha, ca, sa);
+  appendDhLink(frame, row, std::cos(th), std::sin(th), ca, sa, next);
 }
 }  // namespace
 
