@@ -73,36 +73,70 @@ struct Chain {
 constexpr double kSlack = 1e-6;  // scale a little beyond the limit so rounding cannot exceed it
 
 // Every acceleration and jerk difference that involves T_k within its limit (accelRatio() of
-// junctions k - 1, k and jerkRatio() of windows k - 2 .. k, each acceleration computed once).
-bool withinLimitsAround(const Chain& c, size_t k) {
-  const size_t n = c.t.size();
-  const int axes = c.in.axes;
-  const size_t lo = k >= 2 ? k - 2 : 0;
-  double acc[4][6];
-  bool has[4] = {false, false, false, false};
-  for (size_t j = lo; j <= k + 1 && j + 1 < n; ++j) {
-    if (!c.motion(j) || !c.motion(j + 1)) continue;
-    has[j - lo] = true;
-    for (int i = 0; i < axes; ++i) acc[j - lo][i] = c.accel(j, i);
-  }
-  for (size_t j = k >= 1 ? k - 1 : 0; j <= k; ++j) {
-    if (!has[j - lo]) continue;
-    for (int i = 0; i < axes; ++i) {
-      const double amax = c.in.dynamics[i].acceleration;
-      if (amax > 0 && std::abs(acc[j - lo][i]) / amax > 1 + 1e-9) return false;
+// junctions k - 1, k and jerkRatio() of windows k - 2 .. k), for trial values of T_k with the other
+// durations fixed: what does not depend on T_k (the accelerations at junctions k - 2 and k + 1, the
+// velocities of moves k - 1 and k + 1) is computed once. Each value is the same expression as
+// Chain's, so within(T) answers as Chain's ratios would with t[k] = T.
+class LimitsWindow {
+ public:
+  LimitsWindow(const Chain& c, size_t k) : c_(c), k_(k), lo_(k >= 2 ? k - 2 : 0) {
+    const size_t n = c.t.size();
+    for (size_t j = lo_; j <= k + 1 && j + 1 < n; ++j) {
+      has_[j - lo_] = moving(j) && moving(j + 1);
+      if (!has_[j - lo_] || j + 1 == k || j == k) continue;
+      for (int i = 0; i < c.in.axes; ++i) acc_[j - lo_][i] = c.accel(j, i);
+    }
+    for (int i = 0; i < c.in.axes; ++i) {
+      dqK_[i] = c.dq(k, i);
+      if (k >= 1 && has_[k - 1 - lo_]) vBefore_[i] = c.dq(k - 1, i) / c.t[k - 1];
+      if (has_[k - lo_]) vAfter_[i] = c.dq(k + 1, i) / c.t[k + 1];
     }
   }
-  for (size_t w = lo; w <= k && w + 2 < n; ++w) {
-    if (!has[w - lo] || !has[w + 1 - lo]) continue;
-    const double span = c.jerkSpan(w);
-    for (int i = 0; i < axes; ++i) {
-      const double jmax = c.in.dynamics[i].jerk;
-      if (jmax <= 0) continue;
-      if (std::abs((acc[w + 1 - lo][i] - acc[w - lo][i]) / span) / jmax > 1 + 1e-9) return false;
+
+  bool within(double tk) const {
+    const std::vector<double>& t = c_.t;
+    const size_t n = t.size(), k = k_, lo = lo_;
+    const int axes = c_.in.axes;
+    double acc[4][6];
+    for (int r = 0; r < 4; ++r)
+      for (int i = 0; i < axes; ++i) acc[r][i] = acc_[r][i];
+    if (k >= 1 && has_[k - 1 - lo]) {
+      const double tau = 0.5 * (t[k - 1] + tk);
+      for (int i = 0; i < axes; ++i) acc[k - 1 - lo][i] = (dqK_[i] / tk - vBefore_[i]) / tau;
     }
+    if (has_[k - lo]) {
+      const double tau = 0.5 * (tk + t[k + 1]);
+      for (int i = 0; i < axes; ++i) acc[k - lo][i] = (vAfter_[i] - dqK_[i] / tk) / tau;
+    }
+    for (size_t j = k >= 1 ? k - 1 : 0; j <= k; ++j) {
+      if (!has_[j - lo]) continue;
+      for (int i = 0; i < axes; ++i) {
+        const double amax = c_.in.dynamics[i].acceleration;
+        if (amax > 0 && std::abs(acc[j - lo][i]) / amax > 1 + 1e-9) return false;
+      }
+    }
+    for (size_t w = lo; w <= k && w + 2 < n; ++w) {
+      if (!has_[w - lo] || !has_[w + 1 - lo]) continue;
+      const double tw = w == k ? tk : t[w], tw1 = w + 1 == k ? tk : t[w + 1], tw2 = w + 2 == k ? tk : t[w + 2];
+      const double span = 0.25 * (tw + 2 * tw1 + tw2);  // Chain::jerkSpan
+      for (int i = 0; i < axes; ++i) {
+        const double jmax = c_.in.dynamics[i].jerk;
+        if (jmax <= 0) continue;
+        if (std::abs((acc[w + 1 - lo][i] - acc[w - lo][i]) / span) / jmax > 1 + 1e-9) return false;
+      }
+    }
+    return true;
   }
-  return true;
-}
+
+ private:
+  bool moving(size_t j) const { return j == k_ || c_.motion(j); }  // trial values of T_k are > 0
+
+  const Chain& c_;
+  size_t k_, lo_;
+  bool has_[4] = {false, false, false, false};
+  double acc_[4][6] = {};
+  double dqK_[6] = {}, vBefore_[6] = {}, vAfter_[6] = {};
+};
 
 // The raising pass scales windows uniformly: each scale moves the differences next to the window,
 // which are then scaled in turn, so whole neighbourhoods end up far slower than any limit needs
@@ -124,23 +158,19 @@ void tighten(Chain& c, const std::vector<double>& t0) {
       const double hi = t[k], lo = t0[k];
       total += hi;
       if (!(hi > lo * (1 + 1e-9)) || !(lo > 0)) continue;
-      t[k] = lo;
-      if (withinLimitsAround(c, k)) {
+      const LimitsWindow window(c, k);
+      if (window.within(lo)) {
+        t[k] = lo;
         saved += hi - lo;
         continue;
       }
       // Already tight within 0.1 % (most moves after the first sweep): one check.
       const double near = hi * (1 - 1e-3);
-      t[k] = near;
-      if (near <= lo || !withinLimitsAround(c, k)) {
-        t[k] = hi;
-        continue;
-      }
+      if (near <= lo || !window.within(near)) continue;
       double a = lo, b = near;  // a over a limit, b within
       for (int it = 0; it < kBisections; ++it) {
         const double m = 0.5 * (a + b);
-        t[k] = m;
-        if (withinLimitsAround(c, k)) {
+        if (window.within(m)) {
           b = m;
         } else {
           a = m;
