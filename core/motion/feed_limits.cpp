@@ -97,16 +97,19 @@ class LimitsWindow {
     const std::vector<double>& t = c_.t;
     const size_t n = t.size(), k = k_, lo = lo_;
     const int axes = c_.in.axes;
-    double acc[4][6];
-    for (int r = 0; r < 4; ++r)
-      for (int i = 0; i < axes; ++i) acc[r][i] = acc_[r][i];
+    // Rows of the accelerations at junctions lo .. lo + 3: the two that depend on T_k computed
+    // here, the others read in place.
+    double before[6], after[6];
+    const double* acc[4] = {acc_[0], acc_[1], acc_[2], acc_[3]};
     if (k >= 1 && has_[k - 1 - lo]) {
       const double tau = 0.5 * (t[k - 1] + tk);
-      for (int i = 0; i < axes; ++i) acc[k - 1 - lo][i] = (dqK_[i] / tk - vBefore_[i]) / tau;
+      for (int i = 0; i < axes; ++i) before[i] = (dqK_[i] / tk - vBefore_[i]) / tau;
+      acc[k - 1 - lo] = before;
     }
     if (has_[k - lo]) {
       const double tau = 0.5 * (tk + t[k + 1]);
-      for (int i = 0; i < axes; ++i) acc[k - lo][i] = (vAfter_[i] - dqK_[i] / tk) / tau;
+      for (int i = 0; i < axes; ++i) after[i] = (vAfter_[i] - dqK_[i] / tk) / tau;
+      acc[k - lo] = after;
     }
     for (size_t j = k >= 1 ? k - 1 : 0; j <= k; ++j) {
       if (!has_[j - lo]) continue;
