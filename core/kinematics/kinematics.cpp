@@ -19,11 +19,13 @@ using detail::rotZ;
 }  // namespace
 
 int machineAxisCount(const std::string& kind) {
-  if (kind == "cartesian3") return 3;
-  if (kind == "rotary4") return 4;
-  if (kind == "table5") return 5;
-  if (kind == "robot6") return 6;
-  return 0;
+  // By length first: this runs for every forward map (a few per program move).
+  switch (kind.size()) {
+    case 10: return kind == "cartesian3" ? 3 : 0;
+    case 7: return kind == "rotary4" ? 4 : 0;
+    case 6: return kind == "table5" ? 5 : kind == "robot6" ? 6 : 0;
+    default: return 0;
+  }
 }
 
 std::vector<std::string> machineAxisNames(const std::string& kind) {
@@ -35,8 +37,9 @@ std::vector<std::string> machineAxisNames(const std::string& kind) {
 }
 
 bool isAngularAxis(const std::string& kind, int index) {
-  if (kind == "robot6") return index >= 0 && index < 6;
-  if (kind == "rotary4" || kind == "table5") return index >= 3 && index < machineAxisCount(kind);
+  const int n = machineAxisCount(kind);
+  if (n == 6) return index >= 0 && index < 6;          // robot6: every joint
+  if (n == 4 || n == 5) return index >= 3 && index < n;  // rotary4, table5: A; B, C
   return false;
 }
 
@@ -82,15 +85,15 @@ bool forwardMap(const MachineProfile& machine, const MachineValues& v, Eigen::Ve
   }
   const Eigen::Vector3d m(v[0], v[1], v[2]);
   const Eigen::Vector3d& p = machine.pivot;
-  if (machine.kind == "cartesian3") {
+  if (n == 3) {  // cartesian3
     tip = m;
     axis = Eigen::Vector3d::UnitZ();
-  } else if (machine.kind == "rotary4") {
+  } else if (n == 4) {  // rotary4
     // m = P + Rx(A)(q - P)  =>  q = P + Rx(A)^T (m - P); u = Rx(A)^T z.
     const Eigen::Matrix3d r = rotX(v[3]);
     tip = p + r.transpose() * (m - p);
     axis = r.transpose() * Eigen::Vector3d::UnitZ();
-  } else if (machine.kind == "table5") {
+  } else if (n == 5) {  // table5
     // m = P + Ry(B) Rz(C)(q - P).
     const Eigen::Matrix3d r = rotY(v[3]) * rotZ(v[4]);
     tip = p + r.transpose() * (m - p);
