@@ -56,17 +56,22 @@ class AabbTree {
   struct Node {
     Eigen::Vector3d lo, hi;
     int32_t left = -1, right = -1;  // children, -1 for a leaf
-    int32_t first = 0, count = 0;   // leaf range in order_
+    int32_t first = 0, count = 0;   // leaf range in a_, b_, c_
   };
-  int32_t build(int32_t first, int32_t count, std::vector<Eigen::Vector3d>& centroids);
+  struct BuildItem {
+    Eigen::Vector3d centroid;
+    int32_t triangle;  // index into the build's corner arrays
+  };
+  int32_t build(int32_t first, int32_t count, std::vector<BuildItem>& items,
+                const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
+                const std::vector<Eigen::Vector3d>& c);
   // Crossing of the vertical line through (x, y) with triangle t: z and sign, false if none.
   bool crossing(int32_t t, double x, double y, ColumnCrossing& out) const;
   // Visits the triangles of every leaf whose box holds (x, y) and reaches above zAbove.
   template <class Visit>
   void visitColumn(double x, double y, double zAbove, Visit&& visit) const;
 
-  std::vector<Eigen::Vector3d> a_, b_, c_;  // triangle corners
-  std::vector<int32_t> order_;              // triangle indices grouped by leaf
+  std::vector<Eigen::Vector3d> a_, b_, c_;  // triangle corners, grouped by leaf
   std::vector<int64_t> faceIndex_;          // original face index per triangle
   std::vector<Node> nodes_;
 };
