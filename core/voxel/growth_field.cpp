@@ -357,9 +357,21 @@ class Grower {
     return p;
   }
 
-  // True when voxel v is inside hull a by eps; caches a separating plane otherwise.
+  // True when voxel v is inside hull a by eps; caches a separating plane otherwise. The cached
+  // plane is alive in ~58 % of the ~420M calls of the voxel bunny 540k: that test stays inline in
+  // the scans, the plane search is a call (in wasm the whole function stayed out of line, a call
+  // per voxel scanned: wasm growth 5.5 -> 4.5 s with this split).
   bool insideActive(const PlaneRegistry::Active& a, int32_t v) {
     if (planes_.alive(sep_[v])) return false;
+    return searchSeparatingPlane(a, v);
+  }
+
+  // insideActive past a dead cached plane (kept out of line, else clang folds it back in and
+  // leaves insideActive itself out of line).
+#if defined(__GNUC__) || defined(__clang__)
+  __attribute__((noinline))
+#endif
+  bool searchSeparatingPlane(const PlaneRegistry::Active& a, int32_t v) {
     ++out_.shadowChecks;
     const std::vector<LatticeHull::Plane>& pl = a.hull.planes();
     const V3& p = vox_.pos[v];
