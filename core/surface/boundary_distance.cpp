@@ -15,6 +15,20 @@ namespace {
 
 using SparseMatrix = Eigen::SparseMatrix<double>;
 
+// Eigen's AMDOrdering as SimplicialLDLT uses it, less one step. The solver hands the ordering the
+// full symmetric matrix (expanded from the lower triangle, indices sorted in every column), and
+// AMDOrdering first forms its pattern plus its transpose's (a transpose and a sparse sum: the
+// same pattern again). The minimum degree routine reads only the pattern and reuses the matrix as
+// workspace, so it gets the expanded matrix itself: the same permutation (~0.35 s of wasm on the
+// voxel bunny 540k).
+struct SymmetricAmdOrdering {
+  using PermutationType = Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>;
+  void operator()(SparseMatrix& symmetric, PermutationType& perm) const {
+    Eigen::internal::minimum_degree_ordering(symmetric, perm);
+  }
+};
+using LdltSolver = Eigen::SimplicialLDLT<SparseMatrix, Eigen::Lower, SymmetricAmdOrdering>;
+
 BoundaryDistance fail(Status s, std::string message) {
   BoundaryDistance r;
   r.status = s;
@@ -260,7 +274,7 @@ BoundaryDistance boundaryGeodesicDistance(const Mesh& surface, const BoundaryDis
 
   // Heat flow from the boundary: u(x) decays away from it, its level sets follow the distance.
   std::vector<double> heat(nv, 0.0);
-  Eigen::SimplicialLDLT<SparseMatrix> interiorSolver;
+  LdltSolver interiorSolver;
   interiorSolver.analyzePattern(Ai);  // the Poisson matrix below has the same pattern
   if (useDirichlet) {
     interiorSolver.factorize(Ai);
@@ -274,7 +288,7 @@ BoundaryDistance boundaryGeodesicDistance(const Mesh& surface, const BoundaryDis
     }
   }
   if (useNeumann) {
-    Eigen::SimplicialLDLT<SparseMatrix> fullSolver(Af);
+    LdltSolver fullSolver(Af);
     if (fullSolver.info() != Eigen::Success) {
       return fail(Status::Internal, "boundary distance: Neumann heat factorisation failed");
     }
