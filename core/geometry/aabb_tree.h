@@ -60,11 +60,9 @@ class AabbTree {
   };
   struct BuildItem {
     Eigen::Vector3d centroid;
-    int32_t triangle;  // index into the build's corner arrays
+    int64_t face;
   };
-  int32_t build(int32_t first, int32_t count, std::vector<BuildItem>& items,
-                const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b,
-                const std::vector<Eigen::Vector3d>& c);
+  int32_t build(int32_t first, int32_t count, std::vector<BuildItem>& items, const Mesh& mesh);
   // Crossing of the vertical line through (x, y) with triangle t: z and sign, false if none.
   bool crossing(int32_t t, double x, double y, ColumnCrossing& out) const;
   // Visits the triangles of every leaf whose box holds (x, y) and reaches above zAbove.
