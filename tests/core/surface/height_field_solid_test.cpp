@@ -100,7 +100,9 @@ TEST(HeightFieldSolid, SeatSolidAndOffsetTop) {
   for (size_t v = 0; v < o.top.vertexCount(); ++v) {
     const Eigen::Vector3d p = o.top.vertex(v);
     worst = std::max(worst, std::fabs(tree.closest(p).distance - offset));
-    if (!boundary[v]) EXPECT_TRUE(solidTree.inside(p + Eigen::Vector3d(1e-7, 2e-7, 0))) << v;
+    if (!boundary[v]) {
+      EXPECT_TRUE(solidTree.inside(p + Eigen::Vector3d(1e-7, 2e-7, 0))) << v;
+    }
     EXPECT_NEAR((p - seat.vertex(v)).norm(), offset, 1e-12);
     EXPECT_LT(p.z(), seat.vertex(v).z());
   }
