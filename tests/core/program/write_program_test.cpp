@@ -250,8 +250,12 @@ TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
         prevValues = m.values;
       }
       // Rotating moves were cut into pieces.
-      if (kind != "cartesian3") EXPECT_GT(p.moves.size(), g.size() + 10);
-      if (kind == "cartesian3") EXPECT_EQ(p.moves.size(), g.size());
+      if (kind != "cartesian3") {
+        EXPECT_GT(p.moves.size(), g.size() + 10);
+      }
+      if (kind == "cartesian3") {
+        EXPECT_EQ(p.moves.size(), g.size());
+      }
       // End code: retract was already done; a lift.
       EXPECT_EQ(g.size(), k + 1);
     }

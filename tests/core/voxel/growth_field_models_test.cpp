@@ -153,8 +153,12 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
     for (GrowthStrategy s : strategiesToRun()) {
       const GrowthField f = runCase(grid, c.file, s);
       expectFieldInvariants(grid, f, GrowthOptions().epsilon);
-      if (s == GrowthStrategy::PgSpGcfa) EXPECT_EQ(f.missed, 0u) << c.file;
-      if (s == GrowthStrategy::Gcfa) EXPECT_GT(f.missed, 0u) << "the greedy front shadows overhangs";
+      if (s == GrowthStrategy::PgSpGcfa) {
+        EXPECT_EQ(f.missed, 0u) << c.file;
+      }
+      if (s == GrowthStrategy::Gcfa) {
+        EXPECT_GT(f.missed, 0u) << "the greedy front shadows overhangs";
+      }
     }
   }
 }
@@ -244,7 +248,9 @@ TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
   for (GrowthStrategy s : strategiesToRun()) {
     const GrowthField f = runCase(grid, "fertility", s);
     expectFieldInvariants(grid, f, GrowthOptions().epsilon);
-    if (s == GrowthStrategy::PgSpGcfa) EXPECT_LE(f.missed, 511u) << "paper: 511 of 77,064";
+    if (s == GrowthStrategy::PgSpGcfa) {
+      EXPECT_LE(f.missed, 511u) << "paper: 511 of 77,064";
+    }
   }
   {
     // The incremental (Dijkstra-ordered) scheme on the same grid.

@@ -110,8 +110,12 @@ TEST(GrowthField, Fig4ShadowCaseAvoidedWithPreventionNotWithout) {
                   growthStrategyName(s), shadowSchemeName(scheme), f.missed, f.grown + f.missed,
                   f.layers, f.hullBuilds, f.totalMs);
       expectValidField(grid, f, o.epsilon);
-      if (s == GrowthStrategy::Gcfa) EXPECT_GE(f.missed, 5u) << "greedy front must shadow the hook";
-      if (s == GrowthStrategy::SpGcfa) EXPECT_EQ(f.missed, 0u) << "shadow prevention must reach the hook";
+      if (s == GrowthStrategy::Gcfa) {
+        EXPECT_GE(f.missed, 5u) << "greedy front must shadow the hook";
+      }
+      if (s == GrowthStrategy::SpGcfa) {
+        EXPECT_EQ(f.missed, 0u) << "shadow prevention must reach the hook";
+      }
     }
   }
 }
@@ -129,7 +133,9 @@ TEST(GrowthField, BoxGrowsInFlatLayersFromThePlatform) {
     if (s == GrowthStrategy::Gcfa) {
       // A box on its full footprint grows layer by layer: G = k - platformK.
       for (size_t c = 0; c < grid.cellCount(); ++c)
-        if (grid.printable(c)) ASSERT_EQ(f.g[c], grid.cell(c).z() - grid.platformK);
+        if (grid.printable(c)) {
+          ASSERT_EQ(f.g[c], grid.cell(c).z() - grid.platformK);
+        }
     }
   }
 }
