@@ -260,6 +260,12 @@ size_t dropFoldedEars(LayerRegion& region) {
     const Eigen::Vector3d a = m.vertex(m.triangles[3 * f]);
     return Eigen::Vector3d((m.vertex(m.triangles[3 * f + 1]) - a).cross(m.vertex(m.triangles[3 * f + 2]) - a));
   };
+  {
+    // Most regions have no vertex in a single triangle: no edge sorting for them.
+    std::vector<uint32_t> valence(nv, 0);
+    for (uint32_t v : m.triangles) ++valence[v];
+    if (std::find(valence.begin(), valence.end(), 1u) == valence.end()) return 0;
+  }
   size_t dropped = 0;
   for (bool changed = true; changed;) {
     changed = false;
