@@ -176,6 +176,8 @@ export const SETTINGS_SCHEMA = [
     showIf: isMultidir, sendIf: isMultidir },
   { group: 'Multi-directional', key: 'multidir.beam_width', label: 'beam width b', type: 'integer', value: 8, min: 1, max: 100, step: 1,
     testid: 'multidir-beam-width', showIf: (v) => isMultidir(v) && v['multidir.scheme'] === 'beam', sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.restarts', label: 'restarts (5 DOF beam, normals turned)', type: 'integer', value: 3, min: 1, max: 64, step: 1,
+    testid: 'multidir-restarts', showIf: (v) => isMultidir(v) && v['multidir.scheme'] === 'beam', sendIf: isMultidir },
   { group: 'Multi-directional', key: 'multidir.dof', label: 'DOF mode', type: 'select', value: 'auto', testid: 'multidir-dof',
     options: [{ label: 'auto (rotary4: 4 DOF, else 5 DOF)', value: 'auto' }, { label: '4 DOF (one rotary axis)', value: '4dof' },
       { label: '5 DOF', value: '5dof' }],

@@ -102,6 +102,7 @@ Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourD
     if (!isFinite(n) || !(n.norm() > 0)) return bad("candidateNormals must be finite and non-zero");
   }
   if (o.beamWidth < 1) return bad("beamWidth must be >= 1");
+  if (o.restarts < 1 || o.restarts > 64) return bad("restarts must be in [1, 64]");
   if (!(o.delta0 > 0) || !std::isfinite(o.delta0)) return bad("delta0 must be finite and > 0");
   if (!(o.relaxFactor > 1) || !std::isfinite(o.relaxFactor)) return bad("relaxFactor must be finite and > 1");
   if (o.scheme == "greedy") scheme = Scheme::Greedy;
@@ -1116,7 +1117,9 @@ class Search {
 
 // ---- candidate normals -----------------------------------------------------------------------
 
-std::vector<Vec3> sphereNormals(const MultidirOptions& o) {
+// The Fibonacci sphere of o.samples points turned by `phase` (radians) about Z, within the tilt
+// range (or o.candidateNormals as given, within it).
+std::vector<Vec3> sphereNormals(const MultidirOptions& o, double phase) {
   std::vector<Vec3> out;
   const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
   if (!o.candidateNormals.empty()) {
@@ -1131,7 +1134,7 @@ std::vector<Vec3> sphereNormals(const MultidirOptions& o) {
   for (int i = 0; i < N; ++i) {
     const double z = 1 - (2.0 * i + 1) / N;
     const double r = std::sqrt(std::max(0.0, 1 - z * z));
-    const double phi = golden * i;
+    const double phi = golden * i + phase;
     if (z >= minZ) out.emplace_back(r * det::cos(phi), r * det::sin(phi), z);
   }
   return out;
@@ -1394,29 +1397,46 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
   return evaluated;
 }
 
-// Fills planes/parts/numbers of `result` from a finished search: the best node of every line
-// (greedy, constrained, beam), each refined when asked; the least exact J_G wins (then fewer
-// planes). The refinement reports progress at `fraction` (the end of this search's span).
-bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-             const Search& s, const ProgressFn& progress, double fraction, MultidirResult& result) {
+// A plane sequence (clipping order) ending a search line, with J_G as the search summed it.
+struct LineEnd {
+  std::vector<Vec3> ns;
+  std::vector<double> ds;
+  double searchJg = 0;
+};
+
+// The best node of every line of a finished search (greedy, constrained, beam), as plane
+// sequences; the root (no plane) when no line made a node.
+void lineEnds(const Search& s, std::vector<LineEnd>& out) {
   std::vector<uint32_t> ends;
   for (int line = 1; line <= s.lines(); ++line) {
     const uint32_t id = s.best(line);
     if (std::find(ends.begin(), ends.end(), id) == ends.end()) ends.push_back(id);
   }
   if (ends.empty()) ends.push_back(0);
+  for (uint32_t end : ends) {
+    LineEnd e;
+    e.searchJg = s.node(end).jg;
+    for (int id = static_cast<int>(end); id > 0; id = s.node(static_cast<uint32_t>(id)).parent) {
+      e.ns.push_back(s.node(static_cast<uint32_t>(id)).n);
+      e.ds.push_back(s.node(static_cast<uint32_t>(id)).d);
+    }
+    std::reverse(e.ns.begin(), e.ns.end());
+    std::reverse(e.ds.begin(), e.ds.end());
+    out.push_back(std::move(e));
+  }
+}
+
+// Fills planes/parts/numbers of `result` from the line ends of finished searches, each refined
+// when asked; the least exact J_G wins (then fewer planes, then the first). The refinement
+// reports progress at `fraction` (the end of these searches' span).
+bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
+             std::vector<LineEnd> ends, const ProgressFn& progress, double fraction, MultidirResult& result) {
   std::vector<Vec3> bestN;
   std::vector<double> bestD;
   double bestJ = std::numeric_limits<double>::infinity();
-  for (uint32_t end : ends) {
-    std::vector<Vec3> ns;
-    std::vector<double> ds;
-    for (int id = static_cast<int>(end); id > 0; id = s.node(static_cast<uint32_t>(id)).parent) {
-      ns.push_back(s.node(static_cast<uint32_t>(id)).n);
-      ds.push_back(s.node(static_cast<uint32_t>(id)).d);
-    }
-    std::reverse(ns.begin(), ns.end());
-    std::reverse(ds.begin(), ds.end());
+  for (LineEnd& e : ends) {
+    std::vector<Vec3>& ns = e.ns;
+    std::vector<double>& ds = e.ds;
     if (o.refine && !ns.empty()) {
       const auto t0 = Clock::now();
       bool cancelled = false;
@@ -1432,7 +1452,7 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
       bestJ = jg;
       bestN = ns;
       bestD = ds;
-      result.stats.searchJgMm2 = s.node(end).jg;
+      result.stats.searchJgMm2 = e.searchJg;
     }
   }
   const auto t0 = Clock::now();
@@ -1534,12 +1554,23 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
                           0.8 * span, "beam");
   };
   if (!fourDof) {
-    Search search(m, options, result.stats, progress);
-    const std::vector<Vec3> normals = sphereNormals(options);
-    result.stats.normals = normals.size();
-    search.setNormals(normals);
-    if (!runScheme(search, scheme, 0, 1)) return cancelled();
-    if (!collect(m, options, false, Vec3::Zero(), search, progress, 0.99, result)) return cancelled();
+    // Restart j samples the sphere turned by 2 pi j / restarts about Z: the beam's choices
+    // depend on which normals exist, so each restart explores other decompositions. The first
+    // runs the scheme (with the greedy lines), the others the beam line only.
+    std::vector<LineEnd> ends;
+    const int restarts = scheme == Scheme::Beam && options.candidateNormals.empty() ? options.restarts : 1;
+    for (int j = 0; j < restarts; ++j) {
+      Search search(m, options, result.stats, progress);
+      const std::vector<Vec3> normals = sphereNormals(options, 2 * kPi * j / restarts);
+      result.stats.normals = normals.size();
+      search.setNormals(normals);
+      const double base = 0.99 * j / restarts, span = 0.99 / restarts;
+      const bool ran = j == 0 ? runScheme(search, scheme, base, span)
+                              : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
+      if (!ran) return cancelled();
+      lineEnds(search, ends);
+    }
+    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), progress, 0.99, result)) return cancelled();
   } else {
     std::vector<Vec3> axes;
     if (options.axisSearch > 0) {
@@ -1606,7 +1637,9 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       const double span = (1 - screenSpan) / full.size();
       if (!runScheme(search, scheme, screenSpan + i * span, span)) return cancelled();
       MultidirResult trial;
-      if (!collect(m, options, true, axes[a], search, progress, std::min(0.99, screenSpan + (i + 1) * span), trial)) {
+      std::vector<LineEnd> ends;
+      lineEnds(search, ends);
+      if (!collect(m, options, true, axes[a], std::move(ends), progress, std::min(0.99, screenSpan + (i + 1) * span), trial)) {
         return cancelled();
       }
       result.stats.msExact += trial.stats.msExact;

@@ -54,6 +54,11 @@ struct MultidirOptions {
   int beamWidth = 8;                // b, beams kept per level (beam scheme), >= 1 (paper: "b";
                                     // 8 measured: the Kitten reaches J_G ~0.03 mm^2 at 8 and
                                     // 10, ~2-4 mm^2 at 3 and 5)
+  int restarts = 3;                 // 5dof beam: the search runs this many times, restart j on
+                                    // the sphere of normals turned by 2 pi j / restarts about Z
+                                    // (the first with the greedy lines, the others the beam line
+                                    // only); every line's best end is refined and the least J_G
+                                    // wins. In [1, 64]; ignored with candidateNormals
   double delta0 = 0.1;              // first risk bound delta of the progressive relaxation, mm^2,
                                     // > 0; also the "R = 0" tolerance of the constrained greedy
   double relaxFactor = 5;           // delta *= relaxFactor until the b beams are filled, > 1

@@ -145,6 +145,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   o.offsetStepMm = ms.offsetStepMm;
   o.w = ms.w;
   o.beamWidth = ms.beamWidth;
+  o.restarts = ms.restarts;
   o.scheme = ms.scheme;
   o.platformMarginMm = ms.platformMarginMm;
   if (fourDof) {

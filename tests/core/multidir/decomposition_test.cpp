@@ -569,10 +569,17 @@ void expectLevels(const Recorded& rec, const MultidirResult& r, const std::vecto
   EXPECT_EQ(chosen, r.stats.jgPerLevel) << what;
 }
 
+// The lines of the 5dof beam scheme: the greedy lines, then one beam line per restart.
+std::vector<std::string> beamLines(int restarts = MultidirOptions{}.restarts) {
+  std::vector<std::string> lines = {"greedy", "constrained"};
+  lines.insert(lines.end(), static_cast<size_t>(restarts), "beam");
+  return lines;
+}
+
 TEST(DecompProgress, EachSchemeReportsItsLinesLevelByLevelThenTheChosenSequence) {
   const Mesh t = makeT();
   const std::pair<const char*, std::vector<std::string>> cases[] = {
-      {"greedy", {"greedy"}}, {"constrained", {"constrained"}}, {"beam", {"greedy", "constrained", "beam"}}};
+      {"greedy", {"greedy"}}, {"constrained", {"constrained"}}, {"beam", beamLines()}};
   for (const auto& [scheme, lines] : cases) {
     MultidirOptions o;
     o.platformMarginMm = 2;
@@ -587,8 +594,15 @@ TEST(DecompProgress, EachSchemeReportsItsLinesLevelByLevelThenTheChosenSequence)
   Recorded box;
   const MultidirResult r = searchDecomposition(test::makeBox(0, 0, 0, 20, 20, 20), {}, recorder(box));
   ASSERT_TRUE(r.ok()) << r.message;
-  expectLevels(box, r, {"greedy", "constrained", "beam"}, "box");
-  EXPECT_EQ(box.levels.size(), 4u);
+  expectLevels(box, r, beamLines(), "box");
+  EXPECT_EQ(box.levels.size(), beamLines().size() + 1);
+  // One restart: the greedy lines and one beam line.
+  Recorded once;
+  MultidirOptions single;
+  single.restarts = 1;
+  const MultidirResult r1 = searchDecomposition(test::makeBox(0, 0, 0, 20, 20, 20), single, recorder(once));
+  ASSERT_TRUE(r1.ok()) << r1.message;
+  expectLevels(once, r1, {"greedy", "constrained", "beam"}, "box, one restart");
 }
 
 // 4dof axis search: each screened axis, then the lines of every fully searched axis; the chosen
@@ -636,7 +650,7 @@ TEST(DecompProgress, KittenLevelsMatchTheResult) {
   Recorded rec;
   const MultidirResult r = searchDecomposition(kitten, {}, recorder(rec));
   ASSERT_TRUE(r.ok()) << r.message;
-  expectLevels(rec, r, {"greedy", "constrained", "beam"}, "Kitten");
+  expectLevels(rec, r, beamLines(), "Kitten");
   // The same search without a callback: the levels cost nothing in the result.
   const MultidirResult quiet = searchDecomposition(kitten);
   ASSERT_TRUE(quiet.ok()) << quiet.message;
