@@ -14,6 +14,9 @@
 //   priority order until the beams are full (after one failure of a (state, normal), a
 //   union-find sweep answers all its offsets at once).
 // - Each node stores only its last plane and a parent link (backward links, Section IV-B).
+// - Beyond the paper: each level gives every frontier node its fair share of the beams before
+//   filling by priority, and the 5dof beam restarts on turned spheres of normals (the result
+//   depends on which normals exist); both measured in their commit messages.
 // - Refinement: coordinate descent on the found planes (nearby normals and offsets), exact.
 #include "common/det_math.h"
 #include "multidir/decomposition.h"

@@ -152,16 +152,18 @@ struct MultidirResult : Outcome {
 // J_L, R and J_G are exact w.r.t. the planes (faces straddling a plane are split by area); volumes
 // and connectivity come from an occupancy grid of cell centres inside the solid.
 // The beam scheme also runs the greedy and constrained-greedy lines from the same root (two more
-// beams of width 1). The best end of each line (least J_G; within delta0 of it, fewest planes) is
-// refined (options.refine) and the least exact J_G wins, so the beam never ends above either
-// greedy scheme. Native and wasm give the same planes. Cost (default options, 10k-face Kitten,
-// one core of an unloaded 2-core VM): ~0.25 s native, ~0.25-0.35 s as wasm under Node 20; 4dof
-// over 180 axes ~3.5-4 s.
+// beams of width 1); in 5dof the beam line runs options.restarts times on the sphere of normals
+// turned about Z. Each level first gives every node of the frontier at most its fair share of the
+// b beams, then fills the rest by priority. The best end of each line (least J_G; within delta0
+// of it, fewest planes) is refined (options.refine) and the least exact J_G wins, so the beam
+// never ends above either greedy scheme. Native and wasm give the same planes. Cost (default
+// options, 10k-face Kitten, one core of an unloaded 2-core VM): ~0.5 s native, ~0.65 s as wasm
+// under Node 20 (three restarts); 4dof over 180 axes ~2-2.5 s.
 // Progress: stage "decompose". Each line reports its levels as they are done, each with a
 // SearchLevelProgress (common/progress.h): level 0 (the root, J_G before) and every level it
-// expands, named "greedy", "constrained" or "beam" (4dof axis search: "screen" for each screened
-// axis, then the lines of each fully searched axis); levels >= 1 of all lines number
-// stats.levels. Last, at fraction 1, the returned sequence as "chosen" levels 0..N with J_G =
+// expands, named "greedy", "constrained" or "beam" (5dof: one "beam" line per restart; 4dof axis
+// search: "screen" for each screened axis, then the lines of each fully searched axis); levels
+// >= 1 of all lines number stats.levels. Last, at fraction 1, the returned sequence as "chosen" levels 0..N with J_G =
 // stats.jgPerLevel[level]. Cancelling on any report stops the search.
 // Statuses: EmptyInput (no triangles), ParseError (index out of range), NonFiniteVertex,
 // InvalidOption (an option out of range or NaN, unknown dof/scheme, a non-horizontal rotation
