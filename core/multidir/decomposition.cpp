@@ -541,6 +541,8 @@ struct NormalData {
   size_t base = 0;       // first entry of this normal in a node's difference arrays
   std::vector<Entry> entries;
   std::vector<double> fractions;
+  std::vector<int32_t> sampleKey;  // per coarse volume sample: the offset index (k - kLo) whose
+                                   // plane has it just above, clamped to [kLo, kHi]
 };
 
 struct Node {
@@ -605,6 +607,11 @@ class Search {
       nd.kStart = std::max(nd.kLo + 1, kPlat);
       nd.base = base;
       base += static_cast<size_t>(nd.kHi - nd.kLo + 1);
+      nd.sampleKey.resize(m_.samplePos.size());
+      for (size_t c = 0; c < m_.samplePos.size(); ++c) {
+        const int key = static_cast<int>(std::ceil(n.dot(m_.samplePos[c]) / step)) - 1;
+        nd.sampleKey[c] = std::clamp(key, nd.kLo, nd.kHi) - nd.kLo;
+      }
       for (uint32_t f = 0; f < m_.tri.size(); ++f) {
         const int wr = m_.riskyAlong(f, n) ? 1 : 0;
         const int wj = (m_.platRisk[f] > 0 ? 1 : 0) - wr;
@@ -782,17 +789,13 @@ class Search {
   // above holds ~V/w (coarse samples, lenient: the fine grid decides), with J_L > 0.
   void emit(uint32_t id) {
     const Node& s = nodes_[id];
-    const double step = o_.offsetStepMm;
     const double lenient = 0.8 * static_cast<double>(m_.cells) / o_.w;
     for (size_t j = 0; j < nd_.size(); ++j) {
       const NormalData& nd = nd_[j];
       const size_t K = static_cast<size_t>(nd.kHi - nd.kLo + 1);
       hist_.assign(K + 1, 0);
-      forEachBit(s.samples, [&](size_t c) {
-        int key = static_cast<int>(std::ceil(nd.n.dot(m_.samplePos[c]) / step)) - 1;
-        key = std::clamp(key, nd.kLo, nd.kHi);
-        hist_[key - nd.kLo] += m_.sampleWeight[c];
-      });
+      const int32_t* key = nd.sampleKey.data();
+      forEachBit(s.samples, [&](size_t c) { hist_[key[c]] += m_.sampleWeight[c]; });
       int kMaxVol = nd.kStart - 1;
       double above = 0;
       for (int k = nd.kHi; k >= nd.kStart; --k) {
