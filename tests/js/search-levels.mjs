@@ -8,13 +8,16 @@ import { SEARCH_LINES } from '../../workers/protocol.js';
 /**
  * Check the progress events of one multidir slice (beam scheme, 5dof) against report.multidir:
  * every `search` is well formed and comes with stage 'decompose'; the lines run greedy,
- * constrained, beam, then the chosen sequence; each search line counts its levels 0, 1, 2, ...
+ * constrained, one beam line per restart (multidir.restarts), then the chosen sequence; each search
+ * line counts its levels 0, 1, 2, ...
  * with a nonincreasing J_G; their levels >= 1 number search.levels; the chosen levels are 0..N with
  * exactly search.J_G_per_level.
  * @param {{stage: string, fraction: number, search?: object}[]} events every progress event
+ * @param {object} multidir report.multidir of the slice
+ * @param {number} [restarts] the slice's multidir.restarts (default 3)
  * @returns {{levels: object[], chosen: number[]}} the search events and the chosen J_G values
  */
-export function checkSearchLevels(events, multidir) {
+export function checkSearchLevels(events, multidir, restarts = 3) {
   const levels = events.filter((p) => p.search).map((p) => {
     assert.equal(p.stage, 'decompose', `a search level comes with stage decompose: ${JSON.stringify(p)}`);
     return p.search;
@@ -33,7 +36,7 @@ export function checkSearchLevels(events, multidir) {
     assert.ok(runs.length > 0 && runs[runs.length - 1].line === s.line, `a ${s.line} level ${s.level} outside its line's run`);
     runs[runs.length - 1].list.push(s);
   }
-  assert.deepEqual(runs.map((r) => r.line), ['greedy', 'constrained', 'beam', 'chosen']);
+  assert.deepEqual(runs.map((r) => r.line), ['greedy', 'constrained', ...Array(restarts).fill('beam'), 'chosen']);
   for (const { line, list } of runs) {
     list.forEach((s, k) => assert.equal(s.level, k, `${line}: level ${s.level} at position ${k}`));
     assert.equal(list[0].J_G, multidir.J_G_before, `${line} starts at J_G before`);

@@ -300,6 +300,10 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     const r = m.slice(lBracketStl(), 'l.stl', s, { onProgress: (p) => { events.push(p); } });
     const { chosen } = checkSearchLevels(events, r.report.multidir);
     assert.ok(chosen.length >= 2, `the bracket is cut: ${chosen}`);
+    // multidir.restarts reaches the search: one restart, one beam line.
+    const once = [];
+    const r1 = m.slice(lBracketStl(), 'l.stl', { ...s, 'multidir.restarts': 1 }, { onProgress: (p) => { once.push(p); } });
+    checkSearchLevels(once, r1.report.multidir, 1);
     assert.ok(events.filter((p) => !p.search).every((p) => !('search' in p)), 'plain reports carry no search');
     const decompose = events.filter((p) => p.stage === 'decompose').map((p) => p.fraction);
     decompose.forEach((f, i) => assert.ok(i === 0 || f >= decompose[i - 1], `decompose went back to ${f}`));
