@@ -1573,14 +1573,18 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
                           0.8 * span, "beam");
   };
   if (!fourDof) {
-    // Restart j samples the sphere turned by 2 pi j / restarts about Z: the beam's choices
-    // depend on which normals exist, so each restart explores other decompositions. The first
-    // runs the scheme (with the greedy lines), the others the beam line only.
+    // Restart j samples the sphere turned about Z by 2 pi frac(j (sqrt 2 - 1)): the beam's choices
+    // depend on which normals exist, so each restart explores other decompositions, and as the
+    // turns never repeat, more restarts only add searches. The first runs the scheme (with the
+    // greedy lines), the others the beam line only. They stop once a line ends at J_G <= delta0
+    // (the search's own tolerance for "no risky area": refinement only lowers it).
     std::vector<LineEnd> ends;
     const int restarts = scheme == Scheme::Beam && options.candidateNormals.empty() ? options.restarts : 1;
+    const double turn = std::sqrt(2.0) - 1;
     for (int j = 0; j < restarts; ++j) {
       Search search(m, options, result.stats, progress);
-      const std::vector<Vec3> normals = sphereNormals(options, 2 * kPi * j / restarts);
+      const double phase = 2 * kPi * (j * turn - std::floor(j * turn));
+      const std::vector<Vec3> normals = sphereNormals(options, phase);
       result.stats.normals = normals.size();
       search.setNormals(normals);
       const double base = 0.99 * j / restarts, span = 0.99 / restarts;
@@ -1588,6 +1592,10 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
                               : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
       if (!ran) return cancelled();
       lineEnds(search, ends);
+      ++result.stats.restartsRun;
+      double least = std::numeric_limits<double>::infinity();
+      for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
+      if (least <= options.delta0) break;
     }
     if (!collect(m, options, false, Vec3::Zero(), std::move(ends), progress, 0.99, result)) return cancelled();
   } else {

@@ -54,11 +54,12 @@ struct MultidirOptions {
   int beamWidth = 8;                // b, beams kept per level (beam scheme), >= 1 (paper: "b";
                                     // 8 measured: the Kitten reaches J_G ~0.03 mm^2 at 8 and
                                     // 10, ~2-4 mm^2 at 3 and 5)
-  int restarts = 3;                 // 5dof beam: the search runs this many times, restart j on
-                                    // the sphere of normals turned by 2 pi j / restarts about Z
-                                    // (the first with the greedy lines, the others the beam line
-                                    // only); every line's best end is refined and the least J_G
-                                    // wins. In [1, 64]; ignored with candidateNormals
+  int restarts = 3;                 // 5dof beam: the search runs up to this many times, restart
+                                    // j on the sphere of normals turned about Z by
+                                    // 2 pi frac(j (sqrt 2 - 1)) (the first with the greedy lines,
+                                    // the others the beam line only), stopping once a line ends
+                                    // at J_G <= delta0; every line's best end is refined and the
+                                    // least J_G wins. In [1, 64]; ignored with candidateNormals
   double delta0 = 0.1;              // first risk bound delta of the progressive relaxation, mm^2,
                                     // > 0; also the "R = 0" tolerance of the constrained greedy
   double relaxFactor = 5;           // delta *= relaxFactor until the b beams are filled, > 1
@@ -120,6 +121,7 @@ struct MultidirStats {
   size_t orphanCells = 0;           // solid cells not connected to the platform in the grid
                                     // (dropped: thinner than a cell or floating in the input)
   size_t axesTried = 0;             // 4dof axis search
+  size_t restartsRun = 0;           // 5dof: searches run (<= restarts: they stop at J_G <= delta0)
   double msPrepare = 0;             // faces, grid, platform
   double msNormals = 0;             // per-normal tables
   double msSweep = 0;               // J_L / R prefix sums of all candidates

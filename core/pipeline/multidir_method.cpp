@@ -324,6 +324,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
         {"beams", st.beams},
         {"levels", st.levels},
         {"axes_tried", st.axesTried},
+        {"restarts_run", st.restartsRun},
         {"J_G_per_level", levels},
         {"grid_cells", st.gridCells},
         {"cell_mm", finite(st.cellMm)}}},

@@ -101,7 +101,8 @@ struct MultidirSettings {
   double stepAngleDeg = 0;       // 4dof: stepper angle, degrees; 0 = the machine's
   int samples = 250;             // candidate normals on the sphere (or circle, 4dof)
   int beamWidth = 8;             // b, beams per level
-  int restarts = 3;              // 5dof beam: searches on the sphere of normals turned about Z
+  int restarts = 3;              // 5dof beam: searches (at most) on spheres of normals turned
+                                 // about Z; they stop once J_G <= 0.1 mm^2
   int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
   std::string scheme = "beam";   // beam | greedy | constrained
   std::string dof = "auto";      // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof

@@ -8,8 +8,8 @@ import { SEARCH_LINES } from '../../workers/protocol.js';
 /**
  * Check the progress events of one multidir slice (beam scheme, 5dof) against report.multidir:
  * every `search` is well formed and comes with stage 'decompose'; the lines run greedy,
- * constrained, one beam line per restart (multidir.restarts), then the chosen sequence; each search
- * line counts its levels 0, 1, 2, ...
+ * constrained, one beam line per restart run (search.restarts_run, at most `restarts`, fewer only
+ * when J_G after <= 0.1 mm^2), then the chosen sequence; each search line counts its levels 0, 1, 2, ...
  * with a nonincreasing J_G; their levels >= 1 number search.levels; the chosen levels are 0..N with
  * exactly search.J_G_per_level.
  * @param {{stage: string, fraction: number, search?: object}[]} events every progress event
@@ -36,7 +36,10 @@ export function checkSearchLevels(events, multidir, restarts = 3) {
     assert.ok(runs.length > 0 && runs[runs.length - 1].line === s.line, `a ${s.line} level ${s.level} outside its line's run`);
     runs[runs.length - 1].list.push(s);
   }
-  assert.deepEqual(runs.map((r) => r.line), ['greedy', 'constrained', ...Array(restarts).fill('beam'), 'chosen']);
+  const run = multidir.search.restarts_run;
+  assert.ok(Number.isInteger(run) && run >= 1 && run <= restarts, `restarts_run ${run} of ${restarts}`);
+  if (run < restarts) assert.ok(multidir.J_G_after <= 0.1 + 1e-9, `restarts stopped early at J_G ${multidir.J_G_after}`);
+  assert.deepEqual(runs.map((r) => r.line), ['greedy', 'constrained', ...Array(run).fill('beam'), 'chosen']);
   for (const { line, list } of runs) {
     list.forEach((s, k) => assert.equal(s.level, k, `${line}: level ${s.level} at position ${k}`));
     assert.equal(list[0].J_G, multidir.J_G_before, `${line} starts at J_G before`);

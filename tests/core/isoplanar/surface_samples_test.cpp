@@ -22,7 +22,10 @@ constexpr double kPi = 3.14159265358979323846;
 // Latitude-longitude sphere, outward (or inward) triangles.
 Mesh uvSphere(double r, int rings, int segments, bool outward) {
   Mesh m;
-  m.positions.insert(m.positions.end(), {0, 0, r});
+  // push_back, not insert of a list into the empty vector: GCC 12 warns (stringop-overflow) there.
+  m.positions.push_back(0);
+  m.positions.push_back(0);
+  m.positions.push_back(r);
   for (int i = 1; i < rings; ++i) {
     const double th = kPi * i / rings;
     for (int j = 0; j < segments; ++j) {
