@@ -308,7 +308,7 @@ export function multidirSummaryRows(m) {
     ['jg', 'risky area J_G', `${areaFigure(r.J_G_before)} mm² → ${areaFigure(r.J_G_after)} mm²${pct}`],
     ['parts', 'parts', figure(r.part_count)],
     ['search', 'search', `${r.scheme || '?'}, ${r.dof || '?'}${axis}, α_max ${unit(r.alpha_max_deg, '°')}`],
-    ['levels', 'levels, beams', `${figure(s.levels)}, ${figure(s.beams)}`],
+    ['levels', 'levels, beams, restarts', `${figure(s.levels)}, ${figure(s.beams)}, ${figure(s.restarts_run)}`],
     ['candidates', 'candidates evaluated', figure(s.candidates_evaluated)],
     ['cap_area', 'cut area', unit(r.cap_area_mm2, 'mm²')],
     ['volume', 'volume', unit(r.volume_mm3, 'mm³')],
