@@ -47,7 +47,10 @@ inline double gridRound(double v) { return std::round(v * 1024.0) / 1024.0; }
 inline PolyMesh makeSpherePoly(int rings, int segments, double radius, double cx, double cy, double cz) {
   PolyMesh m;
   auto add = [&m](double x, double y, double z) {
-    m.positions.insert(m.positions.end(), {gridRound(x), gridRound(y), gridRound(z)});
+    // push_back, not insert of a list: GCC 12 warns (stringop-overflow) when inlined.
+    m.positions.push_back(gridRound(x));
+    m.positions.push_back(gridRound(y));
+    m.positions.push_back(gridRound(z));
     return static_cast<uint32_t>(m.positions.size() / 3 - 1);
   };
   const uint32_t north = add(cx, cy, cz + radius);

@@ -22,7 +22,7 @@ TEST(VerifyProgram, PlannedBoxPassesOnEveryMachine) {
   o.height = 4;
   const Toolpath tp = test::boxToolpath(o);
   const Mesh box = test::makeBox(-5, -5, 0, 5, 5, 4);
-  for (const std::string name : builtinMachineNames()) {
+  for (const std::string& name : builtinMachineNames()) {
     const MachineProfileResult machine = builtinMachine(name, {220, 220, 250}, 0.4);
     ASSERT_TRUE(machine.ok()) << machine.message;
     const auto t0 = std::chrono::steady_clock::now();
