@@ -1453,7 +1453,16 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
   std::vector<Vec3> bestN;
   std::vector<double> bestD;
   double bestJ = std::numeric_limits<double>::infinity();
-  for (LineEnd& e : ends) {
+  // Lines that ended on the same planes (often greedy and constrained) are refined once.
+  std::vector<uint8_t> repeated(ends.size(), 0);
+  for (size_t i = 0; i < ends.size(); ++i) {
+    for (size_t q = 0; q < i && !repeated[i]; ++q) {
+      repeated[i] = ends[q].ns == ends[i].ns && ends[q].ds == ends[i].ds;
+    }
+  }
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (repeated[i]) continue;
+    LineEnd& e = ends[i];
     std::vector<Vec3>& ns = e.ns;
     std::vector<double>& ds = e.ds;
     if (o.refine && !ns.empty()) {
