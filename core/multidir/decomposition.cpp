@@ -9,6 +9,7 @@
 //   offset strictly inside its projection, the exact area above by the closed form of a
 //   triangle (stored per normal once); cut faces are clipped. Only faces risky along +Z or along
 //   the normal enter. So J_L, R and J_G are exact w.r.t. the planes, not centroid-classified.
+//   The arrays are fixed point (integer sums: independent of order).
 // - Criterion IV prefilters offsets by the coarse samples (lenient) and decides on the fine
 //   cells; Criterion II is a flood fill over the remaining cells from the platform layer, run in
 //   priority order until the beams are full (after one failure of a (state, normal), a
@@ -30,6 +31,7 @@
 #include <limits>
 #include <numeric>
 #include <unordered_map>
+#include <tuple>
 #include <utility>
 
 namespace omnislice {
@@ -523,24 +525,38 @@ std::vector<double> exactRisk(const Model& m, const std::vector<Vec3>& ns, const
 
 // ---- the search ------------------------------------------------------------------------------
 
-// A face that matters along a normal (risky along it, or risky on the platform part) with its
+// The J_L / R difference arrays hold areas in fixed point: integer multiples of 2^-40 mm^2 (a
+// coarser power of 2 when the model's surface area S is 2^22 mm^2 = 4.2e6 mm^2 or more, see
+// Search::fxUnits_), each contribution (a face's area, or its area above one offset) rounded once,
+// then weighted by -1, 0 or 1 and summed modulo 2^64 (unsigned: wrap-around is defined). Integer
+// sums do not depend on their order, so a state's arrays are the same however they are built
+// (in any order) and the same in native and wasm. Range: a suffix sum is at
+// most S (weights are +-1) plus 1/2 unit per contribution, below 2^62 units. Rounding adds at most
+// 2^-41 mm^2 per contribution (< 1e-7 mm^2 over 10^5 faces): far below kMinGainMm2, and the
+// noise of a small model's J_G (< 1e-11 mm^2 over 10^3 contributions) stays below the 1e-9 mm^2
+// a plane costs in the axis screening.
+using Fx = uint64_t;
+inline Fx fxTimes(int w, int64_t v) { return static_cast<Fx>(w * v); }
+
+// A face along a normal it matters for (risky along it, or risky on the platform part) with its
 // whole-triangle contribution: fully above offsets <= kFull, partly above the next `straddles`
-// offsets by the stored area fractions.
+// offsets by the stored areas above them (fixed point, from Search::fractions_[frac]). Stored
+// face-major (a face's entries together), so that a child's changed faces are read in sequence.
 struct Entry {
-  uint32_t face;
-  int32_t kFull;       // relative to kLo
-  int32_t straddles;
+  int32_t kFull;       // relative to the normal's kLo
+  uint32_t frac;       // first of its areas above in Search::fractions_
+  uint32_t normal;
+  int16_t straddles;   // <= 20000 offsets per normal (searchDecomposition refuses more)
   int8_t wj, wr;       // J_L weight (platform risk - risk along n) and R weight
-  double area;
+  int64_t area;        // fixed point
 };
+static_assert(sizeof(Entry) == 24, "an entry per (face, normal) that matters: keep it small");
 
 struct NormalData {
   Vec3 n;
   int kLo = 0, kHi = 0;  // offsets spanning the model: kLo*step < every point < kHi*step
   int kStart = 0;        // lowest offset allowed: above kLo and with the platform below (III)
-  size_t base = 0;       // first entry of this normal in a node's difference arrays
-  std::vector<Entry> entries;
-  std::vector<double> fractions;
+  size_t base = 0;       // first offset of this normal in a node's difference arrays
   std::vector<int32_t> sampleKey;  // per coarse volume sample: the offset index (k - kLo) whose
                                    // plane has it just above, clamped to [kLo, kHi]
 };
@@ -559,9 +575,9 @@ struct Node {
   Bits cells;                      // fine occupancy cells kept
   size_t cellCount = 0;
   Bits samples;                    // coarse volume samples kept
-  // J_L / R difference arrays of every normal (J(k) = sum over k' >= k of dJ[k']), held while
-  // the node may still be expanded.
-  std::vector<double> dJ, dR;
+  // J_L / R difference arrays of every normal (J(k) = sum over k' >= k of dJ[k']), fixed point,
+  // interleaved (dJ, dR at 2 * (base + k - kLo)), held while the node may still be expanded.
+  std::vector<Fx> diff;
   double jg = 0;        // exact J_G of this decomposition
   double platRisk = 0;  // risky area (+Z) left on the remaining model
   double partRisk = 0;  // R of the part cut off by the last plane
@@ -583,6 +599,12 @@ class Search {
   Search(const Model& m, const MultidirOptions& o, MultidirStats& stats, const ProgressFn& progress)
       : m_(m), o_(o), stats_(stats), progress_(progress) {
     minPartCells_ = static_cast<size_t>(std::ceil(static_cast<double>(m_.cells) / o_.w - 1e-9));
+    // 2^40 units per mm^2, fewer when S >= 2^22 mm^2 so that S * fxUnits_ < 2^62.
+    double s = 0;
+    for (double a : m_.area) s += a;
+    int e = 0;
+    std::frexp(s, &e);  // s < 2^e
+    fxUnits_ = std::ldexp(1.0, std::min(40, 62 - e));
   }
 
   // Per-normal tables and the root state with its full J_L / R sweep.
@@ -612,29 +634,41 @@ class Search {
         const int key = static_cast<int>(std::ceil(n.dot(m_.samplePos[c]) / step)) - 1;
         nd.sampleKey[c] = std::clamp(key, nd.kLo, nd.kHi) - nd.kLo;
       }
-      for (uint32_t f = 0; f < m_.tri.size(); ++f) {
+      nd_.push_back(std::move(nd));
+    }
+    arrayLen_ = base;
+    entries_.clear();
+    fractions_.clear();
+    entryStart_.assign(m_.tri.size() + 1, 0);
+    for (uint32_t f = 0; f < m_.tri.size(); ++f) {
+      entryStart_[f] = static_cast<uint32_t>(entries_.size());
+      const auto& t = m_.corner[f];
+      for (size_t j = 0; j < nd_.size(); ++j) {
+        const NormalData& nd = nd_[j];
+        const Vec3& n = nd.n;
         const int wr = m_.riskyAlong(f, n) ? 1 : 0;
         const int wj = (m_.platRisk[f] > 0 ? 1 : 0) - wr;
         if (wr == 0 && wj == 0) continue;
-        const auto& t = m_.corner[f];
         double a = n.dot(t[0]), b = n.dot(t[1]), c = n.dot(t[2]);
         sort3(a, b, c);
         const int kFull = static_cast<int>(std::floor(a / step));
         const int kTop = static_cast<int>(std::ceil(c / step));
         Entry e;
-        e.face = f;
         e.kFull = kFull - nd.kLo;
-        e.straddles = std::max(0, kTop - kFull - 1);
+        e.frac = static_cast<uint32_t>(fractions_.size());
+        e.straddles = static_cast<int16_t>(std::max(0, kTop - kFull - 1));
+        e.normal = static_cast<uint32_t>(j);
         e.wj = static_cast<int8_t>(wj);
         e.wr = static_cast<int8_t>(wr);
-        e.area = m_.area[f];
+        e.area = toFx(m_.area[f]);
         // area above each straddled offset
-        for (int k = kFull + 1; k < kTop; ++k) nd.fractions.push_back(e.area * triFractionAbove(a, b, c, k * step));
-        nd.entries.push_back(e);
+        for (int k = kFull + 1; k < kTop; ++k) {
+          fractions_.push_back(toFx(m_.area[f] * triFractionAbove(a, b, c, k * step)));
+        }
+        entries_.push_back(e);
       }
-      nd_.push_back(std::move(nd));
     }
-    arrayLen_ = base;
+    entryStart_[m_.tri.size()] = static_cast<uint32_t>(entries_.size());
     nodes_.clear();
     Node root;
     root.faceState.assign(m_.tri.size(), 1);
@@ -684,8 +718,7 @@ class Search {
       if (cancelled_) return false;
       for (uint32_t id : frontier) {
         if (id == 0) continue;  // the root's arrays serve every line
-        std::vector<double>().swap(nodes_[id].dJ);
-        std::vector<double>().swap(nodes_[id].dR);
+        std::vector<Fx>().swap(nodes_[id].diff);
       }
       frontier.clear();
       for (uint32_t c : children) {
@@ -723,65 +756,66 @@ class Search {
   const Node& node(uint32_t id) const { return nodes_[id]; }
 
  private:
+  int64_t toFx(double areaMm2) const { return std::llround(areaMm2 * fxUnits_); }
+  double fxToMm2(Fx v) const { return static_cast<double>(static_cast<int64_t>(v)) / fxUnits_; }
+
   bool isTerminal(const Node& nd) const {
     return nd.cellCount * o_.w < static_cast<double>(m_.cells) || nd.platRisk <= kMinGainMm2;
   }
 
-  // J_L / R difference arrays of a state from all its faces: whole faces from the per-normal
-  // entries, cut faces by clipping their polygons.
-  void fullArrays(Node& s) {
-    s.dJ.assign(arrayLen_, 0);
-    s.dR.assign(arrayLen_, 0);
-    if (cutLookup_.size() != m_.tri.size()) cutLookup_.assign(m_.tri.size(), 0);
-    for (size_t i = 0; i < s.cutFace.size(); ++i) cutLookup_[s.cutFace[i]] = static_cast<uint32_t>(i);
+  // J_L / R difference arrays of a state from all its faces: whole faces from their entries, cut
+  // faces by clipping their polygons.
+  void fullArrays(Node& s) const {
+    s.diff.assign(2 * arrayLen_, 0);
     const uint8_t* state = s.faceState.data();
-    for (const NormalData& nd : nd_) {
-      double* dJ = s.dJ.data() + nd.base;
-      double* dR = s.dR.data() + nd.base;
-      const double* frac = nd.fractions.data();
-      for (const Entry& e : nd.entries) {
-        const uint8_t st = state[e.face];
-        if (st == 1) {
-          const double wj = e.wj, wr = e.wr;
-          dJ[e.kFull] += wj * e.area;
-          dR[e.kFull] += wr * e.area;
-          for (int q = 0; q < e.straddles; ++q) {
-            const double above = frac[q];
-            const int k = e.kFull + 1 + q;
-            dJ[k] += wj * above;
-            dJ[k - 1] -= wj * above;
-            dR[k] += wr * above;
-            dR[k - 1] -= wr * above;
-          }
-        } else if (st == 2) {
-          addPolygon(dJ, dR, nd, e.face, s.cutPoly[cutLookup_[e.face]], e.wj, e.wr, 1.0);
-        }
-        frac += e.straddles;
-      }
+    size_t ci = 0;  // s.cutFace is ascending
+    for (uint32_t f = 0; f < m_.tri.size(); ++f) {
+      const uint8_t st = state[f];
+      if (st == 0) continue;
+      const Poly* p = st == 2 ? &s.cutPoly[ci++] : nullptr;
+      for (uint32_t i = entryStart_[f]; i < entryStart_[f + 1]; ++i) addFace(s.diff.data(), f, entries_[i], p, 1);
     }
   }
 
-  // sign * weights * (area of the polygon above offset k), into normal nd's arrays.
-  void addPolygon(double* dJ, double* dR, const NormalData& nd, uint32_t f, const Poly& p, double wj,
-                  double wr, double sign) const {
+  // sign * weights * (area above each offset) of face f along entry e's normal, whole (p null) or
+  // cut to polygon p, into the interleaved arrays `diff` (all normals).
+  void addFace(Fx* diff, uint32_t f, const Entry& e, const Poly* p, int sign) const {
+    const NormalData& nd = nd_[e.normal];
+    Fx* d = diff + 2 * nd.base;
+    const int wj = sign * e.wj, wr = sign * e.wr;
+    if (!p) {
+      d[2 * e.kFull] += fxTimes(wj, e.area);
+      d[2 * e.kFull + 1] += fxTimes(wr, e.area);
+      const int64_t* frac = fractions_.data() + e.frac;
+      for (int q = 0; q < e.straddles; ++q) {
+        const int64_t above = frac[q];
+        const int k = e.kFull + 1 + q;
+        d[2 * k] += fxTimes(wj, above);
+        d[2 * k - 2] -= fxTimes(wj, above);
+        d[2 * k + 1] += fxTimes(wr, above);
+        d[2 * k - 1] -= fxTimes(wr, above);
+      }
+      return;
+    }
     const double step = o_.offsetStepMm;
     double a = std::numeric_limits<double>::infinity(), c = -a;
-    for (const Vec3& q : p) {
+    for (const Vec3& q : *p) {
       const double t = nd.n.dot(q);
       a = std::min(a, t);
       c = std::max(c, t);
     }
-    const double area = sign * polyArea(p, m_.normal[f]);
-    const int kFull = static_cast<int>(std::floor(a / step));
-    const int kTop = static_cast<int>(std::ceil(c / step));
-    dJ[kFull - nd.kLo] += wj * area;
-    dR[kFull - nd.kLo] += wr * area;
+    const Vec3& fn = m_.normal[f];
+    const int64_t area = toFx(polyArea(*p, fn));
+    const int kFull = static_cast<int>(std::floor(a / step)) - nd.kLo;
+    const int kTop = static_cast<int>(std::ceil(c / step)) - nd.kLo;
+    d[2 * kFull] += fxTimes(wj, area);
+    d[2 * kFull + 1] += fxTimes(wr, area);
     for (int k = kFull + 1; k < kTop; ++k) {
-      const double above = sign * polyArea(clipPoly(p, nd.n, k * step, true), m_.normal[f]);
-      dJ[k - nd.kLo] += wj * above;
-      dJ[k - 1 - nd.kLo] -= wj * above;
-      dR[k - nd.kLo] += wr * above;
-      dR[k - 1 - nd.kLo] -= wr * above;
+      const int64_t above = toFx(polyArea(clipPoly(*p, nd.n, (k + nd.kLo) * step, true), fn));
+      d[2 * k] += fxTimes(wj, above);
+      d[2 * k - 2] -= fxTimes(wj, above);
+      d[2 * k + 1] += fxTimes(wr, above);
+      d[2 * k - 1] -= fxTimes(wr, above);
     }
   }
 
@@ -805,15 +839,15 @@ class Search {
           break;
         }
       }
-      const double* dJ = s.dJ.data() + nd.base;
-      const double* dR = s.dR.data() + nd.base;
-      double jl = 0, r = 0;
+      const Fx* d = s.diff.data() + 2 * nd.base;
+      Fx sumJ = 0, sumR = 0;
       for (int k = nd.kHi; k >= nd.kStart; --k) {
-        jl += dJ[k - nd.kLo];
-        r += dR[k - nd.kLo];
+        sumJ += d[2 * (k - nd.kLo)];
+        sumR += d[2 * (k - nd.kLo) + 1];
         if (k > kMaxVol) continue;
         ++stats_.candidatesEvaluated;
-        if (jl > kMinGainMm2) pool_.push_back({id, static_cast<uint32_t>(j), k, jl, std::max(0.0, r)});
+        const double jl = fxToMm2(sumJ);
+        if (jl > kMinGainMm2) pool_.push_back({id, static_cast<uint32_t>(j), k, jl, std::max(0.0, fxToMm2(sumR))});
       }
     }
   }
@@ -1117,6 +1151,10 @@ class Search {
   MultidirStats& stats_;
   const ProgressFn& progress_;
   std::vector<NormalData> nd_;
+  double fxUnits_ = 0;  // fixed point units per mm^2 (a power of 2)
+  std::vector<Entry> entries_;        // face-major: face f's are [entryStart_[f], entryStart_[f + 1])
+  std::vector<uint32_t> entryStart_;
+  std::vector<int64_t> fractions_;
   size_t arrayLen_ = 0;
   std::vector<Node> nodes_;
   std::vector<Cand> pool_;
@@ -1126,7 +1164,6 @@ class Search {
   std::unordered_map<uint64_t, std::vector<uint32_t>> fine_;
   FloodScratch flood_;
   std::vector<uint32_t> dsuParent_, dsuAdded_, dsuKey_, dsuSize_, order_;
-  std::vector<uint32_t> cutLookup_;
   std::vector<uint8_t> dsuGrounded_;
   uint32_t dsuGen_ = 0;
   int line_ = 0;
@@ -1639,14 +1676,16 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
         result.message = ok.message;
         return result;
       }
-      std::vector<std::pair<double, size_t>> rank;
+      // Rank: J_G + 1e-9 per plane, then (exact ties, e.g. two axes that both reach J_G 0 with
+      // one plane) the larger model left on the platform.
+      std::vector<std::tuple<double, size_t, size_t>> rank;
       for (size_t a = 0; a < axes.size(); ++a) {
         Search search(mc, coarse, result.stats, progress);
         search.setNormals(circleNormals(coarse, axes[a]));
         const double span = screenSpan / axes.size();
         if (!search.runLine(Scheme::Constrained, 1, a * span, span, "screen")) return cancelled();
         const Node& b = search.node(search.best());
-        rank.emplace_back(b.jg + 1e-9 * b.level, a);
+        rank.emplace_back(b.jg + 1e-9 * b.level, mc.cells - b.cellCount, a);
       }
       std::stable_sort(rank.begin(), rank.end());
       // The best screened axes, at least 3 degrees apart (neighbours rank alike).
@@ -1656,10 +1695,10 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
           if (full.size() >= static_cast<size_t>(options.axisFullSearches)) break;
           bool near = false;
           for (size_t f : full) {
-            const double cosAngle = std::abs(axes[f].dot(axes[r.second]));
-            near = near || f == r.second || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
+            const double cosAngle = std::abs(axes[f].dot(axes[std::get<2>(r)]));
+            near = near || f == std::get<2>(r) || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
           }
-          if (!near) full.push_back(r.second);
+          if (!near) full.push_back(std::get<2>(r));
         }
       }
     }
