@@ -9,7 +9,9 @@
 //   offset strictly inside its projection, the exact area above by the closed form of a
 //   triangle (stored per normal once); cut faces are clipped. Only faces risky along +Z or along
 //   the normal enter. So J_L, R and J_G are exact w.r.t. the planes, not centroid-classified.
-//   The arrays are fixed point (integer sums: independent of order).
+//   The arrays are fixed point (2^-32 mm^2, integer sums: independent of order), so a child's
+//   are its parent's with the faces its plane removed or cut replaced, bit for bit the same as
+//   from scratch.
 // - Criterion IV prefilters offsets by the coarse samples (lenient) and decides on the fine
 //   cells; Criterion II is a flood fill over the remaining cells from the platform layer, run in
 //   priority order until the beams are full (after one failure of a (state, normal), a
@@ -530,7 +532,7 @@ std::vector<double> exactRisk(const Model& m, const std::vector<Vec3>& ns, const
 // Search::fxUnits_), each contribution (a face's area, or its area above one offset) rounded once,
 // then weighted by -1, 0 or 1 and summed modulo 2^64 (unsigned: wrap-around is defined). Integer
 // sums do not depend on their order, so a state's arrays are the same however they are built
-// (in any order) and the same in native and wasm. Range: a suffix sum is at
+// (from scratch or from its parent's) and the same in native and wasm. Range: a suffix sum is at
 // most S (weights are +-1) plus 1/2 unit per contribution, below 2^62 units. Rounding adds at most
 // 2^-41 mm^2 per contribution (< 1e-7 mm^2 over 10^5 faces): far below kMinGainMm2, and the
 // noise of a small model's J_G (< 1e-11 mm^2 over 10^3 contributions) stays below the 1e-9 mm^2
@@ -585,6 +587,13 @@ struct Node {
   double sampleWeight = 0;   // volume samples kept (in fine cells)
   double removedWeight = 0;  // volume samples the last plane cut off
   bool terminal = false;
+};
+
+// A face the child's plane removed or cut: its polygon in the parent (-1: whole) and in the child
+// (-1: removed), as indices into their cutPoly.
+struct FaceChange {
+  uint32_t face;
+  int32_t oldPoly, newPoly;
 };
 
 struct Cand {
@@ -777,8 +786,24 @@ class Search {
     }
   }
 
+  // J_L / R arrays of `child` from its parent's: the faces the plane changed leave with their old
+  // contribution and come back cut. Integer sums: the same arrays as fullArrays(child).
+  void childArrays(const Node& parent, Node& child, const std::vector<FaceChange>& changes) const {
+    child.diff = parent.diff;
+    Fx* diff = child.diff.data();
+    for (const FaceChange& c : changes) {
+      const Poly* oldPoly = c.oldPoly < 0 ? nullptr : &parent.cutPoly[static_cast<size_t>(c.oldPoly)];
+      const Poly* newPoly = c.newPoly < 0 ? nullptr : &child.cutPoly[static_cast<size_t>(c.newPoly)];
+      for (uint32_t i = entryStart_[c.face]; i < entryStart_[c.face + 1]; ++i) {
+        addFace(diff, c.face, entries_[i], oldPoly, -1);
+        if (newPoly) addFace(diff, c.face, entries_[i], newPoly, 1);
+      }
+    }
+  }
+
   // sign * weights * (area above each offset) of face f along entry e's normal, whole (p null) or
-  // cut to polygon p, into the interleaved arrays `diff` (all normals).
+  // cut to polygon p, into the interleaved arrays `diff` (all normals). The one place a face's
+  // contribution is computed, for fullArrays and childArrays alike.
   void addFace(Fx* diff, uint32_t f, const Entry& e, const Poly* p, int sign) const {
     const NormalData& nd = nd_[e.normal];
     Fx* d = diff + 2 * nd.base;
@@ -852,11 +877,14 @@ class Search {
     }
   }
 
-  // Face state of the child of `parent` by plane (n, d) into `out`.
-  void childFaces(const Node& parent, const Vec3& n, double d, Node& out) const {
+  // Face state of the child of `parent` by plane (n, d) into `out`, the faces that changed into
+  // `changes` (ascending); returns the number of faces the child keeps (whole or cut).
+  size_t childFaces(const Node& parent, const Vec3& n, double d, Node& out, std::vector<FaceChange>& changes) const {
     out.faceState = parent.faceState;
     out.cutFace.clear();
     out.cutPoly.clear();
+    changes.clear();
+    size_t kept = 0;
     int ci = -1;
     for (uint32_t f = 0; f < m_.tri.size(); ++f) {
       const uint8_t st = parent.faceState[f];
@@ -864,15 +892,21 @@ class Search {
         const auto& t = m_.corner[f];
         const double a = n.dot(t[0]), b = n.dot(t[1]), c = n.dot(t[2]);
         const double tmin = std::min({a, b, c}), tmax = std::max({a, b, c});
-        if (tmax <= d && tmin < d) continue;
+        if (tmax <= d && tmin < d) {
+          ++kept;
+          continue;
+        }
         Poly p;
         if (tmin < d) p = clipPoly({t[0], t[1], t[2]}, n, d, false);
         if (p.empty()) {
           out.faceState[f] = 0;
+          changes.push_back({f, -1, -1});
         } else {
           out.faceState[f] = 2;
+          changes.push_back({f, -1, static_cast<int32_t>(out.cutPoly.size())});
           out.cutFace.push_back(f);
           out.cutPoly.push_back(std::move(p));
+          ++kept;
         }
       } else if (st == 2) {
         const Poly& p = parent.cutPoly[++ci];
@@ -884,18 +918,23 @@ class Search {
         if (tmax <= d && tmin < d) {
           out.cutFace.push_back(f);
           out.cutPoly.push_back(p);
+          ++kept;
           continue;
         }
         Poly q;
         if (tmin < d) q = clipPoly(p, n, d, false);
         if (q.empty()) {
           out.faceState[f] = 0;
+          changes.push_back({f, ci, -1});
         } else {
+          changes.push_back({f, ci, static_cast<int32_t>(out.cutPoly.size())});
           out.cutFace.push_back(f);
           out.cutPoly.push_back(std::move(q));
+          ++kept;
         }
       }
     }
+    return kept;
   }
 
   // "Close" results (paper IV-B, after Chopper): the same parent and nearly the same plane, or
@@ -1112,7 +1151,7 @@ class Search {
           ++stats_.refusedFloating;
           continue;
         }
-        childFaces(parent, child.n, child.d, child);
+        const size_t kept = childFaces(parent, child.n, child.d, child, changes_);
         child.cells.assign(parent.cells.size(), 0);
         forEachBit(parent.cells, [&](size_t cell) {
           if (child.n.dot(m_.centre[cell]) <= child.d) setBit(child.cells, cell);
@@ -1125,7 +1164,13 @@ class Search {
         child.terminal = isTerminal(child);
         if (!child.terminal) {
           const auto ta = Clock::now();
-          fullArrays(child);
+          // Same arrays either way (integer sums). From the parent's unless the plane changed more
+          // faces than the child keeps (measured: a changed face costs about a kept one).
+          if (changes_.size() <= kept) {
+            childArrays(parent, child, changes_);
+          } else {
+            fullArrays(child);
+          }
           msArrays += msSince(ta);
         }
         nodes_.push_back(std::move(child));
@@ -1164,6 +1209,7 @@ class Search {
   std::unordered_map<uint64_t, std::vector<uint32_t>> fine_;
   FloodScratch flood_;
   std::vector<uint32_t> dsuParent_, dsuAdded_, dsuKey_, dsuSize_, order_;
+  std::vector<FaceChange> changes_;
   std::vector<uint8_t> dsuGrounded_;
   uint32_t dsuGen_ = 0;
   int line_ = 0;
