@@ -9,9 +9,9 @@
 //   offset strictly inside its projection, the exact area above by the closed form of a
 //   triangle (stored per normal once); cut faces are clipped. Only faces risky along +Z or along
 //   the normal enter. So J_L, R and J_G are exact w.r.t. the planes, not centroid-classified.
-//   The arrays are fixed point (2^-32 mm^2, integer sums: independent of order), so a child's
-//   are its parent's with the faces its plane removed or cut replaced, bit for bit the same as
-//   from scratch.
+//   The arrays are fixed point (2^-40 mm^2, coarser on huge surfaces; integer sums do not depend
+//   on their order), so a child's are its parent's with the faces its plane removed or cut
+//   replaced, bit for bit the same as from scratch.
 // - Criterion IV prefilters offsets by the coarse samples (lenient) and decides on the fine
 //   cells; Criterion II is a flood fill over the remaining cells from the platform layer, run in
 //   priority order until the beams are full (after one failure of a (state, normal), a

@@ -10,7 +10,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <map>
 #include <string>
@@ -101,12 +100,6 @@ void printResult(const char* name, const MultidirResult& r) {
               name, "", r.jgBeforeMm2, r.jgAfterMm2, r.jgBeforeMm2 > 0 ? r.jgAfterMm2 / r.jgBeforeMm2 : 0.0,
               r.parts.size(), r.stats.msTotal, r.stats.msSweep, r.stats.msChecks, r.stats.candidatesEvaluated,
               r.stats.candidatesChecked, r.stats.connectivityChecks, r.stats.beams, r.stats.levels);
-  if (std::getenv("OMNI_PRINT_PLANES")) {
-    std::printf("    jgAfter %a planes", r.jgAfterMm2);
-    for (const auto& p : r.planes)
-      std::printf(" [%a %a %a %a]", p.normal.x(), p.normal.y(), p.normal.z(), p.offsetMm);
-    std::printf("\n");
-  }
 }
 
 // Every plane of a result passes Criteria II-IV in the independent re-evaluation, and the
