@@ -208,6 +208,7 @@ struct Model {
   double sinAlpha = 0;
   double jgBefore = 0;
   double volume = 0;
+  double surfaceArea = 0;  // sum of the face areas in face order (sets the search's fixed point)
   Vec3 lo, hi;
   // Occupancy grid: cells whose centre is inside the solid (non-zero winding of vertical rays),
   // connected to the platform layer. Grid index = i + nx * (j + ny * k); one empty cell pads
@@ -269,6 +270,7 @@ Outcome buildFaces(const Mesh& mesh, const MultidirOptions& o, Model& m) {
     const double cz = (a.z() + b.z() + c.z()) / 3.0;
     if (m.riskyAlong(f, up) && !(cz < o.platformBandMm)) m.platRisk[f] = m.area[f];
     m.jgBefore += m.platRisk[f];
+    m.surfaceArea += m.area[f];
   }
   // Platform footprint: vertices within the band (at least the lowest ones).
   const double band = std::max(o.platformBandMm, 1e-9 * (1 + m.hi.cwiseAbs().maxCoeff()));
@@ -609,10 +611,8 @@ class Search {
       : m_(m), o_(o), stats_(stats), progress_(progress) {
     minPartCells_ = static_cast<size_t>(std::ceil(static_cast<double>(m_.cells) / o_.w - 1e-9));
     // 2^40 units per mm^2, fewer when S >= 2^22 mm^2 so that S * fxUnits_ < 2^62.
-    double s = 0;
-    for (double a : m_.area) s += a;
     int e = 0;
-    std::frexp(s, &e);  // s < 2^e
+    std::frexp(m_.surfaceArea, &e);  // S < 2^e
     fxUnits_ = std::ldexp(1.0, std::min(40, 62 - e));
   }
 
