@@ -1433,11 +1433,23 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
       std::vector<Option> options;
       std::vector<Vec3> normals = nearbyNormals(o, fourDof, axis, ns[k]);
       normals.insert(normals.begin(), ns[k]);
+      // Pieces whose weight (w - risky along n') is 0 for every normal tried are skipped: a
+      // face's n_f . n' differs from n_f . n_k by at most |n' - n_k|, so away from the risky
+      // boundary its state is the same for all of them (the sums below are unchanged).
+      double reach = 0;
+      for (const Vec3& n : normals) reach = std::max(reach, (n - ns[k]).norm());
+      reach += 1e-9;
+      std::vector<uint32_t> active;
+      for (uint32_t i = 0; i < pieces.size(); ++i) {
+        const double margin = m.normal[pieces[i].face].dot(ns[k]) + m.sinAlpha;
+        if (!(pieces[i].w == 0 ? margin > reach : margin < -reach)) active.push_back(i);
+      }
       std::vector<double> diff(span + 1);
       for (const Vec3& n : normals) {
         std::fill(diff.begin(), diff.end(), 0.0);
         const double d0 = ds[k] - half * delta;
-        for (const Piece& pc : pieces) {
+        for (const uint32_t i : active) {
+          const Piece& pc = pieces[i];
           const double c = pc.w - (m.riskyAlong(pc.face, n) ? 1.0 : 0.0);
           if (c == 0) continue;
           double a, b = 0, e;
