@@ -309,6 +309,7 @@ export function multidirSummaryRows(m) {
     ['parts', 'parts', figure(r.part_count)],
     ['search', 'search', `${r.scheme || '?'}, ${r.dof || '?'}${axis}, α_max ${unit(r.alpha_max_deg, '°')}`],
     ['levels', 'levels, beams, restarts', `${figure(s.levels)}, ${figure(s.beams)}, ${figure(s.restarts_run)}`],
+    ['moves', 'local search moves kept', `${figure(s.perturbations_kept)} of ${figure(s.perturbations)}`],
     ['candidates', 'candidates evaluated', figure(s.candidates_evaluated)],
     ['cap_area', 'cut area', unit(r.cap_area_mm2, 'mm²')],
     ['volume', 'volume', unit(r.volume_mm3, 'mm³')],

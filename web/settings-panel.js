@@ -178,6 +178,8 @@ export const SETTINGS_SCHEMA = [
     testid: 'multidir-beam-width', showIf: (v) => isMultidir(v) && v['multidir.scheme'] === 'beam', sendIf: isMultidir },
   { group: 'Multi-directional', key: 'multidir.restarts', label: 'restarts (5 DOF beam, normals turned)', type: 'integer', value: 3, min: 1, max: 64, step: 1,
     testid: 'multidir-restarts', showIf: (v) => isMultidir(v) && v['multidir.scheme'] === 'beam', sendIf: isMultidir },
+  { group: 'Multi-directional', key: 'multidir.perturbations', label: 'local search moves (beam, 0 = off)', type: 'integer', value: 60, min: 0, max: 10000, step: 10,
+    testid: 'multidir-perturbations', showIf: (v) => isMultidir(v) && v['multidir.scheme'] === 'beam', sendIf: isMultidir },
   { group: 'Multi-directional', key: 'multidir.dof', label: 'DOF mode', type: 'select', value: 'auto', testid: 'multidir-dof',
     options: [{ label: 'auto (rotary4: 4 DOF, else 5 DOF)', value: 'auto' }, { label: '4 DOF (one rotary axis)', value: '4dof' },
       { label: '5 DOF', value: '5dof' }],

@@ -110,6 +110,7 @@ Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourD
   }
   if (o.beamWidth < 1) return bad("beamWidth must be >= 1");
   if (o.restarts < 1 || o.restarts > 64) return bad("restarts must be in [1, 64]");
+  if (o.perturbations < 0 || o.perturbations > 10000) return bad("perturbations must be in [0, 10000]");
   if (!(o.delta0 > 0) || !std::isfinite(o.delta0)) return bad("delta0 must be finite and > 0");
   if (!(o.relaxFactor > 1) || !std::isfinite(o.relaxFactor)) return bad("relaxFactor must be finite and > 1");
   if (o.scheme == "greedy") scheme = Scheme::Greedy;
@@ -1511,6 +1512,71 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
   return evaluated;
 }
 
+// Iterated local search on the refined planes (the refinement alone stops in the first local
+// minimum): `o.perturbations` times, one plane, picked by a fixed pseudo-random sequence (the same
+// on every platform), jumps 6-20 deg away (4dof: a rotation of 6-20 deg about the axis, on the
+// stepper's angles, within range) and up to 8 offset steps; when Criteria II-IV still hold, the
+// whole sequence is refined again and kept if its exact J_G drops. Stops once J_G <= delta0.
+// Returns the number of moves kept. (Refining only the moved plane's neighbours costs ~30% less
+// and measured a little worse over 6 random sequences x 4 models, e.g. branches_16 0.494 against
+// 0.489 on average.)
+size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
+                     std::vector<Vec3>& ns, std::vector<double>& ds, double& jg, const ProgressFn& progress,
+                     double fraction, bool& cancelled, MultidirStats& stats) {
+  if (ns.empty() || o.perturbations <= 0 || !o.candidateNormals.empty()) return 0;
+  uint64_t state = 0x9E3779B97F4A7C15ULL;
+  auto uniform = [&state]() {  // [0, 1), exact on every platform
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
+  };
+  const double halfStep = 0.5 * o.offsetStepMm;
+  const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
+  FloodScratch fs;
+  size_t kept = 0;
+  for (int it = 0; it < o.perturbations && jg > o.delta0; ++it) {
+    if (!reportProgress(progress, "decompose", fraction)) {
+      cancelled = true;
+      return kept;
+    }
+    ++stats.perturbations;
+    std::vector<Vec3> ns2 = ns;
+    std::vector<double> ds2 = ds;
+    const size_t k = std::min(ns.size() - 1, static_cast<size_t>(uniform() * static_cast<double>(ns.size())));
+    const double angle = (6 + 14 * uniform()) * kPi / 180;
+    const double azimuth = 2 * kPi * uniform();
+    const double shift = (2 * uniform() - 1) * 8 * o.offsetStepMm;
+    if (!fourDof) {
+      const Vec3 u = ns[k].unitOrthogonal(), v = ns[k].cross(u);
+      ns2[k] = (det::cos(angle) * ns[k] + det::sin(angle) * (det::cos(azimuth) * u + det::sin(azimuth) * v)).normalized();
+      if (ns2[k].z() < minZ) continue;
+    } else {
+      const Vec3 side = axis.cross(Vec3(0, 0, 1)).normalized();
+      double t = det::atan2(ns[k].dot(side), ns[k].z()) + (azimuth < kPi ? angle : -angle);
+      if (o.stepAngleDeg > 0) {
+        const double step = o.stepAngleDeg * kPi / 180;
+        t = std::round(t / step) * step;
+      }
+      if (std::abs(t) > o.rangeDeg * kPi / 180 + 1e-9) continue;
+      ns2[k] = det::cos(t) * Vec3(0, 0, 1) + det::sin(t) * side;
+    }
+    ds2[k] = std::round((ds[k] + shift) / halfStep) * halfStep;
+    size_t count = 0;
+    const Bits before = cellsKept(m, ns2, ds2, k, count);
+    if (!planesValid(m, o, before, count, ns2, ds2, k, fs)) continue;
+    stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns2, ds2, progress, fraction, cancelled);
+    if (cancelled) return kept;
+    double jg2 = 0;
+    for (double r : exactRisk(m, ns2, ds2)) jg2 += r;
+    if (jg2 < jg - kMinGainMm2) {
+      ns.swap(ns2);
+      ds.swap(ds2);
+      jg = jg2;
+      ++kept;
+    }
+  }
+  return kept;
+}
+
 // A plane sequence (clipping order) ending a search line, with J_G as the search summed it.
 struct LineEnd {
   std::vector<Vec3> ns;
@@ -1543,8 +1609,12 @@ void lineEnds(const Search& s, std::vector<LineEnd>& out) {
 // Fills planes/parts/numbers of `result` from the line ends of finished searches, each refined
 // when asked; the least exact J_G wins (then fewer planes, then the first). The refinement
 // reports progress at `fraction` (the end of these searches' span).
+void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
+                MultidirResult& result);
+
 bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-             std::vector<LineEnd> ends, const ProgressFn& progress, double fraction, MultidirResult& result) {
+             std::vector<LineEnd> ends, bool perturb, const ProgressFn& progress, double fraction,
+             MultidirResult& result) {
   std::vector<Vec3> bestN;
   std::vector<double> bestD;
   double bestJ = std::numeric_limits<double>::infinity();
@@ -1578,6 +1648,21 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
       result.stats.searchJgMm2 = e.searchJg;
     }
   }
+  if (perturb) {
+    const auto t0 = Clock::now();
+    bool cancelled = false;
+    result.stats.perturbationsKept +=
+        perturbPlanes(m, o, fourDof, axis, bestN, bestD, bestJ, progress, fraction, cancelled, result.stats);
+    result.stats.msPerturb += msSince(t0);
+    if (cancelled) return false;
+  }
+  fillResult(m, bestN, bestD, result);
+  return true;
+}
+
+// The planes, parts (directions, volumes, risky areas), J_G and J_G per level of a sequence.
+void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
+                MultidirResult& result) {
   const auto t0 = Clock::now();
   result.planes.clear();
   result.parts.clear();
@@ -1620,7 +1705,6 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
     result.stats.jgPerLevel.push_back(jg);
   }
   result.stats.msExact += msSince(t0);
-  return true;
 }
 
 }  // namespace
@@ -1701,7 +1785,8 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
       if (least <= options.delta0) break;
     }
-    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), progress, 0.99, result)) return cancelled();
+    const bool perturb = scheme == Scheme::Beam && options.refine;
+    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, 0.99, result)) return cancelled();
   } else {
     std::vector<Vec3> axes;
     if (options.axisSearch > 0) {
@@ -1772,7 +1857,8 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       MultidirResult trial;
       std::vector<LineEnd> ends;
       lineEnds(search, ends);
-      if (!collect(m, options, true, axes[a], std::move(ends), progress, std::min(0.99, screenSpan + (i + 1) * span), trial)) {
+      if (!collect(m, options, true, axes[a], std::move(ends), false, progress,
+                   std::min(0.99, screenSpan + (i + 1) * span), trial)) {
         return cancelled();
       }
       result.stats.msExact += trial.stats.msExact;
@@ -1792,6 +1878,26 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       }
     }
     result.stats.axesTried = axes.size();
+    // The iterated local search (beam scheme) once, on the chosen axis.
+    if (scheme == Scheme::Beam && options.refine) {
+      std::vector<Vec3> ns;
+      std::vector<double> ds;
+      for (const MultidirPlane& p : result.planes) {
+        ns.push_back(p.normal);
+        ds.push_back(p.offsetMm);
+      }
+      double jg = result.jgAfterMm2;
+      const auto tp = Clock::now();
+      bool stopped = false;
+      const size_t kept =
+          perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.99, stopped, result.stats);
+      result.stats.msPerturb += msSince(tp);
+      if (stopped) return cancelled();
+      if (kept > 0) {
+        result.stats.perturbationsKept += kept;
+        fillResult(m, ns, ds, result);
+      }
+    }
   }
   result.stats.msTotal = msSince(tStart);
   // The returned sequence level by level, once the search (and in 4dof the axis) is decided.

@@ -82,6 +82,12 @@ struct MultidirOptions {
                                     // about the axis) and offset (+-4 mm, half steps) while the
                                     // exact J_G drops and Criteria II-IV hold (paper VI-C's
                                     // "future work"); false = the sampled planes as found
+  int perturbations = 60;           // beam scheme, with refine: iterated local search on the
+                                    // refined best sequence: this many times one plane moves
+                                    // 6-20 deg and up to 8 offset steps (fixed pseudo-random
+                                    // sequence), the planes are refined again and the move kept
+                                    // when the exact J_G drops; stops at J_G <= delta0.
+                                    // In [0, 10000]; 0 = off
   int gridResolution = 100;         // solid occupancy grid (volumes, Criterion II): cells along
                                     // the longest bounding-box side, in [8, 1000]
   double floatingToleranceCells = 2;  // Criterion II: remaining cells cut off from the platform,
@@ -128,6 +134,9 @@ struct MultidirStats {
   double msChecks = 0;              // volumes, similarity, flood fills
   size_t refineEvaluated = 0;       // (plane, normal, offset) variants summed by the refinement
   double msRefine = 0;              // refinement
+  size_t perturbations = 0;         // moves tried by the iterated local search ...
+  size_t perturbationsKept = 0;     // ... and kept (each lowered J_G)
+  double msPerturb = 0;             // iterated local search (its refinement included)
   double msExact = 0;               // final exact evaluation
   double msTotal = 0;
 };

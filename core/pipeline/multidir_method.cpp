@@ -146,6 +146,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   o.w = ms.w;
   o.beamWidth = ms.beamWidth;
   o.restarts = ms.restarts;
+  o.perturbations = ms.perturbations;
   o.scheme = ms.scheme;
   o.platformMarginMm = ms.platformMarginMm;
   if (fourDof) {
@@ -325,6 +326,8 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
         {"levels", st.levels},
         {"axes_tried", st.axesTried},
         {"restarts_run", st.restartsRun},
+        {"perturbations", st.perturbations},
+        {"perturbations_kept", st.perturbationsKept},
         {"J_G_per_level", levels},
         {"grid_cells", st.gridCells},
         {"cell_mm", finite(st.cellMm)}}},
@@ -334,6 +337,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
         {"sweep", finite(st.msSweep)},
         {"checks", finite(st.msChecks)},
         {"refine", finite(st.msRefine)},
+        {"perturb", finite(st.msPerturb)},
         {"exact", finite(st.msExact)},
         {"search", finite(st.msTotal)}}}};
   for (const auto& [k, v] : out.timingsMs) report["timings_ms"][k] = finite(v);

@@ -212,6 +212,7 @@ const std::map<std::string, IntSpec>& intSpecs() {
       {"multidir.samples", {[](Settings& s) -> int& { return s.multidir.samples; }, 4, 20000}},
       {"multidir.beam_width", {[](Settings& s) -> int& { return s.multidir.beamWidth; }, 1, 100}},
       {"multidir.restarts", {[](Settings& s) -> int& { return s.multidir.restarts; }, 1, 64}},
+      {"multidir.perturbations", {[](Settings& s) -> int& { return s.multidir.perturbations; }, 0, 10000}},
       {"multidir.axis_search", {[](Settings& s) -> int& { return s.multidir.axisSearch; }, 0, 3600}},
   };
   return specs;

@@ -103,6 +103,8 @@ struct MultidirSettings {
   int beamWidth = 8;             // b, beams per level
   int restarts = 3;              // 5dof beam: searches (at most) on spheres of normals turned
                                  // about Z; they stop once J_G <= 0.1 mm^2
+  int perturbations = 60;        // beam: iterated local search moves on the refined planes
+                                 // (0 = off); they stop once J_G <= 0.1 mm^2
   int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
   std::string scheme = "beam";   // beam | greedy | constrained
   std::string dof = "auto";      // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof

@@ -28,7 +28,7 @@ const REPORT = {
     { print_index: 1, direction: [1, 0, 0], plane: { normal: [1, 0, 0], offset_mm: 10 }, volume_mm3: 2000, components: 1, risky_area_mm2: 0, layers: 67 },
   ],
   part_count: 2, volume_mm3: 5000, cap_area_mm2: 100,
-  search: { levels: 3, beams: 8, restarts_run: 2, candidates_evaluated: 1234, J_G_per_level: [200, 0, 0] },
+  search: { levels: 3, beams: 8, restarts_run: 2, perturbations: 60, perturbations_kept: 3, candidates_evaluated: 1234, J_G_per_level: [200, 0, 0] },
   timings_ms: { search: 12, clip: 3 },
 };
 
@@ -108,6 +108,7 @@ test('summary rows, parts table, done summary', () => {
   assert.match(rows.search, /^beam, 5dof, α_max 45 °/);
   assert.equal(rows.candidates, '1,234');
   assert.equal(rows.levels, '3, 8, 2');
+  assert.equal(rows.moves, '3 of 60');
   const parts = partRows(REPORT);
   assert.equal(parts.length, 2);
   assert.deepEqual(parts.map((r) => [r.index, r.platform, r.layers]), [[0, true, 100], [1, false, 67]]);
