@@ -1522,7 +1522,7 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
 // 0.489 on average.)
 size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
                      std::vector<Vec3>& ns, std::vector<double>& ds, double& jg, const ProgressFn& progress,
-                     double fraction, bool& cancelled, MultidirStats& stats) {
+                     double fractionFrom, double fractionTo, bool& cancelled, MultidirStats& stats) {
   if (ns.empty() || o.perturbations <= 0 || !o.candidateNormals.empty()) return 0;
   uint64_t state = 0x9E3779B97F4A7C15ULL;
   auto uniform = [&state]() {  // [0, 1), exact on every platform
@@ -1534,6 +1534,7 @@ size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, con
   FloodScratch fs;
   size_t kept = 0;
   for (int it = 0; it < o.perturbations && jg > o.delta0; ++it) {
+    const double fraction = fractionFrom + (fractionTo - fractionFrom) * it / o.perturbations;
     if (!reportProgress(progress, "decompose", fraction)) {
       cancelled = true;
       return kept;
@@ -1652,7 +1653,7 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
     const auto t0 = Clock::now();
     bool cancelled = false;
     result.stats.perturbationsKept +=
-        perturbPlanes(m, o, fourDof, axis, bestN, bestD, bestJ, progress, fraction, cancelled, result.stats);
+        perturbPlanes(m, o, fourDof, axis, bestN, bestD, bestJ, progress, fraction, 0.99, cancelled, result.stats);
     result.stats.msPerturb += msSince(t0);
     if (cancelled) return false;
   }
@@ -1760,6 +1761,10 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
            search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span,
                           0.8 * span, "beam");
   };
+  // The beam's best sequence then goes through the iterated local search (the last 9% of the
+  // progress).
+  const bool perturb = scheme == Scheme::Beam && options.refine && options.perturbations > 0;
+  const double searchEnd = perturb ? 0.9 : 0.99;
   if (!fourDof) {
     // Restart j samples the sphere turned about Z by 2 pi frac(j (sqrt 2 - 1)): the beam's choices
     // depend on which normals exist, so each restart explores other decompositions, and as the
@@ -1775,7 +1780,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       const std::vector<Vec3> normals = sphereNormals(options, phase);
       result.stats.normals = normals.size();
       search.setNormals(normals);
-      const double base = 0.99 * j / restarts, span = 0.99 / restarts;
+      const double base = searchEnd * j / restarts, span = searchEnd / restarts;
       const bool ran = j == 0 ? runScheme(search, scheme, base, span)
                               : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
       if (!ran) return cancelled();
@@ -1785,8 +1790,9 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
       if (least <= options.delta0) break;
     }
-    const bool perturb = scheme == Scheme::Beam && options.refine;
-    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, 0.99, result)) return cancelled();
+    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, searchEnd, result)) {
+      return cancelled();
+    }
   } else {
     std::vector<Vec3> axes;
     if (options.axisSearch > 0) {
@@ -1852,7 +1858,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       const std::vector<Vec3> normals = circleNormals(options, axes[a]);
       result.stats.normals = normals.size();
       search.setNormals(normals);
-      const double span = (1 - screenSpan) / full.size();
+      const double span = ((perturb ? searchEnd : 1.0) - screenSpan) / full.size();
       if (!runScheme(search, scheme, screenSpan + i * span, span)) return cancelled();
       MultidirResult trial;
       std::vector<LineEnd> ends;
@@ -1879,7 +1885,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
     }
     result.stats.axesTried = axes.size();
     // The iterated local search (beam scheme) once, on the chosen axis.
-    if (scheme == Scheme::Beam && options.refine) {
+    if (perturb) {
       std::vector<Vec3> ns;
       std::vector<double> ds;
       for (const MultidirPlane& p : result.planes) {
@@ -1890,7 +1896,7 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
       const auto tp = Clock::now();
       bool stopped = false;
       const size_t kept =
-          perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.99, stopped, result.stats);
+          perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.9, 0.99, stopped, result.stats);
       result.stats.msPerturb += msSince(tp);
       if (stopped) return cancelled();
       if (kept > 0) {

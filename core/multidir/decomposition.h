@@ -166,11 +166,14 @@ struct MultidirResult : Outcome {
 // beams of width 1); in 5dof the beam line runs options.restarts times on the sphere of normals
 // turned about Z. Each level first gives every node of the frontier at most its fair share of the
 // b beams, then fills the rest by priority. The best end of each line (least J_G; within delta0
-// of it, fewest planes) is refined (options.refine) and the least exact J_G wins, so the beam
-// never ends above either greedy scheme. Native and wasm give the same planes. Cost (default
-// options, 10k-face Kitten, one core of an unloaded 2-core VM): ~0.2 s native, ~0.3 s as wasm
-// under Node 20 where the first search ends within delta0 (the Kitten as stored), ~0.45-0.5 s /
-// 0.5-0.6 s where all three restarts run (the Kitten turned about Z); 4dof over 180 axes ~2 s.
+// of it, fewest planes) is refined (options.refine) and the least exact J_G wins; with the beam
+// scheme the winner then goes through options.perturbations moves of an iterated local search
+// (each kept only when J_G drops), so the beam never ends above either greedy scheme. Native and
+// wasm give the same planes. Cost (default options, 10k-face Kitten, one core of an unloaded
+// 2-core VM): ~0.2 s native, ~0.3 s as wasm under Node 20 where the first search ends within
+// delta0 (the Kitten as stored), ~0.35-0.8 s as wasm where all three restarts run (the Kitten
+// turned about Z; the local search adds ~0.3 s where it runs to the end); 4dof over 180 axes
+// ~2 s native, ~2.5 s wasm.
 // Progress: stage "decompose". Each line reports its levels as they are done, each with a
 // SearchLevelProgress (common/progress.h): level 0 (the root, J_G before) and every level it
 // expands, named "greedy", "constrained" or "beam" (5dof: one "beam" line per restart; 4dof axis
