@@ -158,6 +158,10 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.equal(a.part_count, b.part_count, 'parts');
     close(a.J_G_before, b.J_G_before, 1e-9, 'J_G before');
     close(a.J_G_after, b.J_G_after, 1e-6, 'J_G after');
+    // The local search ran (this Kitten ends its restarts above 0.1 mm^2) and took the same moves.
+    assert.ok(b.search.perturbations > 0, 'local search moves tried');
+    assert.equal(a.search.perturbations, b.search.perturbations, 'local search moves');
+    assert.equal(a.search.perturbations_kept, b.search.perturbations_kept, 'local search moves kept');
     a.parts.forEach((p, i) => {
       for (let k = 0; k < 3; k++) close(p.direction[k], b.parts[i].direction[k], 1e-9, `part ${i} direction`);
       assert.equal(p.layers, b.parts[i].layers, `part ${i} layers`);
