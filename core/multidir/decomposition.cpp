@@ -1440,19 +1440,44 @@ size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, cons
       double reach = 0;
       for (const Vec3& n : normals) reach = std::max(reach, (n - ns[k]).norm());
       reach += 1e-9;
+      // Likewise |n' . q - n_k . q| <= |n' - n_k| |q|: a piece wholly below the offset window
+      // along n_k by more than that is below it along every normal tried (skipped), one wholly
+      // above it is above it along all (its weight goes to the top offset without projecting).
+      const double d0 = ds[k] - half * delta;
+      const double top = d0 + (span - 1) * delta;
       std::vector<uint32_t> active;
+      std::vector<uint8_t> aboveAll;
       for (uint32_t i = 0; i < pieces.size(); ++i) {
-        const double margin = m.normal[pieces[i].face].dot(ns[k]) + m.sinAlpha;
-        if (!(pieces[i].w == 0 ? margin > reach : margin < -reach)) active.push_back(i);
+        const Piece& pc = pieces[i];
+        const double margin = m.normal[pc.face].dot(ns[k]) + m.sinAlpha;
+        if (pc.w == 0 ? margin > reach : margin < -reach) continue;
+        double lo = std::numeric_limits<double>::infinity(), hi = -lo, rho = 0;
+        auto extend = [&](const Vec3& q) {
+          lo = std::min(lo, ns[k].dot(q));
+          hi = std::max(hi, ns[k].dot(q));
+          rho = std::max(rho, q.norm());
+        };
+        if (pc.whole) {
+          for (const Vec3& q : m.corner[pc.face]) extend(q);
+        } else {
+          for (const Vec3& q : pc.poly) extend(q);
+        }
+        const double slack = reach * rho + 1e-6;
+        if (hi + slack <= d0) continue;
+        active.push_back(i);
+        aboveAll.push_back(lo - slack >= top ? 1 : 0);
       }
       std::vector<double> diff(span + 1);
       for (const Vec3& n : normals) {
         std::fill(diff.begin(), diff.end(), 0.0);
-        const double d0 = ds[k] - half * delta;
-        for (const uint32_t i : active) {
-          const Piece& pc = pieces[i];
+        for (size_t j = 0; j < active.size(); ++j) {
+          const Piece& pc = pieces[active[j]];
           const double c = pc.w - (m.riskyAlong(pc.face, n) ? 1.0 : 0.0);
           if (c == 0) continue;
+          if (aboveAll[j]) {
+            diff[span - 1] += c * pc.area;
+            continue;
+          }
           double a, b = 0, e;
           if (pc.whole) {
             a = n.dot(m.corner[pc.face][0]);
