@@ -872,6 +872,47 @@ TEST(DecompShared, LocalSearchMovesOnlyLowerJG) {
   EXPECT_EQ(g.stats.perturbations, 0u);
 }
 
+// The local search reports its progress from 0.9 to 0.99 (the searches before it end at 0.9) and
+// stops on a cancel there. The low-resolution compas bunny keeps J_G above delta0, so all the
+// moves run.
+TEST(DecompShared, LocalSearchReportsProgressAndCancels) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const Mesh bunny = loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
+  MultidirOptions o;
+  o.restarts = 1;
+  o.perturbations = 20;
+  std::vector<double> fractions;
+  const MultidirResult r = searchDecomposition(bunny, o, [&](const char*, double f) {
+    fractions.push_back(f);
+    return true;
+  });
+  ASSERT_TRUE(r.ok()) << r.message;
+  ASSERT_EQ(r.stats.perturbations, 20u);
+  size_t inLocal = 0;
+  for (size_t i = 0; i < fractions.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GE(fractions[i], fractions[i - 1]) << i;
+    }
+    inLocal += fractions[i] > 0.9 && fractions[i] < 1;
+  }
+  EXPECT_GE(inLocal, 19u);  // one report per move at least (the first sits at 0.9)
+  EXPECT_EQ(fractions.back(), 1.0);
+  size_t after = 0;
+  bool cancelled = false;
+  const MultidirResult c = searchDecomposition(bunny, o, [&](const char*, double f) {
+    if (cancelled) {
+      ++after;
+      return false;
+    }
+    cancelled = f > 0.95 && f < 1;
+    return !cancelled;
+  });
+  EXPECT_TRUE(cancelled);
+  EXPECT_EQ(c.status, Status::Cancelled);
+  EXPECT_TRUE(c.planes.empty());
+  EXPECT_EQ(after, 0u);
+}
+
 TEST(DecompShared, KittenFourDofAxisSearch) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
