@@ -423,6 +423,8 @@ TEST(DecompStatus, BadOptionsAndInputs) {
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.alphaMaxDeg = 90; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([&](MultidirOptions& o) { o.alphaMaxDeg = nan; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.beamWidth = 0; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.perturbations = -1; }), Status::InvalidOption);
+  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.perturbations = 10001; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.w = 0.5; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([&](MultidirOptions& o) { o.w = nan; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([&](MultidirOptions& o) { o.delta0 = nan; }), Status::InvalidOption);

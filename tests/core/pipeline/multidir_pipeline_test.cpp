@@ -353,6 +353,10 @@ TEST(MultidirPipeline, RefusesBadSetUps) {
   EXPECT_FALSE(setSetting(c, "multidir.scheme", "random").ok());
   EXPECT_FALSE(setSetting(c, "multidir.alpha_max_deg", "90").ok());
   EXPECT_FALSE(setSetting(c, "multidir.beam_width", "0").ok());
+  EXPECT_FALSE(setSetting(c, "multidir.perturbations", "-1").ok());
+  EXPECT_FALSE(setSetting(c, "multidir.perturbations", "10001").ok());
+  EXPECT_FALSE(setSetting(c, "multidir.perturbations", "many").ok());
+  EXPECT_TRUE(setSetting(c, "multidir.perturbations", "0").ok());
   EXPECT_FALSE(setSetting(c, "multidir.w", "nan").ok());
   // An open mesh is not a solid.
   Mesh open = test::makeBox(-8, -8, 0, 8, 8, 12);
