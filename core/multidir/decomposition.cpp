@@ -1557,6 +1557,8 @@ size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, con
   const double halfStep = 0.5 * o.offsetStepMm;
   const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
   FloodScratch fs;
+  std::vector<Bits> keptBefore;
+  std::vector<size_t> keptCount;
   size_t kept = 0;
   for (int it = 0; it < o.perturbations && jg > o.delta0; ++it) {
     const double fraction = fractionFrom + (fractionTo - fractionFrom) * it / o.perturbations;
@@ -1586,9 +1588,14 @@ size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, con
       ns2[k] = det::cos(t) * Vec3(0, 0, 1) + det::sin(t) * side;
     }
     ds2[k] = std::round((ds[k] + shift) / halfStep) * halfStep;
-    size_t count = 0;
-    const Bits before = cellsKept(m, ns2, ds2, k, count);
-    if (!planesValid(m, o, before, count, ns2, ds2, k, fs)) continue;
+    // The cells kept by the planes before k (unchanged by the move), once per plane until a
+    // move is kept.
+    if (keptBefore.size() != ns.size()) {
+      keptBefore.assign(ns.size(), Bits());
+      keptCount.assign(ns.size(), 0);
+    }
+    if (keptBefore[k].empty()) keptBefore[k] = cellsKept(m, ns, ds, k, keptCount[k]);
+    if (!planesValid(m, o, keptBefore[k], keptCount[k], ns2, ds2, k, fs)) continue;
     stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns2, ds2, progress, fraction, cancelled);
     if (cancelled) return kept;
     double jg2 = 0;
@@ -1598,6 +1605,7 @@ size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, con
       ds.swap(ds2);
       jg = jg2;
       ++kept;
+      keptBefore.clear();
     }
   }
   return kept;
