@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Golden programs (issue 24, the Renovation): a fixed set of small cases, every method on every
 // machine kind it supports, on generated, project and shared models, sliced by the native CLI and
-// by the wasm module. The sha256 of each program (its header's timestamp masked) and of each
-// report (its timings removed, keys sorted) must equal the values in tests/fixtures/golden.json.
+// by the wasm module. The sha256 of each program (its header's timestamp masked), of each report
+// (its timings removed, keys sorted) and, in wasm, of the preview buffers must equal the values in
+// tests/fixtures/golden.json.
 // Where those values came from is written in the fixture's "recorded" field; they change only with
 // a commit that says why. To record them again (after a deliberate change of behaviour):
 //   OMNISLICE_GOLDEN_RECORD=1 node --test tests/js/golden.test.mjs
@@ -76,12 +77,43 @@ function nativeSlice(c, input) {
   return { program: fs.readFileSync(out, 'utf8'), report: JSON.parse(fs.readFileSync(report, 'utf8')) };
 }
 
+/**
+ * The wasm preview's buffers by leaf name, whatever object they are nested in, sorted by name:
+ * name, element type and bytes of each (empty buffers left out), so regrouping the preview into
+ * per-method sections keeps the digest while any changed value changes it.
+ */
+export function previewDigest(preview) {
+  const leaves = new Map();
+  const walk = (value, name) => {
+    if (ArrayBuffer.isView(value)) {
+      if (value.length > 0) {
+        assert.ok(!leaves.has(name), `preview buffer ${name} appears twice`);
+        leaves.set(name, value);
+      }
+    } else if (typeof value === 'number') {
+      if (value !== 0) leaves.set(name, new Float32Array([value]));
+    } else if (value && typeof value === 'object') {
+      for (const [k, v] of Object.entries(value)) walk(v, k);
+    }
+  };
+  walk(preview, '');
+  const hash = crypto.createHash('sha256');
+  for (const name of [...leaves.keys()].sort()) {
+    const v = leaves.get(name);
+    hash.update(`${name}:${v.constructor.name}:${v.length};`);
+    hash.update(new Uint8Array(v.buffer, v.byteOffset, v.byteLength));
+  }
+  return hash.digest('hex');
+}
+
 function digests(result) {
-  return {
+  const d = {
     program_sha256: programDigest(result.program),
     report_sha256: sha256(JSON.stringify(stripReport(result.report))),
-    figures: figures(result.report),
   };
+  if (result.preview) d.preview_sha256 = previewDigest(result.preview);
+  d.figures = figures(result.report);
+  return d;
 }
 
 const fixture = JSON.parse(fs.readFileSync(FIXTURE, 'utf8'));
@@ -99,7 +131,7 @@ describe('golden programs (byte-identical through the Renovation)', { skip: why 
       wasm ??= (await loadShipped()).module;
       const native = digests(nativeSlice(c, input));
       const w = wasm.slice(input.bytes, input.name, c.settings);
-      const inWasm = digests({ program: w.program, report: w.report });
+      const inWasm = digests({ program: w.program, report: w.report, preview: w.preview });
       if (RECORD) {
         c.native = native;
         c.wasm = inWasm;
@@ -115,6 +147,7 @@ describe('golden programs (byte-identical through the Renovation)', { skip: why 
         assert.equal(got.report_sha256, want.report_sha256,
           `${c.name} (${where}): the report changed; figures now ${JSON.stringify(got.figures)}, ` +
           `recorded ${JSON.stringify(want.figures)}`);
+        assert.equal(got.preview_sha256, want.preview_sha256, `${c.name} (${where}): the preview changed`);
       }
     });
   }
