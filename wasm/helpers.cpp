@@ -11,8 +11,8 @@
 #include "common/status.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
-#include "program/machine.h"
-#include "program/machine_json.h"
+#include "machine/machine.h"
+#include "machine/machine_json.h"
 #include "program/read_program.h"
 #include "toolpath/toolpath.h"
 

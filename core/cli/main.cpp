@@ -22,7 +22,8 @@
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
-#include "program/machine.h"
+#include "machine/machine.h"
+#include "machine/machine_json.h"
 
 namespace {
 

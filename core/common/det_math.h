@@ -8,9 +8,9 @@
 #pragma once
 #include <cmath>
 
-namespace omnislice::det {
+#include "common/math_constants.h"
 
-constexpr double kPi = 3.14159265358979323846;
+namespace omnislice::det {
 
 namespace detail {
 // sin and cos of r, |r| <= pi/4 (+ rounding), by their Taylor series to r^19 / r^18.

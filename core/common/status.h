@@ -3,6 +3,7 @@
 // plus a human message. JS mirrors statusCode() strings (workers/protocol.js).
 #pragma once
 #include <string>
+#include <utility>
 
 namespace omnislice {
 
@@ -32,6 +33,22 @@ struct Outcome {
   std::string message;  // human message, empty when Ok
   bool ok() const { return status == Status::Ok; }
 };
+
+// A result of type Result carrying only a status and a message (every core result derives from
+// Outcome): `return failed<SliceResult>(Status::InvalidOption, "...")`.
+template <typename Result>
+Result failed(Status status, std::string message) {
+  Result r;
+  r.status = status;
+  r.message = std::move(message);
+  return r;
+}
+
+// The same, passing on another step's failure.
+template <typename Result>
+Result failed(const Outcome& o) {
+  return failed<Result>(o.status, o.message);
+}
 
 // Something the user should know about a result that is still delivered (e.g. tool path left out
 // where the nozzle would hit the part): a stable code and a human message.

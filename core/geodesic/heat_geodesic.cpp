@@ -32,16 +32,12 @@
 #include <string>
 
 #include "common/disjoint_sets.h"
+#include "common/stopwatch.h"
 
 namespace omnislice {
 namespace {
 
 using SpMat = Eigen::SparseMatrix<double>;
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // The four faces of tet (a, b, c, d) = vertices 0..3: face f is opposite vertex f, listed so
 // that its normal by the right-hand rule points outward for a positively oriented tet.

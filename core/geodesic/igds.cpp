@@ -1,6 +1,9 @@
 // SPDX-License-Identifier: MIT
 // Iso-geodesic distance surfaces (paper 002 Section 2.2) and their Eq. 11 / Fig. 10 metrics.
+#include "common/disjoint_sets.h"
 #include "common/det_math.h"
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "geodesic/igds.h"
 
 #include <Eigen/Geometry>
@@ -21,12 +24,6 @@ namespace omnislice {
 
 namespace {
 
-double nowMs() {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
-
 // det(e1, e2, e3) times the gradient of the linear function that changes by d_j along edge e_j
 // of a tet (Cramer's rule): d1 e2 x e3 + d2 e3 x e1 + d3 e1 x e2.
 Eigen::Vector3d scaledGradient(const Eigen::Vector3d& e1, const Eigen::Vector3d& e2,
@@ -34,26 +31,7 @@ Eigen::Vector3d scaledGradient(const Eigen::Vector3d& e1, const Eigen::Vector3d&
   return d1 * e2.cross(e3) + d2 * e3.cross(e1) + d3 * e1.cross(e2);
 }
 
-IgdsResult fail(Status s, std::string message) {
-  IgdsResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
-
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a);
-    b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
+IgdsResult fail(Status s, std::string message) { return failed<IgdsResult>(s, std::move(message)); }
 
 // The interpolation faces of one iso-value, welded by tet edge.
 struct RawIgds {
@@ -203,7 +181,7 @@ std::vector<std::vector<uint32_t>> components(const RawIgds& raw) {
       keys[3 * f + k] = {std::min(a, b), std::max(a, b), uint32_t(3 * f + k)};
     }
   std::sort(keys.begin(), keys.end());
-  UnionFind uf(nf);
+  DisjointSets uf(nf);
   for (size_t i = 0; i < keys.size();) {
     size_t j = i;
     while (j < keys.size() && keys[j].lo == keys[i].lo && keys[j].hi == keys[i].hi) ++j;
@@ -615,7 +593,7 @@ IgdsMetrics igdsMetrics(const std::vector<CurvedLayer>& layers, double interval,
       // tolerance keeps vertical walls (component zero up to roundoff) at alpha = 0.
       if (vn <= 0 || v.dot(s.conormal) <= 1e-6 * vn) continue;
       const double alpha =
-          det::atan2(v.cross(s.normal).norm(), v.dot(s.normal)) * 180.0 / M_PI;
+          det::atan2(v.cross(s.normal).norm(), v.dot(s.normal)) * 180.0 / kPi;
       if (!(alpha > 0)) continue;
       lm.overhangLengthMm += w;
       layerAlpha += alpha * w;

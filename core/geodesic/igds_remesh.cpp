@@ -5,6 +5,8 @@
 // F[h] to F[next(h)]; O[h] is its twin or -1 on the open boundary; out[v] is some half-edge
 // leaving v. Dead faces keep F = -1. Vertices are never reused once collapsed away.
 #include "common/det_math.h"
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "geodesic/igds_remesh.h"
 
 #include <Eigen/Geometry>
@@ -18,12 +20,6 @@
 namespace omnislice {
 
 namespace {
-
-double nowMs() {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 inline int32_t nextH(int32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
 inline int32_t prevH(int32_t h) { return h - h % 3 + (h % 3 + 2) % 3; }
@@ -88,7 +84,7 @@ class Remesher {
         const double n1 = e1.norm(), n2 = e2.norm();
         if (n1 > 0 && n2 > 0) {
           const double c = std::clamp(e1.dot(e2) / (n1 * n2), -1.0, 1.0);
-          if (det::acos(c) * 180 / M_PI > params_.cornerDegrees) corner_[v] = 1;
+          if (det::acos(c) * 180 / kPi > params_.cornerDegrees) corner_[v] = 1;
         }
       }
     }

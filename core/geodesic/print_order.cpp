@@ -3,6 +3,8 @@
 // boundary surface (Algorithm 1, Fig. 12), potential collision surfaces of the nozzle's bounding
 // cone swept over each IGDS (Algorithm 2, Fig. 15) and the LPT / DPT / A3 traversals.
 #include "common/det_math.h"
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "geodesic/print_order.h"
 
 #include <Eigen/Geometry>
@@ -19,13 +21,7 @@ namespace omnislice {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
-
-constexpr double kPi = 3.14159265358979323846;
 
 Vec3 unitNormal(const Vec3& a, const Vec3& b, const Vec3& c, double* area = nullptr) {
   const Vec3 n = (b - a).cross(c - a);
@@ -1268,12 +1264,7 @@ CollisionModel potentialCollisionSurfaces(const std::vector<CurvedLayer>& layers
                                           const ProgressFn& progress) {
   const auto t0 = Clock::now();
   CollisionModel out;
-  auto fail = [&](Status s, std::string msg) {
-    CollisionModel r;
-    r.status = s;
-    r.message = std::move(msg);
-    return r;
-  };
+  auto fail = [](Status s, std::string msg) { return failed<CollisionModel>(s, std::move(msg)); };
   if (!(options.angleDegrees > 0 && options.angleDegrees < 90))
     return fail(Status::InvalidOption, "collision: nozzle angle must be in (0, 90) degrees");
   if (!(options.length > 0) || !std::isfinite(options.length))

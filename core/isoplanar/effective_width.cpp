@@ -13,6 +13,7 @@
 // pieces, ellipse arcs and circle arcs, integrated by Gauss-Green: a piece from P to Q contributes
 // (P x Q) / 2 plus, for an arc, the signed segment between chord and arc, (ab/2)(dt - sin dt) for
 // an ellipse x = c + (a cos t, b sin t) and R^2/2 (dt - sin dt) for a circle (dt signed, CCW > 0).
+#include "common/math_constants.h"
 #include "isoplanar/effective_width.h"
 
 #include <algorithm>
@@ -23,7 +24,6 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // t - sin t without cancellation for small t.
 double segmentTerm(double t) {

@@ -21,6 +21,8 @@
 #include <limits>
 #include <unordered_map>
 
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
 
@@ -28,17 +30,11 @@ namespace omnislice {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2 * kPi;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr int kStencil = 13;
 constexpr int kJets = 9;
 constexpr double kLimitSlack = 1e-9;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // The stencil at unit radius: centre, 4 points at radius 1/2 on the axes, 8 at radius 1 every 45
 // degrees (the outer ring fixes the cubic's restriction to the circle, a trigonometric polynomial
@@ -216,8 +212,8 @@ struct Solver {
 
   explicit Solver(const MachineProfile& machine) : m(machine) {
     axes = machineAxisCount(m.kind);
-    robot = m.kind == "robot6";
-    cartesian = m.kind == "cartesian3";
+    robot = m.kind == MachineKind::Robot6;
+    cartesian = m.kind == MachineKind::Cartesian3;
     limits = machineLimits(m);
   }
 
@@ -541,10 +537,6 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
     return fail(Status::InvalidOption, "buildFeedField: gammaSeedSpacing must be >= 0");
   }
   const Solver solver(machine);
-  if (solver.axes == 0) {
-    return fail(Status::InvalidOption,
-                "buildFeedField: unknown machine kind \"" + machine.kind + "\"");
-  }
   if (solver.robot && !isUrFamily(machine.dh)) {
     return fail(Status::InvalidOption, "buildFeedField: robot6 needs a UR-family DH table");
   }
@@ -569,7 +561,7 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
 
   const StencilPattern& pat = stencilPattern();
   const double r = options.stencilRadius;
-  const bool table = machine.kind == "table5";
+  const bool table = machine.kind == MachineKind::Table5;
   auto finite = [](const SurfaceSample& s) {
     return s.position.allFinite() && s.normal.allFinite() && s.tangentU.allFinite() &&
            s.tangentV.allFinite() && s.shape.allFinite() && std::abs(s.normal.norm() - 1) < 1e-6;

@@ -45,7 +45,7 @@
 #include "common/status.h"
 #include "isoplanar/effective_width.h"
 #include "isoplanar/surface_samples.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 
 namespace omnislice {
 

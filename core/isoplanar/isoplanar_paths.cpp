@@ -2,6 +2,8 @@
 // Iso-planar NL curves (paper 003 Algorithm 2): plane sweep over triangles sorted by their span
 // along q, crossings linked per plane, Eq. 12 forward step, Eq. 14 side step (tilt-corrected, see
 // the header), zig-zag ordering and boundary joins; and the printing-time estimate.
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "isoplanar/isoplanar_paths.h"
 
 #include <Eigen/Geometry>
@@ -48,12 +50,7 @@ using isoplanar_detail::kNone;
 using isoplanar_detail::Topology;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-IsoplanarResult fail(Status s, std::string message) {
-  IsoplanarResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+IsoplanarResult fail(Status s, std::string message) { return failed<IsoplanarResult>(s, std::move(message)); }
 
 // Edges and boundary loops. Bit-identical positions are welded first (an unwelded layer mesh
 // cuts like the welded one; indices stay those of the mesh, the first of equal vertices).
@@ -428,7 +425,7 @@ double polylineLength(const std::vector<Eigen::Vector3d>& p) {
 
 IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
                                          const std::vector<SurfaceSample>& samples) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   IsoplanarSurface out;
   auto bad = [&](Status st, std::string message) {
     out.status = st;
@@ -473,24 +470,24 @@ IsoplanarSurface prepareIsoplanarSurface(const Mesh& surface,
   const BoundingBox box = boundingBox(surface);
   data->scale = (box.max - box.min).norm();
   out.data = std::move(data);
-  out.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  out.ms = msSince(t0);
   return out;
 }
 
 IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSample>& samples,
                                const WidthFn& width, const IsoplanarOptions& options,
                                const ProgressFn& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   const IsoplanarSurface prepared = prepareIsoplanarSurface(surface, samples);
   if (!prepared.ok()) return fail(prepared.status, prepared.message);
   IsoplanarResult r = isoplanarPaths(prepared, width, options, progress);
-  r.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  r.ms = msSince(t0);
   return r;
 }
 
 IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& width,
                                const IsoplanarOptions& options, const ProgressFn& progress) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   if (!prepared.ok() || !prepared.data) {
     return fail(prepared.ok() ? Status::EmptyInput : prepared.status,
                 prepared.message.empty() ? "surface not prepared" : prepared.message);
@@ -515,7 +512,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   const size_t nv = surface.vertexCount();
   Planner pl(data, width, options);
   const size_t nt = pl.topo.tris.size() / 3;
-  const double theta = options.thetaDegrees * M_PI / 180.0;
+  const double theta = options.thetaDegrees * kPi / 180.0;
   pl.q = Eigen::Vector3d(-std::sin(theta), std::cos(theta), 0);
   pl.u = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
   pl.dist.resize(nv);
@@ -543,7 +540,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   const double scale = data.scale;
   if (!(extent > 1e-9 * std::max(scale, 1e-9))) {
     // The surface lies in one drive plane: no curve (not an error).
-    result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    result.ms = msSince(t0);
     return result;
   }
   const double eps = 1e-9 * std::max(extent, scale);
@@ -1062,7 +1059,7 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     result.curves.push_back(std::move(cv));
   }
   reportProgress(progress, "paths", 1.0);
-  result.ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+  result.ms = msSince(t0);
   return result;
 }
 

@@ -5,10 +5,12 @@
 #include <Eigen/Core>
 #include <cmath>
 
+#include "common/math_constants.h"
+
 namespace omnislice::detail {
 
 inline Eigen::Matrix3d rotX(double deg) {
-  const double a = deg * (3.14159265358979323846 / 180.0);
+  const double a = deg * (kPi / 180.0);
   const double c = std::cos(a), s = std::sin(a);
   Eigen::Matrix3d r;
   r << 1, 0, 0, 0, c, -s, 0, s, c;
@@ -16,7 +18,7 @@ inline Eigen::Matrix3d rotX(double deg) {
 }
 
 inline Eigen::Matrix3d rotY(double deg) {
-  const double a = deg * (3.14159265358979323846 / 180.0);
+  const double a = deg * (kPi / 180.0);
   const double c = std::cos(a), s = std::sin(a);
   Eigen::Matrix3d r;
   r << c, 0, s, 0, 1, 0, -s, 0, c;
@@ -24,7 +26,7 @@ inline Eigen::Matrix3d rotY(double deg) {
 }
 
 inline Eigen::Matrix3d rotZ(double deg) {
-  const double a = deg * (3.14159265358979323846 / 180.0);
+  const double a = deg * (kPi / 180.0);
   const double c = std::cos(a), s = std::sin(a);
   Eigen::Matrix3d r;
   r << c, -s, 0, s, c, 0, 0, 0, 1;

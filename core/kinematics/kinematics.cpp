@@ -18,36 +18,11 @@ using detail::rotZ;
 
 }  // namespace
 
-int machineAxisCount(const std::string& kind) {
-  // By length first: this runs for every forward map (a few per program move).
-  switch (kind.size()) {
-    case 10: return kind == "cartesian3" ? 3 : 0;
-    case 7: return kind == "rotary4" ? 4 : 0;
-    case 6: return kind == "table5" ? 5 : kind == "robot6" ? 6 : 0;
-    default: return 0;
-  }
-}
-
-std::vector<std::string> machineAxisNames(const std::string& kind) {
-  if (kind == "cartesian3") return {"X", "Y", "Z"};
-  if (kind == "rotary4") return {"X", "Y", "Z", "A"};
-  if (kind == "table5") return {"X", "Y", "Z", "B", "C"};
-  if (kind == "robot6") return {"q1", "q2", "q3", "q4", "q5", "q6"};
-  return {};
-}
-
-bool isAngularAxis(const std::string& kind, int index) {
-  const int n = machineAxisCount(kind);
-  if (n == 6) return index >= 0 && index < 6;          // robot6: every joint
-  if (n == 4 || n == 5) return index >= 3 && index < n;  // rotary4, table5: A; B, C
-  return false;
-}
-
 std::vector<std::pair<double, double>> machineLimits(const MachineProfile& machine) {
   const double inf = std::numeric_limits<double>::infinity();
   const int n = machineAxisCount(machine.kind);
   std::vector<std::pair<double, double>> out(n, {-inf, inf});
-  if (machine.kind == "robot6") {
+  if (machine.kind == MachineKind::Robot6) {
     for (int i = 0; i < 6; ++i) {
       const auto& l = machine.jointLimits[i];
       if (l.first < l.second) out[i] = l;

@@ -8,18 +8,9 @@
 #include <utility>
 #include <vector>
 
-#include "program/machine.h"
+#include "machine/machine.h"
 
 namespace omnislice {
-
-// Number of values a kind uses (3, 4, 5, 6), 0 for an unknown kind.
-int machineAxisCount(const std::string& kind);
-
-// Names of the values in order: "X","Y","Z"[,"A" | ,"B","C"] or "q1".."q6".
-std::vector<std::string> machineAxisNames(const std::string& kind);
-
-// True for angular values (A, B, C in degrees; robot joints in radians).
-bool isAngularAxis(const std::string& kind, int index);
 
 // [min, max] per value index from the profile (axisLimits by letter, jointLimits for robot6);
 // (-inf, inf) where the profile declares none.

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "kinematics/kinematics.h"
+#include "common/math_constants.h"
 #include "kinematics/axis_rotations.h"
 #include "kinematics/robot_arm.h"
 
@@ -16,7 +17,6 @@ namespace {
 using detail::rotX;
 using detail::rotY;
 using detail::rotZ;
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 constexpr double kLimitSlack = 1e-9;  // value units (mm, degrees, radians)
 
@@ -308,12 +308,13 @@ IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
     }
   }
   const Eigen::Vector3d u = axis / len;
-  if (machine.kind == "cartesian3") return inverseCartesian(machine, tip, u, options);
-  if (machine.kind == "rotary4") return inverseRotary(machine, tip, u, options);
-  if (machine.kind == "table5") return inverseTable(machine, tip, u, options);
-  if (machine.kind == "robot6") return inverseRobot(machine, tip, u, options);
-  bad.message = "inverseMap: unknown machine kind \"" + machine.kind + "\"";
-  return bad;
+  switch (machine.kind) {
+    case MachineKind::Cartesian3: return inverseCartesian(machine, tip, u, options);
+    case MachineKind::Rotary4: return inverseRotary(machine, tip, u, options);
+    case MachineKind::Table5: return inverseTable(machine, tip, u, options);
+    case MachineKind::Robot6: break;
+  }
+  return inverseRobot(machine, tip, u, options);
 }
 
 }  // namespace omnislice

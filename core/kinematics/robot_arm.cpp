@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "kinematics/robot_arm.h"
 
 #include <Eigen/Geometry>
@@ -9,7 +10,6 @@
 namespace omnislice {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kTwoPi = 2 * kPi;
 
 // cos and sin of a DH twist. The UR family's twists are 0 and +-pi/2: their values are taken
@@ -56,15 +56,6 @@ void appendDhLink(const Eigen::Matrix4d& frame, const DhRow& row, double ct, dou
   next.block<3, 1>(0, 2) = ca * z - sa * w;
   next.block<3, 1>(0, 3) = frame.block<3, 1>(0, 3) + row.a * c0 + row.d * z;
   next.row(3) << 0, 0, 0, 1;
-}
-
-DhTable ur5DhTable() {
-  DhTable dh{};
-  const double d[6] = {89.159, 0, 0, 109.15, 94.65, 82.3};
-  const double a[6] = {0, -425.0, -392.25, 0, 0, 0};
-  const double alpha[6] = {kPi / 2, 0, 0, kPi / 2, -kPi / 2, 0};
-  for (int i = 0; i < 6; ++i) dh[i] = DhRow{0, d[i], a[i], alpha[i]};
-  return dh;
 }
 
 Eigen::Matrix4d armForward(const DhTable& dh, const JointValues& q) {

@@ -7,15 +7,11 @@
 #include <Eigen/Core>
 #include <array>
 
-#include "program/machine.h"
+#include "machine/machine.h"
 
 namespace omnislice {
 
-using DhTable = std::array<DhRow, 6>;
 using JointValues = std::array<double, 6>;  // radians
-
-// The UR5 (CB series) table of PROGRAM-FORMAT.md.
-DhTable ur5DhTable();
 
 // Pose of the flange (DH frame 6) in the base frame (DH frame 0), mm.
 Eigen::Matrix4d armForward(const DhTable& dh, const JointValues& q);

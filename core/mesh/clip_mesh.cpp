@@ -20,14 +20,6 @@ inline uint32_t nextInFace(uint32_t h) { return h - h % 3 + (h % 3 + 1) % 3; }
 // taken as on it to avoid a sliver (see ClipResult::sliverSnaps).
 constexpr double kSliverSnapRatio = 1e-5;
 
-template <class R>
-R failed(Status status, std::string message) {
-  R r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
-}
-
 struct UnitPlane {
   Eigen::Vector3d n{0, 0, 1};
   double d = 0;

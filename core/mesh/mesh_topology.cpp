@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "mesh/mesh_topology.h"
 
 #include "common/disjoint_sets.h"
@@ -106,7 +107,7 @@ double windingNumber(const Mesh& mesh, const std::vector<uint32_t>& faces, const
     const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
     total += 2 * std::atan2(num, den);
   }
-  return total / (4 * M_PI);
+  return total / (4 * kPi);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "mesh/orient_mesh.h"
 
 #include <Eigen/Geometry>
@@ -46,7 +47,7 @@ double windingNumber(const Mesh& mesh, const std::vector<uint8_t>& flip, const C
     const double den = la * lb * lc + a.dot(b) * lc + b.dot(c) * la + c.dot(a) * lb;
     sum += 2 * std::atan2(det, den);
   }
-  return sum / (4 * M_PI);
+  return sum / (4 * kPi);
 }
 
 bool boxInside(const Component& inner, const Component& outer) {

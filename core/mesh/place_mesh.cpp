@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "common/math_constants.h"
 #include "mesh/prepare_mesh.h"
 
 namespace omnislice {
@@ -19,10 +20,10 @@ PlaceMeshResult invalid(Status status, std::string message) {
 
 // Proper rotation taking the named input axis to +Z (determinant +1, never a mirror).
 Eigen::Matrix3d upAxisRotation(UpAxis up) {
-  const double halfPi = M_PI / 2;
+  const double halfPi = kPi / 2;
   switch (up) {
     case UpAxis::PosZ: return Eigen::Matrix3d::Identity();
-    case UpAxis::NegZ: return Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    case UpAxis::NegZ: return Eigen::AngleAxisd(kPi, Eigen::Vector3d::UnitX()).toRotationMatrix();
     case UpAxis::PosY: return Eigen::AngleAxisd(halfPi, Eigen::Vector3d::UnitX()).toRotationMatrix();
     case UpAxis::NegY: return Eigen::AngleAxisd(-halfPi, Eigen::Vector3d::UnitX()).toRotationMatrix();
     case UpAxis::PosX: return Eigen::AngleAxisd(-halfPi, Eigen::Vector3d::UnitY()).toRotationMatrix();
@@ -72,7 +73,7 @@ PlaceMeshResult placeMesh(const Mesh& mesh, const PlacementSettings& placement) 
     }
     scale = p.fitMm / largest;
   }
-  const double degree = M_PI / 180;
+  const double degree = kPi / 180;
   const Eigen::Matrix3d rotation =
       snapRotation(Eigen::AngleAxisd(p.rotateZDegrees * degree, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
                    Eigen::AngleAxisd(p.rotateYDegrees * degree, Eigen::Vector3d::UnitY()).toRotationMatrix() *

@@ -39,12 +39,7 @@ inline float readFloatLE(const uint8_t* p) {
   return f;
 }
 
-ReadMeshResult fail(Status status, std::string message) {
-  ReadMeshResult r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
-}
+ReadMeshResult fail(Status status, std::string message) { return failed<ReadMeshResult>(status, std::move(message)); }
 
 ReadMeshResult readBinaryStl(const uint8_t* data, size_t size) {
   ReadMeshResult r;

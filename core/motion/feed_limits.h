@@ -13,7 +13,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "program/machine.h"
+#include "machine/machine.h"
 
 namespace omnislice {
 

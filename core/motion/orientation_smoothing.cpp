@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "motion/orientation_smoothing.h"
 
 #include <Eigen/Geometry>
@@ -8,7 +9,6 @@
 namespace omnislice {
 
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 }
 
 double axisAngleDegrees(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {

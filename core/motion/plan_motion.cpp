@@ -11,6 +11,7 @@
 #include <limits>
 #include <string>
 
+#include "common/math_constants.h"
 #include "kinematics/kinematics.h"
 #include "geometry/segment.h"
 #include "kinematics/robot_arm.h"
@@ -23,7 +24,6 @@ namespace omnislice {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr const char* kStage = "motion";
 // At most 2^12 pieces per move: each halving divides the chord error by about 4, so 12 levels
 // reduce it by ~10^7; a move that still fails (a branch flip inside it) is left as it is.
@@ -186,9 +186,8 @@ class Planner {
 
 bool Planner::validate() {
   n_ = machineAxisCount(m_.kind);
-  if (n_ == 0) return fail(Status::InvalidOption, "unknown machine kind '" + m_.kind + "'");
-  robot_ = m_.kind == "robot6";
-  gcodeRotary_ = m_.kind == "rotary4" || m_.kind == "table5";
+  robot_ = m_.kind == MachineKind::Robot6;
+  gcodeRotary_ = m_.kind == MachineKind::Rotary4 || m_.kind == MachineKind::Table5;
   auto bad = [](double v) { return !std::isfinite(v); };
   if (o_.maxKeptPoses < 0 || o_.trackMaxAlive < 0) {
     return fail(Status::InvalidOption, "maxKeptPoses and trackMaxAlive must be >= 0");
@@ -252,8 +251,8 @@ bool Planner::validate() {
 }
 
 void Planner::buildPieces() {
-  const bool stepped = m_.kind == "rotary4" && m_.stepAngleDegrees > 0;
-  const bool smooth = o_.smoothOrientations && m_.kind != "cartesian3" && !stepped;
+  const bool stepped = m_.kind == MachineKind::Rotary4 && m_.stepAngleDegrees > 0;
+  const bool smooth = o_.smoothOrientations && m_.kind != MachineKind::Cartesian3 && !stepped;
   if (smooth) {
     std::vector<int> run(tp_.moves.size(), -1);
     int id = -1;

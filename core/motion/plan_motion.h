@@ -9,7 +9,7 @@
 
 #include "common/progress.h"
 #include "motion/machine_path.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {

@@ -26,7 +26,7 @@
 
 #include "common/status.h"
 #include "motion/pose_continuity.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 
 namespace omnislice {
 

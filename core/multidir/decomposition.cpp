@@ -22,6 +22,8 @@
 //   depends on which normals exist); both measured in their commit messages.
 // - Refinement: coordinate descent on the found planes (nearby normals and offsets), exact.
 #include "common/det_math.h"
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "multidir/decomposition.h"
 
 #include <Eigen/Geometry>
@@ -39,15 +41,10 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMinGainMm2 = 1e-6;  // a plane must remove at least this much risky area
 constexpr int kMaxLevels = 256;       // safety bound; Criterion IV already limits parts to w
 constexpr uint32_t kNoCell = 0xffffffffu;
 
-using Clock = std::chrono::steady_clock;
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 using Vec3 = Eigen::Vector3d;
 using Poly = std::vector<Vec3>;

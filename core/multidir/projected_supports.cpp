@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "multidir/projected_supports.h"
 
 #include <Eigen/Geometry>
@@ -16,16 +17,10 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kGravity = 9.81;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
-SupportResult fail(Status s, std::string message) {
-  SupportResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+SupportResult fail(Status s, std::string message) { return failed<SupportResult>(s, std::move(message)); }
 
 double sq(double v) { return v * v; }
 

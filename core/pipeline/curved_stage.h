@@ -7,7 +7,7 @@
 
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "surface/curved_toolpath.h"
 
 namespace omnislice::stage {

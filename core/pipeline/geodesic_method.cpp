@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/stopwatch.h"
 #include "pipeline/geodesic_method.h"
 
 #include <algorithm>
@@ -21,13 +22,11 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using stage::Clock;
 using stage::finite;
-using stage::msSince;
 
 template <typename... Args>
 GeodesicMethodOutput failure(Args&&... args) {
-  return stage::failed<GeodesicMethodOutput>(std::forward<Args>(args)...);
+  return failed<GeodesicMethodOutput>(std::forward<Args>(args)...);
 }
 
 Json sequenceJson(const PrintSequence& s) {
@@ -236,7 +235,7 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   order.reserve(chosen->order.size());
   for (uint32_t node : chosen->order) order.emplace_back(tree.nodes[node].layer, tree.nodes[node].region);
   CurvedToolpathOptions topt =
-      stage::curvedToolpathOptions(settings, machine, interval, stage::machineTiltLimitDegrees(machine));
+      stage::curvedToolpathOptions(settings, machine, interval, machineTiltLimitDegrees(machine));
   topt.lineWidth = isoplanar ? settings.nozzleDiameter : lineWidth;
   topt.ellipseBeads = isoplanar;
   topt.axisFromNormals = true;

@@ -19,7 +19,7 @@
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "tet/tet_mesh.h"
 #include "toolpath/toolpath.h"
 

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/stopwatch.h"
 #include "pipeline/isoplanar_fill.h"
 
 #include <algorithm>
@@ -18,11 +19,9 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using stage::Clock;
 using stage::finite;
-using stage::msSince;
 
-IsoplanarFillResult fail(const Outcome& o) { return stage::failed<IsoplanarFillResult>(o); }
+IsoplanarFillResult fail(const Outcome& o) { return failed<IsoplanarFillResult>(o); }
 
 // f* on a mesh edge: the two vertices' limits blended linearly (0 where either is unreachable).
 FeedFn edgeFeed(const FeedField& field, const std::vector<SurfaceSample>& samples, double maxFeed) {
@@ -220,7 +219,7 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
   const Clock::time_point t0 = Clock::now();
   const size_t nl = slices.layers.size();
   if (nl == 0) {
-    return stage::failed<PlanarDirection>(Status::EmptyInput, "no layers to fill");
+    return failed<PlanarDirection>(Status::EmptyInput, "no layers to fill");
   }
   const size_t layerCount = std::min<size_t>(nl, 24);
   double area = 0;
@@ -237,7 +236,7 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
     }
   }
   if (lo.x() > hi.x()) {
-    return stage::failed<PlanarDirection>(Status::EmptyInput, "the layers have no sections to fill");
+    return failed<PlanarDirection>(Status::EmptyInput, "the layers have no sections to fill");
   }
   area = (hi - lo).prod() * double(picked.size());
   const double spacing = std::max(2.0, std::sqrt(area / 20000.0));
@@ -265,20 +264,20 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
     }
   }
   if (samples.empty()) {
-    return stage::failed<PlanarDirection>(Status::EmptyInput, "the layers' sections are too thin to sample for the iso-planar direction");
+    return failed<PlanarDirection>(Status::EmptyInput, "the layers' sections are too thin to sample for the iso-planar direction");
   }
   FeedFieldOptions fopt;
   fopt.stencilRadius = settings.isoplanar.stencilMm;
   fopt.gammaSamples = static_cast<int>(settings.isoplanar.gammaSamples);
   FeedField field = buildFeedField(samples, machine, fopt, progress);
-  if (!field.ok()) return stage::failed<PlanarDirection>(field);
+  if (!field.ok()) return failed<PlanarDirection>(field);
   DriveDirectionOptions dopt;
   dopt.directions = static_cast<int>(settings.isoplanar.directions);
   dopt.beadWidth = settings.nozzleDiameter;
   dopt.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.infillSpeed;
   dopt.forcedThetaDegrees = settings.isoplanar.thetaDegrees;
   DriveDirectionResult search = searchDriveDirection(samples, field, dopt, progress);
-  if (!search.ok()) return stage::failed<PlanarDirection>(search);
+  if (!search.ok()) return failed<PlanarDirection>(search);
   out.thetaDegrees = search.thetaStarDegrees;
   Json r;
   r["theta_deg"] = search.thetaStarDegrees;

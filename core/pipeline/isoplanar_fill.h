@@ -14,7 +14,7 @@
 #include "common/status.h"
 #include "mesh/mesh.h"
 #include "pipeline/settings.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "slice/slice_mesh.h"
 #include "surface/fermat_spiral.h"
 

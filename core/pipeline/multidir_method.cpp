@@ -1,4 +1,6 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "pipeline/multidir_method.h"
 
 #include <Eigen/Geometry>
@@ -21,13 +23,11 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using stage::Clock;
 using stage::finite;
-using stage::msSince;
 
 template <typename... Args>
 MultidirMethodOutput failure(Args&&... args) {
-  return stage::failed<MultidirMethodOutput>(std::forward<Args>(args)...);
+  return failed<MultidirMethodOutput>(std::forward<Args>(args)...);
 }
 
 Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
@@ -90,7 +90,7 @@ Outcome reachAcross(const Mesh& model, const std::vector<Plane>& planes, int pla
 // bandMm are on the platform: never risky along +Z.
 void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alphaMaxDeg, double bandMm,
                 PreviewBuffers& p) {
-  const double sinAlpha = det::sin(alphaMaxDeg * 3.14159265358979323846 / 180);
+  const double sinAlpha = det::sin(alphaMaxDeg * kPi / 180);
   const size_t nf = part.faceCount();
   p.riskyBefore.assign(nf, 0);
   p.riskyAfter.assign(nf, 0);
@@ -125,16 +125,16 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
                                        const MachineProfile& machine, const ProgressFn& progress) {
   MultidirMethodOutput out;
   const MultidirSettings& ms = settings.multidir;
-  if (machine.kind == "cartesian3") {
+  if (machine.kind == MachineKind::Cartesian3) {
     return failure(Status::InvalidOption,
                    "the multidir method turns the part between parts: choose a machine with a rotary "
                    "axis or a robot (rotary4, table5, robot6), not cartesian3");
   }
-  const bool fourDof = ms.dof == "4dof" || (ms.dof == "auto" && machine.kind == "rotary4");
-  if (fourDof && machine.kind != "rotary4") {
+  const bool fourDof = ms.dof == "4dof" || (ms.dof == "auto" && machine.kind == MachineKind::Rotary4);
+  if (fourDof && machine.kind != MachineKind::Rotary4) {
     return failure(Status::InvalidOption, "multidir.dof = 4dof needs a rotary4 machine (one rotary axis)");
   }
-  if (!fourDof && machine.kind == "rotary4") {
+  if (!fourDof && machine.kind == MachineKind::Rotary4) {
     return failure(Status::InvalidOption, "a rotary4 machine turns the part about one axis: multidir.dof = 4dof");
   }
 
@@ -160,7 +160,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
                      : 90.0;
   } else {
     o.dof = "5dof";
-    o.maxTiltDeg = ms.maxTiltDeg > 0 ? ms.maxTiltDeg : stage::machineTiltLimitDegrees(machine);
+    o.maxTiltDeg = ms.maxTiltDeg > 0 ? ms.maxTiltDeg : machineTiltLimitDegrees(machine);
   }
   auto t0 = Clock::now();
   MultidirResult search = searchDecomposition(input, o, progress);

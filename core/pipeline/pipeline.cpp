@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/stopwatch.h"
 #include "pipeline/pipeline.h"
 
 #include <Eigen/Geometry>
@@ -13,8 +14,8 @@
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "motion/plan_motion.h"
-#include "program/machine.h"
-#include "program/machine_json.h"
+#include "machine/machine.h"
+#include "machine/machine_json.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
 #include "slice/plan_layers.h"
@@ -37,10 +38,7 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using stage::Clock;
-using stage::failed;
 using stage::finite;
-using stage::msSince;
 
 Json matrixJson(const Eigen::Matrix4d& m) {
   Json a = Json::array();
@@ -179,10 +177,6 @@ MachineProfileResult resolveMachine(const Settings& settings) {
     MachineParseResult parsed = machineFromJson(settings.machineJson);
     if (!parsed.ok()) return failed<MachineProfileResult>(Status::InvalidOption, parsed.message);
     r.machine = parsed.machine;
-    if (machineAxisCount(r.machine.kind) == 0) {
-      return failed<MachineProfileResult>(Status::InvalidOption,
-                                          "machine kind '" + r.machine.kind + "' is not supported");
-    }
   } else {
     r = builtinMachine(settings.machine, settings.bedSize, settings.nozzleDiameter);
     if (!r.ok()) return r;
@@ -222,14 +216,14 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     MachineProfileResult resolved = resolveMachine(settings);
     if (!resolved.ok()) return failed<SliceOutput>(resolved);
     const MachineProfile& machine = resolved.machine;
-    if (curvedMethod && machine.kind != "table5" && machine.kind != "robot6") {
+    if (curvedMethod && machine.kind != MachineKind::Table5 && machine.kind != MachineKind::Robot6) {
       return failed<SliceOutput>(
           Status::InvalidOption,
           std::string("the ") + (voxel      ? "voxel method tilts the nozzle along curved layers"
                                  : geodesic ? "geodesic method tilts the nozzle along curved layers"
                                             : "surface method keeps the nozzle along the surface normal") +
               ": choose a machine with two rotary axes or a robot (table5, robot6), not " +
-              machine.kind);
+              machineKindName(machine.kind));
     }
     // The surface method lifts the surface onto its support base first.
     SurfaceMethodOutput surfaceOut;
@@ -252,7 +246,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     const Eigen::Vector3d extent = box.max - box.min;
     // G-code kinds print the planar layers with every rotary axis at 0, where the machine frame is
     // the part frame: the part must fit the linear axes' travel.
-    for (int a = 0; a < 3 && machine.kind != "robot6"; ++a) {
+    for (int a = 0; a < 3 && machine.kind != MachineKind::Robot6; ++a) {
       auto it = machine.axisLimits.find(std::string(1, "XYZ"[a]));
       if (it == machine.axisLimits.end()) continue;
       const auto& lim = it->second;
@@ -451,8 +445,8 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     Json report;
     report["method"] = settings.method;
     report["machine"] = machine.name;
-    report["machine_kind"] = machine.kind;
-    report["program_format"] = machine.kind != "robot6" ? "gcode" : settings.robotFormat;
+    report["machine_kind"] = machineKindName(machine.kind);
+    report["program_format"] = machine.kind != MachineKind::Robot6 ? "gcode" : settings.robotFormat;
     report["program_extension"] = out.programExtension;
     report["layers"] = out.layers;
     report["sliced_layers"] = slicedLayers;

@@ -9,8 +9,8 @@
 #include <map>
 #include <sstream>
 
-#include "program/machine.h"
-#include "program/machine_json.h"
+#include "machine/machine.h"
+#include "machine/machine_json.h"
 
 namespace omnislice {
 

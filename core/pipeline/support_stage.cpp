@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/math_constants.h"
 #include "pipeline/stage_support.h"
 
 namespace omnislice::stage {
@@ -28,7 +29,7 @@ double printedSupportVolume(const Toolpath& path, double filamentDiameterMm) {
   for (const Move& m : path.moves) {
     if (m.kind == MoveKind::Support && m.filament > 0) filament += m.filament;
   }
-  return filament * 3.14159265358979323846 * 0.25 * filamentDiameterMm * filamentDiameterMm;
+  return filament * kPi * 0.25 * filamentDiameterMm * filamentDiameterMm;
 }
 
 std::string supportReportJson(const SupportResult& r, const SupportOptions& o, double regionVolumeMm3,

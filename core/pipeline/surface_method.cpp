@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/stopwatch.h"
 #include "pipeline/surface_method.h"
 
 #include <algorithm>
@@ -20,12 +21,10 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using stage::Clock;
-using stage::msSince;
 
 template <typename... Args>
 SurfaceMethodOutput failure(Args&&... args) {
-  return stage::failed<SurfaceMethodOutput>(std::forward<Args>(args)...);
+  return failed<SurfaceMethodOutput>(std::forward<Args>(args)...);
 }
 
 Mesh lifted(const Mesh& m, double dz) {
@@ -39,11 +38,7 @@ Mesh lifted(const Mesh& m, double dz) {
 SurfacePartResult surfacePart(const Mesh& placedSurface) {
   SurfacePartResult r;
   HeightFieldSolid solid = heightFieldSolid(placedSurface, 0);
-  if (!solid.ok()) {
-    r.status = solid.status;
-    r.message = solid.message;
-    return r;
-  }
+  if (!solid.ok()) return failed<SurfacePartResult>(solid);
   r.part = std::move(solid.solid);
   return r;
 }
@@ -107,7 +102,7 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   std::vector<std::vector<std::vector<SurfacePath>>> paths(1);
   paths[0].push_back(fill.paths);
   CurvedToolpathOptions topt =
-      stage::curvedToolpathOptions(settings, machine, h, stage::machineTiltLimitDegrees(machine));
+      stage::curvedToolpathOptions(settings, machine, h, machineTiltLimitDegrees(machine));
   topt.lineWidth = s;             // the ellipse's major axis (paper 003 Table 1: s = nozzle)
   topt.axisFromNormals = true;
   topt.ellipseBeads = true;

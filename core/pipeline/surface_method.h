@@ -17,7 +17,7 @@
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {

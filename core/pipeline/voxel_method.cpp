@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/stopwatch.h"
 #include "pipeline/voxel_method.h"
 
 #include <algorithm>
@@ -23,12 +24,10 @@ namespace omnislice {
 namespace {
 
 using Json = nlohmann::ordered_json;
-using stage::Clock;
-using stage::msSince;
 
 template <typename... Args>
 VoxelMethodOutput failure(Args&&... args) {
-  return stage::failed<VoxelMethodOutput>(std::forward<Args>(args)...);
+  return failed<VoxelMethodOutput>(std::forward<Args>(args)...);
 }
 
 void pushPoint(std::vector<float>& out, const Eigen::Vector3d& p) {
@@ -46,7 +45,7 @@ namespace {
 // part upside down, which a UR5 under a fixed nozzle reaches only in part of its workspace).
 double machineTiltDegrees(const Settings& settings, const MachineProfile& machine) {
   return settings.voxel.maxTiltDegrees > 0 ? settings.voxel.maxTiltDegrees
-                                           : stage::machineTiltLimitDegrees(machine);
+                                           : machineTiltLimitDegrees(machine);
 }
 
 // Indices of the grown cells (G >= 1) in growth order (counting sort by G).

@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/math_constants.h"
 #include "geometry/segment.h"
 #include "kinematics/kinematics.h"
 
@@ -14,7 +15,6 @@ namespace omnislice {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double angleBetween(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
   return std::atan2(u.cross(v).norm(), u.dot(v));
@@ -43,7 +43,7 @@ bool walkMove(const MachineProfile& machine, const MachineValues& a, const Machi
               const InterpolateOptions& options, const Point& first, const Point& last, Emit&& emit) {
   const int n = machineAxisCount(machine.kind);
   // Largest and summed change of the angular values, in radians.
-  const double toRad = machine.kind == "robot6" ? 1.0 : kPi / 180.0;
+  const double toRad = machine.kind == MachineKind::Robot6 ? 1.0 : kPi / 180.0;
   double angular = 0, angularSum = 0;
   for (int i = 0; i < n; ++i) {
     if (!isAngularAxis(machine.kind, i)) continue;
@@ -121,7 +121,6 @@ MoveInterpolation interpolateMachineMove(const MachineProfile& machine, const Ma
     f.message = msg;
     return f;
   };
-  if (machineAxisCount(machine.kind) == 0) return fail("unknown machine kind '" + machine.kind + "'");
   Point first{0.0, {}, {}}, last{1.0, {}, {}};
   if (!forwardMap(machine, a, first.tip, first.axis) || !forwardMap(machine, b, last.tip, last.axis)) {
     return fail(kUnmapped);
@@ -140,7 +139,6 @@ double interpolatedTipLength(const MachineProfile& machine, const MachineValues&
                              const MachineValues& b, const Eigen::Vector3d& tipA,
                              const Eigen::Vector3d& axisA, const Eigen::Vector3d& tipB,
                              const Eigen::Vector3d& axisB, const InterpolateOptions& options) {
-  if (machineAxisCount(machine.kind) == 0) return -1;
   double length = 0;
   Eigen::Vector3d previous = tipA;
   const bool ok = walkMove(machine, a, b, options, Point{0.0, tipA, axisA}, Point{1.0, tipB, axisB},

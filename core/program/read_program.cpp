@@ -24,9 +24,10 @@
 #include <set>
 #include <string_view>
 
+#include "common/math_constants.h"
 #include "kinematics/kinematics.h"
 #include "program/interpolate_machine_move.h"
-#include "program/machine_json.h"
+#include "machine/machine_json.h"
 
 namespace omnislice {
 
@@ -215,21 +216,17 @@ bool Reader::setMachine(const std::string& json) {
   }
   MachineParseResult m = machineFromJson(json);
   if (!m.ok()) {
-    fail(Status::ParseError, m.message);
+    // An unknown kind (a newer build's machine) is UnsupportedFormat, anything else ParseError.
+    fail(m.status == Status::UnsupportedFormat ? m.status : Status::ParseError, m.message);
     return false;
   }
   const int n = machineAxisCount(m.machine.kind);
-  if (n == 0) {
-    fail(Status::UnsupportedFormat,
-         "machine kind '" + m.machine.kind + "' cannot be replayed by this build");
-    return false;
-  }
-  if (format_ == Format::Gcode && m.machine.kind == "robot6") {
+  if (format_ == Format::Gcode && m.machine.kind == MachineKind::Robot6) {
     fail(Status::UnsupportedFormat, "robot6 programs are joint CSV or URScript, not G-code");
     return false;
   }
-  if (format_ != Format::Gcode && m.machine.kind != "robot6") {
-    fail(Status::ParseError, "a robot program needs a robot6 machine, not '" + m.machine.kind + "'");
+  if (format_ != Format::Gcode && m.machine.kind != MachineKind::Robot6) {
+    fail(Status::ParseError, "a robot program needs a robot6 machine, not '" + std::string(machineKindName(m.machine.kind)) + "'");
     return false;
   }
   r_.machine = m.machine;
@@ -401,7 +398,7 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
   }
   // Broken input must not make the replay explode: a move turns at most 10 turns per value
   // (degrees or radians), and the whole program at most kMaxPieces pieces.
-  const double turn = r_.machine.kind == "robot6" ? 2 * 3.14159265358979323846 : 360.0;
+  const double turn = r_.machine.kind == MachineKind::Robot6 ? 2 * kPi : 360.0;
   for (int i = 0; i < n_; ++i) {
     if (angular_[i] && std::abs(b[i] - a[i]) > 10 * turn) {
       return fail(Status::ParseError, "a move turns an angular value by more than 10 turns");

@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "common/status.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 
 namespace omnislice {
 

@@ -28,16 +28,16 @@
 #include <map>
 #include <set>
 
+#include "common/math_constants.h"
 #include "kinematics/kinematics.h"
 #include "motion/plan_motion.h"
-#include "program/machine_json.h"
+#include "machine/machine_json.h"
 #include "program/program_text.h"
 
 namespace omnislice {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Marlin-style names host previews understand (`;TYPE:` lines, written next to the omnislice ones).
 const char* typeName(Feature f) {
@@ -204,7 +204,6 @@ Outcome checkMachinePath(const MachinePath& path, const ProgramInfo& info) {
   if (!path.ok()) return fail("machine path was not planned: " + path.message);
   const MachineProfile& machine = path.machine;
   const int n = machineAxisCount(machine.kind);
-  if (n == 0) return fail("unknown machine kind '" + machine.kind + "'");
   if (!info.placement.allFinite()) return fail("placement matrix has non-finite entries");
   const double headerValues[] = {info.filamentDiameter, info.layerHeight, info.lineWidth,
                                  machine.nozzle.diameter};
@@ -291,8 +290,8 @@ bool parseRobotFormat(const std::string& text, RobotFormat& out) {
   return false;
 }
 
-const char* programExtension(const std::string& kind, RobotFormat robotFormat) {
-  if (kind == "robot6") return robotFormat == RobotFormat::UrScript ? "script" : "csv";
+const char* programExtension(MachineKind kind, RobotFormat robotFormat) {
+  if (kind == MachineKind::Robot6) return robotFormat == RobotFormat::UrScript ? "script" : "csv";
   return "gcode";
 }
 
@@ -525,7 +524,7 @@ WriteProgramResult writeProgram(const MachinePath& path, const ProgramInfo& info
     r.message = check.message;
     return r;
   }
-  if (path.machine.kind == "robot6") return writeRobotProgram(path, info);
+  if (path.machine.kind == MachineKind::Robot6) return writeRobotProgram(path, info);
   return writeGcodeProgram(path, info);
 }
 
@@ -537,9 +536,9 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
     r.text.clear();
     return r;
   };
-  if (info.machine.kind != "cartesian3") {
+  if (info.machine.kind != MachineKind::Cartesian3) {
     return fail("writeGcode writes cartesian3 programs only, machine kind is '" +
-                info.machine.kind + "'");
+                std::string(machineKindName(info.machine.kind)) + "'");
   }
   if (!finite3(toolpath.start)) return fail("tool-path start is not finite");
   for (size_t i = 0; i < toolpath.moves.size(); ++i) {

@@ -11,7 +11,7 @@
 
 #include "common/status.h"
 #include "motion/machine_path.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {
@@ -67,6 +67,6 @@ WriteProgramResult writeProgram(const MachinePath& path, const ProgramInfo& info
 WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info);
 
 // File extension for a machine kind and robot format: "gcode", "csv" or "script".
-const char* programExtension(const std::string& kind, RobotFormat robotFormat);
+const char* programExtension(MachineKind kind, RobotFormat robotFormat);
 
 }  // namespace omnislice

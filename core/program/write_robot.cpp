@@ -20,7 +20,7 @@
 
 #include "kinematics/kinematics.h"
 #include "program/interpolate_machine_move.h"
-#include "program/machine_json.h"
+#include "machine/machine_json.h"
 #include "program/program_text.h"
 
 namespace omnislice {

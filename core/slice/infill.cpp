@@ -4,11 +4,11 @@
 #include <cmath>
 #include <limits>
 
+#include "common/math_constants.h"
 #include "slice/clipper_adapter.h"
 
 namespace omnislice {
 
-constexpr double kPi = 3.14159265358979323846;
 
 ClipperLib::Paths fillLines(const ClipperLib::Paths& region, const std::vector<double>& anglesDegrees,
                             double spacingMm, double minLengthMm) {

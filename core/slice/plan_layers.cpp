@@ -27,13 +27,13 @@
 #include <limits>
 #include <string>
 
+#include "common/math_constants.h"
 #include "slice/clipper_adapter.h"
 #include "slice/infill.h"
 #include "slice/travel_order.h"
 
 namespace omnislice {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
   // The rounded sides belong to the smaller dimension: a bead narrower than it is tall (a sliver of
@@ -176,12 +176,7 @@ struct IslandWork {
   Paths fill;                          // fill region F
 };
 
-PlanLayersResult fail(Status s, std::string message) {
-  PlanLayersResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+PlanLayersResult fail(Status s, std::string message) { return failed<PlanLayersResult>(s, std::move(message)); }
 
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0; }
 
@@ -255,7 +250,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       const double thickness = layer.top - layer.bottom;
       const double z = slices.minHeight + layer.top;
       const bool firstLayer = i == 0;
-      const double spacing = std::max(0.5 * w, w - thickness * (1 - 3.14159265358979323846 / 4));
+      const double spacing = std::max(0.5 * w, w - thickness * (1 - kPi / 4));
       const double fillInset = walls > 0 ? w + (walls - 1) * spacing - overlap : 0.5 * w;
 
       // Islands of this layer with their walls and fill regions.

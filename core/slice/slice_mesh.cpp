@@ -77,12 +77,7 @@ inline uint64_t edgeKey(uint32_t a, uint32_t b) {
   return (static_cast<uint64_t>(lo) << 32) | hi;
 }
 
-SliceResult fail(Status s, std::string message) {
-  SliceResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+SliceResult fail(Status s, std::string message) { return failed<SliceResult>(s, std::move(message)); }
 
 }  // namespace
 

@@ -14,6 +14,8 @@
 
 #include <Eigen/Geometry>
 
+#include "common/math_constants.h"
+#include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 #include "motion/orientation_smoothing.h"
 #include "slice/plan_layers.h"
@@ -25,12 +27,7 @@ namespace {
 
 using Eigen::Vector3d;
 
-CurvedToolpathResult fail(Status s, std::string message) {
-  CurvedToolpathResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+CurvedToolpathResult fail(Status s, std::string message) { return failed<CurvedToolpathResult>(s, std::move(message)); }
 
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0; }
 bool nonNegativeFinite(double v) { return std::isfinite(v) && v >= 0; }
@@ -136,7 +133,6 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
   CurvedToolpathResult result;
   Toolpath& tp = result.toolpath;
   tp.layerCount = static_cast<int32_t>(layers.size());
-  using Clock = std::chrono::steady_clock;
   double orientationMs = 0;
 
   // One AABB tree per layer, built when the layer is first needed as an "earlier" layer and kept
@@ -145,7 +141,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
   std::vector<Mesh> merged(layers.size());
   const double hMin = o.minHeightFactor * o.nominalHeight, hMax = o.maxHeightFactor * o.nominalHeight;
   const double tinyDistance = 0.1 * o.nominalHeight;
-  const double cosLimit = std::cos(80.0 * 3.14159265358979323846 / 180.0);
+  const double cosLimit = std::cos(80.0 * kPi / 180.0);
 
   // Eq. 3 for point q of layer l with surface normal n (may be zero when unknown). The platform
   // plane z = 0 counts as printed before every layer (T in C(V u T)), so a region of a later
@@ -220,7 +216,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
 
   // The machine's tilt range: an axis leaning further from +Z is turned toward +Z in the plane of
   // the two onto the cone of half-angle maxTiltDegrees.
-  const double maxTilt = std::clamp(o.maxTiltDegrees, 0.0, 180.0) * 3.14159265358979323846 / 180.0;
+  const double maxTilt = std::clamp(o.maxTiltDegrees, 0.0, 180.0) * kPi / 180.0;
   auto clampTilt = [&](Sample s) {
     const double tilt = std::acos(std::clamp(s.axis.z(), -1.0, 1.0));
     if (tilt <= maxTilt + 1e-12) return s;
@@ -234,7 +230,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
 
 
   // ---- gouging correction (paper 001 Section 6.2.3) ----
-  constexpr double kDeg = 3.14159265358979323846 / 180.0;
+  constexpr double kDeg = kPi / 180.0;
   constexpr double kSpacing = 0.5;  // mm between printed points, as `omnislice verify` samples
   PrintedPoints printed;
   uint32_t nextSeq = 0;
@@ -306,7 +302,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
       if (firstFree >= 0 && delta > firstFree + window + 1e-9) break;
       for (int k = 0; k < kAzimuths; ++k) {
         const int step = (k + 1) / 2 * (k % 2 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
-        const double phi = 2 * 3.14159265358979323846 * step / kAzimuths;
+        const double phi = 2 * kPi * step / kAzimuths;
         const Vector3d c = (std::cos(delta * kDeg) * u +
                             std::sin(delta * kDeg) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
         if (std::acos(std::clamp(c.z(), -1.0, 1.0)) > maxTilt + 1e-9) continue;
@@ -513,7 +509,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
       }
       for (size_t i = 0; i < np; ++i) result.gougingUncorrected += skip[i];
     }
-    gougingMs += std::chrono::duration<double, std::milli>(Clock::now() - g0).count();
+    gougingMs += msSince(g0);
   };
 
   bool started = false, extruded = false;
@@ -603,7 +599,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
                                         i > 0 ? &samples[i - 1] : nullptr));
         result.orientationFallbacks += samples[i].fallback;
       }
-      orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - s0).count();
+      orientationMs += msSince(s0);
       correctPath(path.points, samples, layer);
       travelTo(path.points[0], samples[0].axis, layer);
       for (size_t i = 1; i < np; ++i) {
@@ -637,7 +633,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
       const size_t l = (*order)[k].first, r = (*order)[k].second;
       const auto t0 = Clock::now();
       prepareTrees(l, false);
-      orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+      orientationMs += msSince(t0);
       if (!printRegion(l, r, done)) return fail(Status::Cancelled, "cancelled");
     }
   }
@@ -647,7 +643,7 @@ CurvedToolpathResult buildToolpath(const std::vector<CurvedLayer>& layers,
     }
     const auto t0 = Clock::now();
     prepareTrees(l, true);
-    orientationMs += std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
+    orientationMs += msSince(t0);
 
     // Regions nearest-first from the current position (distance to the first path's start).
     const size_t nr = layers[l].regions.size();

@@ -39,6 +39,7 @@
 #include <unordered_map>
 
 #include "common/disjoint_sets.h"
+#include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/weld_vertices.h"
@@ -50,9 +51,6 @@ namespace {
 constexpr double kCornerTolerance = 0.05;  // mm: max chord deviation of the re-sampled path
 constexpr int kMaxLevels = 20000;
 
-double msSince(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // A point of an assembled path; tri = triangle containing the segment that arrives at this point
 // (-1: a hop between contours, or the first point).
@@ -659,12 +657,7 @@ double selfOverlapFraction(const std::vector<std::vector<PathPoint>>& paths, dou
   return static_cast<double>(bad) / static_cast<double>(pts.size());
 }
 
-SpiralResult fail(Status s, std::string message) {
-  SpiralResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+SpiralResult fail(Status s, std::string message) { return failed<SpiralResult>(s, std::move(message)); }
 
 }  // namespace
 
@@ -719,7 +712,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   for (uint32_t v : region.triangles) {
     if (v >= region.vertexCount()) return fail(Status::InvalidOption, "fermat spiral: triangle index out of range");
   }
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   // Weld bit-identical positions first: an unwelded region (one vertex per corner) would look
   // like loose triangles, all boundary, and yield no path.
   Mesh welded;
@@ -750,7 +743,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   }
   SpiralResult result;
   result.distanceMs = msSince(t0);
-  const auto t1 = std::chrono::steady_clock::now();
+  const auto t1 = Clock::now();
   // Same cleaning as the distance: faces repeating a vertex are dropped.
   Mesh mesh;
   mesh.positions = welded.positions;
@@ -837,7 +830,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   const AabbTree tree(mesh);
   // Contours at levels, connected into paths (raw); returns the number of contours.
   auto build = [&](const std::vector<double>& levels, std::vector<std::vector<PathPoint>>& raw) {
-    const auto tc = std::chrono::steady_clock::now();
+    const auto tc = Clock::now();
     ContourSet set = extractContours(mesh, edges, phi, levels);
     for (Contour& c : set.contours) orientUpLeft(c, mesh, phi, faceNormal);
     const int count = static_cast<int>(set.contours.size());

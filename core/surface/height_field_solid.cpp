@@ -20,12 +20,7 @@
 namespace omnislice {
 namespace {
 
-HeightFieldSolid fail(Status status, std::string message) {
-  HeightFieldSolid r;
-  r.status = status;
-  r.message = std::move(message);
-  return r;
-}
+HeightFieldSolid fail(Status status, std::string message) { return failed<HeightFieldSolid>(status, std::move(message)); }
 
 uint64_t edgeKey(uint32_t a, uint32_t b) { return (static_cast<uint64_t>(a) << 32) | b; }
 

@@ -14,13 +14,13 @@
 #include <utility>
 #include <vector>
 
+#include "common/math_constants.h"
 #include "mesh/parse_number.h"
 #include "mesh/text_cursor.h"
 
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Relative threshold below which a tet counts as flat: |6 V| <= kFlatRelative * (longest edge)^3.
 // Only roundoff-level volumes are rejected; slivers stay (tetQuality reports them).

@@ -20,6 +20,7 @@
 // points at edge midpoints), where every stencil is a true subdivision of its BCC tet, so an
 // inverted tet would show as negative volume rather than being silently flipped.
 #include "common/det_math.h"
+#include "common/stopwatch.h"
 #include "tet/tet_mesher.h"
 
 #include <Eigen/Geometry>
@@ -64,12 +65,6 @@ constexpr double kMinShape = 0.05;
 // layer of cubes lies entirely outside the solid, and an odd fraction so axis-aligned models do
 // not put lattice planes exactly on their faces.
 constexpr double kMargin = 1.2371;
-
-double nowMs() {
-  return std::chrono::duration<double, std::milli>(
-             std::chrono::steady_clock::now().time_since_epoch())
-      .count();
-}
 
 double sixVolume(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d) {
   return (b - a).dot((c - a).cross(d - a));

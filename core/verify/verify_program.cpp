@@ -40,6 +40,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "common/math_constants.h"
 #include "geometry/aabb_tree.h"
 #include "geometry/segment.h"
 #include "kinematics/kinematics.h"
@@ -49,7 +50,6 @@ namespace omnislice {
 namespace {
 
 constexpr double kMaxCoordinate = 1e6;  // mm
-constexpr double kPi = 3.14159265358979323846;
 
 struct Segment {
   Eigen::Vector3d a, b, u;

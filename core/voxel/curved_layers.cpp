@@ -20,17 +20,13 @@
 #include <numeric>
 #include <string>
 
+#include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 
 namespace omnislice {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 // Open-addressing map uint64 key -> uint32 value (keys never equal kEmpty), key and value in
 // one slot so a lookup touches one cache line.

@@ -27,6 +27,7 @@
 #include <random>
 #include <unordered_map>
 
+#include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 #include "voxel/lattice_hull.h"
 
@@ -71,11 +72,6 @@ bool parseShadowScheme(const std::string& text, ShadowScheme& out) {
 namespace {
 
 using V3 = Eigen::Vector3i;
-using Clock = std::chrono::steady_clock;
-
-double msSince(Clock::time_point t0) {
-  return std::chrono::duration<double, std::milli>(Clock::now() - t0).count();
-}
 
 bool gridConsistent(const VoxelGrid& grid) {
   if (grid.dims.minCoeff() <= 0) return false;

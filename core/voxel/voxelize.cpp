@@ -57,12 +57,7 @@ bool triangleMeetsOpenBox(const Vector3d& v0, const Vector3d& v1, const Vector3d
   return true;
 }
 
-VoxelizeResult fail(Status s, std::string message) {
-  VoxelizeResult r;
-  r.status = s;
-  r.message = std::move(message);
-  return r;
-}
+VoxelizeResult fail(Status s, std::string message) { return failed<VoxelizeResult>(s, std::move(message)); }
 
 std::string cellsMessage(double cells, size_t maxCells, double width) {
   char buf[200];

@@ -32,15 +32,15 @@ TEST(DetMath, MatchesTheCLibraryClosely) {
 TEST(DetMath, SpecialValues) {
   EXPECT_EQ(det::sin(0.0), 0.0);
   EXPECT_EQ(det::cos(0.0), 1.0);
-  EXPECT_NEAR(det::sin(det::kPi / 2), 1.0, 1e-16);
-  EXPECT_NEAR(det::cos(det::kPi), -1.0, 1e-16);
-  EXPECT_NEAR(det::sin(45 * det::kPi / 180), std::sqrt(0.5), 2e-16);
+  EXPECT_NEAR(det::sin(kPi / 2), 1.0, 1e-16);
+  EXPECT_NEAR(det::cos(kPi), -1.0, 1e-16);
+  EXPECT_NEAR(det::sin(45 * kPi / 180), std::sqrt(0.5), 2e-16);
   EXPECT_EQ(det::atan2(0.0, 1.0), 0.0);
-  EXPECT_NEAR(det::atan2(1.0, 0.0), det::kPi / 2, 1e-16);
-  EXPECT_NEAR(det::atan2(0.0, -1.0), det::kPi, 1e-16);
-  EXPECT_NEAR(det::atan2(-1.0, -1.0), -3 * det::kPi / 4, 1e-15);
+  EXPECT_NEAR(det::atan2(1.0, 0.0), kPi / 2, 1e-16);
+  EXPECT_NEAR(det::atan2(0.0, -1.0), kPi, 1e-16);
+  EXPECT_NEAR(det::atan2(-1.0, -1.0), -3 * kPi / 4, 1e-15);
   EXPECT_NEAR(det::acos(1.5), 0.0, 0);
-  EXPECT_NEAR(det::acos(-1.0), det::kPi, 1e-16);
+  EXPECT_NEAR(det::acos(-1.0), kPi, 1e-16);
   EXPECT_TRUE(std::isnan(det::atan2(std::nan(""), 1.0)));
 }
 

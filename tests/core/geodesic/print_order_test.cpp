@@ -3,6 +3,7 @@
 // against the volume adjacency of the slabs between iso-values), collision model (checked against
 // brute force), LPT / DPT / A3 traversals under Criteria 1 and 2 on a three-branch tree and on
 // hand-made disc stacks, bad input, cancellation, timings.
+#include "common/math_constants.h"
 #include "geodesic/print_order.h"
 
 #include <gtest/gtest.h>
@@ -33,7 +34,6 @@ namespace omnislice {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-constexpr double kPi = 3.14159265358979323846;
 
 uint64_t ekey(uint32_t a, uint32_t b) {
   if (a > b) std::swap(a, b);

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "isoplanar/effective_width.h"
 
 #include <gtest/gtest.h>
@@ -13,7 +14,6 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Independent brute-force areas of the configuration of effective_width.h by counting grid cell
 // centres: the two ellipses (the second one obtained by rotating the first about the curvature

@@ -1,4 +1,5 @@
 // SPDX-License-Identifier: MIT
+#include "common/math_constants.h"
 #include "isoplanar/surface_samples.h"
 
 #include <gtest/gtest.h>
@@ -17,7 +18,6 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Latitude-longitude sphere, outward (or inward) triangles.
 Mesh uvSphere(double r, int rings, int segments, bool outward) {

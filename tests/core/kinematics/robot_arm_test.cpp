@@ -16,13 +16,13 @@
 #include <random>
 #include <vector>
 
+#include "common/math_constants.h"
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
 
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double wrappedDiff(double a, double b) { return std::abs(std::remainder(a - b, 2 * kPi)); }
 

@@ -11,7 +11,7 @@
 
 #include "kinematics/kinematics.h"
 #include "motion/machine_path.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice::test {
@@ -91,7 +91,7 @@ inline Toolpath crestToolpath(double halfWidth, double top, double step, double 
 
 inline MachineProfile rotary4TestProfile() {
   MachineProfile m;
-  m.kind = "rotary4";
+  m.kind = MachineKind::Rotary4;
   m.name = "rotary4-test";
   m.pivot = {0, 0, 0};
   m.axisLimits["X"] = {-150, 150};
@@ -103,7 +103,7 @@ inline MachineProfile rotary4TestProfile() {
 
 inline MachineProfile table5TestProfile() {
   MachineProfile m;
-  m.kind = "table5";
+  m.kind = MachineKind::Table5;
   m.name = "table5-test";
   m.pivot = {0, 0, 0};
   m.axisLimits["X"] = {-150, 150};

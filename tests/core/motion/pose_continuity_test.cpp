@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The layered-graph shortest path with dominance pruning equals brute force over every path, on
 // random graphs with wrapped angles, penalties and infeasible nodes; greedy is never better.
+#include "common/math_constants.h"
 #include "motion/pose_continuity.h"
 
 #include <gtest/gtest.h>
@@ -13,7 +14,6 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Brute force: every path through the layers (feasible nodes only).
 double bruteForce(const std::vector<std::vector<MachineValues>>& layers, const PoseMetric& metric,

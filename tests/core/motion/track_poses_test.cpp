@@ -4,6 +4,7 @@
 // random grids with wrapped values, missing solutions, infeasible nodes and penalties; with
 // compareGreedy the result is never worse than greedy; the reported costs are those of the
 // returned sequence.
+#include "common/math_constants.h"
 #include "motion/track_poses.h"
 
 #include <gtest/gtest.h>
@@ -15,7 +16,6 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 struct Grid {

@@ -16,6 +16,7 @@
 #include <tuple>
 #include <vector>
 
+#include "common/math_constants.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "multidir/decomposition.h"
@@ -25,7 +26,6 @@
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 using test::Box;
 using test::makeBoxUnion;

@@ -13,13 +13,13 @@
 #include <vector>
 
 #include "box_union.h"
+#include "common/math_constants.h"
 #include "geometry/aabb_tree.h"
 #include "multidir/projected_supports.h"
 
 namespace omnislice {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double signedVolume(const Mesh& m) {
   double v = 0;

@@ -17,7 +17,7 @@
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"
-#include "program/machine.h"
+#include "machine/machine.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {

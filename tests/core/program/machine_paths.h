@@ -75,8 +75,8 @@ class MachinePathBuilder {
 inline MachineValues gcodeValues(const MachineProfile& machine, const Eigen::Vector3d& q,
                                  double a1 = 0, double a2 = 0) {
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
-  if (machine.kind == "rotary4") r = rotDeg(0, a1);
-  if (machine.kind == "table5") r = rotDeg(1, a1) * rotDeg(2, a2);
+  if (machine.kind == MachineKind::Rotary4) r = rotDeg(0, a1);
+  if (machine.kind == MachineKind::Table5) r = rotDeg(1, a1) * rotDeg(2, a2);
   const Eigen::Vector3d m = machine.pivot + r * (q - machine.pivot);
   return {m.x(), m.y(), m.z(), a1, a2, 0};
 }
@@ -85,7 +85,7 @@ inline MachineValues gcodeValues(const MachineProfile& machine, const Eigen::Vec
 // down (axis +Z in the base frame), joint limits +-2 pi.
 inline MachineProfile ur5TestMachine() {
   MachineProfile m;
-  m.kind = "robot6";
+  m.kind = MachineKind::Robot6;
   m.name = "ur5-test";
   m.dh = ur5DhTable();
   for (auto& l : m.jointLimits) l = {-2 * M_PI, 2 * M_PI};

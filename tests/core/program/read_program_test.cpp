@@ -41,7 +41,7 @@ TEST(ReadProgram, RoundTripKeepsEveryMoveAndHeaderFact) {
   ASSERT_TRUE(p.ok()) << p.message;
 
   EXPECT_EQ(p.method, "planar");
-  EXPECT_EQ(p.machine.kind, "cartesian3");
+  EXPECT_EQ(p.machine.kind, MachineKind::Cartesian3);
   EXPECT_EQ(p.machine.axisLimits, info.machine.axisLimits);
   EXPECT_EQ(p.machine.nozzle.coneHalfAngleDegrees, 35);
   EXPECT_EQ(p.machine.nozzle.coneLength, 20);
@@ -125,7 +125,7 @@ TEST(ReadProgram, PlainGcodeOfOtherSlicers) {
       "G1 E-0.8\n;LAYER:1\nG0 X0 Y0 Z0.3\nG1 E0.8\nG1 X5 Y0 E0.25 ; comment\n";
   const ParsedProgram p = readProgram(cura);
   ASSERT_TRUE(p.ok()) << p.message;
-  EXPECT_EQ(p.machine.kind, "cartesian3");
+  EXPECT_EQ(p.machine.kind, MachineKind::Cartesian3);
   EXPECT_TRUE(p.machine.axisLimits.empty());
   EXPECT_FALSE(p.absoluteExtrusion);
   EXPECT_EQ(p.layerHeight, 0.15);

@@ -7,7 +7,7 @@
 #include <regex>
 #include <sstream>
 
-#include "program/machine_json.h"
+#include "machine/machine_json.h"
 #include "test_toolpaths.h"
 
 namespace omnislice {
@@ -39,7 +39,7 @@ Toolpath smallBox() {
 
 TEST(WriteGcode, MachineProfileAndJson) {
   const MachineProfile m = cartesian3Profile({220, 200, 250}, 0.6);
-  EXPECT_EQ(m.kind, "cartesian3");
+  EXPECT_EQ(m.kind, MachineKind::Cartesian3);
   EXPECT_EQ(m.axisLimits.at("X"), std::make_pair(-110.0, 110.0));
   EXPECT_EQ(m.axisLimits.at("Y"), std::make_pair(-100.0, 100.0));
   EXPECT_EQ(m.axisLimits.at("Z"), std::make_pair(0.0, 250.0));
@@ -191,7 +191,7 @@ TEST(WriteGcode, StartEndCodeMovesAndMarkers) {
 TEST(WriteGcode, RejectsWhatCartesian3CannotPrint) {
   Toolpath tp = smallBox();
   ProgramInfo info = testInfo();
-  info.machine.kind = "table5";
+  info.machine.kind = MachineKind::Table5;
   EXPECT_EQ(writeGcode(tp, info).status, Status::InvalidOption);
 
   info = testInfo();

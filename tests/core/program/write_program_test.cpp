@@ -12,7 +12,7 @@
 #include "machine_paths.h"
 #include "test_toolpaths.h"
 #include "motion/plan_motion.h"
-#include "program/machine_json.h"
+#include "machine/machine_json.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
 
@@ -33,7 +33,7 @@ ProgramInfo infoFor(const MachineProfile& machine) {
 
 MachineProfile gcodeMachine(const std::string& kind) {
   MachineProfile m;
-  m.kind = kind;
+  EXPECT_TRUE(parseMachineKind(kind, m.kind)) << kind;
   m.name = kind + "-test";
   m.axisLimits = {{"X", {-150, 150}}, {"Y", {-150, 150}}, {"Z", {0, 200}}};
   if (kind == "rotary4") {
@@ -221,7 +221,7 @@ TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
       // Moves: the park travel from home first, then one group per moving path move.
       const auto g = checkRoundTrip(path, p, 1, 1.1e-5);
       // F gives back the planned durations (to the rounding of the written values and of F).
-      const std::vector<std::string> names = machineAxisNames(kind);
+      const std::vector<std::string> names = machineAxisNames(path.machine.kind);
       size_t k = 1;
       MachineValues prevValues = path.start;
       std::vector<double> prevAxes = g[0].back()->axes;
@@ -324,7 +324,7 @@ TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
     EXPECT_EQ(p.format, robotFormatName(format));
     EXPECT_EQ(p.feedSemantics, "part_tip");
     EXPECT_FALSE(p.absoluteExtrusion);
-    EXPECT_EQ(p.machine.kind, "robot6");
+    EXPECT_EQ(p.machine.kind, MachineKind::Robot6);
     EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
     EXPECT_TRUE(p.machine.flangeToPlatform.isApprox(path.machine.flangeToPlatform, 1e-12));
     EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
@@ -442,9 +442,6 @@ TEST(WriteProgram, RefusesInconsistentOrNonFinitePaths) {
   MachinePath negative = path;
   negative.moves[2].durationS = -1;
   EXPECT_EQ(writeProgram(negative, info).status, Status::InvalidOption);
-  MachinePath unknown = path;
-  unknown.machine.kind = "delta";
-  EXPECT_EQ(writeProgram(unknown, info).status, Status::InvalidOption);
   MachinePath failed = path;
   failed.status = Status::InvalidOption;
   EXPECT_EQ(writeProgram(failed, info).status, Status::InvalidOption);
@@ -462,9 +459,9 @@ TEST(WriteProgram, NamesAndExtensions) {
   EXPECT_EQ(f, RobotFormat::UrScript);
   EXPECT_FALSE(parseRobotFormat("krl", f));
   EXPECT_STREQ(robotFormatName(RobotFormat::Csv), "csv");
-  EXPECT_STREQ(programExtension("table5", RobotFormat::Csv), "gcode");
-  EXPECT_STREQ(programExtension("robot6", RobotFormat::Csv), "csv");
-  EXPECT_STREQ(programExtension("robot6", RobotFormat::UrScript), "script");
+  EXPECT_STREQ(programExtension(MachineKind::Table5, RobotFormat::Csv), "gcode");
+  EXPECT_STREQ(programExtension(MachineKind::Robot6, RobotFormat::Csv), "csv");
+  EXPECT_STREQ(programExtension(MachineKind::Robot6, RobotFormat::UrScript), "script");
 }
 
 TEST(WriteProgram, MutatedGcodeOfEveryKindNeverCrashes) {

@@ -2,6 +2,7 @@
 // Curved-layer tool-path assembly: orientation by Eq. 3 (paper 001 Section 5.2) on stacked flat
 // discs and concentric spherical caps, local bead heights, the bead-area extrusion formula,
 // nearest-neighbour region order, travel/retraction bookkeeping, fallbacks and bad input.
+#include "common/math_constants.h"
 #include "surface/curved_toolpath.h"
 
 #include <gtest/gtest.h>
@@ -18,7 +19,6 @@ namespace omnislice {
 namespace {
 
 using Eigen::Vector3d;
-constexpr double kPi = 3.14159265358979323846;
 
 // Flat disc of the given radius at height z centred at (cx, cy), as a triangle fan (normal +Z).
 LayerRegion discRegion(double cx, double cy, double z, double radius, int segments = 64) {

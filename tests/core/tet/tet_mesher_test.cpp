@@ -3,6 +3,7 @@
 // edge-manifold boundary), two-sided boundary conformity, volume and genus against the input on
 // generated solids and the shared models, dihedral bounds before and after snapping, the cell size
 // chosen from targetTets, every bad-input status, the heat method on the output, timings.
+#include "common/math_constants.h"
 #include "tet/tet_mesher.h"
 
 #include <gtest/gtest.h>
@@ -31,7 +32,6 @@ namespace {
 using test::makeBox;
 using test::meshVolume;
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Closed parametric surface on an (nu x nv) grid with u periodic; v either periodic (torus) or
 // running pole to pole (sphere, poles as single vertices). Outward for the maps below.

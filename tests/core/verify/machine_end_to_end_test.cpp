@@ -29,7 +29,7 @@ TEST(VerifyProgram, PlannedBoxPassesOnEveryMachine) {
     const MachinePath path = planMachineMotion(tp, machine.machine);
     ASSERT_TRUE(path.ok()) << name << ": " << path.message;
     const auto t1 = std::chrono::steady_clock::now();
-    const bool robot = machine.machine.kind == "robot6";
+    const bool robot = machine.machine.kind == MachineKind::Robot6;
     const int variants = robot ? 2 : 3;
     for (int v = 0; v < variants; ++v) {
       ProgramInfo info;

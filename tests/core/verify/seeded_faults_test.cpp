@@ -76,7 +76,7 @@ void expectPasses(const VerifyReport& r) {
 
 MachineProfile table5() {
   MachineProfile m;
-  m.kind = "table5";
+  m.kind = MachineKind::Table5;
   m.pivot = {20, 0, 0};
   m.axisLimits = {{"X", {-150, 150}}, {"Y", {-150, 150}}, {"Z", {0, 200}},
                   {"B", {-90, 90}},   {"C", {-360, 360}}};
@@ -280,7 +280,7 @@ TEST(SeededFaults, Table5RotaryAxisOverItsLimit) {
 
 MachineProfile rotary4() {
   MachineProfile m;
-  m.kind = "rotary4";
+  m.kind = MachineKind::Rotary4;
   m.pivot = {0, 0, 30};
   m.axisLimits = {{"X", {-150, 150}}, {"Y", {-150, 150}}, {"Z", {0, 200}}, {"A", {-60, 60}}};
   return m;

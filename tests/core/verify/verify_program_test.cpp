@@ -9,7 +9,7 @@
 #include "../program/test_toolpaths.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
-#include "program/machine_json.h"
+#include "machine/machine_json.h"
 #include "program/write_gcode.h"
 
 namespace omnislice {

@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
-// Machine profiles: the four machine kinds of ../shared/PROGRAM-FORMAT.md (cartesian3, rotary4,
-// table5, robot6), their limits, dynamics and nozzle geometry. Plain data; the kinematics live in
-// core/kinematics, the JSON schema is documented in docs/MACHINES.md.
+// The machine layer: the four machine kinds of ../shared/PROGRAM-FORMAT.md (cartesian3, rotary4,
+// table5, robot6), their axes, and machine profiles (limits, dynamics, nozzle geometry) with the
+// built-in ones. Plain data read from below by kinematics, motion, program and verify; the JSON
+// form is machine_json.h (schema in docs/MACHINES.md), the forward and inverse maps are in
+// core/kinematics.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -13,6 +15,33 @@
 #include "common/status.h"
 
 namespace omnislice {
+
+// The machine kinds of PROGRAM-FORMAT.md: what the values of a program line mean.
+enum class MachineKind {
+  Cartesian3,  // X Y Z, nozzle along +Z
+  Rotary4,     // X Y Z A, the platform turns about X
+  Table5,      // X Y Z B C, a tilting (B) and turning (C) table
+  Robot6,      // q1..q6, a six-joint arm holding the platform under a fixed nozzle
+};
+
+// "cartesian3", "rotary4", "table5", "robot6".
+const char* machineKindName(MachineKind kind);
+
+// The kind of a name as machineKindName() writes it; false for any other text.
+bool parseMachineKind(const std::string& name, MachineKind& kind);
+
+// Number of values a kind uses: 3, 4, 5, 6.
+int machineAxisCount(MachineKind kind);
+
+// Names of the values in order: "X","Y","Z"[,"A" | ,"B","C"] or "q1".."q6".
+std::vector<std::string> machineAxisNames(MachineKind kind);
+
+// Axis letters a kind writes in G-code, in order ("X","Y","Z" for cartesian3; "X","Y","Z","A" for
+// rotary4; "X","Y","Z","B","C" for table5); empty for robot6 (no G-code axes).
+std::vector<std::string> machineAxisLetters(MachineKind kind);
+
+// True for angular values (A, B, C in degrees; robot joints in radians).
+bool isAngularAxis(MachineKind kind, int index);
 
 // Nozzle geometry used for collision checks. The cone has its apex at the tip and opens along the
 // nozzle axis u; the carriage is a box (size x, y along the machine X, Y; z along u) that sits on
@@ -41,12 +70,17 @@ struct DhRow {
   double alpha = 0;
 };
 
+using DhTable = std::array<DhRow, 6>;
+
+// The UR5 (CB series) table of PROGRAM-FORMAT.md.
+DhTable ur5DhTable();
+
 // Values of a machine's axes in the order of machineAxisNames(kind): X Y Z (mm) then A or B C
 // (degrees) for G-code kinds; q1..q6 (radians) for robot6. Unused trailing entries are 0.
 using MachineValues = std::array<double, 6>;
 
 struct MachineProfile {
-  std::string kind = "cartesian3";  // cartesian3 | rotary4 | table5 | robot6
+  MachineKind kind = MachineKind::Cartesian3;
   std::string name = "cartesian3";  // profile name (built-in name or the user's), reports only
   Eigen::Vector3d pivot{0, 0, 0};   // rotary4 / table5: the rotation axes pass through it (machine frame)
   std::map<std::string, std::pair<double, double>> axisLimits;  // axis letter -> [min, max] (mm, deg)
@@ -57,7 +91,7 @@ struct MachineProfile {
 
   // robot6 only (PROGRAM-FORMAT.md): standard DH table, joint limits (rad) and dynamics, the
   // flange-to-platform transform and the fixed nozzle (tip and axis) in the robot base frame.
-  std::array<DhRow, 6> dh{};
+  DhTable dh{};
   std::array<std::pair<double, double>, 6> jointLimits{};
   std::array<AxisDynamics, 6> jointDynamics{};
   Eigen::Matrix4d flangeToPlatform = Eigen::Matrix4d::Identity();
@@ -84,9 +118,9 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
 // Names accepted by builtinMachine(), in display order.
 std::vector<std::string> builtinMachineNames();
 
-// The one-line machine JSON of the program header (PROGRAM-FORMAT.md); for robot6 it includes
-// dh, joint_limits, flange_to_platform, nozzle_tip and nozzle_axis. Dynamics, step angle and
-// safe Z are written too (extra keys are allowed by the format).
-std::string machineJson(const MachineProfile& machine);
+// How far the machine can lean the nozzle axis from the part's +Z, degrees: a table5 its B range
+// (less half a degree of margin, at least 1; beyond it is out of reach), a robot 90 (beyond, the
+// arm must hold the part upside down), the others 90 (their methods do not tilt by this bound).
+double machineTiltLimitDegrees(const MachineProfile& machine);
 
 }  // namespace omnislice

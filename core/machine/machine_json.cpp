@@ -1,131 +1,19 @@
 // SPDX-License-Identifier: MIT
-#include "program/machine.h"
+#include "machine/machine_json.h"
 
 #include <Eigen/LU>
 #include <algorithm>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "kinematics/robot_arm.h"
-#include "program/machine_json.h"
-
 namespace omnislice {
-
-namespace {
-constexpr double kPi = 3.14159265358979323846;
-
-// Defaults of the G-code kinds' axes (docs/MACHINES.md): a desktop printer's gantry and a
-// geared stepper platform.
-void gcodeDynamics(MachineProfile& m) {
-  m.axisDynamics["X"] = {200, 3000, 100000};
-  m.axisDynamics["Y"] = {200, 3000, 100000};
-  m.axisDynamics["Z"] = {20, 500, 10000};
-}
-
-// The tilting kinds put part points below the pivot height when they tilt: Z may go down to
-// -bedSize.z / 2 (docs/MACHINES.md).
-void tiltingLinearLimits(MachineProfile& m, const Eigen::Vector3d& bedSize) {
-  m.axisLimits["Z"] = {-0.5 * bedSize.z(), bedSize.z()};
-}
-}  // namespace
-
-MachineProfile cartesian3Profile(const Eigen::Vector3d& bedSize, double nozzleDiameter) {
-  MachineProfile m;
-  m.kind = "cartesian3";
-  m.axisLimits["X"] = {-0.5 * bedSize.x(), 0.5 * bedSize.x()};
-  m.axisLimits["Y"] = {-0.5 * bedSize.y(), 0.5 * bedSize.y()};
-  m.axisLimits["Z"] = {0.0, bedSize.z()};
-  m.nozzle.diameter = nozzleDiameter;
-  return m;
-}
-
-// UR5 placement (docs/MACHINES.md): the nozzle points straight down (axis +Z: tip -> hot end) at a
-// fixed tip 522 mm from the base axis, 300 mm above the base; the platform plate is 50 mm beyond
-// the flange along flange z, facing the nozzle when the wrist points up. Chosen by a grid search
-// over tip positions for the largest worst-case singularity measure over a 100 mm cube of tips
-// tilted up to 60 degrees (flat around 0.09-0.105 between 400 and 700 mm from the base axis); the
-// test KinematicsInverse.Robot6Ur5ReachesTheBuildVolume checks it.
-namespace {
-const double kUr5PlateOffset = 50;  // mm
-const Eigen::Vector3d kUr5NozzleTip{-500, 150, 300};  // mm, robot base frame
-
-MachineProfile ur5Profile(double nozzleDiameter) {
-  MachineProfile m;
-  m.kind = "robot6";
-  m.name = "robot6-ur5";
-  m.dh = ur5DhTable();
-  for (int i = 0; i < 6; ++i) {
-    m.jointLimits[i] = {-2 * kPi, 2 * kPi};
-    // Paper 003 Table 1.
-    m.jointDynamics[i] = {kPi / 6, kPi / 2, kPi};
-  }
-  m.flangeToPlatform = Eigen::Matrix4d::Identity();
-  m.flangeToPlatform(2, 3) = kUr5PlateOffset;
-  m.nozzleTip = kUr5NozzleTip;
-  m.nozzleAxis = Eigen::Vector3d::UnitZ();
-  m.nozzle.diameter = nozzleDiameter;
-  return m;
-}
-}  // namespace
-
-MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,
-                                    double nozzleDiameter) {
-  MachineProfileResult r;
-  MachineProfile& m = r.machine;
-  if (name == "cartesian3") {
-    m = cartesian3Profile(bedSize, nozzleDiameter);
-    gcodeDynamics(m);
-  } else if (name == "rotary4") {
-    m = cartesian3Profile(bedSize, nozzleDiameter);
-    m.kind = m.name = "rotary4";
-    tiltingLinearLimits(m, bedSize);
-    m.pivot = {0, 0, 0};
-    m.axisLimits["A"] = {-60, 60};  // paper 000's stepper platform range
-    gcodeDynamics(m);
-    m.axisDynamics["A"] = {90, 900, 9000};
-  } else if (name == "table5") {
-    m = cartesian3Profile(bedSize, nozzleDiameter);
-    m.kind = m.name = "table5";
-    tiltingLinearLimits(m, bedSize);
-    m.pivot = {0, 0, 0};
-    m.axisLimits["B"] = {-90, 90};
-    m.axisLimits["C"] = {-3600, 3600};
-    gcodeDynamics(m);
-    m.axisDynamics["B"] = {90, 900, 9000};
-    m.axisDynamics["C"] = {90, 900, 9000};
-  } else if (name == "robot6-ur5" || name == "robot6") {
-    m = ur5Profile(nozzleDiameter);
-  } else {
-    r.status = Status::InvalidOption;
-    r.message = "unknown machine \"" + name + "\"; built-in machines:";
-    for (const std::string& n : builtinMachineNames()) r.message += " " + n;
-    return r;
-  }
-  if (!(nozzleDiameter > 0) || !std::isfinite(nozzleDiameter) || !bedSize.allFinite() ||
-      !(bedSize.minCoeff() > 0)) {
-    r.status = Status::InvalidOption;
-    r.message = "builtinMachine: bed size and nozzle diameter must be positive";
-  }
-  return r;
-}
-
-std::vector<std::string> builtinMachineNames() {
-  return {"cartesian3", "rotary4", "table5", "robot6-ur5"};
-}
-
-std::vector<std::string> machineAxisLetters(const std::string& kind) {
-  if (kind == "cartesian3") return {"X", "Y", "Z"};
-  if (kind == "rotary4") return {"X", "Y", "Z", "A"};
-  if (kind == "table5") return {"X", "Y", "Z", "B", "C"};
-  return {};
-}
 
 namespace {
 using OJson = nlohmann::ordered_json;
 
 // Letters of the kind in their natural order, then any others of `keys` alphabetically.
 template <typename Map>
-std::vector<std::string> letterOrder(const std::string& kind, const Map& keys) {
+std::vector<std::string> letterOrder(MachineKind kind, const Map& keys) {
   std::vector<std::string> order = machineAxisLetters(kind);
   for (const auto& kv : keys) {
     if (std::find(order.begin(), order.end(), kv.first) == order.end()) order.push_back(kv.first);
@@ -144,13 +32,13 @@ std::string machineJson(const MachineProfile& machine) {
   // ordered_json keeps the key order of the format page (kind first). Optional keys are written
   // when they differ from their defaults (docs/MACHINES.md), so the planar header stays short.
   OJson j;
-  j["kind"] = machine.kind;
-  if (machine.name != machine.kind) j["name"] = machine.name;
-  const bool pivoting = machine.kind == "rotary4" || machine.kind == "table5";
+  j["kind"] = machineKindName(machine.kind);
+  if (machine.name != machineKindName(machine.kind)) j["name"] = machine.name;
+  const bool pivoting = machine.kind == MachineKind::Rotary4 || machine.kind == MachineKind::Table5;
   if (pivoting || !machine.pivot.isZero(0)) {
     j["pivot"] = {machine.pivot.x(), machine.pivot.y(), machine.pivot.z()};
   }
-  if (!machine.axisLimits.empty() || machine.kind != "robot6") {
+  if (!machine.axisLimits.empty() || machine.kind != MachineKind::Robot6) {
     OJson limits = OJson::object();
     for (const std::string& axis : letterOrder(machine.kind, machine.axisLimits)) {
       auto it = machine.axisLimits.find(axis);
@@ -168,7 +56,7 @@ std::string machineJson(const MachineProfile& machine) {
   }
   if (machine.stepAngleDegrees != 0) j["step_angle_deg"] = machine.stepAngleDegrees;
   if (machine.safeZ != 0) j["safe_z"] = machine.safeZ;
-  if (machine.kind == "robot6") {
+  if (machine.kind == MachineKind::Robot6) {
     OJson dh = OJson::array();
     for (const DhRow& r : machine.dh) dh.push_back({r.thetaOffset, r.d, r.a, r.alpha});
     j["dh"] = dh;
@@ -241,8 +129,14 @@ struct Parser {
     if (!j.is_object()) return fail("not a JSON object");
     auto kind = j.find("kind");
     if (kind == j.end() || !kind->is_string()) return fail("missing \"kind\"");
-    m.kind = kind->get<std::string>();
-    m.name = m.kind;
+    const std::string kindName = kind->get<std::string>();
+    if (!parseMachineKind(kindName, m.kind)) {
+      fail("kind \"" + kindName.substr(0, 40) +
+           "\" is not one of cartesian3, rotary4, table5, robot6: this build cannot use or replay it");
+      r.status = Status::UnsupportedFormat;
+      return;
+    }
+    m.name = kindName;
     if (auto it = j.find("name"); it != j.end()) {
       if (!it->is_string()) return fail("\"name\" must be a string");
       m.name = it->get<std::string>();
@@ -315,7 +209,7 @@ struct Parser {
 
   void parseRobot(const Json& j) {
     MachineProfile& m = r.machine;
-    const bool robot = m.kind == "robot6";
+    const bool robot = m.kind == MachineKind::Robot6;
     auto dh = j.find("dh");
     if (dh == j.end()) {
       if (robot) fail("a robot6 machine needs \"dh\" (6 rows [theta_offset, d, a, alpha])");

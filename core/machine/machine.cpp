@@ -1,0 +1,186 @@
+// SPDX-License-Identifier: MIT
+#include "machine/machine.h"
+
+#include <Eigen/LU>
+#include <algorithm>
+#include <cmath>
+
+#include "common/math_constants.h"
+
+namespace omnislice {
+
+namespace {
+
+// Defaults of the G-code kinds' axes (docs/MACHINES.md): a desktop printer's gantry and a
+// geared stepper platform.
+void gcodeDynamics(MachineProfile& m) {
+  m.axisDynamics["X"] = {200, 3000, 100000};
+  m.axisDynamics["Y"] = {200, 3000, 100000};
+  m.axisDynamics["Z"] = {20, 500, 10000};
+}
+
+// The tilting kinds put part points below the pivot height when they tilt: Z may go down to
+// -bedSize.z / 2 (docs/MACHINES.md).
+void tiltingLinearLimits(MachineProfile& m, const Eigen::Vector3d& bedSize) {
+  m.axisLimits["Z"] = {-0.5 * bedSize.z(), bedSize.z()};
+}
+}  // namespace
+
+MachineProfile cartesian3Profile(const Eigen::Vector3d& bedSize, double nozzleDiameter) {
+  MachineProfile m;
+  m.kind = MachineKind::Cartesian3;
+  m.axisLimits["X"] = {-0.5 * bedSize.x(), 0.5 * bedSize.x()};
+  m.axisLimits["Y"] = {-0.5 * bedSize.y(), 0.5 * bedSize.y()};
+  m.axisLimits["Z"] = {0.0, bedSize.z()};
+  m.nozzle.diameter = nozzleDiameter;
+  return m;
+}
+
+DhTable ur5DhTable() {
+  DhTable dh{};
+  const double d[6] = {89.159, 0, 0, 109.15, 94.65, 82.3};
+  const double a[6] = {0, -425.0, -392.25, 0, 0, 0};
+  const double alpha[6] = {kPi / 2, 0, 0, kPi / 2, -kPi / 2, 0};
+  for (int i = 0; i < 6; ++i) dh[i] = DhRow{0, d[i], a[i], alpha[i]};
+  return dh;
+}
+
+
+// UR5 placement (docs/MACHINES.md): the nozzle points straight down (axis +Z: tip -> hot end) at a
+// fixed tip 522 mm from the base axis, 300 mm above the base; the platform plate is 50 mm beyond
+// the flange along flange z, facing the nozzle when the wrist points up. Chosen by a grid search
+// over tip positions for the largest worst-case singularity measure over a 100 mm cube of tips
+// tilted up to 60 degrees (flat around 0.09-0.105 between 400 and 700 mm from the base axis); the
+// test KinematicsInverse.Robot6Ur5ReachesTheBuildVolume checks it.
+namespace {
+const double kUr5PlateOffset = 50;  // mm
+const Eigen::Vector3d kUr5NozzleTip{-500, 150, 300};  // mm, robot base frame
+
+MachineProfile ur5Profile(double nozzleDiameter) {
+  MachineProfile m;
+  m.kind = MachineKind::Robot6;
+  m.name = "robot6-ur5";
+  m.dh = ur5DhTable();
+  for (int i = 0; i < 6; ++i) {
+    m.jointLimits[i] = {-2 * kPi, 2 * kPi};
+    // Paper 003 Table 1.
+    m.jointDynamics[i] = {kPi / 6, kPi / 2, kPi};
+  }
+  m.flangeToPlatform = Eigen::Matrix4d::Identity();
+  m.flangeToPlatform(2, 3) = kUr5PlateOffset;
+  m.nozzleTip = kUr5NozzleTip;
+  m.nozzleAxis = Eigen::Vector3d::UnitZ();
+  m.nozzle.diameter = nozzleDiameter;
+  return m;
+}
+}  // namespace
+
+MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,
+                                    double nozzleDiameter) {
+  MachineProfileResult r;
+  MachineProfile& m = r.machine;
+  if (name == "cartesian3") {
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    gcodeDynamics(m);
+  } else if (name == "rotary4") {
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    m.kind = MachineKind::Rotary4;
+    m.name = "rotary4";
+    tiltingLinearLimits(m, bedSize);
+    m.pivot = {0, 0, 0};
+    m.axisLimits["A"] = {-60, 60};  // paper 000's stepper platform range
+    gcodeDynamics(m);
+    m.axisDynamics["A"] = {90, 900, 9000};
+  } else if (name == "table5") {
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    m.kind = MachineKind::Table5;
+    m.name = "table5";
+    tiltingLinearLimits(m, bedSize);
+    m.pivot = {0, 0, 0};
+    m.axisLimits["B"] = {-90, 90};
+    m.axisLimits["C"] = {-3600, 3600};
+    gcodeDynamics(m);
+    m.axisDynamics["B"] = {90, 900, 9000};
+    m.axisDynamics["C"] = {90, 900, 9000};
+  } else if (name == "robot6-ur5" || name == "robot6") {
+    m = ur5Profile(nozzleDiameter);
+  } else {
+    r.status = Status::InvalidOption;
+    r.message = "unknown machine \"" + name + "\"; built-in machines:";
+    for (const std::string& n : builtinMachineNames()) r.message += " " + n;
+    return r;
+  }
+  if (!(nozzleDiameter > 0) || !std::isfinite(nozzleDiameter) || !bedSize.allFinite() ||
+      !(bedSize.minCoeff() > 0)) {
+    r.status = Status::InvalidOption;
+    r.message = "builtinMachine: bed size and nozzle diameter must be positive";
+  }
+  return r;
+}
+
+std::vector<std::string> builtinMachineNames() {
+  return {"cartesian3", "rotary4", "table5", "robot6-ur5"};
+}
+
+const char* machineKindName(MachineKind kind) {
+  switch (kind) {
+    case MachineKind::Cartesian3: return "cartesian3";
+    case MachineKind::Rotary4: return "rotary4";
+    case MachineKind::Table5: return "table5";
+    case MachineKind::Robot6: return "robot6";
+  }
+  return "cartesian3";
+}
+
+bool parseMachineKind(const std::string& name, MachineKind& kind) {
+  for (MachineKind k : {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Robot6}) {
+    if (name == machineKindName(k)) {
+      kind = k;
+      return true;
+    }
+  }
+  return false;
+}
+
+int machineAxisCount(MachineKind kind) {
+  switch (kind) {
+    case MachineKind::Cartesian3: return 3;
+    case MachineKind::Rotary4: return 4;
+    case MachineKind::Table5: return 5;
+    case MachineKind::Robot6: return 6;
+  }
+  return 0;
+}
+
+std::vector<std::string> machineAxisNames(MachineKind kind) {
+  if (kind == MachineKind::Robot6) return {"q1", "q2", "q3", "q4", "q5", "q6"};
+  return machineAxisLetters(kind);
+}
+
+std::vector<std::string> machineAxisLetters(MachineKind kind) {
+  switch (kind) {
+    case MachineKind::Cartesian3: return {"X", "Y", "Z"};
+    case MachineKind::Rotary4: return {"X", "Y", "Z", "A"};
+    case MachineKind::Table5: return {"X", "Y", "Z", "B", "C"};
+    case MachineKind::Robot6: return {};
+  }
+  return {};
+}
+
+bool isAngularAxis(MachineKind kind, int index) {
+  const int n = machineAxisCount(kind);
+  if (kind == MachineKind::Robot6) return index >= 0 && index < 6;  // every joint
+  return index >= 3 && index < n;                                   // A; B, C
+}
+
+double machineTiltLimitDegrees(const MachineProfile& machine) {
+  if (machine.kind == MachineKind::Table5) {
+    auto it = machine.axisLimits.find("B");
+    if (it != machine.axisLimits.end()) {
+      return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
+    }
+  }
+  return 90;
+}
+
+}  // namespace omnislice
