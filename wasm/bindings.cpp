@@ -14,5 +14,6 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   emscripten::function("_machines", &machinesJs);
   emscripten::function("_replay", &replayJs);
   emscripten::function("_defaultSettings", &defaultSettingsJs);
+  emscripten::function("_settingsSchema", &settingsSchemaJs);
   emscripten::function("_abortForTest", &abortForTest);
 }

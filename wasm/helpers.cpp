@@ -99,6 +99,49 @@ val guarded(F&& body) {
   }
 }
 
+template <class T>
+void setArray(val& obj, const char* name, const char* ctor, const std::vector<T>& v) {
+  obj.set(name, copyArray(ctor, v.data(), v.size()));
+}
+
+// The preview as one flat object of typed arrays (the page's names): the tool path, then each
+// method's section under the names viewers know.
+val previewToJs(const SlicePreview& p) {
+  val out = val::object();
+  const ToolpathPreview& t = p.toolpath;
+  setArray(out, "positions", "Float32Array", t.positions);
+  setArray(out, "features", "Uint8Array", t.features);
+  setArray(out, "layers", "Uint32Array", t.layers);
+  setArray(out, "machine", "Float32Array", t.machine);
+  setArray(out, "axes", "Float32Array", t.axes);
+  setArray(out, "curves", "Uint32Array", t.curves);
+  const LayerSurfacePreview& s = p.method.surfaces;
+  setArray(out, "surfacePositions", "Float32Array", s.positions);
+  setArray(out, "surfaceTriangles", "Uint32Array", s.triangles);
+  setArray(out, "surfaceLayers", "Uint32Array", s.layers);
+  const VoxelPreview& v = p.method.voxel;
+  setArray(out, "missedVoxels", "Float32Array", v.missed);
+  setArray(out, "supportVoxels", "Float32Array", v.support);
+  out.set("voxelWidth", v.width);
+  const GeodesicPreview& g = p.method.geodesic;
+  setArray(out, "fieldPositions", "Float32Array", g.fieldPositions);
+  setArray(out, "fieldTriangles", "Uint32Array", g.fieldTriangles);
+  setArray(out, "fieldValues", "Float32Array", g.fieldValues);
+  setArray(out, "nodePositions", "Float32Array", g.nodePositions);
+  setArray(out, "nodeLayers", "Uint32Array", g.nodeLayers);
+  setArray(out, "treeEdges", "Uint32Array", g.treeEdges);
+  setArray(out, "sequence", "Uint32Array", g.sequence);
+  setArray(out, "skippedSegments", "Float32Array", g.skippedSegments);
+  setArray(out, "skippedLayers", "Uint32Array", g.skippedLayers);
+  const MultidirPreview& m = p.method.multidir;
+  setArray(out, "partPositions", "Float32Array", m.partPositions);
+  setArray(out, "partTriangles", "Uint32Array", m.partTriangles);
+  setArray(out, "partIds", "Uint32Array", m.partIds);
+  setArray(out, "riskyBefore", "Uint8Array", m.riskyBefore);
+  setArray(out, "riskyAfter", "Uint8Array", m.riskyAfter);
+  return out;
+}
+
 }  // namespace
 
 val sliceJs(const val& bytes, const std::string& name, const std::string& settingsLines,
@@ -115,56 +158,7 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
     out.set("report", r.reportJson);
     out.set("info", r.infoJson);
     out.set("layers", r.layers);
-    val preview = val::object();
-    preview.set("positions", copyArray("Float32Array", r.preview.positions.data(),
-                                       r.preview.positions.size()));
-    preview.set("features", copyArray("Uint8Array", r.preview.features.data(),
-                                      r.preview.features.size()));
-    preview.set("layers", copyArray("Uint32Array", r.preview.layers.data(),
-                                    r.preview.layers.size()));
-    preview.set("machine", copyArray("Float32Array", r.preview.machine.data(),
-                                     r.preview.machine.size()));
-    preview.set("axes", copyArray("Float32Array", r.preview.axes.data(), r.preview.axes.size()));
-    preview.set("surfacePositions", copyArray("Float32Array", r.preview.surfacePositions.data(),
-                                              r.preview.surfacePositions.size()));
-    preview.set("surfaceTriangles", copyArray("Uint32Array", r.preview.surfaceTriangles.data(),
-                                              r.preview.surfaceTriangles.size()));
-    preview.set("surfaceLayers", copyArray("Uint32Array", r.preview.surfaceLayers.data(),
-                                           r.preview.surfaceLayers.size()));
-    preview.set("missedVoxels", copyArray("Float32Array", r.preview.missedVoxels.data(),
-                                          r.preview.missedVoxels.size()));
-    preview.set("supportVoxels", copyArray("Float32Array", r.preview.supportVoxels.data(),
-                                           r.preview.supportVoxels.size()));
-    preview.set("voxelWidth", r.preview.voxelWidth);
-    preview.set("curves", copyArray("Uint32Array", r.preview.curves.data(), r.preview.curves.size()));
-    preview.set("fieldPositions", copyArray("Float32Array", r.preview.fieldPositions.data(),
-                                            r.preview.fieldPositions.size()));
-    preview.set("fieldTriangles", copyArray("Uint32Array", r.preview.fieldTriangles.data(),
-                                            r.preview.fieldTriangles.size()));
-    preview.set("fieldValues", copyArray("Float32Array", r.preview.fieldValues.data(),
-                                         r.preview.fieldValues.size()));
-    preview.set("nodePositions", copyArray("Float32Array", r.preview.nodePositions.data(),
-                                           r.preview.nodePositions.size()));
-    preview.set("nodeLayers", copyArray("Uint32Array", r.preview.nodeLayers.data(),
-                                        r.preview.nodeLayers.size()));
-    preview.set("treeEdges", copyArray("Uint32Array", r.preview.treeEdges.data(),
-                                       r.preview.treeEdges.size()));
-    preview.set("sequence", copyArray("Uint32Array", r.preview.sequence.data(),
-                                      r.preview.sequence.size()));
-    preview.set("skippedSegments", copyArray("Float32Array", r.preview.skippedSegments.data(),
-                                             r.preview.skippedSegments.size()));
-    preview.set("skippedLayers", copyArray("Uint32Array", r.preview.skippedLayers.data(),
-                                           r.preview.skippedLayers.size()));
-    preview.set("partPositions", copyArray("Float32Array", r.preview.partPositions.data(),
-                                           r.preview.partPositions.size()));
-    preview.set("partTriangles", copyArray("Uint32Array", r.preview.partTriangles.data(),
-                                           r.preview.partTriangles.size()));
-    preview.set("partIds", copyArray("Uint32Array", r.preview.partIds.data(), r.preview.partIds.size()));
-    preview.set("riskyBefore", copyArray("Uint8Array", r.preview.riskyBefore.data(),
-                                         r.preview.riskyBefore.size()));
-    preview.set("riskyAfter", copyArray("Uint8Array", r.preview.riskyAfter.data(),
-                                        r.preview.riskyAfter.size()));
-    out.set("preview", preview);
+    out.set("preview", previewToJs(r.preview));
     out.set("programExtension", r.programExtension);
     out.set("mesh", meshToJs(r.partMesh));
     return out;
@@ -267,6 +261,8 @@ val machinesJs(const std::string& settingsLines) {
     return out;
   });
 }
+
+std::string settingsSchemaJs() { return settingsSchemaJson(); }
 
 val defaultSettingsJs() {
   val out = val::object();

@@ -49,6 +49,10 @@ emscripten::val machinesJs(const std::string& settingsLines);
 // Default settings: {values: {key: valueText}, keys: [key...] in listSettings() order}.
 emscripten::val defaultSettingsJs();
 
+// The settings table (settingsSchemaJson): JSON text of [{key, type, default, min, max, unit,
+// help, choices, method}, ...] in listing order.
+std::string settingsSchemaJs();
+
 // Test hook for the worker's crash path: aborts the wasm instance (std::abort).
 void abortForTest();
 

@@ -129,5 +129,24 @@ export class Omnislice {
   machines(settings?: Settings): { name: string; profile: MachineProfileJson; json: string }[];
   /** Check a machine profile JSON with the core's parser; throws OmnisliceError 'parse_error'. */
   parseMachine(text: string): { profile: MachineProfileJson; json: string };
+  /** The settings table in listing order: every key with its type, default, range, unit, help. */
+  settingsSchema(): SettingSpec[];
   defaultSettings(): { values: Record<string, string>; keys: string[] };
+}
+
+/** One setting of the core's table (core/pipeline/settings.h SettingSpec). */
+export interface SettingSpec {
+  key: string;
+  type: 'number' | 'integer' | 'boolean' | 'choice' | 'vector' | 'text';
+  /** The default as text, as program headers write it. */
+  default: string;
+  /** number, integer: the inclusive range. */
+  min?: number;
+  max?: number;
+  unit: string;
+  help: string;
+  /** choice, boolean: the accepted values. */
+  choices?: string[];
+  /** Listed (program header, report) only with this method. */
+  method?: string;
 }

@@ -232,6 +232,16 @@ export class Omnislice {
     return list;
   }
 
+  /**
+   * The settings table (core/pipeline/settings_table.cpp), in listing order: [{key, type
+   * ('number' | 'integer' | 'boolean' | 'choice' | 'vector' | 'text'), default (text), min, max
+   * (number, integer), unit, help, choices (choice, boolean), method (listed only with it)}].
+   */
+  settingsSchema() {
+    const out = this.#call(() => ({ status: 'ok', schema: this.raw._settingsSchema() }));
+    return parseJson(out.schema, 'settings schema');
+  }
+
   /** Default settings: {values: {key: text}, keys: [...]} in the core's stable order. */
   defaultSettings() {
     const { values, keys } = this.#call(() => ({ status: 'ok', ...this.raw._defaultSettings() }));

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Types of the engine facade workers/engine.js.
-import type { MachineProfileJson, MeshBuffers, PreviewBuffers, Progress, Settings } from '../wasm/omnislice';
+import type { MachineProfileJson, MeshBuffers, PreviewBuffers, Progress, SettingSpec, Settings } from '../wasm/omnislice';
 import { OmnisliceError } from '../wasm/omnislice';
 
 export { OmnisliceError };
@@ -34,6 +34,8 @@ export interface Slicer {
     Promise<{ profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number; preview: PreviewBuffers }>;
   /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
   machines(settings?: Settings): Promise<{ name: string; profile: MachineProfileJson; json: string }[]>;
+  /** The core's settings table in listing order (defaults, ranges, units, help, choices). */
+  settingsSchema(): Promise<SettingSpec[]>;
   /** Check a machine profile JSON with the core's parser; rejects with code 'parse_error'. */
   parseMachine(text: string): Promise<{ profile: MachineProfileJson; json: string }>;
   /** Forget a mesh (its kept bytes here and its copy in the worker). */

@@ -251,6 +251,15 @@ class Slicer {
   }
 
   /**
+   * The core's settings table in listing order: [{key, type, default, min, max, unit, help,
+   * choices, method}] (wasm/omnislice.js settingsSchema): defaults and ranges come from here.
+   */
+  async settingsSchema() {
+    const r = await this.#send(Request.SETTINGS, {});
+    return r.schema;
+  }
+
+  /**
    * The built-in machine profiles in display order: [{name, profile, json}], sized by the
    * settings' bed_size and nozzle (defaults when not given).
    */

@@ -42,7 +42,7 @@ export const Request = Object.freeze({
    *  missedVoxels, supportVoxels, voxelWidth, curves, fieldPositions, fieldTriangles,
    *  fieldValues, nodePositions, nodeLayers, treeEdges, sequence, skippedSegments,
    *  skippedLayers, partPositions, partTriangles, partIds, riskyBefore, riskyAfter}
-   *  (core/pipeline/pipeline.h PreviewBuffers; the curved-layer, voxel, geodesic and multidir
+   *  (core/pipeline/preview.h SlicePreview, flattened; the curved-layer, voxel, geodesic and multidir
    *  buffers are empty for other methods; curves: #S 1-based NL curve index per segment, 0 =
    *  none, empty unless the iso-planar fill ran; field*: the boundary surface with the geodesic
    *  distance per vertex; node* and treeEdges: the skeleton tree; sequence: node indices in print
@@ -62,6 +62,9 @@ export const Request = Object.freeze({
   /** payload {settings?: object}: the built-in machine profiles. Reply: `result` {machines:
    *  [{name, profile: object, json: string}...]} in display order. */
   MACHINES: 'machines',
+  /** payload {}: the core's settings table. Reply: `result` {schema: [{key, type, default, min,
+   *  max, unit, help, choices, method}...]} in listing order (wasm/omnislice.js settingsSchema). */
+  SETTINGS: 'settings',
   /** payload {json: string}: check a machine profile JSON with the core's parser. Reply: `result`
    *  {profile: object, json: string (one line, for the machine_json setting)}, or `error`
    *  {code: 'parse_error', message}. */

@@ -146,6 +146,11 @@ const handlers = {
     post({ id, type: Reply.RESULT, result: { machines: e.machines(payload.settings || {}) } });
   },
 
+  async [Request.SETTINGS](id) {
+    const e = await engine();
+    post({ id, type: Reply.RESULT, result: { schema: e.settingsSchema() } });
+  },
+
   async [Request.PARSE_MACHINE](id, payload) {
     const e = await engine();
     const { profile, json } = e.parseMachine(String(payload.json ?? ''));

@@ -42,6 +42,8 @@ const char* kUsage =
     "                 [--set KEY=VALUE ...] [--report REPORT.json] [--progress]\n"
     "  omnislice verify PROGRAM --mesh MESH [-o REPORT.json]\n"
     "  omnislice settings            (every setting with its default, as JSON)\n"
+    "  omnislice settings --help     (every setting: type, default, range or values, unit, help)\n"
+    "  omnislice settings --schema   (the same as JSON, as the page reads it)\n"
     "  omnislice machines            (the built-in machine profiles, as JSON)\n"
     "  omnislice --version | --help\n"
     "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF; TET (tetrahedral mesh, `N vertices`, `M tets`,\n"
@@ -278,8 +280,36 @@ int cmdMachines() {
   return 0;
 }
 
-int cmdSettings() {
-  Settings s;
+int cmdSettings(int argc, char** argv) {
+  const Args a = parseArgs(argc, argv, 2, {}, {"--help", "-h", "--schema"});
+  if (!a.positional.empty()) fail(Status::InvalidOption, "settings takes no argument");
+  const auto has = [&a](const char* f) { return std::find(a.flags.begin(), a.flags.end(), f) != a.flags.end(); };
+  if (has("--schema")) {
+    std::cout << settingsSchemaJson() << "\n";
+    return 0;
+  }
+  const Settings s;
+  if (has("--help") || has("-h")) {
+    // One line per setting from the table: key, type, default, range or values, unit; help below.
+    for (const SettingSpec& spec : settingSpecs()) {
+      std::string what;
+      if (spec.type == SettingType::Number || spec.type == SettingType::Integer) {
+        what = "[" + formatSettingNumber(spec.min) + ", " + formatSettingNumber(spec.max) + "]";
+      } else if (!spec.choices.empty()) {
+        for (const std::string& c : spec.choices) what += (what.empty() ? "" : " | ") + c;
+      } else {
+        what = spec.type == SettingType::Vector ? "x,y,z" : "text";
+      }
+      if (!spec.unit.empty()) what += " " + spec.unit;
+      std::string line = "  " + spec.key + " = " + spec.format(s);
+      if (line.size() < 44) line.resize(44, ' ');
+      std::cout << line << " " << what;
+      if (spec.onlyFor) std::cout << " (method " << methodName(*spec.onlyFor) << ")";
+      std::cout << "\n";
+      if (!spec.help.empty()) std::cout << "      " << spec.help << "\n";
+    }
+    return 0;
+  }
   std::cout << "{";
   bool first = true;
   for (const auto& [k, v] : listSettings(s)) {
@@ -311,7 +341,7 @@ int main(int argc, char** argv) {
     if (cmd == "info") return cmdInfo(argc, argv);
     if (cmd == "slice") return cmdSlice(argc, argv);
     if (cmd == "verify") return cmdVerify(argc, argv);
-    if (cmd == "settings") return cmdSettings();
+    if (cmd == "settings") return cmdSettings(argc, argv);
     if (cmd == "machines") return cmdMachines();
     fail(Status::InvalidOption, "unknown command '" + cmd + "' (try --help)");
   } catch (const CliError& e) {

@@ -1,11 +1,12 @@
 // SPDX-License-Identifier: MIT
 // placeMesh: scale, up-axis change, rotations and the drop onto the platform.
+#include "mesh/place_mesh.h"
+
 #include <Eigen/Geometry>
 #include <cmath>
 #include <string>
 
 #include "common/math_constants.h"
-#include "mesh/prepare_mesh.h"
 
 namespace omnislice {
 namespace {
@@ -46,8 +47,8 @@ Eigen::Matrix3d snapRotation(Eigen::Matrix3d r) {
 
 }  // namespace
 
-PlaceMeshResult placeMesh(const Mesh& mesh, const PlacementSettings& placement) {
-  const PlacementSettings& p = placement;
+PlaceMeshResult placeMesh(const Mesh& mesh, const PlaceOptions& placement) {
+  const PlaceOptions& p = placement;
   if (!std::isfinite(p.scale) || !(p.scale > 0)) {
     return invalid(Status::InvalidOption, "placement scale must be a finite value > 0");
   }

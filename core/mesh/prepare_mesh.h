@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// Validation and safe repair of a raw mesh, and its placement on the platform.
+// Validation and safe repair of a raw mesh (its placement on the platform: mesh/place_mesh.h).
 #pragma once
 #include <Eigen/Core>
 #include <string>
@@ -8,7 +8,6 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "mesh/mesh.h"
-#include "pipeline/settings.h"
 
 namespace omnislice {
 
@@ -74,20 +73,4 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options,
 // non_manifold_edges, non_manifold_vertices, self_intersections, self_intersections_capped,
 // non_finite_vertices, repairs, errors, warnings). Non-finite numbers are written as null.
 std::string meshInfoJson(const MeshInfo& info);
-
-struct PlaceMeshResult : Outcome {
-  Mesh mesh;                  // in the part frame: lowest point at z = 0, centred in XY if asked
-  Eigen::Matrix4d transform;  // input-file coordinates -> part frame (homogeneous, row-major use)
-};
-
-// Apply PlacementSettings: scale (or fit largest side to fitMm), up-axis change, rotations X,Y,Z,
-// then translate so min z = 0 and (if center) bbox centre at x = y = 0. InvalidOption for
-// scale <= 0, fitMm < 0, non-finite values or a result that overflows; EmptyInput without
-// vertices; NonFiniteVertex; DegenerateInput when fitting a zero-size mesh. Orientation
-// (outwardness) is preserved (a mirror never happens). Up axis: PosY turns input +Y into +Z by
-// +90 degrees about X, NegY by -90 about X, PosX by -90 about Y, NegX by +90 about Y, NegZ by 180
-// about X. Rotations are about the fixed part axes, X first. The output vertices equal
-// transform * (input, 1) up to rounding (~1e-16 relative); min z is exactly 0.
-PlaceMeshResult placeMesh(const Mesh& mesh, const PlacementSettings& placement);
-
 }  // namespace omnislice

@@ -1,27 +1,51 @@
 // SPDX-License-Identifier: MIT
-// What the curved-layer methods (voxel, surface, geodesic) share between their layers and the
-// pipeline's result: the tool-path options taken from the settings and the machine, the printed
-// layer count and the preview's layer surfaces. Internal to core/pipeline.
+// What the curved-layer methods (voxel, geodesic, surface) share (internal to core/pipeline): the
+// fill of every layer region, the tool-path options taken from the settings and the machine, the
+// printed layer count and the preview's layer surfaces.
 #pragma once
+#include <optional>
 #include <vector>
 
-#include "pipeline/pipeline.h"
-#include "pipeline/settings.h"
+#include "common/progress.h"
 #include "machine/machine.h"
+#include "pipeline/preview.h"
+#include "pipeline/report.h"
+#include "pipeline/settings.h"
 #include "surface/curved_toolpath.h"
+#include "surface/fermat_spiral.h"
 
 namespace omnislice::stage {
 
+// Every region of every layer filled (paths[l][r] in the layers' shape): Fermat spirals at the
+// line width (paper 001 Section 5.1, paper 002 Section 3.2; a region too narrow for one gets no
+// path and counts as unfilled), or with fill = isoplanar the iso-planar paths of paper 003 (one
+// theta* per region, beads of the nozzle width and isoLayerHeight). Progress: `stage` at
+// progressScale (l + 1) / layers after each layer.
+struct CurvedFill : Outcome {
+  std::vector<std::vector<std::vector<SurfacePath>>> paths;
+  size_t regions = 0, pathCount = 0, unfilled = 0;
+  std::optional<IsoplanarReport> isoplanar;  // fill = isoplanar: the regions' totals
+};
+CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settings& settings,
+                            const MachineProfile& machine, double isoLayerHeight, const char* stage,
+                            double progressScale, const ProgressFn& progress);
+
 // Speeds, retraction and filament from the settings; the nozzle cone from the machine; the tilt
 // limit maxTiltDegrees; bead height nominalHeight, also the gouging check's clearance (the
-// program header's layer_height, verify's h).
+// program header's layer_height, verify's h); with fill = isoplanar, elliptic beads of the nozzle
+// width, else the line width.
 CurvedToolpathOptions curvedToolpathOptions(const Settings& settings, const MachineProfile& machine,
                                             double nominalHeight, double maxTiltDegrees);
+
+// The voxel and surface methods print the points the gouging search could not clear (the
+// geodesic method leaves them out): the warning a user sees ("nozzle_collision", how many), or
+// none when every point was cleared. verify counts them as collisions.
+std::optional<Warning> nozzleCollisionWarning(size_t uncorrectedPoints);
 
 // Layers with at least one path.
 int printedLayerCount(const std::vector<std::vector<std::vector<SurfacePath>>>& paths);
 
-// Every region's surface into preview.surfacePositions / surfaceTriangles / surfaceLayers.
-void appendLayerSurfaces(const std::vector<CurvedLayer>& layers, PreviewBuffers& preview);
+// Every region's surface into the preview's layer surfaces.
+void appendLayerSurfaces(const std::vector<CurvedLayer>& layers, LayerSurfacePreview& preview);
 
 }  // namespace omnislice::stage

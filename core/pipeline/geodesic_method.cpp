@@ -1,43 +1,47 @@
 // SPDX-License-Identifier: MIT
-#include "common/stopwatch.h"
-#include "pipeline/geodesic_method.h"
-
+// The geodesic method of paper 002: placed solid (or a given tet mesh) -> tet mesh
+// (core/tet/tet_mesher) -> heat-method geodesic distance from the platform
+// (core/geodesic/heat_geodesic) -> iso-geodesic distance surfaces with metrics
+// (core/geodesic/igds) -> skeleton tree, potential collision surfaces and the LPT / DPT / A3
+// sequences (core/geodesic/print_order) -> filling paths on every IGDS (Section 3.2: Fermat
+// spirals of iso-contours of the boundary distance; or iso-planar paths with fill = isoplanar,
+// curved_stage) -> part-frame Toolpath in the chosen sequence, nozzle axis along the IGDS normal,
+// extrusion from the local layer thickness (Eq. 12).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <nlohmann/json.hpp>
 
+#include "common/stopwatch.h"
 #include "geodesic/heat_geodesic.h"
 #include "geodesic/igds.h"
 #include "geodesic/print_order.h"
 #include "pipeline/curved_stage.h"
-#include "pipeline/isoplanar_fill.h"
-#include "pipeline/stage_support.h"
+#include "pipeline/method.h"
+#include "pipeline/settings.h"
 #include "surface/curved_toolpath.h"
-#include "surface/fermat_spiral.h"
 #include "tet/tet_mesher.h"
 
 namespace omnislice {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
-using stage::finite;
-
 template <typename... Args>
-GeodesicMethodOutput failure(Args&&... args) {
-  return failed<GeodesicMethodOutput>(std::forward<Args>(args)...);
+MethodResult failure(Args&&... args) {
+  return failed<MethodResult>(std::forward<Args>(args)...);
 }
 
-Json sequenceJson(const PrintSequence& s) {
-  return {{"retractions", s.retractions},
-          {"air_move_mm", finite(s.airMoveMm)},
-          {"collision_free", s.collisionFree},
-          {"colliding_nodes", s.collidingNodes},
-          {"colliding_lower_bound", s.collidingLowerBound},
-          {"criterion2_relaxed", s.criterion2Relaxed},
-          {"unavoidable_nodes", s.unavoidableNodes},
-          {"ms", s.ms}};
+GeodesicReport::Sequence sequenceReport(const PrintSequence& s) {
+  GeodesicReport::Sequence r;
+  r.name = traversalName(s.kind);
+  r.retractions = s.retractions;
+  r.airMoveMm = s.airMoveMm;
+  r.collisionFree = s.collisionFree;
+  r.collidingNodes = s.collidingNodes;
+  r.collidingLowerBound = s.collidingLowerBound;
+  r.criterion2Relaxed = s.criterion2Relaxed;
+  r.unavoidableNodes = s.unavoidableNodes;
+  r.ms = s.ms;
+  return r;
 }
 
 // The warning for tool path left out where no nozzle axis clears the part (skipUncorrectable):
@@ -72,40 +76,38 @@ Warning skippedPathWarning(const CurvedToolpathResult& tp, const Toolpath& print
 
 }  // namespace
 
-GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, const Settings& settings,
-                                       const MachineProfile& machine, const ProgressFn& progress) {
-  GeodesicMethodOutput out;
+MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& context) {
+  const Settings& settings = context.settings;
+  const MachineProfile& machine = context.machine;
+  const ProgressFn& progress = context.progress;
+  MethodResult out;
+  GeodesicReport report;
   const GeodesicSettings& gs = settings.geodesic;
   const double interval = gs.intervalMm > 0 ? gs.intervalMm : settings.layerHeight;
-  Json timings = Json::object();
+  Timings& timings = report.timingsMs;
 
   // 1. The tet mesh: the input's own (.tet) or generated from the solid.
   Clock::time_point t0 = Clock::now();
   TetMesh tets;
-  Json mesher = nullptr;
-  if (given != nullptr) {
-    TetMeshResult checked = validateTetMesh(*given);
+  if (placed.tets) {
+    TetMeshResult checked = validateTetMesh(*placed.tets);
     if (!checked.ok()) return failure(checked);
     tets = std::move(checked.mesh);
   } else {
     TetMesherOptions mopt;
     mopt.cellSize = gs.tetSizeMm;
     mopt.targetTets = static_cast<size_t>(gs.targetTets);
-    TetMesherResult meshed = tetrahedralize(part, mopt, progress);
+    TetMesherResult meshed = tetrahedralize(placed.mesh, mopt, progress);
     if (!meshed.ok()) return failure(meshed);
-    mesher = {{"cell_size_mm", meshed.cellSize},
-              {"boundary_vertices", meshed.boundaryVertices},
-              {"max_boundary_distance_mm", finite(meshed.maxBoundaryDistance)},
-              {"unsnapped", meshed.unsnapped},
-              {"volume_ratio", finite(meshed.volumeRatio)},
-              {"classify_ms", meshed.classifyMs},
-              {"stuff_ms", meshed.stuffMs},
-              {"snap_ms", meshed.snapMs}};
+    report.mesher = GeodesicReport::Mesher{meshed.cellSize,          meshed.boundaryVertices,
+                                           meshed.maxBoundaryDistance, meshed.unsnapped,
+                                           meshed.volumeRatio,       meshed.classifyMs,
+                                           meshed.stuffMs,           meshed.snapMs};
     tets = std::move(meshed.mesh);
   }
   const TetQuality quality = tetQuality(tets);
   out.timingsMs.emplace_back("tetmesh", msSince(t0));
-  timings["tetmesh"] = out.timingsMs.back().second;
+  timings.emplace_back("tetmesh", out.timingsMs.back().second);
 
   // 2. Geodesic distance from the platform (Section 2.1).
   t0 = Clock::now();
@@ -129,7 +131,9 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   GeodesicField field = heat.distanceFrom(sources, heightsAboveLowest(tets, sources), progress);
   if (!field.ok()) return failure(field);
   out.timingsMs.emplace_back("field", msSince(t0));
-  timings["field"] = out.timingsMs.back().second;
+  timings.emplace_back("field", out.timingsMs.back().second);
+  timings.emplace_back("field_setup", field.setupMs);
+  timings.emplace_back("field_solve", field.heatMs + field.gradientMs + field.poissonMs);
 
   // 3. IGDS (Section 2.2) and their metrics (Eq. 11, Fig. 10).
   t0 = Clock::now();
@@ -144,10 +148,13 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   IgdsResult igds = extractIgds(tets, field.distance, iopt, progress);
   if (!igds.ok()) return failure(igds);
   out.timingsMs.emplace_back("igds", msSince(t0));
-  timings["igds"] = out.timingsMs.back().second;
+  timings.emplace_back("igds", out.timingsMs.back().second);
+  timings.emplace_back("interpolation", igds.interpolationMs);
+  timings.emplace_back("remesh", igds.remeshMs);
+  timings.emplace_back("smooth", igds.smoothMs);
   t0 = Clock::now();
   const IgdsMetrics metrics = igdsMetrics(igds.layers, interval);
-  timings["metrics"] = msSince(t0);
+  timings.emplace_back("metrics", msSince(t0));
 
   // 4. Skeleton tree, potential collision surfaces, the three traversals (Section 3.1).
   t0 = Clock::now();
@@ -161,72 +168,27 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   copt.clearance = interval;
   CollisionModel collisions = potentialCollisionSurfaces(igds.layers, tree, copt, progress);
   if (!collisions.ok()) return failure(collisions);
-  TraversalKind chosenKind = TraversalKind::A3;
-  if (!parseTraversal(gs.sequence, chosenKind)) {
-    return failure(Status::InvalidOption, "unknown geodesic.sequence '" + gs.sequence + "'");
-  }
   PrintSequence sequences[3];
   const TraversalKind kinds[3] = {TraversalKind::LPT, TraversalKind::DPT, TraversalKind::A3};
-  Json traversals = Json::object();
   const PrintSequence* chosen = nullptr;
   for (int k = 0; k < 3; ++k) {
     sequences[k] = printSequence(tree, collisions, kinds[k]);
     if (!sequences[k].ok()) return failure(sequences[k]);
-    traversals[traversalName(kinds[k])] = sequenceJson(sequences[k]);
-    if (kinds[k] == chosenKind) chosen = &sequences[k];
+    report.traversals.push_back(sequenceReport(sequences[k]));
+    if (kinds[k] == gs.sequence) chosen = &sequences[k];
   }
   out.timingsMs.emplace_back("order", msSince(t0));
-  timings["tree"] = tree.ms;
-  timings["collision"] = collisions.ms;
-  timings["order"] = out.timingsMs.back().second;
+  timings.emplace_back("tree", tree.ms);
+  timings.emplace_back("collision", collisions.ms);
+  timings.emplace_back("order", out.timingsMs.back().second);
 
   // 5. Filling paths on every IGDS (Section 3.2).
   t0 = Clock::now();
-  const double lineWidth = settings.effectiveLineWidth();
-  const bool isoplanar = settings.fill == "isoplanar";
-  SpiralOptions sopt;
-  sopt.spacing = lineWidth;
-  IsoplanarFillOptions iso;
-  iso.beadWidth = settings.nozzleDiameter;
-  iso.layerHeight = interval;
-  iso.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.printSpeed;
-  iso.travelSpeed = settings.travelSpeed;
-  std::vector<std::vector<std::vector<SurfacePath>>> paths(igds.layers.size());
-  size_t pathCount = 0, unfilled = 0;
-  IsoplanarTotals isoTotals;
-  for (size_t l = 0; l < igds.layers.size(); ++l) {
-    const CurvedLayer& layer = igds.layers[l];
-    paths[l].resize(layer.regions.size());
-    for (size_t r = 0; r < layer.regions.size(); ++r) {
-      const LayerRegion& region = layer.regions[r];
-      if (isoplanar) {
-        IsoplanarFillResult fill = planIsoplanarFill(region.mesh, machine, settings.isoplanar, iso);
-        if (fill.status == Status::Cancelled) return failure(fill);
-        if (!fill.ok() || fill.paths.empty()) {
-          ++unfilled;
-          continue;
-        }
-        iso.firstCurve += fill.curves;
-        isoTotals.add(uint32_t(l), uint32_t(r), region.area, fill);
-        pathCount += fill.paths.size();
-        paths[l][r] = std::move(fill.paths);
-        continue;
-      }
-      SpiralResult spiral = fermatSpiralPaths(region.mesh, sopt);
-      if (!spiral.ok() || spiral.paths.empty()) {
-        ++unfilled;
-        continue;
-      }
-      pathCount += spiral.paths.size();
-      paths[l][r] = std::move(spiral.paths);
-    }
-    if (!reportProgress(progress, "paths", double(l + 1) / double(igds.layers.size()))) {
-      return failure(Status::Cancelled, "cancelled");
-    }
-  }
-  if (isoplanar) out.isoplanarJson = isoTotals.json();
+  stage::CurvedFill filled = stage::fillCurvedLayers(igds.layers, settings, machine, interval, "paths", 1, progress);
+  if (!filled.ok()) return failure(filled);
+  out.report.isoplanar = std::move(filled.isoplanar);
   out.timingsMs.emplace_back("paths", msSince(t0));
-  timings["paths"] = out.timingsMs.back().second;
+  timings.emplace_back("paths", out.timingsMs.back().second);
 
   // 6. The tool-path in the chosen sequence: nozzle along the IGDS normal, bead height from the
   // local distance to the layer below (Eq. 12's variable extrusion).
@@ -236,22 +198,23 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   for (uint32_t node : chosen->order) order.emplace_back(tree.nodes[node].layer, tree.nodes[node].region);
   CurvedToolpathOptions topt =
       stage::curvedToolpathOptions(settings, machine, interval, machineTiltLimitDegrees(machine));
-  topt.lineWidth = isoplanar ? settings.nozzleDiameter : lineWidth;
-  topt.ellipseBeads = isoplanar;
   topt.axisFromNormals = true;
   topt.skipUncorrectable = true;
-  CurvedToolpathResult tp = buildCurvedToolpath(igds.layers, paths, order, topt, progress);
+  CurvedToolpathResult tp = buildCurvedToolpath(igds.layers, filled.paths, order, topt, progress);
   if (!tp.ok()) return failure(tp);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
-  timings["toolpath"] = out.timingsMs.back().second;
+  timings.emplace_back("toolpath", out.timingsMs.back().second);
+  timings.emplace_back("toolpath_orientation", tp.orientationMs);
+  timings.emplace_back("toolpath_gouging", tp.gougingMs);
   out.toolpath = std::move(tp.toolpath);
   if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
   out.layerHeight = interval;
-  out.layers = stage::printedLayerCount(paths);
+  const int printedLayers = stage::printedLayerCount(filled.paths);
+  out.slicedLayers = static_cast<size_t>(printedLayers);
 
   // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
-  PreviewBuffers& p = out.preview;
-  stage::appendLayerSurfaces(igds.layers, p);
+  stage::appendLayerSurfaces(igds.layers, out.preview.surfaces);
+  GeodesicPreview& p = out.preview.geodesic;
   for (const Eigen::Vector3d& e : tp.skippedEnds) {
     for (int a = 0; a < 3; ++a) p.skippedSegments.push_back(static_cast<float>(e[a]));
   }
@@ -283,103 +246,59 @@ GeodesicMethodOutput runGeodesicMethod(const Mesh& part, const TetMesh* given, c
   }
   p.sequence = chosen->order;
 
-  Json skippedLayers = nullptr;  // [first, last]
+  // The report.
   if (!tp.skippedLayers.empty()) {
     const auto [lo, hi] = std::minmax_element(tp.skippedLayers.begin(), tp.skippedLayers.end());
-    skippedLayers = Json::array({*lo, *hi});
+    report.skippedLayers = std::make_pair(*lo, *hi);
   }
-  Json overhangAvg = Json::array(), overhangRatio = Json::array(), overhangMax = Json::array(),
-       thicknessMean = Json::array(), thicknessMaxDev = Json::array(), thicknessMeanDev = Json::array(),
-       isoValues = Json::array();
   double stepMin = 0, previousIso = 0;
+  GeodesicReport::Thickness& thickness = report.thickness;
   for (const IgdsLayerMetrics& m : metrics.layers) {
     const double step = m.isoValue - previousIso;
     stepMin = previousIso == 0 ? step : std::min(stepMin, step);
     previousIso = m.isoValue;
-    isoValues.push_back(m.isoValue);
-    overhangAvg.push_back(finite(m.overhangAverageDegrees));
-    overhangRatio.push_back(finite(m.overhangRatio));
-    overhangMax.push_back(finite(m.overhangMaxDegrees));
-    thicknessMean.push_back(finite(m.thicknessMeanMm));
-    thicknessMaxDev.push_back(finite(m.thicknessMaxDeviationPercent));
-    thicknessMeanDev.push_back(finite(m.thicknessMeanDeviationPercent));
+    report.isoValuesMm.push_back(m.isoValue);
+    report.overhangAvgDeg.push_back(m.overhangAverageDegrees);
+    report.overhangRatio.push_back(m.overhangRatio);
+    report.overhangMaxDeg.push_back(m.overhangMaxDegrees);
+    thickness.meanMm.push_back(m.thicknessMeanMm);
+    thickness.maxDeviationPercent.push_back(m.thicknessMaxDeviationPercent);
+    thickness.meanDeviationPercent.push_back(m.thicknessMeanDeviationPercent);
   }
-  Json report = {
-      {"tets", tets.tetCount()},
-      {"vertices", tets.vertexCount()},
-      {"tet_source", given != nullptr ? "input" : "mesher"},
-      {"mesher", mesher},
-      {"tet_quality",
-       {{"volume_mm3", finite(quality.volume)},
-        {"mean_edge_mm", finite(quality.meanEdge)},
-        {"min_dihedral_deg", finite(quality.minDihedralDegrees)},
-        {"max_dihedral_deg", finite(quality.maxDihedralDegrees)},
-        {"min_radius_ratio", finite(quality.minRadiusRatio)}}},
-      {"sources", sources.size()},
-      {"base_band_mm", baseBand},
-      {"max_thickness_ratio", gs.maxThicknessRatio},
-      {"max_geodesic_mm", finite(field.maxDistance)},
-      {"interval_mm", interval},
-      {"step_min_mm", finite(stepMin)},  // the shortest step between iso-values
-      {"layers", igds.layers.size()},
-      {"printed_layers", out.layers},
-      {"igds", tree.nodes.size()},
-      {"iso_values_mm", isoValues},
-      {"triangles", igds.triangleCount},
-      {"interpolated_triangles", igds.interpolatedTriangles},
-      {"overhang_avg_deg", overhangAvg},
-      {"overhang_ratio", overhangRatio},
-      {"overhang_max_deg", overhangMax},
-      {"overhang_avg_all_deg", finite(metrics.overhangAverageDegrees)},
-      {"overhang_max_layer_deg", finite(metrics.overhangMaxLayerDegrees)},
-      {"thickness",
-       {{"mean_mm", thicknessMean},
-        {"max_deviation_percent", thicknessMaxDev},
-        {"mean_deviation_percent", thicknessMeanDev},
-        {"max_deviation_all_percent", finite(metrics.thicknessMaxDeviationPercent)}}},
-      {"tree",
-       {{"nodes", tree.nodes.size()},
-        {"edges", tree.edges},
-        {"is_tree", tree.isTree},
-        {"branch_points", branchPoints},
-        {"merges", merges},
-        {"fallback_links", tree.fallbackLinks},
-        {"max_nodes_per_layer", nodesPerLayer.empty() ? 0u : *std::max_element(nodesPerLayer.begin(), nodesPerLayer.end())}}},
-      {"nozzle_angle_deg", copt.angleDegrees},
-      {"pcs_pairs_tested", collisions.pairsTested},
-      {"sequence", traversalName(chosenKind)},
-      {"retractions", chosen->retractions},
-      {"air_move_mm", finite(chosen->airMoveMm)},
-      {"collision_free", chosen->collisionFree},
-      {"traversals", traversals},
-      {"paths", pathCount},
-      {"unfilled_regions", unfilled},
-      {"orientation_fallbacks", tp.orientationFallbacks},
-      {"tilt_clamped", tp.tiltClamped},
-      {"max_tilt_deg", topt.maxTiltDegrees},
-      {"gouging_corrections", tp.gougingCorrections},
-      {"gouging_uncorrected", tp.gougingUncorrected},
-      {"skipped_segments", tp.skippedPoints},
-      {"skipped_mm", finite(tp.skippedMm)},
-      {"skipped_layers", skippedLayers},
-      {"timings_ms",
-       {{"tetmesh", timings["tetmesh"]},
-        {"field", timings["field"]},
-        {"field_setup", field.setupMs},
-        {"field_solve", field.heatMs + field.gradientMs + field.poissonMs},
-        {"igds", timings["igds"]},
-        {"interpolation", igds.interpolationMs},
-        {"remesh", igds.remeshMs},
-        {"smooth", igds.smoothMs},
-        {"metrics", timings["metrics"]},
-        {"tree", timings["tree"]},
-        {"collision", timings["collision"]},
-        {"order", timings["order"]},
-        {"paths", timings["paths"]},
-        {"toolpath", timings["toolpath"]},
-        {"toolpath_orientation", tp.orientationMs},
-        {"toolpath_gouging", tp.gougingMs}}}};
-  out.reportJson = report.dump();
+  thickness.maxDeviationAllPercent = metrics.thicknessMaxDeviationPercent;
+  report.tets = tets.tetCount();
+  report.vertices = tets.vertexCount();
+  report.tetSource = placed.tets ? "input" : "mesher";
+  report.tetQuality = {quality.volume, quality.meanEdge, quality.minDihedralDegrees, quality.maxDihedralDegrees,
+                       quality.minRadiusRatio};
+  report.sources = sources.size();
+  report.baseBandMm = baseBand;
+  report.maxThicknessRatio = gs.maxThicknessRatio;
+  report.maxGeodesicMm = field.maxDistance;
+  report.intervalMm = interval;
+  report.stepMinMm = stepMin;  // the shortest step between iso-values
+  report.layers = igds.layers.size();
+  report.printedLayers = printedLayers;
+  report.igds = tree.nodes.size();
+  report.triangles = igds.triangleCount;
+  report.interpolatedTriangles = igds.interpolatedTriangles;
+  report.overhangAvgAllDeg = metrics.overhangAverageDegrees;
+  report.overhangMaxLayerDeg = metrics.overhangMaxLayerDegrees;
+  report.tree = {tree.nodes.size(), tree.edges, tree.isTree, branchPoints, merges, tree.fallbackLinks,
+                 nodesPerLayer.empty() ? 0u : *std::max_element(nodesPerLayer.begin(), nodesPerLayer.end())};
+  report.nozzleAngleDeg = copt.angleDegrees;
+  report.pcsPairsTested = collisions.pairsTested;
+  report.sequence = traversalName(gs.sequence);
+  report.paths = filled.pathCount;
+  report.unfilledRegions = filled.unfilled;
+  report.orientationFallbacks = tp.orientationFallbacks;
+  report.tiltClamped = tp.tiltClamped;
+  report.maxTiltDeg = topt.maxTiltDegrees;
+  report.gougingCorrections = tp.gougingCorrections;
+  report.gougingUncorrected = tp.gougingUncorrected;
+  report.skippedSegments = tp.skippedPoints;
+  report.skippedMm = tp.skippedMm;
+  out.report.geodesic = std::move(report);
   return out;
 }
 

@@ -6,20 +6,17 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
-#include <nlohmann/json.hpp>
 
 #include "isoplanar/effective_width.h"
 #include "isoplanar/feed_rate.h"
 #include "isoplanar/isoplanar_paths.h"
 #include "isoplanar/surface_samples.h"
-#include "pipeline/stage_support.h"
+#include "common/stopwatch.h"
 
 namespace omnislice {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
-using stage::finite;
 
 IsoplanarFillResult fail(const Outcome& o) { return failed<IsoplanarFillResult>(o); }
 
@@ -146,71 +143,37 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   out.benchmarkTimeS = benchTime;
   out.benchmarkPathMm = benchPath;
 
-  Json r;
-  r["theta_deg"] = search.thetaStarDegrees;
-  r["forced"] = settings.thetaDegrees >= 0;
-  r["deposition_rate_mm3_s"] = finite(search.depositionRateAtTheta);
-  Json curve = Json::array();
+  IsoplanarReport& r = out.report;
+  r.thetaDeg = search.thetaStarDegrees;
+  r.forced = settings.thetaDegrees >= 0;
+  r.depositionRateMm3S = search.depositionRateAtTheta;
   for (size_t i = 0; i < search.thetaDegrees.size(); ++i) {
-    curve.push_back({search.thetaDegrees[i], finite(search.depositionRate[i])});
+    r.curve.emplace_back(search.thetaDegrees[i], search.depositionRate[i]);
   }
-  r["curve"] = curve;
-  r["best_sampled_theta_deg"] = search.thetaDegrees.empty() ? 0.0 : search.thetaDegrees[search.best];
-  r["path_mm"] = finite(time.pathMm);
-  r["estimated_time_s"] = finite(time.totalS);
-  r["time_s"] = {{"print", finite(time.printS)}, {"joins", finite(time.joinS)},
-                 {"travel", finite(time.travelS)}};
-  r["mean_feed_mm_s"] = finite(time.meanFeed);
-  if (options.benchmark) {
-    r["benchmark"] = {{"mean_estimated_time_s", finite(benchTime)},
-                      {"mean_path_mm", finite(benchPath)},
-                      {"directions", benchCount}};
-  } else {
-    r["benchmark"] = nullptr;
-  }
-  r["planes"] = planned.planes;
-  r["curves"] = planned.curves.size();
-  r["paths"] = planned.paths.size();
-  r["side_step_mm"] = {{"min", finite(minStep)}, {"max", finite(maxStep)}};
-  r["mean_width_mm"] = widthCount > 0 ? widthSum / double(widthCount) : 0.0;
-  r["samples"] = search.samples;
-  r["unreachable"] = search.unreachable;
-  r["chord_error_mm"] = popt.chordError;
-  r["bead_width_mm"] = options.beadWidth;
-  r["layer_height_mm"] = options.layerHeight;
-  r["max_feed_mm_s"] = options.maxFeed;
-  Json t = Json::object();
-  for (const auto& [k, v] : out.timingsMs) t[k] = v;
-  r["timings_ms"] = t;
-  out.reportJson = r.dump();
+  r.samples = search.samples;
+  r.unreachable = search.unreachable;
+  r.maxFeedMmS = options.maxFeed;
+  IsoplanarReport::Paths& rp = r.paths.emplace();
+  rp.bestSampledThetaDeg = search.thetaDegrees.empty() ? 0.0 : search.thetaDegrees[search.best];
+  rp.pathMm = time.pathMm;
+  rp.estimatedTimeS = time.totalS;
+  rp.printS = time.printS;
+  rp.joinsS = time.joinS;
+  rp.travelS = time.travelS;
+  rp.meanFeedMmS = time.meanFeed;
+  rp.planes = planned.planes;
+  rp.curves = planned.curves.size();
+  rp.paths = planned.paths.size();
+  rp.sideStepMinMm = minStep;
+  rp.sideStepMaxMm = maxStep;
+  rp.meanWidthMm = widthCount > 0 ? widthSum / double(widthCount) : 0.0;
+  rp.chordErrorMm = popt.chordError;
+  rp.beadWidthMm = options.beadWidth;
+  rp.layerHeightMm = options.layerHeight;
+  if (options.benchmark) r.benchmark = IsoplanarReport::Benchmark{benchTime, benchPath, benchCount};
+  r.timingsMs = out.timingsMs;
   return out;
 }
-
-namespace {
-
-// Even-odd point-in-polygon.
-bool insidePolygon(const Polygon2& poly, const Eigen::Vector2d& p) {
-  bool in = false;
-  for (size_t i = 0, j = poly.size() - 1; i < poly.size(); j = i++) {
-    const Eigen::Vector2d& a = poly[i];
-    const Eigen::Vector2d& b = poly[j];
-    if ((a.y() > p.y()) != (b.y() > p.y()) &&
-        p.x() < (b.x() - a.x()) * (p.y() - a.y()) / (b.y() - a.y()) + a.x()) {
-      in = !in;
-    }
-  }
-  return in;
-}
-
-bool insideIsland(const ExPolygon2& island, const Eigen::Vector2d& p) {
-  if (island.contour.size() < 3 || !insidePolygon(island.contour, p)) return false;
-  for (const Polygon2& hole : island.holes) {
-    if (hole.size() >= 3 && insidePolygon(hole, p)) return false;
-  }
-  return true;
-}
-
-}  // namespace
 
 PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settings& settings,
                                          const MachineProfile& machine,
@@ -279,53 +242,44 @@ PlanarDirection planarIsoplanarDirection(const SliceResult& slices, const Settin
   DriveDirectionResult search = searchDriveDirection(samples, field, dopt, progress);
   if (!search.ok()) return failed<PlanarDirection>(search);
   out.thetaDegrees = search.thetaStarDegrees;
-  Json r;
-  r["theta_deg"] = search.thetaStarDegrees;
-  r["forced"] = settings.isoplanar.thetaDegrees >= 0;
-  r["deposition_rate_mm3_s"] = finite(search.depositionRateAtTheta);
-  Json curve = Json::array();
+  IsoplanarReport& r = out.report;
+  r.thetaDeg = search.thetaStarDegrees;
+  r.forced = settings.isoplanar.thetaDegrees >= 0;
+  r.depositionRateMm3S = search.depositionRateAtTheta;
   for (size_t i = 0; i < search.thetaDegrees.size(); ++i) {
-    curve.push_back({search.thetaDegrees[i], finite(search.depositionRate[i])});
+    r.curve.emplace_back(search.thetaDegrees[i], search.depositionRate[i]);
   }
-  r["curve"] = curve;
-  r["samples"] = search.samples;
-  r["unreachable"] = search.unreachable;
-  r["sample_spacing_mm"] = spacing;
-  r["sampled_layers"] = picked.size();
-  r["max_feed_mm_s"] = dopt.maxFeed;
-  r["benchmark"] = nullptr;
-  r["timings_ms"] = {{"feed", field.ms}, {"direction", search.ms}, {"total", msSince(t0)}};
-  out.reportJson = r.dump();
+  r.samples = search.samples;
+  r.unreachable = search.unreachable;
+  r.planar = IsoplanarReport::PlanarSampling{spacing, picked.size()};
+  r.maxFeedMmS = dopt.maxFeed;
+  r.timingsMs = {{"feed", field.ms}, {"direction", search.ms}, {"total", msSince(t0)}};
   return out;
 }
 
 void IsoplanarTotals::add(uint32_t layer, uint32_t region, double area, const IsoplanarFillResult& fill) {
-  nlohmann::ordered_json r = {{"layer", layer},
-                      {"region", region},
-                      {"theta_deg", fill.thetaDegrees},
-                      {"deposition_rate_mm3_s", fill.depositionRate},
-                      {"path_mm", fill.pathMm},
-                      {"estimated_time_s", fill.estimatedTimeS}};
-  regionsJson_ += (regionsJson_.size() > 1 ? "," : "") + r.dump();
+  regions_.push_back({layer, region, fill.thetaDegrees, fill.depositionRate, fill.pathMm, fill.estimatedTimeS});
   path_ += fill.pathMm;
   time_ += fill.estimatedTimeS;
   rateArea_ += fill.depositionRate * area;
   area_ += area;
   if (area > largestArea_) {
     largestArea_ = area;
-    largestJson_ = fill.reportJson;
+    largest_ = fill.report;
   }
 }
 
-std::string IsoplanarTotals::json() const {
-  if (largestJson_.empty()) return "";
-  nlohmann::ordered_json r = nlohmann::ordered_json::parse(largestJson_);
-  r["largest_region_theta_deg"] = r["theta_deg"];
-  r["path_mm"] = path_;
-  r["estimated_time_s"] = time_;
-  r["deposition_rate_mm3_s"] = area_ > 0 ? rateArea_ / area_ : 0.0;
-  r["regions"] = nlohmann::ordered_json::parse(regionsJson_ + "]");
-  return r.dump();
+std::optional<IsoplanarReport> IsoplanarTotals::report() const {
+  if (!largest_) return std::nullopt;
+  IsoplanarReport r = *largest_;
+  r.largestRegionThetaDeg = r.thetaDeg;
+  if (r.paths) {
+    r.paths->pathMm = path_;
+    r.paths->estimatedTimeS = time_;
+  }
+  r.depositionRateMm3S = area_ > 0 ? rateArea_ / area_ : 0.0;
+  r.regions = regions_;
+  return r;
 }
 
 }  // namespace omnislice

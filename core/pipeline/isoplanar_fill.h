@@ -6,6 +6,7 @@
 // curved layers and (direction only) on planar layers. Internal to core/pipeline.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "mesh/mesh.h"
+#include "pipeline/report.h"
 #include "pipeline/settings.h"
 #include "machine/machine.h"
 #include "slice/slice_mesh.h"
@@ -39,9 +41,8 @@ struct IsoplanarFillResult : Outcome {
   double estimatedTimeS = 0;       // estimateIsoplanarTime at theta*
   double benchmarkTimeS = 0;       // mean over the other directions (benchmark only), else 0
   double benchmarkPathMm = 0;
-  std::string reportJson;          // the report's "isoplanar" object for this surface
-  std::vector<std::pair<std::string, double>> timingsMs;  // samples, feed, direction, paths,
-                                                          // benchmark
+  IsoplanarReport report;          // the report's "isoplanar" section for this surface
+  Timings timingsMs;               // samples, feed, direction, paths, benchmark
 };
 
 // surface: an oriented triangle surface in the part frame (normals to the nozzle side).
@@ -52,22 +53,22 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
                                       const IsoplanarFillOptions& options,
                                       const ProgressFn& progress = {});
 
-// The iso-planar fill of many layer regions summed for the report's "isoplanar" object: the
+// The iso-planar fill of many layer regions summed for the report's "isoplanar" section: the
 // largest region's report (its curve and theta*, as largest_region_theta_deg) with path_mm,
 // estimated_time_s, the area-weighted deposition_rate_mm3_s and one entry per region.
 class IsoplanarTotals {
  public:
   void add(uint32_t layer, uint32_t region, double area, const IsoplanarFillResult& fill);
-  std::string json() const;  // "" when no region was added
+  std::optional<IsoplanarReport> report() const;  // none when no region was added
  private:
-  std::string largestJson_;
-  std::string regionsJson_ = "[";
+  std::optional<IsoplanarReport> largest_;
+  std::vector<IsoplanarReport::Region> regions_;
   double path_ = 0, time_ = 0, rateArea_ = 0, area_ = 0, largestArea_ = -1;
 };
 
 struct PlanarDirection : Outcome {
   double thetaDegrees = 0;   // theta* (or the forced angle): the lines' angle on every layer
-  std::string reportJson;    // the report's "isoplanar" object (no paths: the planar planner
+  IsoplanarReport report;    // the report's "isoplanar" section (no paths: the planar planner
                              // lays the lines)
 };
 

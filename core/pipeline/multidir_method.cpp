@@ -1,19 +1,21 @@
 // SPDX-License-Identifier: MIT
-#include "common/math_constants.h"
-#include "common/stopwatch.h"
-#include "pipeline/multidir_method.h"
-
+// The multi-directional (3+2-axis) method of paper 000: placed solid -> clipping planes by the
+// search of Section IV (core/multidir/decomposition) -> closed parts in print order (Eq. 5-6,
+// core/mesh/clip_mesh) -> each part sliced with planar layers along its own direction, reaching
+// across later parts' planes (core/multidir/multidir_parts), with its subspace's projected
+// supports (Section V) -> one part-frame Toolpath, Move.part = the part's print index; the motion
+// planner turns the machine between parts only after a retract and a safe move.
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <nlohmann/json.hpp>
 
-#include "common/det_math.h"
+#include "common/stopwatch.h"
 #include "mesh/clip_mesh.h"
 #include "multidir/decomposition.h"
+#include "multidir/multidir_parts.h"
 #include "multidir/projected_supports.h"
-#include "pipeline/stage_support.h"
+#include "pipeline/method.h"
+#include "pipeline/settings.h"
 #include "pipeline/support_stage.h"
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
@@ -22,18 +24,8 @@
 namespace omnislice {
 namespace {
 
-using Json = nlohmann::ordered_json;
-using stage::finite;
-
-template <typename... Args>
-MultidirMethodOutput failure(Args&&... args) {
-  return failed<MultidirMethodOutput>(std::forward<Args>(args)...);
-}
-
-Json vec(const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); }
-
 // Every part's mesh in one soup, the print index per triangle.
-void mergeParts(const std::vector<ClipPart>& parts, PreviewBuffers& p) {
+void mergeParts(const std::vector<ClipPart>& parts, MultidirPreview& p) {
   for (size_t i = 0; i < parts.size(); ++i) {
     const Mesh& m = parts[i].mesh;
     const uint32_t base = static_cast<uint32_t>(p.partPositions.size() / 3);
@@ -43,94 +35,47 @@ void mergeParts(const std::vector<ClipPart>& parts, PreviewBuffers& p) {
   }
 }
 
-// The solid a part is sliced from: its piece of the model (above its own plane, planeIndex; the
-// platform part has none) reaching across every plane that bounds it from above (the planes
-// clipped before its own: their parts print after it) by delta = halfHeightScale (1 - |n . d|),
-// d its direction, n that plane's normal. Where a later part's base plane crosses the earlier
-// part's layers steeply (beta near 90 degrees), the earlier part's outer beads end w/2 inside the
-// plane and the later part's first tips lie h/2 above it: w/2 + h/2 apart, beyond the 1.5 h that
-// holds a bead. Reaching across brings them within it. The bound keeps the later part's nozzle
-// clear: the earlier part's layers stand out of their cut by up to (h/2)|cos beta|, so with
-// halfHeightScale <= h/2 they stay under the later part's first tip. The pieces overlap by delta
-// (report volumes are the exact pieces'). `reaching` stays empty when no plane bounds the part;
-// deepest = the largest delta of a plane that crosses the part's reach (0 if none).
-Outcome reachAcross(const Mesh& model, const std::vector<Plane>& planes, int planeIndex, const Eigen::Vector3d& d,
-                    double halfHeightScale, Mesh& reaching, double& deepest) {
-  const size_t bound = planeIndex < 0 ? planes.size() : static_cast<size_t>(planeIndex);
-  reaching = Mesh();
-  deepest = 0;
-  if (bound == 0) return {};
-  Mesh s;
-  if (planeIndex >= 0) {
-    ClipResult c = clipByPlane(model, planes[static_cast<size_t>(planeIndex)]);
-    if (!c.ok()) return c;
-    s = std::move(c.above);
-  } else {
-    s = model;
+const char* schemeName(MultidirScheme s) {
+  switch (s) {
+    case MultidirScheme::Beam: return "beam";
+    case MultidirScheme::Greedy: return "greedy";
+    case MultidirScheme::Constrained: return "constrained";
   }
-  for (size_t j = 0; j < bound && !s.empty(); ++j) {
-    const double len = planes[j].normal.norm();
-    const Eigen::Vector3d n = planes[j].normal / len;
-    const Plane shifted{n, planes[j].offset / len + halfHeightScale * (1 - std::abs(n.dot(d)))};
-    double highest = -std::numeric_limits<double>::infinity();
-    for (size_t v = 0; v < s.vertexCount(); ++v) highest = std::max(highest, n.dot(s.vertex(v)));
-    if (highest <= shifted.offset) continue;  // wholly below: nothing to cut
-    if (highest > planes[j].offset / len) deepest = std::max(deepest, shifted.offset - planes[j].offset / len);
-    ClipResult c = clipByPlane(s, shifted);
-    if (!c.ok()) return c;
-    s = std::move(c.below);
-  }
-  reaching = std::move(s);
-  return {};
+  return "beam";
 }
 
-// Risky flags per triangle of part (Eq. 1): along +Z on the platform (before) and along the
-// direction of the part the centroid falls in (after): the first plane in clipping order whose
-// above side (n . c >= d) holds it, else the platform part (+Z). Faces whose centroid lies below
-// bandMm are on the platform: never risky along +Z.
-void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alphaMaxDeg, double bandMm,
-                PreviewBuffers& p) {
-  const double sinAlpha = det::sin(alphaMaxDeg * kPi / 180);
-  const size_t nf = part.faceCount();
-  p.riskyBefore.assign(nf, 0);
-  p.riskyAfter.assign(nf, 0);
-  for (size_t f = 0; f < nf; ++f) {
-    const Eigen::Vector3d a = part.vertex(part.triangles[3 * f]);
-    const Eigen::Vector3d b = part.vertex(part.triangles[3 * f + 1]);
-    const Eigen::Vector3d c = part.vertex(part.triangles[3 * f + 2]);
-    const Eigen::Vector3d cross = (b - a).cross(c - a);
-    if (!(cross.norm() > 0)) continue;  // degenerate: never risky
-    const Eigen::Vector3d n = cross.normalized();
-    const Eigen::Vector3d centroid = (a + b + c) / 3;
-    const bool onPlatform = centroid.z() < bandMm;
-    const bool riskyUp = !onPlatform && n.z() + sinAlpha < 0;
-    p.riskyBefore[f] = riskyUp ? 1 : 0;
-    bool after = riskyUp;
-    for (const Plane& q : planes) {
-      const double len = q.normal.norm();
-      if (!(len > 0)) continue;
-      const Eigen::Vector3d d = q.normal / len;
-      if (d.dot(centroid) >= q.offset / len) {
-        after = n.dot(d) + sinAlpha < 0;
-        break;
-      }
-    }
-    p.riskyAfter[f] = after ? 1 : 0;
-  }
+MultidirReport::Search searchReport(const MultidirStats& st) {
+  MultidirReport::Search s;
+  s.normals = st.normals;
+  s.candidatesEvaluated = st.candidatesEvaluated;
+  s.candidatesChecked = st.candidatesChecked;
+  s.connectivityChecks = st.connectivityChecks;
+  s.refusedFloating = st.refusedFloating;
+  s.refusedSmall = st.refusedSmall;
+  s.refusedSimilar = st.refusedSimilar;
+  s.beams = st.beams;
+  s.levels = st.levels;
+  s.axesTried = st.axesTried;
+  s.restartsRun = st.restartsRun;
+  s.perturbations = st.perturbations;
+  s.perturbationsKept = st.perturbationsKept;
+  s.jgPerLevel = st.jgPerLevel;
+  s.gridCells = st.gridCells;
+  s.cellMm = st.cellMm;
+  return s;
 }
 
 }  // namespace
 
-MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settings,
-                                       const MachineProfile& machine, const ProgressFn& progress) {
-  MultidirMethodOutput out;
+MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& context) {
+  const Settings& settings = context.settings;
+  const MachineProfile& machine = context.machine;
+  const ProgressFn& progress = context.progress;
+  const Mesh& input = placed.mesh;
+  auto failure = [](auto&&... args) { return failed<MethodResult>(std::forward<decltype(args)>(args)...); };
+  MethodResult out;
   const MultidirSettings& ms = settings.multidir;
-  if (machine.kind == MachineKind::Cartesian3) {
-    return failure(Status::InvalidOption,
-                   "the multidir method turns the part between parts: choose a machine with a rotary "
-                   "axis or a robot (rotary4, table5, robot6), not cartesian3");
-  }
-  const bool fourDof = ms.dof == "4dof" || (ms.dof == "auto" && machine.kind == MachineKind::Rotary4);
+  const bool fourDof = ms.dof == MultidirDof::FourDof || (ms.dof == MultidirDof::Auto && machine.kind == MachineKind::Rotary4);
   if (fourDof && machine.kind != MachineKind::Rotary4) {
     return failure(Status::InvalidOption, "multidir.dof = 4dof needs a rotary4 machine (one rotary axis)");
   }
@@ -147,7 +92,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   o.beamWidth = ms.beamWidth;
   o.restarts = ms.restarts;
   o.perturbations = ms.perturbations;
-  o.scheme = ms.scheme;
+  o.scheme = schemeName(ms.scheme);
   o.platformMarginMm = ms.platformMarginMm;
   if (fourDof) {
     o.dof = "4dof";
@@ -176,11 +121,11 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     const double c = a.x() / len, s = -a.y() / len;
     r << c, -s, 0, s, c, 0, 0, 0, 1;
   }
-  out.part = input;
+  Mesh& part = out.part.emplace(input);
   if (!r.isIdentity(1e-15)) {
-    for (size_t v = 0; v < out.part.vertexCount(); ++v) {
-      const Eigen::Vector3d q = r * out.part.vertex(v);
-      for (int k = 0; k < 3; ++k) out.part.positions[3 * v + size_t(k)] = q[k];
+    for (size_t v = 0; v < part.vertexCount(); ++v) {
+      const Eigen::Vector3d q = r * part.vertex(v);
+      for (int k = 0; k < 3; ++k) part.positions[3 * v + size_t(k)] = q[k];
     }
     out.turn.topLeftCorner<3, 3>() = r;
   }
@@ -190,11 +135,12 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   if (!reportProgress(progress, "clip", 0)) return failure(Status::Cancelled, "cancelled");
   std::vector<Plane> planes;
   for (const MultidirPlane& p : search.planes) planes.push_back({r * p.normal, p.offsetMm});
-  PartsResult parts = clipSequence(out.part, planes, 1e-6, progress);
+  PartsResult parts = clipSequence(part, planes, 1e-6, progress);
   if (!parts.ok()) return failure(parts);
   out.timingsMs.emplace_back("clip", msSince(t0));
-  mergeParts(parts.parts, out.preview);
-  riskyFlags(out.part, planes, o.alphaMaxDeg, o.platformBandMm, out.preview);
+  mergeParts(parts.parts, out.preview.multidir);
+  riskyFlags(part, planes, o.alphaMaxDeg, o.platformBandMm, out.preview.multidir.riskyBefore,
+             out.preview.multidir.riskyAfter);
 
   // 3. Projected supports (Section V, Algorithm 2) for what stays risky.
   const bool withSupports = stage::supportsWanted(settings);
@@ -203,7 +149,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   double supportMs = 0, supportRegionVolume = 0;
   if (withSupports) {
     t0 = Clock::now();
-    supports = projectedSupports(out.part, planes, supportOptions, progress);
+    supports = projectedSupports(part, planes, supportOptions, progress);
     if (!supports.ok()) return failure(supports);
     supportMs = msSince(t0);
   }
@@ -212,7 +158,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
   // after the other.
   double sliceMs = 0, planMs = 0;
   int layerOffset = 0;
-  Json partsJson = Json::array();
+  MultidirReport report;
   bool first = true;
   for (size_t i = 0; i < parts.parts.size(); ++i) {
     const ClipPart& cp = parts.parts[i];
@@ -221,23 +167,19 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     const MultidirPart* sp = nullptr;
     if (cp.planeIndex < 0 && !search.parts.empty()) sp = &search.parts.back();
     if (cp.planeIndex >= 0 && size_t(cp.planeIndex) < search.parts.size()) sp = &search.parts[size_t(cp.planeIndex)];
-    Json pj = {{"print_index", i},
-               {"direction", vec(d)},
-               {"plane", cp.planeIndex < 0 ? Json(nullptr)
-                                           : Json({{"normal", vec(d)}, {"offset_mm", planes[size_t(cp.planeIndex)].offset}})},
-               {"volume_mm3", finite(cp.volume)},
-               {"components", cp.components},
-               {"risky_area_mm2", sp ? finite(sp->riskyAreaMm2) : 0.0}};
-    if (cp.mesh.empty()) {
-      pj["layers"] = 0;
-      partsJson.push_back(pj);
-      continue;
-    }
+    MultidirReport::Part& pr = report.parts.emplace_back();
+    pr.printIndex = i;
+    pr.direction = d;
+    if (cp.planeIndex >= 0) pr.planeOffsetMm = planes[size_t(cp.planeIndex)].offset;
+    pr.volumeMm3 = cp.volume;
+    pr.components = cp.components;
+    pr.riskyAreaMm2 = sp ? sp->riskyAreaMm2 : 0.0;
+    if (cp.mesh.empty()) continue;
     auto s0 = Clock::now();
     Mesh reaching;
     double reachMm = 0;
     if (settings.multidir.interfaceOverlap > 0) {
-      Outcome o = reachAcross(out.part, planes, cp.planeIndex, d,
+      Outcome o = reachAcross(part, planes, cp.planeIndex, d,
                               settings.multidir.interfaceOverlap * 0.5 * settings.layerHeight, reaching, reachMm);
       if (!o.ok()) return failure(o.status, "part " + std::to_string(i) + ": " + o.message);
     }
@@ -249,12 +191,9 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     if (!slices.ok()) return failure(slices.status, "part " + std::to_string(i) + ": " + slices.message);
     sliceMs += msSince(s0);
     s0 = Clock::now();
-    Settings ps = settings;
-    if (!first) {
-      // A part printed on an earlier one: its first layer is an ordinary layer.
-      ps.firstLayerHeight = 0;
-      ps.firstLayerSpeed = settings.printSpeed;
-    }
+    PlanarOptions planar = planarOptions(settings);
+    // A part printed on an earlier one: its first layer is an ordinary layer.
+    if (!first) planar.firstLayerSpeed = settings.printSpeed;
     SupportRegionsResult regions;
     double partSupportVolume = 0;
     if (withSupports) {
@@ -268,7 +207,7 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
       partSupportVolume = regions.volumeMm3;
       s0 = Clock::now();  // the tool-path time leaves the support regions out
     }
-    PlanLayersResult plan = planLayers(slices, ps, static_cast<int>(i), progress, withSupports ? &regions.layers : nullptr);
+    PlanLayersResult plan = planLayers(slices, planar, static_cast<int>(i), progress, withSupports ? &regions.layers : nullptr);
     if (!plan.ok()) return failure(plan.status, "part " + std::to_string(i) + ": " + plan.message);
     planMs += msSince(s0);
     int maxLayer = -1;
@@ -280,68 +219,41 @@ MultidirMethodOutput runMultidirMethod(const Mesh& input, const Settings& settin
     }
     if (first) out.toolpath.start = plan.toolpath.start;
     layerOffset += maxLayer + 1;
-    pj["layers"] = maxLayer + 1;
-    pj["support_region_mm3"] = finite(partSupportVolume);
-    pj["reach_across_mm"] = finite(reachMm);
-    partsJson.push_back(pj);
+    pr.layers = maxLayer + 1;
+    pr.sliced = true;
+    pr.supportRegionMm3 = partSupportVolume;
+    pr.reachAcrossMm = reachMm;
     first = false;
   }
   if (out.toolpath.moves.empty()) return failure(Status::Internal, "multidir: no part produced a tool-path");
-  out.layers = layerOffset;
+  out.slicedLayers = static_cast<size_t>(layerOffset);
+  out.layerHeight = settings.layerHeight;
   out.timingsMs.emplace_back("slice", sliceMs);
   out.timingsMs.emplace_back("toolpath", planMs);
   if (withSupports) out.timingsMs.emplace_back("supports", supportMs);
   const double printedSupport = stage::printedSupportVolume(out.toolpath, settings.filamentDiameter);
 
   const MultidirStats& st = search.stats;
-  Json levels = Json::array();
-  for (double j : st.jgPerLevel) levels.push_back(finite(j));
-  Json report = {
-      {"J_G_before", finite(search.jgBeforeMm2)},
-      {"J_G_after", finite(search.jgAfterMm2)},
-      {"ratio", search.jgBeforeMm2 > 0 ? finite(search.jgAfterMm2 / search.jgBeforeMm2) : 0.0},
-      {"alpha_max_deg", o.alphaMaxDeg},
-      {"scheme", o.scheme},
-      {"dof", o.dof},
-      {"rotation_axis", fourDof ? vec(search.rotationAxis) : Json(nullptr)},
-      {"parts", partsJson},
-      {"part_count", parts.parts.size()},
-      {"volume_mm3", finite(parts.inputVolume)},
-      {"cap_area_mm2", finite(parts.totalCapArea)},
-      // Projected supports (Section V): the deposited support volume, and the generator's figures.
-      {"supports_generated", withSupports},
-      {"support_volume_mm3", finite(printedSupport)},
-      {"supports", withSupports ? Json::parse(stage::supportReportJson(supports, supportOptions, supportRegionVolume,
-                                                                       printedSupport, supportMs))
-                                : Json({{"generated", false}})},
-      {"search",
-       {{"normals", st.normals},
-        {"candidates_evaluated", st.candidatesEvaluated},
-        {"candidates_checked", st.candidatesChecked},
-        {"connectivity_checks", st.connectivityChecks},
-        {"refused_floating", st.refusedFloating},
-        {"refused_small", st.refusedSmall},
-        {"refused_similar", st.refusedSimilar},
-        {"beams", st.beams},
-        {"levels", st.levels},
-        {"axes_tried", st.axesTried},
-        {"restarts_run", st.restartsRun},
-        {"perturbations", st.perturbations},
-        {"perturbations_kept", st.perturbationsKept},
-        {"J_G_per_level", levels},
-        {"grid_cells", st.gridCells},
-        {"cell_mm", finite(st.cellMm)}}},
-      {"timings_ms",
-       {{"prepare", finite(st.msPrepare)},
-        {"normals", finite(st.msNormals)},
-        {"sweep", finite(st.msSweep)},
-        {"checks", finite(st.msChecks)},
-        {"refine", finite(st.msRefine)},
-        {"perturb", finite(st.msPerturb)},
-        {"exact", finite(st.msExact)},
-        {"search", finite(st.msTotal)}}}};
-  for (const auto& [k, v] : out.timingsMs) report["timings_ms"][k] = finite(v);
-  out.reportJson = report.dump();
+  report.jgBeforeMm2 = search.jgBeforeMm2;
+  report.jgAfterMm2 = search.jgAfterMm2;
+  report.alphaMaxDeg = o.alphaMaxDeg;
+  report.scheme = o.scheme;
+  report.dof = o.dof;
+  if (fourDof) report.rotationAxis = search.rotationAxis;
+  report.volumeMm3 = parts.inputVolume;
+  report.capAreaMm2 = parts.totalCapArea;
+  // Projected supports (Section V): the deposited support volume, and the generator's figures.
+  report.supportsGenerated = withSupports;
+  report.supportVolumeMm3 = printedSupport;
+  if (withSupports) {
+    report.supports = stage::supportReport(supports, supportOptions, supportRegionVolume, printedSupport, supportMs);
+  }
+  report.search = searchReport(st);
+  report.timingsMs = {{"prepare", st.msPrepare}, {"normals", st.msNormals}, {"sweep", st.msSweep},
+                      {"checks", st.msChecks},   {"refine", st.msRefine},   {"perturb", st.msPerturb},
+                      {"exact", st.msExact},     {"search", st.msTotal}};
+  report.timingsMs.insert(report.timingsMs.end(), out.timingsMs.begin(), out.timingsMs.end());
+  out.report.multidir = std::move(report);
   return out;
 }
 

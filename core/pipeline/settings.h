@@ -1,41 +1,51 @@
 // SPDX-License-Identifier: MIT
-// Every user-facing setting of the pipeline, with defaults. The CLI's --set KEY=VALUE, the wasm API
-// and the page all go through setSetting(), so a key means the same everywhere.
+// Every user-facing setting of the pipeline, with defaults, declared once in a table
+// (settings_table.cpp: key, type, default, range, unit, help, choices). Parsing (setSetting),
+// listing (listSettings: program headers, reports), the CLI's help and the page's settings schema
+// (settingsSchemaJson, through the wasm API) all come from it, so a key means the same everywhere.
+// Choices are parsed once into enum types.
 #pragma once
 #include <Eigen/Core>
+#include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "common/status.h"
+#include "geodesic/print_order.h"
+#include "mesh/place_mesh.h"
+#include "pipeline/method.h"
+#include "program/write_gcode.h"
+#include "slice/plan_layers.h"
+#include "voxel/growth_field.h"
+#include "voxel/layer_field.h"
 
 namespace omnislice {
 
-enum class UpAxis { PosZ, NegZ, PosY, NegY, PosX, NegX };
-enum class InfillPattern { Lines, Grid };
+// How layers are filled: auto (planar: walls + infill, voxel and geodesic: Fermat spirals,
+// surface: iso-planar) | isoplanar (paper 003's paths) | spiral (voxel only).
+enum class FillMode { Auto, Isoplanar, Spiral };
 
-struct PlacementSettings {
-  double scale = 1.0;          // uniform factor applied first; must be > 0
-  double fitMm = 0;            // > 0: scale so the largest bbox side equals this (overrides scale)
-  UpAxis up = UpAxis::PosZ;    // which input axis points up on the platform
-  double rotateXDegrees = 0;   // extra rotation after the up-axis change, about part X, then Y, then Z
-  double rotateYDegrees = 0;
-  double rotateZDegrees = 0;
-  bool center = true;          // centre the bbox on (0,0) in XY (else keep XY as read)
-};
+// Supports: auto (multidir: projected, planar: none) | none | projected.
+enum class SupportMode { Auto, None, Projected };
+
+// The multidir plane search (paper 000 Section IV).
+enum class MultidirScheme { Beam, Greedy, Constrained };
+
+// auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof.
+enum class MultidirDof { Auto, FourDof, FiveDof };
 
 // The voxel method (paper 001): voxelisation, growing field, curved layers, Fermat spirals.
 struct VoxelSettings {
   double widthMm = 0;                  // voxel width w, mm; 0 = 0.8 x nozzle (paper Section 6.2.1)
-  std::string strategy = "pg-sp-gcfa"; // gcfa | sp-gcfa | pg-gcfa | pg-sp-gcfa
-  std::string shadow = "recursive";    // shadow prevention scheme: incremental | recursive
+  GrowthStrategy strategy = GrowthStrategy::PgSpGcfa;  // gcfa | sp-gcfa | pg-gcfa | pg-sp-gcfa
+  ShadowScheme shadow = ShadowScheme::RecursivePca;    // shadow prevention: incremental | recursive
   double peelStep = 1;                 // delta f of Algorithm 1, peeling sheets
   double epsilon = -1;                 // Definitions 2-3, voxel widths; < 0 = the field's default
   bool supports = false;               // add supports under missed voxels and grow again
-  std::string layerField = "distance"; // curved layers are iso-surfaces of: distance (shortest
-                                       // path from the platform through the growth order, kept
-                                       // above earlier neighbours) | steps (G itself, the paper)
-                                       // | generations (fronts counted through AM-stable steps)
+  LayerField layerField = LayerField::Distance;  // curved layers are iso-surfaces of
+                                                // (voxel/layer_field.h)
   double smoothIterations = 5;         // Jacobi smoothing passes over the layer field before
                                        // extraction (0 = the field as grown; 5 measured with the
                                        // steps field on a 30 mm Bunny: collisions 2,106 -> 167,
@@ -85,7 +95,7 @@ struct GeodesicSettings {
                                 // intervals apart where they meet the surface (99 % of it;
                                 // surfaceLimitedIsoValues): the interval is the thickest layer
                                 // there, as a layer height is; 0 = phi_i = i d (the paper)
-  std::string sequence = "a3";  // print order: a3 (Algorithm 3) | lpt | dpt
+  TraversalKind sequence = TraversalKind::A3;  // print order: a3 (Algorithm 3) | lpt | dpt
   bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
 };
 
@@ -106,8 +116,8 @@ struct MultidirSettings {
   int perturbations = 60;        // beam: iterated local search moves on the refined planes
                                  // (0 = off); they stop once J_G <= 0.1 mm^2
   int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
-  std::string scheme = "beam";   // beam | greedy | constrained
-  std::string dof = "auto";      // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof
+  MultidirScheme scheme = MultidirScheme::Beam;
+  MultidirDof dof = MultidirDof::Auto;
   double interfaceOverlap = 0.8; // an earlier part reaches across a later part's plane by this
                                  // fraction of (h/2)(1 - |cos beta|) (multidir_method.cpp); 0 = none
 };
@@ -116,7 +126,7 @@ struct MultidirSettings {
 // projects them through its parts' subspaces; the planar method, printed along one direction,
 // gets the same generator with no clipping plane (ordinary supports along d = +Z).
 struct SupportSettings {
-  std::string mode = "auto";     // auto (multidir: projected, planar: none) | none | projected
+  SupportMode mode = SupportMode::Auto;
   double samplingMm = 0;         // R, overhang sampling interval, mm; 0 = 2.5 x nozzle + 1 (the
                                  // paper: 2 mm for a 0.4 mm nozzle, 3 mm for 0.8 mm)
   double angleDeg = 0;           // overhangs steeper than this need support, degrees; 0 =
@@ -130,10 +140,8 @@ struct SupportSettings {
 };
 
 struct Settings {
-  std::string method = "planar";       // planar | voxel | surface | geodesic | multidir
-  std::string fill = "auto";           // how layers are filled: auto (planar: walls + infill,
-                                       // voxel: Fermat spirals, surface: iso-planar) | isoplanar
-                                       // | spiral (voxel only)
+  Method method = Method::Planar;
+  FillMode fill = FillMode::Auto;
   VoxelSettings voxel;
   IsoplanarSettings isoplanar;
   SurfaceSettings surface;
@@ -143,13 +151,13 @@ struct Settings {
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty
-  std::string gcodeFlavor = "marlin";  // G-code kinds: marlin | reprap | klipper
-  std::string robotFormat = "csv";     // robot6: csv | urscript
+  GcodeDialect gcodeFlavor = GcodeDialect::Marlin;  // G-code kinds: marlin | reprap | klipper
+  RobotFormat robotFormat = RobotFormat::Csv;       // robot6: csv | urscript
   int freeRotationSamples = 30;        // robot6: samples of the rotation about the nozzle axis
   bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter
   double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more
   double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
-  PlacementSettings placement;
+  PlaceOptions placement;
   Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
 
   double layerHeight = 0.2;       // mm, (0, nozzle]
@@ -185,15 +193,52 @@ struct Settings {
   }
 };
 
+// ---- the table ---------------------------------------------------------------------------------
+
+enum class SettingType { Number, Integer, Boolean, Choice, Vector, Text };
+
+// One setting as the table declares it.
+struct SettingSpec {
+  std::string key;                   // e.g. "layer_height", "voxel.width_mm"
+  SettingType type = SettingType::Number;
+  double min = 0, max = 0;           // Number, Integer: the inclusive range
+  std::string unit;                  // "mm", "mm/s", "deg", "%", ... ("" for none)
+  std::string help;                  // one line: what it does, what 0 or -1 means
+  std::vector<std::string> choices;  // Choice: the values (canonical spellings)
+  bool listed = true;                // in listSettings() (program header, report)
+  std::optional<Method> onlyFor;     // listed only when this method is chosen
+  std::function<Outcome(Settings&, const std::string&)> parse;  // checks and stores a text value
+  std::function<std::string(const Settings&)> format;           // the value as listed
+};
+
+// Every setting, in the order listSettings() writes them.
+const std::vector<SettingSpec>& settingSpecs();
+
+// The spec of a key (aliases such as "nozzle" or "placement.up" accepted), or nullptr.
+const SettingSpec* findSetting(const std::string& key);
+
 // Set one setting by key ("layer_height", "walls", "infill", "placement.up", "direction", ...).
 // value is text as typed on the command line. Unknown keys and out-of-range values give
-// InvalidOption with a message naming the key and the accepted range.
+// InvalidOption with a message naming the key and the accepted range or values.
 Outcome setSetting(Settings& settings, const std::string& key, const std::string& value);
 
 // Check cross-field consistency (e.g. layer height <= nozzle). InvalidOption on failure.
 Outcome validateSettings(const Settings& settings);
 
-// All settings as (key, value text) in a stable order, for program headers and reports.
+// All settings as (key, value text) in the table's order, for program headers and reports
+// (line width and first layer height resolved; method-specific choices only for that method).
 std::vector<std::pair<std::string, std::string>> listSettings(const Settings& settings);
+
+// The table as JSON for the page and the CLI's help: [{key, type (number | integer | boolean |
+// choice | vector | text), default (text), min, max (number, integer), unit, help, choices
+// (choice)}, ...] in the table's order.
+std::string settingsSchemaJson();
+
+// A number or a vector as settings are written ("0.2", "0,0,1": 10 significant digits).
+std::string formatSettingNumber(double value);
+std::string formatSettingVector(const Eigen::Vector3d& value);
+
+// The planar tool-path options of the settings (slice/plan_layers.h).
+PlanarOptions planarOptions(const Settings& settings);
 
 }  // namespace omnislice

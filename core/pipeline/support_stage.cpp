@@ -1,15 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "pipeline/support_stage.h"
 
-#include <nlohmann/json.hpp>
-
 #include "common/math_constants.h"
-#include "pipeline/stage_support.h"
 
 namespace omnislice::stage {
 
 bool supportsWanted(const Settings& s) {
-  return s.support.mode == "projected" || (s.support.mode == "auto" && s.method == "multidir");
+  return s.support.mode == SupportMode::Projected ||
+         (s.support.mode == SupportMode::Auto && s.method == Method::Multidir);
 }
 
 SupportOptions supportOptionsFor(const Settings& s, double methodAlphaDeg) {
@@ -32,30 +30,30 @@ double printedSupportVolume(const Toolpath& path, double filamentDiameterMm) {
   return filament * kPi * 0.25 * filamentDiameterMm * filamentDiameterMm;
 }
 
-std::string supportReportJson(const SupportResult& r, const SupportOptions& o, double regionVolumeMm3,
-                              double printedVolumeMm3, double ms) {
-  nlohmann::ordered_json j = {{"generated", true},
-                              {"sampling_mm", finite(o.samplingMm)},
-                              {"angle_deg", finite(o.alphaMaxDeg)},
-                              {"min_diameter_mm", finite(o.minDiameterMm)},
-                              {"roof_mm", finite(o.roofMm)},
-                              {"merge_angle_deg", finite(o.mergeAngleDeg)},
-                              {"samples", r.samples},
-                              {"point_overhangs", r.pointOverhangs},
-                              {"patch_samples", r.patchSamples},
-                              {"landed_on_model", r.landedOnModel},
-                              {"landed_on_platform", r.landedOnPlatform},
-                              {"blocked", r.blocked},
-                              {"merges", r.merges},
-                              {"struts", r.struts.size()},
-                              {"roofs", r.roofs.size()},
-                              {"risky_area_mm2", finite(r.riskyAreaMm2)},
-                              {"strut_volume_mm3", finite(r.strutVolumeMm3)},
-                              {"roof_volume_mm3", finite(r.roofVolumeMm3)},
-                              {"region_volume_mm3", finite(regionVolumeMm3)},
-                              {"printed_volume_mm3", finite(printedVolumeMm3)},
-                              {"ms", finite(ms)}};
-  return j.dump();
+SupportReport supportReport(const SupportResult& r, const SupportOptions& o, double regionVolumeMm3,
+                            double printedVolumeMm3, double ms) {
+  SupportReport s;
+  s.samplingMm = o.samplingMm;
+  s.angleDeg = o.alphaMaxDeg;
+  s.minDiameterMm = o.minDiameterMm;
+  s.roofMm = o.roofMm;
+  s.mergeAngleDeg = o.mergeAngleDeg;
+  s.samples = r.samples;
+  s.pointOverhangs = r.pointOverhangs;
+  s.patchSamples = r.patchSamples;
+  s.landedOnModel = r.landedOnModel;
+  s.landedOnPlatform = r.landedOnPlatform;
+  s.blocked = r.blocked;
+  s.merges = r.merges;
+  s.struts = r.struts.size();
+  s.roofs = r.roofs.size();
+  s.riskyAreaMm2 = r.riskyAreaMm2;
+  s.strutVolumeMm3 = r.strutVolumeMm3;
+  s.roofVolumeMm3 = r.roofVolumeMm3;
+  s.regionVolumeMm3 = regionVolumeMm3;
+  s.printedVolumeMm3 = printedVolumeMm3;
+  s.ms = ms;
+  return s;
 }
 
 }  // namespace omnislice::stage

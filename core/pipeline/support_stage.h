@@ -1,10 +1,10 @@
 // SPDX-License-Identifier: MIT
 // Supports as a pipeline step shared by the planar and multidir methods (internal to
-// core/pipeline): settings -> generator options, the printed support volume, the report object.
+// core/pipeline): settings -> generator options, the printed support volume, the report section.
 #pragma once
-#include <string>
 
 #include "multidir/projected_supports.h"
+#include "pipeline/report.h"
 #include "pipeline/settings.h"
 #include "toolpath/toolpath.h"
 
@@ -22,10 +22,8 @@ SupportOptions supportOptionsFor(const Settings& settings, double methodAlphaDeg
 // Volume deposited by the Support moves: their filament times the filament's section, mm^3.
 double printedSupportVolume(const Toolpath& path, double filamentDiameterMm);
 
-// The report object {generated, sampling_mm, angle_deg, samples, point_overhangs, patch_samples,
-// landed_on_model, landed_on_platform, blocked, struts, roofs, risky_area_mm2, strut_volume_mm3,
-// roof_volume_mm3, region_volume_mm3, printed_volume_mm3, ms} as JSON text.
-std::string supportReportJson(const SupportResult& supports, const SupportOptions& options, double regionVolumeMm3,
-                              double printedVolumeMm3, double ms);
+// The report section of a support generation.
+SupportReport supportReport(const SupportResult& supports, const SupportOptions& options, double regionVolumeMm3,
+                            double printedVolumeMm3, double ms);
 
 }  // namespace omnislice::stage

@@ -1,15 +1,19 @@
 // SPDX-License-Identifier: MIT
-#include "common/stopwatch.h"
-#include "pipeline/surface_method.h"
-
+// `method = surface` (paper 003's experiments): an open surface printed as one layer of iso-planar
+// paths on a support base. The surface is lifted so the base under it is at least
+// surface.base_mm thick; the base (the solid between z = 0 and the surface moved down by the
+// layer height along its normals, core/surface/height_field_solid) is printed with planar layers
+// first, then the surface layer with the nozzle along the surface normal. The part `verify`
+// checks is the solid between z = 0 and the surface (heightFieldSolid(surface, 0), built again
+// from the program's placement).
 #include <algorithm>
-#include <chrono>
 #include <cmath>
-#include <nlohmann/json.hpp>
 
+#include "common/stopwatch.h"
 #include "pipeline/curved_stage.h"
 #include "pipeline/isoplanar_fill.h"
-#include "pipeline/stage_support.h"
+#include "pipeline/method.h"
+#include "pipeline/settings.h"
 #include "slice/plan_layers.h"
 #include "slice/slice_mesh.h"
 #include "surface/curved_toolpath.h"
@@ -20,11 +24,9 @@ namespace omnislice {
 
 namespace {
 
-using Json = nlohmann::ordered_json;
-
 template <typename... Args>
-SurfaceMethodOutput failure(Args&&... args) {
-  return failed<SurfaceMethodOutput>(std::forward<Args>(args)...);
+MethodResult failure(Args&&... args) {
+  return failed<MethodResult>(std::forward<Args>(args)...);
 }
 
 Mesh lifted(const Mesh& m, double dz) {
@@ -35,17 +37,12 @@ Mesh lifted(const Mesh& m, double dz) {
 
 }  // namespace
 
-SurfacePartResult surfacePart(const Mesh& placedSurface) {
-  SurfacePartResult r;
-  HeightFieldSolid solid = heightFieldSolid(placedSurface, 0);
-  if (!solid.ok()) return failed<SurfacePartResult>(solid);
-  r.part = std::move(solid.solid);
-  return r;
-}
-
-SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settings,
-                                     const MachineProfile& machine, const ProgressFn& progress) {
-  SurfaceMethodOutput out;
+MethodResult runSurfaceMethod(const PlacedPart& placed, const MethodContext& context) {
+  const Settings& settings = context.settings;
+  const MachineProfile& machine = context.machine;
+  const ProgressFn& progress = context.progress;
+  const Mesh& surface = placed.mesh;
+  MethodResult out;
   const double h = settings.layerHeight;
   const double s = settings.nozzleDiameter;
 
@@ -69,7 +66,7 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   }
   HeightFieldSolid part = heightFieldSolid(top, 0);
   if (!part.ok()) return failure(part);
-  out.lift(2, 3) = dz;
+  out.turn(2, 3) = dz;
 
   // 2. The base: planar layers of the layer height (foundation slicer).
   SliceOptions sliceOptions;
@@ -77,7 +74,7 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   sliceOptions.firstLayerHeight = settings.effectiveFirstLayerHeight();
   SliceResult slices = sliceMesh(base.solid, sliceOptions, progress);
   if (!slices.ok()) return failure(slices);
-  PlanLayersResult plan = planLayers(slices, settings, 0, progress);
+  PlanLayersResult plan = planLayers(slices, planarOptions(settings), 0, progress);
   if (!plan.ok()) return failure(plan);
   out.timingsMs.emplace_back("slice", msSince(t0));
 
@@ -169,27 +166,27 @@ SurfaceMethodOutput runSurfaceMethod(const Mesh& surface, const Settings& settin
   }
   if (tp.moves.empty() || slices.layers.empty()) tp.start = c.start;
   tp.layerCount = surfaceLayer + 1;
-  out.baseLayers = static_cast<size_t>(surfaceLayer);
-  out.layers = surfaceLayer + 1;
+  out.slicedLayers = static_cast<size_t>(surfaceLayer + 1);
+  out.layerHeight = h;
   out.part = std::move(part.solid);
 
   // Preview: the surface layer.
-  PreviewBuffers& p = out.preview;
-  for (double v : part.top.positions) p.surfacePositions.push_back(static_cast<float>(v));
-  p.surfaceTriangles.assign(part.top.triangles.begin(), part.top.triangles.end());
-  p.surfaceLayers.assign(part.top.faceCount(), static_cast<uint32_t>(surfaceLayer));
+  LayerSurfacePreview& p = out.preview.surfaces;
+  for (double v : part.top.positions) p.positions.push_back(static_cast<float>(v));
+  p.triangles.assign(part.top.triangles.begin(), part.top.triangles.end());
+  p.layers.assign(part.top.faceCount(), static_cast<uint32_t>(surfaceLayer));
 
-  Json r = Json::parse(fill.reportJson);
-  r["base_layers"] = surfaceLayer;
-  r["base_mm"] = settings.surface.baseMm;
-  r["lift_mm"] = dz;
-  r["surface_vertices"] = part.top.vertexCount();
-  r["surface_triangles"] = part.top.faceCount();
-  r["orientation_fallbacks"] = curved.orientationFallbacks;
-  r["tilt_clamped"] = curved.tiltClamped;
-  r["gouging_corrections"] = curved.gougingCorrections;
-  r["gouging_uncorrected"] = curved.gougingUncorrected;
-  out.reportJson = r.dump();
+  IsoplanarReport& r = out.report.isoplanar.emplace(std::move(fill.report));
+  r.surface = IsoplanarReport::Surface{surfaceLayer,
+                                       settings.surface.baseMm,
+                                       dz,
+                                       part.top.vertexCount(),
+                                       part.top.faceCount(),
+                                       curved.orientationFallbacks,
+                                       curved.tiltClamped,
+                                       curved.gougingCorrections,
+                                       curved.gougingUncorrected};
+  if (auto w = stage::nozzleCollisionWarning(curved.gougingUncorrected)) out.warnings.push_back(*w);
   return out;
 }
 

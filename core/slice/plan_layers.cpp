@@ -31,22 +31,10 @@
 #include "slice/clipper_adapter.h"
 #include "slice/infill.h"
 #include "slice/travel_order.h"
+#include "toolpath/bead.h"
 
 namespace omnislice {
 
-
-double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
-  // The rounded sides belong to the smaller dimension: a bead narrower than it is tall (a sliver of
-  // a curved layer, or a thick spot of a variable-height layer) is the same stadium turned upright.
-  const double lo = std::min(widthMm, heightMm), hi = std::max(widthMm, heightMm);
-  const double bead = (hi - lo) * lo + kPi * lo * lo / 4.0;
-  const double filament = kPi * filamentDiameterMm * filamentDiameterMm / 4.0;
-  return bead * lengthMm / filament;
-}
-
-double ellipseBeadFilament(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm) {
-  return widthMm * heightMm * lengthMm / (filamentDiameterMm * filamentDiameterMm);
-}
 
 namespace {
 
@@ -182,38 +170,38 @@ bool positiveFinite(double v) { return std::isfinite(v) && v > 0; }
 
 }  // namespace
 
-PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings, int partIndex,
+PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& options, int partIndex,
                             const ProgressFn& progress,
                             const std::vector<std::vector<ExPolygon2>>* supportRegions) {
   if (!slices.ok()) return fail(Status::InvalidOption, "slices carry an error: " + slices.message);
-  const double w = settings.effectiveLineWidth();
+  const double w = options.lineWidth;
   if (!positiveFinite(w)) return fail(Status::InvalidOption, "line_width must be > 0 mm");
-  if (!positiveFinite(settings.filamentDiameter)) {
+  if (!positiveFinite(options.filamentDiameter)) {
     return fail(Status::InvalidOption, "filament_diameter must be > 0 mm");
   }
-  if (settings.walls < 0 || settings.walls > 1000) return fail(Status::InvalidOption, "walls must be in 0..1000");
-  if (settings.topLayers < 0 || settings.bottomLayers < 0 || settings.topLayers > 1000 ||
-      settings.bottomLayers > 1000) {
+  if (options.walls < 0 || options.walls > 1000) return fail(Status::InvalidOption, "walls must be in 0..1000");
+  if (options.topLayers < 0 || options.bottomLayers < 0 || options.topLayers > 1000 ||
+      options.bottomLayers > 1000) {
     return fail(Status::InvalidOption, "top_layers and bottom_layers must be in 0..1000");
   }
-  if (!std::isfinite(settings.infillPercent) || settings.infillPercent < 0 ||
-      settings.infillPercent > 100) {
+  if (!std::isfinite(options.infillPercent) || options.infillPercent < 0 ||
+      options.infillPercent > 100) {
     return fail(Status::InvalidOption, "infill must be in 0..100 %");
   }
-  if (!std::isfinite(settings.infillOverlapPercent) || settings.infillOverlapPercent < 0 ||
-      settings.infillOverlapPercent > 100) {
+  if (!std::isfinite(options.infillOverlapPercent) || options.infillOverlapPercent < 0 ||
+      options.infillOverlapPercent > 100) {
     return fail(Status::InvalidOption, "infill_overlap must be in 0..100 % of the line width");
   }
-  if (!std::isfinite(settings.infillAngleDegrees)) return fail(Status::InvalidOption, "infill_angle must be finite");
-  for (double speed : {settings.printSpeed, settings.outerWallSpeed, settings.infillSpeed,
-                       settings.firstLayerSpeed, settings.travelSpeed}) {
+  if (!std::isfinite(options.infillAngleDegrees)) return fail(Status::InvalidOption, "infill_angle must be finite");
+  for (double speed : {options.printSpeed, options.outerWallSpeed, options.infillSpeed,
+                       options.firstLayerSpeed, options.travelSpeed}) {
     if (!positiveFinite(speed)) return fail(Status::InvalidOption, "speeds must be > 0 mm/s");
   }
-  if (!std::isfinite(settings.retractLength) || settings.retractLength < 0 ||
-      !std::isfinite(settings.retractMinTravel) || settings.retractMinTravel < 0) {
+  if (!std::isfinite(options.retractLength) || options.retractLength < 0 ||
+      !std::isfinite(options.retractMinTravel) || options.retractMinTravel < 0) {
     return fail(Status::InvalidOption, "retract_length and retract_min_travel must be >= 0 mm");
   }
-  if (settings.retractLength > 0 && !positiveFinite(settings.retractSpeed)) {
+  if (options.retractLength > 0 && !positiveFinite(options.retractSpeed)) {
     return fail(Status::InvalidOption, "retract_speed must be > 0 mm/s");
   }
 
@@ -225,10 +213,10 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
   result.infillAreaMm2.assign(layerCount, 0.0);
   Toolpath& tp = result.toolpath;
 
-  const int walls = settings.walls;
-  const double overlap = settings.infillOverlapPercent / 100.0 * w;
+  const int walls = options.walls;
+  const double overlap = options.infillOverlapPercent / 100.0 * w;
   const double minLine = 0.25 * w;
-  const bool retractOn = settings.retractLength > 0;
+  const bool retractOn = options.retractLength > 0;
 
   Vec2 cur(0, 0);             // nozzle in the layer plane
   Eigen::Vector3d pos(0, 0, 0);
@@ -284,16 +272,16 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
       // Skin versus sparse: covered by every section within topLayers above and bottomLayers below.
       // fill = isoplanar (paper 003 on planar layers): every line of every layer along the drive
       // direction, which the pipeline put in infillAngleDegrees.
-      const bool isoplanar = settings.fill == "isoplanar";
-      const double skinAngle = isoplanar ? settings.infillAngleDegrees : (i % 2 == 0) ? 45.0 : -45.0;
-      const double pct = settings.infillPercent;
+      const bool isoplanar = options.allLinesAlongInfillAngle;
+      const double skinAngle = isoplanar ? options.infillAngleDegrees : (i % 2 == 0) ? 45.0 : -45.0;
+      const double pct = options.infillPercent;
       std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
       // Window of layers whose sections must all cover a point for it to be sparse (computed per
       // island with bbox-filtered sections, which keeps Clipper's scan lines short on layers with
       // many islands); a window reaching beyond the part leaves nothing sparse (all skin).
-      const long lo = static_cast<long>(i) - settings.bottomLayers;
-      const long hi = static_cast<long>(i) + settings.topLayers;
-      const bool noSkin = settings.bottomLayers == 0 && settings.topLayers == 0;
+      const long lo = static_cast<long>(i) - options.bottomLayers;
+      const long hi = static_cast<long>(i) + options.topLayers;
+      const bool noSkin = options.bottomLayers == 0 && options.topLayers == 0;
       for (size_t k = 0; k < islands.size(); ++k) {
         const Paths& fill = islands[k].fill;
         if (fill.empty()) continue;
@@ -318,11 +306,11 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
           Paths lines;
           if (pct >= 100) {
             lines = fillLines(sparse, {skinAngle}, spacing, minLine);
-          } else if (settings.infillPattern == InfillPattern::Lines || isoplanar) {
-            const double angle = settings.infillAngleDegrees + (i % 2 == 0 || isoplanar ? 0.0 : 90.0);
+          } else if (options.infillPattern == InfillPattern::Lines || isoplanar) {
+            const double angle = options.infillAngleDegrees + (i % 2 == 0 || isoplanar ? 0.0 : 90.0);
             lines = fillLines(sparse, {angle}, w * 100.0 / pct, minLine);
           } else {
-            lines = fillLines(sparse, {settings.infillAngleDegrees, settings.infillAngleDegrees + 90.0},
+            lines = fillLines(sparse, {options.infillAngleDegrees, options.infillAngleDegrees + 90.0},
                               2.0 * w * 100.0 / pct, minLine);
           }
           for (const Path& line : lines) infillRuns[k].push_back(Run{toPoints(line), false, Feature::Infill});
@@ -331,10 +319,10 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
 
       // Emit the layer: islands nearest-first, walls inner to outer, then skin, then infill.
       auto speedOf = [&](Feature f) {
-        if (firstLayer) return settings.firstLayerSpeed;
-        if (f == Feature::WallOuter) return settings.outerWallSpeed;
-        if (f == Feature::Infill) return settings.infillSpeed;
-        return settings.printSpeed;
+        if (firstLayer) return options.firstLayerSpeed;
+        if (f == Feature::WallOuter) return options.outerWallSpeed;
+        if (f == Feature::Infill) return options.infillSpeed;
+        return options.printSpeed;
       };
       auto baseMove = [&](const Eigen::Vector3d& p, MoveKind kind) {
         Move m;
@@ -353,20 +341,20 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
         }
         const double len = (target - pos).norm();
         if (len <= 1e-9) return;
-        const bool retract = retractOn && extruded && len > settings.retractMinTravel;
+        const bool retract = retractOn && extruded && len > options.retractMinTravel;
         if (retract) {
           Move r = baseMove(pos, MoveKind::Retract);
-          r.filament = -settings.retractLength;
-          r.speed = settings.retractSpeed;
+          r.filament = -options.retractLength;
+          r.speed = options.retractSpeed;
           tp.moves.push_back(r);
         }
         Move t = baseMove(target, MoveKind::Travel);
-        t.speed = settings.travelSpeed;
+        t.speed = options.travelSpeed;
         tp.moves.push_back(t);
         if (retract) {
           Move u = baseMove(target, MoveKind::Unretract);
-          u.filament = settings.retractLength;
-          u.speed = settings.retractSpeed;
+          u.filament = options.retractLength;
+          u.speed = options.retractSpeed;
           tp.moves.push_back(u);
         }
         pos = target;
@@ -382,7 +370,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings,
           Move m = baseMove(target, run.feature == Feature::Support ? MoveKind::Support : MoveKind::Print);
           m.width = w;
           m.height = thickness;
-          m.filament = filamentForBead(w, thickness, len, settings.filamentDiameter);
+          m.filament = filamentForBead(w, thickness, len, options.filamentDiameter);
           m.speed = speed;
           m.feature = run.feature;
           tp.moves.push_back(m);

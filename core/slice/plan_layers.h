@@ -7,19 +7,36 @@
 
 #include "common/progress.h"
 #include "common/status.h"
-#include "pipeline/settings.h"
 #include "slice/slice_mesh.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {
 
-// Filament length (mm) that deposits a bead of width w, height h over length L: bead area is a
-// rectangle with semicircular ends, (w - h) h + pi h^2 / 4, divided by the filament section; a
-// bead narrower than its height (w < h) has its round ends top and bottom: (h - w) w + pi w^2 / 4.
-double filamentForBead(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm);
+enum class InfillPattern { Lines, Grid };
 
-// Paper 003 Eq. 13: the bead an ellipse of width w and height h, (pi / 4) w h L = pi r_m^2 l_m.
-double ellipseBeadFilament(double widthMm, double heightMm, double lengthMm, double filamentDiameterMm);
+// What planLayers lays in each layer and how fast: the planar tool-path's options (every field
+// defaulted; the pipeline fills them from the settings).
+struct PlanarOptions {
+  double lineWidth = 0.45;           // mm, > 0 (the resolved line width)
+  double filamentDiameter = 1.75;    // mm, > 0
+  int walls = 2;                     // perimeters per island, 0..1000
+  int topLayers = 4;                 // solid layers under a top surface, 0..1000
+  int bottomLayers = 4;              // solid layers over a bottom surface, 0..1000
+  double infillPercent = 20;         // sparse infill density, 0..100 (100 = solid)
+  InfillPattern infillPattern = InfillPattern::Grid;
+  double infillAngleDegrees = 45;    // angle of infill lines in the layer plane, degrees
+  double infillOverlapPercent = 15;  // infill overlap into the innermost wall, % of line width
+  bool allLinesAlongInfillAngle = false;  // every skin and infill line along infillAngleDegrees
+                                          // (paper 003's iso-planar direction on planar layers)
+  double printSpeed = 50;            // mm/s, inner walls, skin
+  double outerWallSpeed = 30;        // mm/s
+  double infillSpeed = 70;           // mm/s
+  double firstLayerSpeed = 20;       // mm/s, every feature of layer 0
+  double travelSpeed = 150;          // mm/s
+  double retractLength = 0.8;        // mm of filament, 0 = off
+  double retractSpeed = 35;          // mm/s of filament
+  double retractMinTravel = 1.5;     // mm, shorter travels do not retract
+};
 
 struct PlanLayersResult : Outcome {
   Toolpath toolpath;
@@ -28,7 +45,7 @@ struct PlanLayersResult : Outcome {
   std::vector<double> infillAreaMm2;  // sparse-infill area per layer
 };
 
-// Plan tool-paths for every layer of `slices` with settings (walls, topLayers, bottomLayers,
+// Plan tool-paths for every layer of `slices` with options (walls, topLayers, bottomLayers,
 // infillPercent, infillPattern, infillAngleDegrees, speeds, retraction, line width, filament).
 // Moves are in the part frame; nozzle axis = slices.frame.d; part id = partIndex.
 // Per island: walls inner to outer (outer wall last), each loop starting at its vertex nearest the
@@ -36,11 +53,11 @@ struct PlanLayersResult : Outcome {
 // with either end allowed. Islands nearest-first. The nozzle tip sits at each layer's top; z changes
 // only in travel moves; travels longer than retractMinTravel are wrapped in Retract/Unretract
 // (none before the first extrusion). toolpath.start is 2 mm above the first point along d.
-// Statuses: InvalidOption (settings out of range, slices carrying an error), Cancelled, Internal.
+// Statuses: InvalidOption (options out of range, slices carrying an error), Cancelled, Internal.
 // supportRegions (optional, per layer of slices, in the layer plane's coordinates): support to
 // print in that layer before the part's islands, filled solid with lines at the solid spacing
 // (0 / 90 deg by layer), MoveKind::Support, Feature::Support.
-PlanLayersResult planLayers(const SliceResult& slices, const Settings& settings, int partIndex = 0,
+PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& options, int partIndex = 0,
                             const ProgressFn& progress = {},
                             const std::vector<std::vector<ExPolygon2>>* supportRegions = nullptr);
 

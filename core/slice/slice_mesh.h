@@ -8,18 +8,10 @@
 
 #include "common/progress.h"
 #include "common/status.h"
+#include "geometry/polygon2.h"
 #include "mesh/mesh.h"
 
 namespace omnislice {
-
-// 2D polygon in a layer's plane coordinates (mm). Outer contours counter-clockwise, holes clockwise.
-using Polygon2 = std::vector<Eigen::Vector2d>;
-
-// One island: an outer contour and its holes.
-struct ExPolygon2 {
-  Polygon2 contour;
-  std::vector<Polygon2> holes;
-};
 
 // Right-handed frame of the slicing planes: a layer point (x, y) at height z maps to the part
 // frame as origin + x*e1 + y*e2 + z*d.

@@ -18,7 +18,7 @@
 #include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 #include "motion/orientation_smoothing.h"
-#include "slice/plan_layers.h"
+#include "toolpath/bead.h"
 #include "surface/printed_points.h"
 
 namespace omnislice {

@@ -92,7 +92,7 @@ struct CurvedToolpathResult : Outcome {
 // first, when q - c_q is that short), the normal is used and counted in
 // orientationFallbacks. Bead height per point = |q - c_q| clamped to [min, max] x nominalHeight
 // (nominalHeight on layer 0); a segment takes the mean of its end heights, and its filament is
-// filamentForBead (slice/plan_layers.h: rectangle with semicircular ends, as the planar planner).
+// filamentForBead (toolpath/bead.h: rectangle with semicircular ends, as the planar planner).
 // Travels longer than retractMinTravel after the first extrusion: Retract at the current point,
 // leave by travelClearance along the current axis, cross to start + clearance x axis, approach,
 // Unretract; shorter travels are one Travel move. toolpath.start = first start + clearance x axis.

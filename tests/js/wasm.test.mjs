@@ -55,6 +55,31 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.equal(keys.length, Object.keys(values).length);
   });
 
+  test('the settings schema is the core table: the same as the CLI prints, defaults as listed', { skip: nativeWhy || false }, () => {
+    const schema = m.settingsSchema();
+    const cli = JSON.parse(execFileSync(NATIVE_CLI, ['settings', '--schema'], { encoding: 'utf8' }));
+    assert.deepEqual(schema, cli);
+    const { values } = m.defaultSettings();
+    const byKey = Object.fromEntries(schema.map((s) => [s.key, s]));
+    // The listing resolves line_width (0 = 1.125 x nozzle) and first_layer_height (0 = layer_height).
+    const resolved = { line_width: '0', first_layer_height: '0' };
+    for (const [key, text] of Object.entries(values)) {
+      assert.ok(byKey[key], `listed key ${key} is in the schema`);
+      assert.equal(byKey[key].default, resolved[key] ?? text, `${key} default`);
+    }
+    for (const s of schema) {
+      if (s.type === 'number' || s.type === 'integer') {
+        assert.ok(s.min < s.max, `${s.key} range`);
+        assert.ok(Number(s.default) >= s.min && Number(s.default) <= s.max, `${s.key} default in range`);
+      }
+      if (s.type === 'choice') assert.ok(s.choices.includes(s.default), `${s.key} default is a choice`);
+    }
+    // A value outside a range is refused by the same table.
+    const layer = byKey.layer_height;
+    assert.throws(() => m.slice(new Uint8Array(boxStl(10, 10, 5)), 'box.stl', { layer_height: layer.max * 2 }),
+      (e) => e.code === 'invalid_option' && /layer_height/.test(e.message));
+  });
+
   // ---- parity with the native CLI --------------------------------------------------------------
   const settings = { layer_height: 0.3, walls: 2, infill: 20 };
   const cases = [

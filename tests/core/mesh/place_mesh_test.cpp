@@ -6,6 +6,7 @@
 #include <Eigen/Geometry>
 
 #include "mesh/generated_meshes.h"
+#include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "test_support.h"
 
@@ -13,7 +14,7 @@ namespace omnislice {
 namespace {
 
 // Asserts the placement invariants and returns the placed bounding box.
-BoundingBox checkPlacement(const Mesh& in, const PlacementSettings& p, double expectedScale) {
+BoundingBox checkPlacement(const Mesh& in, const PlaceOptions& p, double expectedScale) {
   const PlaceMeshResult r = placeMesh(in, p);
   EXPECT_TRUE(r.ok()) << r.message;
   EXPECT_EQ(r.mesh.triangles, in.triangles);
@@ -51,7 +52,7 @@ TEST(PlaceMesh, DefaultDropsAndCentres) {
 
 TEST(PlaceMesh, KeepsXYWhenNotCentred) {
   const Mesh box = test::makeBox(10, 20, -5, 11, 22, 33);
-  PlacementSettings p;
+  PlaceOptions p;
   p.center = false;
   const PlaceMeshResult r = placeMesh(box, p);
   ASSERT_TRUE(r.ok());
@@ -65,7 +66,7 @@ TEST(PlaceMesh, KeepsXYWhenNotCentred) {
 
 TEST(PlaceMesh, ScaleAndFit) {
   const Mesh box = test::makeBox(0, 0, 0, 1, 2, 4);
-  PlacementSettings p;
+  PlaceOptions p;
   p.scale = 2.5;
   BoundingBox b = checkPlacement(box, p, 2.5);
   EXPECT_NEAR(b.max.z(), 10, 1e-12);
@@ -88,7 +89,7 @@ TEST(PlaceMesh, UpAxis) {
   for (const Case& c : {Case{UpAxis::PosZ, {0, 0, 1}}, Case{UpAxis::NegZ, {0, 0, -1}},
                         Case{UpAxis::PosY, {0, 1, 0}}, Case{UpAxis::NegY, {0, -1, 0}},
                         Case{UpAxis::PosX, {1, 0, 0}}, Case{UpAxis::NegX, {-1, 0, 0}}}) {
-    PlacementSettings p;
+    PlaceOptions p;
     p.up = c.up;
     checkPlacement(m, p, 1.0);
     const PlaceMeshResult r = placeMesh(m, p);
@@ -112,7 +113,7 @@ TEST(PlaceMesh, UpAxis) {
 // Rotations about part X, then Y, then Z, after the up-axis change.
 TEST(PlaceMesh, Rotations) {
   const Mesh box = test::makeBox(0, 0, 0, 1, 2, 3);
-  PlacementSettings p;
+  PlaceOptions p;
   p.rotateXDegrees = 90;  // y -> z
   BoundingBox b = checkPlacement(box, p, 1.0);
   EXPECT_NEAR(b.max.x() - b.min.x(), 1, 1e-12);
@@ -147,18 +148,18 @@ TEST(PlaceMesh, Rotations) {
 TEST(PlaceMesh, InvalidOptions) {
   const Mesh box = test::makeBox(0, 0, 0, 1, 1, 1);
   auto status = [&](auto edit) {
-    PlacementSettings p;
+    PlaceOptions p;
     edit(p);
     return placeMesh(box, p).status;
   };
-  EXPECT_EQ(status([](PlacementSettings& p) { p.scale = 0; }), Status::InvalidOption);
-  EXPECT_EQ(status([](PlacementSettings& p) { p.scale = -2; }), Status::InvalidOption);
-  EXPECT_EQ(status([](PlacementSettings& p) { p.scale = NAN; }), Status::InvalidOption);
-  EXPECT_EQ(status([](PlacementSettings& p) { p.scale = INFINITY; }), Status::InvalidOption);
-  EXPECT_EQ(status([](PlacementSettings& p) { p.fitMm = -1; }), Status::InvalidOption);
-  EXPECT_EQ(status([](PlacementSettings& p) { p.fitMm = NAN; }), Status::InvalidOption);
-  EXPECT_EQ(status([](PlacementSettings& p) { p.rotateYDegrees = INFINITY; }), Status::InvalidOption);
-  EXPECT_EQ(placeMesh(test::makeBox(0, 0, 0, 10, 10, 10), PlacementSettings{1e308}).status, Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.scale = 0; }), Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.scale = -2; }), Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.scale = NAN; }), Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.scale = INFINITY; }), Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.fitMm = -1; }), Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.fitMm = NAN; }), Status::InvalidOption);
+  EXPECT_EQ(status([](PlaceOptions& p) { p.rotateYDegrees = INFINITY; }), Status::InvalidOption);
+  EXPECT_EQ(placeMesh(test::makeBox(0, 0, 0, 10, 10, 10), PlaceOptions{1e308}).status, Status::InvalidOption);
   EXPECT_EQ(placeMesh(Mesh{}, {}).status, Status::EmptyInput);
 }
 

@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "common/math_constants.h"
+#include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "multidir/decomposition.h"
@@ -86,7 +87,7 @@ Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm = 0) {
   po.checkSelfIntersections = false;
   const PrepareMeshResult p = prepareMesh(r.mesh, po);
   EXPECT_TRUE(p.ok()) << file << ": " << p.message;
-  PlacementSettings place;
+  PlaceOptions place;
   place.up = up;
   place.fitMm = fitMm;
   const PlaceMeshResult pl = placeMesh(p.mesh, place);

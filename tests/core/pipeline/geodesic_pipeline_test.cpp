@@ -27,7 +27,7 @@ using Json = nlohmann::json;
 
 Settings geodesicSettings(const std::string& machine, double interval) {
   Settings s;
-  s.method = "geodesic";
+  s.method = Method::Geodesic;
   s.machine = machine;
   s.nozzleDiameter = 0.8;
   s.layerHeight = interval;
@@ -55,25 +55,25 @@ using test::sliceAndVerify;
 void expectConsistent(const Sliced& r) {
   ASSERT_TRUE(r.report.contains("geodesic")) << r.report.dump();
   const Json& g = r.report["geodesic"];
-  const PreviewBuffers& p = r.out.preview;
-  const size_t nodes = p.nodeLayers.size();
+  const SlicePreview& p = r.out.preview;
+  const size_t nodes = p.method.geodesic.nodeLayers.size();
   EXPECT_EQ(g["igds"].get<size_t>(), nodes);
-  EXPECT_EQ(p.nodePositions.size(), 3 * nodes);
-  ASSERT_EQ(p.sequence.size(), nodes);
+  EXPECT_EQ(p.method.geodesic.nodePositions.size(), 3 * nodes);
+  ASSERT_EQ(p.method.geodesic.sequence.size(), nodes);
   std::vector<size_t> position(nodes, SIZE_MAX);
   for (size_t k = 0; k < nodes; ++k) {
-    ASSERT_LT(p.sequence[k], nodes);
-    EXPECT_EQ(position[p.sequence[k]], SIZE_MAX) << "node printed twice";
-    position[p.sequence[k]] = k;
+    ASSERT_LT(p.method.geodesic.sequence[k], nodes);
+    EXPECT_EQ(position[p.method.geodesic.sequence[k]], SIZE_MAX) << "node printed twice";
+    position[p.method.geodesic.sequence[k]] = k;
   }
-  for (size_t e = 0; e + 1 < p.treeEdges.size(); e += 2) {
-    const uint32_t lower = p.treeEdges[e], upper = p.treeEdges[e + 1];
-    EXPECT_EQ(p.nodeLayers[upper], p.nodeLayers[lower] + 1);
+  for (size_t e = 0; e + 1 < p.method.geodesic.treeEdges.size(); e += 2) {
+    const uint32_t lower = p.method.geodesic.treeEdges[e], upper = p.method.geodesic.treeEdges[e + 1];
+    EXPECT_EQ(p.method.geodesic.nodeLayers[upper], p.method.geodesic.nodeLayers[lower] + 1);
     EXPECT_LT(position[lower], position[upper]) << "Criterion 1";
   }
-  EXPECT_EQ(p.fieldValues.size() * 3, p.fieldPositions.size());
-  EXPECT_GT(p.fieldTriangles.size(), 0u);
-  EXPECT_FALSE(p.surfaceLayers.empty());
+  EXPECT_EQ(p.method.geodesic.fieldValues.size() * 3, p.method.geodesic.fieldPositions.size());
+  EXPECT_GT(p.method.geodesic.fieldTriangles.size(), 0u);
+  EXPECT_FALSE(p.method.surfaces.layers.empty());
   for (const char* k : {"LPT", "DPT", "A3"}) {
     ASSERT_TRUE(g["traversals"].contains(k)) << g.dump();
   }
@@ -111,13 +111,13 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   // none of which the program prints.
   const size_t skipped = g["skipped_segments"].get<size_t>();
   ASSERT_GT(skipped, 0u) << "the loop closure of this model skips no path any more: update this test";
-  const std::vector<float>& seg = r.out.preview.skippedSegments;
+  const std::vector<float>& seg = r.out.preview.method.geodesic.skippedSegments;
   ASSERT_EQ(seg.size(), 6 * skipped);
-  ASSERT_EQ(r.out.preview.skippedLayers.size(), skipped);
+  ASSERT_EQ(r.out.preview.method.geodesic.skippedLayers.size(), skipped);
   double length = 0, zLo = 1e9, zHi = -1e9;
   // The printed segments of the preview (feature != travel), against each skipped one's middle.
-  const std::vector<float>& pos = r.out.preview.positions;
-  const std::vector<uint8_t>& feature = r.out.preview.features;
+  const std::vector<float>& pos = r.out.preview.toolpath.positions;
+  const std::vector<uint8_t>& feature = r.out.preview.toolpath.features;
   auto nearestPrinted = [&](const Eigen::Vector3d& q) {
     double best = 1e9;
     for (size_t i = 0; i < feature.size(); ++i) {
@@ -147,7 +147,7 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   ASSERT_EQ(layers.size(), 2u);
   EXPECT_LE(layers[0].get<int>(), layers[1].get<int>());
   EXPECT_LT(layers[1].get<int>(), g["layers"].get<int>());
-  const auto [lowest, highest] = std::minmax_element(r.out.preview.skippedLayers.begin(), r.out.preview.skippedLayers.end());
+  const auto [lowest, highest] = std::minmax_element(r.out.preview.method.geodesic.skippedLayers.begin(), r.out.preview.method.geodesic.skippedLayers.end());
   EXPECT_EQ(*lowest, layers[0].get<uint32_t>());
   EXPECT_EQ(*highest, layers[1].get<uint32_t>());
   ASSERT_EQ(r.out.warnings.size(), 1u);
@@ -179,28 +179,28 @@ TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
 // Boundary ears folded against their layer in the preview's IGDS surfaces: a triangle whose apex
 // belongs to it alone, turned more than 45 degrees from the triangle across its base, the apex
 // within a quarter of the base from the base's line.
-size_t foldedEars(const PreviewBuffers& p) {
-  const size_t nv = p.surfacePositions.size() / 3, nt = p.surfaceTriangles.size() / 3;
+size_t foldedEars(const SlicePreview& p) {
+  const size_t nv = p.method.surfaces.positions.size() / 3, nt = p.method.surfaces.triangles.size() / 3;
   auto vertex = [&](uint32_t v) {
-    return Eigen::Vector3d(p.surfacePositions[3 * v], p.surfacePositions[3 * v + 1], p.surfacePositions[3 * v + 2]);
+    return Eigen::Vector3d(p.method.surfaces.positions[3 * v], p.method.surfaces.positions[3 * v + 1], p.method.surfaces.positions[3 * v + 2]);
   };
   auto normal = [&](size_t t) {
-    const uint32_t* f = &p.surfaceTriangles[3 * t];
+    const uint32_t* f = &p.method.surfaces.triangles[3 * t];
     return Eigen::Vector3d((vertex(f[1]) - vertex(f[0])).cross(vertex(f[2]) - vertex(f[0])));
   };
   std::vector<uint32_t> valence(nv, 0);
   std::map<std::pair<uint32_t, uint32_t>, std::vector<size_t>> edgeFaces;
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
-      const uint32_t a = p.surfaceTriangles[3 * t + k], b = p.surfaceTriangles[3 * t + (k + 1) % 3];
+      const uint32_t a = p.method.surfaces.triangles[3 * t + k], b = p.method.surfaces.triangles[3 * t + (k + 1) % 3];
       ++valence[a];
       edgeFaces[{std::min(a, b), std::max(a, b)}].push_back(t);
     }
   size_t folded = 0;
   for (size_t t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k) {
-      const uint32_t c = p.surfaceTriangles[3 * t + k], a = p.surfaceTriangles[3 * t + (k + 1) % 3],
-                     b = p.surfaceTriangles[3 * t + (k + 2) % 3];
+      const uint32_t c = p.method.surfaces.triangles[3 * t + k], a = p.method.surfaces.triangles[3 * t + (k + 1) % 3],
+                     b = p.method.surfaces.triangles[3 * t + (k + 2) % 3];
       const std::vector<size_t>& across = edgeFaces[{std::min(a, b), std::max(a, b)}];
       if (valence[c] != 1 || across.size() != 2) continue;
       const size_t other = across[0] == t ? across[1] : across[0];

@@ -74,16 +74,16 @@ TEST_P(MachinesPipeline, SlicesVerifiesAndReplays) {
   EXPECT_EQ(parsed.machine.kind, builtin.machine.kind);
 
   // The animation data: forwardMap of every preview row lands on the segment's end point.
-  const size_t segments = out.preview.features.size();
-  ASSERT_EQ(out.preview.machine.size(), 6 * segments);
+  const size_t segments = out.preview.toolpath.features.size();
+  ASSERT_EQ(out.preview.toolpath.machine.size(), 6 * segments);
   double worst = 0;
   for (size_t i = 0; i < segments; ++i) {
     MachineValues v{};
-    for (int k = 0; k < 6; ++k) v[k] = out.preview.machine[6 * i + k];
+    for (int k = 0; k < 6; ++k) v[k] = out.preview.toolpath.machine[6 * i + k];
     Eigen::Vector3d tip, axis;
     ASSERT_TRUE(forwardMap(parsed.machine, v, tip, axis));
-    const Eigen::Vector3d end(out.preview.positions[6 * i + 3], out.preview.positions[6 * i + 4],
-                              out.preview.positions[6 * i + 5]);
+    const Eigen::Vector3d end(out.preview.toolpath.positions[6 * i + 3], out.preview.toolpath.positions[6 * i + 4],
+                              out.preview.toolpath.positions[6 * i + 5]);
     worst = std::max(worst, (tip - end).norm());
   }
   // Float32 preview: joint angles in float lose ~1e-7 rad, ~1e-4 mm at the arm's reach.

@@ -31,7 +31,7 @@ using test::sliceAndVerify;
 
 Settings multidirSettings(const std::string& machine) {
   Settings s;
-  s.method = "multidir";
+  s.method = Method::Multidir;
   s.machine = machine;
   s.layerHeight = 0.3;
   s.infillPercent = 100;  // coverage is judged on solid prints
@@ -53,7 +53,7 @@ void expectConsistentParts(const Sliced& r, double layerHeight) {
   EXPECT_TRUE(parts[0]["plane"].is_null());
   // Extruding segments per part from the preview (positions, features != 0) and the toolpath's
   // part ids are not in the preview: use the report's per-part layer ranges instead.
-  const PreviewBuffers& pv = r.out.preview;
+  const SlicePreview& pv = r.out.preview;
   std::vector<int> firstLayer;
   int layer = 0;
   for (const Json& p : parts) {
@@ -67,11 +67,11 @@ void expectConsistentParts(const Sliced& r, double layerHeight) {
     return -1;
   };
   size_t checked = 0;
-  for (size_t sgm = 0; sgm < pv.features.size(); ++sgm) {
-    if (pv.features[sgm] == 0) continue;
-    const int i = partOfLayer(pv.layers[sgm]);
+  for (size_t sgm = 0; sgm < pv.toolpath.features.size(); ++sgm) {
+    if (pv.toolpath.features[sgm] == 0) continue;
+    const int i = partOfLayer(pv.toolpath.layers[sgm]);
     ASSERT_GE(i, 0);
-    const Eigen::Vector3d q(pv.positions[6 * sgm + 3], pv.positions[6 * sgm + 4], pv.positions[6 * sgm + 5]);
+    const Eigen::Vector3d q(pv.toolpath.positions[6 * sgm + 3], pv.toolpath.positions[6 * sgm + 4], pv.toolpath.positions[6 * sgm + 5]);
     for (size_t k = 1; k < parts.size(); ++k) {
       const Json& plane = parts[k]["plane"];
       const Eigen::Vector3d n(plane["normal"][0], plane["normal"][1], plane["normal"][2]);
@@ -86,7 +86,7 @@ void expectConsistentParts(const Sliced& r, double layerHeight) {
       }
     }
     // The nozzle axis of a part is its direction.
-    const Eigen::Vector3d u(pv.axes[3 * sgm], pv.axes[3 * sgm + 1], pv.axes[3 * sgm + 2]);
+    const Eigen::Vector3d u(pv.toolpath.axes[3 * sgm], pv.toolpath.axes[3 * sgm + 1], pv.toolpath.axes[3 * sgm + 2]);
     const Json& dir = parts[size_t(i)]["direction"];
     EXPECT_NEAR(u.dot(Eigen::Vector3d(dir[0], dir[1], dir[2])), 1.0, 1e-4);
     ++checked;
@@ -103,7 +103,7 @@ void expectVerified(const Sliced& r) {
 }
 
 double planarSupported(const std::vector<uint8_t>& bytes, const std::string& name, Settings s) {
-  s.method = "planar";
+  s.method = Method::Planar;
   const Sliced r = sliceAndVerify(bytes, name, s);
   return r.verify.is_null() ? 1.0 : r.verify["supported"].get<double>();
 }
@@ -142,27 +142,27 @@ TEST(MultidirPipeline, PreviewBuffersHoldPartsAndRiskyFaces) {
   const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", multidirSettings("table5"));
   ASSERT_TRUE(out.ok()) << out.message;
   const Json m = Json::parse(out.reportJson)["multidir"];
-  const PreviewBuffers& p = out.preview;
-  ASSERT_EQ(p.partPositions.size() % 3, 0u);
-  ASSERT_EQ(p.partTriangles.size(), 3 * p.partIds.size());
-  ASSERT_GT(p.partIds.size(), 0u);
+  const SlicePreview& p = out.preview;
+  ASSERT_EQ(p.method.multidir.partPositions.size() % 3, 0u);
+  ASSERT_EQ(p.method.multidir.partTriangles.size(), 3 * p.method.multidir.partIds.size());
+  ASSERT_GT(p.method.multidir.partIds.size(), 0u);
   const size_t parts = m["part_count"].get<size_t>();
   std::set<uint32_t> seen;
-  for (uint32_t id : p.partIds) {
+  for (uint32_t id : p.method.multidir.partIds) {
     EXPECT_LT(id, parts);
     seen.insert(id);
   }
-  for (uint32_t v : p.partTriangles) ASSERT_LT(v, p.partPositions.size() / 3);
+  for (uint32_t v : p.method.multidir.partTriangles) ASSERT_LT(v, p.method.multidir.partPositions.size() / 3);
   EXPECT_EQ(seen.size(), parts) << "every (non-empty) part has triangles";
   // Volume per part from the soup matches the report.
   std::vector<double> volume(parts, 0);
-  for (size_t t = 0; t < p.partIds.size(); ++t) {
+  for (size_t t = 0; t < p.method.multidir.partIds.size(); ++t) {
     Eigen::Vector3d q[3];
     for (int k = 0; k < 3; ++k) {
-      const uint32_t v = p.partTriangles[3 * t + size_t(k)];
-      q[k] = Eigen::Vector3d(p.partPositions[3 * v], p.partPositions[3 * v + 1], p.partPositions[3 * v + 2]);
+      const uint32_t v = p.method.multidir.partTriangles[3 * t + size_t(k)];
+      q[k] = Eigen::Vector3d(p.method.multidir.partPositions[3 * v], p.method.multidir.partPositions[3 * v + 1], p.method.multidir.partPositions[3 * v + 2]);
     }
-    volume[p.partIds[t]] += q[0].dot(q[1].cross(q[2])) / 6;
+    volume[p.method.multidir.partIds[t]] += q[0].dot(q[1].cross(q[2])) / 6;
   }
   for (size_t i = 0; i < parts; ++i) {
     const double want = m["parts"][i]["volume_mm3"].get<double>();
@@ -170,15 +170,15 @@ TEST(MultidirPipeline, PreviewBuffersHoldPartsAndRiskyFaces) {
   }
   // Risky flags per triangle of the placed part.
   const Mesh& mesh = out.partMesh;
-  ASSERT_EQ(p.riskyBefore.size(), mesh.faceCount());
-  ASSERT_EQ(p.riskyAfter.size(), mesh.faceCount());
+  ASSERT_EQ(p.method.multidir.riskyBefore.size(), mesh.faceCount());
+  ASSERT_EQ(p.method.multidir.riskyAfter.size(), mesh.faceCount());
   double before = 0, after = 0;
   for (size_t f = 0; f < mesh.faceCount(); ++f) {
     const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]), b = mesh.vertex(mesh.triangles[3 * f + 1]),
                           c = mesh.vertex(mesh.triangles[3 * f + 2]);
     const double area = (b - a).cross(c - a).norm() / 2;
-    if (p.riskyBefore[f]) before += area;
-    if (p.riskyAfter[f]) after += area;
+    if (p.method.multidir.riskyBefore[f]) before += area;
+    if (p.method.multidir.riskyAfter[f]) after += area;
   }
   const double jgBefore = m["J_G_before"].get<double>();
   EXPECT_GT(jgBefore, 0);
@@ -194,14 +194,14 @@ TEST(MultidirPipeline, PreviewRiskyFacesOnRotary) {
   ASSERT_TRUE(out.ok()) << out.message;
   const Json m = Json::parse(out.reportJson)["multidir"];
   const Mesh& mesh = out.partMesh;
-  ASSERT_EQ(out.preview.riskyAfter.size(), mesh.faceCount());
+  ASSERT_EQ(out.preview.method.multidir.riskyAfter.size(), mesh.faceCount());
   double before = 0, after = 0;
   for (size_t f = 0; f < mesh.faceCount(); ++f) {
     const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]), b = mesh.vertex(mesh.triangles[3 * f + 1]),
                           c = mesh.vertex(mesh.triangles[3 * f + 2]);
     const double area = (b - a).cross(c - a).norm() / 2;
-    if (out.preview.riskyBefore[f]) before += area;
-    if (out.preview.riskyAfter[f]) after += area;
+    if (out.preview.method.multidir.riskyBefore[f]) before += area;
+    if (out.preview.method.multidir.riskyAfter[f]) after += area;
   }
   const double jgBefore = m["J_G_before"].get<double>();
   EXPECT_NEAR(before, jgBefore, 0.01 * jgBefore);
@@ -245,7 +245,7 @@ TEST(MultidirPipeline, KittenSearchLevelsMatchTheReport) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
   Settings s;
-  s.method = "multidir";
+  s.method = Method::Multidir;
   s.machine = "robot6";
   s.placement.up = UpAxis::PosY;
   struct Level {

@@ -73,9 +73,9 @@ TEST(Pipeline, BoxSlicesAndVerifies) {
   EXPECT_EQ(v["layers"].get<int>(), 30);
 
   // Preview: one feature code per segment, 6 floats per segment, layers in range.
-  ASSERT_EQ(out.preview.positions.size(), 6 * out.preview.features.size());
-  ASSERT_EQ(out.preview.layers.size(), out.preview.features.size());
-  for (uint32_t l : out.preview.layers) ASSERT_LT(l, 30u);
+  ASSERT_EQ(out.preview.toolpath.positions.size(), 6 * out.preview.toolpath.features.size());
+  ASSERT_EQ(out.preview.toolpath.layers.size(), out.preview.toolpath.features.size());
+  for (uint32_t l : out.preview.toolpath.layers) ASSERT_LT(l, 30u);
 }
 
 // Slicing along a direction d on cartesian3 turns d up; the recorded placement maps the input

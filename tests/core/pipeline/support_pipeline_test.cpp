@@ -111,7 +111,7 @@ TEST(SupportPipeline, KittenProjectedSupportsStayInTheirSubspaces) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
   Settings s;
-  s.method = "multidir";
+  s.method = Method::Multidir;
   s.machine = "table5";
   s.placement.up = UpAxis::PosY;
   s.placement.fitMm = 60;
@@ -155,7 +155,7 @@ TEST(SupportPipeline, EarlierPartsReachAcrossSteepPlanes) {
   for (const Case& c : {Case{"nestedcages_fertility.off", UpAxis::PosX}, Case{"compas_bunny_closed_low_res.obj", UpAxis::PosZ}}) {
     const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / c.file);
     Settings s;
-    s.method = "multidir";
+    s.method = Method::Multidir;
     s.machine = "table5";
     s.placement.up = c.up;
     s.placement.fitMm = 60;

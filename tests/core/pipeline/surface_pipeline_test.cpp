@@ -27,7 +27,7 @@ using Json = nlohmann::json;
 
 Settings surfaceSettings(const std::string& machine) {
   Settings s;
-  s.method = "surface";
+  s.method = Method::Surface;
   s.machine = machine;
   s.nozzleDiameter = 1.0;    // paper 003 Table 1: s = 1 mm, h = 0.75 mm
   s.layerHeight = 0.75;
@@ -49,11 +49,11 @@ Json sliceAndVerify(const Mesh& surface, const Settings& s, Json* verify) {
   if (v.ok() && verify) *verify = Json::parse(v.verifyJson);
   Json report = Json::parse(out.reportJson);
   // Preview: NL curves are tagged, the surface layer is drawn.
-  size_t tagged = std::count_if(out.preview.curves.begin(), out.preview.curves.end(),
+  size_t tagged = std::count_if(out.preview.toolpath.curves.begin(), out.preview.toolpath.curves.end(),
                                 [](uint32_t c) { return c > 0; });
   EXPECT_GT(tagged, 10u);
-  EXPECT_EQ(out.preview.curves.size(), out.preview.features.size());
-  EXPECT_GT(out.preview.surfaceTriangles.size(), 0u);
+  EXPECT_EQ(out.preview.toolpath.curves.size(), out.preview.toolpath.features.size());
+  EXPECT_GT(out.preview.method.surfaces.triangles.size(), 0u);
   return report;
 }
 
@@ -101,10 +101,9 @@ TEST(SurfacePipeline, ThetaStarBeatsOtherDirectionsOnTheSaddle) {
   o.benchmark = true;
   IsoplanarFillResult fill = planIsoplanarFill(saddle, robot.machine, set, o);
   ASSERT_TRUE(fill.ok()) << fill.message;
-  const Json r = Json::parse(fill.reportJson);
   double best = 0;
-  for (const auto& p : r["curve"]) best = std::max(best, p[1].get<double>());
-  EXPECT_DOUBLE_EQ(r["deposition_rate_mm3_s"].get<double>(), best);
+  for (const auto& [theta, rate] : fill.report.curve) best = std::max(best, rate);
+  EXPECT_DOUBLE_EQ(fill.report.depositionRateMm3S, best);
   EXPECT_GT(fill.benchmarkTimeS, 0);
   std::printf("theta* %.1f time %.1f s, mean of others %.1f s (%.1f %%), path %.0f vs %.0f mm\n", fill.thetaDegrees,
               fill.estimatedTimeS, fill.benchmarkTimeS, 100 * (1 - fill.estimatedTimeS / fill.benchmarkTimeS),
@@ -118,7 +117,7 @@ TEST(SurfacePipeline, ThetaStarBeatsOtherDirectionsOnTheSaddle) {
   IsoplanarFillResult forced = planIsoplanarFill(saddle, robot.machine, set, o);
   ASSERT_TRUE(forced.ok());
   EXPECT_DOUBLE_EQ(forced.thetaDegrees, 30);
-  EXPECT_EQ(Json::parse(forced.reportJson)["curve"].size(), 60u);
+  EXPECT_EQ(forced.report.curve.size(), 60u);
 }
 
 TEST(SurfacePipeline, RefusesWhatIsNotAPrintableSurface) {
@@ -181,7 +180,7 @@ TEST(SurfacePipeline, CancelStops) {
 TEST(SurfacePipeline, PlanarLayersFollowTheDriveDirection) {
   Settings s;
   s.machine = "table5";
-  s.fill = "isoplanar";
+  s.fill = FillMode::Isoplanar;
   s.isoplanar.directions = 36;
   s.infillPercent = 100;
   const std::vector<uint8_t> bytes = test::binaryStl(test::makeBox(-10, -6, 0, 10, 6, 3));
@@ -195,9 +194,9 @@ TEST(SurfacePipeline, PlanarLayersFollowTheDriveDirection) {
   EXPECT_DOUBLE_EQ(r["isoplanar"]["deposition_rate_mm3_s"].get<double>(), best);
   // Long skin segments run along theta (mod 180).
   size_t along = 0, segments = 0;
-  const auto& pos = out.preview.positions;
-  for (size_t i = 0; i < out.preview.features.size(); ++i) {
-    if (out.preview.features[i] != static_cast<uint8_t>(Feature::Skin)) continue;
+  const auto& pos = out.preview.toolpath.positions;
+  for (size_t i = 0; i < out.preview.toolpath.features.size(); ++i) {
+    if (out.preview.toolpath.features[i] != static_cast<uint8_t>(Feature::Skin)) continue;
     const double dx = pos[6 * i + 3] - pos[6 * i], dy = pos[6 * i + 4] - pos[6 * i + 1];
     if (std::hypot(dx, dy) < 3) continue;
     ++segments;

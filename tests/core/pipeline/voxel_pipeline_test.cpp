@@ -108,7 +108,7 @@ TEST(VoxelPipelineIsoplanar, MushroomWithIsoplanarFillVerifies) {
     EXPECT_GT(iso["regions"].size(), 5u);
     EXPECT_EQ(report["fill"], "isoplanar");
     size_t tagged = 0;
-    for (uint32_t c : out.preview.curves) tagged += c > 0;
+    for (uint32_t c : out.preview.toolpath.curves) tagged += c > 0;
     EXPECT_GT(tagged, 100u);
     SCOPED_TRACE(machine);
     expectVerified(out, bytes, "mushroom.stl");
@@ -151,22 +151,22 @@ TEST_P(VoxelPipeline, MushroomPrintsWithCurvedLayersAndVerifies) {
   }
 
   // Curved layers tilt the nozzle: some print moves lean away from +Z by more than 30 degrees.
-  const size_t segments = out.preview.features.size();
-  ASSERT_EQ(out.preview.axes.size(), 3 * segments);
+  const size_t segments = out.preview.toolpath.features.size();
+  ASSERT_EQ(out.preview.toolpath.axes.size(), 3 * segments);
   size_t tilted = 0;
   for (size_t i = 0; i < segments; ++i) {
-    const Eigen::Vector3d a(out.preview.axes[3 * i], out.preview.axes[3 * i + 1],
-                            out.preview.axes[3 * i + 2]);
+    const Eigen::Vector3d a(out.preview.toolpath.axes[3 * i], out.preview.toolpath.axes[3 * i + 1],
+                            out.preview.toolpath.axes[3 * i + 2]);
     EXPECT_NEAR(a.norm(), 1.0, 1e-4);
-    if (out.preview.features[i] != 0 && a.z() < std::cos(30 * M_PI / 180)) ++tilted;
+    if (out.preview.toolpath.features[i] != 0 && a.z() < std::cos(30 * M_PI / 180)) ++tilted;
   }
   EXPECT_GT(tilted, segments / 20) << "curved layers should tilt the nozzle";
   // Layer surfaces for the viewer: one layer index per triangle, indices in range.
-  ASSERT_EQ(out.preview.surfaceLayers.size() * 3, out.preview.surfaceTriangles.size());
-  ASSERT_FALSE(out.preview.surfaceTriangles.empty());
-  for (uint32_t i : out.preview.surfaceTriangles) ASSERT_LT(i, out.preview.surfacePositions.size() / 3);
-  EXPECT_EQ(out.preview.missedVoxels.size(), 3 * vx["missed_voxels"].get<size_t>());
-  EXPECT_GT(out.preview.voxelWidth, 0.6f);
+  ASSERT_EQ(out.preview.method.surfaces.layers.size() * 3, out.preview.method.surfaces.triangles.size());
+  ASSERT_FALSE(out.preview.method.surfaces.triangles.empty());
+  for (uint32_t i : out.preview.method.surfaces.triangles) ASSERT_LT(i, out.preview.method.surfaces.positions.size() / 3);
+  EXPECT_EQ(out.preview.method.voxel.missed.size(), 3 * vx["missed_voxels"].get<size_t>());
+  EXPECT_GT(out.preview.method.voxel.width, 0.6f);
 
   expectVerified(out, bytes, "mushroom.stl");
 }
@@ -214,7 +214,7 @@ TEST(VoxelPipelineSupports, SupportsUnderMissedVoxelsLetTheFieldCoverTheModel) {
   ASSERT_TRUE(without.ok()) << without.message;
   const Json a = Json::parse(without.reportJson)["voxel"];
   EXPECT_GT(a["missed_voxels"].get<int>(), 0) << a.dump();
-  EXPECT_EQ(without.preview.missedVoxels.size(), 3 * a["missed_voxels"].get<size_t>());
+  EXPECT_EQ(without.preview.method.voxel.missed.size(), 3 * a["missed_voxels"].get<size_t>());
   EXPECT_EQ(a["support_voxels"].get<int>(), 0);
 
   ASSERT_TRUE(setSetting(s, "voxel.supports", "true").ok());
@@ -225,8 +225,8 @@ TEST(VoxelPipelineSupports, SupportsUnderMissedVoxelsLetTheFieldCoverTheModel) {
   EXPECT_EQ(b["missed_voxels"].get<int>(), 0) << b.dump();
   EXPECT_GT(b["support_voxels"].get<int>(), 0);
   EXPECT_EQ(b["voxels"].get<int>(), a["voxels"].get<int>() + b["support_voxels"].get<int>());
-  EXPECT_EQ(with.preview.supportVoxels.size(), 3 * b["support_voxels"].get<size_t>());
-  EXPECT_TRUE(with.preview.missedVoxels.empty());
+  EXPECT_EQ(with.preview.method.voxel.support.size(), 3 * b["support_voxels"].get<size_t>());
+  EXPECT_TRUE(with.preview.method.voxel.missed.empty());
 }
 
 // Degenerate fields: a plate thinner than one voxel has a field without gradient and prints as one

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: MIT
 #include "slice/plan_layers.h"
+#include "toolpath/bead.h"
 
 #include <gtest/gtest.h>
 
@@ -54,8 +55,11 @@ Eigen::Vector2d toLayer(const SliceFrame& f, const Eigen::Vector3d& p) {
   return {(p - f.origin).dot(f.e1), (p - f.origin).dot(f.e2)};
 }
 
-Settings baseSettings() {
-  Settings s;
+// The layers of these tests' slices (SliceOptions' default layer height), mm.
+constexpr double kLayerHeight = 0.2;
+
+PlanarOptions baseSettings() {
+  PlanarOptions s;
   s.walls = 2;
   s.topLayers = 4;
   s.bottomLayers = 4;
@@ -66,12 +70,12 @@ Settings baseSettings() {
 // Independent checks shared by several tests: z only changes in travel, print points inside the
 // section with the bead inside (distance to the boundary >= w/2), filament = bead formula, moves
 // carry axis / width / height / layer / part.
-void checkToolpath(const SliceResult& slices, const Settings& s, const PlanLayersResult& plan,
+void checkToolpath(const SliceResult& slices, const PlanarOptions& s, const PlanLayersResult& plan,
                    const std::string& what) {
   ASSERT_TRUE(plan.ok()) << what << ": " << plan.message;
   const Toolpath& tp = plan.toolpath;
   EXPECT_EQ(tp.layerCount, static_cast<int>(slices.layers.size()));
-  const double w = s.effectiveLineWidth();
+  const double w = s.lineWidth;
   const SliceFrame& f = slices.frame;
   Eigen::Vector3d prev = tp.start;
   size_t outside = 0, tooClose = 0, prints = 0;
@@ -139,14 +143,14 @@ TEST(PlanLayers, BoxWallsSkinsInfillAlongZ) {
   const SliceResult slices = sliceMesh(box, o);
   ASSERT_TRUE(slices.ok());
   ASSERT_EQ(slices.layers.size(), 30u);
-  Settings s = baseSettings();
+  PlanarOptions s = baseSettings();
   s.infillPattern = InfillPattern::Lines;
   const PlanLayersResult plan = planLayers(slices, s, 3);
   checkToolpath(slices, s, plan, "box +Z");
   const std::vector<PrintRun> runs = runsOf(plan.toolpath);
-  const double w = s.effectiveLineWidth();
+  const double w = s.lineWidth;
   // Solid spacing of the bead model: w - h (1 - pi/4) (Slic3r's flow), the layers all 0.2 mm.
-  const double sp = w - s.layerHeight * (1 - 3.14159265358979323846 / 4);
+  const double sp = w - kLayerHeight * (1 - 3.14159265358979323846 / 4);
   for (int layer = 0; layer < 30; ++layer) {
     int outer = 0, inner = 0;
     double skin = 0, infill = 0;
@@ -192,12 +196,12 @@ TEST(PlanLayers, GridInfillShareAndFullInfill) {
   const SliceResult slices = sliceMesh(box, SliceOptions{});
   ASSERT_TRUE(slices.ok());
   for (double pct : {10.0, 20.0, 40.0, 100.0}) {
-    Settings s = baseSettings();
+    PlanarOptions s = baseSettings();
     s.infillPattern = InfillPattern::Grid;
     s.infillPercent = pct;
     const PlanLayersResult plan = planLayers(slices, s, 3);
     checkToolpath(slices, s, plan, "grid " + std::to_string(pct));
-    const double w = s.effectiveLineWidth();
+    const double w = s.lineWidth;
     double infill = 0, area = 0;
     for (const PrintRun& r : runsOf(plan.toolpath)) {
       if (r.feature == Feature::Infill) infill += r.length();
@@ -205,11 +209,11 @@ TEST(PlanLayers, GridInfillShareAndFullInfill) {
     for (double a : plan.infillAreaMm2) area += a;
     ASSERT_GT(area, 0);
     // Sparse lines are one bead wide apart per share; 100 % is laid at the solid spacing.
-    const double lw = pct >= 100 ? w - s.layerHeight * (1 - 3.14159265358979323846 / 4) : w;
+    const double lw = pct >= 100 ? w - kLayerHeight * (1 - 3.14159265358979323846 / 4) : w;
     EXPECT_NEAR(infill * lw / area, pct / 100, 0.04 * pct / 100 + 0.005) << pct << " %";
   }
   // 0 %: no infill moves at all.
-  Settings s = baseSettings();
+  PlanarOptions s = baseSettings();
   s.infillPercent = 0;
   const PlanLayersResult plan = planLayers(slices, s, 3);
   ASSERT_TRUE(plan.ok());
@@ -224,7 +228,7 @@ TEST(PlanLayers, TravelRetractionAndLayerStarts) {
   m = test::appendMesh(m, makeBox(30, 30, 0, 38, 38, 3));
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
-  const Settings s = baseSettings();
+  const PlanarOptions s = baseSettings();
   const PlanLayersResult plan = planLayers(slices, s, 3);
   checkToolpath(slices, s, plan, "four columns");
   const auto& moves = plan.toolpath.moves;
@@ -306,7 +310,7 @@ TEST(PlanLayers, TravelOrderBeatsUnorderedBaseline) {
   m = test::appendMesh(m, makeBox(30, -5, 0, 40, 5, 10));
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
-  const Settings s = baseSettings();
+  const PlanarOptions s = baseSettings();
   const PlanLayersResult plan = planLayers(slices, s, 3);
   checkToolpath(slices, s, plan, "torus + box");
   const double planned = toolpathStats(plan.toolpath, 0).travelMm;
@@ -369,7 +373,7 @@ TEST(PlanLayers, ManyIslandsOrderedQuickly) {
   }
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
-  const Settings s = baseSettings();
+  const PlanarOptions s = baseSettings();
   const auto t0 = std::chrono::steady_clock::now();
   const PlanLayersResult plan = planLayers(slices, s, 3);
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -394,7 +398,7 @@ TEST(PlanLayers, TiltedDirectionsStayInsideSections) {
     o.direction = dir;
     const SliceResult slices = sliceMesh(sphere, o);
     ASSERT_TRUE(slices.ok());
-    const Settings s = baseSettings();
+    const PlanarOptions s = baseSettings();
     const PlanLayersResult plan = planLayers(slices, s, 3);
     checkToolpath(slices, s, plan, "sphere");
     // Skin on the first bottomLayers and last topLayers layers; their regions hold no sparse infill.
@@ -416,7 +420,7 @@ TEST(PlanLayers, TorusWallsAroundHole) {
   const Mesh torus = test::makeTorus({0, 0, 5}, 10, 3, 96, 48);
   const SliceResult slices = sliceMesh(torus, SliceOptions{});
   ASSERT_TRUE(slices.ok());
-  Settings s = baseSettings();
+  PlanarOptions s = baseSettings();
   s.walls = 3;
   const PlanLayersResult plan = planLayers(slices, s, 3);
   checkToolpath(slices, s, plan, "torus walls");
@@ -439,7 +443,7 @@ TEST(PlanLayers, EmptyLayersAndNoWalls) {
   o.layerHeight = 0.25;
   const SliceResult slices = sliceMesh(two, o);
   ASSERT_TRUE(slices.ok());
-  Settings s = baseSettings();
+  PlanarOptions s = baseSettings();
   s.walls = 0;
   s.topLayers = 1;
   s.bottomLayers = 1;
@@ -456,7 +460,7 @@ TEST(PlanLayers, EmptyLayersAndNoWalls) {
 
 TEST(PlanLayers, StatusForBadInput) {
   const SliceResult slices = sliceMesh(makeBox(0, 0, 0, 5, 5, 2), SliceOptions{});
-  Settings s = baseSettings();
+  PlanarOptions s = baseSettings();
   s.infillPercent = 120;
   EXPECT_EQ(planLayers(slices, s).status, Status::InvalidOption);
   s = baseSettings();
@@ -510,7 +514,7 @@ TEST(PlanLayers, RealModelKittenTilted) {
     const SliceResult slices = sliceMesh(kitten, o);
     ASSERT_TRUE(slices.ok());
     EXPECT_EQ(slices.openChains, 0u);
-    const Settings s = baseSettings();
+    const PlanarOptions s = baseSettings();
     const PlanLayersResult plan = planLayers(slices, s, 3);
     checkToolpath(slices, s, plan, "kitten");
     // The kitten has a handle (genus 1): some layers hold two islands or a hole.

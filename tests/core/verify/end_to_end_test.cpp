@@ -8,6 +8,7 @@
 #include <set>
 
 #include "../test_support.h"
+#include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "pipeline/settings.h"
@@ -42,7 +43,7 @@ EndToEnd sliceAndVerify(const std::string& file, UpAxis up, double fitMm, double
   so.layerHeight = settings.layerHeight;
   const SliceResult slices = sliceMesh(placed.mesh, so);
   EXPECT_TRUE(slices.ok()) << slices.message;
-  const PlanLayersResult plan = planLayers(slices, settings);
+  const PlanLayersResult plan = planLayers(slices, planarOptions(settings));
   EXPECT_TRUE(plan.ok()) << plan.message;
   out.moves = plan.toolpath.moves.size();
 

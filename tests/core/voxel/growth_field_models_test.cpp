@@ -12,6 +12,7 @@
 #include <sys/resource.h>
 
 #include "../test_support.h"
+#include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "pipeline/settings.h"
@@ -24,7 +25,7 @@ namespace {
 
 using V3 = Eigen::Vector3i;
 
-Mesh loadPlaced(const std::string& file, const PlacementSettings& placement) {
+Mesh loadPlaced(const std::string& file, const PlaceOptions& placement) {
   const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / file).string());
   EXPECT_TRUE(read.ok()) << read.message;
   const PrepareMeshResult prepared = prepareMesh(read.mesh, {});
@@ -124,7 +125,7 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
   const Case cases[] = {{"compas_bunny_closed_low_res.obj", UpAxis::PosZ, 80, 0.8},
                         {"pymdp_kitten.off", UpAxis::PosY, 80, 0.8}};
   for (const Case& c : cases) {
-    PlacementSettings pl;
+    PlaceOptions pl;
     pl.up = c.up;
     pl.fitMm = c.fitMm;
     const VoxelGrid grid = voxelGrid(loadPlaced(c.file, pl), c.width);
@@ -168,7 +169,7 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
 // still reaches everything.
 TEST(GrowthFieldModels, BunnyOnADiscPlatform) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  PlacementSettings pl;
+  PlaceOptions pl;
   pl.fitMm = 80;
   VoxelizeOptions vo;
   vo.width = 0.8;
@@ -187,7 +188,7 @@ TEST(GrowthFieldModels, BunnyOnADiscPlatform) {
 // Time and peak memory printed, not asserted.
 TEST(GrowthFieldModels, LargeGridTiming) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  PlacementSettings pl;
+  PlaceOptions pl;
   pl.fitMm = 80;
   const VoxelGrid grid = voxelGrid(loadPlaced("compas_bunny_closed_high_res.stl", pl), 0.6);
   std::printf("[ model ] bunny high-res at 0.6 mm: grid %dx%dx%d (%zu cells), %zu voxels\n",
@@ -209,7 +210,7 @@ TEST(GrowthFieldModels, EpsilonSweep) {
                         {"pymdp_kitten.off", UpAxis::PosY, 80, 0.8},
                         {"compas_bunny_closed_low_res.obj", UpAxis::PosZ, 80, 0.8}};
   for (const Case& c : cases) {
-    PlacementSettings pl;
+    PlaceOptions pl;
     pl.up = c.up;
     pl.fitMm = c.fitMm;
     const VoxelGrid grid = voxelGrid(loadPlaced(c.file, pl), c.width);
@@ -225,7 +226,7 @@ TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
   // Up axis: the one whose lowest voxel layer (the footprint on the platform) is largest, i.e.
   // the flat stable base; printed below (+X: the statue's base). Longest side 84 mm gives the
   // paper's ~77k voxels at 0.8 mm with the conservative voxelisation.
-  PlacementSettings pl;
+  PlaceOptions pl;
   pl.fitMm = 84;
   UpAxis best = UpAxis::PosZ;
   size_t bestFoot = 0;

@@ -15,6 +15,7 @@
 #include "../mesh/generated_meshes.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
+#include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 
@@ -196,7 +197,7 @@ Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm) {
   EXPECT_TRUE(read.ok()) << read.message;
   const PrepareMeshResult prep = prepareMesh(read.mesh, {});
   EXPECT_TRUE(prep.ok() && prep.solid.ok()) << prep.message << prep.solid.message;
-  PlacementSettings ps;
+  PlaceOptions ps;
   ps.up = up;
   ps.fitMm = fitMm;
   const PlaceMeshResult placedMesh = placeMesh(prep.mesh, ps);

@@ -1,0 +1,89 @@
+// SPDX-License-Identifier: MIT
+// What viewers draw of a slice: the tool path as line segments (every method) and each method's
+// own section (curved layer surfaces, voxels, the geodesic field and skeleton tree, the multidir
+// parts and risky faces). Float32 and uint32 arrays as the page's three.js buffers take them; all
+// positions in the part frame, mm.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "motion/machine_path.h"
+#include "toolpath/toolpath.h"
+
+namespace omnislice {
+
+// One line segment per move that deposits or travels.
+struct ToolpathPreview {
+  std::vector<float> positions;   // #S*6: x0 y0 z0 x1 y1 z1 per segment
+  std::vector<uint8_t> features;  // #S: Feature code (toolpath.h), 0 = travel
+  std::vector<uint32_t> layers;   // #S: layer index
+  std::vector<float> machine;     // #S*6: machine values at each segment's end (machine kinds'
+                                  // units: mm, deg; robot6 rad), for the machine animation
+  std::vector<float> axes;        // #S*3: part-frame nozzle axis (unit) at each segment's end
+  // Iso-planar fill (paper 003): NL curve of each segment, 1-based in print order (0 = the
+  // segment is not on an NL curve: travel, join, planar base), so viewers can tell adjacent curves
+  // (side steps) apart.
+  std::vector<uint32_t> curves;   // #S
+};
+
+// Curved-layer methods (voxel, geodesic, surface): every layer's regions as one triangle soup.
+struct LayerSurfacePreview {
+  std::vector<float> positions;     // #V*3
+  std::vector<uint32_t> triangles;  // #T*3 vertex indices
+  std::vector<uint32_t> layers;     // #T layer index per triangle
+};
+
+// Voxel method (paper 001): centres of missed voxels and of support cells.
+struct VoxelPreview {
+  std::vector<float> missed;    // #M*3
+  std::vector<float> support;   // #K*3
+  float width = 0;              // voxel width, mm
+};
+
+// Geodesic method (paper 002).
+struct GeodesicPreview {
+  // The part's boundary surface (the tet mesh's) with the geodesic distance per vertex.
+  std::vector<float> fieldPositions;      // #F*3
+  std::vector<uint32_t> fieldTriangles;   // #FT*3
+  std::vector<float> fieldValues;         // #F, mm
+  // The skeleton tree: one point per node (its IGDS's centroid) with its layer, edges as node
+  // index pairs (lower, upper), and the print sequence the program follows (node indices).
+  std::vector<float> nodePositions;       // #N*3
+  std::vector<uint32_t> nodeLayers;       // #N
+  std::vector<uint32_t> treeEdges;        // #E*2
+  std::vector<uint32_t> sequence;         // #N
+  // Segments left out because no nozzle axis clears the part there (skipped_tool_path).
+  std::vector<float> skippedSegments;     // #K*6: start and end per segment
+  std::vector<uint32_t> skippedLayers;    // #K, the layer of each
+};
+
+// Multidir method (paper 000): every part's closed mesh in one soup with its print index per
+// triangle, and a risky flag per triangle of the printed part (SliceOutput.partMesh): along +Z
+// (before; faces on the platform band are not risky) and along the direction of the part the
+// face's centroid falls in (after).
+struct MultidirPreview {
+  std::vector<float> partPositions;       // #PV*3
+  std::vector<uint32_t> partTriangles;    // #PT*3
+  std::vector<uint32_t> partIds;          // #PT print index
+  std::vector<uint8_t> riskyBefore;       // #T, 1 = risky
+  std::vector<uint8_t> riskyAfter;        // #T, 1 = risky
+};
+
+// What a method adds to the preview (empty sections for the others).
+struct MethodPreview {
+  LayerSurfacePreview surfaces;
+  VoxelPreview voxel;
+  GeodesicPreview geodesic;
+  MultidirPreview multidir;
+};
+
+struct SlicePreview {
+  ToolpathPreview toolpath;
+  MethodPreview method;
+};
+
+// The tool-path preview of a planned machine path: the part-frame tip path of every move that
+// deposits or travels, with the machine values at each segment's end; curve tags from toolpath.
+ToolpathPreview toolpathPreview(const MachinePath& path, const Toolpath& toolpath);
+
+}  // namespace omnislice
