@@ -7,7 +7,8 @@
 // rows are the 'Geodesic' group of web/settings-panel.js. No application state: main.js owns the
 // result and calls these.
 import { fillFigureList, svgElement } from './panel-dom.js';
-import { figure, geodesicSummaryRows, overhangChartGeometry, traversalRows } from './geodesic-data.js';
+import { figure } from './format.js';
+import { geodesicSummaryRows, overhangChartGeometry, traversalRows } from './geodesic-data.js';
 
 /** The figures of report.geodesic as dt/dd pairs (dd data-testid geo-<key>); empty without one. */
 export function fillGeoFigures(dl, g) {

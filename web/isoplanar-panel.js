@@ -4,9 +4,8 @@
 // and a compared direction marked), the figures list and the comparison table of two runs with
 // the benchmark means. No application state: main.js owns the runs and calls these.
 import { fillFigureList, svgElement } from './panel-dom.js';
-import {
-  comparisonRows, figure, formatSeconds, isoplanarSummaryRows, percentText, polarPlotGeometry, thetaFromPlotPoint,
-} from './isoplanar-data.js';
+import { figure, formatSeconds, percentText } from './format.js';
+import { comparisonRows, isoplanarSummaryRows, polarPlotGeometry, thetaFromPlotPoint } from './isoplanar-data.js';
 
 /**
  * Draw the polar plot of iso.curve into `svg` (its viewBox is size x size): rings with their

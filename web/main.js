@@ -9,6 +9,7 @@
 // The page's state is mirrored on <body data-state> (starting, loading, ready, slicing, done,
 // error, cancelled) and <body data-slice-count>, which the end-to-end tests wait on.
 import { svgElement } from './panel-dom.js';
+import { describeList, figure, formatLength, formatMm, formatSeconds, withUnit } from './format.js';
 import { Viewer } from './viewer.js';
 import { ToolpathPreview, FEATURES, featureCss } from './preview.js';
 import {
@@ -18,12 +19,12 @@ import { MachineView } from './machine-view.js';
 import { machineAxisNames } from './machine-kinematics.js';
 import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
 import {
-  STAGE_WEIGHTS, formatMm, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
+  STAGE_WEIGHTS, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
 } from './voxel-data.js';
 import { CURVE_COLORS, comparisonRows, foldTheta, sideStepText } from './isoplanar-data.js';
 import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './isoplanar-panel.js';
 import { GeodesicView } from './geodesic-view.js';
-import { figure as geoFigure, geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
+import { geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
 import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
 import { MultidirView } from './multidir-view.js';
 import {
@@ -224,19 +225,6 @@ function showStages({ finished = false } = {}) {
 
 // ---- figures --------------------------------------------------------------------------------------
 
-function formatTime(seconds) {
-  if (!Number.isFinite(seconds)) return '—';
-  const s = Math.round(seconds);
-  const h = Math.floor(s / 3600);
-  const m = Math.floor((s % 3600) / 60);
-  return h > 0 ? `${h} h ${String(m).padStart(2, '0')} min` : m > 0 ? `${m} min ${String(s % 60).padStart(2, '0')} s` : `${s} s`;
-}
-
-function formatLength(mm) {
-  if (!Number.isFinite(mm)) return '—';
-  return mm >= 1000 ? `${(mm / 1000).toFixed(2)} m` : `${mm.toFixed(1)} mm`;
-}
-
 /** 'x,y,z' (or [x, y, z]) -> three finite numbers, else null. */
 function parseVector(value) {
   const parts = Array.isArray(value) ? value.map(Number) : typeof value === 'string' ? value.split(',').map(Number) : [];
@@ -249,17 +237,6 @@ function bboxSize(bbox) {
   const max = bbox.max || bbox[1];
   if (!Array.isArray(min) || !Array.isArray(max)) return null;
   return max.map((x, i) => x - min[i]);
-}
-
-function describeList(value) {
-  if (value == null) return [];
-  if (Array.isArray(value)) return value.map((v) => (typeof v === 'string' ? v : v.message || JSON.stringify(v)));
-  if (typeof value === 'object') {
-    return Object.entries(value)
-      .filter(([, v]) => v && v !== 0)
-      .map(([k, v]) => (v === true ? k : `${k}: ${typeof v === 'object' ? JSON.stringify(v) : v}`));
-  }
-  return [String(value)];
 }
 
 function showInfo(name, info) {
@@ -286,7 +263,7 @@ function showInfo(name, info) {
 function showReport(report) {
   const r = report || {};
   $('report-layers').textContent = r.layers !== undefined ? String(r.layers) : '—';
-  $('report-time').textContent = formatTime(r.estimated_time_s);
+  $('report-time').textContent = formatSeconds(r.estimated_time_s);
   if (Number.isFinite(r.extrusion_mm)) {
     const grams = r.extrusion_mm * FILAMENT_AREA_MM2 * PLA_G_PER_MM3;
     $('report-filament').textContent = `${formatLength(r.extrusion_mm)} (${grams.toFixed(1)} g PLA)`;
@@ -324,22 +301,15 @@ function showReport(report) {
     'max_joint_step', 'pose_cost', 'min_singularity']) {
     let text = '—';
     if (motion && key === 'pose_cost' && Number.isFinite(motion.pose_cost)) {
-      text = `${formatFigure(motion.pose_cost)}${unit}${Number.isFinite(motion.greedy_pose_cost) ? ` (${formatFigure(motion.greedy_pose_cost)}${unit})` : ''}`;
+      text = `${figure(motion.pose_cost)}${unit}${Number.isFinite(motion.greedy_pose_cost) ? ` (${figure(motion.greedy_pose_cost)}${unit})` : ''}`;
     } else if (motion && key === 'max_joint_step' && Number.isFinite(motion.max_joint_step)) {
-      text = `${formatFigure(motion.max_joint_step)}${unit}`;
-      if (r.machine_kind === 'robot6') text += ` (${formatFigure((motion.max_joint_step * 180) / Math.PI)}°)`;
+      text = `${figure(motion.max_joint_step)}${unit}`;
+      if (r.machine_kind === 'robot6') text += ` (${figure((motion.max_joint_step * 180) / Math.PI)}°)`;
     } else if (motion && motion[key] !== undefined && motion[key] !== null) {
-      text = formatFigure(motion[key]);
+      text = figure(motion[key]);
     }
     $(`motion-${key}`).textContent = text;
   }
-}
-
-/** A report figure: integers as they are, other numbers to 4 significant digits. */
-function formatFigure(x) {
-  if (typeof x !== 'number') return String(x);
-  if (!Number.isFinite(x)) return '—';
-  return Number.isInteger(x) ? x.toLocaleString('en') : String(Number(x.toPrecision(4)));
 }
 
 /** The voxel method's figures, histogram and summary (hidden for other methods). */
@@ -413,7 +383,7 @@ function renderHistogram(thickness) {
   }
   svg.dataset.bars = String(n);
   svg.dataset.total = String(geo.total);
-  const mm = (x) => (Number.isFinite(Number(x)) ? `${formatMm(Number(x))} mm` : '—');
+  const mm = (x) => withUnit(Number(x), 'mm', formatMm);
   stats.textContent = `mean ${mm(thickness.mean_mm)}, std ${mm(thickness.std_mm)}, max deviation ${mm(thickness.max_deviation_mm)}`
     + (Number.isFinite(thickness.samples) ? ` (${thickness.samples.toLocaleString('en')} samples)` : '');
 }
@@ -457,8 +427,8 @@ function renderPolar(iso) {
     : { compareTheta: input };
   const star = drawPolarPlot($('iso-polar'), iso, options);
   const ok = star && !star.error;
-  $('iso-theta-star').textContent = ok ? `${formatFigure(star.theta)}°${iso.forced ? ' (forced)' : ''}` : star ? `(${star.error})` : '—';
-  $('iso-ve-star').textContent = ok && Number.isFinite(star.value) ? `${formatFigure(star.value)} mm³/s` : '—';
+  $('iso-theta-star').textContent = ok ? `${figure(star.theta)}°${iso.forced ? ' (forced)' : ''}` : star ? `(${star.error})` : '—';
+  $('iso-ve-star').textContent = ok && Number.isFinite(star.value) ? `${figure(star.value)} mm³/s` : '—';
 }
 
 /** Click on the polar plot: the direction there goes to the compare input (and is marked). */
@@ -501,7 +471,7 @@ async function runCompare() {
   $('stage-list').replaceChildren();
   clearError();
   setState('slicing');
-  setProgressText(`comparing θ = ${formatFigure(theta)}°`, 0);
+  setProgressText(`comparing θ = ${figure(theta)}°`, 0);
   updateButtons();
   const started = performance.now();
   try {
@@ -515,7 +485,7 @@ async function runCompare() {
     $('iso-show-run').disabled = false;
     app.compareCount += 1;
     document.body.dataset.compareCount = String(app.compareCount);
-    setProgressText(`compared θ = ${formatFigure(theta)}° in ${((performance.now() - started) / 1000).toFixed(2)} s`, 1);
+    setProgressText(`compared θ = ${figure(theta)}° in ${((performance.now() - started) / 1000).toFixed(2)} s`, 1);
     showStages({ finished: true });
     setState('done');
   } catch (err) {
@@ -579,7 +549,7 @@ function showGeoReport(g) {
   const stats = $('geo-chart-stats');
   if (!chart) stats.textContent = '—';
   else if (chart.error) stats.textContent = `(${chart.error})`;
-  else stats.textContent = `${chart.layers} layers, largest ${geoFigure(chart.maxValue)}°, ${chart.over} above 45°`;
+  else stats.textContent = `${chart.layers} layers, largest ${figure(chart.maxValue)}°, ${chart.over} above 45°`;
 }
 
 function renderTraversals(g) {

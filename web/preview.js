@@ -12,6 +12,7 @@
 import * as THREE from 'three';
 
 import { blockRunner } from './block-runner.js';
+import { rgbCss } from './colors.js';
 import { CURVE_COLORS } from './isoplanar-data.js';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
@@ -28,7 +29,7 @@ export const FEATURES = [
 /** CSS colour of a feature code, for legends. */
 export function featureCss(code) {
   const f = FEATURES[code] || FEATURES[0];
-  return `rgb(${f.color.join(',')})`;
+  return rgbCss(f.color);
 }
 
 /**

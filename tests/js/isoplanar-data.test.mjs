@@ -7,8 +7,9 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   CURVE_COLORS, comparisonRows, curveColor, curveStats, curveValueAt, foldTheta, hasCurves, isoplanarSummaryRows,
-  percentText, polarPlotGeometry, readCurve, ringValues, sideStepText, thetaFromPlotPoint,
+  polarPlotGeometry, readCurve, ringValues, sideStepText, thetaFromPlotPoint,
 } from '../../web/isoplanar-data.js';
+import { percentText } from '../../web/format.js';
 
 // A synthetic curve with a known maximum: v_e(theta) = 0.5 + 0.1 cos(2 (theta - 158°)), sampled
 // every 4 degrees (45 samples), in shuffled order.
