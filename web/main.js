@@ -13,8 +13,10 @@ import { describeList, figure, formatLength, formatMm, formatSeconds, withUnit }
 import { Viewer } from './viewer.js';
 import { ToolpathPreview, FEATURES, featureCss } from './preview.js';
 import {
-  SettingsModel, History, SetSettingCommand, createSettingsPanel, PLACEMENT_KEYS, selectedMachineKind,
+  SettingsModel, History, SetSettingCommand, createSettingsPanel, selectedMachineKind,
 } from './settings-panel.js';
+import { isPlacementKey } from './placement.js';
+import { PROGRAM_KINDS, programExtension, programFileName } from './program-file.js';
 import { MachineView } from './machine-view.js';
 import { machineAxisNames } from './machine-kinematics.js';
 import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
@@ -77,13 +79,6 @@ const app = {
   compare: null,     // {theta, result} of the iso-planar comparison run (app.result stays the first)
   shownRun: 0,       // 0: app.result's paths are drawn, 1: app.compare's
   compareCount: 0,
-};
-
-/** Program kinds by file extension: download MIME type and button text. */
-const PROGRAM_KINDS = {
-  gcode: { mime: 'text/x-gcode', label: 'G-code' },
-  csv: { mime: 'text/csv', label: 'robot CSV' },
-  script: { mime: 'text/plain', label: 'URScript' },
 };
 
 /** Run fn as one measured step (performance.measure 'omnislice:<name>'), for the tests' long-task check. */
@@ -528,7 +523,7 @@ function clearReport() {
 }
 
 function setDownloadLabel(extension) {
-  const kind = PROGRAM_KINDS[extension] || PROGRAM_KINDS.gcode;
+  const kind = PROGRAM_KINDS[programExtension(extension)];
   $('download-program').textContent = `Download ${kind.label}`;
 }
 
@@ -1043,13 +1038,12 @@ function cancelSlice() {
 
 function download() {
   if (!app.result || !(app.result.programBytes instanceof Uint8Array)) return;
-  const base = (app.mesh ? app.mesh.name : 'model').replace(/\.[^.]*$/, '') || 'model';
-  const extension = PROGRAM_KINDS[app.result.programExtension] ? app.result.programExtension : 'gcode';
+  const extension = programExtension(app.result.programExtension);
   // The Blob is made only now, from the bytes: the program is never decoded on the main thread.
   const url = URL.createObjectURL(new Blob([app.result.programBytes], { type: PROGRAM_KINDS[extension].mime }));
   const a = document.createElement('a');
   a.href = url;
-  a.download = `${base}.${extension}`;
+  a.download = programFileName(app.mesh ? app.mesh.name : 'model', extension);
   document.body.append(a);
   a.click();
   a.remove();
@@ -1236,7 +1230,7 @@ function toggleMachinePlay() {
 
 let placeTimer = 0;
 function onSettingChange(event) {
-  if (!PLACEMENT_KEYS.includes(event.detail.key) || !app.mesh) return;
+  if (!isPlacementKey(event.detail.key) || !app.mesh) return;
   app.placementDirty = true;
   // Place again after a short pause so the model shows the new placement; if the engine is busy,
   // the next slice applies it (slice() sends the placement keys too).

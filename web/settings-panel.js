@@ -2,6 +2,7 @@
 // Settings panel: a schema of fields, a settings model that signals changes, and every user edit
 // as a small command (execute/undo/serialize) kept in a history. The panel redraws its inputs from
 // the model's 'change' signal, so undo and programmatic edits show up the same way.
+import { isPlacementKey, placementOf } from './placement.js';
 
 /** Direction presets (part-frame unit vectors, 'x,y,z'). Tilts lean +Z towards -Y or +X. */
 export const DIRECTION_PRESETS = [
@@ -223,9 +224,6 @@ export const SETTINGS_SCHEMA = [
   { group: 'Motion', key: 'motion.chord_tolerance', label: 'chord tolerance (mm)', type: 'number', value: 0.01, min: 0.0001, max: 10, step: 0.001 },
 ];
 
-/** Keys that change the placement (the model must be placed again). */
-export const PLACEMENT_KEYS = ['scale', 'fit_mm', 'up', 'rotate_x_deg', 'rotate_y_deg', 'rotate_z_deg', 'center'];
-
 /**
  * Parse a direction 'x,y,z' into a normalised string, or null when it is not three finite numbers
  * with a non-zero length.
@@ -318,7 +316,7 @@ export class SettingsModel extends EventTarget {
    */
   toSliceSettings() {
     return Object.fromEntries(this.schema
-      .filter((f) => PLACEMENT_KEYS.includes(f.key)
+      .filter((f) => isPlacementKey(f.key)
         || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])
           && (!f.sendIf || f.sendIf(this.values))))
       .map((f) => [f.key, this.values[f.key]]));
@@ -326,7 +324,7 @@ export class SettingsModel extends EventTarget {
 
   /** Placement object for slicer.loadMesh(). */
   toPlacement() {
-    return Object.fromEntries(PLACEMENT_KEYS.map((k) => [k, this.values[k]]));
+    return placementOf(this.values);
   }
 }
 
