@@ -19,20 +19,20 @@ import { isPlacementKey } from './placement.js';
 import { PROGRAM_KINDS, programExtension, programFileName } from './program-file.js';
 import { MachineView } from './machine-view.js';
 import { machineAxisNames } from './machine-kinematics.js';
-import { VoxelView, hasVoxelBuffers } from './voxel-view.js';
+import { VoxelView, hasVoxelBuffers } from './methods/voxel-view.js';
 import {
   STAGE_WEIGHTS, histogramGeometry, layerColor, overallProgress, voxelDoneSummary, voxelSummaryRows,
-} from './voxel-data.js';
-import { CURVE_COLORS, comparisonRows, foldTheta, sideStepText } from './isoplanar-data.js';
-import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './isoplanar-panel.js';
-import { GeodesicView } from './geodesic-view.js';
-import { geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
-import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
-import { MultidirView } from './multidir-view.js';
+} from './methods/voxel-data.js';
+import { CURVE_COLORS, comparisonRows, foldTheta, sideStepText } from './methods/isoplanar-data.js';
+import { drawPolarPlot, fillCompareTable, fillIsoFigures, plotThetaAt } from './methods/isoplanar-panel.js';
+import { GeodesicView } from './methods/geodesic-view.js';
+import { geodesicDoneSummary, hasGeodesicBuffers, rampCss } from './methods/geodesic-data.js';
+import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './methods/geodesic-panel.js';
+import { MultidirView } from './methods/multidir-view.js';
 import {
   areaFigure, hasMultidirBuffers, liveJgLevels, multidirDoneSummary, searchLevelText, supportText,
-} from './multidir-data.js';
-import { drawJgChart, drawJgLevels, fillMultidirFigures, fillPartsTable } from './multidir-panel.js';
+} from './methods/multidir-data.js';
+import { drawJgChart, drawJgLevels, fillMultidirFigures, fillPartsTable } from './methods/multidir-panel.js';
 
 const DEMO_URL = '/models/demo-overhang.stl';
 const DEMO_NAME = 'demo-overhang.stl';

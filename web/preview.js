@@ -13,7 +13,7 @@ import * as THREE from 'three';
 
 import { blockRunner } from './block-runner.js';
 import { rgbCss } from './colors.js';
-import { CURVE_COLORS } from './isoplanar-data.js';
+import { CURVE_COLORS } from './methods/isoplanar-data.js';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
 export const FEATURES = [

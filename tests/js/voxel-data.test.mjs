@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The voxel view's data preparation (web/voxel-data.js) against direct computations: layer
+// The voxel view's data preparation (web/methods/voxel-data.js) against direct computations: layer
 // surfaces de-indexed and sorted by layer with the right vertices and colours, slider ranges
 // covering exactly the chosen layers' triangles, glyph decimation (count bound, spacing, glyph
 // geometry along the axis, layer order), the histogram's bar geometry, the per-method progress
@@ -10,7 +10,7 @@ import assert from 'node:assert/strict';
 import {
   STAGE_WEIGHTS, buildSurfaceArrays, decimateGlyphs, glyphRange, histogramGeometry, layerColor,
   overallProgress, surfaceRanges, voxelDoneSummary, voxelSummaryRows,
-} from '../../web/voxel-data.js';
+} from '../../web/methods/voxel-data.js';
 import { SETTINGS_SCHEMA, SettingsModel } from '../../web/settings-panel.js';
 
 function rng(seed) {

@@ -11,8 +11,8 @@
 //     of report.multidir;
 //   - the search-level progress events of a running decomposition (progress.search) as a line of
 //     text and as the live chart's values.
-import { hslToRgb } from './colors.js';
-import { figure, formatMs, niceTicks, withUnit } from './format.js';
+import { hslToRgb } from '../colors.js';
+import { figure, formatMs, niceTicks, withUnit } from '../format.js';
 
 /** A slice result carries multidir buffers (the parts' meshes). */
 export function hasMultidirBuffers(preview) {

@@ -15,8 +15,8 @@
 //   - what is drawn for a layer range and a print step (index lists);
 //   - the per-layer overhang chart (report.geodesic.overhang_avg_deg and overhang_ratio) as SVG
 //     geometry, the traversal table (report.geodesic.traversals) and the summary rows.
-import { rgbCss } from './colors.js';
-import { figure, formatMs, niceTicks, plural, withUnit } from './format.js';
+import { rgbCss } from '../colors.js';
+import { figure, formatMs, niceTicks, plural, withUnit } from '../format.js';
 import { layerColor } from './voxel-data.js';
 
 /**

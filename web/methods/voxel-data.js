@@ -10,9 +10,9 @@
 //     core bins each sample's thickness minus the mean thickness);
 //   - the voxel report's summary rows.
 
-import { blockRunner } from './block-runner.js';
-import { hslToRgb } from './colors.js';
-import { figure, formatMm, formatMs, niceTicks, withUnit } from './format.js';
+import { blockRunner } from '../block-runner.js';
+import { hslToRgb } from '../colors.js';
+import { figure, formatMm, formatMs, niceTicks, withUnit } from '../format.js';
 
 /** Progress stages per method, in pipeline order, with their share of the bar (sums to 1). */
 export const STAGE_WEIGHTS = {

@@ -4,8 +4,8 @@
 // (print index with its colour, direction, volume, risky area, layers) and the chart of J_G per
 // search level as SVG (also drawn live from the search's progress while it runs). The method's settings rows are the 'Multi-directional' group of
 // web/settings-panel.js. No application state: main.js owns the result and calls these.
-import { fillFigureList, svgElement } from './panel-dom.js';
-import { figure } from './format.js';
+import { fillFigureList, svgElement } from '../panel-dom.js';
+import { figure } from '../format.js';
 import { jgChartGeometry, multidirSummaryRows, partColorCss, partRows } from './multidir-data.js';
 
 /** The figures of report.multidir as dt/dd pairs (dd data-testid md-<key>); empty without one. */

@@ -6,8 +6,8 @@
 // a line, overhang ratio as bars, the 45° line, a mark at the shown layer). The method's settings
 // rows are the 'Geodesic' group of web/settings-panel.js. No application state: main.js owns the
 // result and calls these.
-import { fillFigureList, svgElement } from './panel-dom.js';
-import { figure } from './format.js';
+import { fillFigureList, svgElement } from '../panel-dom.js';
+import { figure } from '../format.js';
 import { geodesicSummaryRows, overhangChartGeometry, traversalRows } from './geodesic-data.js';
 
 /** The figures of report.geodesic as dt/dd pairs (dd data-testid geo-<key>); empty without one. */

@@ -12,7 +12,7 @@
 //   - the figures of report.isoplanar and the comparison table of two runs (the searched theta*
 //     and a chosen direction) with the benchmark means.
 
-import { figure, formatMs, formatSeconds, withUnit } from './format.js';
+import { figure, formatMs, formatSeconds, withUnit } from '../format.js';
 
 /** Degrees -> radians. */
 const RAD = Math.PI / 180;
