@@ -20,6 +20,17 @@ import { figure, formatMs, niceTicks, plural, withUnit } from '../format.js';
 import { layerColor } from './voxel-data.js';
 
 /**
+ * Progress stages of a geodesic slice, in pipeline order, with their share of the bar (sums to 1):
+ * tet mesh, heat-method field, IGDS, skeleton tree and print order (collision model), spiral
+ * paths, tool-path in the chosen sequence. Shares from the demo tree's timings (61k tets: the
+ * field's factorisation dominates).
+ */
+export const GEODESIC_STAGE_WEIGHTS = Object.freeze({
+  read: 0.01, validate: 0.08, place: 0.01, tetmesh: 0.16, field: 0.36, igds: 0.17, order: 0.01, collision: 0.04,
+  paths: 0.05, toolpath: 0.03, motion: 0.05, program: 0.03,
+});
+
+/**
  * Stops of the distance ramp (0..255 RGB, platform first): dark violet, blue, teal, green, yellow.
  * Their luma (0.299 r + 0.587 g + 0.114 b) strictly increases, and luma is linear in RGB, so the
  * piecewise-linear ramp is monotone in lightness: farther is always lighter.

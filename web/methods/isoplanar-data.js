@@ -14,6 +14,16 @@
 
 import { figure, formatMs, formatSeconds, withUnit } from '../format.js';
 
+/**
+ * Progress stages of a surface-method slice (paper 003), in pipeline order, with their share of
+ * the bar (sums to 1): the base by planar layers, then the iso-planar stages of the surface layer
+ * (feed field, drive-direction search, paths, benchmark over all directions).
+ */
+export const SURFACE_STAGE_WEIGHTS = Object.freeze({
+  read: 0.02, validate: 0.03, place: 0.01, slice: 0.04, toolpath: 0.08, feed: 0.2, direction: 0.15,
+  paths: 0.12, benchmark: 0.2, motion: 0.1, program: 0.05,
+});
+
 /** Degrees -> radians. */
 const RAD = Math.PI / 180;
 

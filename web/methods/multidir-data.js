@@ -14,6 +14,15 @@
 import { hslToRgb } from '../colors.js';
 import { figure, formatMs, niceTicks, withUnit } from '../format.js';
 
+/**
+ * Progress stages of a multidir slice, in pipeline order, with their share of the bar (sums to 1):
+ * the plane search (one progress step per search level), clipping into parts, planar slicing and
+ * planning of each part along its direction.
+ */
+export const MULTIDIR_STAGE_WEIGHTS = Object.freeze({
+  read: 0.02, validate: 0.05, place: 0.01, decompose: 0.45, clip: 0.05, slice: 0.12, toolpath: 0.18, motion: 0.07, program: 0.05,
+});
+
 /** A slice result carries multidir buffers (the parts' meshes). */
 export function hasMultidirBuffers(preview) {
   return !!(preview && preview.partIds && preview.partIds.length > 0);

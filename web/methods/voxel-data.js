@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Pure data preparation for the voxel method's view (no three.js, no DOM; unit-tested in Node):
-//   - per-method progress stages and their share of the progress bar;
+//   - the method's progress stages and their share of the progress bar;
 //   - curved layer surfaces: the merged triangle soup (surfacePositions, surfaceTriangles,
 //     surfaceLayers) de-indexed and counting-sorted by layer, with a colour per layer, so "layers
 //     lo..hi-1 dimmed, layer hi highlighted" are two contiguous draw ranges;
@@ -14,48 +14,11 @@ import { blockRunner } from '../block-runner.js';
 import { hslToRgb } from '../colors.js';
 import { figure, formatMm, formatMs, niceTicks, withUnit } from '../format.js';
 
-/** Progress stages per method, in pipeline order, with their share of the bar (sums to 1). */
-export const STAGE_WEIGHTS = {
-  // feed, direction: the drive direction theta* of fill = isoplanar (absent otherwise: the bar
-  // skips their small share).
-  planar: { read: 0.04, validate: 0.06, place: 0.02, slice: 0.28, feed: 0.03, direction: 0.02, toolpath: 0.4, program: 0.15 },
-  voxel: {
-    read: 0.02, validate: 0.03, place: 0.01, voxelize: 0.06, peeling: 0.12, growth: 0.3,
-    layers: 0.16, toolpath: 0.17, motion: 0.08, program: 0.05,
-  },
-  // Surface method (paper 003): the base by planar layers, then the iso-planar stages of the
-  // surface layer (feed field, drive-direction search, paths, benchmark over all directions).
-  surface: {
-    read: 0.02, validate: 0.03, place: 0.01, slice: 0.04, toolpath: 0.08, feed: 0.2, direction: 0.15,
-    paths: 0.12, benchmark: 0.2, motion: 0.1, program: 0.05,
-  },
-  // Geodesic method (paper 002): tet mesh, heat-method field, IGDS, skeleton tree and print
-  // order (collision model), spiral paths, tool-path in the chosen sequence.
-  // Shares from the demo tree's timings (61k tets: the field's factorisation dominates).
-  geodesic: {
-    read: 0.01, validate: 0.08, place: 0.01, tetmesh: 0.16, field: 0.36, igds: 0.17, order: 0.01, collision: 0.04,
-    paths: 0.05, toolpath: 0.03, motion: 0.05, program: 0.03,
-  },
-  // Multi-directional method (paper 000): the plane search (one progress step per search level),
-  // clipping into parts, planar slicing and planning of each part along its direction.
-  multidir: {
-    read: 0.02, validate: 0.05, place: 0.01, decompose: 0.45, clip: 0.05, slice: 0.12, toolpath: 0.18, motion: 0.07, program: 0.05,
-  },
-};
-
-/**
- * Overall progress (0..1) of `stage` at `fraction` for a method's stage weights: the weights of the
- * stages before it plus its share; null for a stage the method does not list.
- */
-export function overallProgress(weights, stage, fraction) {
-  const names = Object.keys(weights);
-  const k = names.indexOf(stage);
-  if (k < 0) return null;
-  let before = 0;
-  for (let i = 0; i < k; i++) before += weights[names[i]];
-  const f = Math.min(Math.max(Number(fraction) || 0, 0), 1);
-  return Math.min(1, before + weights[stage] * f);
-}
+/** Progress stages of a voxel slice, in pipeline order, with their share of the bar (sums to 1). */
+export const VOXEL_STAGE_WEIGHTS = Object.freeze({
+  read: 0.02, validate: 0.03, place: 0.01, voxelize: 0.06, peeling: 0.12, growth: 0.3,
+  layers: 0.16, toolpath: 0.17, motion: 0.08, program: 0.05,
+});
 
 /**
  * Colour of layer l of L (0..255 RGB): hue from blue (first) to red (last), lightness
