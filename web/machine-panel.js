@@ -10,7 +10,8 @@ import { MACHINE_KINDS, machineAxisNames } from './machine-kinematics.js';
 import { MachineView } from './machine-view.js';
 import { machineHint } from './methods/index.js';
 import { byTestId as $, downloadBlob, onFileChosen } from './panel-dom.js';
-import { SetSettingCommand, selectedMachineKind } from './settings-panel.js';
+import { selectedMachineKind } from './settings-fields.js';
+import { SetSettingCommand } from './settings-panel.js';
 import { clearError, showError } from './status-panel.js';
 
 const MOTION_KEYS = ['samples', 'subdivisions', 'filtered_orientations', 'feed_limited_moves', 'safe_rotations',

@@ -20,7 +20,8 @@ import { installPageApi } from './page-api.js';
 import { byTestId as $, downloadBlob, noteItem, onFileChosen } from './panel-dom.js';
 import { isPlacementKey } from './placement.js';
 import { PROGRAM_KINDS, programExtension, programFileName } from './program-file.js';
-import { History, SetSettingCommand, SettingsModel, createSettingsPanel, selectedMachineKind } from './settings-panel.js';
+import { selectedMachineKind } from './settings-fields.js';
+import { History, SetSettingCommand, SettingsModel, createSettingsPanel } from './settings-panel.js';
 import {
   clearError, newProgress, progressText, recordProgress, setPageState, setProgressText, showError, showStages,
 } from './status-panel.js';

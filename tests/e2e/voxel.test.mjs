@@ -17,7 +17,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
-import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 const OUT_DIR = path.join(ROOT, 'build', 'e2e');

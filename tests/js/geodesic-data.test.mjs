@@ -15,7 +15,8 @@ import {
   sortFieldTriangles, traversalRows,
 } from '../../web/methods/geodesic-data.js';
 import { layerColor } from '../../web/methods/voxel-data.js';
-import { SETTINGS_SCHEMA, SettingsModel, normaliseValue } from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { SettingsModel, normaliseValue } from '../../web/settings-panel.js';
 
 function rng(seed) {
   let x = seed;

@@ -8,7 +8,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { METHODS, STAGE_WEIGHTS, doneSummary, machineHint, methodNamed, progressDetail } from '../../web/methods/index.js';
 import { reportRows, warningNotes } from '../../web/methods/planar-data.js';
-import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
 import { overallProgress } from '../../web/status-panel.js';
 
 test('every method module has the registry\'s shape', () => {

@@ -1,13 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The settings model of the page (web/settings-panel.js) in Node: what a slice request carries
-// (placement keys always, other keys only when changed, machine_json only when a profile is
-// loaded), the machine kind the panel shows rows for, and the machine_json field's checks.
+// The settings fields and model of the page (web/settings-fields.js, web/settings-panel.js) in
+// Node: what a slice request carries (placement keys always, other keys only when changed,
+// machine_json only when a profile is loaded), the machine kind the panel shows rows for, the
+// machine_json field's checks, and the placement keys (web/placement.js).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import {
-  SETTINGS_SCHEMA, SetSettingCommand, SettingsModel, normaliseValue, selectedMachineKind,
-  usesIsoplanar,
-} from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA, selectedMachineKind, usesIsoplanar } from '../../web/settings-fields.js';
+import { SetSettingCommand, SettingsModel, normaliseValue } from '../../web/settings-panel.js';
 import { PLACEMENT_KEYS, isPlacementKey, placementOf } from '../../web/placement.js';
 
 test('slice settings: placement keys always, others only when changed from the defaults', () => {

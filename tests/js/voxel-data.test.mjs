@@ -11,7 +11,8 @@ import {
   buildSurfaceArrays, decimateGlyphs, glyphRange, histogramGeometry, layerColor,
   surfaceRanges, voxelDoneSummary, voxelSummaryRows,
 } from '../../web/methods/voxel-data.js';
-import { SETTINGS_SCHEMA, SettingsModel } from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { SettingsModel } from '../../web/settings-panel.js';
 
 function rng(seed) {
   let x = seed;

@@ -19,10 +19,10 @@ import { voxel } from './voxel.js';
 
 /**
  * @typedef {object} MethodModule
- * @property {string} name  the `method` setting's value (settings-panel.js 'method' options)
+ * @property {string} name  the `method` setting's value (settings-fields.js 'method' options)
  * @property {object} data  pure functions of the report and the preview buffers (Node-tested):
  *   - stageWeights {stage: share}: the progress stages in pipeline order, shares summing to 1
- *   - settingsGroup string: the settings panel's group of the method's own settings
+ *   - settingsGroup string: the group of the method's own settings in settings-fields.js
  *   - section(report) -> object | null: the report section the panel draws
  *   - summaryRows(section) -> [key, label, text][]: its figures
  *   - doneSummary(section) -> string: the line after 'done in … s: ' ('' for none)
