@@ -9,15 +9,16 @@
 // The page's state is mirrored on <body data-state> (starting, loading, ready, slicing, done,
 // error, cancelled) and <body data-slice-count>, which the end-to-end tests wait on.
 import { timed } from './block-runner.js';
-import { describeList } from './format.js';
+import { DEMOS } from './demo-models.js';
 import { closeMachineView, openMachineView, showMotion, wireMachinePanel } from './machine-panel.js';
 import {
   buildViews, disposeViews, doneSummary, enablePanels, methodNamed, progressDetail, resetPanels, setLayerRange,
   setupViews, showProgress, showReports, sliceFailed, viewRoot, wirePanels,
 } from './methods/index.js';
 import { TILT_KINDS } from './methods/machine-needs.js';
+import { showInfo } from './model-panel.js';
 import { installPageApi } from './page-api.js';
-import { byTestId as $, downloadBlob, noteItem, onFileChosen } from './panel-dom.js';
+import { byTestId as $, downloadBlob, onFileChosen } from './panel-dom.js';
 import { isPlacementKey } from './placement.js';
 import { PROGRAM_KINDS, programExtension, programFileName } from './program-file.js';
 import { selectedMachineKind } from './settings-fields.js';
@@ -26,21 +27,6 @@ import {
   clearError, newProgress, progressText, recordProgress, setPageState, setProgressText, showError, showStages,
 } from './status-panel.js';
 import { Viewer } from './viewer.js';
-
-/** Bundled demo models (web/models, made by scripts/make-demo-*.mjs) for the model menu. */
-const DEMOS = {
-  overhang: { url: '/models/demo-overhang.stl', name: 'demo-overhang.stl' },
-  // An open saddle z = (x^2 - y^2) / R: the surface method's iso-planar paths (paper 003, S1).
-  // The surface method needs tilt axes: a 3- or 4-axis machine is swapped for the UR5 arm.
-  saddle: { url: '/models/demo-saddle.obj', name: 'demo-saddle.obj', settings: { method: 'surface' }, tilt: 'robot6-ur5' },
-  // A trunk forking into three tilted branches (scripts/make-demo-tree.mjs): the geodesic
-  // method's curved layers, skeleton tree and print sequences (paper 002). At a 45° nozzle angle
-  // DPT collides while A3 stays collision-free with a tenth of LPT's retractions (README.md).
-  tree: {
-    url: '/models/demo-tree.obj', name: 'demo-tree.obj', tilt: 'table5',
-    settings: { method: 'geodesic', nozzle: 0.8, 'geodesic.interval_mm': 0.8, 'geodesic.nozzle_angle_deg': 45, 'geodesic.sequence': 'a3' },
-  },
-};
 
 /** The app state: the only state the page keeps (the method modules keep theirs in it too). */
 const app = {
@@ -95,27 +81,6 @@ function onProgress(event) {
 function parseVector(value) {
   const parts = Array.isArray(value) ? value.map(Number) : typeof value === 'string' ? value.split(',').map(Number) : [];
   return parts.length === 3 && parts.every(Number.isFinite) ? parts : null;
-}
-
-function bboxSize(bbox) {
-  if (!bbox) return null;
-  const min = bbox.min || bbox[0];
-  const max = bbox.max || bbox[1];
-  if (!Array.isArray(min) || !Array.isArray(max)) return null;
-  return max.map((x, i) => x - min[i]);
-}
-
-function showInfo(name, info) {
-  $('model-name').textContent = name;
-  $('info-faces').textContent = info && info.faces !== undefined ? Number(info.faces).toLocaleString('en') : '—';
-  $('info-closed').textContent = info && info.closed !== undefined ? (info.closed ? 'yes' : 'no') : '—';
-  // The placed part's box (part frame), else the file's.
-  const size = bboxSize(info && (info.placed_bbox || info.bbox));
-  $('info-size').textContent = size ? size.map((x) => x.toFixed(1)).join(' × ') : '—';
-  const repairs = describeList(info && info.repairs);
-  $('info-repairs').textContent = repairs.length ? repairs.join(', ') : 'none';
-  $('info-warnings').replaceChildren(...[['error', info && info.errors], ['warning', info && info.warnings]]
-    .flatMap(([kind, list]) => describeList(list).map((text) => noteItem(kind, text))));
 }
 
 /** The report of every method that has a section in it, and the motion figures. */

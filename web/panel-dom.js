@@ -38,6 +38,13 @@ export function noteItem(kind, text, code) {
   return li;
 }
 
+/** A range input over n items (0..n-1) set to the last; disabled without items. */
+export function setSliderRange(slider, n) {
+  slider.max = String(Math.max(n - 1, 0));
+  slider.value = slider.max;
+  slider.disabled = n === 0;
+}
+
 /** Run `load(file)` (async) on a file input's chosen file, then clear the input (the same file may come again). */
 export function onFileChosen(input, load) {
   input.addEventListener('change', (e) => {

@@ -7,7 +7,7 @@
 // and the air moves up to the print step; the IGDS are drawn by the voxel view's layer surfaces.
 import { timed } from '../block-runner.js';
 import { figure, formatMm } from '../format.js';
-import { byTestId as $ } from '../panel-dom.js';
+import { byTestId as $, setSliderRange } from '../panel-dom.js';
 import { SetSettingCommand } from '../settings-panel.js';
 import { GEODESIC_STAGE_WEIGHTS, geodesicDoneSummary, geodesicSummaryRows, hasGeodesicBuffers, rampCss } from './geodesic-data.js';
 import { drawOverhangChart, fillGeoFigures, fillTraversalTable, setChartLayer } from './geodesic-panel.js';
@@ -104,11 +104,7 @@ export const geodesic = {
       $('geo-bar').hidden = !v;
       // The voxel bar's missed and support cells mean nothing for the geodesic method.
       for (const id of ['show-missed', 'show-support']) $(id).closest('label').hidden = !!v;
-      const slider = $('geo-step-slider');
-      const n = v ? v.nodeCount : 0;
-      slider.max = String(Math.max(n - 1, 0));
-      slider.value = slider.max;
-      slider.disabled = n === 0;
+      setSliderRange($('geo-step-slider'), v ? v.nodeCount : 0);
       $('field-ramp').style.background = rampCss();
       if (v) {
         v.setVisible('field', $('show-field').checked);

@@ -6,7 +6,7 @@
 // (MultidirView, multidir-view.js): the parts in colours up to the order slider, direction
 // arrows, the risky faces before or after.
 import { timed } from '../block-runner.js';
-import { byTestId as $ } from '../panel-dom.js';
+import { byTestId as $, setSliderRange } from '../panel-dom.js';
 import { turnHint } from './machine-needs.js';
 import {
   MULTIDIR_STAGE_WEIGHTS, areaFigure, hasMultidirBuffers, liveJgLevels, multidirDoneSummary, multidirSummaryRows, searchLevelText,
@@ -121,11 +121,7 @@ export const multidir = {
     setup(app) {
       const v = app.views.multidir;
       $('md-bar').hidden = !v;
-      const slider = $('md-order-slider');
-      const n = v ? v.partCount : 0;
-      slider.max = String(Math.max(n - 1, 0));
-      slider.value = slider.max;
-      slider.disabled = n === 0;
+      setSliderRange($('md-order-slider'), v ? v.partCount : 0);
       if (v) {
         v.setVisible('parts', $('show-parts').checked);
         v.setVisible('arrows', $('show-arrows').checked);

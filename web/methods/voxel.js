@@ -7,7 +7,7 @@
 // geodesic method's results carry layer surfaces too (its IGDS), so this view shows for them as
 // well.
 import { rgbCss } from '../colors.js';
-import { byTestId as $ } from '../panel-dom.js';
+import { byTestId as $, setSliderRange } from '../panel-dom.js';
 import { tiltHint } from './machine-needs.js';
 import { VOXEL_STAGE_WEIGHTS, layerColor, voxelDoneSummary, voxelSummaryRows } from './voxel-data.js';
 import { drawThicknessHistogram, fillVoxelFigures } from './voxel-panel.js';
@@ -100,11 +100,7 @@ export const voxel = {
       const preview = app.views.planar;
       if (fresh) $('show-surfaces').checked = !(preview && preview.curveCount > 0);
       $('voxel-bar').hidden = !v;
-      const slider = $('layer-surface-slider');
-      const n = v ? v.surfaceLayerCount : 0;
-      slider.max = String(Math.max(n - 1, 0));
-      slider.value = slider.max;
-      slider.disabled = n === 0;
+      setSliderRange($('layer-surface-slider'), v ? v.surfaceLayerCount : 0);
       const missed = $('missed-count');
       const reported = app.result && app.result.report && app.result.report.voxel ? app.result.report.voxel.missed_voxels : undefined;
       const count = Number.isFinite(reported) ? reported : v ? v.missedCount : 0;
