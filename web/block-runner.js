@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// Long loops on the page's main thread in blocks that give the thread back: shared by the
-// tool-path preview (preview.js) and the voxel view's data preparation (voxel-data.js). Pure (no
+// Long loops on the page's main thread in blocks that give the thread back (shared by the
+// tool-path preview and the voxel view's data preparation), and measured steps. Pure (no
 // DOM, no three.js), so Node unit tests import it too.
 
 /** Yield to the event loop (scheduler.yield where available, else a message round trip). */
@@ -36,4 +36,17 @@ export function blockRunner(measureName, { budgetMs = 12, block = 4096 } = {}) {
   };
   run.end = () => performance.measure(measureName, { start: t0, end: performance.now() });
   return run;
+}
+
+/**
+ * Run fn as one measured step (performance measure 'omnislice:<name>'), for the end-to-end
+ * tests' long-task check; returns what fn returns.
+ */
+export function timed(name, fn) {
+  const t0 = performance.now();
+  try {
+    return fn();
+  } finally {
+    performance.measure(`omnislice:${name}`, { start: t0, end: performance.now() });
+  }
 }

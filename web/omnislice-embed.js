@@ -11,11 +11,10 @@
 // The import below is relative so the module works wherever the folders keep their layout
 // (<root>/omnislice-embed.js next to <root>/workers/ and <root>/wasm/).
 import { createSlicer, OmnisliceError } from '../workers/engine.js';
+import { PLACEMENT_KEYS, placementOf } from './placement.js';
+import { PROGRAM_KINDS, programExtension, programFileName } from './program-file.js';
 
-export { createSlicer, OmnisliceError };
-
-/** Settings keys that describe the placement (the rest are slicing settings). */
-export const PLACEMENT_KEYS = Object.freeze(['scale', 'fit_mm', 'up', 'rotate_x_deg', 'rotate_y_deg', 'rotate_z_deg', 'center']);
+export { createSlicer, OmnisliceError, PLACEMENT_KEYS, programFileName };
 
 let shared = null;
 
@@ -39,25 +38,12 @@ export async function disposeSharedSlicer() {
   if (s) (await s.catch(() => null))?.dispose();
 }
 
-/** MIME types of the program kinds by extension (G-code, robot joint CSV, URScript). */
-const PROGRAM_MIME = Object.freeze({ gcode: 'text/x-gcode', csv: 'text/csv', script: 'text/plain' });
-
-/**
- * Program file name for a model file name: ('part.stl') -> 'part.gcode'; with the result's
- * programExtension: ('part.stl', 'csv') -> 'part.csv', ('part.stl', 'script') -> 'part.script'.
- */
-export function programFileName(modelName, extension = 'gcode') {
-  const base = String(modelName || '').split(/[\\/]/).pop().replace(/\.[^.]*$/, '');
-  const ext = PROGRAM_MIME[extension] ? extension : 'gcode';
-  return `${base || 'model'}.${ext}`;
-}
-
 /** The program of a slice result as a Blob (make it when the user asks for it, not before). */
 export function programBlob(result) {
   if (!result || !(result.programBytes instanceof Uint8Array)) {
     throw new OmnisliceError('invalid_option', 'programBlob needs a slice result with a program');
   }
-  return new Blob([result.programBytes], { type: PROGRAM_MIME[result.programExtension] || PROGRAM_MIME.gcode });
+  return new Blob([result.programBytes], { type: PROGRAM_KINDS[programExtension(result.programExtension)].mime });
 }
 
 /**
@@ -83,8 +69,7 @@ export async function sliceFile(file, settings = {}, { onProgress, signal, slice
   else throw new OmnisliceError('invalid_option', 'file must be a File, a Blob or {name, bytes}');
   if (signal && signal.aborted) throw new OmnisliceError('cancelled', 'cancelled');
   const engine = slicer || (await sharedSlicer());
-  const placement = Object.fromEntries(PLACEMENT_KEYS.filter((k) => k in settings).map((k) => [k, settings[k]]));
-  const { meshId } = await engine.loadMesh(fileName, bytes, placement);
+  const { meshId } = await engine.loadMesh(fileName, bytes, placementOf(settings));
   try {
     const result = await engine.slice(meshId, settings, { onProgress, signal });
     // Keep the result object itself: its `program` text is decoded lazily on first read.

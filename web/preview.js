@@ -12,7 +12,8 @@
 import * as THREE from 'three';
 
 import { blockRunner } from './block-runner.js';
-import { CURVE_COLORS } from './isoplanar-data.js';
+import { rgbCss } from './colors.js';
+import { CURVE_COLORS } from './methods/isoplanar-data.js';
 
 /** Feature codes of the preview buffers (PROGRAM-FORMAT.md names). */
 export const FEATURES = [
@@ -28,7 +29,7 @@ export const FEATURES = [
 /** CSS colour of a feature code, for legends. */
 export function featureCss(code) {
   const f = FEATURES[code] || FEATURES[0];
-  return `rgb(${f.color.join(',')})`;
+  return rgbCss(f.color);
 }
 
 /**

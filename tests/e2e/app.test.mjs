@@ -21,48 +21,38 @@
 // A screenshot goes to build/e2e/app.png.
 //
 // Skips (with a message) when ../shared/models is absent; under CI=true that is a failure.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-import { startServer } from '../../scripts/serve.mjs';
+import { IN_CI, OUT_DIR, ROOT, appPage, tid } from './page-controls.mjs';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-// The served tree; OMNISLICE_E2E_ROOT lets a developer point the test at another checkout.
-const SERVE_ROOT = process.env.OMNISLICE_E2E_ROOT ? path.resolve(process.env.OMNISLICE_E2E_ROOT) : ROOT;
 const SHARED_MODELS = path.resolve(ROOT, '..', 'shared', 'models');
 const BUNNY = path.join(SHARED_MODELS, 'compas_bunny_closed_low_res.obj');
-const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const IN_CI = process.env.CI === 'true';
-const CHROMIUM_FLAGS = [
-  '--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-  '--disable-background-networking', '--disable-component-update', '--disable-sync',
-];
-const SLICE_TIMEOUT = 180_000;
 
-let server;
-let context;
-let page;
-let userDataDir;
-let tmpDir;
 const requests = [];     // every request URL seen by the browser context (page and worker)
 const offOrigin = [];    // requests to another origin (aborted)
-const pageErrors = [];
 
-function missingPrerequisite() {
-  const needed = [
-    [path.join(SERVE_ROOT, 'workers', 'engine.js'), 'workers/engine.js'],
-    [path.join(SERVE_ROOT, 'build', 'wasm', 'omnislice.mjs'), 'build/wasm/omnislice.mjs (bash scripts/build-wasm.sh)'],
-    [path.join(SERVE_ROOT, 'node_modules', 'three', 'build', 'three.module.js'), 'node_modules/three (npm ci)'],
-    [CHROMIUM, CHROMIUM],
-  ];
-  const missing = needed.filter(([p]) => !fs.existsSync(p)).map(([, what]) => what);
-  return missing.length ? `missing: ${missing.join(', ')}` : null;
-}
+// The served tree; OMNISLICE_E2E_ROOT lets a developer point the test at another checkout. The
+// first test waits for the demo's slice itself.
+const app = appPage('app', {
+  height: 800,
+  required: true,
+  root: process.env.OMNISLICE_E2E_ROOT ? path.resolve(process.env.OMNISLICE_E2E_ROOT) : ROOT,
+  waitForDemo: false,
+  async beforeGoto(context, server) {
+    const origin = new URL(server.url).origin;
+    context.on('request', (r) => requests.push(r.url()));
+    await context.route(
+      (url) => url.origin !== origin && url.protocol !== 'blob:' && url.protocol !== 'data:',
+      (route) => {
+        offOrigin.push(route.request().url());
+        return route.abort();
+      },
+    );
+  },
+});
+const { page, pageErrors, sliceCount, waitState, downloadProgram } = app;
 
 const sharedAvailable = fs.existsSync(BUNNY);
 function sharedSkip(t) {
@@ -72,29 +62,9 @@ function sharedSkip(t) {
   return true;
 }
 
-const tid = (id) => `[data-testid="${id}"]`;
-
-/** Wait until the app reaches `state` with data-slice-count >= minSlices (when given). */
-async function waitState(state, { minSlices, timeout = SLICE_TIMEOUT } = {}) {
-  await page.waitForFunction(
-    ([s, n]) => document.body.dataset.state === s && (n === null || Number(document.body.dataset.sliceCount || 0) >= n),
-    [state, minSlices ?? null],
-    { timeout },
-  );
-}
-
-async function sliceCount() {
-  return page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
-}
-
+/** Set the setting `key` through its input; the page's settings then hold `value`. */
 async function setSetting(key, value) {
-  const input = page.locator(tid(`setting-${key}`));
-  if ((await input.evaluate((el) => el.tagName)) === 'SELECT') {
-    await input.selectOption(String(value));
-  } else {
-    await input.fill(String(value));
-    await input.dispatchEvent('change');
-  }
+  await app.setSetting(`setting-${key}`, value);
   assert.equal(await page.evaluate((k) => window.omnislice.settings[k], key), value, `setting ${key}`);
 }
 
@@ -199,47 +169,6 @@ async function sliceWithLongTaskCheck(t, what) {
   }
   assert.fail(`${what}: every run had a main-thread task over 50 ms while slicing (see diagnostics)`);
 }
-
-async function downloadProgram() {
-  const [download] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
-  const file = path.join(tmpDir, `dl-${Date.now()}-${download.suggestedFilename()}`);
-  await download.saveAs(file);
-  return { name: download.suggestedFilename(), text: fs.readFileSync(file, 'utf8') };
-}
-
-before(async () => {
-  const missing = missingPrerequisite();
-  if (missing) throw new Error(`e2e prerequisites ${missing}`);
-  tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-e2e-'));
-  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-chromium-'));
-  fs.mkdirSync(OUT_DIR, { recursive: true });
-  server = await startServer({ port: 0, root: SERVE_ROOT });
-  const origin = new URL(server.url).origin;
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: CHROMIUM,
-    headless: true,
-    args: CHROMIUM_FLAGS,
-    viewport: { width: 1280, height: 800 },
-    acceptDownloads: true,
-  });
-  context.on('request', (r) => requests.push(r.url()));
-  await context.route(
-    (url) => url.origin !== origin && url.protocol !== 'blob:' && url.protocol !== 'data:',
-    (route) => {
-      offOrigin.push(route.request().url());
-      return route.abort();
-    },
-  );
-  page = context.pages()[0] || (await context.newPage());
-  page.on('pageerror', (e) => pageErrors.push(e.message));
-  await page.goto(server.url);
-});
-
-after(async () => {
-  if (context) await context.close();
-  if (server) await server.close();
-  for (const d of [userDataDir, tmpDir]) if (d) fs.rmSync(d, { recursive: true, force: true });
-});
 
 test('the demo model is loaded and sliced on page load', async () => {
   await waitState('done', { minSlices: 1 });
@@ -393,7 +322,7 @@ test('a tilted slicing direction slices the dropped part turned so the direction
 
 test('a truncated STL shows its error code; a good file loads and slices afterwards', async (t) => {
   const demo = fs.readFileSync(path.join(ROOT, 'web', 'models', 'demo-overhang.stl'));
-  const broken = path.join(tmpDir, 'broken.stl');
+  const broken = path.join(app.tmpDir, 'broken.stl');
   // Header and count say 112 triangles; the bytes stop in the middle of triangle 41.
   fs.writeFileSync(broken, demo.subarray(0, 84 + 50 * 40 + 17));
   await page.setInputFiles(tid('file-input'), broken);
@@ -403,7 +332,7 @@ test('a truncated STL shows its error code; a good file loads and slices afterwa
   assert.match(message, /^truncated_file: \S.*/, message);
   assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'truncated_file');
 
-  const good = path.join(tmpDir, 'good-part.stl');
+  const good = path.join(app.tmpDir, 'good-part.stl');
   fs.writeFileSync(good, demo);
   await page.setInputFiles(tid('file-input'), good);
   await page.waitForFunction(() => document.body.dataset.state === 'ready' && document.querySelector('[data-testid="model-name"]').textContent === 'good-part.stl');
@@ -494,10 +423,10 @@ test('the embedding module slices a file in one call and reports errors with cod
 });
 
 test('no request left the page origin, and the page raised no uncaught error', () => {
-  const origin = new URL(server.url).origin;
+  const origin = new URL(app.server.url).origin;
   assert.ok(requests.some((u) => u.endsWith('/wasm/omnislice.wasm')), 'the worker\'s wasm fetch was recorded');
   const foreign = requests.filter((u) => !u.startsWith(`${origin}/`) && !u.startsWith('blob:') && !u.startsWith('data:'));
   assert.deepEqual(foreign, []);
   assert.deepEqual(offOrigin, []);
-  assert.deepEqual(pageErrors, []);
+  assert.deepEqual(pageErrors(), []);
 });

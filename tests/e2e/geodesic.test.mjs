@@ -15,32 +15,15 @@
 //     figures become the printed ones); the program downloads;
 //   - a planar slice afterwards hides the geodesic view and report; no page errors.
 // Screenshots go to build/e2e/geodesic-*.png.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
+import { OUT_DIR, appPage, tid } from './page-controls.mjs';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const tid = (id) => `[data-testid="${id}"]`;
-
-let session;
-let page;
-let tmpDir;
-let skipWhy = null;
-
-before(async () => {
-  ({ skipWhy, session, page, tmpDir } = await openAppPage('geo'));
-});
-
-after(() => closeAppPage({ session, tmpDir }));
-
-const { setSetting, slide, sliceCount, waitSliced } = pageControls(() => page);
+const { page, skip, pageErrors, setSetting, slide, sliceCount, waitSliced, sliceAndWait, downloadProgram } = appPage('geo');
 
 test('the method choice shows the geodesic settings and hides the planar-only ones', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const visible = (id) => page.isVisible(tid(id));
   const rows = ['geodesic-interval', 'geodesic-tet-size', 'geodesic-target-tets', 'geodesic-base-band', 'geodesic-max-thickness', 'geodesic-nozzle-angle', 'geodesic-sequence', 'geodesic-remesh'];
   for (const id of rows) assert.equal(await visible(id), false, `${id} hidden for planar`);
@@ -178,7 +161,7 @@ function syntheticGeodesic({ L }) {
 }
 
 test('a synthetic geodesic result: figures, chart, traversals, field, tree, air moves, sliders', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const L = 12;
   await page.evaluate(async ([fnText, args]) => {
     // eslint-disable-next-line no-new-func
@@ -268,7 +251,7 @@ test('a synthetic geodesic result: figures, chart, traversals, field, tree, air 
 });
 
 test('a result with disagreeing geodesic buffers: a clear error, the rest still shown', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const out = await page.evaluate(async ([fnText, args]) => {
     // eslint-disable-next-line no-new-func
     const make = new Function(`return (${fnText})`)();
@@ -288,7 +271,7 @@ test('a result with disagreeing geodesic buffers: a clear error, the rest still 
 });
 
 test('the tree demo: geodesic slice, field, tree, air moves, chart, traversal switch, download', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const before = await sliceCount();
   const started = Date.now();
   await page.selectOption(tid('demo-model'), 'tree');
@@ -364,23 +347,18 @@ test('the tree demo: geodesic slice, field, tree, air moves, chart, traversal sw
   await page.waitForTimeout(400);
   await page.screenshot({ path: path.join(OUT_DIR, 'geodesic-tree-lpt.png') });
   // The program.
-  const [download] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
-  const file = path.join(tmpDir, download.suggestedFilename());
-  await download.saveAs(file);
-  assert.equal(download.suggestedFilename(), 'demo-tree.gcode');
-  const text = fs.readFileSync(file, 'utf8');
+  const { name, text } = await downloadProgram();
+  assert.equal(name, 'demo-tree.gcode');
   assert.ok(text.length > 10_000, `${text.length} bytes`);
   const markers = new Set((text.match(/^; omnislice:layer \d+/gm) || []).map((m) => m.split(' ').pop()));
   assert.equal(markers.size, geo2.printed_layers ?? geo2.layers, 'every printed layer has its marker');
 });
 
 test('a planar slice afterwards hides the geodesic view and report', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   await setSetting('setting-method', 'planar');
   await setSetting('machine', 'cartesian3');
-  const before = await sliceCount();
-  await page.click(tid('slice-button'), { timeout: 120_000 });
-  const failed = await waitSliced(before);
+  const failed = await sliceAndWait();
   if (failed) assert.fail(`planar slice failed: ${failed}`);
   assert.equal(await page.isHidden(tid('geo-bar')), true);
   assert.equal(await page.isHidden(tid('geo-report')), true);
@@ -390,6 +368,6 @@ test('a planar slice afterwards hides the geodesic view and report', async (t) =
 });
 
 test('no uncaught page error', (t) => {
-  if (skipWhy) return t.skip(skipWhy);
-  assert.deepEqual(session.logs.filter((l) => l.startsWith('pageerror')), []);
+  if (skip(t)) return;
+  assert.deepEqual(pageErrors(), []);
 });

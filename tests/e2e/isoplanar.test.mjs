@@ -16,36 +16,18 @@
 //     page errors; the layer range starts at the surface layer, the layer surfaces start hidden.
 // The real slices skip (not in CI) while the engine has no surface method.
 // Screenshots go to build/e2e/isoplanar-*.png.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
+import { IN_CI, OUT_DIR, appPage, tid } from './page-controls.mjs';
 import { saddleObj } from '../js/fixtures/meshes.js';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const IN_CI = process.env.CI === 'true';
-const tid = (id) => `[data-testid="${id}"]`;
-
-let session;
-let page;
-let tmpDir;
-let skipWhy = null;
-
-before(async () => {
-  ({ skipWhy, session, page, tmpDir } = await openAppPage('iso'));
-});
-
-after(() => closeAppPage({ session, tmpDir }));
-
-const { setSetting } = pageControls(() => page);
-
-const pageErrors = () => session.logs.filter((l) => l.startsWith('pageerror'));
+const app = appPage('iso');
+const { page, skip, pageErrors, setSetting } = app;
 
 test('method surface and fill isoplanar show the iso-planar settings', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const visible = (id) => page.isVisible(tid(id));
   assert.equal(await page.locator(`${tid('legend-curves')}:visible`).count(), 0, 'no NL curves in the planar demo');
   assert.equal(await visible('iso-report'), false, 'no iso-planar section for a planar slice');
@@ -117,7 +99,7 @@ function syntheticIsoResult({ C, starDeg }) {
 }
 
 test('a synthetic iso-planar result: polar plot with theta*, side steps, alternating NL curves, click to choose', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const C = 21;
   await page.evaluate(async ([fnText, args]) => {
     // eslint-disable-next-line no-new-func
@@ -167,7 +149,7 @@ test('a synthetic iso-planar result: polar plot with theta*, side steps, alterna
 });
 
 test('a compare run keeps the first result, whether the engine accepts it or not', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   // The synthetic result of the previous test is shown; the engine re-slices the loaded demo.
   await page.fill(tid('iso-compare-theta'), '30');
   await page.click(tid('iso-compare-button'));
@@ -190,7 +172,7 @@ test('a compare run keeps the first result, whether the engine accepts it or not
 });
 
 test('the model menu loads and slices the saddle demo with the surface method', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
   await page.selectOption(tid('demo-model'), 'saddle');
   // The state may still be 'error' from the refused comparison: wait for the new model's slice.
@@ -230,8 +212,8 @@ test('the model menu loads and slices the saddle demo with the surface method', 
 });
 
 test('a real surface slice of a saddle: polar plot, compare run side by side, switch the drawn run', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
-  const file = path.join(tmpDir, 'saddle.obj');
+  if (skip(t)) return;
+  const file = path.join(app.tmpDir, 'saddle.obj');
   fs.writeFileSync(file, saddleObj(100, 30, 30));
   await setSetting('setting-method', 'surface');
   await setSetting('machine', 'robot6-ur5');

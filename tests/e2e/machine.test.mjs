@@ -14,63 +14,22 @@
 //   - a broken machine profile file shows parse_error with the core's message; a valid rotary4
 //     profile file is used for the next slice (A axis words) until "use built-in".
 // Screenshots go to build/e2e/machine-*.png.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
-import os from 'node:os';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
-import { startServer } from '../../scripts/serve.mjs';
+import { OUT_DIR, appPage, tid } from './page-controls.mjs';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const CHROMIUM = process.env.CHROMIUM_PATH || '/usr/bin/chromium';
-const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const SLICE_TIMEOUT = 180_000;
 const TIP_TOLERANCE_MM = 0.01;
 
-let server;
-let context;
-let page;
-let userDataDir;
-let tmpDir;
-const pageErrors = [];
+const app = appPage('machine', { height: 800, required: true });
+const { page, pageErrors, sliceAndWait, downloadProgram: download } = app;
 
-const tid = (id) => `[data-testid="${id}"]`;
-
-function missingPrerequisite() {
-  const needed = [
-    [path.join(ROOT, 'build', 'wasm', 'omnislice.mjs'), 'build/wasm/omnislice.mjs (bash scripts/build-wasm.sh)'],
-    [path.join(ROOT, 'node_modules', 'three', 'build', 'three.module.js'), 'node_modules/three (npm ci)'],
-    [CHROMIUM, CHROMIUM],
-  ];
-  const missing = needed.filter(([p]) => !fs.existsSync(p)).map(([, what]) => what);
-  return missing.length ? `missing: ${missing.join(', ')}` : null;
-}
-
-async function waitState(state, { minSlices, timeout = SLICE_TIMEOUT } = {}) {
-  await page.waitForFunction(
-    ([s, n]) => document.body.dataset.state === s && (n === null || Number(document.body.dataset.sliceCount || 0) >= n),
-    [state, minSlices ?? null],
-    { timeout },
-  );
-}
-
+/** Click Slice; the report once the slice is done (a failed slice fails the test). */
 async function slice() {
-  const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
-  await page.click(tid('slice-button'));
-  await page.waitForFunction((n) => ['done', 'error'].includes(document.body.dataset.state)
-    && (document.body.dataset.state === 'error' || Number(document.body.dataset.sliceCount || 0) > n), before, { timeout: SLICE_TIMEOUT });
-  const state = await page.evaluate(() => document.body.dataset.state);
-  if (state !== 'done') assert.fail(`slice failed: ${await page.textContent(tid('error-message'))}`);
+  const error = await sliceAndWait(180_000);
+  if (error !== null) assert.fail(`slice failed: ${error}`);
   return page.evaluate(() => window.omnislice.report);
-}
-
-async function download() {
-  const [d] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
-  const file = path.join(tmpDir, `dl-${Date.now()}-${d.suggestedFilename()}`);
-  await d.saveAs(file);
-  return { name: d.suggestedFilename(), text: fs.readFileSync(file, 'utf8') };
 }
 
 /** Move the step slider to s; returns the animation state the page reports. */
@@ -104,33 +63,6 @@ async function sweepMachine(label) {
   return { steps, worst };
 }
 
-before(async () => {
-  const missing = missingPrerequisite();
-  if (missing) throw new Error(`e2e prerequisites ${missing}`);
-  tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-e2e-machine-'));
-  userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-chromium-'));
-  fs.mkdirSync(OUT_DIR, { recursive: true });
-  server = await startServer({ port: 0, root: ROOT });
-  context = await chromium.launchPersistentContext(userDataDir, {
-    executablePath: CHROMIUM,
-    headless: true,
-    args: ['--headless', '--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
-      '--disable-background-networking', '--disable-component-update', '--disable-sync'],
-    viewport: { width: 1280, height: 800 },
-    acceptDownloads: true,
-  });
-  page = context.pages()[0] || (await context.newPage());
-  page.on('pageerror', (e) => pageErrors.push(e.message));
-  await page.goto(server.url);
-  await waitState('done', { minSlices: 1 });
-});
-
-after(async () => {
-  if (context) await context.close();
-  if (server) await server.close();
-  for (const d of [userDataDir, tmpDir]) if (d) fs.rmSync(d, { recursive: true, force: true });
-});
-
 test('the machine panel lists the built-in machines; flavour for G-code, format for the robot', async () => {
   const options = await page.$$eval(`${tid('machine')} option`, (os) => os.map((o) => o.value));
   assert.deepEqual(options, ['cartesian3', 'rotary4', 'table5', 'robot6-ur5']);
@@ -146,7 +78,7 @@ test('the machine panel lists the built-in machines; flavour for G-code, format 
   assert.deepEqual(options, names);
   const [d] = await Promise.all([page.waitForEvent('download'), page.click(tid('machine-save'))]);
   assert.equal(d.suggestedFilename(), 'robot6-ur5.json');
-  const file = path.join(tmpDir, 'saved-robot6-ur5.json');
+  const file = path.join(app.tmpDir, 'saved-robot6-ur5.json');
   await d.saveAs(file);
   const saved = JSON.parse(fs.readFileSync(file, 'utf8'));
   assert.equal(saved.kind, 'robot6');
@@ -180,7 +112,7 @@ test('robot6-ur5: report and motion figures, .csv then .script downloads, animat
   await page.uncheck(tid('machine-toggle'));
 
   // Replay the downloaded CSV through its declared machine: the animation shows the file.
-  const csvFile = path.join(tmpDir, 'replay-me.csv');
+  const csvFile = path.join(app.tmpDir, 'replay-me.csv');
   fs.writeFileSync(csvFile, csv.text);
   await page.setInputFiles(tid('program-file'), csvFile);
   await page.waitForFunction(() => window.omnislice.machine && window.omnislice.machine.replay === 'replay-me.csv');
@@ -195,7 +127,7 @@ test('robot6-ur5: report and motion figures, .csv then .script downloads, animat
   }
   assert.ok(worstReplay < TIP_TOLERANCE_MM, `replayed CSV: tip error ${worstReplay}`);
   // A broken program shows the reader's error code.
-  const badFile = path.join(tmpDir, 'bad.csv');
+  const badFile = path.join(app.tmpDir, 'bad.csv');
   fs.writeFileSync(badFile, csv.text.split('\n').slice(0, 40).join('\n') + '\n1,2,oops\n');
   await page.setInputFiles(tid('program-file'), badFile);
   await page.waitForSelector(`${tid('error-message')}:not([hidden])`);
@@ -250,20 +182,20 @@ test('table5 with the Klipper flavour: B and C axis words; the animation keeps t
 });
 
 test('machine profile files: a broken one shows parse_error; a rotary4 one is used until "use built-in"', async () => {
-  const broken = path.join(tmpDir, 'broken-machine.json');
+  const broken = path.join(app.tmpDir, 'broken-machine.json');
   fs.writeFileSync(broken, '{"kind": "rotary4", "pivot": [0, 0');
   await page.setInputFiles(tid('machine-file'), broken);
   await page.waitForSelector(`${tid('error-message')}:not([hidden])`);
   assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'parse_error');
   assert.match(await page.textContent(tid('error-message')), /^parse_error: broken-machine\.json: machine JSON: \S/);
 
-  const limits = path.join(tmpDir, 'inverted-limits.json');
+  const limits = path.join(app.tmpDir, 'inverted-limits.json');
   fs.writeFileSync(limits, JSON.stringify({ kind: 'rotary4', axis_limits: { A: [60, -60] } }));
   await page.setInputFiles(tid('machine-file'), limits);
   await page.waitForFunction(() => /inverted-limits/.test(document.querySelector('[data-testid="error-message"]').textContent));
   assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'parse_error');
 
-  const good = path.join(tmpDir, 'my-rotary.json');
+  const good = path.join(app.tmpDir, 'my-rotary.json');
   fs.writeFileSync(good, JSON.stringify({
     kind: 'rotary4', pivot: [0, 0, 0], axis_limits: { X: [-150, 150], Y: [-150, 150], Z: [-50, 250], A: [-90, 90] },
     nozzle: { diameter: 0.4, cone_half_angle_deg: 40, cone_length: 25 },
@@ -289,5 +221,5 @@ test('machine profile files: a broken one shows parse_error; a rotary4 one is us
 });
 
 test('the page raised no uncaught error', () => {
-  assert.deepEqual(pageErrors, []);
+  assert.deepEqual(pageErrors(), []);
 });

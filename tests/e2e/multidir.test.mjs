@@ -12,21 +12,14 @@
 //     reached the page (progress.search), drew the live J_G chart and the decompose stage's text;
 //   - a planar slice afterwards hides the multidir view and report; no page errors.
 // Screenshots go to build/e2e/multidir-*.png.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
+import { OUT_DIR, appPage, tid } from './page-controls.mjs';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const tid = (id) => `[data-testid="${id}"]`;
-
-let session;
-let page;
-let tmpDir;
-let skipWhy = null;
+const app = appPage('md');
+const { page, skip, pageErrors, setSetting, slide, sliceCount, waitSliced, sliceAndWait, downloadProgram } = app;
 
 /**
  * Binary STL of an L-bracket: the L profile (x, z) = column 0..10 x 0..20 with an arm 0..30 x
@@ -60,16 +53,8 @@ function lBracketStl() {
   return { bytes: buf, volume: Math.abs(volume) };
 }
 
-before(async () => {
-  ({ skipWhy, session, page, tmpDir } = await openAppPage('md'));
-});
-
-after(() => closeAppPage({ session, tmpDir }));
-
-const { setSetting, slide, sliceCount, waitSliced } = pageControls(() => page);
-
 test('the method choice shows the multi-directional settings', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const visible = (id) => page.isVisible(tid(id));
   const rows = ['multidir-alpha', 'multidir-w', 'multidir-scheme', 'multidir-beam-width', 'multidir-dof', 'multidir-samples',
     'multidir-interface-overlap'];
@@ -93,10 +78,10 @@ test('the method choice shows the multi-directional settings', async (t) => {
 });
 
 test('an L-bracket sliced with multidir on table5: parts, arrows, chart, risky faces, program', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const { bytes, volume } = lBracketStl();
   assert.ok(Math.abs(volume - (10 * 20 * 10 + 30 * 10 * 10)) < 1e-6);
-  const file = path.join(tmpDir, 'l-bracket.stl');
+  const file = path.join(app.tmpDir, 'l-bracket.stl');
   fs.writeFileSync(file, bytes);
   await setSetting('setting-layer_height', 0.3);
   const before0 = await sliceCount();
@@ -168,22 +153,17 @@ test('an L-bracket sliced with multidir on table5: parts, arrows, chart, risky f
   await setSetting('show-arrows', true);
   await page.locator(tid('md-report')).screenshot({ path: path.join(OUT_DIR, 'multidir-report.png') });
   // The program.
-  const [download] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
-  const out = path.join(tmpDir, download.suggestedFilename());
-  await download.saveAs(out);
-  assert.equal(download.suggestedFilename(), 'l-bracket.gcode');
-  const text = fs.readFileSync(out, 'utf8');
+  const { name, text } = await downloadProgram();
+  assert.equal(name, 'l-bracket.gcode');
   assert.ok(text.length > 10_000, `${text.length} bytes`);
   assert.ok((text.match(/^; omnislice:layer \d+/gm) || []).length >= report.layers, 'a marker per layer');
 });
 
 test('a planar slice afterwards hides the multidir view and report', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   await setSetting('setting-method', 'planar');
   await setSetting('machine', 'cartesian3');
-  const before = await sliceCount();
-  await page.click(tid('slice-button'), { timeout: 120_000 });
-  const failed = await waitSliced(before);
+  const failed = await sliceAndWait();
   if (failed) assert.fail(`planar slice failed: ${failed}`);
   assert.equal(await page.isHidden(tid('md-bar')), true);
   assert.equal(await page.isHidden(tid('md-report')), true);
@@ -195,9 +175,7 @@ test('a planar slice afterwards hides the multidir view and report', async (t) =
   await setSetting('support-mode', 'none');
   assert.equal(await page.isVisible(tid('support-roof')), false, 'no support settings without supports');
   await setSetting('support-mode', 'projected');
-  const again = await sliceCount();
-  await page.click(tid('slice-button'), { timeout: 120_000 });
-  const failedAgain = await waitSliced(again);
+  const failedAgain = await sliceAndWait();
   if (failedAgain) assert.fail(`planar slice with supports failed: ${failedAgain}`);
   const sup = (await page.evaluate(() => window.omnislice.report)).support;
   assert.ok(sup && sup.generated && sup.struts > 0 && sup.printed_volume_mm3 > 0, JSON.stringify(sup));
@@ -207,6 +185,6 @@ test('a planar slice afterwards hides the multidir view and report', async (t) =
 });
 
 test('no uncaught page error', (t) => {
-  if (skipWhy) return t.skip(skipWhy);
-  assert.deepEqual(session.logs.filter((l) => l.startsWith('pageerror')), []);
+  if (skip(t)) return;
+  assert.deepEqual(pageErrors(), []);
 });

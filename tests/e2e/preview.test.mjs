@@ -5,7 +5,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { buildPreviewArrays, FEATURES, ToolpathPreview } from '../../web/preview.js';
-import { CURVE_COLORS } from '../../web/isoplanar-data.js';
+import { CURVE_COLORS } from '../../web/methods/isoplanar-data.js';
 
 // Deterministic pseudo-random preview: layers mostly increasing with some out-of-order segments.
 function makePreview(S, L, seed = 7) {

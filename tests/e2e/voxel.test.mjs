@@ -11,42 +11,17 @@
 //     stages, the report's voxel figures and histogram show, the surfaces and the missed count
 //     render, the slider filters them, and the program downloads with a layer marker per layer.
 // Screenshots go to build/e2e/voxel-*.png.
-import { test, before, after } from 'node:test';
+import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import fs from 'node:fs';
 import path from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { closeAppPage, openAppPage, pageControls } from './page-controls.mjs';
-import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
+import { IN_CI, OUT_DIR, appPage, tid } from './page-controls.mjs';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
 
-const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
-const OUT_DIR = path.join(ROOT, 'build', 'e2e');
-const IN_CI = process.env.CI === 'true';
-const tid = (id) => `[data-testid="${id}"]`;
-
-let session;
-let page;
-let tmpDir;
-let skipWhy = null;
-
-before(async () => {
-  ({ skipWhy, session, page, tmpDir } = await openAppPage('voxel', { height: 800 }));
-});
-
-after(() => closeAppPage({ session, tmpDir }));
-
-const { setSetting, slide } = pageControls(() => page);
-
-async function downloadProgram() {
-  const [download] = await Promise.all([page.waitForEvent('download'), page.click(tid('download-program'))]);
-  const file = path.join(tmpDir, `dl-${Date.now()}-${download.suggestedFilename()}`);
-  await download.saveAs(file);
-  return { name: download.suggestedFilename(), text: fs.readFileSync(file, 'utf8') };
-}
+const { page, skip, pageErrors, setSetting, slide, downloadProgram } = appPage('voxel', { height: 800 });
 
 /** Set a range input's value and fire `input` (as a drag does). */
 test('the method choice shows the voxel settings and hides the planar-only ones', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const visible = (id) => page.isVisible(tid(id));
   assert.equal(await visible('voxel-strategy'), false, 'voxel rows hidden for planar');
   assert.equal(await visible('setting-infill'), true);
@@ -155,7 +130,7 @@ function syntheticResult({ L, n, missed, support }) {
 }
 
 test('a synthetic voxel result: figures, histogram, layer surfaces with the slider, cells, glyphs, download', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   const L = 14;
   const out = await page.evaluate(async ([fnText, args]) => {
     // eslint-disable-next-line no-new-func
@@ -231,7 +206,7 @@ test('a synthetic voxel result: figures, histogram, layer surfaces with the slid
 });
 
 test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   await setSetting('setting-method', 'voxel');
   // A 3-axis machine cannot tilt the nozzle: the machine panel says so.
   assert.match(await page.textContent(tid('method-hint')), /choose table5 or a robot/);
@@ -312,7 +287,7 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
 });
 
 test('a planar slice afterwards hides the voxel view and figures', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   assert.equal(await page.evaluate(() => window.omnislice.settings.method), 'planar');
   const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
   await page.click(tid('slice-button'), { timeout: 120_000 });
@@ -326,7 +301,7 @@ test('a planar slice afterwards hides the voxel view and figures', async (t) => 
 });
 
 test('a large voxel result is shown in short main-thread steps', async (t) => {
-  if (skipWhy) return t.skip(skipWhy);
+  if (skip(t)) return;
   // 300k surface triangles in 150 layers, 600k segments, 40k support and 2k missed cells. Every
   // app step after the result arrives (performance.measure 'omnislice:*': report, preview and
   // voxel-view blocks, sliders) must stay under 50 ms; the machine is shared, so up to three runs.
@@ -378,6 +353,6 @@ test('a large voxel result is shown in short main-thread steps', async (t) => {
 });
 
 test('no uncaught page error', (t) => {
-  if (skipWhy) return t.skip(skipWhy);
-  assert.deepEqual(session.logs.filter((l) => l.startsWith('pageerror')), []);
+  if (skip(t)) return;
+  assert.deepEqual(pageErrors(), []);
 });

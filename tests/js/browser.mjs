@@ -21,24 +21,32 @@ export async function browserUnavailable() {
   return null;
 }
 
-/** Launch Chromium and the server; open the page at pagePath. Returns {page, server, close()}. */
-export async function openPage(pagePath) {
+/**
+ * Launch Chromium and the server; open the page at pagePath. Options: root, the served checkout
+ * (default this one; its build/wasm unless OMNISLICE_WASM_DIR is set); viewport {width, height};
+ * beforeGoto(context, server), awaited before the page loads (e.g. to route or record requests).
+ * Returns {page, context, server, logs (console lines and 'pageerror: ...'), close()}.
+ */
+export async function openPage(pagePath, { root = REPO, viewport, beforeGoto } = {}) {
   const { chromium } = await import('playwright-core');
-  const server = await startServer({ wasmDir: WASM_DIR });
+  const server = await startServer({ root, wasmDir: process.env.OMNISLICE_WASM_DIR || path.join(root, 'build/wasm') });
   const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-chromium-'));
   const context = await chromium.launchPersistentContext(userDataDir, {
     executablePath: CHROMIUM,
     headless: true,
     args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync'],
+    acceptDownloads: true,
+    ...(viewport ? { viewport } : {}),
   });
   const page = context.pages()[0] || await context.newPage();
   const logs = [];
   page.on('console', (m) => logs.push(`${m.type()}: ${m.text()}`));
   page.on('pageerror', (e) => logs.push(`pageerror: ${e.message}`));
+  if (beforeGoto) await beforeGoto(context, server);
   await page.goto(`${server.url}${pagePath}`);
   return {
-    page, server, logs,
+    page, context, server, logs,
     async close() {
       await context.close();
       await server.close();

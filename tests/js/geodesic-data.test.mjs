@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The geodesic view's data preparation (web/geodesic-data.js) against direct computations: the
+// The geodesic view's data preparation (web/methods/geodesic-data.js) against direct computations: the
 // distance ramp (end colours, lightness growing with the distance), field colours, triangles
 // sorted by their largest distance (every prefix is exactly the triangles within a distance),
 // the buffer checks (one error per kind of disagreement), the air moves of a sequence (the
@@ -13,9 +13,10 @@ import {
   FIELD_RAMP, TRAVERSALS, airMoves, checkGeodesicBuffers, fieldColors, fieldTrianglesUpTo, geodesicDoneSummary,
   geodesicSummaryRows, hasGeodesicBuffers, luma, nodeColors, overhangChartGeometry, pairSegments, rampColor, selectTree,
   sortFieldTriangles, traversalRows,
-} from '../../web/geodesic-data.js';
-import { layerColor } from '../../web/voxel-data.js';
-import { SETTINGS_SCHEMA, SettingsModel, normaliseValue } from '../../web/settings-panel.js';
+} from '../../web/methods/geodesic-data.js';
+import { layerColor } from '../../web/methods/voxel-data.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { SettingsModel, normaliseValue } from '../../web/settings-panel.js';
 
 function rng(seed) {
   let x = seed;

@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
-// The geodesic view's three.js objects (web/geodesic-view.js) in Node: the field surface carries
+// The geodesic view's three.js objects (web/methods/geodesic-view.js) in Node: the field surface carries
 // the ramp colours and draws exactly the triangles within the top layer's iso-value; the tree's
 // points, edges and air moves follow the layer range, the print step and the toggles; the air
 // moves are the sequence's transitions off the tree; bad buffers fail with the data module's
 // message; dispose frees every geometry.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { GeodesicView, SKIPPED_COLOR } from '../../web/geodesic-view.js';
-import { FIELD_RAMP } from '../../web/geodesic-data.js';
+import { GeodesicView, SKIPPED_COLOR } from '../../web/methods/geodesic-view.js';
+import { FIELD_RAMP } from '../../web/methods/geodesic-data.js';
 
 // A cylinder-like field surface (rings of 12 vertices, z = 0..L-1 mm, value = z) and a fork tree
 // over L = 7 layers: trunk nodes 0-3 (layers 0-3), then two branches (4, 6, 8) and (5, 7, 9).

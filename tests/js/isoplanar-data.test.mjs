@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The iso-planar view's data helpers (web/isoplanar-data.js) on synthetic reports: the polar plot
+// The iso-planar view's data helpers (web/methods/isoplanar-data.js) on synthetic reports: the polar plot
 // of v_e(theta) closed by the theta + 180 symmetry, the theta* marker on the curve, clicks folded
 // into [0, 180), periodic interpolation, NL curve colours alternating, the figures and the
 // comparison table of two runs with the benchmark means.
@@ -7,8 +7,9 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
   CURVE_COLORS, comparisonRows, curveColor, curveStats, curveValueAt, foldTheta, hasCurves, isoplanarSummaryRows,
-  percentText, polarPlotGeometry, readCurve, ringValues, sideStepText, thetaFromPlotPoint,
-} from '../../web/isoplanar-data.js';
+  polarPlotGeometry, readCurve, ringValues, sideStepText, thetaFromPlotPoint,
+} from '../../web/methods/isoplanar-data.js';
+import { percentText } from '../../web/format.js';
 
 // A synthetic curve with a known maximum: v_e(theta) = 0.5 + 0.1 cos(2 (theta - 158°)), sampled
 // every 4 degrees (45 samples), in shuffled order.

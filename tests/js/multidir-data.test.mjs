@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: MIT
-// The multidir page's pure data (web/multidir-data.js) in Node: buffer checks, parts sorted by
+// The multidir page's pure data (web/methods/multidir-data.js) in Node: buffer checks, parts sorted by
 // print index with one colour each, centroids and direction arrows, risky-face index lists and
 // areas, the J_G-per-level chart, the report's rows, the search-level progress text and the live
 // chart's values.
@@ -9,7 +9,7 @@ import {
   areaFigure, arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, hasMultidirBuffers, jgChartGeometry, liveJgLevels,
   multidirDoneSummary, multidirSummaryRows, partCentroids, partColor, partDirections, partRows, searchLevelText, sortPartTriangles,
   supportText,
-} from '../../web/multidir-data.js';
+} from '../../web/methods/multidir-data.js';
 
 // Two unit-square "parts" (two triangles each): part 1 listed first at z = 5, part 0 at z = 0.
 function makePreview() {

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The multidir view's three.js objects (web/multidir-view.js) in Node: parts coloured and drawn in
+// The multidir view's three.js objects (web/methods/multidir-view.js) in Node: parts coloured and drawn in
 // print order up to the order slider, an arrow per shown part, the risky faces of the placed
 // part before / after as an overlay, toggles, bad buffers failing with the data module's
 // message, dispose.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { MultidirView } from '../../web/multidir-view.js';
-import { partColor } from '../../web/multidir-data.js';
+import { MultidirView } from '../../web/methods/multidir-view.js';
+import { partColor } from '../../web/methods/multidir-data.js';
 
 // Three parts stacked along +Z (print index = z / 10), two triangles each, and a placed mesh of
 // 4 triangles (areas 2, 2, 4.5, 4.5) with risky flags.

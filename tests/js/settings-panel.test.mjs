@@ -1,13 +1,13 @@
 // SPDX-License-Identifier: MIT
-// The settings model of the page (web/settings-panel.js) in Node: what a slice request carries
-// (placement keys always, other keys only when changed, machine_json only when a profile is
-// loaded), the machine kind the panel shows rows for, and the machine_json field's checks.
+// The settings fields and model of the page (web/settings-fields.js, web/settings-panel.js) in
+// Node: what a slice request carries (placement keys always, other keys only when changed,
+// machine_json only when a profile is loaded), the machine kind the panel shows rows for, the
+// machine_json field's checks, and the placement keys (web/placement.js).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import {
-  PLACEMENT_KEYS, SETTINGS_SCHEMA, SetSettingCommand, SettingsModel, normaliseValue, selectedMachineKind,
-  usesIsoplanar,
-} from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA, selectedMachineKind, usesIsoplanar } from '../../web/settings-fields.js';
+import { SetSettingCommand, SettingsModel, normaliseValue } from '../../web/settings-panel.js';
+import { PLACEMENT_KEYS, isPlacementKey, placementOf } from '../../web/placement.js';
 
 test('slice settings: placement keys always, others only when changed from the defaults', () => {
   const model = new SettingsModel();
@@ -83,4 +83,15 @@ test('iso-planar settings: shown and sent only with the surface method or the is
   assert.equal(normaliseValue(theta, '158'), 158);
   assert.throws(() => normaliseValue(theta, '180'), /within/);
   assert.throws(() => normaliseValue(model.field('isoplanar.directions'), '1.5'), /whole number/);
+});
+
+test('placement keys: named once (web/placement.js), the settings\' Placement group, what a load carries', () => {
+  assert.deepEqual(SETTINGS_SCHEMA.filter((f) => f.group === 'Placement').map((f) => f.key).sort(), [...PLACEMENT_KEYS].sort());
+  assert.equal(isPlacementKey('fit_mm'), true);
+  assert.equal(isPlacementKey('layer_height'), false);
+  const model = new SettingsModel();
+  model.set('fit_mm', 60);
+  assert.deepEqual(Object.keys(model.toPlacement()), [...PLACEMENT_KEYS]);
+  assert.equal(model.toPlacement().fit_mm, 60);
+  assert.deepEqual(placementOf({ up: 'y', layer_height: 0.3, center: false }), { up: 'y', center: false });
 });

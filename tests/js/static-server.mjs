@@ -8,12 +8,15 @@ import { startServer as startAppServer } from '../../scripts/serve.mjs';
 
 export const REPO = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '../..');
 
-/** Start the server. Returns {url (no trailing slash), close(), requests: string[]}. */
-export async function startServer({ wasmDir = path.join(REPO, 'build/wasm') } = {}) {
+/**
+ * Start the server on `root` (default this checkout). Returns {url (no trailing slash), close(),
+ * requests: string[]}.
+ */
+export async function startServer({ root = REPO, wasmDir = path.join(root, 'build/wasm') } = {}) {
   const requests = [];
   const server = await startAppServer({
     port: 0,
-    root: REPO,
+    root,
     extraRoutes: [['/tests/', 'tests'], ['/wasm/', wasmDir]],
     onRequest: (p) => requests.push(decodeURIComponent(p)),
   });

@@ -1,17 +1,18 @@
 // SPDX-License-Identifier: MIT
-// The voxel view's data preparation (web/voxel-data.js) against direct computations: layer
+// The voxel view's data preparation (web/methods/voxel-data.js) against direct computations: layer
 // surfaces de-indexed and sorted by layer with the right vertices and colours, slider ranges
 // covering exactly the chosen layers' triangles, glyph decimation (count bound, spacing, glyph
-// geometry along the axis, layer order), the histogram's bar geometry, the per-method progress
-// weights, and the voxel summary rows. Also the settings schema's voxel rows (shown only for the
-// voxel method, only changed values sent).
+// geometry along the axis, layer order), the histogram's bar geometry and the voxel summary rows.
+// Also the settings schema's voxel rows (shown only for the voxel method, only changed values
+// sent).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  STAGE_WEIGHTS, buildSurfaceArrays, decimateGlyphs, glyphRange, histogramGeometry, layerColor,
-  overallProgress, surfaceRanges, voxelDoneSummary, voxelSummaryRows,
-} from '../../web/voxel-data.js';
-import { SETTINGS_SCHEMA, SettingsModel } from '../../web/settings-panel.js';
+  buildSurfaceArrays, decimateGlyphs, glyphRange, histogramGeometry, layerColor,
+  surfaceRanges, voxelDoneSummary, voxelSummaryRows,
+} from '../../web/methods/voxel-data.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { SettingsModel } from '../../web/settings-panel.js';
 
 function rng(seed) {
   let x = seed;
@@ -189,28 +190,6 @@ test('histogramGeometry: bars proportional to counts, spanning the plot, ticks i
   assert.throws(() => histogramGeometry({ min_mm: 'x', bin_mm: 1, counts: [1] }), /min_mm/);
   assert.throws(() => histogramGeometry({ min_mm: 0, bin_mm: 1, counts: [1, -2] }), /counts/);
   assert.throws(() => histogramGeometry(null), /missing/);
-});
-
-test('progress weights: each method\'s stages sum to 1 and overall progress only grows along them', () => {
-  for (const [method, w] of Object.entries(STAGE_WEIGHTS)) {
-    const sum = Object.values(w).reduce((a, b) => a + b, 0);
-    assert.ok(Math.abs(sum - 1) < 1e-9, `${method}: ${sum}`);
-    let last = 0;
-    for (const stage of Object.keys(w)) {
-      for (const f of [0, 0.25, 0.5, 1]) {
-        const o = overallProgress(w, stage, f);
-        assert.ok(o >= last - 1e-12, `${method} ${stage} ${f}`);
-        last = o;
-      }
-    }
-    assert.ok(Math.abs(last - 1) < 1e-9);
-    assert.equal(overallProgress(w, 'no-such-stage', 0.5), null);
-  }
-  assert.deepEqual(Object.keys(STAGE_WEIGHTS.voxel).slice(3), ['voxelize', 'peeling', 'growth', 'layers', 'toolpath', 'motion', 'program']);
-  // The surface method's stages as the engine reports them (the base's toolpath comes again for
-  // the surface layer, after benchmark; the bar never goes back).
-  assert.deepEqual(Object.keys(STAGE_WEIGHTS.surface),
-    ['read', 'validate', 'place', 'slice', 'toolpath', 'feed', 'direction', 'paths', 'benchmark', 'motion', 'program']);
 });
 
 test('voxel summary rows and the done line show the report\'s figures', () => {

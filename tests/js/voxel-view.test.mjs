@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// The voxel view's three.js objects (web/voxel-view.js) in Node: the surface meshes draw exactly
+// The voxel view's three.js objects (web/methods/voxel-view.js) in Node: the surface meshes draw exactly
 // the triangles of layers <= the slider's (the current layer in its own mesh), missed and support
 // cells are instanced cubes of the voxel width at the given centres, glyphs follow the layer
 // range and the toggles; a planar preview (no voxel buffers) makes no voxel view.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import * as THREE from 'three';
-import { VoxelView, hasVoxelBuffers } from '../../web/voxel-view.js';
+import { VoxelView, hasVoxelBuffers } from '../../web/methods/voxel-view.js';
 
 // Two stacked quads per layer (4 vertices, 2 triangles each), L layers; a zig-zag tool-path.
 function makePreview(L) {

@@ -15,7 +15,7 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { CI, NATIVE_CLI, REPO, loadShipped, wasmUnavailable } from './wasm-support.mjs';
-import { TRAVERSALS, airMoves, checkGeodesicBuffers, overhangChartGeometry } from '../../web/geodesic-data.js';
+import { TRAVERSALS, airMoves, checkGeodesicBuffers, overhangChartGeometry } from '../../web/methods/geodesic-data.js';
 
 const why = wasmUnavailable();
 if (why && CI) throw new Error(`wasm tests cannot run under CI: ${why}`);

@@ -3,13 +3,13 @@
 // the surface method on robot6-ur5: report.isoplanar's fields (the polar plot's curve, theta*,
 // the side steps, the benchmark means) and preview.curves (one 1-based NL curve index per
 // segment, numbered in print order, the report's curve count), checked through the page's own
-// helpers (web/isoplanar-data.js); a forced direction gives a forced report at that direction.
+// helpers (web/methods/isoplanar-data.js); a forced direction gives a forced report at that direction.
 // Skipped (not under CI) while the engine has no surface method.
 import { before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { CI, loadShipped, wasmUnavailable } from './wasm-support.mjs';
 import { saddleObj } from './fixtures/meshes.js';
-import { comparisonRows, curveStats, hasCurves, polarPlotGeometry, readCurve } from '../../web/isoplanar-data.js';
+import { comparisonRows, curveStats, hasCurves, polarPlotGeometry, readCurve } from '../../web/methods/isoplanar-data.js';
 
 const why = wasmUnavailable();
 if (why && CI) throw new Error(`wasm tests cannot run under CI: ${why}`);

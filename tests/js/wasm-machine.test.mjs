@@ -11,7 +11,7 @@ import fs from 'node:fs';
 import path from 'node:path';
 import { CI, REPO, loadShipped, wasmUnavailable } from './wasm-support.mjs';
 import { UR5_DH, forwardMap, machineAxisCount, machineKind, tipError, platformTransform, transformPoint4 } from '../../web/machine-kinematics.js';
-import { SETTINGS_SCHEMA } from '../../web/settings-panel.js';
+import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
 
 const why = wasmUnavailable();
 if (why && CI) throw new Error(`wasm tests cannot run under CI: ${why}`);

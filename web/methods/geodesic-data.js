@@ -15,7 +15,20 @@
 //   - what is drawn for a layer range and a print step (index lists);
 //   - the per-layer overhang chart (report.geodesic.overhang_avg_deg and overhang_ratio) as SVG
 //     geometry, the traversal table (report.geodesic.traversals) and the summary rows.
+import { rgbCss } from '../colors.js';
+import { figure, formatMs, niceTicks, plural, withUnit } from '../format.js';
 import { layerColor } from './voxel-data.js';
+
+/**
+ * Progress stages of a geodesic slice, in pipeline order, with their share of the bar (sums to 1):
+ * tet mesh, heat-method field, IGDS, skeleton tree and print order (collision model), spiral
+ * paths, tool-path in the chosen sequence. Shares from the demo tree's timings (61k tets: the
+ * field's factorisation dominates).
+ */
+export const GEODESIC_STAGE_WEIGHTS = Object.freeze({
+  read: 0.01, validate: 0.08, place: 0.01, tetmesh: 0.16, field: 0.36, igds: 0.17, order: 0.01, collision: 0.04,
+  paths: 0.05, toolpath: 0.03, motion: 0.05, program: 0.03,
+});
 
 /**
  * Stops of the distance ramp (0..255 RGB, platform first): dark violet, blue, teal, green, yellow.
@@ -42,7 +55,7 @@ export function rampColor(t) {
 
 /** CSS linear-gradient of the ramp (left: distance 0). */
 export function rampCss() {
-  return `linear-gradient(to right, ${FIELD_RAMP.map((c) => `rgb(${c.join(',')})`).join(', ')})`;
+  return `linear-gradient(to right, ${FIELD_RAMP.map(rgbCss).join(', ')})`;
 }
 
 /** The geodesic preview buffers' names and their element types. */
@@ -266,24 +279,6 @@ export function selectTree({ nodeLayers, rank, treeEdges, movePairs }, { lo = 0,
   return { nodes: Uint32Array.from(nodes), edges: pick(treeEdges), moves: pick(movePairs || new Uint32Array(0)), current };
 }
 
-/** Integers with thousands separators, other numbers to 4 significant digits, else '—'. */
-export function figure(x) {
-  if (typeof x === 'string') return x;
-  if (typeof x !== 'number' || !Number.isFinite(x)) return '—';
-  return Number.isInteger(x) ? x.toLocaleString('en') : String(Number(x.toPrecision(4)));
-}
-
-/** Round tick values (1, 2 or 5 times a power of ten apart) in [lo, hi], about `count` of them. */
-export function niceTicks(lo, hi, count = 4) {
-  if (!(hi > lo) || !Number.isFinite(lo) || !Number.isFinite(hi)) return Number.isFinite(lo) ? [lo] : [];
-  const rough = (hi - lo) / Math.max(count, 1);
-  const p10 = 10 ** Math.floor(Math.log10(rough));
-  const step = [1, 2, 5, 10].map((m) => m * p10).find((x) => x >= rough * 0.999) || 10 * p10;
-  const out = [];
-  for (let j = Math.ceil(lo / step - 1e-9); j * step <= hi + 1e-9 * step; j++) out.push(Number((j * step).toPrecision(12)));
-  return out;
-}
-
 /**
  * Geometry of the overhang chart in a width x height box (SVG units, y down): x = layer index
  * (layer 0 at the left), left axis the average overhang angle of each layer's IGDS (degrees,
@@ -390,11 +385,6 @@ export function traversalRows(g) {
   return rows;
 }
 
-/** 'n things' ('1 thing'). */
-function plural(n, word) {
-  return `${figure(n)} ${word}${n === 1 ? '' : 's'}`;
-}
-
 /**
  * Summary rows [key, label, text] of report.geodesic (keys double as data-testid suffixes:
  * geo-<key>), in display order; absent figures show '—'.
@@ -404,17 +394,15 @@ export function geodesicSummaryRows(g) {
   const tree = r.tree && typeof r.tree === 'object' ? r.tree : {};
   const th = r.thickness && typeof r.thickness === 'object' ? r.thickness : {};
   const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : {};
-  const ms = (x) => (Number.isFinite(x) ? (x >= 1000 ? `${(x / 1000).toFixed(2)} s` : `${Math.round(x)} ms`) : '—');
-  const unit = (x, u) => (Number.isFinite(x) ? `${figure(x)} ${u}` : '—');
   const yes = (x) => (x === true ? 'yes' : x === false ? 'no' : '—');
   return [
     ['tets', r.tet_source === 'input' ? 'tets (from the file)' : 'tets', figure(r.tets)],
-    ['max_geodesic', 'max geodesic distance', unit(r.max_geodesic_mm, 'mm')],
+    ['max_geodesic', 'max geodesic distance', withUnit(r.max_geodesic_mm, 'mm')],
     // Steps shorter than the interval where the field is slow at the surface (the core's
     // geodesic.max_thickness_ratio): the range of steps, so a layer count above max / interval reads.
     ['interval', 'IGDS interval', Number.isFinite(r.step_min_mm) && Number.isFinite(r.interval_mm) && r.step_min_mm < r.interval_mm * (1 - 1e-9)
-      ? `${unit(r.interval_mm, 'mm')} (steps ${figure(r.step_min_mm)}–${figure(r.interval_mm)} mm)`
-      : unit(r.interval_mm, 'mm')],
+      ? `${withUnit(r.interval_mm, 'mm')} (steps ${figure(r.step_min_mm)}–${figure(r.interval_mm)} mm)`
+      : withUnit(r.interval_mm, 'mm')],
     ['layers', 'layers', figure(r.layers)],
     ['igds', 'IGDS (tree nodes)', figure(r.igds)],
     ['tree', 'tree', Number.isFinite(tree.edges)
@@ -422,7 +410,7 @@ export function geodesicSummaryRows(g) {
       : '—'],
     ['sequence', 'print sequence', typeof r.sequence === 'string' ? r.sequence : '—'],
     ['retractions', 'retractions', figure(r.retractions)],
-    ['air_move', 'air moves', unit(r.air_move_mm, 'mm')],
+    ['air_move', 'air moves', withUnit(r.air_move_mm, 'mm')],
     ['collision_free', 'collision-free', yes(r.collision_free)],
     ['nozzle_angle', 'nozzle angle', Number.isFinite(r.nozzle_angle_deg) ? `${figure(r.nozzle_angle_deg)}°` : '—'],
     ['overhang_avg', 'mean overhang', Number.isFinite(r.overhang_avg_all_deg) ? `${figure(r.overhang_avg_all_deg)}°` : '—'],
@@ -431,10 +419,10 @@ export function geodesicSummaryRows(g) {
     ['paths', 'spiral paths', figure(r.paths)],
     ...(r.unfilled_regions ? [['unfilled', 'unfilled IGDS', figure(r.unfilled_regions)]] : []),
     // Tool path left out where no nozzle axis clears the part (drawn red in the view).
-    ...(r.skipped_segments > 0 ? [['skipped', 'path left out', `${unit(r.skipped_mm, 'mm')} (${plural(r.skipped_segments, 'segment')})${
+    ...(r.skipped_segments > 0 ? [['skipped', 'path left out', `${withUnit(r.skipped_mm, 'mm')} (${plural(r.skipped_segments, 'segment')})${
       Array.isArray(r.skipped_layers) && r.skipped_layers.length === 2 ? `, layers ${r.skipped_layers[0] + 1}–${r.skipped_layers[1] + 1}` : ''}`]] : []),
     ...['tetmesh', 'field', 'igds', 'tree', 'collision', 'paths', 'toolpath']
-      .filter((k) => t[k] !== undefined).map((k) => [`time_${k}`, `time: ${k}`, ms(t[k])]),
+      .filter((k) => t[k] !== undefined).map((k) => [`time_${k}`, `time: ${k}`, formatMs(t[k])]),
   ];
 }
 

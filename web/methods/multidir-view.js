@@ -9,6 +9,7 @@
 //     each face ends up in), as a red overlay.
 // The data preparation is in multidir-data.js (pure, unit-tested).
 import * as THREE from 'three';
+import { disposeTree } from '../viewer.js';
 import {
   arrowSegments, checkMultidirBuffers, flaggedArea, flaggedTriangles, partCentroids, partColor, partDirections, sortPartTriangles,
 } from './multidir-data.js';
@@ -158,9 +159,6 @@ export class MultidirView {
 
   /** Free the GPU buffers (the view is not used after this). */
   dispose() {
-    this.object.traverse((o) => {
-      if (o.geometry) o.geometry.dispose();
-      if (o.material) o.material.dispose();
-    });
+    disposeTree(this.object);
   }
 }

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Pure data preparation for the voxel method's view (no three.js, no DOM; unit-tested in Node):
-//   - per-method progress stages and their share of the progress bar;
+//   - the method's progress stages and their share of the progress bar;
 //   - curved layer surfaces: the merged triangle soup (surfacePositions, surfaceTriangles,
 //     surfaceLayers) de-indexed and counting-sorted by layer, with a colour per layer, so "layers
 //     lo..hi-1 dimmed, layer hi highlighted" are two contiguous draw ranges;
@@ -10,60 +10,15 @@
 //     core bins each sample's thickness minus the mean thickness);
 //   - the voxel report's summary rows.
 
-import { blockRunner } from './block-runner.js';
+import { blockRunner } from '../block-runner.js';
+import { hslToRgb } from '../colors.js';
+import { figure, formatMm, formatMs, niceTicks, withUnit } from '../format.js';
 
-/** Progress stages per method, in pipeline order, with their share of the bar (sums to 1). */
-export const STAGE_WEIGHTS = {
-  // feed, direction: the drive direction theta* of fill = isoplanar (absent otherwise: the bar
-  // skips their small share).
-  planar: { read: 0.04, validate: 0.06, place: 0.02, slice: 0.28, feed: 0.03, direction: 0.02, toolpath: 0.4, program: 0.15 },
-  voxel: {
-    read: 0.02, validate: 0.03, place: 0.01, voxelize: 0.06, peeling: 0.12, growth: 0.3,
-    layers: 0.16, toolpath: 0.17, motion: 0.08, program: 0.05,
-  },
-  // Surface method (paper 003): the base by planar layers, then the iso-planar stages of the
-  // surface layer (feed field, drive-direction search, paths, benchmark over all directions).
-  surface: {
-    read: 0.02, validate: 0.03, place: 0.01, slice: 0.04, toolpath: 0.08, feed: 0.2, direction: 0.15,
-    paths: 0.12, benchmark: 0.2, motion: 0.1, program: 0.05,
-  },
-  // Geodesic method (paper 002): tet mesh, heat-method field, IGDS, skeleton tree and print
-  // order (collision model), spiral paths, tool-path in the chosen sequence.
-  // Shares from the demo tree's timings (61k tets: the field's factorisation dominates).
-  geodesic: {
-    read: 0.01, validate: 0.08, place: 0.01, tetmesh: 0.16, field: 0.36, igds: 0.17, order: 0.01, collision: 0.04,
-    paths: 0.05, toolpath: 0.03, motion: 0.05, program: 0.03,
-  },
-  // Multi-directional method (paper 000): the plane search (one progress step per search level),
-  // clipping into parts, planar slicing and planning of each part along its direction.
-  multidir: {
-    read: 0.02, validate: 0.05, place: 0.01, decompose: 0.45, clip: 0.05, slice: 0.12, toolpath: 0.18, motion: 0.07, program: 0.05,
-  },
-};
-
-/**
- * Overall progress (0..1) of `stage` at `fraction` for a method's stage weights: the weights of the
- * stages before it plus its share; null for a stage the method does not list.
- */
-export function overallProgress(weights, stage, fraction) {
-  const names = Object.keys(weights);
-  const k = names.indexOf(stage);
-  if (k < 0) return null;
-  let before = 0;
-  for (let i = 0; i < k; i++) before += weights[names[i]];
-  const f = Math.min(Math.max(Number(fraction) || 0, 0), 1);
-  return Math.min(1, before + weights[stage] * f);
-}
-
-/** HSL (h in degrees, s and l in 0..1) -> [r, g, b] in 0..255. */
-function hslToRgb(h, s, l) {
-  const a = s * Math.min(l, 1 - l);
-  const f = (n) => {
-    const k = (n + h / 30) % 12;
-    return Math.round(255 * (l - a * Math.max(-1, Math.min(k - 3, 9 - k, 1))));
-  };
-  return [f(0), f(8), f(4)];
-}
+/** Progress stages of a voxel slice, in pipeline order, with their share of the bar (sums to 1). */
+export const VOXEL_STAGE_WEIGHTS = Object.freeze({
+  read: 0.02, validate: 0.03, place: 0.01, voxelize: 0.06, peeling: 0.12, growth: 0.3,
+  layers: 0.16, toolpath: 0.17, motion: 0.08, program: 0.05,
+});
 
 /**
  * Colour of layer l of L (0..255 RGB): hue from blue (first) to red (last), lightness
@@ -245,15 +200,6 @@ export function glyphRange(starts, lo, hi) {
   return { start: starts[a], count: starts[b + 1] - starts[a] };
 }
 
-/** A short decimal text of x (mm): up to 3 significant digits, no trailing zeros. */
-export function formatMm(x) {
-  if (!Number.isFinite(x)) return '—';
-  if (x === 0) return '0';
-  const a = Math.abs(x);
-  const digits = a >= 100 ? 0 : a >= 10 ? 1 : a >= 1 ? 2 : 3;
-  return String(Number(x.toFixed(digits)));
-}
-
 /**
  * Bars of a histogram {min_mm, bin_mm, counts} in a width x height box (SVG user units, y down):
  * bar i spans [min + i bin, min + (i+1) bin) and is counts[i] / max(counts) of the plot's height.
@@ -280,26 +226,12 @@ export function histogramGeometry(hist, { width = 260, height = 110, padLeft = 6
     return { x: plot.x + i * bw, y: plot.y + plot.height - h, width: bw, height: h, count, from: min + i * bin, to: min + (i + 1) * bin };
   });
   // Ticks at round values (1, 2 or 5 times a power of ten), about `ticks` of them.
-  const tickList = [];
-  if (n > 0) {
-    const lo = min;
-    const hi = min + n * bin;
-    const rough = (hi - lo) / Math.max(ticks, 1);
-    const p10 = 10 ** Math.floor(Math.log10(rough));
-    const step = [1, 2, 5, 10].map((m) => m * p10).find((x) => x >= rough * 0.999) || 10 * p10;
-    for (let j = Math.ceil(lo / step - 1e-9); j * step <= hi + 1e-9 * step; j++) {
-      const v = Math.abs(j * step) < 1e-12 ? 0 : j * step;
-      tickList.push({ x: plot.x + ((v - lo) / (hi - lo)) * plot.width, label: formatMm(v), value: v });
-    }
-  }
+  const lo = min;
+  const hi = min + n * bin;
+  const tickList = n > 0
+    ? niceTicks(lo, hi, ticks).map((v) => ({ x: plot.x + ((v - lo) / (hi - lo)) * plot.width, label: formatMm(v), value: v }))
+    : [];
   return { bars, total, maxCount, plot, ticks: tickList };
-}
-
-/** Integers with thousands separators, other numbers to 4 significant digits, else '—'. */
-function figure(x) {
-  if (typeof x === 'string') return x;
-  if (typeof x !== 'number' || !Number.isFinite(x)) return '—';
-  return Number.isInteger(x) ? x.toLocaleString('en') : String(Number(x.toPrecision(4)));
 }
 
 /**
@@ -310,8 +242,7 @@ export function voxelSummaryRows(v) {
   const r = v && typeof v === 'object' ? v : {};
   const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : {};
   const th = r.thickness && typeof r.thickness === 'object' ? r.thickness : {};
-  const ms = (x) => (Number.isFinite(x) ? (x >= 1000 ? `${(x / 1000).toFixed(2)} s` : `${Math.round(x)} ms`) : '—');
-  const mm = (x) => (Number.isFinite(x) ? `${formatMm(x)} mm` : '—');
+  const mm = (x) => withUnit(x, 'mm', formatMm);
   return [
     ['voxels', 'voxels', figure(r.voxels)],
     ['solid_voxels', 'solid voxels', figure(r.solid_voxels)],
@@ -340,7 +271,7 @@ export function voxelSummaryRows(v) {
     ...(r.tilt_clamped !== undefined ? [['tilt_clamped', 'axes clamped to max tilt', figure(r.tilt_clamped)]] : []),
     ...['voxelize', 'peeling', 'shadow', 'growth', 'extraction', 'spirals', 'toolpaths']
       .filter((k) => k !== 'spirals' || t.spirals !== undefined)
-      .map((k) => [`time_${k}`, `time: ${k}`, ms(t[k])]),
+      .map((k) => [`time_${k}`, `time: ${k}`, formatMs(t[k])]),
   ];
 }
 

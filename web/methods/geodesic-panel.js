@@ -4,10 +4,11 @@
 // plans all three on every slice; the program follows the chosen one, and a row's button asks for
 // a slice with that sequence) and the overhang chart per layer as SVG (average overhang angle as
 // a line, overhang ratio as bars, the 45° line, a mark at the shown layer). The method's settings
-// rows are the 'Geodesic' group of web/settings-panel.js. No application state: main.js owns the
-// result and calls these.
-import { fillFigureList, svgElement } from './panel-dom.js';
-import { figure, geodesicSummaryRows, overhangChartGeometry, traversalRows } from './geodesic-data.js';
+// rows are the 'Geodesic' group of web/settings-fields.js. No application state: the method's
+// registry entry (geodesic.js) calls these.
+import { fillFigureList, svgElement } from '../panel-dom.js';
+import { figure } from '../format.js';
+import { geodesicSummaryRows, overhangChartGeometry, traversalRows } from './geodesic-data.js';
 
 /** The figures of report.geodesic as dt/dd pairs (dd data-testid geo-<key>); empty without one. */
 export function fillGeoFigures(dl, g) {

@@ -12,6 +12,18 @@
 //   - the figures of report.isoplanar and the comparison table of two runs (the searched theta*
 //     and a chosen direction) with the benchmark means.
 
+import { figure, formatMs, formatSeconds, withUnit } from '../format.js';
+
+/**
+ * Progress stages of a surface-method slice (paper 003), in pipeline order, with their share of
+ * the bar (sums to 1): the base by planar layers, then the iso-planar stages of the surface layer
+ * (feed field, drive-direction search, paths, benchmark over all directions).
+ */
+export const SURFACE_STAGE_WEIGHTS = Object.freeze({
+  read: 0.02, validate: 0.03, place: 0.01, slice: 0.04, toolpath: 0.08, feed: 0.2, direction: 0.15,
+  paths: 0.12, benchmark: 0.2, motion: 0.1, program: 0.05,
+});
+
 /** Degrees -> radians. */
 const RAD = Math.PI / 180;
 
@@ -188,22 +200,6 @@ export function hasCurves(preview) {
     && preview.features && preview.curves.length === preview.features.length);
 }
 
-/** Integers with thousands separators, other numbers to 4 significant digits, else '—'. */
-export function figure(x) {
-  if (typeof x === 'string') return x;
-  if (typeof x !== 'number' || !Number.isFinite(x)) return '—';
-  return Number.isInteger(x) ? x.toLocaleString('en') : String(Number(x.toPrecision(4)));
-}
-
-/** Seconds as 'h h mm min', 'm min ss s' or 's s'; '—' when not finite. */
-export function formatSeconds(seconds) {
-  if (!Number.isFinite(seconds)) return '—';
-  const s = Math.round(seconds);
-  const h = Math.floor(s / 3600);
-  const m = Math.floor((s % 3600) / 60);
-  return h > 0 ? `${h} h ${String(m).padStart(2, '0')} min` : m > 0 ? `${m} min ${String(s % 60).padStart(2, '0')} s` : `${s} s`;
-}
-
 /** The side step range 'min–max mm' of report.isoplanar.side_step_mm, or '—'. */
 export function sideStepText(iso) {
   const s = iso && iso.side_step_mm;
@@ -219,23 +215,21 @@ export function isoplanarSummaryRows(iso) {
   const r = iso && typeof iso === 'object' ? iso : {};
   const b = r.benchmark && typeof r.benchmark === 'object' ? r.benchmark : {};
   const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : {};
-  const ms = (x) => (Number.isFinite(x) ? (x >= 1000 ? `${(x / 1000).toFixed(2)} s` : `${Math.round(x)} ms`) : '—');
-  const unit = (x, u) => (Number.isFinite(x) ? `${figure(x)} ${u}` : '—');
   return [
     ['theta', r.forced ? 'θ (forced)' : 'θ* (searched)', Number.isFinite(r.theta_deg) ? `${figure(r.theta_deg)}°` : '—'],
-    ['deposition_rate', 'deposition rate v_e', unit(r.deposition_rate_mm3_s, 'mm³/s')],
+    ['deposition_rate', 'deposition rate v_e', withUnit(r.deposition_rate_mm3_s, 'mm³/s')],
     ['side_step', 'side step (min–max)', sideStepText(r)],
-    ['mean_width', 'mean printing width', unit(r.mean_width_mm, 'mm')],
-    ['mean_feed', 'mean feed rate', unit(r.mean_feed_mm_s, 'mm/s')],
+    ['mean_width', 'mean printing width', withUnit(r.mean_width_mm, 'mm')],
+    ['mean_feed', 'mean feed rate', withUnit(r.mean_feed_mm_s, 'mm/s')],
     ['planes', 'drive planes', figure(r.planes)],
     ...(r.curves !== undefined ? [['curves', 'NL curves', figure(r.curves)]] : []),
     ...(r.paths !== undefined ? [['paths', 'zig-zag paths', figure(r.paths)]] : []),
-    ['path', 'path length', unit(r.path_mm, 'mm')],
+    ['path', 'path length', withUnit(r.path_mm, 'mm')],
     ['time', 'estimated time', formatSeconds(r.estimated_time_s)],
     ['directions', 'directions searched', figure(b.directions)],
     ['samples', 'surface samples', figure(r.samples)],
     ['unreachable', 'unreachable samples', figure(r.unreachable)],
-    ...Object.keys(t).filter((k) => Number.isFinite(t[k])).map((k) => [`time_${k}`, `time: ${k}`, ms(t[k])]),
+    ...Object.keys(t).filter((k) => Number.isFinite(t[k])).map((k) => [`time_${k}`, `time: ${k}`, formatMs(t[k])]),
   ];
 }
 
@@ -280,12 +274,4 @@ export function comparisonRows(runs) {
     r.pathDelta = base && base.path > 0 && Number.isFinite(r.path) ? r.path / base.path - 1 : NaN;
   }
   return rows;
-}
-
-/** A signed percentage text of a fraction ('+3.2 %', '−10.8 %', '0 %'), '' when not finite. */
-export function percentText(fraction) {
-  if (!Number.isFinite(fraction)) return '';
-  const p = fraction * 100;
-  if (Math.abs(p) < 0.05) return '0 %';
-  return `${p > 0 ? '+' : '−'}${Math.abs(p).toFixed(1)} %`;
 }

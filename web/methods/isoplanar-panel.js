@@ -2,11 +2,11 @@
 // DOM of the iso-planar report (paper 003), drawn from report.isoplanar by the data helpers of
 // isoplanar-data.js: the polar plot of v_e(theta) as SVG (rings, axes, the closed curve, theta*
 // and a compared direction marked), the figures list and the comparison table of two runs with
-// the benchmark means. No application state: main.js owns the runs and calls these.
-import { fillFigureList, svgElement } from './panel-dom.js';
-import {
-  comparisonRows, figure, formatSeconds, isoplanarSummaryRows, percentText, polarPlotGeometry, thetaFromPlotPoint,
-} from './isoplanar-data.js';
+// the benchmark means. No application state: the surface
+// method's registry entry (surface.js) owns the runs and calls these.
+import { fillFigureList, svgElement } from '../panel-dom.js';
+import { figure, formatSeconds, percentText } from '../format.js';
+import { comparisonRows, isoplanarSummaryRows, polarPlotGeometry, thetaFromPlotPoint } from './isoplanar-data.js';
 
 /**
  * Draw the polar plot of iso.curve into `svg` (its viewBox is size x size): rings with their

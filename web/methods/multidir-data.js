@@ -11,7 +11,17 @@
 //     of report.multidir;
 //   - the search-level progress events of a running decomposition (progress.search) as a line of
 //     text and as the live chart's values.
-import { figure, niceTicks } from './geodesic-data.js';
+import { hslToRgb } from '../colors.js';
+import { figure, formatMs, niceTicks, withUnit } from '../format.js';
+
+/**
+ * Progress stages of a multidir slice, in pipeline order, with their share of the bar (sums to 1):
+ * the plane search (one progress step per search level), clipping into parts, planar slicing and
+ * planning of each part along its direction.
+ */
+export const MULTIDIR_STAGE_WEIGHTS = Object.freeze({
+  read: 0.02, validate: 0.05, place: 0.01, decompose: 0.45, clip: 0.05, slice: 0.12, toolpath: 0.18, motion: 0.07, program: 0.05,
+});
 
 /** A slice result carries multidir buffers (the parts' meshes). */
 export function hasMultidirBuffers(preview) {
@@ -55,22 +65,12 @@ export function checkMultidirBuffers(preview, meshTriangles = null) {
   return { vertices: V, triangles: nt, parts, meshTriangles: before.length };
 }
 
-/** HSL (h degrees, s and l in 0..1) -> [r, g, b] in 0..255. */
-function hsl(h, s, l) {
-  const a = s * Math.min(l, 1 - l);
-  const f = (n) => {
-    const k = (n + h / 30) % 12;
-    return Math.round(255 * (l - a * Math.max(-1, Math.min(k - 3, 9 - k, 1))));
-  };
-  return [f(0), f(8), f(4)];
-}
-
 /**
  * Colour of part i (0..255 RGB): hues spread by the golden angle so neighbours in print order
  * differ strongly; the platform part (0) is a calm blue.
  */
 export function partColor(i) {
-  return hsl((215 + 137.508 * i) % 360, 0.62, i % 2 ? 0.58 : 0.5);
+  return hslToRgb((215 + 137.508 * i) % 360, 0.62, i % 2 ? 0.58 : 0.5);
 }
 
 /** CSS colour of part i. */
@@ -289,8 +289,6 @@ export function liveJgLevels(events) {
   return out;
 }
 
-const unit = (x, u) => (Number.isFinite(x) ? `${figure(x)} ${u}` : '—');
-
 /** An area (mm²) as text, to 0.01 mm² (exact J_G values carry rounding noise around 0). */
 export function areaFigure(x) {
   return Number.isFinite(x) ? figure(Math.round(x * 100) / 100) : '—';
@@ -301,19 +299,18 @@ export function multidirSummaryRows(m) {
   const r = m && typeof m === 'object' ? m : {};
   const s = r.search && typeof r.search === 'object' ? r.search : {};
   const t = r.timings_ms && typeof r.timings_ms === 'object' ? r.timings_ms : {};
-  const ms = (x) => (Number.isFinite(x) ? (x >= 1000 ? `${(x / 1000).toFixed(2)} s` : `${Math.round(x)} ms`) : '—');
   const pct = Number.isFinite(r.ratio) ? ` (${figure(Math.round(1000 * r.ratio) / 10)} %)` : '';
   const axis = Array.isArray(r.rotation_axis) ? `, axis (${r.rotation_axis.map((x) => figure(Number(Number(x).toFixed(3)))).join(', ')})` : '';
   return [
     ['jg', 'risky area J_G', `${areaFigure(r.J_G_before)} mm² → ${areaFigure(r.J_G_after)} mm²${pct}`],
     ['parts', 'parts', figure(r.part_count)],
-    ['search', 'search', `${r.scheme || '?'}, ${r.dof || '?'}${axis}, α_max ${unit(r.alpha_max_deg, '°')}`],
+    ['search', 'search', `${r.scheme || '?'}, ${r.dof || '?'}${axis}, α_max ${withUnit(r.alpha_max_deg, '°')}`],
     ['levels', 'levels, beams, restarts', `${figure(s.levels)}, ${figure(s.beams)}, ${figure(s.restarts_run)}`],
     ['moves', 'local search moves kept', `${figure(s.perturbations_kept)} of ${figure(s.perturbations)}`],
     ['candidates', 'candidates evaluated', figure(s.candidates_evaluated)],
-    ['cap_area', 'cut area', unit(r.cap_area_mm2, 'mm²')],
-    ['volume', 'volume', unit(r.volume_mm3, 'mm³')],
-    ['time', 'search, clip', `${ms(t.search ?? t.decompose)}, ${ms(t.clip)}`],
+    ['cap_area', 'cut area', withUnit(r.cap_area_mm2, 'mm²')],
+    ['volume', 'volume', withUnit(r.volume_mm3, 'mm³')],
+    ['time', 'search, clip', `${formatMs(t.search ?? t.decompose)}, ${formatMs(t.clip)}`],
     ['supports', 'projected supports', supportText(r.supports)],
   ];
 }
@@ -322,7 +319,7 @@ export function multidirSummaryRows(m) {
 export function supportText(sup) {
   if (!sup || typeof sup !== 'object' || !sup.generated) return 'off';
   const blocked = Number(sup.blocked) > 0 ? `, ${figure(sup.blocked)} blocked` : '';
-  return `${unit(Math.round(Number(sup.printed_volume_mm3) * 10) / 10, 'mm³')} printed: ${figure(sup.struts)} struts `
+  return `${withUnit(Math.round(Number(sup.printed_volume_mm3) * 10) / 10, 'mm³')} printed: ${figure(sup.struts)} struts `
     + `from ${figure(sup.samples)} overhang samples (${figure(sup.landed_on_platform)} to the platform, `
     + `${figure(sup.landed_on_model)} on the part${blocked}), ${figure(sup.roofs)} roof faces`;
 }

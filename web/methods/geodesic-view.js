@@ -14,6 +14,7 @@
 // The IGDS surfaces themselves are the curved-layer surfaces of web/voxel-view.js. The data
 // preparation is in geodesic-data.js (pure, unit-tested).
 import * as THREE from 'three';
+import { disposeTree } from '../viewer.js';
 import {
   airMoves, checkGeodesicBuffers, fieldColors, fieldTrianglesUpTo, nodeColors, pairSegments, selectTree, sortFieldTriangles,
 } from './geodesic-data.js';
@@ -245,9 +246,6 @@ export class GeodesicView {
 
   /** Free the GPU buffers of every object (the view is not used after this). */
   dispose() {
-    this.object.traverse((o) => {
-      if (o.geometry) o.geometry.dispose();
-      if (o.material) o.material.dispose();
-    });
+    disposeTree(this.object);
   }
 }

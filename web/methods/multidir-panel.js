@@ -2,10 +2,11 @@
 // DOM of the multi-directional method's report (paper 000), drawn from report.multidir by the
 // data helpers of multidir-data.js: the figures (J_G before -> after, search), the parts table
 // (print index with its colour, direction, volume, risky area, layers) and the chart of J_G per
-// search level as SVG (also drawn live from the search's progress while it runs). The method's settings rows are the 'Multi-directional' group of
-// web/settings-panel.js. No application state: main.js owns the result and calls these.
-import { fillFigureList, svgElement } from './panel-dom.js';
-import { figure } from './geodesic-data.js';
+// search level as SVG (also drawn live from the search's progress while it runs). The method's
+// settings rows are the 'Multi-directional' group of web/settings-fields.js. No application state:
+// the method's registry entry (multidir.js) calls these.
+import { fillFigureList, svgElement } from '../panel-dom.js';
+import { figure } from '../format.js';
 import { jgChartGeometry, multidirSummaryRows, partColorCss, partRows } from './multidir-data.js';
 
 /** The figures of report.multidir as dt/dd pairs (dd data-testid md-<key>); empty without one. */
