@@ -74,6 +74,74 @@ Warning skippedPathWarning(const CurvedToolpathResult& tp, const Toolpath& print
   return {"skipped_tool_path", text};
 }
 
+// The preview's geodesic section: the tool path left out, the boundary with the distance per
+// vertex, the skeleton tree and the print sequence.
+GeodesicPreview geodesicPreview(const CurvedToolpathResult& tp, const Mesh& boundary,
+                                const std::vector<double>& distance, const SkeletonTree& tree,
+                                const std::vector<uint32_t>& sequence) {
+  GeodesicPreview p;
+  for (const Eigen::Vector3d& e : tp.skippedEnds) {
+    for (int a = 0; a < 3; ++a) p.skippedSegments.push_back(static_cast<float>(e[a]));
+  }
+  p.skippedLayers.assign(tp.skippedLayers.begin(), tp.skippedLayers.end());
+  std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
+  for (uint32_t v : boundary.triangles) {
+    if (remap[v] == UINT32_MAX) {
+      remap[v] = static_cast<uint32_t>(p.fieldValues.size());
+      for (int a = 0; a < 3; ++a) p.fieldPositions.push_back(static_cast<float>(boundary.positions[3 * size_t(v) + a]));
+      p.fieldValues.push_back(static_cast<float>(distance[v]));
+    }
+    p.fieldTriangles.push_back(remap[v]);
+  }
+  for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
+    const SkeletonNode& n = tree.nodes[i];
+    for (int a = 0; a < 3; ++a) p.nodePositions.push_back(static_cast<float>(n.centroid[a]));
+    p.nodeLayers.push_back(n.layer);
+    for (uint32_t u : n.upper) {
+      p.treeEdges.push_back(i);
+      p.treeEdges.push_back(u);
+    }
+  }
+  p.sequence = sequence;
+  return p;
+}
+
+// The report's tree figures: nodes, edges, branch points (nodes with several upper nodes), merges
+// (several lower nodes), the most IGDS in one layer.
+GeodesicReport::Tree treeReport(const SkeletonTree& tree, size_t layers) {
+  size_t branchPoints = 0, merges = 0;
+  std::vector<uint32_t> nodesPerLayer(layers, 0);
+  for (const SkeletonNode& n : tree.nodes) {
+    branchPoints += n.upper.size() > 1;
+    merges += n.lower.size() > 1;
+    if (n.layer < nodesPerLayer.size()) ++nodesPerLayer[n.layer];
+  }
+  return {tree.nodes.size(), tree.edges, tree.isTree, branchPoints, merges, tree.fallbackLinks,
+          nodesPerLayer.empty() ? 0u : *std::max_element(nodesPerLayer.begin(), nodesPerLayer.end())};
+}
+
+// The report's per-layer figures (Eq. 11 overhang, thickness) and the shortest iso-value step.
+void addLayerMetrics(GeodesicReport& report, const IgdsMetrics& metrics) {
+  double stepMin = 0, previousIso = 0;
+  GeodesicReport::Thickness& thickness = report.thickness;
+  for (const IgdsLayerMetrics& m : metrics.layers) {
+    const double step = m.isoValue - previousIso;
+    stepMin = previousIso == 0 ? step : std::min(stepMin, step);
+    previousIso = m.isoValue;
+    report.isoValuesMm.push_back(m.isoValue);
+    report.overhangAvgDeg.push_back(m.overhangAverageDegrees);
+    report.overhangRatio.push_back(m.overhangRatio);
+    report.overhangMaxDeg.push_back(m.overhangMaxDegrees);
+    thickness.meanMm.push_back(m.thicknessMeanMm);
+    thickness.maxDeviationPercent.push_back(m.thicknessMaxDeviationPercent);
+    thickness.meanDeviationPercent.push_back(m.thicknessMeanDeviationPercent);
+  }
+  thickness.maxDeviationAllPercent = metrics.thicknessMaxDeviationPercent;
+  report.stepMinMm = stepMin;
+  report.overhangAvgAllDeg = metrics.overhangAverageDegrees;
+  report.overhangMaxLayerDeg = metrics.overhangMaxLayerDegrees;
+}
+
 }  // namespace
 
 MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& context) {
@@ -214,58 +282,14 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
 
   // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
   stage::appendLayerSurfaces(igds.layers, out.preview.surfaces);
-  GeodesicPreview& p = out.preview.geodesic;
-  for (const Eigen::Vector3d& e : tp.skippedEnds) {
-    for (int a = 0; a < 3; ++a) p.skippedSegments.push_back(static_cast<float>(e[a]));
-  }
-  p.skippedLayers.assign(tp.skippedLayers.begin(), tp.skippedLayers.end());
-  {
-    std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
-    for (uint32_t v : boundary.triangles) {
-      if (remap[v] == UINT32_MAX) {
-        remap[v] = static_cast<uint32_t>(p.fieldValues.size());
-        for (int a = 0; a < 3; ++a) p.fieldPositions.push_back(static_cast<float>(boundary.positions[3 * size_t(v) + a]));
-        p.fieldValues.push_back(static_cast<float>(field.distance[v]));
-      }
-      p.fieldTriangles.push_back(remap[v]);
-    }
-  }
-  size_t branchPoints = 0, merges = 0;
-  std::vector<uint32_t> nodesPerLayer(igds.layers.size(), 0);
-  for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
-    const SkeletonNode& n = tree.nodes[i];
-    for (int a = 0; a < 3; ++a) p.nodePositions.push_back(static_cast<float>(n.centroid[a]));
-    p.nodeLayers.push_back(n.layer);
-    for (uint32_t u : n.upper) {
-      p.treeEdges.push_back(i);
-      p.treeEdges.push_back(u);
-    }
-    branchPoints += n.upper.size() > 1;
-    merges += n.lower.size() > 1;
-    if (n.layer < nodesPerLayer.size()) ++nodesPerLayer[n.layer];
-  }
-  p.sequence = chosen->order;
+  out.preview.geodesic = geodesicPreview(tp, boundary, field.distance, tree, chosen->order);
 
   // The report.
   if (!tp.skippedLayers.empty()) {
     const auto [lo, hi] = std::minmax_element(tp.skippedLayers.begin(), tp.skippedLayers.end());
     report.skippedLayers = std::make_pair(*lo, *hi);
   }
-  double stepMin = 0, previousIso = 0;
-  GeodesicReport::Thickness& thickness = report.thickness;
-  for (const IgdsLayerMetrics& m : metrics.layers) {
-    const double step = m.isoValue - previousIso;
-    stepMin = previousIso == 0 ? step : std::min(stepMin, step);
-    previousIso = m.isoValue;
-    report.isoValuesMm.push_back(m.isoValue);
-    report.overhangAvgDeg.push_back(m.overhangAverageDegrees);
-    report.overhangRatio.push_back(m.overhangRatio);
-    report.overhangMaxDeg.push_back(m.overhangMaxDegrees);
-    thickness.meanMm.push_back(m.thicknessMeanMm);
-    thickness.maxDeviationPercent.push_back(m.thicknessMaxDeviationPercent);
-    thickness.meanDeviationPercent.push_back(m.thicknessMeanDeviationPercent);
-  }
-  thickness.maxDeviationAllPercent = metrics.thicknessMaxDeviationPercent;
+  addLayerMetrics(report, metrics);
   report.tets = tets.tetCount();
   report.vertices = tets.vertexCount();
   report.tetSource = placed.tets ? "input" : "mesher";
@@ -276,16 +300,12 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.maxThicknessRatio = gs.maxThicknessRatio;
   report.maxGeodesicMm = field.maxDistance;
   report.intervalMm = interval;
-  report.stepMinMm = stepMin;  // the shortest step between iso-values
   report.layers = igds.layers.size();
   report.printedLayers = printedLayers;
   report.igds = tree.nodes.size();
   report.triangles = igds.triangleCount;
   report.interpolatedTriangles = igds.interpolatedTriangles;
-  report.overhangAvgAllDeg = metrics.overhangAverageDegrees;
-  report.overhangMaxLayerDeg = metrics.overhangMaxLayerDegrees;
-  report.tree = {tree.nodes.size(), tree.edges, tree.isTree, branchPoints, merges, tree.fallbackLinks,
-                 nodesPerLayer.empty() ? 0u : *std::max_element(nodesPerLayer.begin(), nodesPerLayer.end())};
+  report.tree = treeReport(tree, igds.layers.size());
   report.nozzleAngleDeg = copt.angleDegrees;
   report.pcsPairsTested = collisions.pairsTested;
   report.sequence = traversalName(gs.sequence);
