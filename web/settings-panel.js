@@ -204,6 +204,8 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
     const testid = field.testid || `setting-${field.key}`;
     const row = document.createElement('label');
     row.className = 'field';
+    // The core's help text (settings_table.cpp) as the row's tooltip.
+    if (field.help) row.title = field.help;
     const name = document.createElement('span');
     name.textContent = field.label;
     row.append(name);

@@ -9,7 +9,7 @@
 //     `; omnislice:layer` markers as report.layers and as the page shows, numbered 0..n-1, and
 //     its top matches the placed model's height;
 //   - the layer-range sliders filter the preview;
-//   - the settings panel's ranges are the core's settings table (read at start-up);
+//   - the settings panel's ranges and tooltips are the core's settings table (read at start-up);
 //   - a truncated binary STL shows its error code and message, and the app still loads and slices
 //     a good file afterwards;
 //   - a long slice is cancelled: control returns within a second, 'cancelled' is shown, and the
@@ -288,12 +288,13 @@ test('settings edits are commands: undo and redo restore values', async () => {
   assert.equal(await page.evaluate(() => window.omnislice.settings.direction), '0,0,1');
 });
 
-test('the settings panel takes its ranges from the core\'s settings table', async () => {
+test('the settings panel takes its ranges and tooltips from the core\'s settings table', async () => {
   const fields = await pageFields();
   for (const key of ['layer_height', 'nozzle', 'walls']) {
     const f = fields.find((x) => x.key === key);
     const input = page.locator(tid(`setting-${key}`));
     assert.deepEqual([await input.getAttribute('min'), await input.getAttribute('max')], [String(f.min), String(f.max)], key);
+    assert.equal(await input.evaluate((el) => el.closest('label').title), f.help, `${key}: the core's help as tooltip`);
   }
 });
 
