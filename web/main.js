@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // The page's start-up and wiring: the app state, the engine (started in its worker), the viewer,
-// the settings and machine panels, and the operations the controls start: load a mesh (file
+// the settings and machine panels (built once the engine gives its settings table: defaults,
+// ranges and choices are the core's), and the operations the controls start: load a mesh (file
 // input, drag-and-drop, demo menu), place it again after a placement edit, slice with progress and
 // cancel, show the result (report, model, views, machine animation), download the program.
 // What a method shows comes from the method registry (methods/index.js): each method's module
@@ -21,7 +22,7 @@ import { installPageApi } from './page-api.js';
 import { byTestId as $, downloadBlob, onFileChosen } from './panel-dom.js';
 import { isPlacementKey } from './placement.js';
 import { PROGRAM_KINDS, programExtension, programFileName } from './program-file.js';
-import { selectedMachineKind } from './settings-fields.js';
+import { selectedMachineKind, settingsFields } from './settings-fields.js';
 import { History, SetSettingCommand, SettingsModel, createSettingsPanel } from './settings-panel.js';
 import {
   clearError, newProgress, progressText, recordProgress, setPageState, setProgressText, showError, showStages,
@@ -33,7 +34,7 @@ const app = {
   slicer: null,
   viewer: null,
   views: {},         // the shown result's views by method name (planar: the ToolpathPreview; voxel, geodesic, multidir)
-  model: new SettingsModel(),
+  model: null,       // the SettingsModel, made at start-up over the engine's settings table
   history: new History(),
   mesh: null,        // {name, meshId, info} of the loaded mesh
   result: null,      // last successful slice result
@@ -359,11 +360,8 @@ function applyPlacement() {
 
 // ---- start-up -----------------------------------------------------------------------------------
 
+/** The controls that need no settings, once at load. */
 function wireUi() {
-  createSettingsPanel(document.getElementById('settings-panel'), app.model, app.history,
-    { groupHosts: { Machine: document.getElementById('machine-fields') } });
-  app.model.addEventListener('change', onSettingChange);
-  wireMachinePanel(app);
   onFileChosen($('file-input'), loadFile);
   $('slice-button').addEventListener('click', () => slice());
   $('demo-model').addEventListener('change', (e) => {
@@ -399,6 +397,14 @@ function wireUi() {
     if (e.shiftKey) app.history.redo();
     else app.history.undo();
   });
+}
+
+/** The settings panel and what follows the settings, once the model exists (start()). */
+function wireSettings() {
+  createSettingsPanel(document.getElementById('settings-panel'), app.model, app.history,
+    { groupHosts: { Machine: document.getElementById('machine-fields') } });
+  app.model.addEventListener('change', onSettingChange);
+  wireMachinePanel(app);
 }
 
 function createViewer() {
@@ -437,17 +443,24 @@ async function start() {
   createViewer();
   setPageState('starting');
   updateButtons();
+  let slicer = null;
   try {
-    // Imported here, not statically, so the panel still works and reports the problem if the
-    // engine cannot load.
+    // Imported here, not statically, so the page still reports the problem if the engine cannot
+    // load.
     const { createSlicer } = await import('/workers/engine.js');
-    app.slicer = await createSlicer();
+    slicer = await createSlicer();
+    // The settings' defaults, ranges and choices are the core's table, so the model (and the
+    // panels over it) can only be made once the engine runs; settingsFields throws on drift.
+    app.model = new SettingsModel(settingsFields(await slicer.settingsSchema()));
   } catch (err) {
+    if (slicer) slicer.dispose();
     showError({ code: err.code || 'engine_unavailable', message: `the slicing engine did not start: ${err.message}` });
     setProgressText('engine unavailable', 0);
     setPageState('error');
     return;
   }
+  app.slicer = slicer;
+  wireSettings();
   updateButtons();
   await loadDemo(DEMOS.overhang, { sliceAfter: true });
 }

@@ -14,7 +14,7 @@ export function installPageApi(app) {
     get previewSegments() { return app.views.planar ? app.views.planar.segmentCount : 0; },
     get featureCounts() { return app.views.planar ? app.views.planar.featureCounts : null; },
     get drawnSegments() { return app.views.planar ? app.views.planar.drawnSegments() : [0, 0]; },
-    get settings() { return app.model.toSettings(); },
+    get settings() { return app.model ? app.model.toSettings() : null; },
     get history() { return app.history.serialize(); },
     get programExtension() { return app.result ? app.result.programExtension : null; },
     /**

@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
-// Settings panel: a settings model over the fields of settings-fields.js that signals changes,
-// and every user edit as a small command (execute/undo/serialize) kept in a history. The panel
+// Settings panel: a settings model over the settings fields (settings-fields.js settingsFields:
+// the page's rows over the core's settings table) that signals changes, and every user edit as a small command (execute/undo/serialize) kept in a history. The panel
 // redraws its inputs from the model's 'change' signal, so undo and programmatic edits show up the
 // same way.
 import { isPlacementKey, placementOf } from './placement.js';
-import { DIRECTION_PRESETS, SETTINGS_SCHEMA, parseDirection } from './settings-fields.js';
+import { DIRECTION_PRESETS, parseDirection } from './settings-fields.js';
 
-/** Check a value against its schema field; returns the normalised value or throws a RangeError. */
+/** Check a value against its settings field; returns the normalised value or throws a RangeError. */
 export function normaliseValue(field, value) {
   switch (field.type) {
     case 'number':
@@ -45,16 +45,20 @@ export function normaliseValue(field, value) {
   }
 }
 
-/** Current settings; dispatches 'change' events with detail {key, value}. */
+/**
+ * Current settings over `fields` (settingsFields(coreSchema)), starting at their defaults;
+ * dispatches 'change' events with detail {key, value}.
+ */
 export class SettingsModel extends EventTarget {
-  constructor(schema = SETTINGS_SCHEMA) {
+  constructor(fields) {
     super();
-    this.schema = schema;
-    this.values = Object.fromEntries(schema.map((f) => [f.key, f.value]));
+    if (!Array.isArray(fields)) throw new TypeError('SettingsModel: give the settings fields (settingsFields(coreSchema))');
+    this.fields = fields;
+    this.values = Object.fromEntries(fields.map((f) => [f.key, f.value]));
   }
 
   field(key) {
-    const f = this.schema.find((x) => x.key === key);
+    const f = this.fields.find((x) => x.key === key);
     if (!f) throw new RangeError(`unknown setting ${key}`);
     return f;
   }
@@ -71,7 +75,7 @@ export class SettingsModel extends EventTarget {
     this.dispatchEvent(new CustomEvent('change', { detail: { key, value: v } }));
   }
 
-  /** Settings object for slicer.slice(): every key of the schema (machine_json only when set). */
+  /** Settings object for slicer.slice(): every field's key (machine_json only when set). */
   toSettings() {
     const out = { ...this.values };
     if (!out.machine_json) delete out.machine_json;
@@ -80,12 +84,12 @@ export class SettingsModel extends EventTarget {
 
   /**
    * Settings object for slicer.slice(): the placement keys (they override the placement the mesh
-   * was loaded with) and the other values that differ from the schema's defaults (which are the
-   * core's defaults, tests/js/wasm-machine.test.mjs), so the request names what the user chose
-   * and the core's defaults apply to the rest. Fields whose sendIf is false are left out.
+   * was loaded with) and the other values that differ from the fields' defaults (the core's), so
+   * the request names what the user chose and the core's defaults apply to the rest. Fields whose
+   * sendIf is false are left out.
    */
   toSliceSettings() {
-    return Object.fromEntries(this.schema
+    return Object.fromEntries(this.fields
       .filter((f) => isPlacementKey(f.key)
         || (this.values[f.key] !== f.value && !(f.type === 'json' && !this.values[f.key])
           && (!f.sendIf || f.sendIf(this.values))))
@@ -185,7 +189,7 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
   const rows = [];
   const headings = [];  // [h3, group]: hidden when every row of the group is hidden
   let group = null;
-  for (const field of model.schema) {
+  for (const field of model.fields) {
     if (field.hidden) continue;
     const target = groupHosts[field.group] || host;
     if (field.group !== group) {
@@ -200,6 +204,8 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
     const testid = field.testid || `setting-${field.key}`;
     const row = document.createElement('label');
     row.className = 'field';
+    // The core's help text (settings_table.cpp) as the row's tooltip.
+    if (field.help) row.title = field.help;
     const name = document.createElement('span');
     name.textContent = field.label;
     row.append(name);

@@ -9,6 +9,7 @@
 //     `; omnislice:layer` markers as report.layers and as the page shows, numbered 0..n-1, and
 //     its top matches the placed model's height;
 //   - the layer-range sliders filter the preview;
+//   - the settings panel's ranges and tooltips are the core's settings table (read at start-up);
 //   - a truncated binary STL shows its error code and message, and the app still loads and slices
 //     a good file afterwards;
 //   - a long slice is cancelled: control returns within a second, 'cancelled' is shown, and the
@@ -26,6 +27,7 @@ import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 import { IN_CI, OUT_DIR, ROOT, appPage, tid } from './page-controls.mjs';
+import { pageFields } from '../js/page-settings.mjs';
 
 const SHARED_MODELS = path.resolve(ROOT, '..', 'shared', 'models');
 const BUNNY = path.join(SHARED_MODELS, 'compas_bunny_closed_low_res.obj');
@@ -284,6 +286,16 @@ test('settings edits are commands: undo and redo restore values', async () => {
   assert.equal(await page.evaluate(() => window.omnislice.settings.direction), '0,-0.7071,0.7071');
   await page.selectOption(tid('setting-direction'), '0,0,1');
   assert.equal(await page.evaluate(() => window.omnislice.settings.direction), '0,0,1');
+});
+
+test('the settings panel takes its ranges and tooltips from the core\'s settings table', async () => {
+  const fields = await pageFields();
+  for (const key of ['layer_height', 'nozzle', 'walls']) {
+    const f = fields.find((x) => x.key === key);
+    const input = page.locator(tid(`setting-${key}`));
+    assert.deepEqual([await input.getAttribute('min'), await input.getAttribute('max')], [String(f.min), String(f.max)], key);
+    assert.equal(await input.evaluate((el) => el.closest('label').title), f.help, `${key}: the core's help as tooltip`);
+  }
 });
 
 test('dropping a file on the view loads it', async () => {

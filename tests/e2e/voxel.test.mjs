@@ -15,7 +15,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { IN_CI, OUT_DIR, appPage, tid } from './page-controls.mjs';
-import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { pageFields } from '../js/page-settings.mjs';
 
 const { page, skip, pageErrors, setSetting, slide, downloadProgram } = appPage('voxel', { height: 800 });
 
@@ -243,7 +243,7 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
     // The page sent only method and width: the core's other voxel values are the page's defaults.
     const coreSettings = report.settings || {};
     let compared = 0;
-    for (const f of SETTINGS_SCHEMA.filter((x) => x.group === 'Voxel' && x.key !== 'voxel.width_mm')) {
+    for (const f of (await pageFields()).filter((x) => x.group === 'Voxel' && x.key !== 'voxel.width_mm')) {
       if (!(f.key in coreSettings)) continue;
       const core = coreSettings[f.key];
       if (typeof f.value === 'number') assert.ok(Math.abs(Number(core) - f.value) < 1e-9, `${f.key}: core ${core}, page ${f.value}`);

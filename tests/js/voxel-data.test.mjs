@@ -11,7 +11,7 @@ import {
   buildSurfaceArrays, decimateGlyphs, glyphRange, histogramGeometry, layerColor,
   surfaceRanges, voxelDoneSummary, voxelSummaryRows,
 } from '../../web/methods/voxel-data.js';
-import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { fieldsUnavailable, pageFields } from './page-settings.mjs';
 import { SettingsModel } from '../../web/settings-panel.js';
 
 function rng(seed) {
@@ -214,13 +214,14 @@ test('voxel summary rows and the done line show the report\'s figures', () => {
   assert.ok(Object.values(blank).every((t) => t === '—'));
 });
 
-test('settings: voxel rows only for the voxel method; planar-only rows hidden for it; only changes sent', () => {
-  const model = new SettingsModel();
+test('settings: voxel rows only for the voxel method; planar-only rows hidden for it; only changes sent', { skip: fieldsUnavailable }, async () => {
+  const fields = await pageFields();
+  const model = new SettingsModel(fields);
   const showIf = (key) => {
-    const f = SETTINGS_SCHEMA.find((x) => x.key === key);
+    const f = fields.find((x) => x.key === key);
     return f.showIf ? f.showIf(model.values) : true;
   };
-  const voxelKeys = SETTINGS_SCHEMA.filter((f) => f.group === 'Voxel').map((f) => f.key);
+  const voxelKeys = fields.filter((f) => f.group === 'Voxel').map((f) => f.key);
   assert.deepEqual(voxelKeys.sort(), ['voxel.epsilon', 'voxel.iso_step', 'voxel.layer_field', 'voxel.layer_mm', 'voxel.max_tilt_deg',
     'voxel.max_voxels', 'voxel.peel_step', 'voxel.platform_radius_mm', 'voxel.shadow', 'voxel.smooth', 'voxel.strategy', 'voxel.supports',
     'voxel.width_mm'].sort());

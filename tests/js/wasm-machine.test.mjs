@@ -4,14 +4,18 @@
 // JS forward map (web/machine-kinematics.js) of every row, with the report's machine_profile,
 // reproduces the segment's part-frame end point within 1e-3 mm (so the animation puts the nozzle
 // on the deposition point). Also: the program extension and the header's format per machine and
-// setting, and the page's settings schema defaults equal the core's (listSettings).
+// setting, and the page's settings fields against the core's table: each page field is in it,
+// the defaults are the core's, and what the page sends in a slice request is accepted.
 import { before, describe, test } from 'node:test';
 import assert from 'node:assert/strict';
 import fs from 'node:fs';
 import path from 'node:path';
 import { CI, REPO, loadShipped, wasmUnavailable } from './wasm-support.mjs';
 import { UR5_DH, forwardMap, machineAxisCount, machineKind, tipError, platformTransform, transformPoint4 } from '../../web/machine-kinematics.js';
-import { SETTINGS_SCHEMA } from '../../web/settings-fields.js';
+import { PAGE_FIELDS, settingsFields } from '../../web/settings-fields.js';
+import { SettingsModel } from '../../web/settings-panel.js';
+import { PLACEMENT_KEYS } from '../../web/placement.js';
+import { boxStl } from './fixtures/meshes.js';
 
 const why = wasmUnavailable();
 if (why && CI) throw new Error(`wasm tests cannot run under CI: ${why}`);
@@ -26,22 +30,26 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
     demo = fs.readFileSync(DEMO);
   });
 
-  test('the page\'s settings schema defaults are the core\'s defaults', (t) => {
+  test('the page\'s settings fields: each in the core table, defaults the core\'s, every key it sends accepted', (t) => {
+    // settingsFields throws, naming the key, for a page field the core's table does not have.
+    const fields = settingsFields(m.settingsSchema());
+    const coreKey = Object.fromEntries(PAGE_FIELDS.map((f) => [f.key, f.core || f.key]));
+    // The built defaults against the core's own listing of its default settings (listSettings).
+    // The method-specific choices, listed only with their method, against the table's text.
+    const schema = Object.fromEntries(m.settingsSchema().map((s) => [s.key, s]));
     const { values } = m.defaultSettings();
-    // The page's key -> the key listSettings() writes (setSetting accepts both).
-    const listed = { nozzle: 'nozzle_diameter' };
     const unlisted = [];
     let compared = 0;
-    for (const field of SETTINGS_SCHEMA) {
-      if (field.hidden) continue;
-      const key = listed[field.key] || field.key;
+    for (const field of fields) {
+      const key = coreKey[field.key];
       if (!(key in values)) {
+        assert.equal(String(field.value), schema[key].default, `${field.key}: the table's default`);
         unlisted.push(key);
         continue;
       }
       let page = field.value;
       // line_width 0 means automatic; the core lists the resolved width (1.125 x nozzle).
-      if (field.key === 'line_width' && page === 0) page = 1.125 * SETTINGS_SCHEMA.find((f) => f.key === 'nozzle').value;
+      if (field.key === 'line_width' && page === 0) page = 1.125 * fields.find((f) => f.key === 'nozzle').value;
       const core = values[key];
       if (typeof page === 'number') assert.ok(Math.abs(Number(core) - page) < 1e-9, `${field.key}: core ${core}, page ${page}`);
       else if (typeof page === 'boolean') assert.equal(core, String(page), field.key);
@@ -49,8 +57,29 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
       else assert.equal(core, page, field.key);
       compared++;
     }
-    t.diagnostic(`${compared} defaults compared; not listed by the core: ${unlisted.join(', ') || 'none'}`);
+    t.diagnostic(`${compared} defaults compared with the listing; with the table only: ${unlisted.join(', ') || 'none'}`);
     assert.ok(compared >= 20);
+    // Every key the page may send, at its default, is read by the core (machines() reads the
+    // settings and refuses an unknown key or value).
+    const model = new SettingsModel(fields);
+    assert.doesNotThrow(() => m.machines(model.toSettings()), 'every page key accepted');
+    // A slice request as the page makes it: at the defaults (the placement keys only), then after
+    // edits of each input type (the alias 'nozzle' too); the core applies what was sent.
+    const box = new Uint8Array(boxStl(10, 10, 5));
+    assert.deepEqual(Object.keys(model.toSliceSettings()).sort(), [...PLACEMENT_KEYS].sort());
+    assert.ok(m.slice(box, 'box.stl', model.toSliceSettings()).report.layers > 0);
+    const edits = { infill: 35, walls: 3, nozzle: 0.5, layer_height: 0.3, infill_pattern: 'lines', direction: '0,-0.5,1',
+      gcode_flavor: 'klipper', center: false, 'motion.smooth_orientations': false, 'voxel.smooth': 9 };
+    for (const [key, value] of Object.entries(edits)) model.set(key, value);
+    const sent = model.toSliceSettings();
+    assert.equal('voxel.smooth' in sent, false, 'the voxel settings stay out of a planar request');
+    const applied = m.slice(box, 'box.stl', sent).report.settings;
+    for (const [key, value] of Object.entries(sent)) {
+      const core = applied[coreKey[key]];
+      if (typeof value === 'number') assert.ok(Math.abs(Number(core) - value) < 1e-9, `${key}: sent ${value}, core ${core}`);
+      else if (key === 'direction') core.split(',').forEach((x, i) => assert.ok(Math.abs(Number(x) - Number(value.split(',')[i])) < 1e-4, `direction ${core}`));
+      else assert.equal(core, String(value), key);
+    }
   });
 
   const cases = [
