@@ -83,7 +83,7 @@ test('iso-planar settings: shown and sent only with the surface method or the is
   assert.equal(s['surface.base_mm'], 3);
   assert.equal(showIf('surface.base_mm'), true);
   // The direction: -1 (search) or a forced angle in [0, 180). The panel checks the core table's
-  // closed range -1..180; the core itself refuses 180 when it reads the settings (settings.cpp).
+  // closed range -1..180; the core itself refuses 180 when it reads the settings (validateSettings, core/pipeline/settings.cpp).
   const theta = model.field('isoplanar.theta_deg');
   assert.equal(normaliseValue(theta, '-1'), -1);
   assert.equal(normaliseValue(theta, '158'), 158);

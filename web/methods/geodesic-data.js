@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Pure data preparation for the geodesic method's view (paper 002; no three.js, no DOM;
 // unit-tested in Node):
-//   - the checked geodesic preview buffers (core/pipeline/pipeline.h PreviewBuffers: the boundary
+//   - the checked geodesic preview buffers (core/pipeline/preview.h, flattened by wasm/helpers.cpp: the boundary
 //     surface with the geodesic distance per vertex, the skeleton tree's nodes and edges, the
 //     print sequence), with clear errors when they disagree;
 //   - the distance field as vertex colours (a ramp whose lightness grows with the distance) and

@@ -27,7 +27,7 @@ export const SKIPPED_COLOR = 0xff3b30;
 
 export class GeodesicView {
   /**
-   * Build the view of a slice's geodesic buffers (core/pipeline/pipeline.h PreviewBuffers).
+   * Build the view of a slice's geodesic buffers (core/pipeline/preview.h, flattened by wasm/helpers.cpp).
    * @param {object} preview fieldPositions, fieldTriangles, fieldValues, nodePositions, nodeLayers,
    *   treeEdges, sequence, skippedSegments and skippedLayers (optional)
    * @param {object} [geodesic] report.geodesic: iso_values_mm (the layers' distances, for the

@@ -2,7 +2,7 @@
 // Pure data preparation for the multi-directional method's page (paper 000; no three.js, no DOM;
 // unit-tested in Node):
 //   - the preview buffers checked against each other (partPositions, partTriangles, partIds,
-//     riskyBefore, riskyAfter; core/pipeline/pipeline.h PreviewBuffers);
+//     riskyBefore, riskyAfter; core/pipeline/preview.h, flattened by wasm/helpers.cpp);
 //   - the parts' triangles sorted by print index, so "parts 0..k" is one draw range, with a
 //     distinct colour per part;
 //   - an arrow per part: its print direction from its surface centroid;

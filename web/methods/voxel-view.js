@@ -45,7 +45,7 @@ export function hasVoxelBuffers(preview) {
 
 export class VoxelView {
   /**
-   * Build the view of a slice's preview buffers (see core/pipeline/pipeline.h PreviewBuffers).
+   * Build the view of a slice's preview buffers (see core/pipeline/preview.h, flattened by wasm/helpers.cpp).
    * @param {object} preview positions, features, layers, axes, surfacePositions, surfaceTriangles,
    *   surfaceLayers, missedVoxels, supportVoxels, voxelWidth
    * @param {{maxGlyphs?: number, glyphLength?: number}} [options]
