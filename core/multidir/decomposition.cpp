@@ -25,6 +25,7 @@
 #include "common/math_constants.h"
 #include "common/stopwatch.h"
 #include "multidir/decomposition.h"
+#include "multidir/risky_faces.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -237,7 +238,7 @@ struct Model {
     for (const auto& p : footprint) best = std::max(best, n.x() * p.x() + n.y() * p.y());
     return best + margin * nxy;
   }
-  bool riskyAlong(size_t f, const Vec3& d) const { return normal[f].dot(d) + sinAlpha < 0; }
+  bool riskyAlong(size_t f, const Vec3& d) const { return omnislice::riskyAlong(normal[f], d, sinAlpha); }
 };
 
 Outcome buildFaces(const Mesh& mesh, const MultidirOptions& o, Model& m) {
@@ -250,7 +251,7 @@ Outcome buildFaces(const Mesh& mesh, const MultidirOptions& o, Model& m) {
     m.lo = m.lo.cwiseMin(m.vert[i]);
     m.hi = m.hi.cwiseMax(m.vert[i]);
   }
-  m.sinAlpha = det::sin(o.alphaMaxDeg * kPi / 180);
+  m.sinAlpha = sinAlphaMax(o.alphaMaxDeg);
   m.tri.resize(nf);
   m.area.resize(nf);
   m.normal.resize(nf);

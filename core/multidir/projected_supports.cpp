@@ -13,6 +13,7 @@
 #include "common/det_math.h"
 #include "common/disjoint_sets.h"
 #include "geometry/aabb_tree.h"
+#include "multidir/risky_faces.h"
 
 namespace omnislice {
 namespace {
@@ -151,7 +152,7 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
   SupportResult res;
   for (const Plane& p : planes) res.directions.push_back(p.normal);
   res.directions.push_back(Eigen::Vector3d::UnitZ());
-  const double sinAlpha = det::sin(o.alphaMaxDeg * kPi / 180);
+  const double sinAlpha = sinAlphaMax(o.alphaMaxDeg);
   const double R = o.samplingMm;
 
   // Faces: unit normals, areas; vertex neighbours (for point overhangs).
@@ -191,7 +192,7 @@ SupportResult projectedSupports(const Mesh& mesh, const std::vector<Plane>& plan
     bases[s] = basis;
     const Eigen::Vector3d& d = basis.d;
     auto resting = [&](const Eigen::Vector3d& p) { return si == platform && p.z() < o.platformBandMm; };
-    auto risky = [&](size_t f) { return area[f] > 0 && normal[f].dot(d) + sinAlpha < 0; };
+    auto risky = [&](size_t f) { return area[f] > 0 && riskyAlong(normal[f], d, sinAlpha); };
 
     // Roofs and patches: risky faces whose centroid lies in this subspace.
     std::vector<char> inPatch(nf, 0);
