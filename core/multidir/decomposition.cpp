@@ -14,17 +14,15 @@
 #include "multidir/plane_refinement.h"
 #include "multidir/plane_search.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numeric>
-#include <unordered_map>
+#include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 namespace omnislice {
 namespace {
@@ -79,12 +77,56 @@ Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourD
 
 // ---- the result -----------------------------------------------------------------------------
 
+// The planes, parts (directions, volumes, risky areas), J_G and J_G per level of a sequence.
+void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
+                MultidirResult& result) {
+  const auto t0 = Clock::now();
+  result.planes.clear();
+  result.parts.clear();
+  result.stats.jgPerLevel.clear();
+  const double cellVolume = m.h * m.h * m.h;
+  size_t count = 0;
+  Bits kept = cellsKept(m, bestN, bestD, 0, count);
+  for (size_t k = 0; k < bestN.size(); ++k) {
+    result.planes.push_back({bestN[k], bestD[k]});
+    Bits below(kept.size(), 0);
+    size_t nBelow = 0;
+    forEachBit(kept, [&](size_t c) {
+      if (bestN[k].dot(m.centre[c]) <= bestD[k]) {
+        setBit(below, c);
+        ++nBelow;
+      }
+    });
+    MultidirPart part;
+    part.direction = bestN[k];
+    part.plane = static_cast<int>(k);
+    part.volumeMm3 = (count - nBelow) * cellVolume;
+    result.parts.push_back(part);
+    kept.swap(below);
+    count = nBelow;
+  }
+  MultidirPart base;
+  base.volumeMm3 = count * cellVolume;
+  result.parts.push_back(base);
+  const std::vector<double> risk = exactRisk(m, bestN, bestD);
+  result.jgAfterMm2 = 0;
+  for (size_t k = 0; k < risk.size(); ++k) {
+    result.parts[k].riskyAreaMm2 = risk[k];
+    result.jgAfterMm2 += risk[k];
+  }
+  for (size_t k = 0; k <= bestN.size(); ++k) {
+    const std::vector<Vec3> pn(bestN.begin(), bestN.begin() + k);
+    const std::vector<double> pd(bestD.begin(), bestD.begin() + k);
+    double jg = 0;
+    for (double r : exactRisk(m, pn, pd)) jg += r;
+    result.stats.jgPerLevel.push_back(jg);
+  }
+  result.stats.msExact += msSince(t0);
+}
+
 // Fills planes/parts/numbers of `result` from the line ends of finished searches, each refined
 // when asked; the least exact J_G wins (then fewer planes, then the first). The refinement
 // reports progress at `fraction` (the end of these searches' span).
-void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
-                MultidirResult& result);
-
 bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
              std::vector<LineEnd> ends, bool perturb, const ProgressFn& progress, double fraction,
              MultidirResult& result) {
@@ -133,51 +175,237 @@ bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3&
   return true;
 }
 
-// The planes, parts (directions, volumes, risky areas), J_G and J_G per level of a sequence.
-void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
-                MultidirResult& result) {
-  const auto t0 = Clock::now();
-  result.planes.clear();
-  result.parts.clear();
-  result.stats.jgPerLevel.clear();
-  const double cellVolume = m.h * m.h * m.h;
-  size_t count = 0;
-  Bits kept = cellsKept(m, bestN, bestD, 0, count);
-  for (size_t k = 0; k < bestN.size(); ++k) {
-    result.planes.push_back({bestN[k], bestD[k]});
-    Bits below(kept.size(), 0);
-    size_t nBelow = 0;
-    forEachBit(kept, [&](size_t c) {
-      if (bestN[k].dot(m.centre[c]) <= bestD[k]) {
-        setBit(below, c);
-        ++nBelow;
+// The Cancelled result: the numbers known before the search and the statistics so far.
+MultidirResult cancelledResult(const Model& m, const MultidirStats& stats) {
+  MultidirResult c;
+  c.status = Status::Cancelled;
+  c.message = "decomposition cancelled";
+  c.jgBeforeMm2 = m.jgBefore;
+  c.volumeMm3 = m.volume;
+  c.stats = stats;
+  return c;
+}
+
+// `result` carrying another step's failure.
+MultidirResult withFailure(MultidirResult result, const Outcome& failure) {
+  result.status = failure.status;
+  result.message = failure.message;
+  return result;
+}
+
+// ---- the lines of each scheme ------------------------------------------------------------------
+
+// The lines of `scheme` from the search's root, within the progress span [base, base + span).
+// The beam scheme also runs the greedy and constrained-greedy lines from the same root (two
+// extra beams of width 1): the best J_G over all of them wins, so the beam never does worse.
+// False when cancelled.
+bool runScheme(Search& search, Scheme scheme, const MultidirOptions& options, double base, double span) {
+  if (scheme != Scheme::Beam) {
+    return search.runLine(scheme, 1, base, span, scheme == Scheme::Greedy ? "greedy" : "constrained");
+  }
+  return search.runLine(Scheme::Greedy, 1, base, 0.1 * span, "greedy") &&
+         search.runLine(Scheme::Constrained, 1, base + 0.1 * span, 0.1 * span, "constrained") &&
+         search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span,
+                        0.8 * span, "beam");
+}
+
+// 5dof. Restart j samples the sphere turned about Z by 2 pi frac(j (sqrt 2 - 1)): the beam's
+// choices depend on which normals exist, so each restart explores other decompositions, and as the
+// turns never repeat, more restarts only add searches. The first runs the scheme (with the
+// greedy lines), the others the beam line only. They stop once a line ends at J_G <= delta0
+// (the search's own tolerance for "no risky area": refinement only lowers it). The lines' ends
+// are then collected into `result` (searches within progress [0, searchEnd)). False when
+// cancelled.
+bool searchFiveDof(const Model& m, const MultidirOptions& options, Scheme scheme, bool perturb, double searchEnd,
+                   const ProgressFn& progress, MultidirResult& result) {
+  std::vector<LineEnd> ends;
+  const int restarts = scheme == Scheme::Beam && options.candidateNormals.empty() ? options.restarts : 1;
+  const double turn = std::sqrt(2.0) - 1;
+  for (int j = 0; j < restarts; ++j) {
+    Search search(m, options, result.stats, progress);
+    const double phase = 2 * kPi * (j * turn - std::floor(j * turn));
+    const std::vector<Vec3> normals = sphereNormals(options, phase);
+    result.stats.normals = normals.size();
+    search.setNormals(normals);
+    const double base = searchEnd * j / restarts, span = searchEnd / restarts;
+    const bool ran = j == 0 ? runScheme(search, scheme, options, base, span)
+                            : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
+    if (!ran) return false;
+    lineEnds(search, ends);
+    ++result.stats.restartsRun;
+    double least = std::numeric_limits<double>::infinity();
+    for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
+    if (least <= options.delta0) break;
+  }
+  return collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, searchEnd, result);
+}
+
+// 4dof: the rotary axes to try, axisSearch horizontal ones at 180/axisSearch degree spacing, or
+// rotationAxis alone.
+std::vector<Vec3> rotaryAxes(const MultidirOptions& options) {
+  std::vector<Vec3> axes;
+  if (options.axisSearch > 0) {
+    for (int i = 0; i < options.axisSearch; ++i) {
+      const double phi = kPi * i / options.axisSearch;
+      axes.emplace_back(det::cos(phi), det::sin(phi), 0);
+    }
+  } else {
+    axes.push_back(options.rotationAxis.normalized());
+  }
+  return axes;
+}
+
+// The screening only ranks the axes: the constrained greedy line on half the grid resolution
+// and, without a stepper, half the normals on each circle.
+MultidirOptions screeningOptions(const MultidirOptions& options) {
+  MultidirOptions coarse = options;
+  coarse.gridResolution = std::max(16, options.gridResolution / 2);
+  if (coarse.stepAngleDeg == 0) coarse.samples = std::max(1, options.samples / 2);
+  return coarse;
+}
+
+// The constrained greedy line on every axis of the coarse model `mc` (progress [0, screenSpan)),
+// ranked by J_G + 1e-9 per plane, then (exact ties, e.g. two axes that both reach J_G 0 with one
+// plane) the larger model left on the platform; returns the axes' indices to search fully: the
+// axisFullSearches best, at least 3 degrees apart (neighbours rank alike), then the next best.
+// False when cancelled.
+bool screenAxes(const Model& mc, const MultidirOptions& coarse, const std::vector<Vec3>& axes,
+                size_t axisFullSearches, double screenSpan, const ProgressFn& progress, MultidirStats& stats,
+                std::vector<size_t>& full) {
+  std::vector<std::tuple<double, size_t, size_t>> rank;
+  for (size_t a = 0; a < axes.size(); ++a) {
+    Search search(mc, coarse, stats, progress);
+    search.setNormals(circleNormals(coarse, axes[a]));
+    const double span = screenSpan / axes.size();
+    if (!search.runLine(Scheme::Constrained, 1, a * span, span, "screen")) return false;
+    const Node& b = search.node(search.best());
+    rank.emplace_back(b.jg + 1e-9 * b.level, mc.cells - b.cellCount, a);
+  }
+  std::stable_sort(rank.begin(), rank.end());
+  full.clear();
+  for (int pass = 0; pass < 2 && full.size() < axisFullSearches; ++pass) {
+    for (const auto& r : rank) {
+      if (full.size() >= axisFullSearches) break;
+      bool near = false;
+      for (size_t f : full) {
+        const double cosAngle = std::abs(axes[f].dot(axes[std::get<2>(r)]));
+        near = near || f == std::get<2>(r) || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
       }
-    });
-    MultidirPart part;
-    part.direction = bestN[k];
-    part.plane = static_cast<int>(k);
-    part.volumeMm3 = (count - nBelow) * cellVolume;
-    result.parts.push_back(part);
-    kept.swap(below);
-    count = nBelow;
+      if (!near) full.push_back(std::get<2>(r));
+    }
   }
-  MultidirPart base;
-  base.volumeMm3 = count * cellVolume;
-  result.parts.push_back(base);
-  const std::vector<double> risk = exactRisk(m, bestN, bestD);
-  result.jgAfterMm2 = 0;
-  for (size_t k = 0; k < risk.size(); ++k) {
-    result.parts[k].riskyAreaMm2 = risk[k];
-    result.jgAfterMm2 += risk[k];
+  return true;
+}
+
+// The scheme on each axis of `full` (progress from screenSpan on), every line's end refined; the
+// least exact J_G wins (then fewer planes, then the first axis): its planes, parts, J_G and axis
+// go into `result`. False when cancelled.
+bool searchAxes(const Model& m, const MultidirOptions& options, Scheme scheme, const std::vector<Vec3>& axes,
+                const std::vector<size_t>& full, double screenSpan, bool perturb, double searchEnd,
+                const ProgressFn& progress, MultidirResult& result) {
+  bool have = false;
+  for (size_t i = 0; i < full.size(); ++i) {
+    const size_t a = full[i];
+    Search search(m, options, result.stats, progress);
+    const std::vector<Vec3> normals = circleNormals(options, axes[a]);
+    result.stats.normals = normals.size();
+    search.setNormals(normals);
+    const double span = ((perturb ? searchEnd : 1.0) - screenSpan) / full.size();
+    if (!runScheme(search, scheme, options, screenSpan + i * span, span)) return false;
+    MultidirResult trial;
+    std::vector<LineEnd> ends;
+    lineEnds(search, ends);
+    if (!collect(m, options, true, axes[a], std::move(ends), false, progress,
+                 std::min(0.99, screenSpan + (i + 1) * span), trial)) {
+      return false;
+    }
+    result.stats.msExact += trial.stats.msExact;
+    result.stats.msRefine += trial.stats.msRefine;
+    result.stats.refineEvaluated += trial.stats.refineEvaluated;
+    const bool better = !have || trial.jgAfterMm2 < result.jgAfterMm2 - 1e-9 ||
+                        (trial.jgAfterMm2 <= result.jgAfterMm2 + 1e-9 &&
+                         trial.planes.size() < result.planes.size());
+    if (better) {
+      have = true;
+      result.planes = trial.planes;
+      result.parts = trial.parts;
+      result.jgAfterMm2 = trial.jgAfterMm2;
+      result.rotationAxis = axes[a];
+      result.stats.jgPerLevel = trial.stats.jgPerLevel;
+      result.stats.searchJgMm2 = trial.stats.searchJgMm2;
+    }
   }
-  for (size_t k = 0; k <= bestN.size(); ++k) {
-    const std::vector<Vec3> pn(bestN.begin(), bestN.begin() + k);
-    const std::vector<double> pd(bestD.begin(), bestD.begin() + k);
-    double jg = 0;
-    for (double r : exactRisk(m, pn, pd)) jg += r;
-    result.stats.jgPerLevel.push_back(jg);
+  return true;
+}
+
+// The iterated local search (beam scheme) once, on the chosen axis (progress 0.9 to 0.99).
+// False when cancelled.
+bool perturbOnChosenAxis(const Model& m, const MultidirOptions& options, const ProgressFn& progress,
+                         MultidirResult& result) {
+  std::vector<Vec3> ns;
+  std::vector<double> ds;
+  for (const MultidirPlane& p : result.planes) {
+    ns.push_back(p.normal);
+    ds.push_back(p.offsetMm);
   }
-  result.stats.msExact += msSince(t0);
+  double jg = result.jgAfterMm2;
+  const auto tp = Clock::now();
+  bool stopped = false;
+  const size_t kept =
+      perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.9, 0.99, stopped, result.stats);
+  result.stats.msPerturb += msSince(tp);
+  if (stopped) return false;
+  if (kept > 0) {
+    result.stats.perturbationsKept += kept;
+    fillResult(m, ns, ds, result);
+  }
+  return true;
+}
+
+// 4dof: the axes (screened by the constrained greedy line with the beam scheme, when there are
+// more than axisFullSearches), the scheme on the best of them, the local search on the winner.
+// Statuses: those of the coarse model's buildModel, Cancelled.
+Outcome searchFourDof(const Mesh& mesh, const Model& m, const MultidirOptions& options, Scheme scheme,
+                      bool perturb, double searchEnd, const ProgressFn& progress, MultidirResult& result) {
+  const std::vector<Vec3> axes = rotaryAxes(options);
+  // Axis search with the beam: every axis is screened by the constrained greedy line, the beam
+  // runs on the axisFullSearches best of them (all when 0).
+  std::vector<size_t> full(axes.size());
+  std::iota(full.begin(), full.end(), 0);
+  const bool screen = scheme == Scheme::Beam && options.axisFullSearches > 0 &&
+                      axes.size() > static_cast<size_t>(options.axisFullSearches);
+  const double screenSpan = screen ? 0.5 : 0.0;
+  if (screen) {
+    const MultidirOptions coarse = screeningOptions(options);
+    Model mc;
+    const auto tc = Clock::now();
+    const Outcome ok = buildModel(mesh, coarse, mc);
+    result.stats.msPrepare += msSince(tc);
+    if (!ok.ok()) return ok;
+    if (!screenAxes(mc, coarse, axes, static_cast<size_t>(options.axisFullSearches), screenSpan, progress,
+                    result.stats, full)) {
+      return failed<Outcome>(Status::Cancelled, "decomposition cancelled");
+    }
+  }
+  if (!searchAxes(m, options, scheme, axes, full, screenSpan, perturb, searchEnd, progress, result)) {
+    return failed<Outcome>(Status::Cancelled, "decomposition cancelled");
+  }
+  result.stats.axesTried = axes.size();
+  if (perturb && !perturbOnChosenAxis(m, options, progress, result)) {
+    return failed<Outcome>(Status::Cancelled, "decomposition cancelled");
+  }
+  return {};
+}
+
+// The returned sequence level by level ("chosen" levels, once the search and in 4dof the axis
+// are decided), then the end of the stage. False when cancelled.
+bool reportChosenLevels(const MultidirStats& stats, const ProgressFn& progress) {
+  for (size_t k = 0; k < stats.jgPerLevel.size(); ++k) {
+    const SearchLevelProgress s{"chosen", static_cast<int>(k), stats.jgPerLevel[k], 0};
+    if (!reportProgress(progress, "decompose", 1.0, s)) return false;
+  }
+  reportProgress(progress, "decompose", 1.0);
+  return true;
 }
 
 }  // namespace
@@ -190,20 +418,12 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
   bool fourDof = false;
   Outcome ok = checkSearchOptions(options, scheme, fourDof);
   if (ok.ok()) ok = checkMesh(mesh);
-  if (!ok.ok()) {
-    result.status = ok.status;
-    result.message = ok.message;
-    return result;
-  }
+  if (!ok.ok()) return withFailure(std::move(result), ok);
   Model m;
   auto t0 = Clock::now();
   ok = buildModel(mesh, options, m);
   result.stats.msPrepare = msSince(t0);
-  if (!ok.ok()) {
-    result.status = ok.status;
-    result.message = ok.message;
-    return result;
-  }
+  if (!ok.ok()) return withFailure(std::move(result), ok);
   // Each state holds two arrays of (extent / step) offsets per normal: refuse absurd steps.
   if ((m.hi - m.lo).norm() / options.offsetStepMm > 20000) {
     result.status = Status::InvalidOption;
@@ -215,175 +435,21 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
   result.stats.gridCells = m.cells;
   result.stats.cellMm = m.h;
   result.stats.orphanCells = m.orphans;
-  auto cancelled = [&]() {
-    MultidirResult c;
-    c.status = Status::Cancelled;
-    c.message = "decomposition cancelled";
-    c.jgBeforeMm2 = m.jgBefore;
-    c.volumeMm3 = m.volume;
-    c.stats = result.stats;
-    return c;
-  };
-  // The beam scheme also runs the greedy and constrained-greedy lines from the same root (two
-  // extra beams of width 1): the best J_G over all of them wins, so the beam never does worse.
-  auto runScheme = [&](Search& search, Scheme s, double base, double span) {
-    if (s != Scheme::Beam) return search.runLine(s, 1, base, span, s == Scheme::Greedy ? "greedy" : "constrained");
-    return search.runLine(Scheme::Greedy, 1, base, 0.1 * span, "greedy") &&
-           search.runLine(Scheme::Constrained, 1, base + 0.1 * span, 0.1 * span, "constrained") &&
-           search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span,
-                          0.8 * span, "beam");
-  };
   // The beam's best sequence then goes through the iterated local search (the last 9% of the
   // progress).
   const bool perturb = scheme == Scheme::Beam && options.refine && options.perturbations > 0;
   const double searchEnd = perturb ? 0.9 : 0.99;
   if (!fourDof) {
-    // Restart j samples the sphere turned about Z by 2 pi frac(j (sqrt 2 - 1)): the beam's choices
-    // depend on which normals exist, so each restart explores other decompositions, and as the
-    // turns never repeat, more restarts only add searches. The first runs the scheme (with the
-    // greedy lines), the others the beam line only. They stop once a line ends at J_G <= delta0
-    // (the search's own tolerance for "no risky area": refinement only lowers it).
-    std::vector<LineEnd> ends;
-    const int restarts = scheme == Scheme::Beam && options.candidateNormals.empty() ? options.restarts : 1;
-    const double turn = std::sqrt(2.0) - 1;
-    for (int j = 0; j < restarts; ++j) {
-      Search search(m, options, result.stats, progress);
-      const double phase = 2 * kPi * (j * turn - std::floor(j * turn));
-      const std::vector<Vec3> normals = sphereNormals(options, phase);
-      result.stats.normals = normals.size();
-      search.setNormals(normals);
-      const double base = searchEnd * j / restarts, span = searchEnd / restarts;
-      const bool ran = j == 0 ? runScheme(search, scheme, base, span)
-                              : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
-      if (!ran) return cancelled();
-      lineEnds(search, ends);
-      ++result.stats.restartsRun;
-      double least = std::numeric_limits<double>::infinity();
-      for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
-      if (least <= options.delta0) break;
-    }
-    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, searchEnd, result)) {
-      return cancelled();
+    if (!searchFiveDof(m, options, scheme, perturb, searchEnd, progress, result)) {
+      return cancelledResult(m, result.stats);
     }
   } else {
-    std::vector<Vec3> axes;
-    if (options.axisSearch > 0) {
-      for (int i = 0; i < options.axisSearch; ++i) {
-        const double phi = kPi * i / options.axisSearch;
-        axes.emplace_back(det::cos(phi), det::sin(phi), 0);
-      }
-    } else {
-      axes.push_back(options.rotationAxis.normalized());
-    }
-    // Axis search with the beam: every axis is screened by the constrained greedy line, the beam
-    // runs on the axisFullSearches best of them (all when 0).
-    std::vector<size_t> full(axes.size());
-    std::iota(full.begin(), full.end(), 0);
-    const bool screen = scheme == Scheme::Beam && options.axisFullSearches > 0 &&
-                        axes.size() > static_cast<size_t>(options.axisFullSearches);
-    const double screenSpan = screen ? 0.5 : 0.0;
-    if (screen) {
-      // The screening only ranks the axes: the constrained greedy line on half the grid
-      // resolution and, without a stepper, half the normals on each circle.
-      MultidirOptions coarse = options;
-      coarse.gridResolution = std::max(16, options.gridResolution / 2);
-      if (coarse.stepAngleDeg == 0) coarse.samples = std::max(1, options.samples / 2);
-      Model mc;
-      const auto tc = Clock::now();
-      ok = buildModel(mesh, coarse, mc);
-      result.stats.msPrepare += msSince(tc);
-      if (!ok.ok()) {
-        result.status = ok.status;
-        result.message = ok.message;
-        return result;
-      }
-      // Rank: J_G + 1e-9 per plane, then (exact ties, e.g. two axes that both reach J_G 0 with
-      // one plane) the larger model left on the platform.
-      std::vector<std::tuple<double, size_t, size_t>> rank;
-      for (size_t a = 0; a < axes.size(); ++a) {
-        Search search(mc, coarse, result.stats, progress);
-        search.setNormals(circleNormals(coarse, axes[a]));
-        const double span = screenSpan / axes.size();
-        if (!search.runLine(Scheme::Constrained, 1, a * span, span, "screen")) return cancelled();
-        const Node& b = search.node(search.best());
-        rank.emplace_back(b.jg + 1e-9 * b.level, mc.cells - b.cellCount, a);
-      }
-      std::stable_sort(rank.begin(), rank.end());
-      // The best screened axes, at least 3 degrees apart (neighbours rank alike).
-      full.clear();
-      for (int pass = 0; pass < 2 && full.size() < static_cast<size_t>(options.axisFullSearches); ++pass) {
-        for (const auto& r : rank) {
-          if (full.size() >= static_cast<size_t>(options.axisFullSearches)) break;
-          bool near = false;
-          for (size_t f : full) {
-            const double cosAngle = std::abs(axes[f].dot(axes[std::get<2>(r)]));
-            near = near || f == std::get<2>(r) || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
-          }
-          if (!near) full.push_back(std::get<2>(r));
-        }
-      }
-    }
-    bool have = false;
-    for (size_t i = 0; i < full.size(); ++i) {
-      const size_t a = full[i];
-      Search search(m, options, result.stats, progress);
-      const std::vector<Vec3> normals = circleNormals(options, axes[a]);
-      result.stats.normals = normals.size();
-      search.setNormals(normals);
-      const double span = ((perturb ? searchEnd : 1.0) - screenSpan) / full.size();
-      if (!runScheme(search, scheme, screenSpan + i * span, span)) return cancelled();
-      MultidirResult trial;
-      std::vector<LineEnd> ends;
-      lineEnds(search, ends);
-      if (!collect(m, options, true, axes[a], std::move(ends), false, progress,
-                   std::min(0.99, screenSpan + (i + 1) * span), trial)) {
-        return cancelled();
-      }
-      result.stats.msExact += trial.stats.msExact;
-      result.stats.msRefine += trial.stats.msRefine;
-      result.stats.refineEvaluated += trial.stats.refineEvaluated;
-      const bool better = !have || trial.jgAfterMm2 < result.jgAfterMm2 - 1e-9 ||
-                          (trial.jgAfterMm2 <= result.jgAfterMm2 + 1e-9 &&
-                           trial.planes.size() < result.planes.size());
-      if (better) {
-        have = true;
-        result.planes = trial.planes;
-        result.parts = trial.parts;
-        result.jgAfterMm2 = trial.jgAfterMm2;
-        result.rotationAxis = axes[a];
-        result.stats.jgPerLevel = trial.stats.jgPerLevel;
-        result.stats.searchJgMm2 = trial.stats.searchJgMm2;
-      }
-    }
-    result.stats.axesTried = axes.size();
-    // The iterated local search (beam scheme) once, on the chosen axis.
-    if (perturb) {
-      std::vector<Vec3> ns;
-      std::vector<double> ds;
-      for (const MultidirPlane& p : result.planes) {
-        ns.push_back(p.normal);
-        ds.push_back(p.offsetMm);
-      }
-      double jg = result.jgAfterMm2;
-      const auto tp = Clock::now();
-      bool stopped = false;
-      const size_t kept =
-          perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.9, 0.99, stopped, result.stats);
-      result.stats.msPerturb += msSince(tp);
-      if (stopped) return cancelled();
-      if (kept > 0) {
-        result.stats.perturbationsKept += kept;
-        fillResult(m, ns, ds, result);
-      }
-    }
+    ok = searchFourDof(mesh, m, options, scheme, perturb, searchEnd, progress, result);
+    if (ok.status == Status::Cancelled) return cancelledResult(m, result.stats);
+    if (!ok.ok()) return withFailure(std::move(result), ok);
   }
   result.stats.msTotal = msSince(tStart);
-  // The returned sequence level by level, once the search (and in 4dof the axis) is decided.
-  for (size_t k = 0; k < result.stats.jgPerLevel.size(); ++k) {
-    const SearchLevelProgress s{"chosen", static_cast<int>(k), result.stats.jgPerLevel[k], 0};
-    if (!reportProgress(progress, "decompose", 1.0, s)) return cancelled();
-  }
-  reportProgress(progress, "decompose", 1.0);
+  if (!reportChosenLevels(result.stats, progress)) return cancelledResult(m, result.stats);
   return result;
 }
 
