@@ -450,19 +450,18 @@ std::vector<size_t> spreadPick(const std::vector<Vec3>& pts, size_t count) {
 }
 
 
-}  // namespace
+SkeletonTree skeletonFailure(Status s, std::string msg) {
+  SkeletonTree r;
+  r.status = s;
+  r.message = std::move(msg);
+  r.isTree = false;
+  return r;
+}
 
-SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mesh& boundary,
-                               const std::vector<double>& field, const SkeletonOptions& options) {
-  const auto t0 = Clock::now();
-  SkeletonTree out;
-  auto fail = [&](Status s, std::string msg) {
-    SkeletonTree r;
-    r.status = s;
-    r.message = std::move(msg);
-    r.isTree = false;
-    return r;
-  };
+// InvalidOption for a field, options, boundary or layers buildSkeletonTree cannot use.
+Outcome checkSkeletonInput(const std::vector<CurvedLayer>& layers, const Mesh& boundary,
+                           const std::vector<double>& field, const SkeletonOptions& options) {
+  auto fail = [](Status s, std::string msg) { return failed<Outcome>(s, std::move(msg)); };
   if (field.size() != boundary.vertexCount())
     return fail(Status::InvalidOption, "skeleton: field has " + std::to_string(field.size()) +
                                            " values for " + std::to_string(boundary.vertexCount()) +
@@ -486,11 +485,17 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
         return fail(Status::InvalidOption,
                     "skeleton: layer " + std::to_string(i) + " has a malformed region mesh");
   }
+  return {};
+}
 
-  // Nodes, sorted by (layer, region).
-  std::vector<uint32_t> firstNode(layers.size() + 1, 0);
+// The nodes, sorted by (layer, region), with their areas and area-weighted centroids (the
+// vertices' mean for a region of zero area); firstNode[i] = the first node of layer i, and
+// firstNode[layers.size()] = the node count.
+std::vector<SkeletonNode> skeletonNodes(const std::vector<CurvedLayer>& layers, std::vector<uint32_t>& firstNode) {
+  std::vector<SkeletonNode> nodes;
+  firstNode.assign(layers.size() + 1, 0);
   for (size_t i = 0; i < layers.size(); ++i) {
-    firstNode[i] = uint32_t(out.nodes.size());
+    firstNode[i] = uint32_t(nodes.size());
     for (size_t r = 0; r < layers[i].regions.size(); ++r) {
       SkeletonNode n;
       n.layer = uint32_t(i);
@@ -511,40 +516,57 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
         for (size_t v = 0; v < m.vertexCount(); ++v) n.centroid += m.vertex(v);
         n.centroid /= double(m.vertexCount());
       }
-      out.nodes.push_back(std::move(n));
+      nodes.push_back(std::move(n));
     }
   }
-  firstNode[layers.size()] = uint32_t(out.nodes.size());
-  if (out.nodes.empty()) return fail(Status::EmptyInput, "skeleton: no IGDS in the layers");
-  if (boundary.triangles.empty()) return fail(Status::EmptyInput, "skeleton: empty boundary surface");
+  firstNode[layers.size()] = uint32_t(nodes.size());
+  return nodes;
+}
 
-  SteepestTracer tracer(boundary, field);
-
-  // Per layer: open boundary segments of its nodes, mean segment length.
-  std::vector<std::vector<std::array<Vec3, 2>>> segs(layers.size());
-  std::vector<std::vector<uint32_t>> segOwner(layers.size());
-  double segTotal = 0;
-  size_t segCount = 0;
-  for (size_t i = 0; i < layers.size(); ++i)
-    for (size_t r = 0; r < layers[i].regions.size(); ++r) {
-      const Mesh& m = layers[i].regions[r].mesh;
-      for (const auto& e : openEdges(m)) {
-        segs[i].push_back({m.vertex(e[0]), m.vertex(e[1])});
-        segOwner[i].push_back(uint32_t(firstNode[i] + r));
-        segTotal += (m.vertex(e[0]) - m.vertex(e[1])).norm();
-        ++segCount;
+// Per layer: the open boundary segments of its nodes with their owners (node indices), and
+// their hash grids, built on first use.
+class LayerBoundaries {
+ public:
+  LayerBoundaries(const std::vector<CurvedLayer>& layers, const std::vector<uint32_t>& firstNode)
+      : segs_(layers.size()), owner_(layers.size()), grids_(layers.size()) {
+    for (size_t i = 0; i < layers.size(); ++i)
+      for (size_t r = 0; r < layers[i].regions.size(); ++r) {
+        const Mesh& m = layers[i].regions[r].mesh;
+        for (const auto& e : openEdges(m)) {
+          segs_[i].push_back({m.vertex(e[0]), m.vertex(e[1])});
+          owner_[i].push_back(uint32_t(firstNode[i] + r));
+          total_ += (m.vertex(e[0]) - m.vertex(e[1])).norm();
+          ++count_;
+        }
       }
-    }
-  // A crossing of phi_i on the boundary surface belongs to the node whose IGDS boundary passes
-  // within tol (the IGDS boundary lies on that iso-curve, up to remeshing chords).
-  const double meanSeg = segCount ? segTotal / segCount : tracer.meanEdge();
-  const double tol = 0.75 * std::max(tracer.meanEdge(), meanSeg);
+  }
 
-  // Boundary-surface edges crossing each layer's iso-value: phi_u < phi_i <= phi_w.
-  std::vector<double> iso(layers.size());
-  for (size_t i = 0; i < layers.size(); ++i) iso[i] = layers[i].isoValue;
-  std::vector<std::vector<uint32_t>> crossing(layers.size());
-  const auto& edges = tracer.edges();
+  // The segments' mean length (fallback when there is none).
+  double meanLength(double fallback) const { return count_ ? total_ / count_ : fallback; }
+
+  // Layer i's grid. Cells at least an eighth of the layer's longest segment, so a long segment
+  // spans a bounded number of cells, and at least minCell.
+  const SegmentGrid& grid(size_t i, double minCell) {
+    if (grids_[i].empty() && !segs_[i].empty()) {
+      double longest = 0;
+      for (const auto& sg : segs_[i]) longest = std::max(longest, (sg[1] - sg[0]).norm());
+      grids_[i].build(segs_[i], owner_[i], std::max(minCell, longest / 8));
+    }
+    return grids_[i];
+  }
+
+ private:
+  std::vector<std::vector<std::array<Vec3, 2>>> segs_;
+  std::vector<std::vector<uint32_t>> owner_;
+  std::vector<SegmentGrid> grids_;
+  double total_ = 0;
+  size_t count_ = 0;
+};
+
+// Boundary-surface edges crossing each layer's iso-value: phi_u < phi_i <= phi_w.
+std::vector<std::vector<uint32_t>> crossingEdges(const std::vector<std::array<uint32_t, 2>>& edges,
+                                                 const std::vector<double>& field, const std::vector<double>& iso) {
+  std::vector<std::vector<uint32_t>> crossing(iso.size());
   for (uint32_t e = 0; e < edges.size(); ++e) {
     const double fa = field[edges[e][0]], fb = field[edges[e][1]];
     const double lo = std::min(fa, fb), hi = std::max(fa, fb);
@@ -552,18 +574,23 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
     auto it = std::upper_bound(iso.begin(), iso.end(), lo);
     for (; it != iso.end() && *it <= hi; ++it) crossing[it - iso.begin()].push_back(e);
   }
+  return crossing;
+}
 
-  std::vector<SegmentGrid> grids(layers.size());
-  // Cells at least an eighth of the layer's longest segment, so a long segment spans a bounded
-  // number of cells.
-  auto gridOf = [&](size_t i) -> const SegmentGrid& {
-    if (grids[i].empty() && !segs[i].empty()) {
-      double longest = 0;
-      for (const auto& sg : segs[i]) longest = std::max(longest, (sg[1] - sg[0]).norm());
-      grids[i].build(segs[i], segOwner[i], std::max(2 * tol, longest / 8));
-    }
-    return grids[i];
-  };
+// A path's starting point: x on the boundary-surface edge from lowV to highV (field increasing).
+struct Start {
+  uint32_t lowV, highV;
+  Vec3 x;
+};
+
+// Starting points of each node: the crossings of its layer's iso-value assigned to it (its IGDS
+// boundary passes within tol), spread by farthest-point picks.
+std::vector<std::vector<Start>> pathStarts(const std::vector<CurvedLayer>& layers,
+                                           const std::vector<uint32_t>& firstNode, const SteepestTracer& tracer,
+                                           const std::vector<double>& field, const std::vector<double>& iso,
+                                           const std::vector<std::vector<uint32_t>>& crossing,
+                                           LayerBoundaries& bounds, double tol, int pathsPerNode) {
+  const auto& edges = tracer.edges();
   auto crossPoint = [&](uint32_t e, double v, uint32_t& lowV, uint32_t& highV) {
     uint32_t a = edges[e][0], b = edges[e][1];
     if (field[a] > field[b]) std::swap(a, b);
@@ -572,16 +599,10 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
     const double t = (v - field[a]) / (field[b] - field[a]);
     return Vec3(tracer.point(a) + t * (tracer.point(b) - tracer.point(a)));
   };
-
-  // Starting points of each node: crossings assigned to it, spread by farthest-point picks.
-  struct Start {
-    uint32_t lowV, highV;
-    Vec3 x;
-  };
-  std::vector<std::vector<Start>> starts(out.nodes.size());
+  std::vector<std::vector<Start>> starts(firstNode.back());
   for (size_t i = 0; i < layers.size(); ++i) {
     if (layers[i].regions.empty()) continue;
-    const SegmentGrid& grid = gridOf(i);
+    const SegmentGrid& grid = bounds.grid(i, 2 * tol);
     if (grid.empty()) continue;
     std::vector<std::vector<Start>> all(layers[i].regions.size());
     for (uint32_t e : crossing[i]) {
@@ -593,27 +614,47 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
     for (size_t r = 0; r < all.size(); ++r) {
       std::vector<Vec3> pts;
       for (const Start& s : all[r]) pts.push_back(s.x);
-      for (size_t k : spreadPick(pts, size_t(options.pathsPerNode)))
+      for (size_t k : spreadPick(pts, size_t(pathsPerNode)))
         starts[firstNode[i] + r].push_back(all[r][k]);
     }
   }
+  return starts;
+}
 
-  std::vector<std::vector<uint32_t>> lower(out.nodes.size()), upper(out.nodes.size());
-  auto link = [&](uint32_t lo, uint32_t hi) {
+// lower[n] and upper[n] of every node, as links are found (duplicates allowed until sorted).
+struct Links {
+  std::vector<std::vector<uint32_t>> lower, upper;
+  explicit Links(size_t n) : lower(n), upper(n) {}
+  void link(uint32_t lo, uint32_t hi) {
     lower[hi].push_back(lo);
     upper[lo].push_back(hi);
-  };
+  }
+};
+
+// Sorts each list and drops repeats.
+void sortUnique(std::vector<uint32_t>& v) {
+  std::sort(v.begin(), v.end());
+  v.erase(std::unique(v.begin(), v.end()), v.end());
+}
+
+// Links of consecutive layers by steepest paths (Fig. 12): ascending from layer i's starts to
+// phi_{i+1}, descending from layer i + 1's to phi_i; a path's end names the node whose boundary
+// passes within tol.
+void linkBySteepestPaths(const std::vector<CurvedLayer>& layers, const std::vector<uint32_t>& firstNode,
+                         const SteepestTracer& tracer, const std::vector<double>& iso,
+                         const std::vector<std::vector<Start>>& starts, LayerBoundaries& bounds, double tol,
+                         Links& links) {
   for (size_t i = 0; i + 1 < layers.size(); ++i) {
     if (layers[i].regions.empty() || layers[i + 1].regions.empty()) continue;
-    const SegmentGrid& gLo = gridOf(i);
-    const SegmentGrid& gHi = gridOf(i + 1);
+    const SegmentGrid& gLo = bounds.grid(i, 2 * tol);
+    const SegmentGrid& gHi = bounds.grid(i + 1, 2 * tol);
     // Ascending paths from layer i to phi_{i+1}.
     for (uint32_t a = firstNode[i]; a < firstNode[i + 1]; ++a)
       for (const Start& s : starts[a]) {
         Vec3 end;
         if (gHi.empty() || !tracer.trace(s.lowV, s.highV, s.x, +1, iso[i + 1], end)) continue;
         const int64_t b = gHi.nearest(end, tol);
-        if (b >= 0) link(a, uint32_t(b));
+        if (b >= 0) links.link(a, uint32_t(b));
       }
     // Descending paths from layer i + 1 to phi_i.
     for (uint32_t b = firstNode[i + 1]; b < firstNode[i + 2]; ++b)
@@ -621,20 +662,22 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
         Vec3 end;
         if (gLo.empty() || !tracer.trace(s.lowV, s.highV, s.x, -1, iso[i], end)) continue;
         const int64_t a = gLo.nearest(end, tol);
-        if (a >= 0) link(uint32_t(a), b);
+        if (a >= 0) links.link(uint32_t(a), b);
       }
   }
-  for (auto& v : lower) {
-    std::sort(v.begin(), v.end());
-    v.erase(std::unique(v.begin(), v.end()), v.end());
-  }
-  // Fallback: a node above a non-empty layer left without a lower-node is linked to the previous
-  // layer's node nearest to its boundary (all its vertices when it has no open boundary).
+}
+
+// Fallback: a node above a non-empty layer left without a lower-node is linked to the previous
+// layer's node nearest to its boundary (all its vertices when it has no open boundary). Returns
+// the number of such links.
+size_t linkFallbacks(const std::vector<CurvedLayer>& layers, const std::vector<uint32_t>& firstNode,
+                     LayerBoundaries& bounds, double tol, Links& links) {
+  size_t made = 0;
   for (size_t i = 1; i < layers.size(); ++i) {
     if (layers[i - 1].regions.empty()) continue;
-    const SegmentGrid& gLo = gridOf(i - 1);
+    const SegmentGrid& gLo = bounds.grid(i - 1, 2 * tol);
     for (uint32_t b = firstNode[i]; b < firstNode[i + 1]; ++b) {
-      if (!lower[b].empty()) continue;
+      if (!links.lower[b].empty()) continue;
       const LayerRegion& reg = layers[i].regions[b - firstNode[i]];
       std::vector<Vec3> probe;
       for (const auto& e : openEdges(reg.mesh)) probe.push_back(reg.mesh.vertex(e[0]));
@@ -672,18 +715,48 @@ SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mes
         }
       }
       if (who >= 0) {
-        link(uint32_t(who), b);
-        ++out.fallbackLinks;
+        links.link(uint32_t(who), b);
+        ++made;
       }
     }
   }
+  return made;
+}
+
+}  // namespace
+
+SkeletonTree buildSkeletonTree(const std::vector<CurvedLayer>& layers, const Mesh& boundary,
+                               const std::vector<double>& field, const SkeletonOptions& options) {
+  const auto t0 = Clock::now();
+  const Outcome input = checkSkeletonInput(layers, boundary, field, options);
+  if (!input.ok()) return skeletonFailure(input.status, input.message);
+  SkeletonTree out;
+  std::vector<uint32_t> firstNode;
+  out.nodes = skeletonNodes(layers, firstNode);
+  if (out.nodes.empty()) return skeletonFailure(Status::EmptyInput, "skeleton: no IGDS in the layers");
+  if (boundary.triangles.empty()) return skeletonFailure(Status::EmptyInput, "skeleton: empty boundary surface");
+
+  SteepestTracer tracer(boundary, field);
+  LayerBoundaries bounds(layers, firstNode);
+  // A crossing of phi_i on the boundary surface belongs to the node whose IGDS boundary passes
+  // within tol (the IGDS boundary lies on that iso-curve, up to remeshing chords).
+  const double meanSeg = bounds.meanLength(tracer.meanEdge());
+  const double tol = 0.75 * std::max(tracer.meanEdge(), meanSeg);
+  std::vector<double> iso(layers.size());
+  for (size_t i = 0; i < layers.size(); ++i) iso[i] = layers[i].isoValue;
+  const std::vector<std::vector<uint32_t>> crossing = crossingEdges(tracer.edges(), field, iso);
+  const std::vector<std::vector<Start>> starts =
+      pathStarts(layers, firstNode, tracer, field, iso, crossing, bounds, tol, options.pathsPerNode);
+
+  Links links(out.nodes.size());
+  linkBySteepestPaths(layers, firstNode, tracer, iso, starts, bounds, tol, links);
+  for (auto& v : links.lower) sortUnique(v);
+  out.fallbackLinks = linkFallbacks(layers, firstNode, bounds, tol, links);
   for (size_t n = 0; n < out.nodes.size(); ++n) {
-    auto& lo = lower[n];
-    std::sort(lo.begin(), lo.end());
-    lo.erase(std::unique(lo.begin(), lo.end()), lo.end());
-    auto& up = upper[n];
-    std::sort(up.begin(), up.end());
-    up.erase(std::unique(up.begin(), up.end()), up.end());
+    auto& lo = links.lower[n];
+    sortUnique(lo);
+    auto& up = links.upper[n];
+    sortUnique(up);
     out.nodes[n].lower = lo;
     out.nodes[n].upper = up;
     out.edges += lo.size();
