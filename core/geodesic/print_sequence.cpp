@@ -250,22 +250,19 @@ size_t packedCycles(const SkeletonTree& tree, const std::vector<std::vector<uint
   return count;
 }
 
-}  // namespace
+PrintSequence sequenceFailure(TraversalKind kind, Status s, std::string msg) {
+  PrintSequence r;
+  r.kind = kind;
+  r.status = s;
+  r.message = std::move(msg);
+  r.collisionFree = false;
+  return r;
+}
 
-PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& collisions,
-                            TraversalKind kind) {
-  const auto t0 = Clock::now();
-  PrintSequence out;
-  out.kind = kind;
+// InvalidOption (or EmptyInput) for a tree or collision model printSequence cannot use.
+Outcome checkSequenceInput(const SkeletonTree& tree, const CollisionModel& collisions) {
+  auto fail = [](Status s, std::string msg) { return failed<Outcome>(s, std::move(msg)); };
   const size_t n = tree.nodes.size();
-  auto fail = [&](Status s, std::string msg) {
-    PrintSequence r;
-    r.kind = kind;
-    r.status = s;
-    r.message = std::move(msg);
-    r.collisionFree = false;
-    return r;
-  };
   if (!tree.ok()) return fail(Status::InvalidOption, "sequence: the skeleton tree carries an error");
   if (n == 0) return fail(Status::EmptyInput, "sequence: empty skeleton tree");
   if (!collisions.ok())
@@ -293,230 +290,309 @@ PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& coll
       if (j >= n || j == i)
         return fail(Status::InvalidOption, "sequence: collision model index out of range");
   }
+  return {};
+}
 
-  std::vector<uint32_t> lowerLeft0(n), blockers0(n, 0);
-  for (size_t i = 0; i < n; ++i) lowerLeft0[i] = uint32_t(tree.nodes[i].lower.size());
-  // Ancestors (through lower-nodes) as bitsets, nodes in (layer, region) order so lower-nodes
-  // come first.
-  const size_t words = (n + 63) / 64;
+// Ancestors (through lower-nodes) of every node as bitsets of `words` 64-bit words, node i's at
+// [i * words, (i + 1) * words); nodes in (layer, region) order so lower-nodes come first.
+std::vector<uint64_t> ancestorSets(const SkeletonTree& tree, size_t words) {
+  const size_t n = tree.nodes.size();
   std::vector<uint64_t> anc(n * words, 0);
   for (size_t i = 0; i < n; ++i)
     for (uint32_t l : tree.nodes[i].lower) {
       anc[i * words + l / 64] |= uint64_t(1) << (l % 64);
       for (size_t w = 0; w < words; ++w) anc[i * words + w] |= anc[size_t(l) * words + w];
     }
+  return anc;
+}
+
+// Criteria 1 and 2 as the walks use them, and where every order starts.
+struct Constraints {
+  Constraints(const SkeletonTree& t, const CollisionModel& m) : tree(t), collisions(m) {}
+  const SkeletonTree& tree;
+  const CollisionModel& collisions;
+  std::vector<uint32_t> lowerLeft0;  // per node: its lower-nodes (Criterion 1)
+  std::vector<uint32_t> blockers0;   // per node x: the u with x in avoidable[u] (Criterion 2)
+  // Criterion 2: x may be printed only once every u with x in pcs[u] is printed, except where x
+  // is an ancestor of u (that collision happens in every order).
+  std::vector<std::vector<uint32_t>> avoidable, blockedBy;
+  std::vector<uint8_t> stuck;  // pcs[u] holds an ancestor of u: u collides in every order
+  size_t unavoidable = 0;      // stuck nodes
+  // Only the lowest entries of each PCS matter for cycles and collisions: x in pcs[u] above
+  // another entry y (y an ancestor of x) is printed after y anyway.
+  std::vector<std::vector<uint32_t>> lowestLinks;
+  uint32_t lowest = 0;  // the first layer's lowest centroid: every walk starts there
+};
+
+Constraints constraintsOf(const SkeletonTree& tree, const CollisionModel& collisions) {
+  const size_t n = tree.nodes.size();
+  Constraints c(tree, collisions);
+  c.lowerLeft0.resize(n);
+  c.blockers0.assign(n, 0);
+  for (size_t i = 0; i < n; ++i) c.lowerLeft0[i] = uint32_t(tree.nodes[i].lower.size());
+  const size_t words = (n + 63) / 64;
+  const std::vector<uint64_t> anc = ancestorSets(tree, words);
   auto isAncestor = [&](uint32_t x, size_t of) {
     return (anc[of * words + x / 64] >> (x % 64)) & 1;
   };
-  // Criterion 2: x may be printed only once every u with x in pcs[u] is printed, except where x
-  // is an ancestor of u (that collision happens in every order).
-  std::vector<std::vector<uint32_t>> avoidable(n), blockedBy(n);
-  std::vector<uint8_t> stuck(n, 0);
-  size_t unavoidable = 0;
+  c.avoidable.resize(n);
+  c.blockedBy.resize(n);
+  c.stuck.assign(n, 0);
   for (size_t u = 0; u < n; ++u) {
     for (uint32_t x : collisions.pcs[u]) {
       if (isAncestor(x, u)) {
-        stuck[u] = 1;
+        c.stuck[u] = 1;
         continue;
       }
-      avoidable[u].push_back(x);
-      blockedBy[x].push_back(uint32_t(u));
-      ++blockers0[x];
+      c.avoidable[u].push_back(x);
+      c.blockedBy[x].push_back(uint32_t(u));
+      ++c.blockers0[x];
     }
-    unavoidable += stuck[u];
+    c.unavoidable += c.stuck[u];
   }
-  auto dist = [&](uint32_t a, uint32_t b) {
-    return (tree.nodes[a].centroid - tree.nodes[b].centroid).norm();
-  };
-  auto isUpper = [&](uint32_t a, uint32_t b) {
-    const auto& up = tree.nodes[a].upper;
-    return std::binary_search(up.begin(), up.end(), b);
-  };
   // Start: the first layer's lowest centroid (first non-empty layer = nodes[0].layer).
-  uint32_t lowest = 0;
   for (uint32_t i = 0; i < n && tree.nodes[i].layer == tree.nodes[0].layer; ++i)
-    if (tree.nodes[i].centroid.z() < tree.nodes[lowest].centroid.z()) lowest = i;
-
-  // Where A3 must break Criterion 2 (no candidate meets it), four policies (Relaxation); A3
-  // keeps the order with the fewest colliding nodes, then retractions, then air moves.
-  enum class Relaxation {
-    Blockers,   // the candidates with the fewest unprinted blockers
-    Undecided,  // ... the fewest blockers whose collision is not yet decided
-    Release,    // a node whose collision is decided (a node of its PCS printed first) stops
-                // blocking the rest of its PCS: that would only shift collisions onto others
-    Exempt,     // as Release, and a feedback set of nodes (feedbackExemptions), chosen before
-                // the walk so that the remaining constraints are acyclic, never blocks
-  };
-  // Only the lowest entries of each PCS matter for cycles and collisions: x in pcs[u] above
-  // another entry y (y an ancestor of x) is printed after y anyway.
-  std::vector<std::vector<uint32_t>> lowestLinks(n);
-  {
-    std::vector<uint64_t> mask(words, 0);
-    for (size_t u = 0; u < n; ++u) {
-      for (uint32_t x : avoidable[u]) mask[x / 64] |= uint64_t(1) << (x % 64);
-      for (uint32_t x : avoidable[u]) {
-        bool above = false;
-        for (size_t w = 0; w < words && !above; ++w) above = (anc[x * words + w] & mask[w]) != 0;
-        if (!above) lowestLinks[u].push_back(x);
-      }
-      for (uint32_t x : avoidable[u]) mask[x / 64] = 0;
+    if (tree.nodes[i].centroid.z() < tree.nodes[c.lowest].centroid.z()) c.lowest = i;
+  c.lowestLinks.resize(n);
+  std::vector<uint64_t> mask(words, 0);
+  for (size_t u = 0; u < n; ++u) {
+    for (uint32_t x : c.avoidable[u]) mask[x / 64] |= uint64_t(1) << (x % 64);
+    for (uint32_t x : c.avoidable[u]) {
+      bool above = false;
+      for (size_t w = 0; w < words && !above; ++w) above = (anc[x * words + w] & mask[w]) != 0;
+      if (!above) c.lowestLinks[u].push_back(x);
     }
+    for (uint32_t x : c.avoidable[u]) mask[x / 64] = 0;
   }
-  // Per node: does the order print one of its (lowest) avoidable PCS entries before it?
-  auto breaksLinks = [&](const std::vector<uint32_t>& order) {
-    std::vector<size_t> pos(n);
-    for (size_t i = 0; i < n; ++i) pos[order[i]] = i;
-    std::vector<uint8_t> breaks(n, 0);
+  return c;
+}
+
+bool isUpperNode(const SkeletonTree& tree, uint32_t a, uint32_t b) {
+  const auto& up = tree.nodes[a].upper;
+  return std::binary_search(up.begin(), up.end(), b);
+}
+
+// Per node: does the order print one of its (lowest) avoidable PCS entries before it?
+std::vector<uint8_t> breaksLinks(const Constraints& c, const std::vector<uint32_t>& order) {
+  const size_t n = c.tree.nodes.size();
+  std::vector<size_t> pos(n);
+  for (size_t i = 0; i < n; ++i) pos[order[i]] = i;
+  std::vector<uint8_t> breaks(n, 0);
+  for (uint32_t u = 0; u < n; ++u)
+    for (uint32_t x : c.lowestLinks[u]) breaks[u] = breaks[u] || pos[x] < pos[u];
+  return breaks;
+}
+
+// Where A3 must break Criterion 2 (no candidate meets it), four policies (Relaxation); A3
+// keeps the order with the fewest colliding nodes, then retractions, then air moves.
+enum class Relaxation {
+  Blockers,   // the candidates with the fewest unprinted blockers
+  Undecided,  // ... the fewest blockers whose collision is not yet decided
+  Release,    // a node whose collision is decided (a node of its PCS printed first) stops
+              // blocking the rest of its PCS: that would only shift collisions onto others
+  Exempt,     // as Release, and a feedback set of nodes (feedbackExemptions), chosen before
+              // the walk so that the remaining constraints are acyclic, never blocks
+};
+
+// The next node of a walk among the Criterion-1 candidates `avail`, after node cur (-1 at the
+// start; distances from `from`), nearest first (ties: lower index). LPT: in the lowest layer
+// available. DPT: an upper-node of cur, else any. A3: meeting Criterion 2 (meetsC2), an
+// upper-node of cur first; where none meets it, the candidates of least cost (counted in
+// criterion2Relaxed), an upper-node of cur first.
+template <class MeetsC2, class Cost>
+int64_t pickNext(const SkeletonTree& tree, TraversalKind kind, const std::vector<uint32_t>& avail, int64_t cur,
+                 const Eigen::Vector3d& from, const MeetsC2& c2, const Cost& cost, size_t& criterion2Relaxed) {
+  auto nearestOf = [&](auto&& pred) {
+    int64_t best = -1;
+    double bestD = std::numeric_limits<double>::infinity();
+    for (uint32_t c : avail) {
+      if (!pred(c)) continue;
+      const double d = (tree.nodes[c].centroid - from).norm();
+      if (d < bestD || (d == bestD && c < best)) {
+        bestD = d;
+        best = c;
+      }
+    }
+    return best;
+  };
+  auto isUpper = [&](uint32_t a, uint32_t b) { return isUpperNode(tree, a, b); };
+  int64_t pick = -1;
+  switch (kind) {
+    case TraversalKind::LPT: {
+      uint32_t minLayer = std::numeric_limits<uint32_t>::max();
+      for (uint32_t c : avail) minLayer = std::min(minLayer, tree.nodes[c].layer);
+      pick = nearestOf([&](uint32_t c) { return tree.nodes[c].layer == minLayer; });
+      break;
+    }
+    case TraversalKind::DPT:
+      if (cur >= 0) pick = nearestOf([&](uint32_t c) { return isUpper(uint32_t(cur), c); });
+      if (pick < 0) pick = nearestOf([](uint32_t) { return true; });
+      break;
+    case TraversalKind::A3:
+      if (cur >= 0)
+        pick = nearestOf([&](uint32_t c) { return c2(c) && isUpper(uint32_t(cur), c); });
+      if (pick < 0) pick = nearestOf([&](uint32_t c) { return c2(c); });
+      if (pick < 0) {
+        // No candidate meets Criterion 2 (cycles of potential collisions, e.g. where two
+        // fronts close a loop): among the candidates that would break it for the fewest
+        // nodes, an upper-node of the current node first, else the nearest.
+        uint32_t fewest = std::numeric_limits<uint32_t>::max();
+        for (uint32_t c : avail) fewest = std::min(fewest, cost(c));
+        if (cur >= 0)
+          pick = nearestOf([&](uint32_t c) { return cost(c) == fewest && isUpper(uint32_t(cur), c); });
+        if (pick < 0) pick = nearestOf([&](uint32_t c) { return cost(c) == fewest; });
+        ++criterion2Relaxed;
+      }
+      break;
+  }
+  return pick;
+}
+
+// The colliding nodes of a complete order (node u printed after some x in pcs[u]); with the
+// Exempt policy, criterion2Relaxed also counts the nodes whose avoidable entries it breaks.
+void scoreOrder(const Constraints& c, Relaxation policy, PrintSequence& seq) {
+  const size_t n = c.tree.nodes.size();
+  std::vector<size_t> pos(n);
+  for (size_t i = 0; i < n; ++i) pos[seq.order[i]] = i;
+  if (policy == Relaxation::Exempt)  // the nodes whose avoidable entries the order breaks
+    for (uint8_t b : breaksLinks(c, seq.order)) seq.criterion2Relaxed += b;
+  for (size_t u = 0; u < n; ++u)
+    for (uint32_t x : c.collisions.pcs[u])
+      if (pos[x] < pos[u]) {
+        ++seq.collidingNodes;
+        break;
+      }
+  seq.collisionFree = seq.collidingNodes == 0;
+}
+
+// One walk of traversal `kind` under `policy` (exempt: the nodes that never block, used by the
+// Exempt policy only) into seq. False when no node meets Criterion 1 (cyclic links).
+bool walk(const Constraints& c, TraversalKind kind, Relaxation policy, const std::vector<uint8_t>& exempt,
+          PrintSequence& seq) {
+  const SkeletonTree& tree = c.tree;
+  const size_t n = tree.nodes.size();
+  seq.kind = kind;
+  std::vector<uint32_t> lowerLeft = c.lowerLeft0, blockersLeft = c.blockers0;
+  std::vector<uint8_t> printed(n, 0), released(n, 0), decided(n, 0);
+  auto release = [&](uint32_t u) {
+    if (released[u]) return;
+    released[u] = 1;
+    for (uint32_t x : c.avoidable[u]) --blockersLeft[x];
+  };
+  if (policy == Relaxation::Exempt) {
     for (uint32_t u = 0; u < n; ++u)
-      for (uint32_t x : lowestLinks[u]) breaks[u] = breaks[u] || pos[x] < pos[u];
-    return breaks;
+      if (exempt[u]) release(u);
+  }
+  auto c2 = [&](uint32_t x) { return blockersLeft[x] == 0; };
+  auto cost = [&](uint32_t x) {
+    if (policy != Relaxation::Undecided) return blockersLeft[x];
+    uint32_t k = 0;
+    for (uint32_t u : c.blockedBy[x]) k += !printed[u] && !decided[u];
+    return k;
   };
-  std::vector<uint8_t> exempt;
-  auto run = [&](TraversalKind kind, Relaxation policy, PrintSequence& seq) -> bool {
-    seq.kind = kind;
-    std::vector<uint32_t> lowerLeft = lowerLeft0, blockersLeft = blockers0;
-    std::vector<uint8_t> printed(n, 0), released(n, 0), decided(n, 0);
-    auto release = [&](uint32_t u) {
-      if (released[u]) return;
-      released[u] = 1;
-      for (uint32_t x : avoidable[u]) --blockersLeft[x];
-    };
-    if (policy == Relaxation::Exempt) {
-      for (uint32_t u = 0; u < n; ++u)
-        if (exempt[u]) release(u);
+  std::vector<uint32_t> avail;  // Criterion-1 candidates
+  for (uint32_t i = 0; i < n; ++i)
+    if (lowerLeft[i] == 0) avail.push_back(i);
+  int64_t cur = -1;
+  while (seq.order.size() < n) {
+    if (avail.empty()) return false;
+    const Eigen::Vector3d from = cur >= 0 ? tree.nodes[cur].centroid : tree.nodes[c.lowest].centroid;
+    const int64_t pick = pickNext(tree, kind, avail, cur, from, c2, cost, seq.criterion2Relaxed);
+    const uint32_t p = uint32_t(pick);
+    if (cur >= 0 && !isUpperNode(tree, uint32_t(cur), p)) {
+      ++seq.retractions;
+      seq.airMoveMm += (tree.nodes[uint32_t(cur)].centroid - tree.nodes[p].centroid).norm();
     }
-    auto c2 = [&](uint32_t x) { return blockersLeft[x] == 0; };
-    auto cost = [&](uint32_t c) {
-      if (policy != Relaxation::Undecided) return blockersLeft[c];
-      uint32_t k = 0;
-      for (uint32_t u : blockedBy[c]) k += !printed[u] && !decided[u];
-      return k;
-    };
-    std::vector<uint32_t> avail;  // Criterion-1 candidates
-    for (uint32_t i = 0; i < n; ++i)
-      if (lowerLeft[i] == 0) avail.push_back(i);
-    int64_t cur = -1;
-    while (seq.order.size() < n) {
-      if (avail.empty()) return false;
-      const Eigen::Vector3d from = cur >= 0 ? tree.nodes[cur].centroid : tree.nodes[lowest].centroid;
-      auto nearestOf = [&](auto&& pred) {
-        int64_t best = -1;
-        double bestD = std::numeric_limits<double>::infinity();
-        for (uint32_t c : avail) {
-          if (!pred(c)) continue;
-          const double d = (tree.nodes[c].centroid - from).norm();
-          if (d < bestD || (d == bestD && c < best)) {
-            bestD = d;
-            best = c;
-          }
-        }
-        return best;
-      };
-      int64_t pick = -1;
-      switch (kind) {
-        case TraversalKind::LPT: {
-          uint32_t minLayer = std::numeric_limits<uint32_t>::max();
-          for (uint32_t c : avail) minLayer = std::min(minLayer, tree.nodes[c].layer);
-          pick = nearestOf([&](uint32_t c) { return tree.nodes[c].layer == minLayer; });
-          break;
-        }
-        case TraversalKind::DPT:
-          if (cur >= 0) pick = nearestOf([&](uint32_t c) { return isUpper(uint32_t(cur), c); });
-          if (pick < 0) pick = nearestOf([](uint32_t) { return true; });
-          break;
-        case TraversalKind::A3:
-          if (cur >= 0)
-            pick = nearestOf([&](uint32_t c) { return c2(c) && isUpper(uint32_t(cur), c); });
-          if (pick < 0) pick = nearestOf([&](uint32_t c) { return c2(c); });
-          if (pick < 0) {
-            // No candidate meets Criterion 2 (cycles of potential collisions, e.g. where two
-            // fronts close a loop): among the candidates that would break it for the fewest
-            // nodes, an upper-node of the current node first, else the nearest.
-            uint32_t fewest = std::numeric_limits<uint32_t>::max();
-            for (uint32_t c : avail) fewest = std::min(fewest, cost(c));
-            if (cur >= 0)
-              pick = nearestOf([&](uint32_t c) { return cost(c) == fewest && isUpper(uint32_t(cur), c); });
-            if (pick < 0) pick = nearestOf([&](uint32_t c) { return cost(c) == fewest; });
-            ++seq.criterion2Relaxed;
-          }
-          break;
-      }
-      const uint32_t p = uint32_t(pick);
-      if (cur >= 0 && !isUpper(uint32_t(cur), p)) {
-        ++seq.retractions;
-        seq.airMoveMm += dist(uint32_t(cur), p);
-      }
-      seq.order.push_back(p);
-      printed[p] = 1;
-      avail.erase(std::find(avail.begin(), avail.end(), p));
-      release(p);
-      for (uint32_t u : blockedBy[p]) {
-        if (printed[u]) continue;
-        decided[u] = 1;  // p printed before u: u collides whatever comes next
-        if (policy == Relaxation::Release || policy == Relaxation::Exempt) release(u);
-      }
-      for (uint32_t u : tree.nodes[p].upper)
-        if (--lowerLeft[u] == 0) avail.push_back(u);
-      cur = p;
+    seq.order.push_back(p);
+    printed[p] = 1;
+    avail.erase(std::find(avail.begin(), avail.end(), p));
+    release(p);
+    for (uint32_t u : c.blockedBy[p]) {
+      if (printed[u]) continue;
+      decided[u] = 1;  // p printed before u: u collides whatever comes next
+      if (policy == Relaxation::Release || policy == Relaxation::Exempt) release(u);
     }
-    // Collision check: node u printed after some x in pcs[u].
-    std::vector<size_t> pos(n);
-    for (size_t i = 0; i < n; ++i) pos[seq.order[i]] = i;
-    if (policy == Relaxation::Exempt)  // the nodes whose avoidable entries the order breaks
-      for (uint8_t b : breaksLinks(seq.order)) seq.criterion2Relaxed += b;
-    for (size_t u = 0; u < n; ++u)
-      for (uint32_t x : collisions.pcs[u])
-        if (pos[x] < pos[u]) {
-          ++seq.collidingNodes;
-          break;
-        }
-    seq.collisionFree = seq.collidingNodes == 0;
-    return true;
+    for (uint32_t u : tree.nodes[p].upper)
+      if (--lowerLeft[u] == 0) avail.push_back(u);
+    cur = p;
+  }
+  scoreOrder(c, policy, seq);
+  return true;
+}
+
+bool better(const PrintSequence& a, const PrintSequence& b) {
+  return a.collidingNodes < b.collidingNodes ||
+         (a.collidingNodes == b.collidingNodes &&
+          (a.retractions < b.retractions ||
+           (a.retractions == b.retractions && a.airMoveMm < b.airMoveMm)));
+}
+
+// The exemptions of the Exempt policy: the smallest of the greedy feedback set and the colliding
+// nodes of the best order so far, of LPT's and of DPT's, each with every exemption given back
+// (latest printed first) whose links close no cycle. So A3 never collides on more nodes than LPT
+// or DPT. False when a walk finds cyclic links.
+bool chooseExemptions(const Constraints& c, const PrintSequence& best, std::vector<uint8_t>& exempt) {
+  const SkeletonTree& tree = c.tree;
+  const size_t n = tree.nodes.size();
+  auto count = [&](const std::vector<uint8_t>& e) {
+    size_t k = 0;
+    for (size_t u = 0; u < n; ++u) k += e[u] && !c.stuck[u];
+    return k;
   };
-  auto better = [](const PrintSequence& a, const PrintSequence& b) {
-    return a.collidingNodes < b.collidingNodes ||
-           (a.collidingNodes == b.collidingNodes &&
-            (a.retractions < b.retractions ||
-             (a.retractions == b.retractions && a.airMoveMm < b.airMoveMm)));
-  };
-  const char* cyclicLinks = "sequence: no node meets Criterion 1 (cyclic links)";
-  if (!run(kind, Relaxation::Blockers, out)) return fail(Status::Internal, cyclicLinks);
-  if (kind == TraversalKind::A3 && out.criterion2Relaxed > 0) {
-    for (const Relaxation policy : {Relaxation::Undecided, Relaxation::Release}) {
-      PrintSequence seq;
-      if (!run(kind, policy, seq)) return fail(Status::Internal, cyclicLinks);
-      if (better(seq, out)) out = std::move(seq);
-    }
-    // Exempt: the smallest of the greedy feedback set and the colliding nodes of the best order
-    // so far, of LPT's and of DPT's, each with every exemption given back (latest printed first)
-    // whose links close no cycle. So A3 never collides on more nodes than LPT or DPT.
-    auto count = [&](const std::vector<uint8_t>& e) {
-      size_t k = 0;
-      for (size_t u = 0; u < n; ++u) k += e[u] && !stuck[u];
-      return k;
-    };
-    exempt = feedbackExemptions(tree, lowestLinks, stuck);
-    std::vector<PrintSequence> seeds(3);
-    seeds[0] = out;
-    if (!run(TraversalKind::LPT, Relaxation::Blockers, seeds[1]) ||
-        !run(TraversalKind::DPT, Relaxation::Blockers, seeds[2]))
-      return fail(Status::Internal, cyclicLinks);
-    for (const PrintSequence& seed : seeds) {
-      std::vector<uint8_t> seeded = breaksLinks(seed.order);
-      for (uint32_t u = 0; u < n; ++u) seeded[u] = seeded[u] || stuck[u];
-      std::vector<uint32_t> latestFirst;
-      for (auto it = seed.order.rbegin(); it != seed.order.rend(); ++it)
-        if (!stuck[*it]) latestFirst.push_back(*it);
-      giveBack(tree, lowestLinks, latestFirst, seeded);
-      if (count(seeded) < count(exempt)) exempt.swap(seeded);
-    }
+  exempt = feedbackExemptions(tree, c.lowestLinks, c.stuck);
+  std::vector<PrintSequence> seeds(3);
+  seeds[0] = best;
+  if (!walk(c, TraversalKind::LPT, Relaxation::Blockers, exempt, seeds[1]) ||
+      !walk(c, TraversalKind::DPT, Relaxation::Blockers, exempt, seeds[2]))
+    return false;
+  for (const PrintSequence& seed : seeds) {
+    std::vector<uint8_t> seeded = breaksLinks(c, seed.order);
+    for (uint32_t u = 0; u < n; ++u) seeded[u] = seeded[u] || c.stuck[u];
+    std::vector<uint32_t> latestFirst;
+    for (auto it = seed.order.rbegin(); it != seed.order.rend(); ++it)
+      if (!c.stuck[*it]) latestFirst.push_back(*it);
+    giveBack(tree, c.lowestLinks, latestFirst, seeded);
+    if (count(seeded) < count(exempt)) exempt.swap(seeded);
+  }
+  return true;
+}
+
+// A3 where its first walk broke Criterion 2: the walks under the other policies (Undecided,
+// Release, then Exempt with chooseExemptions) replace `out` when better. False when a walk
+// finds cyclic links.
+bool relaxCriterion2(const Constraints& c, TraversalKind kind, PrintSequence& out) {
+  const std::vector<uint8_t> none;
+  for (const Relaxation policy : {Relaxation::Undecided, Relaxation::Release}) {
     PrintSequence seq;
-    if (!run(kind, Relaxation::Exempt, seq)) return fail(Status::Internal, cyclicLinks);
+    if (!walk(c, kind, policy, none, seq)) return false;
     if (better(seq, out)) out = std::move(seq);
   }
-  out.unavoidableNodes = unavoidable;
+  std::vector<uint8_t> exempt;
+  if (!chooseExemptions(c, out, exempt)) return false;
+  PrintSequence seq;
+  if (!walk(c, kind, Relaxation::Exempt, exempt, seq)) return false;
+  if (better(seq, out)) out = std::move(seq);
+  return true;
+}
+
+}  // namespace
+
+PrintSequence printSequence(const SkeletonTree& tree, const CollisionModel& collisions,
+                            TraversalKind kind) {
+  const auto t0 = Clock::now();
+  const Outcome input = checkSequenceInput(tree, collisions);
+  if (!input.ok()) return sequenceFailure(kind, input.status, input.message);
+  const Constraints c = constraintsOf(tree, collisions);
+  PrintSequence out;
+  out.kind = kind;
+  const char* cyclicLinks = "sequence: no node meets Criterion 1 (cyclic links)";
+  if (!walk(c, kind, Relaxation::Blockers, {}, out)) return sequenceFailure(kind, Status::Internal, cyclicLinks);
+  if (kind == TraversalKind::A3 && out.criterion2Relaxed > 0 && !relaxCriterion2(c, kind, out)) {
+    return sequenceFailure(kind, Status::Internal, cyclicLinks);
+  }
+  out.unavoidableNodes = c.unavoidable;
   out.collidingLowerBound =
-      std::max(cyclesWithPcsLink(tree, collisions), packedCycles(tree, lowestLinks, stuck));
+      std::max(cyclesWithPcsLink(tree, collisions), packedCycles(tree, c.lowestLinks, c.stuck));
   out.ms = msSince(t0);
   return out;
 }
