@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Iso-planar NL curves (paper 003 Algorithm 2): plane sweep over triangles sorted by their span
 // along q, crossings linked per plane, Eq. 12 forward step, Eq. 14 side step (tilt-corrected, see
-// the header), zig-zag ordering and boundary joins; and the printing-time estimate.
+// the header), zig-zag ordering and boundary joins. The surface's topology is built by
+// isoplanar_topology.cpp, the printing-time estimate is isoplanar_time.cpp.
 #include "common/math_constants.h"
 #include "common/stopwatch.h"
 #include "isoplanar/isoplanar_paths.h"
+#include "isoplanar/isoplanar_topology.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -16,24 +18,6 @@
 #include <utility>
 
 namespace omnislice {
-namespace isoplanar_detail {
-
-constexpr uint32_t kNone = 0xffffffffu;
-
-// Edges, triangle-edge incidence and ordered boundary loops of the surface.
-struct Topology {
-  std::vector<uint32_t> tris;       // kept (non-degenerate) triangles, 3 vertices each
-  std::vector<uint32_t> triEdge;    // per kept triangle: edges v0v1, v1v2, v2v0
-  std::vector<uint32_t> ea, eb;     // edge endpoints, ea < eb
-  std::vector<uint8_t> faces;       // triangles per edge (saturating)
-  std::vector<std::vector<uint32_t>> loops;  // boundary loops: vertices in order
-  std::vector<std::vector<double>> loopCum;  // arc length at loop vertex i (closed: size m + 1)
-  std::vector<uint8_t> loopClosed;
-  std::vector<uint32_t> edgeLoop, edgeLoopIndex;  // boundary edge -> loop, index of its segment
-  std::vector<uint8_t> edgeForward;                // loop walks the edge from ea to eb
-};
-
-}  // namespace isoplanar_detail
 
 // Direction-independent data of a prepared surface.
 struct IsoplanarSurface::Data {
@@ -51,132 +35,6 @@ using isoplanar_detail::Topology;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 IsoplanarResult fail(Status s, std::string message) { return failed<IsoplanarResult>(s, std::move(message)); }
-
-// Edges and boundary loops. Bit-identical positions are welded first (an unwelded layer mesh
-// cuts like the welded one; indices stay those of the mesh, the first of equal vertices).
-// Edges of more than two triangles are kept (the cut pairs their triangles in order).
-void buildTopology(const Mesh& mesh, Topology& topo) {
-  const size_t nv = mesh.vertexCount();
-  std::vector<uint32_t> canon(nv);
-  {
-    std::vector<uint32_t> byPos(nv);
-    std::iota(byPos.begin(), byPos.end(), 0u);
-    const double* pos = mesh.positions.data();
-    auto less = [pos](uint32_t a, uint32_t b) {
-      for (int k = 0; k < 3; ++k) {
-        if (pos[3 * a + k] != pos[3 * b + k]) return pos[3 * a + k] < pos[3 * b + k];
-      }
-      return a < b;
-    };
-    std::sort(byPos.begin(), byPos.end(), less);
-    std::iota(canon.begin(), canon.end(), 0u);
-    for (size_t i = 1; i < nv; ++i) {
-      const uint32_t v = byPos[i], u = byPos[i - 1];
-      if (pos[3 * v] == pos[3 * u] && pos[3 * v + 1] == pos[3 * u + 1] && pos[3 * v + 2] == pos[3 * u + 2]) {
-        canon[v] = canon[u];
-      }
-    }
-  }
-  for (size_t f = 0; f < mesh.faceCount(); ++f) {
-    const uint32_t a = canon[mesh.triangles[3 * f]], b = canon[mesh.triangles[3 * f + 1]],
-                   c = canon[mesh.triangles[3 * f + 2]];
-    if (a == b || b == c || c == a) continue;
-    topo.tris.insert(topo.tris.end(), {a, b, c});
-  }
-  const size_t nt = topo.tris.size() / 3;
-  // Half-edges bucketed by their smaller vertex (counting sort), edges found within buckets.
-  std::vector<uint32_t> start(nv + 1, 0);
-  for (size_t h = 0; h < 3 * nt; ++h) {
-    const uint32_t a = topo.tris[h], b = topo.tris[h - h % 3 + (h % 3 + 1) % 3];
-    ++start[std::min(a, b) + 1];
-  }
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1), other(3 * nt), half(3 * nt);
-  for (size_t h = 0; h < 3 * nt; ++h) {
-    const uint32_t a = topo.tris[h], b = topo.tris[h - h % 3 + (h % 3 + 1) % 3];
-    const uint32_t slot = fill[std::min(a, b)]++;
-    other[slot] = std::max(a, b);
-    half[slot] = static_cast<uint32_t>(h);
-  }
-  topo.triEdge.assign(3 * nt, kNone);
-  for (size_t v = 0; v < nv; ++v) {
-    for (uint32_t s = start[v]; s < start[v + 1]; ++s) {
-      uint32_t edge = kNone;
-      for (uint32_t r = start[v]; r < s; ++r) {
-        if (other[r] == other[s]) {
-          edge = topo.triEdge[half[r]];
-          break;
-        }
-      }
-      if (edge == kNone) {
-        edge = static_cast<uint32_t>(topo.ea.size());
-        topo.ea.push_back(static_cast<uint32_t>(v));
-        topo.eb.push_back(other[s]);
-        topo.faces.push_back(0);
-      }
-      topo.triEdge[half[s]] = edge;
-      if (topo.faces[edge] < 255) ++topo.faces[edge];
-    }
-  }
-  // Boundary loops.
-  const size_t ne = topo.ea.size();
-  std::vector<uint32_t> bstart(nv + 1, 0);
-  for (size_t e = 0; e < ne; ++e) {
-    if (topo.faces[e] != 1) continue;
-    ++bstart[topo.ea[e] + 1];
-    ++bstart[topo.eb[e] + 1];
-  }
-  for (size_t v = 0; v < nv; ++v) bstart[v + 1] += bstart[v];
-  std::vector<uint32_t> bfill(bstart.begin(), bstart.end() - 1), bedges(bstart[nv]);
-  for (size_t e = 0; e < ne; ++e) {
-    if (topo.faces[e] != 1) continue;
-    bedges[bfill[topo.ea[e]]++] = static_cast<uint32_t>(e);
-    bedges[bfill[topo.eb[e]]++] = static_cast<uint32_t>(e);
-  }
-  topo.edgeLoop.assign(ne, kNone);
-  topo.edgeLoopIndex.assign(ne, 0);
-  topo.edgeForward.assign(ne, 0);
-  std::vector<uint8_t> used(ne, 0);
-  auto vertexOf = [&](uint32_t v) { return mesh.vertex(v); };
-  for (size_t e0 = 0; e0 < ne; ++e0) {
-    if (topo.faces[e0] != 1 || used[e0]) continue;
-    used[e0] = 1;
-    const uint32_t first = topo.ea[e0];
-    std::vector<uint32_t> verts{first}, edges{static_cast<uint32_t>(e0)};
-    uint32_t cur = topo.eb[e0];
-    bool closed = false;
-    for (;;) {
-      if (cur == first) {
-        closed = true;
-        break;
-      }
-      verts.push_back(cur);
-      uint32_t next = kNone;
-      for (uint32_t s = bstart[cur]; s < bstart[cur + 1]; ++s) {
-        if (!used[bedges[s]]) {
-          next = bedges[s];
-          break;
-        }
-      }
-      if (next == kNone) break;
-      used[next] = 1;
-      edges.push_back(next);
-      cur = topo.ea[next] == cur ? topo.eb[next] : topo.ea[next];
-    }
-    const uint32_t id = static_cast<uint32_t>(topo.loops.size());
-    std::vector<double> cum(edges.size() + 1, 0.0);
-    for (size_t i = 0; i < edges.size(); ++i) {
-      const uint32_t e = edges[i];
-      topo.edgeLoop[e] = id;
-      topo.edgeLoopIndex[e] = static_cast<uint32_t>(i);
-      topo.edgeForward[e] = verts[i] == topo.ea[e] ? 1 : 0;
-      cum[i + 1] = cum[i] + (vertexOf(topo.ea[e]) - vertexOf(topo.eb[e])).norm();
-    }
-    topo.loops.push_back(std::move(verts));
-    topo.loopCum.push_back(std::move(cum));
-    topo.loopClosed.push_back(closed ? 1 : 0);
-  }
-}
 
 // One crossing of the current plane with a mesh edge.
 struct Node {
@@ -1165,94 +1023,6 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   reportProgress(progress, "paths", 1.0);
   result.ms = msSince(t0);
   return result;
-}
-
-namespace {
-
-struct PolylineTime {
-  double seconds = 0, length = 0;
-  size_t unreachable = 0;
-};
-
-PolylineTime timePolyline(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& n,
-                          const std::vector<uint32_t>& ea, const std::vector<uint32_t>& eb,
-                          const std::vector<float>& et, const FeedFn& feed, double maxFeed,
-                          double minFeed) {
-  PolylineTime out;
-  const size_t m = p.size();
-  if (m < 2) return out;
-  std::vector<double> kg(m, 0.0);
-  for (size_t i = 1; i + 1 < m; ++i) {
-    const Eigen::Vector3d d0 = p[i] - p[i - 1], d1 = p[i + 1] - p[i];
-    const double l0 = d0.norm(), l1 = d1.norm();
-    if (l0 <= 0 || l1 <= 0) continue;
-    const Eigen::Vector3d kvec = 2 * (d1 / l1 - d0 / l0) / (l0 + l1);
-    Eigen::Vector3d tan = d0 / l0 + d1 / l1;
-    if (tan.norm() < 1e-12) continue;
-    tan.normalize();
-    kg[i] = kvec.dot(n[i].cross(tan));
-  }
-  for (size_t i = 0; i + 1 < m; ++i) {
-    const Eigen::Vector3d d = p[i + 1] - p[i];
-    const double len = d.norm();
-    if (len <= 0) continue;
-    const Eigen::Vector3d dir = d / len;
-    double f = kInf;
-    bool bad = false;
-    for (size_t j : {i, i + 1}) {
-      const double fj = feed ? feed(ea[j], eb[j], et[j], dir, kg[j]) : kInf;
-      if (std::isnan(fj) || fj <= 0) bad = true;
-      f = std::min(f, fj);
-    }
-    if (maxFeed > 0 && std::isfinite(maxFeed)) f = std::min(f, maxFeed);
-    if (bad || !std::isfinite(f)) {
-      f = minFeed;
-      ++out.unreachable;
-    }
-    out.seconds += len / f;
-    out.length += len;
-  }
-  return out;
-}
-
-}  // namespace
-
-IsoplanarTime estimateIsoplanarTime(const IsoplanarResult& paths, const FeedFn& feed,
-                                    double maxFeed, double travelSpeed, double minFeed) {
-  IsoplanarTime t;
-  if (!(minFeed > 0) || !std::isfinite(minFeed)) minFeed = 1;
-  for (size_t p = 0; p < paths.pathCurves.size(); ++p) {
-    const std::vector<uint32_t>& cs = paths.pathCurves[p];
-    for (size_t j = 0; j < cs.size(); ++j) {
-      if (cs[j] >= paths.curves.size()) continue;
-      const NlCurve& c = paths.curves[cs[j]];
-      const PolylineTime pt =
-          timePolyline(c.points, c.normals, c.edgeA, c.edgeB, c.edgeT, feed, maxFeed, minFeed);
-      t.printS += pt.seconds;
-      t.pathMm += pt.length;
-      t.unreachableSegments += pt.unreachable;
-      if (j > 0 && p < paths.pathJoins.size() && j - 1 < paths.pathJoins[p].size()) {
-        const uint32_t ji = paths.pathJoins[p][j - 1];
-        if (ji < paths.joins.size()) {
-          const IsoplanarJoin& jn = paths.joins[ji];
-          const PolylineTime jt = timePolyline(jn.points, jn.normals, jn.edgeA, jn.edgeB, jn.edgeT,
-                                               feed, maxFeed, minFeed);
-          t.joinS += jt.seconds;
-          t.pathMm += jt.length;
-          t.unreachableSegments += jt.unreachable;
-        }
-      }
-    }
-    if (p > 0 && p < paths.paths.size() && !paths.paths[p].points.empty() &&
-        !paths.paths[p - 1].points.empty()) {
-      const double d = (paths.paths[p].points.front() - paths.paths[p - 1].points.back()).norm();
-      t.travelMm += d;
-      if (travelSpeed > 0 && std::isfinite(travelSpeed)) t.travelS += d / travelSpeed;
-    }
-  }
-  t.totalS = t.printS + t.joinS + t.travelS;
-  t.meanFeed = t.printS + t.joinS > 0 ? t.pathMm / (t.printS + t.joinS) : 0;
-  return t;
 }
 
 }  // namespace omnislice
