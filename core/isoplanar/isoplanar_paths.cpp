@@ -1,10 +1,12 @@
 // SPDX-License-Identifier: MIT
 // Iso-planar NL curves (paper 003 Algorithm 2): plane sweep over triangles sorted by their span
 // along q, crossings linked per plane, Eq. 12 forward step, Eq. 14 side step (tilt-corrected, see
-// the header), zig-zag ordering and boundary joins; and the printing-time estimate.
+// the header), zig-zag ordering and boundary joins. The surface's topology is built by
+// isoplanar_topology.cpp, the printing-time estimate is isoplanar_time.cpp.
 #include "common/math_constants.h"
 #include "common/stopwatch.h"
 #include "isoplanar/isoplanar_paths.h"
+#include "isoplanar/isoplanar_topology.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -16,24 +18,6 @@
 #include <utility>
 
 namespace omnislice {
-namespace isoplanar_detail {
-
-constexpr uint32_t kNone = 0xffffffffu;
-
-// Edges, triangle-edge incidence and ordered boundary loops of the surface.
-struct Topology {
-  std::vector<uint32_t> tris;       // kept (non-degenerate) triangles, 3 vertices each
-  std::vector<uint32_t> triEdge;    // per kept triangle: edges v0v1, v1v2, v2v0
-  std::vector<uint32_t> ea, eb;     // edge endpoints, ea < eb
-  std::vector<uint8_t> faces;       // triangles per edge (saturating)
-  std::vector<std::vector<uint32_t>> loops;  // boundary loops: vertices in order
-  std::vector<std::vector<double>> loopCum;  // arc length at loop vertex i (closed: size m + 1)
-  std::vector<uint8_t> loopClosed;
-  std::vector<uint32_t> edgeLoop, edgeLoopIndex;  // boundary edge -> loop, index of its segment
-  std::vector<uint8_t> edgeForward;                // loop walks the edge from ea to eb
-};
-
-}  // namespace isoplanar_detail
 
 // Direction-independent data of a prepared surface.
 struct IsoplanarSurface::Data {
@@ -51,132 +35,6 @@ using isoplanar_detail::Topology;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 IsoplanarResult fail(Status s, std::string message) { return failed<IsoplanarResult>(s, std::move(message)); }
-
-// Edges and boundary loops. Bit-identical positions are welded first (an unwelded layer mesh
-// cuts like the welded one; indices stay those of the mesh, the first of equal vertices).
-// Edges of more than two triangles are kept (the cut pairs their triangles in order).
-void buildTopology(const Mesh& mesh, Topology& topo) {
-  const size_t nv = mesh.vertexCount();
-  std::vector<uint32_t> canon(nv);
-  {
-    std::vector<uint32_t> byPos(nv);
-    std::iota(byPos.begin(), byPos.end(), 0u);
-    const double* pos = mesh.positions.data();
-    auto less = [pos](uint32_t a, uint32_t b) {
-      for (int k = 0; k < 3; ++k) {
-        if (pos[3 * a + k] != pos[3 * b + k]) return pos[3 * a + k] < pos[3 * b + k];
-      }
-      return a < b;
-    };
-    std::sort(byPos.begin(), byPos.end(), less);
-    std::iota(canon.begin(), canon.end(), 0u);
-    for (size_t i = 1; i < nv; ++i) {
-      const uint32_t v = byPos[i], u = byPos[i - 1];
-      if (pos[3 * v] == pos[3 * u] && pos[3 * v + 1] == pos[3 * u + 1] && pos[3 * v + 2] == pos[3 * u + 2]) {
-        canon[v] = canon[u];
-      }
-    }
-  }
-  for (size_t f = 0; f < mesh.faceCount(); ++f) {
-    const uint32_t a = canon[mesh.triangles[3 * f]], b = canon[mesh.triangles[3 * f + 1]],
-                   c = canon[mesh.triangles[3 * f + 2]];
-    if (a == b || b == c || c == a) continue;
-    topo.tris.insert(topo.tris.end(), {a, b, c});
-  }
-  const size_t nt = topo.tris.size() / 3;
-  // Half-edges bucketed by their smaller vertex (counting sort), edges found within buckets.
-  std::vector<uint32_t> start(nv + 1, 0);
-  for (size_t h = 0; h < 3 * nt; ++h) {
-    const uint32_t a = topo.tris[h], b = topo.tris[h - h % 3 + (h % 3 + 1) % 3];
-    ++start[std::min(a, b) + 1];
-  }
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<uint32_t> fill(start.begin(), start.end() - 1), other(3 * nt), half(3 * nt);
-  for (size_t h = 0; h < 3 * nt; ++h) {
-    const uint32_t a = topo.tris[h], b = topo.tris[h - h % 3 + (h % 3 + 1) % 3];
-    const uint32_t slot = fill[std::min(a, b)]++;
-    other[slot] = std::max(a, b);
-    half[slot] = static_cast<uint32_t>(h);
-  }
-  topo.triEdge.assign(3 * nt, kNone);
-  for (size_t v = 0; v < nv; ++v) {
-    for (uint32_t s = start[v]; s < start[v + 1]; ++s) {
-      uint32_t edge = kNone;
-      for (uint32_t r = start[v]; r < s; ++r) {
-        if (other[r] == other[s]) {
-          edge = topo.triEdge[half[r]];
-          break;
-        }
-      }
-      if (edge == kNone) {
-        edge = static_cast<uint32_t>(topo.ea.size());
-        topo.ea.push_back(static_cast<uint32_t>(v));
-        topo.eb.push_back(other[s]);
-        topo.faces.push_back(0);
-      }
-      topo.triEdge[half[s]] = edge;
-      if (topo.faces[edge] < 255) ++topo.faces[edge];
-    }
-  }
-  // Boundary loops.
-  const size_t ne = topo.ea.size();
-  std::vector<uint32_t> bstart(nv + 1, 0);
-  for (size_t e = 0; e < ne; ++e) {
-    if (topo.faces[e] != 1) continue;
-    ++bstart[topo.ea[e] + 1];
-    ++bstart[topo.eb[e] + 1];
-  }
-  for (size_t v = 0; v < nv; ++v) bstart[v + 1] += bstart[v];
-  std::vector<uint32_t> bfill(bstart.begin(), bstart.end() - 1), bedges(bstart[nv]);
-  for (size_t e = 0; e < ne; ++e) {
-    if (topo.faces[e] != 1) continue;
-    bedges[bfill[topo.ea[e]]++] = static_cast<uint32_t>(e);
-    bedges[bfill[topo.eb[e]]++] = static_cast<uint32_t>(e);
-  }
-  topo.edgeLoop.assign(ne, kNone);
-  topo.edgeLoopIndex.assign(ne, 0);
-  topo.edgeForward.assign(ne, 0);
-  std::vector<uint8_t> used(ne, 0);
-  auto vertexOf = [&](uint32_t v) { return mesh.vertex(v); };
-  for (size_t e0 = 0; e0 < ne; ++e0) {
-    if (topo.faces[e0] != 1 || used[e0]) continue;
-    used[e0] = 1;
-    const uint32_t first = topo.ea[e0];
-    std::vector<uint32_t> verts{first}, edges{static_cast<uint32_t>(e0)};
-    uint32_t cur = topo.eb[e0];
-    bool closed = false;
-    for (;;) {
-      if (cur == first) {
-        closed = true;
-        break;
-      }
-      verts.push_back(cur);
-      uint32_t next = kNone;
-      for (uint32_t s = bstart[cur]; s < bstart[cur + 1]; ++s) {
-        if (!used[bedges[s]]) {
-          next = bedges[s];
-          break;
-        }
-      }
-      if (next == kNone) break;
-      used[next] = 1;
-      edges.push_back(next);
-      cur = topo.ea[next] == cur ? topo.eb[next] : topo.ea[next];
-    }
-    const uint32_t id = static_cast<uint32_t>(topo.loops.size());
-    std::vector<double> cum(edges.size() + 1, 0.0);
-    for (size_t i = 0; i < edges.size(); ++i) {
-      const uint32_t e = edges[i];
-      topo.edgeLoop[e] = id;
-      topo.edgeLoopIndex[e] = static_cast<uint32_t>(i);
-      topo.edgeForward[e] = verts[i] == topo.ea[e] ? 1 : 0;
-      cum[i + 1] = cum[i] + (vertexOf(topo.ea[e]) - vertexOf(topo.eb[e])).norm();
-    }
-    topo.loops.push_back(std::move(verts));
-    topo.loopCum.push_back(std::move(cum));
-    topo.loopClosed.push_back(closed ? 1 : 0);
-  }
-}
 
 // One crossing of the current plane with a mesh edge.
 struct Node {
@@ -485,9 +343,11 @@ IsoplanarResult isoplanarPaths(const Mesh& surface, const std::vector<SurfaceSam
   return r;
 }
 
-IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& width,
-                               const IsoplanarOptions& options, const ProgressFn& progress) {
-  const auto t0 = Clock::now();
+namespace {
+
+// The options of isoplanarPaths: InvalidOption (or the preparation's status) when unusable.
+Outcome checkPathOptions(const IsoplanarSurface& prepared, const WidthFn& width, const IsoplanarOptions& options) {
+  auto fail = [](Status s, std::string message) { return failed<Outcome>(s, std::move(message)); };
   if (!prepared.ok() || !prepared.data) {
     return fail(prepared.ok() ? Status::EmptyInput : prepared.status,
                 prepared.message.empty() ? "surface not prepared" : prepared.message);
@@ -506,131 +366,370 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
   if (!(std::isfinite(options.connectFactor) && options.connectFactor >= 0)) {
     return fail(Status::InvalidOption, "connect factor must be >= 0 and finite");
   }
-  const IsoplanarSurface::Data& data = *prepared.data;
-  const Mesh& surface = data.mesh;
-  const std::vector<SurfaceSample>& samples = data.samples;
-  const size_t nv = surface.vertexCount();
-  Planner pl(data, width, options);
-  const size_t nt = pl.topo.tris.size() / 3;
-  const double theta = options.thetaDegrees * kPi / 180.0;
-  pl.q = Eigen::Vector3d(-std::sin(theta), std::cos(theta), 0);
-  pl.u = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
-  pl.dist.resize(nv);
-  for (size_t v = 0; v < nv; ++v) pl.dist[v] = pl.q.dot(surface.vertex(v));
-  pl.edgeStamp.assign(pl.topo.ea.size(), 0);
-  pl.edgeNode.assign(pl.topo.ea.size(), 0);
+  return {};
+}
 
+// One plane's curve before sampling: its crossings (unordered components).
+struct RawCurve {
+  std::vector<uint32_t> nodes;
+  bool closed = false;
+  double uMean = 0;
+};
+
+// A curve of the sweep, waiting for the print order.
+struct PoolCurve {
+  NlCurve curve;            // sampled (open curves); loops are sampled once their start is known
+  std::vector<Node> raw;    // loops: the crossings (not repeated), oriented
+  std::vector<PointEval> rawEval;
+  uint32_t firstEdge = kNone, lastEdge = kNone;  // raw edges of the ends (open curves)
+  double firstT = 0, lastT = 0;
+  double step = 0;          // the side step computed on its plane
+  size_t plane = 0;         // index among the planes with curves
+};
+
+// A curve end as a boundary-loop position: loop, segment index, arc position.
+struct LoopPos {
+  uint32_t loop = kNone;
+  uint32_t index = 0;
+  double s = 0;
+};
+
+// An end of a curve: position, normal, edge fields, raw edge.
+struct End {
+  Eigen::Vector3d p{0, 0, 0}, n{0, 0, 1};
+  uint32_t a = 0, b = 0;
+  float t = 0;
+  uint32_t edge = kNone;
+  double rawT = 0;
+};
+
+End endOf(const PoolCurve& pc, bool last) {
+  const NlCurve& cv = pc.curve;
+  const size_t i = last ? cv.points.size() - 1 : 0;
+  End e;
+  e.p = cv.points[i];
+  e.n = cv.normals[i];
+  e.a = cv.edgeA[i];
+  e.b = cv.edgeB[i];
+  e.t = cv.edgeT[i];
+  e.edge = last ? pc.lastEdge : pc.firstEdge;
+  e.rawT = last ? pc.lastT : pc.firstT;
+  return e;
+}
+
+// The raw crossing of a loop nearest to a point.
+size_t nearestRaw(const PoolCurve& pc, const Eigen::Vector3d& p, double& d) {
+  size_t best = 0;
+  double bd = kInf;
+  for (size_t i = 0; i < pc.raw.size(); ++i) {
+    const double di = (pc.raw[i].p - p).squaredNorm();
+    if (di < bd) {
+      bd = di;
+      best = i;
+    }
+  }
+  d = std::sqrt(bd);
+  return best;
+}
+
+// The NL curves of one drive direction: the plane sweep (Eq. 12 forward steps, Eq. 14 side
+// steps) into a pool of curves per plane, then the print order (boustrophedon chains joined
+// along the boundary), then the paths.
+class IsoplanarBuilder {
+ public:
+  IsoplanarBuilder(const IsoplanarSurface::Data& data, const WidthFn& width, const IsoplanarOptions& options)
+      : surface_(data.mesh), samples_(data.samples), width_(width), options_(options), pl_(data, width, options),
+        nt_(pl_.topo.tris.size() / 3), scale_(data.scale) {
+    const size_t nv = surface_.vertexCount();
+    const double theta = options.thetaDegrees * kPi / 180.0;
+    pl_.q = Eigen::Vector3d(-std::sin(theta), std::cos(theta), 0);
+    pl_.u = Eigen::Vector3d(std::cos(theta), std::sin(theta), 0);
+    pl_.dist.resize(nv);
+    for (size_t v = 0; v < nv; ++v) pl_.dist[v] = pl_.q.dot(surface_.vertex(v));
+    pl_.edgeStamp.assign(pl_.topo.ea.size(), 0);
+    pl_.edgeNode.assign(pl_.topo.ea.size(), 0);
+    sortTriangles();
+  }
+
+  // False when the surface lies in one drive plane: no curve (not an error).
+  bool hasExtent() const { return extent_ > 1e-9 * std::max(scale_, 1e-9); }
+
+  // The planes from the first to the last, their curves into the pool; the plane count and side
+  // step range into result. InvalidOption (width, step, planes) or Cancelled.
+  Outcome sweep(const ProgressFn& progress, IsoplanarResult& result) {
+    eps_ = 1e-9 * std::max(extent_, scale_);
+    double c = 0, step = 0;
+    Outcome ok = firstPlane(c, step);
+    if (!ok.ok()) return ok;
+    ok = sweepFrom(c, step, progress);
+    if (!ok.ok()) return ok;
+    sideStepRange(result);
+    return {};
+  }
+
+  // ---- Print order: boustrophedon chains joined along the boundary. ----
+  void chainCurves() {
+    printed_.assign(pool_.size(), 0);
+    remaining_ = pool_.size();
+    size_t lowest = 0;
+    while (remaining_ > 0) {
+      while (lowest < planeCurves_.size() &&
+             std::all_of(planeCurves_[lowest].begin(), planeCurves_[lowest].end(),
+                         [&](uint32_t i) { return printed_[i] != 0; })) {
+        ++lowest;
+      }
+      if (lowest >= planeCurves_.size()) break;
+      uint32_t cur = startChain(lowest);
+      size_t plane = pool_[cur].plane;
+      // Follow the chain: the next plane's curve whose end joins this curve's end.
+      while (plane + 1 < planeCurves_.size()) {
+        const uint32_t nextCurve = joinNext(cur, plane + 1);
+        if (nextCurve == kNone) break;
+        cur = nextCurve;
+        ++plane;
+      }
+    }
+  }
+
+  // ---- Curves in print order, joins, paths. ----
+  void assemblePaths(IsoplanarResult& result) {
+    for (size_t k = 0; k < printOrder_.size(); ++k) {
+      NlCurve& cv = pool_[printOrder_[k]].curve;
+      if (cv.closed) ++result.closedCurves;
+      result.pathMm += polylineLength(cv.points);
+      if (k == 0 || !joinedToNext_[k - 1]) {
+        result.paths.emplace_back();
+        result.pathCurves.emplace_back();
+        result.pathJoins.emplace_back();
+        result.paths.back().points = cv.points;
+        result.paths.back().normals = cv.normals;
+        result.pathPointCurve.emplace_back(cv.points.size(), static_cast<uint32_t>(k + 1));
+      } else {
+        IsoplanarJoin& j = joinAfter_[k - 1];
+        j.fromCurve = static_cast<uint32_t>(k - 1);
+        j.toCurve = static_cast<uint32_t>(k);
+        SurfacePath& sp = result.paths.back();
+        sp.points.insert(sp.points.end(), j.points.begin() + 1, j.points.end() - 1);
+        sp.normals.insert(sp.normals.end(), j.normals.begin() + 1, j.normals.end() - 1);
+        sp.points.insert(sp.points.end(), cv.points.begin(), cv.points.end());
+        sp.normals.insert(sp.normals.end(), cv.normals.begin(), cv.normals.end());
+        std::vector<uint32_t>& pc = result.pathPointCurve.back();
+        pc.insert(pc.end(), j.points.size() - 2, 0u);
+        pc.insert(pc.end(), cv.points.size(), static_cast<uint32_t>(k + 1));
+        result.pathMm += j.length;
+        result.pathJoins.back().push_back(static_cast<uint32_t>(result.joins.size()));
+        result.joins.push_back(std::move(j));
+      }
+      result.pathCurves.back().push_back(static_cast<uint32_t>(k));
+      result.curves.push_back(std::move(cv));
+    }
+  }
+
+ private:
   // Triangles sorted by the low end of their span along q.
-  std::vector<double> lo(nt), hi(nt);
-  double dmin = kInf, dmax = -kInf;
-  for (size_t k = 0; k < nt; ++k) {
-    const uint32_t* v = &pl.topo.tris[3 * k];
-    lo[k] = std::min({pl.dist[v[0]], pl.dist[v[1]], pl.dist[v[2]]});
-    hi[k] = std::max({pl.dist[v[0]], pl.dist[v[1]], pl.dist[v[2]]});
-    dmin = std::min(dmin, lo[k]);
-    dmax = std::max(dmax, hi[k]);
+  void sortTriangles() {
+    lo_.resize(nt_);
+    hi_.resize(nt_);
+    for (size_t k = 0; k < nt_; ++k) {
+      const uint32_t* v = &pl_.topo.tris[3 * k];
+      lo_[k] = std::min({pl_.dist[v[0]], pl_.dist[v[1]], pl_.dist[v[2]]});
+      hi_[k] = std::max({pl_.dist[v[0]], pl_.dist[v[1]], pl_.dist[v[2]]});
+      dmin_ = std::min(dmin_, lo_[k]);
+      dmax_ = std::max(dmax_, hi_[k]);
+    }
+    std::vector<std::pair<double, uint32_t>> sorted(nt_);
+    for (uint32_t k = 0; k < nt_; ++k) sorted[k] = {lo_[k], k};
+    std::sort(sorted.begin(), sorted.end());
+    order_.resize(nt_);
+    for (size_t k = 0; k < nt_; ++k) order_[k] = sorted[k].second;
+    extent_ = dmax_ - dmin_;
   }
-  std::vector<std::pair<double, uint32_t>> sorted(nt);
-  for (uint32_t k = 0; k < nt; ++k) sorted[k] = {lo[k], k};
-  std::sort(sorted.begin(), sorted.end());
-  std::vector<uint32_t> order(nt);
-  for (size_t k = 0; k < nt; ++k) order[k] = sorted[k].second;
-  const double extent = dmax - dmin;
-  IsoplanarResult result;
-  const double scale = data.scale;
-  if (!(extent > 1e-9 * std::max(scale, 1e-9))) {
-    // The surface lies in one drive plane: no curve (not an error).
-    result.ms = msSince(t0);
-    return result;
-  }
-  const double eps = 1e-9 * std::max(extent, scale);
 
-  // ---- One plane: curves (unordered components), their raw evaluations, the side step. ----
-  struct RawCurve {
-    std::vector<uint32_t> nodes;
-    bool closed = false;
-    double uMean = 0;
-  };
-  std::vector<std::vector<uint32_t>> comps;
-  std::vector<uint8_t> compClosed;
-  std::vector<RawCurve> raw;
   // Evaluate every crossing: min over the plane's points of w_eff |k.q| (floored).
-  std::vector<PointEval> nodeEval;
-  auto planeStep = [&](double& step) -> bool {
-    nodeEval.resize(pl.nodes.size());
+  bool planeStep(double& step) {
+    nodeEval_.resize(pl_.nodes.size());
     step = kInf;
-    for (size_t n = 0; n < pl.nodes.size(); ++n) {
-      if (!pl.evaluate(pl.nodes[n].edge, pl.nodes[n].t, nodeEval[n])) return false;
-      step = std::min(step, nodeEval[n].width * std::max(nodeEval[n].cross, options.minCross));
+    for (size_t n = 0; n < pl_.nodes.size(); ++n) {
+      if (!pl_.evaluate(pl_.nodes[n].edge, pl_.nodes[n].t, nodeEval_[n])) return false;
+      step = std::min(step, nodeEval_[n].width * std::max(nodeEval_[n].cross, options_.minCross));
     }
     return true;
-  };
-  std::vector<uint32_t> crossed;
-  auto scanPlane = [&](double c) {
-    crossed.clear();
-    for (uint32_t k = 0; k < nt; ++k) {
-      if (lo[k] < c && hi[k] >= c) crossed.push_back(k);
+  }
+
+  void scanPlane(double c) {
+    crossed_.clear();
+    for (uint32_t k = 0; k < nt_; ++k) {
+      if (lo_[k] < c && hi_[k] >= c) crossed_.push_back(k);
     }
-    pl.cut(c, crossed);
-  };
+    pl_.cut(c, crossed_);
+  }
 
   // First plane half a step inside the extreme (fixed point on the step of its own curve).
-  double c = dmin + 0.5 * std::max(width(0.0, samples[0].height), 1e-6 * extent);
-  if (!(std::isfinite(c))) c = dmin + 0.01 * extent;
-  double step = 0;
-  for (int it = 0; it < 4; ++it) {
-    c = std::min(c, dmin + 0.5 * extent);
-    scanPlane(c);
-    if (!planeStep(step)) return fail(Status::InvalidOption, pl.error);
-    if (pl.nodes.empty()) break;
-    const double cn = std::min(dmin + 0.5 * step, dmin + 0.5 * extent);
-    if (std::abs(cn - c) <= eps) break;
-    c = cn;
+  Outcome firstPlane(double& c, double& step) {
+    c = dmin_ + 0.5 * std::max(width_(0.0, samples_[0].height), 1e-6 * extent_);
+    if (!(std::isfinite(c))) c = dmin_ + 0.01 * extent_;
+    step = 0;
+    for (int it = 0; it < 4; ++it) {
+      c = std::min(c, dmin_ + 0.5 * extent_);
+      scanPlane(c);
+      if (!planeStep(step)) return failed<Outcome>(Status::InvalidOption, pl_.error);
+      if (pl_.nodes.empty()) break;
+      const double cn = std::min(dmin_ + 0.5 * step, dmin_ + 0.5 * extent_);
+      if (std::abs(cn - c) <= eps_) break;
+      c = cn;
+    }
+    return {};
   }
 
   // Sweep. Curves go to a pool per plane (ascending u, open curves oriented along +u, loops
   // counter-clockwise in (u, z)); the print order is decided afterwards.
-  struct PoolCurve {
-    NlCurve curve;            // sampled (open curves); loops are sampled once their start is known
-    std::vector<Node> raw;    // loops: the crossings (not repeated), oriented
-    std::vector<PointEval> rawEval;
-    uint32_t firstEdge = kNone, lastEdge = kNone;  // raw edges of the ends (open curves)
-    double firstT = 0, lastT = 0;
-    double step = 0;          // the side step computed on its plane
-    size_t plane = 0;         // index among the planes with curves
-  };
-  std::vector<PoolCurve> pool;
-  std::vector<std::vector<uint32_t>> planeCurves;
-  std::vector<uint32_t> active;
-  size_t next = 0;
-  std::vector<double> planeOffsets;
-  std::vector<Eigen::Vector3d> pts;
-  std::vector<PointEval> evals;
-  std::vector<uint32_t> keep;
-  double lastStep = step > 0 && std::isfinite(step) ? step : 0.01 * extent;
-  size_t planeIndex = 0;
-  bool atEnd = false;
-  uint32_t shortened = kNone;  // index in planeOffsets of the offset to the last plane
-  const size_t maxPlanes = 2000000;
+  Outcome sweepFrom(double c, double step, const ProgressFn& progress) {
+    const size_t maxPlanes = 2000000;
+    std::vector<uint32_t> active;
+    size_t next = 0;
+    lastStep_ = step > 0 && std::isfinite(step) ? step : 0.01 * extent_;
+    bool atEnd = false;
+    for (;;) {
+      while (next < nt_ && lo_[order_[next]] < c) active.push_back(order_[next++]);
+      size_t w = 0;
+      for (uint32_t k : active) {
+        if (hi_[k] >= c) active[w++] = k;
+      }
+      active.resize(w);
+      if (active.empty()) {
+        if (next >= nt_) break;
+        c = std::max(c + eps_, lo_[order_[next]] + 0.5 * lastStep_);
+        continue;
+      }
+      pl_.cut(c, active);
+      if (!planeStep(step)) return failed<Outcome>(Status::InvalidOption, pl_.error);
+      if (pl_.nodes.empty()) {
+        if (next >= nt_) break;
+        c = std::max(c + eps_, lo_[order_[next]] + 0.5 * lastStep_);
+        continue;
+      }
+      if (!(step > 1e-9 * extent_) || extent_ / step > static_cast<double>(maxPlanes)) {
+        return failed<Outcome>(Status::InvalidOption, "side step " + std::to_string(step) +
+                                                          " mm is too small for the surface's extent");
+      }
+      lastStep_ = step;
+      poolPlaneCurves(c, step);
+      ++planeIndex_;
+      // Last plane: its bead reaches the far extreme (or leaves a sliver narrower than a quarter
+      // step, which the squeezed bead covers: one more plane there would print a near-duplicate
+      // curve a fraction of a step away), or it was placed half a step before it.
+      if (atEnd || c + 0.75 * step >= dmax_ - eps_) {
+        planeOffsets_.push_back(0);
+        break;
+      }
+      double cn = c + step;
+      if (cn >= dmax_ - 0.5 * step - eps_) {
+        cn = dmax_ - 0.5 * step;
+        atEnd = true;
+        shortened_ = static_cast<uint32_t>(planeOffsets_.size());
+      }
+      planeOffsets_.push_back(cn - c);
+      for (size_t i = pool_.size(); i-- > 0 && pool_[i].curve.plane == c;) pool_[i].curve.sideStep = cn - c;
+      c = cn;
+      if (!reportProgress(progress, "paths", std::clamp((c - dmin_) / extent_, 0.0, 1.0))) {
+        return failed<Outcome>(Status::Cancelled, "cancelled");
+      }
+      if (planeIndex_ > maxPlanes) return failed<Outcome>(Status::InvalidOption, "too many drive planes");
+    }
+    return {};
+  }
+
+  // The curves of the plane just cut (at c, side step `step`) into the pool, by ascending u:
+  // open curves oriented along +u and sampled, loops counter-clockwise in (u, z) kept raw.
+  void poolPlaneCurves(double c, double step) {
+    pl_.components(comps_, compClosed_);
+    raw_.clear();
+    for (size_t i = 0; i < comps_.size(); ++i) {
+      RawCurve rc;
+      rc.nodes = std::move(comps_[i]);
+      rc.closed = compClosed_[i] != 0;
+      double su = 0;
+      for (uint32_t n : rc.nodes) su += pl_.u.dot(pl_.nodes[n].p);
+      rc.uMean = su / static_cast<double>(rc.nodes.size());
+      raw_.push_back(std::move(rc));
+    }
+    std::sort(raw_.begin(), raw_.end(),
+              [](const RawCurve& x, const RawCurve& y) { return x.uMean < y.uMean; });
+    std::vector<uint32_t> thisPlane;
+    for (RawCurve& rc : raw_) {
+      std::vector<uint32_t>& ns = rc.nodes;
+      PoolCurve pc;
+      pc.step = step;
+      pc.plane = planeCurves_.size();
+      if (!rc.closed) {
+        const double u0 = pl_.u.dot(pl_.nodes[ns.front()].p), u1 = pl_.u.dot(pl_.nodes[ns.back()].p);
+        if (u0 > u1) std::reverse(ns.begin(), ns.end());
+        nodeSeq_.clear();
+        evals_.clear();
+        for (uint32_t n : ns) {
+          nodeSeq_.push_back(pl_.nodes[n]);
+          evals_.push_back(nodeEval_[n]);
+        }
+        buildCurve(nodeSeq_, evals_, false, c, pc);
+        // A plane touching the surface at a point.
+        if (pc.curve.points.size() < 2 || polylineLength(pc.curve.points) <= 1e-12) continue;
+      } else {
+        double area = 0;
+        for (size_t i = 0; i < ns.size(); ++i) {
+          const Eigen::Vector3d& pa = pl_.nodes[ns[i]].p;
+          const Eigen::Vector3d& pb = pl_.nodes[ns[(i + 1) % ns.size()]].p;
+          area += pl_.u.dot(pa) * pb.z() - pl_.u.dot(pb) * pa.z();
+        }
+        if (area < 0) std::reverse(ns.begin(), ns.end());
+        for (uint32_t n : ns) {
+          pc.raw.push_back(pl_.nodes[n]);
+          pc.rawEval.push_back(nodeEval_[n]);
+        }
+        pc.curve.plane = c;
+        pc.curve.closed = true;
+      }
+      thisPlane.push_back(static_cast<uint32_t>(pool_.size()));
+      pool_.push_back(std::move(pc));
+    }
+    if (!thisPlane.empty()) planeCurves_.push_back(std::move(thisPlane));
+  }
+
+  void sideStepRange(IsoplanarResult& result) {
+    result.planes = planeIndex_;
+    // The offset to the last plane is shortened to land it half a step before the far extreme:
+    // left out of the range unless it is the only one.
+    if (shortened_ != kNone && planeOffsets_.size() > 2) planeOffsets_[shortened_] = 0;
+    double mn = kInf, mx = 0;
+    for (double o : planeOffsets_) {
+      if (o > 0) {
+        mn = std::min(mn, o);
+        mx = std::max(mx, o);
+      }
+    }
+    if (mn == kInf) mn = mx = result.planes > 0 ? lastStep_ : 0;
+    result.minSideStep = mn;
+    result.maxSideStep = mx;
+  }
+
   // Samples a crossing sequence (closed: first repeated last) into a curve.
-  auto buildCurve = [&](const std::vector<Node>& ns, const std::vector<PointEval>& ev, bool closed,
-                        double plane, PoolCurve& out) {
-    pts.clear();
-    for (const Node& n : ns) pts.push_back(n.p);
-    pl.sample(pts, ev, keep);
-    if (closed && keep.size() < 4) {  // a loop within the chord error: keep every crossing
-      keep.resize(pts.size());
-      std::iota(keep.begin(), keep.end(), 0u);
+  void buildCurve(const std::vector<Node>& ns, const std::vector<PointEval>& ev, bool closed, double plane,
+                  PoolCurve& out) {
+    pts_.clear();
+    for (const Node& n : ns) pts_.push_back(n.p);
+    pl_.sample(pts_, ev, keep_);
+    if (closed && keep_.size() < 4) {  // a loop within the chord error: keep every crossing
+      keep_.resize(pts_.size());
+      std::iota(keep_.begin(), keep_.end(), 0u);
     }
     NlCurve& curve = out.curve;
     curve = NlCurve();
     curve.plane = plane;
     curve.closed = closed;
-    for (uint32_t i : keep) {
+    for (uint32_t i : keep_) {
       const Node& nd = ns[i];
       curve.points.push_back(nd.p);
       curve.normals.push_back(ev[i].normal);
-      uint32_t ea = pl.topo.ea[nd.edge], eb = pl.topo.eb[nd.edge];
+      uint32_t ea = pl_.topo.ea[nd.edge], eb = pl_.topo.eb[nd.edge];
       float t = static_cast<float>(nd.t);
       if (nd.t <= 0) {
         eb = ea;
@@ -644,174 +743,35 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
       curve.edgeT.push_back(t);
       curve.width.push_back(ev[i].width);
     }
-    if (!keep.empty()) {
-      out.firstEdge = ns[keep.front()].edge;
-      out.firstT = ns[keep.front()].t;
-      out.lastEdge = ns[keep.back()].edge;
-      out.lastT = ns[keep.back()].t;
+    if (!keep_.empty()) {
+      out.firstEdge = ns[keep_.front()].edge;
+      out.firstT = ns[keep_.front()].t;
+      out.lastEdge = ns[keep_.back()].edge;
+      out.lastT = ns[keep_.back()].t;
     }
-  };
-  std::vector<Node> nodeSeq;
-  for (;;) {
-    while (next < nt && lo[order[next]] < c) active.push_back(order[next++]);
-    size_t w = 0;
-    for (uint32_t k : active) {
-      if (hi[k] >= c) active[w++] = k;
-    }
-    active.resize(w);
-    if (active.empty()) {
-      if (next >= nt) break;
-      c = std::max(c + eps, lo[order[next]] + 0.5 * lastStep);
-      continue;
-    }
-    pl.cut(c, active);
-    if (!planeStep(step)) return fail(Status::InvalidOption, pl.error);
-    if (pl.nodes.empty()) {
-      if (next >= nt) break;
-      c = std::max(c + eps, lo[order[next]] + 0.5 * lastStep);
-      continue;
-    }
-    if (!(step > 1e-9 * extent) || extent / step > static_cast<double>(maxPlanes)) {
-      return fail(Status::InvalidOption, "side step " + std::to_string(step) +
-                                             " mm is too small for the surface's extent");
-    }
-    lastStep = step;
-    pl.components(comps, compClosed);
-    raw.clear();
-    for (size_t i = 0; i < comps.size(); ++i) {
-      RawCurve rc;
-      rc.nodes = std::move(comps[i]);
-      rc.closed = compClosed[i] != 0;
-      double su = 0;
-      for (uint32_t n : rc.nodes) su += pl.u.dot(pl.nodes[n].p);
-      rc.uMean = su / static_cast<double>(rc.nodes.size());
-      raw.push_back(std::move(rc));
-    }
-    std::sort(raw.begin(), raw.end(),
-              [](const RawCurve& x, const RawCurve& y) { return x.uMean < y.uMean; });
-    std::vector<uint32_t> thisPlane;
-    for (RawCurve& rc : raw) {
-      std::vector<uint32_t>& ns = rc.nodes;
-      PoolCurve pc;
-      pc.step = step;
-      pc.plane = planeCurves.size();
-      if (!rc.closed) {
-        const double u0 = pl.u.dot(pl.nodes[ns.front()].p), u1 = pl.u.dot(pl.nodes[ns.back()].p);
-        if (u0 > u1) std::reverse(ns.begin(), ns.end());
-        nodeSeq.clear();
-        evals.clear();
-        for (uint32_t n : ns) {
-          nodeSeq.push_back(pl.nodes[n]);
-          evals.push_back(nodeEval[n]);
-        }
-        buildCurve(nodeSeq, evals, false, c, pc);
-        // A plane touching the surface at a point.
-        if (pc.curve.points.size() < 2 || polylineLength(pc.curve.points) <= 1e-12) continue;
-      } else {
-        double area = 0;
-        for (size_t i = 0; i < ns.size(); ++i) {
-          const Eigen::Vector3d& pa = pl.nodes[ns[i]].p;
-          const Eigen::Vector3d& pb = pl.nodes[ns[(i + 1) % ns.size()]].p;
-          area += pl.u.dot(pa) * pb.z() - pl.u.dot(pb) * pa.z();
-        }
-        if (area < 0) std::reverse(ns.begin(), ns.end());
-        for (uint32_t n : ns) {
-          pc.raw.push_back(pl.nodes[n]);
-          pc.rawEval.push_back(nodeEval[n]);
-        }
-        pc.curve.plane = c;
-        pc.curve.closed = true;
-      }
-      thisPlane.push_back(static_cast<uint32_t>(pool.size()));
-      pool.push_back(std::move(pc));
-    }
-    if (!thisPlane.empty()) planeCurves.push_back(std::move(thisPlane));
-    ++planeIndex;
-    // Last plane: its bead reaches the far extreme (or leaves a sliver narrower than a quarter
-    // step, which the squeezed bead covers: one more plane there would print a near-duplicate
-    // curve a fraction of a step away), or it was placed half a step before it.
-    if (atEnd || c + 0.75 * step >= dmax - eps) {
-      planeOffsets.push_back(0);
-      break;
-    }
-    double cn = c + step;
-    if (cn >= dmax - 0.5 * step - eps) {
-      cn = dmax - 0.5 * step;
-      atEnd = true;
-      shortened = static_cast<uint32_t>(planeOffsets.size());
-    }
-    planeOffsets.push_back(cn - c);
-    for (size_t i = pool.size(); i-- > 0 && pool[i].curve.plane == c;) pool[i].curve.sideStep = cn - c;
-    c = cn;
-    if (!reportProgress(progress, "paths", std::clamp((c - dmin) / extent, 0.0, 1.0))) {
-      return fail(Status::Cancelled, "cancelled");
-    }
-    if (planeIndex > maxPlanes) return fail(Status::InvalidOption, "too many drive planes");
-  }
-  result.planes = planeIndex;
-  {
-    // The offset to the last plane is shortened to land it half a step before the far extreme:
-    // left out of the range unless it is the only one.
-    if (shortened != kNone && planeOffsets.size() > 2) planeOffsets[shortened] = 0;
-    double mn = kInf, mx = 0;
-    for (double o : planeOffsets) {
-      if (o > 0) {
-        mn = std::min(mn, o);
-        mx = std::max(mx, o);
-      }
-    }
-    if (mn == kInf) mn = mx = result.planes > 0 ? lastStep : 0;
-    result.minSideStep = mn;
-    result.maxSideStep = mx;
   }
 
-  // ---- Print order: boustrophedon chains joined along the boundary. ----
-  // A curve end as a boundary-loop position: loop, segment index, arc position.
-  struct LoopPos {
-    uint32_t loop = kNone;
-    uint32_t index = 0;
-    double s = 0;
-  };
-  auto loopPos = [&](uint32_t e, double t) -> LoopPos {
+  LoopPos loopPos(uint32_t e, double t) const {
     LoopPos lp;
-    if (e == kNone || pl.topo.edgeLoop[e] == kNone) return lp;
-    lp.loop = pl.topo.edgeLoop[e];
-    lp.index = pl.topo.edgeLoopIndex[e];
-    const std::vector<double>& cum = pl.topo.loopCum[lp.loop];
+    if (e == kNone || pl_.topo.edgeLoop[e] == kNone) return lp;
+    lp.loop = pl_.topo.edgeLoop[e];
+    lp.index = pl_.topo.edgeLoopIndex[e];
+    const std::vector<double>& cum = pl_.topo.loopCum[lp.loop];
     const double len = cum[lp.index + 1] - cum[lp.index];
-    lp.s = cum[lp.index] + (pl.topo.edgeForward[e] ? t : 1 - t) * len;
+    lp.s = cum[lp.index] + (pl_.topo.edgeForward[e] ? t : 1 - t) * len;
     return lp;
-  };
-  auto vertexNormal = [&](uint32_t v) { return samples[v].normal.normalized(); };
-  // An end of a curve: position, normal, edge fields, raw edge.
-  struct End {
-    Eigen::Vector3d p{0, 0, 0}, n{0, 0, 1};
-    uint32_t a = 0, b = 0;
-    float t = 0;
-    uint32_t edge = kNone;
-    double rawT = 0;
-  };
-  auto endOf = [](const PoolCurve& pc, bool last) {
-    const NlCurve& cv = pc.curve;
-    const size_t i = last ? cv.points.size() - 1 : 0;
-    End e;
-    e.p = cv.points[i];
-    e.n = cv.normals[i];
-    e.a = cv.edgeA[i];
-    e.b = cv.edgeB[i];
-    e.t = cv.edgeT[i];
-    e.edge = last ? pc.lastEdge : pc.firstEdge;
-    e.rawT = last ? pc.lastT : pc.firstT;
-    return e;
-  };
+  }
+
+  Eigen::Vector3d vertexNormal(uint32_t v) const { return samples_[v].normal.normalized(); }
+
   // Length of the boundary walk from `from` to `to` (infinite when not on one loop); fills
   // `join` when given.
-  auto boundaryWalk = [&](const End& from, const End& to, IsoplanarJoin* join) -> double {
+  double boundaryWalk(const End& from, const End& to, IsoplanarJoin* join) const {
     const LoopPos pa = loopPos(from.edge, from.rawT), pb = loopPos(to.edge, to.rawT);
     if (pa.loop == kNone || pa.loop != pb.loop) return kInf;
-    const std::vector<uint32_t>& loopV = pl.topo.loops[pa.loop];
-    const std::vector<double>& cum = pl.topo.loopCum[pa.loop];
-    const bool closedLoop = pl.topo.loopClosed[pa.loop] != 0;
+    const std::vector<uint32_t>& loopV = pl_.topo.loops[pa.loop];
+    const std::vector<double>& cum = pl_.topo.loopCum[pa.loop];
+    const bool closedLoop = pl_.topo.loopClosed[pa.loop] != 0;
     const double perimeter = cum.back();
     const size_t segs = cum.size() - 1;
     double fwd = pb.s - pa.s, bwd = pa.s - pb.s;
@@ -843,14 +803,14 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
         size_t k = pa.index + 1;
         for (size_t guard = 0; guard <= segs; ++guard, ++k) {
           const uint32_t v = loopV[k % m];
-          push(surface.vertex(v), vertexNormal(v), v, v, 0);
+          push(surface_.vertex(v), vertexNormal(v), v, v, 0);
           if (k % m == pb.index % m) break;
         }
       } else {
         size_t k = pa.index;
         for (size_t guard = 0; guard <= segs; ++guard) {
           const uint32_t v = loopV[k % m];
-          push(surface.vertex(v), vertexNormal(v), v, v, 0);
+          push(surface_.vertex(v), vertexNormal(v), v, v, 0);
           if (k % m == (pb.index + 1) % m) break;
           k = (k + m - 1) % m;
         }
@@ -874,24 +834,11 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     }
     join->length = polylineLength(join->points);
     return arc;
-  };
-  // The raw crossing of a loop nearest to a point.
-  auto nearestRaw = [](const PoolCurve& pc, const Eigen::Vector3d& p, double& d) {
-    size_t best = 0;
-    double bd = kInf;
-    for (size_t i = 0; i < pc.raw.size(); ++i) {
-      const double di = (pc.raw[i].p - p).squaredNorm();
-      if (di < bd) {
-        bd = di;
-        best = i;
-      }
-    }
-    d = std::sqrt(bd);
-    return best;
-  };
-  // Makes a pool curve start at its end `atEnd` (open: reverse when true) or, for a loop, at its
+  }
+
+  // Makes a pool curve start at its other end (open: reverse when true) or, for a loop, at its
   // raw crossing `start`, and samples loops.
-  auto orient = [&](PoolCurve& pc, bool reverse, size_t start) {
+  void orient(PoolCurve& pc, bool reverse, size_t start) {
     if (!pc.curve.closed) {
       if (!reverse) return;
       NlCurve& cv = pc.curve;
@@ -914,241 +861,168 @@ IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& 
     const double side = pc.curve.sideStep;
     buildCurve(ns, ev, true, pc.curve.plane, pc);
     pc.curve.sideStep = side;
-  };
+  }
 
-  std::vector<uint8_t> printed(pool.size(), 0);
-  std::vector<uint32_t> printOrder;
-  std::vector<uint8_t> joinedToNext;
-  std::vector<IsoplanarJoin> joinAfter;
-  size_t remaining = pool.size(), lowest = 0;
-  bool haveLast = false;
-  Eigen::Vector3d lastPoint(0, 0, 0);
-  auto emit = [&](uint32_t i) {
-    printed[i] = 1;
-    --remaining;
-    printOrder.push_back(i);
-    joinedToNext.push_back(0);
-    joinAfter.emplace_back();
-    lastPoint = pool[i].curve.points.back();
-    haveLast = true;
-  };
-  while (remaining > 0) {
-    while (lowest < planeCurves.size() &&
-           std::all_of(planeCurves[lowest].begin(), planeCurves[lowest].end(),
-                       [&](uint32_t i) { return printed[i] != 0; })) {
-      ++lowest;
-    }
-    if (lowest >= planeCurves.size()) break;
-    // A new chain: on the lowest plane left, the curve (and end) nearest the last point.
+  // Curve i into the print order.
+  void emit(uint32_t i) {
+    printed_[i] = 1;
+    --remaining_;
+    printOrder_.push_back(i);
+    joinedToNext_.push_back(0);
+    joinAfter_.emplace_back();
+    lastPoint_ = pool_[i].curve.points.back();
+    haveLast_ = true;
+  }
+
+  // A new chain: on the lowest plane left, the curve (and end) nearest the last point; returns it.
+  uint32_t startChain(size_t lowest) {
     uint32_t cur = kNone;
     bool reverse = false;
     size_t start = 0;
     double best = kInf;
-    for (uint32_t i : planeCurves[lowest]) {
-      if (printed[i]) continue;
-      if (!haveLast) {
+    for (uint32_t i : planeCurves_[lowest]) {
+      if (printed_[i]) continue;
+      if (!haveLast_) {
         cur = i;
         break;
       }
-      const PoolCurve& pc = pool[i];
+      const PoolCurve& pc = pool_[i];
       if (pc.curve.closed) {
         double d;
-        const size_t k = nearestRaw(pc, lastPoint, d);
+        const size_t k = nearestRaw(pc, lastPoint_, d);
         if (d < best) {
           best = d, cur = i, reverse = false, start = k;
         }
       } else {
-        const double d0 = (pc.curve.points.front() - lastPoint).norm();
-        const double d1 = (pc.curve.points.back() - lastPoint).norm();
+        const double d0 = (pc.curve.points.front() - lastPoint_).norm();
+        const double d1 = (pc.curve.points.back() - lastPoint_).norm();
         if (std::min(d0, d1) < best) {
           best = std::min(d0, d1), cur = i, reverse = d1 < d0;
         }
       }
     }
-    orient(pool[cur], reverse, start);
+    orient(pool_[cur], reverse, start);
     emit(cur);
-    size_t plane = pool[cur].plane;
-    // Follow the chain: the next plane's curve whose end joins this curve's end.
-    while (plane + 1 < planeCurves.size()) {
-      const PoolCurve& a = pool[cur];
-      const End from = endOf(a, true);
-      uint32_t nextCurve = kNone;
-      bool nextReverse = false;
-      size_t nextStart = 0;
-      double bestCost = kInf;
-      for (uint32_t i : planeCurves[plane + 1]) {
-        if (printed[i]) continue;
-        const PoolCurve& b = pool[i];
-        const double limit = options.connectFactor * std::max(a.step, b.step);
-        if (b.curve.closed) {
-          // A loop has no boundary to follow: a short straight move to its nearest crossing
-          // when the surface between is about flat.
-          double d;
-          const size_t k = nearestRaw(b, from.p, d);
-          if (d <= limit && d < bestCost && from.n.dot(b.rawEval[k].normal) > 0.9) {
-            bestCost = d, nextCurve = i, nextReverse = false, nextStart = k;
-          }
-          continue;
-        }
-        for (bool rev : {false, true}) {
-          const End to = endOf(b, rev);
-          double cost;
-          if (a.curve.closed) {
-            cost = (to.p - from.p).norm();
-            if (from.n.dot(to.n) <= 0.9) cost = kInf;
-          } else {
-            cost = boundaryWalk(from, to, nullptr);
-          }
-          if (cost <= limit && cost < bestCost) {
-            bestCost = cost, nextCurve = i, nextReverse = rev, nextStart = 0;
-          }
-        }
-      }
-      if (nextCurve == kNone) break;
-      orient(pool[nextCurve], nextReverse, nextStart);
-      const PoolCurve& b = pool[nextCurve];
-      IsoplanarJoin join;
-      const End to = endOf(b, false);
-      if (a.curve.closed || b.curve.closed) {
-        join.points = {from.p, to.p};
-        join.normals = {from.n, to.n};
-        join.edgeA = {from.a, to.a};
-        join.edgeB = {from.b, to.b};
-        join.edgeT = {from.t, to.t};
-        join.length = (to.p - from.p).norm();
-      } else {
-        boundaryWalk(from, to, &join);
-      }
-      joinedToNext.back() = 1;
-      joinAfter.back() = std::move(join);
-      emit(nextCurve);
-      cur = nextCurve;
-      ++plane;
-    }
+    return cur;
   }
 
-  // ---- Curves in print order, joins, paths. ----
-  for (size_t k = 0; k < printOrder.size(); ++k) {
-    NlCurve& cv = pool[printOrder[k]].curve;
-    if (cv.closed) ++result.closedCurves;
-    result.pathMm += polylineLength(cv.points);
-    if (k == 0 || !joinedToNext[k - 1]) {
-      result.paths.emplace_back();
-      result.pathCurves.emplace_back();
-      result.pathJoins.emplace_back();
-      result.paths.back().points = cv.points;
-      result.paths.back().normals = cv.normals;
-      result.pathPointCurve.emplace_back(cv.points.size(), static_cast<uint32_t>(k + 1));
+  // The curve of plane `plane` that continues the chain after curve cur (its end joins cur's end
+  // within connectFactor side steps), oriented, joined and emitted; kNone when none.
+  uint32_t joinNext(uint32_t cur, size_t plane) {
+    const PoolCurve& a = pool_[cur];
+    const End from = endOf(a, true);
+    uint32_t nextCurve = kNone;
+    bool nextReverse = false;
+    size_t nextStart = 0;
+    double bestCost = kInf;
+    for (uint32_t i : planeCurves_[plane]) {
+      if (printed_[i]) continue;
+      const PoolCurve& b = pool_[i];
+      const double limit = options_.connectFactor * std::max(a.step, b.step);
+      if (b.curve.closed) {
+        // A loop has no boundary to follow: a short straight move to its nearest crossing
+        // when the surface between is about flat.
+        double d;
+        const size_t k = nearestRaw(b, from.p, d);
+        if (d <= limit && d < bestCost && from.n.dot(b.rawEval[k].normal) > 0.9) {
+          bestCost = d, nextCurve = i, nextReverse = false, nextStart = k;
+        }
+        continue;
+      }
+      for (bool rev : {false, true}) {
+        const End to = endOf(b, rev);
+        double cost;
+        if (a.curve.closed) {
+          cost = (to.p - from.p).norm();
+          if (from.n.dot(to.n) <= 0.9) cost = kInf;
+        } else {
+          cost = boundaryWalk(from, to, nullptr);
+        }
+        if (cost <= limit && cost < bestCost) {
+          bestCost = cost, nextCurve = i, nextReverse = rev, nextStart = 0;
+        }
+      }
+    }
+    if (nextCurve == kNone) return kNone;
+    orient(pool_[nextCurve], nextReverse, nextStart);
+    const PoolCurve& b = pool_[nextCurve];
+    IsoplanarJoin join;
+    const End to = endOf(b, false);
+    if (a.curve.closed || b.curve.closed) {
+      join.points = {from.p, to.p};
+      join.normals = {from.n, to.n};
+      join.edgeA = {from.a, to.a};
+      join.edgeB = {from.b, to.b};
+      join.edgeT = {from.t, to.t};
+      join.length = (to.p - from.p).norm();
     } else {
-      IsoplanarJoin& j = joinAfter[k - 1];
-      j.fromCurve = static_cast<uint32_t>(k - 1);
-      j.toCurve = static_cast<uint32_t>(k);
-      SurfacePath& sp = result.paths.back();
-      sp.points.insert(sp.points.end(), j.points.begin() + 1, j.points.end() - 1);
-      sp.normals.insert(sp.normals.end(), j.normals.begin() + 1, j.normals.end() - 1);
-      sp.points.insert(sp.points.end(), cv.points.begin(), cv.points.end());
-      sp.normals.insert(sp.normals.end(), cv.normals.begin(), cv.normals.end());
-      std::vector<uint32_t>& pc = result.pathPointCurve.back();
-      pc.insert(pc.end(), j.points.size() - 2, 0u);
-      pc.insert(pc.end(), cv.points.size(), static_cast<uint32_t>(k + 1));
-      result.pathMm += j.length;
-      result.pathJoins.back().push_back(static_cast<uint32_t>(result.joins.size()));
-      result.joins.push_back(std::move(j));
+      boundaryWalk(from, to, &join);
     }
-    result.pathCurves.back().push_back(static_cast<uint32_t>(k));
-    result.curves.push_back(std::move(cv));
+    joinedToNext_.back() = 1;
+    joinAfter_.back() = std::move(join);
+    emit(nextCurve);
+    return nextCurve;
   }
-  reportProgress(progress, "paths", 1.0);
-  result.ms = msSince(t0);
-  return result;
-}
 
-namespace {
-
-struct PolylineTime {
-  double seconds = 0, length = 0;
-  size_t unreachable = 0;
+  const Mesh& surface_;
+  const std::vector<SurfaceSample>& samples_;
+  const WidthFn& width_;
+  const IsoplanarOptions& options_;
+  Planner pl_;
+  size_t nt_ = 0;
+  double scale_ = 0;
+  // The triangles' spans along q, sorted by their low ends, and the surface's.
+  std::vector<double> lo_, hi_;
+  std::vector<uint32_t> order_;
+  double dmin_ = kInf, dmax_ = -kInf, extent_ = 0, eps_ = 0;
+  // Sweep scratch.
+  std::vector<std::vector<uint32_t>> comps_;
+  std::vector<uint8_t> compClosed_;
+  std::vector<RawCurve> raw_;
+  std::vector<PointEval> nodeEval_;
+  std::vector<uint32_t> crossed_;
+  std::vector<Node> nodeSeq_;
+  std::vector<Eigen::Vector3d> pts_;
+  std::vector<PointEval> evals_;
+  std::vector<uint32_t> keep_;
+  // Sweep results: the curves, per plane with curves, the plane offsets.
+  std::vector<PoolCurve> pool_;
+  std::vector<std::vector<uint32_t>> planeCurves_;
+  std::vector<double> planeOffsets_;
+  double lastStep_ = 0;
+  size_t planeIndex_ = 0;
+  uint32_t shortened_ = kNone;  // index in planeOffsets_ of the offset to the last plane
+  // Print order.
+  std::vector<uint8_t> printed_;
+  std::vector<uint32_t> printOrder_;
+  std::vector<uint8_t> joinedToNext_;
+  std::vector<IsoplanarJoin> joinAfter_;
+  size_t remaining_ = 0;
+  bool haveLast_ = false;
+  Eigen::Vector3d lastPoint_{0, 0, 0};
 };
-
-PolylineTime timePolyline(const std::vector<Eigen::Vector3d>& p, const std::vector<Eigen::Vector3d>& n,
-                          const std::vector<uint32_t>& ea, const std::vector<uint32_t>& eb,
-                          const std::vector<float>& et, const FeedFn& feed, double maxFeed,
-                          double minFeed) {
-  PolylineTime out;
-  const size_t m = p.size();
-  if (m < 2) return out;
-  std::vector<double> kg(m, 0.0);
-  for (size_t i = 1; i + 1 < m; ++i) {
-    const Eigen::Vector3d d0 = p[i] - p[i - 1], d1 = p[i + 1] - p[i];
-    const double l0 = d0.norm(), l1 = d1.norm();
-    if (l0 <= 0 || l1 <= 0) continue;
-    const Eigen::Vector3d kvec = 2 * (d1 / l1 - d0 / l0) / (l0 + l1);
-    Eigen::Vector3d tan = d0 / l0 + d1 / l1;
-    if (tan.norm() < 1e-12) continue;
-    tan.normalize();
-    kg[i] = kvec.dot(n[i].cross(tan));
-  }
-  for (size_t i = 0; i + 1 < m; ++i) {
-    const Eigen::Vector3d d = p[i + 1] - p[i];
-    const double len = d.norm();
-    if (len <= 0) continue;
-    const Eigen::Vector3d dir = d / len;
-    double f = kInf;
-    bool bad = false;
-    for (size_t j : {i, i + 1}) {
-      const double fj = feed ? feed(ea[j], eb[j], et[j], dir, kg[j]) : kInf;
-      if (std::isnan(fj) || fj <= 0) bad = true;
-      f = std::min(f, fj);
-    }
-    if (maxFeed > 0 && std::isfinite(maxFeed)) f = std::min(f, maxFeed);
-    if (bad || !std::isfinite(f)) {
-      f = minFeed;
-      ++out.unreachable;
-    }
-    out.seconds += len / f;
-    out.length += len;
-  }
-  return out;
-}
 
 }  // namespace
 
-IsoplanarTime estimateIsoplanarTime(const IsoplanarResult& paths, const FeedFn& feed,
-                                    double maxFeed, double travelSpeed, double minFeed) {
-  IsoplanarTime t;
-  if (!(minFeed > 0) || !std::isfinite(minFeed)) minFeed = 1;
-  for (size_t p = 0; p < paths.pathCurves.size(); ++p) {
-    const std::vector<uint32_t>& cs = paths.pathCurves[p];
-    for (size_t j = 0; j < cs.size(); ++j) {
-      if (cs[j] >= paths.curves.size()) continue;
-      const NlCurve& c = paths.curves[cs[j]];
-      const PolylineTime pt =
-          timePolyline(c.points, c.normals, c.edgeA, c.edgeB, c.edgeT, feed, maxFeed, minFeed);
-      t.printS += pt.seconds;
-      t.pathMm += pt.length;
-      t.unreachableSegments += pt.unreachable;
-      if (j > 0 && p < paths.pathJoins.size() && j - 1 < paths.pathJoins[p].size()) {
-        const uint32_t ji = paths.pathJoins[p][j - 1];
-        if (ji < paths.joins.size()) {
-          const IsoplanarJoin& jn = paths.joins[ji];
-          const PolylineTime jt = timePolyline(jn.points, jn.normals, jn.edgeA, jn.edgeB, jn.edgeT,
-                                               feed, maxFeed, minFeed);
-          t.joinS += jt.seconds;
-          t.pathMm += jt.length;
-          t.unreachableSegments += jt.unreachable;
-        }
-      }
-    }
-    if (p > 0 && p < paths.paths.size() && !paths.paths[p].points.empty() &&
-        !paths.paths[p - 1].points.empty()) {
-      const double d = (paths.paths[p].points.front() - paths.paths[p - 1].points.back()).norm();
-      t.travelMm += d;
-      if (travelSpeed > 0 && std::isfinite(travelSpeed)) t.travelS += d / travelSpeed;
-    }
+IsoplanarResult isoplanarPaths(const IsoplanarSurface& prepared, const WidthFn& width,
+                               const IsoplanarOptions& options, const ProgressFn& progress) {
+  const auto t0 = Clock::now();
+  const Outcome input = checkPathOptions(prepared, width, options);
+  if (!input.ok()) return fail(input.status, input.message);
+  IsoplanarBuilder builder(*prepared.data, width, options);
+  IsoplanarResult result;
+  if (!builder.hasExtent()) {
+    // The surface lies in one drive plane: no curve (not an error).
+    result.ms = msSince(t0);
+    return result;
   }
-  t.totalS = t.printS + t.joinS + t.travelS;
-  t.meanFeed = t.printS + t.joinS > 0 ? t.pathMm / (t.printS + t.joinS) : 0;
-  return t;
+  const Outcome swept = builder.sweep(progress, result);
+  if (!swept.ok()) return fail(swept.status, swept.message);
+  builder.chainCurves();
+  builder.assemblePaths(result);
+  reportProgress(progress, "paths", 1.0);
+  result.ms = msSince(t0);
+  return result;
 }
 
 }  // namespace omnislice

@@ -1,91 +1,40 @@
 // SPDX-License-Identifier: MIT
-// Beam-guided search of clipping planes (paper 000 Sections III-IV). Design (measurements in the
-// commit messages and tests/core/multidir/decomposition_test.cpp):
-// - A search state (the remaining model: the solid cut by the planes so far) keeps every face as
-//   removed, whole, or cut (the convex polygon left of it), the occupancy cells whose centres it
-//   keeps, and ~1500 coarse volume samples (blocks of cells).
-// - J_L (Eq. 8) and R (Eq. 11) of every offset k * step of a normal are suffix sums of one
-//   difference array per normal: a whole face adds its area at floor(t_min / step) and, at each
-//   offset strictly inside its projection, the exact area above by the closed form of a
-//   triangle (stored per normal once); cut faces are clipped. Only faces risky along +Z or along
-//   the normal enter. So J_L, R and J_G are exact w.r.t. the planes, not centroid-classified.
-//   The arrays are fixed point (2^-40 mm^2, coarser on huge surfaces; integer sums do not depend
-//   on their order), so a child's are its parent's with the faces its plane removed or cut
-//   replaced, bit for bit the same as from scratch.
-// - Criterion IV prefilters offsets by the coarse samples (lenient) and decides on the fine
-//   cells; Criterion II is a flood fill over the remaining cells from the platform layer, run in
-//   priority order until the beams are full (after one failure of a (state, normal), a
-//   union-find sweep answers all its offsets at once).
-// - Each node stores only its last plane and a parent link (backward links, Section IV-B).
-// - Beyond the paper: each level gives every frontier node its fair share of the beams before
-//   filling by priority, and the 5dof beam restarts on turned spheres of normals (the result
-//   depends on which normals exist); both measured in their commit messages.
-// - Refinement: coordinate descent on the found planes (nearby normals and offsets), exact.
+// Multidir decomposition (paper 000 Sections III-IV), the entry points of decomposition.h: the
+// options, the search lines each scheme runs (5dof: restarts on turned spheres of normals; 4dof:
+// the axis search, screened by the constrained greedy line), the choice among the lines' refined
+// ends, the iterated local search on the winner, and evaluateDecomposition. The parts live in
+// decomposition_model.h (faces, occupancy grid, exact J_G), plane_search.h (the beam-guided search
+// and its design), candidate_normals.h and plane_refinement.h (local refinement).
 #include "common/det_math.h"
 #include "common/math_constants.h"
 #include "common/stopwatch.h"
+#include "multidir/candidate_normals.h"
 #include "multidir/decomposition.h"
+#include "multidir/decomposition_model.h"
+#include "multidir/plane_refinement.h"
+#include "multidir/plane_search.h"
 
-#include <Eigen/Geometry>
 #include <algorithm>
-#include <array>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numeric>
-#include <unordered_map>
+#include <string>
 #include <tuple>
 #include <utility>
+#include <vector>
 
 namespace omnislice {
 namespace {
 
-constexpr double kMinGainMm2 = 1e-6;  // a plane must remove at least this much risky area
-constexpr int kMaxLevels = 256;       // safety bound; Criterion IV already limits parts to w
-constexpr uint32_t kNoCell = 0xffffffffu;
+using namespace decomposition_detail;
 
-
-using Vec3 = Eigen::Vector3d;
-using Poly = std::vector<Vec3>;
-
-enum class Scheme { Greedy, Constrained, Beam };
-
-Outcome fail(Status s, std::string message) {
-  Outcome o;
-  o.status = s;
-  o.message = std::move(message);
-  return o;
-}
-
-bool isFinite(const Vec3& v) { return std::isfinite(v.x()) && std::isfinite(v.y()) && std::isfinite(v.z()); }
-
-// ---- options and mesh -----------------------------------------------------------------------
-
-Outcome checkCommonOptions(const MultidirOptions& o) {
-  auto bad = [](const std::string& what) { return fail(Status::InvalidOption, what); };
-  if (!(o.alphaMaxDeg > 0 && o.alphaMaxDeg < 90)) return bad("alphaMaxDeg must be in (0, 90)");
-  if (!(o.w >= 1) || !std::isfinite(o.w)) return bad("w must be a finite number >= 1");
-  if (!(o.platformMarginMm >= 0) || !std::isfinite(o.platformMarginMm)) {
-    return bad("platformMarginMm must be finite and >= 0");
-  }
-  if (!(o.platformRadiusMm >= 0) || !std::isfinite(o.platformRadiusMm)) {
-    return bad("platformRadiusMm must be finite and >= 0");
-  }
-  if (!(o.platformBandMm >= 0) || !std::isfinite(o.platformBandMm)) {
-    return bad("platformBandMm must be finite and >= 0");
-  }
-  if (o.gridResolution < 8 || o.gridResolution > 1000) return bad("gridResolution must be in [8, 1000]");
-  if (!(o.floatingToleranceCells >= 0) || !std::isfinite(o.floatingToleranceCells)) {
-    return bad("floatingToleranceCells must be finite and >= 0");
-  }
-  return {};
-}
+// ---- options ---------------------------------------------------------------------------------
 
 Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourDof) {
   Outcome common = checkCommonOptions(o);
   if (!common.ok()) return common;
-  auto bad = [](const std::string& what) { return fail(Status::InvalidOption, what); };
+  auto bad = [](const std::string& what) { return failed<Outcome>(Status::InvalidOption, what); };
   if (o.samples < 1) return bad("samples must be >= 1");
   if (!(o.offsetStepMm > 0) || !std::isfinite(o.offsetStepMm)) return bad("offsetStepMm must be finite and > 0");
   if (o.dof == "5dof") fourDof = false;
@@ -126,1570 +75,7 @@ Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourD
   return {};
 }
 
-Outcome checkMesh(const Mesh& mesh) {
-  if (mesh.triangles.empty()) return fail(Status::EmptyInput, "mesh has no triangles");
-  if (mesh.positions.size() % 3 != 0 || mesh.triangles.size() % 3 != 0) {
-    return fail(Status::ParseError, "mesh arrays are not multiples of 3");
-  }
-  const size_t nv = mesh.vertexCount();
-  for (uint32_t i : mesh.triangles) {
-    if (i >= nv) return fail(Status::ParseError, "triangle index out of range");
-  }
-  double lo = std::numeric_limits<double>::infinity(), extent = 0;
-  for (size_t i = 0; i < mesh.positions.size(); ++i) {
-    const double x = mesh.positions[i];
-    if (!std::isfinite(x)) return fail(Status::NonFiniteVertex, "non-finite vertex coordinate");
-    extent = std::max(extent, std::abs(x));
-    if (i % 3 == 2) lo = std::min(lo, x);
-  }
-  if (lo < -1e-9 * (1 + extent)) {
-    return fail(Status::InvalidOption, "mesh lies below the platform z = 0 (place it first)");
-  }
-  return {};
-}
-
-// ---- geometry helpers -----------------------------------------------------------------------
-
-// Keeps the part of a convex planar polygon with n . x >= d (above) or <= d (below).
-Poly clipPoly(const Poly& p, const Vec3& n, double d, bool keepAbove) {
-  Poly out;
-  const size_t m = p.size();
-  if (m == 0) return out;
-  out.reserve(m + 1);
-  for (size_t i = 0; i < m; ++i) {
-    const Vec3& a = p[i];
-    const Vec3& b = p[(i + 1) % m];
-    double sa = n.dot(a) - d, sb = n.dot(b) - d;
-    if (!keepAbove) {
-      sa = -sa;
-      sb = -sb;
-    }
-    if (sa >= 0) out.push_back(a);
-    if ((sa >= 0) != (sb >= 0) && sa != sb) {
-      const double t = sa / (sa - sb);
-      out.push_back(a + t * (b - a));
-    }
-  }
-  if (out.size() < 3) out.clear();
-  return out;
-}
-
-double polyArea(const Poly& p, const Vec3& faceNormal) {
-  if (p.size() < 3) return 0;
-  Vec3 s = Vec3::Zero();
-  for (size_t i = 0; i < p.size(); ++i) s += p[i].cross(p[(i + 1) % p.size()]);
-  return std::max(0.0, 0.5 * faceNormal.dot(s));
-}
-
-// Fraction of a triangle's area above a plane, from its corners' heights a <= b <= c along the
-// normal, for a < d < c: one corner above -> (c-d)^2 / ((c-a)(c-b)); two -> 1 - (d-a)^2 / ((b-a)(c-a)).
-double triFractionAbove(double a, double b, double c, double d) {
-  if (d >= b) return (c - d) * (c - d) / ((c - a) * (c - b));
-  return 1.0 - (d - a) * (d - a) / ((b - a) * (c - a));
-}
-
-void sort3(double& a, double& b, double& c) {
-  if (a > b) std::swap(a, b);
-  if (b > c) std::swap(b, c);
-  if (a > b) std::swap(a, b);
-}
-
-// ---- the model: faces, occupancy grid, platform ------------------------------------------------
-
-struct Model {
-  std::vector<Vec3> vert;
-  std::vector<std::array<uint32_t, 3>> tri;
-  std::vector<std::array<Vec3, 3>> corner;  // face corners, copied for locality in the sweeps
-  std::vector<double> area;
-  std::vector<Vec3> normal;      // unit (zero for degenerate faces: never risky)
-  std::vector<double> platRisk;  // area when risky along +Z on the platform part, else 0
-  double sinAlpha = 0;
-  double jgBefore = 0;
-  double volume = 0;
-  double surfaceArea = 0;  // sum of the face areas in face order (sets the search's fixed point)
-  Vec3 lo, hi;
-  // Occupancy grid: cells whose centre is inside the solid (non-zero winding of vertical rays),
-  // connected to the platform layer. Grid index = i + nx * (j + ny * k); one empty cell pads
-  // every side; layer k = 1 holds the centres at z = h / 2.
-  double h = 0;
-  Vec3 origin;
-  int nx = 0, ny = 0, nz = 0;
-  std::vector<int32_t> cellOf;    // grid index -> cell id, -1 = not solid
-  std::vector<uint32_t> gridOf;   // cell id -> grid index
-  std::vector<Vec3> centre;       // cell id -> centre
-  std::vector<uint32_t> baseCells;  // cells of the platform layer
-  std::vector<uint8_t> isBase;      // cell id -> in the platform layer
-  std::vector<uint32_t> nbr;        // 6 face neighbours per cell (kNoCell when not solid)
-  size_t cells = 0;
-  // Coarse volume samples (Criterion IV prefilter): blocks of blockFactor^3 cells, each at the
-  // mean centre of its cells, weighted by their count.
-  std::vector<Vec3> samplePos;
-  std::vector<double> sampleWeight;
-  size_t orphans = 0;
-  // Platform P (Criterion III).
-  std::vector<Eigen::Vector2d> footprint;
-  double margin = 0, radius = 0;
-
-  double platformLimit(const Vec3& n) const {  // max over P of n . p
-    const double nxy = std::sqrt(n.x() * n.x() + n.y() * n.y());  // not hypot: libm differs in wasm
-    if (radius > 0) return radius * nxy;
-    double best = -std::numeric_limits<double>::infinity();
-    for (const auto& p : footprint) best = std::max(best, n.x() * p.x() + n.y() * p.y());
-    return best + margin * nxy;
-  }
-  bool riskyAlong(size_t f, const Vec3& d) const { return normal[f].dot(d) + sinAlpha < 0; }
-};
-
-Outcome buildFaces(const Mesh& mesh, const MultidirOptions& o, Model& m) {
-  const size_t nv = mesh.vertexCount(), nf = mesh.faceCount();
-  m.vert.resize(nv);
-  m.lo = Vec3::Constant(std::numeric_limits<double>::infinity());
-  m.hi = -m.lo;
-  for (size_t i = 0; i < nv; ++i) {
-    m.vert[i] = mesh.vertex(i);
-    m.lo = m.lo.cwiseMin(m.vert[i]);
-    m.hi = m.hi.cwiseMax(m.vert[i]);
-  }
-  m.sinAlpha = det::sin(o.alphaMaxDeg * kPi / 180);
-  m.tri.resize(nf);
-  m.area.resize(nf);
-  m.normal.resize(nf);
-  m.platRisk.assign(nf, 0);
-  const Vec3 up(0, 0, 1);
-  for (size_t f = 0; f < nf; ++f) {
-    m.tri[f] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]};
-    m.corner.push_back({m.vert[m.tri[f][0]], m.vert[m.tri[f][1]], m.vert[m.tri[f][2]]});
-    const Vec3 &a = m.vert[m.tri[f][0]], &b = m.vert[m.tri[f][1]], &c = m.vert[m.tri[f][2]];
-    const Vec3 cr = (b - a).cross(c - a);
-    const double len = cr.norm();
-    m.area[f] = 0.5 * len;
-    m.normal[f] = len > 0 ? Vec3(cr / len) : Vec3::Zero();
-    m.volume += a.dot(b.cross(c)) / 6.0;
-    const double cz = (a.z() + b.z() + c.z()) / 3.0;
-    if (m.riskyAlong(f, up) && !(cz < o.platformBandMm)) m.platRisk[f] = m.area[f];
-    m.jgBefore += m.platRisk[f];
-    m.surfaceArea += m.area[f];
-  }
-  // Platform footprint: vertices within the band (at least the lowest ones).
-  const double band = std::max(o.platformBandMm, 1e-9 * (1 + m.hi.cwiseAbs().maxCoeff()));
-  for (const Vec3& v : m.vert) {
-    if (v.z() - m.lo.z() <= band) m.footprint.emplace_back(v.x(), v.y());
-  }
-  m.margin = o.platformMarginMm;
-  m.radius = o.platformRadiusMm;
-  return {};
-}
-
-struct Crossing {
-  uint32_t column;
-  double z;
-  int sign;  // +1 entering the solid going up (down-facing triangle), -1 leaving
-};
-
-Outcome buildGrid(const MultidirOptions& o, Model& m) {
-  const Vec3 ext = m.hi - m.lo;
-  const double longest = ext.maxCoeff();
-  if (!(longest > 0)) return fail(Status::DegenerateInput, "the mesh has zero extent");
-  m.h = longest / o.gridResolution;
-  const double h = m.h;
-  m.origin = Vec3(m.lo.x() - h, m.lo.y() - h, -h);
-  m.nx = static_cast<int>(std::ceil(ext.x() / h)) + 3;
-  m.ny = static_cast<int>(std::ceil(ext.y() / h)) + 3;
-  m.nz = static_cast<int>(std::ceil(m.hi.z() / h)) + 3;
-  const size_t nGrid = static_cast<size_t>(m.nx) * m.ny * m.nz;
-  std::vector<Crossing> cross;
-  for (const auto& t : m.tri) {
-    Eigen::Vector2d a(m.vert[t[0]].x(), m.vert[t[0]].y()), b(m.vert[t[1]].x(), m.vert[t[1]].y()),
-        c(m.vert[t[2]].x(), m.vert[t[2]].y());
-    double za = m.vert[t[0]].z(), zb = m.vert[t[1]].z(), zc = m.vert[t[2]].z();
-    auto cross2 = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
-    double area2 = cross2(b - a, c - a);
-    if (area2 == 0) continue;
-    int sign = -1;  // counter-clockwise seen from above: an upward face, the ray leaves
-    if (area2 < 0) {
-      std::swap(b, c);
-      std::swap(zb, zc);
-      area2 = -area2;
-      sign = 1;
-    }
-    // Tie rule for centres exactly on an edge: each edge u->v of a counter-clockwise triangle owns
-    // its points when it runs downward (or leftward when horizontal); the twin edge v->u of the
-    // neighbour then does not, so a column through a shared edge is counted once.
-    auto owns = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) {
-      return v.y() < u.y() || (v.y() == u.y() && v.x() < u.x());
-    };
-    const bool ownAB = owns(a, b), ownBC = owns(b, c), ownCA = owns(c, a);
-    const double minx = std::min({a.x(), b.x(), c.x()}), maxx = std::max({a.x(), b.x(), c.x()});
-    const double miny = std::min({a.y(), b.y(), c.y()}), maxy = std::max({a.y(), b.y(), c.y()});
-    const int i0 = std::max(0, static_cast<int>(std::ceil((minx - m.origin.x()) / h - 0.5)));
-    const int i1 = std::min(m.nx - 1, static_cast<int>(std::floor((maxx - m.origin.x()) / h - 0.5)));
-    const int j0 = std::max(0, static_cast<int>(std::ceil((miny - m.origin.y()) / h - 0.5)));
-    const int j1 = std::min(m.ny - 1, static_cast<int>(std::floor((maxy - m.origin.y()) / h - 0.5)));
-    for (int j = j0; j <= j1; ++j) {
-      for (int i = i0; i <= i1; ++i) {
-        const Eigen::Vector2d p(m.origin.x() + (i + 0.5) * h, m.origin.y() + (j + 0.5) * h);
-        const double e0 = cross2(b - a, p - a), e1 = cross2(c - b, p - b), e2 = cross2(a - c, p - c);
-        if (e0 < 0 || e1 < 0 || e2 < 0) continue;
-        if ((e0 == 0 && !ownAB) || (e1 == 0 && !ownBC) || (e2 == 0 && !ownCA)) continue;
-        const double z = (e1 * za + e2 * zb + e0 * zc) / area2;
-        cross.push_back({static_cast<uint32_t>(i + m.nx * j), z, sign});
-      }
-    }
-  }
-  std::sort(cross.begin(), cross.end(), [](const Crossing& x, const Crossing& y) {
-    return x.column != y.column ? x.column < y.column : x.z < y.z;
-  });
-  std::vector<uint8_t> solid(nGrid, 0);
-  const size_t layer = static_cast<size_t>(m.nx) * m.ny;
-  for (size_t s = 0; s < cross.size();) {
-    size_t e = s;
-    while (e < cross.size() && cross[e].column == cross[s].column) ++e;
-    int winding = 0;
-    const Crossing* run = cross.data() + s;
-    for (size_t q = 1; q < e - s; ++q) {
-      winding += run[q - 1].sign;
-      if (winding == 0) continue;
-      const double z0 = run[q - 1].z, z1 = run[q].z;
-      int k0 = static_cast<int>(std::ceil((z0 - m.origin.z()) / h - 0.5));
-      int k1 = static_cast<int>(std::floor((z1 - m.origin.z()) / h - 0.5));
-      k0 = std::max(k0, 1);
-      k1 = std::min(k1, m.nz - 2);
-      for (int k = k0; k <= k1; ++k) {
-        const double zc = m.origin.z() + (k + 0.5) * h;
-        if (zc > z0 && zc < z1) solid[run[0].column + layer * k] = 1;
-      }
-    }
-    s = e;
-  }
-  // Keep the cells connected to the platform layer (k = 1, or the lowest solid layer).
-  int baseLayer = -1;
-  for (int k = 1; k < m.nz && baseLayer < 0; ++k) {
-    for (size_t c = 0; c < layer; ++c) {
-      if (solid[c + layer * k]) {
-        baseLayer = k;
-        break;
-      }
-    }
-  }
-  if (baseLayer < 0) return fail(Status::DegenerateInput, "no occupancy-grid cell lies inside the solid");
-  std::vector<uint32_t> queue;
-  std::vector<uint8_t> reached(nGrid, 0);
-  for (size_t c = 0; c < layer; ++c) {
-    const size_t g = c + layer * baseLayer;
-    if (solid[g]) {
-      reached[g] = 1;
-      queue.push_back(static_cast<uint32_t>(g));
-    }
-  }
-  const long steps[6] = {1, -1, m.nx, -m.nx, static_cast<long>(layer), -static_cast<long>(layer)};
-  for (size_t q = 0; q < queue.size(); ++q) {
-    for (long st : steps) {
-      const size_t g = static_cast<size_t>(static_cast<long>(queue[q]) + st);
-      if (solid[g] && !reached[g]) {
-        reached[g] = 1;
-        queue.push_back(static_cast<uint32_t>(g));
-      }
-    }
-  }
-  m.cellOf.assign(nGrid, -1);
-  size_t solidCount = 0;
-  for (size_t g = 0; g < nGrid; ++g) {
-    solidCount += solid[g];
-    if (!reached[g]) continue;
-    m.cellOf[g] = static_cast<int32_t>(m.gridOf.size());
-    m.gridOf.push_back(static_cast<uint32_t>(g));
-    const size_t i = g % m.nx, j = (g / m.nx) % m.ny, k = g / layer;
-    m.centre.emplace_back(m.origin.x() + (i + 0.5) * h, m.origin.y() + (j + 0.5) * h,
-                          m.origin.z() + (k + 0.5) * h);
-    if (static_cast<int>(k) == baseLayer) m.baseCells.push_back(static_cast<uint32_t>(m.gridOf.size() - 1));
-  }
-  m.cells = m.gridOf.size();
-  m.orphans = solidCount - m.cells;
-  m.isBase.assign(m.cells, 0);
-  for (uint32_t c : m.baseCells) m.isBase[c] = 1;
-  m.nbr.resize(6 * m.cells);
-  for (size_t c = 0; c < m.cells; ++c) {
-    for (int q = 0; q < 6; ++q) {
-      const int32_t nb = m.cellOf[static_cast<size_t>(static_cast<long>(m.gridOf[c]) + steps[q])];
-      m.nbr[6 * c + q] = nb < 0 ? kNoCell : static_cast<uint32_t>(nb);
-    }
-  }
-  // ~1500 samples: the prefilter only has to be right to ~20% of V/w (the fine grid decides).
-  const int bf = std::max(1, static_cast<int>(std::lround(std::cbrt(m.cells / 1500.0))));
-  const size_t bx = static_cast<size_t>(m.nx / bf + 1), by = static_cast<size_t>(m.ny / bf + 1);
-  const size_t bz = static_cast<size_t>(m.nz / bf + 1);
-  std::vector<int32_t> blockOf(bx * by * bz, -1);
-  for (size_t c = 0; c < m.cells; ++c) {
-    const size_t g = m.gridOf[c];
-    const size_t i = g % m.nx, j = (g / m.nx) % m.ny, k = g / layer;
-    const size_t b = i / bf + bx * (j / bf + by * (k / bf));
-    if (blockOf[b] < 0) {
-      blockOf[b] = static_cast<int32_t>(m.samplePos.size());
-      m.samplePos.push_back(Vec3::Zero());
-      m.sampleWeight.push_back(0);
-    }
-    m.samplePos[blockOf[b]] += m.centre[c];
-    m.sampleWeight[blockOf[b]] += 1;
-  }
-  for (size_t q = 0; q < m.samplePos.size(); ++q) m.samplePos[q] /= m.sampleWeight[q];
-  return {};
-}
-
-Outcome buildModel(const Mesh& mesh, const MultidirOptions& o, Model& m) {
-  Outcome r = checkMesh(mesh);
-  if (!r.ok()) return r;
-  r = buildFaces(mesh, o, m);
-  if (!r.ok()) return r;
-  return buildGrid(o, m);
-}
-
-// ---- cell sets and Criterion II --------------------------------------------------------------
-
-using Bits = std::vector<uint64_t>;
-inline bool testBit(const Bits& b, size_t i) { return (b[i >> 6] >> (i & 63)) & 1u; }
-inline void setBit(Bits& b, size_t i) { b[i >> 6] |= uint64_t(1) << (i & 63); }
-
-template <class F>
-void forEachBit(const Bits& b, F&& f) {
-  for (size_t w = 0; w < b.size(); ++w) {
-    uint64_t x = b[w];
-    while (x) {
-      const int t = __builtin_ctzll(x);
-      f(w * 64 + static_cast<size_t>(t));
-      x &= x - 1;
-    }
-  }
-}
-
-struct FloodScratch {
-  std::vector<uint32_t> stamp;
-  std::vector<uint32_t> queue;
-  uint32_t gen = 0;
-};
-
-// Counts the cells of S n {n . x <= d} reachable from the platform layer through face neighbours.
-size_t reachableBelow(const Model& m, const Bits& s, const Vec3& n, double d, FloodScratch& fs) {
-  if (fs.stamp.size() != m.cells) fs.stamp.assign(m.cells, 0);
-  if (++fs.gen == 0) {
-    std::fill(fs.stamp.begin(), fs.stamp.end(), 0);
-    fs.gen = 1;
-  }
-  fs.queue.clear();
-  for (uint32_t c : m.baseCells) {
-    if (testBit(s, c) && n.dot(m.centre[c]) <= d) {
-      fs.stamp[c] = fs.gen;
-      fs.queue.push_back(c);
-    }
-  }
-  for (size_t q = 0; q < fs.queue.size(); ++q) {
-    const uint32_t* nb = &m.nbr[6 * static_cast<size_t>(fs.queue[q])];
-    for (int e = 0; e < 6; ++e) {
-      const uint32_t c = nb[e];
-      if (c == kNoCell || fs.stamp[c] == fs.gen || !testBit(s, c)) continue;
-      if (n.dot(m.centre[c]) > d) continue;
-      fs.stamp[c] = fs.gen;
-      fs.queue.push_back(c);
-    }
-  }
-  return fs.queue.size();
-}
-
-// ---- exact J_G of a plane sequence ------------------------------------------------------------
-
-// partRisk[k] for the part above plane k, partRisk.back() for the platform part.
-std::vector<double> exactRisk(const Model& m, const std::vector<Vec3>& ns, const std::vector<double>& ds) {
-  const size_t np = ns.size();
-  std::vector<double> risk(np + 1, 0);
-  for (size_t f = 0; f < m.tri.size(); ++f) {
-    if (!(m.area[f] > 0)) continue;
-    Poly poly = {m.vert[m.tri[f][0]], m.vert[m.tri[f][1]], m.vert[m.tri[f][2]]};
-    for (size_t k = 0; k < np && !poly.empty(); ++k) {
-      double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
-      for (const Vec3& p : poly) {
-        const double t = ns[k].dot(p);
-        tmin = std::min(tmin, t);
-        tmax = std::max(tmax, t);
-      }
-      if (tmax <= ds[k] && tmin < ds[k]) continue;  // wholly below
-      const bool risky = m.riskyAlong(f, ns[k]);
-      if (tmin >= ds[k]) {  // wholly above (a face lying in the plane counts as above)
-        if (risky) risk[k] += polyArea(poly, m.normal[f]);
-        poly.clear();
-        break;
-      }
-      if (risky) risk[k] += polyArea(clipPoly(poly, ns[k], ds[k], true), m.normal[f]);
-      poly = clipPoly(poly, ns[k], ds[k], false);
-    }
-    if (!poly.empty() && m.platRisk[f] > 0) risk[np] += polyArea(poly, m.normal[f]);
-  }
-  return risk;
-}
-
-// ---- the search ------------------------------------------------------------------------------
-
-// The J_L / R difference arrays hold areas in fixed point: integer multiples of 2^-40 mm^2 (a
-// coarser power of 2 when the model's surface area S is 2^22 mm^2 = 4.2e6 mm^2 or more, see
-// Search::fxUnits_), each contribution (a face's area, or its area above one offset) rounded once,
-// then weighted by -1, 0 or 1 and summed modulo 2^64 (unsigned: wrap-around is defined). Integer
-// sums do not depend on their order, so a state's arrays are the same however they are built
-// (from scratch or from its parent's) and the same in native and wasm. Range: a suffix sum is at
-// most S (weights are +-1) plus 1/2 unit per contribution, below 2^62 units. Rounding adds at most
-// 2^-41 mm^2 per contribution (< 1e-7 mm^2 over 10^5 faces): far below kMinGainMm2, and the
-// noise of a small model's J_G (< 1e-11 mm^2 over 10^3 contributions) stays below the 1e-9 mm^2
-// a plane costs in the axis screening.
-using Fx = uint64_t;
-inline Fx fxTimes(int w, int64_t v) { return static_cast<Fx>(w * v); }
-
-// A face along a normal it matters for (risky along it, or risky on the platform part) with its
-// whole-triangle contribution: fully above offsets <= kFull, partly above the next `straddles`
-// offsets by the stored areas above them (fixed point, from Search::fractions_[frac]). Stored
-// face-major (a face's entries together), so that a child's changed faces are read in sequence.
-struct Entry {
-  int32_t kFull;       // relative to the normal's kLo
-  uint32_t frac;       // first of its areas above in Search::fractions_
-  uint32_t normal;
-  int16_t straddles;   // <= 20000 offsets per normal (searchDecomposition refuses more)
-  int8_t wj, wr;       // J_L weight (platform risk - risk along n) and R weight
-  int64_t area;        // fixed point
-};
-static_assert(sizeof(Entry) == 24, "an entry per (face, normal) that matters: keep it small");
-
-struct NormalData {
-  Vec3 n;
-  int kLo = 0, kHi = 0;  // offsets spanning the model: kLo*step < every point < kHi*step
-  int kStart = 0;        // lowest offset allowed: above kLo and with the platform below (III)
-  size_t base = 0;       // first offset of this normal in a node's difference arrays
-  std::vector<int32_t> sampleKey;  // per coarse volume sample: the offset index (k - kLo) whose
-                                   // plane has it just above, clamped to [kLo, kHi]
-};
-
-struct Node {
-  int parent = -1;
-  int line = -1;        // search line that made it (-1: the root, shared)
-  int normal = -1;
-  int k = 0;
-  int level = 0;
-  Vec3 n{0, 0, 1};
-  double d = 0;
-  std::vector<uint8_t> faceState;  // 0 removed, 1 whole, 2 cut
-  std::vector<uint32_t> cutFace;   // ascending
-  std::vector<Poly> cutPoly;
-  Bits cells;                      // fine occupancy cells kept
-  size_t cellCount = 0;
-  Bits samples;                    // coarse volume samples kept
-  // J_L / R difference arrays of every normal (J(k) = sum over k' >= k of dJ[k']), fixed point,
-  // interleaved (dJ, dR at 2 * (base + k - kLo)), held while the node may still be expanded.
-  std::vector<Fx> diff;
-  double jg = 0;        // exact J_G of this decomposition
-  double platRisk = 0;  // risky area (+Z) left on the remaining model
-  double partRisk = 0;  // R of the part cut off by the last plane
-  size_t partCells = 0;
-  double sampleWeight = 0;   // volume samples kept (in fine cells)
-  double removedWeight = 0;  // volume samples the last plane cut off
-  bool terminal = false;
-};
-
-// A face the child's plane removed or cut: its polygon in the parent (-1: whole) and in the child
-// (-1: removed), as indices into their cutPoly.
-struct FaceChange {
-  uint32_t face;
-  int32_t oldPoly, newPoly;
-};
-
-struct Cand {
-  uint32_t node;
-  uint32_t normal;
-  int k;
-  double jl, r;
-};
-
-class Search {
- public:
-  Search(const Model& m, const MultidirOptions& o, MultidirStats& stats, const ProgressFn& progress)
-      : m_(m), o_(o), stats_(stats), progress_(progress) {
-    minPartCells_ = static_cast<size_t>(std::ceil(static_cast<double>(m_.cells) / o_.w - 1e-9));
-    // 2^40 units per mm^2, fewer when S >= 2^22 mm^2 so that S * fxUnits_ < 2^62.
-    int e = 0;
-    std::frexp(m_.surfaceArea, &e);  // S < 2^e
-    fxUnits_ = std::ldexp(1.0, std::min(40, 62 - e));
-  }
-
-  // Per-normal tables and the root state with its full J_L / R sweep.
-  void setNormals(const std::vector<Vec3>& normals) {
-    auto t0 = Clock::now();
-    const double step = o_.offsetStepMm;
-    nd_.clear();
-    size_t base = 0;
-    for (const Vec3& n : normals) {
-      NormalData nd;
-      nd.n = n;
-      double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
-      for (int c = 0; c < 8; ++c) {
-        const Vec3 p((c & 1) ? m_.hi.x() : m_.lo.x(), (c & 2) ? m_.hi.y() : m_.lo.y(),
-                     (c & 4) ? m_.hi.z() : m_.lo.z());
-        tmin = std::min(tmin, n.dot(p));
-        tmax = std::max(tmax, n.dot(p));
-      }
-      nd.kLo = static_cast<int>(std::floor(tmin / step)) - 1;
-      nd.kHi = static_cast<int>(std::ceil(tmax / step)) + 1;
-      const int kPlat = static_cast<int>(std::ceil((m_.platformLimit(n) - 1e-9) / step));
-      nd.kStart = std::max(nd.kLo + 1, kPlat);
-      nd.base = base;
-      base += static_cast<size_t>(nd.kHi - nd.kLo + 1);
-      nd.sampleKey.resize(m_.samplePos.size());
-      for (size_t c = 0; c < m_.samplePos.size(); ++c) {
-        const int key = static_cast<int>(std::ceil(n.dot(m_.samplePos[c]) / step)) - 1;
-        nd.sampleKey[c] = std::clamp(key, nd.kLo, nd.kHi) - nd.kLo;
-      }
-      nd_.push_back(std::move(nd));
-    }
-    arrayLen_ = base;
-    entries_.clear();
-    fractions_.clear();
-    entryStart_.assign(m_.tri.size() + 1, 0);
-    for (uint32_t f = 0; f < m_.tri.size(); ++f) {
-      entryStart_[f] = static_cast<uint32_t>(entries_.size());
-      const auto& t = m_.corner[f];
-      for (size_t j = 0; j < nd_.size(); ++j) {
-        const NormalData& nd = nd_[j];
-        const Vec3& n = nd.n;
-        const int wr = m_.riskyAlong(f, n) ? 1 : 0;
-        const int wj = (m_.platRisk[f] > 0 ? 1 : 0) - wr;
-        if (wr == 0 && wj == 0) continue;
-        double a = n.dot(t[0]), b = n.dot(t[1]), c = n.dot(t[2]);
-        sort3(a, b, c);
-        const int kFull = static_cast<int>(std::floor(a / step));
-        const int kTop = static_cast<int>(std::ceil(c / step));
-        Entry e;
-        e.kFull = kFull - nd.kLo;
-        e.frac = static_cast<uint32_t>(fractions_.size());
-        e.straddles = static_cast<int16_t>(std::max(0, kTop - kFull - 1));
-        e.normal = static_cast<uint32_t>(j);
-        e.wj = static_cast<int8_t>(wj);
-        e.wr = static_cast<int8_t>(wr);
-        e.area = toFx(m_.area[f]);
-        // area above each straddled offset
-        for (int k = kFull + 1; k < kTop; ++k) {
-          fractions_.push_back(toFx(m_.area[f] * triFractionAbove(a, b, c, k * step)));
-        }
-        entries_.push_back(e);
-      }
-    }
-    entryStart_[m_.tri.size()] = static_cast<uint32_t>(entries_.size());
-    nodes_.clear();
-    Node root;
-    root.faceState.assign(m_.tri.size(), 1);
-    root.cells.assign((m_.cells + 63) / 64, 0);
-    for (size_t c = 0; c < m_.cells; ++c) setBit(root.cells, c);
-    root.cellCount = m_.cells;
-    root.samples.assign((m_.samplePos.size() + 63) / 64, 0);
-    for (size_t c = 0; c < m_.samplePos.size(); ++c) setBit(root.samples, c);
-    root.sampleWeight = static_cast<double>(m_.cells);
-    root.jg = m_.jgBefore;
-    root.platRisk = m_.jgBefore;
-    root.terminal = isTerminal(root);
-    stats_.msNormals += msSince(t0);
-    t0 = Clock::now();
-    if (!root.terminal) fullArrays(root);
-    stats_.msSweep += msSince(t0);
-    nodes_.push_back(std::move(root));
-  }
-
-  // One line of search from the root: greedy / constrained (width 1) or the beam. Reports each
-  // level as SearchLevelProgress `name` (level 0: the root). Returns false when cancelled.
-  bool runLine(Scheme scheme, size_t width, double progressBase, double progressSpan, const char* name) {
-    ++line_;
-    std::vector<uint32_t> frontier;
-    if (!nodes_[0].terminal) frontier.push_back(0);
-    auto fractionAt = [&](int level) {
-      return progressBase + progressSpan * std::min(0.99, level / (o_.w + 1));
-    };
-    double least = nodes_[0].jg;  // least J_G of the line's nodes so far
-    auto reportLevel = [&](int level) {
-      // A node's J_G is its parent's minus the plane's gain: it can end a few ulps below zero.
-      const SearchLevelProgress s{name, level, std::max(0.0, least), static_cast<int>(frontier.size())};
-      return reportProgress(progress_, "decompose", fractionAt(level), s);
-    };
-    if (!reportLevel(0)) return false;
-    int level = 0;
-    while (!frontier.empty() && level < kMaxLevels) {
-      if (!reportProgress(progress_, "decompose", fractionAt(level))) return false;
-      progressNow_ = fractionAt(level);
-      ++level;
-      ++stats_.levels;
-      auto t0 = Clock::now();
-      pool_.clear();
-      for (uint32_t id : frontier) emit(id);
-      stats_.msSweep += msSince(t0);
-      const std::vector<uint32_t> children = select(frontier, width, scheme);
-      if (cancelled_) return false;
-      for (uint32_t id : frontier) {
-        if (id == 0) continue;  // the root's arrays serve every line
-        std::vector<Fx>().swap(nodes_[id].diff);
-      }
-      frontier.clear();
-      for (uint32_t c : children) {
-        least = std::min(least, nodes_[c].jg);
-        if (!nodes_[c].terminal) frontier.push_back(c);
-      }
-      if (!reportLevel(level)) return false;
-    }
-    return true;
-  }
-
-  // Best node of a line (all lines when line < 0): least J_G; within delta0 of it, fewest
-  // planes; then the first created.
-  uint32_t best(int line = -1) const {
-    auto inLine = [&](const Node& nd) { return line < 0 || nd.line < 0 || nd.line == line; };
-    double least = std::numeric_limits<double>::infinity();
-    for (const Node& nd : nodes_) {
-      if (inLine(nd)) least = std::min(least, nd.jg);
-    }
-    uint32_t bestId = 0;
-    bool have = false;
-    for (uint32_t i = 0; i < nodes_.size(); ++i) {
-      const Node& nd = nodes_[i];
-      if (!inLine(nd) || nd.jg > least + o_.delta0) continue;
-      if (!have || nd.level < nodes_[bestId].level ||
-          (nd.level == nodes_[bestId].level && nd.jg < nodes_[bestId].jg)) {
-        bestId = i;
-        have = true;
-      }
-    }
-    return bestId;
-  }
-
-  int lines() const { return line_; }
-  const Node& node(uint32_t id) const { return nodes_[id]; }
-
- private:
-  int64_t toFx(double areaMm2) const { return std::llround(areaMm2 * fxUnits_); }
-  double fxToMm2(Fx v) const { return static_cast<double>(static_cast<int64_t>(v)) / fxUnits_; }
-
-  bool isTerminal(const Node& nd) const {
-    return nd.cellCount * o_.w < static_cast<double>(m_.cells) || nd.platRisk <= kMinGainMm2;
-  }
-
-  // J_L / R difference arrays of a state from all its faces: whole faces from their entries, cut
-  // faces by clipping their polygons.
-  void fullArrays(Node& s) const {
-    s.diff.assign(2 * arrayLen_, 0);
-    const uint8_t* state = s.faceState.data();
-    size_t ci = 0;  // s.cutFace is ascending
-    for (uint32_t f = 0; f < m_.tri.size(); ++f) {
-      const uint8_t st = state[f];
-      if (st == 0) continue;
-      const Poly* p = st == 2 ? &s.cutPoly[ci++] : nullptr;
-      for (uint32_t i = entryStart_[f]; i < entryStart_[f + 1]; ++i) addFace(s.diff.data(), f, entries_[i], p, 1);
-    }
-  }
-
-  // J_L / R arrays of `child` from its parent's: the faces the plane changed leave with their old
-  // contribution and come back cut. Integer sums: the same arrays as fullArrays(child).
-  void childArrays(const Node& parent, Node& child, const std::vector<FaceChange>& changes) const {
-    child.diff = parent.diff;
-    Fx* diff = child.diff.data();
-    for (const FaceChange& c : changes) {
-      const Poly* oldPoly = c.oldPoly < 0 ? nullptr : &parent.cutPoly[static_cast<size_t>(c.oldPoly)];
-      const Poly* newPoly = c.newPoly < 0 ? nullptr : &child.cutPoly[static_cast<size_t>(c.newPoly)];
-      for (uint32_t i = entryStart_[c.face]; i < entryStart_[c.face + 1]; ++i) {
-        addFace(diff, c.face, entries_[i], oldPoly, -1);
-        if (newPoly) addFace(diff, c.face, entries_[i], newPoly, 1);
-      }
-    }
-  }
-
-  // sign * weights * (area above each offset) of face f along entry e's normal, whole (p null) or
-  // cut to polygon p, into the interleaved arrays `diff` (all normals). The one place a face's
-  // contribution is computed, for fullArrays and childArrays alike.
-  void addFace(Fx* diff, uint32_t f, const Entry& e, const Poly* p, int sign) const {
-    const NormalData& nd = nd_[e.normal];
-    Fx* d = diff + 2 * nd.base;
-    const int wj = sign * e.wj, wr = sign * e.wr;
-    if (!p) {
-      d[2 * e.kFull] += fxTimes(wj, e.area);
-      d[2 * e.kFull + 1] += fxTimes(wr, e.area);
-      const int64_t* frac = fractions_.data() + e.frac;
-      for (int q = 0; q < e.straddles; ++q) {
-        const int64_t above = frac[q];
-        const int k = e.kFull + 1 + q;
-        d[2 * k] += fxTimes(wj, above);
-        d[2 * k - 2] -= fxTimes(wj, above);
-        d[2 * k + 1] += fxTimes(wr, above);
-        d[2 * k - 1] -= fxTimes(wr, above);
-      }
-      return;
-    }
-    const double step = o_.offsetStepMm;
-    double a = std::numeric_limits<double>::infinity(), c = -a;
-    for (const Vec3& q : *p) {
-      const double t = nd.n.dot(q);
-      a = std::min(a, t);
-      c = std::max(c, t);
-    }
-    const Vec3& fn = m_.normal[f];
-    const int64_t area = toFx(polyArea(*p, fn));
-    const int kFull = static_cast<int>(std::floor(a / step)) - nd.kLo;
-    const int kTop = static_cast<int>(std::ceil(c / step)) - nd.kLo;
-    d[2 * kFull] += fxTimes(wj, area);
-    d[2 * kFull + 1] += fxTimes(wr, area);
-    for (int k = kFull + 1; k < kTop; ++k) {
-      const int64_t above = toFx(polyArea(clipPoly(*p, nd.n, (k + nd.kLo) * step, true), fn));
-      d[2 * k] += fxTimes(wj, above);
-      d[2 * k - 2] -= fxTimes(wj, above);
-      d[2 * k + 1] += fxTimes(wr, above);
-      d[2 * k - 1] -= fxTimes(wr, above);
-    }
-  }
-
-  // Candidates of one state: every normal, every offset from kStart up to the highest whose part
-  // above holds ~V/w (coarse samples, lenient: the fine grid decides), with J_L > 0.
-  void emit(uint32_t id) {
-    const Node& s = nodes_[id];
-    const double lenient = 0.8 * static_cast<double>(m_.cells) / o_.w;
-    for (size_t j = 0; j < nd_.size(); ++j) {
-      const NormalData& nd = nd_[j];
-      const size_t K = static_cast<size_t>(nd.kHi - nd.kLo + 1);
-      hist_.assign(K + 1, 0);
-      const int32_t* key = nd.sampleKey.data();
-      forEachBit(s.samples, [&](size_t c) { hist_[key[c]] += m_.sampleWeight[c]; });
-      int kMaxVol = nd.kStart - 1;
-      double above = 0;
-      for (int k = nd.kHi; k >= nd.kStart; --k) {
-        above += hist_[k - nd.kLo];
-        if (above >= lenient) {
-          kMaxVol = k;
-          break;
-        }
-      }
-      const Fx* d = s.diff.data() + 2 * nd.base;
-      Fx sumJ = 0, sumR = 0;
-      for (int k = nd.kHi; k >= nd.kStart; --k) {
-        sumJ += d[2 * (k - nd.kLo)];
-        sumR += d[2 * (k - nd.kLo) + 1];
-        if (k > kMaxVol) continue;
-        ++stats_.candidatesEvaluated;
-        const double jl = fxToMm2(sumJ);
-        if (jl > kMinGainMm2) pool_.push_back({id, static_cast<uint32_t>(j), k, jl, std::max(0.0, fxToMm2(sumR))});
-      }
-    }
-  }
-
-  // Face state of the child of `parent` by plane (n, d) into `out`, the faces that changed into
-  // `changes` (ascending); returns the number of faces the child keeps (whole or cut).
-  size_t childFaces(const Node& parent, const Vec3& n, double d, Node& out, std::vector<FaceChange>& changes) const {
-    out.faceState = parent.faceState;
-    out.cutFace.clear();
-    out.cutPoly.clear();
-    changes.clear();
-    size_t kept = 0;
-    int ci = -1;
-    for (uint32_t f = 0; f < m_.tri.size(); ++f) {
-      const uint8_t st = parent.faceState[f];
-      if (st == 1) {
-        const auto& t = m_.corner[f];
-        const double a = n.dot(t[0]), b = n.dot(t[1]), c = n.dot(t[2]);
-        const double tmin = std::min({a, b, c}), tmax = std::max({a, b, c});
-        if (tmax <= d && tmin < d) {
-          ++kept;
-          continue;
-        }
-        Poly p;
-        if (tmin < d) p = clipPoly({t[0], t[1], t[2]}, n, d, false);
-        if (p.empty()) {
-          out.faceState[f] = 0;
-          changes.push_back({f, -1, -1});
-        } else {
-          out.faceState[f] = 2;
-          changes.push_back({f, -1, static_cast<int32_t>(out.cutPoly.size())});
-          out.cutFace.push_back(f);
-          out.cutPoly.push_back(std::move(p));
-          ++kept;
-        }
-      } else if (st == 2) {
-        const Poly& p = parent.cutPoly[++ci];
-        double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
-        for (const Vec3& q : p) {
-          tmin = std::min(tmin, n.dot(q));
-          tmax = std::max(tmax, n.dot(q));
-        }
-        if (tmax <= d && tmin < d) {
-          out.cutFace.push_back(f);
-          out.cutPoly.push_back(p);
-          ++kept;
-          continue;
-        }
-        Poly q;
-        if (tmin < d) q = clipPoly(p, n, d, false);
-        if (q.empty()) {
-          out.faceState[f] = 0;
-          changes.push_back({f, ci, -1});
-        } else {
-          changes.push_back({f, ci, static_cast<int32_t>(out.cutPoly.size())});
-          out.cutFace.push_back(f);
-          out.cutPoly.push_back(std::move(q));
-          ++kept;
-        }
-      }
-    }
-    return kept;
-  }
-
-  // "Close" results (paper IV-B, after Chopper): the same parent and nearly the same plane, or
-  // remaining models whose volume samples differ by at most similarityFraction of the smaller
-  // volume their last planes cut off.
-  bool similar(const Node& a, const Node& b) const {
-    if (a.parent == b.parent && o_.similarityAngleDeg > 0 && o_.similarityOffsetMm > 0) {
-      const double cosAngle = std::clamp(a.n.dot(b.n), -1.0, 1.0);
-      if (det::acos(cosAngle) * 180 / kPi <= o_.similarityAngleDeg &&
-          std::abs(a.d - b.d) <= o_.similarityOffsetMm) {
-        return true;
-      }
-    }
-    const double limit = o_.similarityFraction * std::min(a.removedWeight, b.removedWeight);
-    double diff = 0;
-    for (size_t w = 0; w < a.samples.size(); ++w) {
-      uint64_t x = a.samples[w] ^ b.samples[w];
-      while (x) {
-        diff += m_.sampleWeight[w * 64 + static_cast<size_t>(__builtin_ctzll(x))];
-        if (diff > limit) return false;
-        x &= x - 1;
-      }
-    }
-    return true;
-  }
-
-  // Fine cells of state `id` above each offset of normal j (suffix counts), on first use.
-  const std::vector<uint32_t>& fineAbove(uint32_t id, uint32_t j) {
-    std::vector<uint32_t>& slot = fine_[key(id, j)];
-    if (!slot.empty()) return slot;
-    const NormalData& nd = nd_[j];
-    const double step = o_.offsetStepMm;
-    const size_t K = static_cast<size_t>(nd.kHi - nd.kLo + 1);
-    slot.assign(K + 1, 0);
-    forEachBit(nodes_[id].cells, [&](size_t c) {
-      // above offset k iff t > k * step iff k <= ceil(t / step) - 1
-      int key = static_cast<int>(std::ceil(nd.n.dot(m_.centre[c]) / step)) - 1;
-      key = std::clamp(key, nd.kLo, nd.kHi);
-      ++slot[key - nd.kLo];
-    });
-    for (size_t k = K; k-- > 0;) slot[k] += slot[k + 1];
-    return slot;
-  }
-
-  // Criterion II for plane (normal j, offset k) of state `id`, leaving `count` cells below: a
-  // flood fill from the platform layer; after a first failure for this (state, normal), one
-  // union-find sweep answers every offset of it.
-  bool connected(uint32_t id, uint32_t j, int k, size_t count) {
-    ConnCache& cc = conn_[key(id, j)];
-    if (cc.valid.empty() && cc.failures > 0) {
-      ++stats_.connectivityChecks;
-      connectedOffsets(nodes_[id], nd_[j], cc.valid);
-    }
-    if (!cc.valid.empty()) return cc.valid[k - nd_[j].kLo];
-    ++stats_.connectivityChecks;
-    const size_t reached = reachableBelow(m_, nodes_[id].cells, nd_[j].n, k * o_.offsetStepMm, flood_);
-    const bool ok = static_cast<double>(count - reached) <= o_.floatingToleranceCells;
-    if (!ok) ++cc.failures;
-    return ok;
-  }
-
-  // valid[k - kLo] = no cell of S n {n . x <= k * step} is cut off from the platform layer: cells
-  // join a union-find in order of height along n; a component is grounded once it holds a
-  // platform cell; the offset is valid when no component is ungrounded.
-  void connectedOffsets(const Node& s, const NormalData& nd, std::vector<uint8_t>& valid) {
-    const double step = o_.offsetStepMm;
-    const size_t K = static_cast<size_t>(nd.kHi - nd.kLo + 1);
-    if (dsuParent_.size() != m_.cells) {
-      dsuParent_.assign(m_.cells, 0);
-      dsuGrounded_.assign(m_.cells, 0);
-      dsuAdded_.assign(m_.cells, 0);
-      dsuKey_.assign(m_.cells, 0);
-      dsuSize_.assign(m_.cells, 0);
-    }
-    if (++dsuGen_ == 0) {
-      std::fill(dsuAdded_.begin(), dsuAdded_.end(), 0);
-      dsuGen_ = 1;
-    }
-    std::vector<uint32_t> start(K + 1, 0);
-    forEachBit(s.cells, [&](size_t c) {
-      int key = static_cast<int>(std::ceil(nd.n.dot(m_.centre[c]) / step));
-      key = std::clamp(key, nd.kLo, nd.kHi);
-      dsuKey_[c] = static_cast<uint32_t>(key - nd.kLo);
-      ++start[key - nd.kLo + 1];
-    });
-    for (size_t k = 0; k < K; ++k) start[k + 1] += start[k];
-    order_.resize(s.cellCount);
-    std::vector<uint32_t> fill(start.begin(), start.end() - 1);
-    forEachBit(s.cells, [&](size_t c) { order_[fill[dsuKey_[c]]++] = static_cast<uint32_t>(c); });
-    auto find = [&](uint32_t x) {
-      while (dsuParent_[x] != x) {
-        dsuParent_[x] = dsuParent_[dsuParent_[x]];
-        x = dsuParent_[x];
-      }
-      return x;
-    };
-    long floating = 0;  // cells in components without a platform cell
-    valid.assign(K, 0);
-    size_t q = 0;
-    for (size_t k = 0; k < K; ++k) {
-      for (; q < start[k + 1]; ++q) {
-        const uint32_t c = order_[q];
-        dsuParent_[c] = c;
-        dsuGrounded_[c] = m_.isBase[c];
-        dsuSize_[c] = 1;
-        dsuAdded_[c] = dsuGen_;
-        floating += dsuGrounded_[c] ? 0 : 1;
-        for (int e = 0; e < 6; ++e) {
-          const uint32_t nb = m_.nbr[6 * static_cast<size_t>(c) + e];
-          if (nb == kNoCell || dsuAdded_[nb] != dsuGen_) continue;
-          const uint32_t ra = find(c), rb = find(nb);
-          if (ra == rb) continue;
-          floating -= (dsuGrounded_[ra] ? 0 : dsuSize_[ra]) + (dsuGrounded_[rb] ? 0 : dsuSize_[rb]);
-          dsuParent_[rb] = ra;
-          dsuSize_[ra] += dsuSize_[rb];
-          dsuGrounded_[ra] = dsuGrounded_[ra] || dsuGrounded_[rb];
-          floating += dsuGrounded_[ra] ? 0 : dsuSize_[ra];
-        }
-      }
-      valid[k] = static_cast<double>(floating) <= o_.floatingToleranceCells ? 1 : 0;
-    }
-  }
-
-  // Orders the pool by the scheme's priority and accepts valid, dissimilar planes up to width.
-  std::vector<uint32_t> select(const std::vector<uint32_t>& frontier, size_t width, Scheme scheme) {
-    auto t0 = Clock::now();
-    conn_.clear();
-    fine_.clear();
-    // Priority buckets: beam -> R < delta0 * relax^i (progressive relaxation); constrained ->
-    // R < delta0 first; greedy -> one bucket. Within a bucket, larger J_L first.
-    auto bucketOf = [&](double r) -> int {
-      if (scheme == Scheme::Greedy || r < o_.delta0) return 0;
-      if (scheme == Scheme::Constrained) return 1;
-      int b = 1;
-      double bound = o_.delta0 * o_.relaxFactor;
-      while (!(r < bound) && b < 1000) {
-        bound *= o_.relaxFactor;
-        ++b;
-      }
-      return b;
-    };
-    std::vector<std::pair<int, uint32_t>> order(pool_.size());
-    for (uint32_t i = 0; i < pool_.size(); ++i) order[i] = {bucketOf(pool_[i].r), i};
-    std::sort(order.begin(), order.end(), [&](const auto& x, const auto& y) {
-      if (x.first != y.first) return x.first < y.first;
-      const Cand &a = pool_[x.second], &b = pool_[y.second];
-      if (a.jl != b.jl) return a.jl > b.jl;
-      if (a.node != b.node) return a.node < b.node;
-      if (a.normal != b.normal) return a.normal < b.normal;
-      return a.k < b.k;
-    });
-    std::vector<uint32_t> accepted;
-    double msArrays = 0;
-    // Every node of the frontier first gets at most its fair share of the width (children in
-    // priority order), then what is left is filled in the same order: one parent's near-twin
-    // children cannot take the whole beam (measured over 7 models x 3 turns about Z: better in 12
-    // cases, worse in 2, same time).
-    const size_t share = (width + frontier.size() - 1) / std::max<size_t>(1, frontier.size());
-    std::unordered_map<uint32_t, size_t> perParent;
-    std::vector<uint8_t> tried(order.size(), 0);
-    for (int pass = 0; pass < 2; ++pass) {
-      if (cancelled_ || accepted.size() >= width) break;
-      for (size_t oi = 0; oi < order.size(); ++oi) {
-        if (accepted.size() >= width) break;
-        if (tried[oi] || (pass == 0 && perParent[pool_[order[oi].second].node] >= share)) continue;
-        tried[oi] = 1;
-        const Cand& c = pool_[order[oi].second];
-        // A candidate costs up to a flood fill or a child's arrays (~1 ms on 10^5 cells / faces).
-        if (!reportProgress(progress_, "decompose", progressNow_)) {
-          cancelled_ = true;
-          break;
-        }
-        ++stats_.candidatesChecked;
-        Node child;
-        child.line = line_;
-        child.parent = static_cast<int>(c.node);
-        child.normal = static_cast<int>(c.normal);
-        child.k = c.k;
-        child.level = nodes_[c.node].level + 1;
-        child.n = nd_[c.normal].n;
-        child.d = c.k * o_.offsetStepMm;
-        const Node& parent = nodes_[c.node];
-        child.samples.assign(parent.samples.size(), 0);
-        double keptWeight = 0;
-        forEachBit(parent.samples, [&](size_t q) {
-          if (child.n.dot(m_.samplePos[q]) <= child.d) {
-            setBit(child.samples, q);
-            keptWeight += m_.sampleWeight[q];
-          }
-        });
-        child.sampleWeight = keptWeight;
-        child.removedWeight = parent.sampleWeight - keptWeight;
-        bool close = false;
-        for (uint32_t a : accepted) {
-          if (similar(child, nodes_[a])) {
-            close = true;
-            break;
-          }
-        }
-        if (close) {
-          ++stats_.refusedSimilar;
-          continue;
-        }
-        // Criterion IV on the fine grid.
-        const std::vector<uint32_t>& aboveCells = fineAbove(c.node, c.normal);
-        const size_t partCells = aboveCells[c.k - nd_[c.normal].kLo];
-        const size_t below = parent.cellCount - partCells;
-        if (partCells < minPartCells_ || partCells == 0) {
-          ++stats_.refusedSmall;
-          continue;
-        }
-        // Criterion II.
-        if (!connected(c.node, c.normal, c.k, below)) {
-          ++stats_.refusedFloating;
-          continue;
-        }
-        const size_t kept = childFaces(parent, child.n, child.d, child, changes_);
-        child.cells.assign(parent.cells.size(), 0);
-        forEachBit(parent.cells, [&](size_t cell) {
-          if (child.n.dot(m_.centre[cell]) <= child.d) setBit(child.cells, cell);
-        });
-        child.cellCount = below;
-        child.partCells = partCells;
-        child.jg = parent.jg - c.jl;
-        child.partRisk = c.r;
-        child.platRisk = parent.platRisk - (c.jl + c.r);
-        child.terminal = isTerminal(child);
-        if (!child.terminal) {
-          const auto ta = Clock::now();
-          // Same arrays either way (integer sums). From the parent's unless the plane changed more
-          // faces than the child keeps (measured: a changed face costs about a kept one).
-          if (changes_.size() <= kept) {
-            childArrays(parent, child, changes_);
-          } else {
-            fullArrays(child);
-          }
-          msArrays += msSince(ta);
-        }
-        nodes_.push_back(std::move(child));
-        ++perParent[c.node];
-        ++stats_.beams;
-        accepted.push_back(static_cast<uint32_t>(nodes_.size() - 1));
-      }
-    }
-    stats_.msSweep += msArrays;
-    stats_.msChecks += msSince(t0) - msArrays;
-    return accepted;
-  }
-
-  static uint64_t key(uint32_t a, uint32_t b) { return (static_cast<uint64_t>(a) << 32) | b; }
-
-  struct ConnCache {
-    int failures = 0;
-    std::vector<uint8_t> valid;
-  };
-
-  const Model& m_;
-  const MultidirOptions& o_;
-  MultidirStats& stats_;
-  const ProgressFn& progress_;
-  std::vector<NormalData> nd_;
-  double fxUnits_ = 0;  // fixed point units per mm^2 (a power of 2)
-  std::vector<Entry> entries_;        // face-major: face f's are [entryStart_[f], entryStart_[f + 1])
-  std::vector<uint32_t> entryStart_;
-  std::vector<int64_t> fractions_;
-  size_t arrayLen_ = 0;
-  std::vector<Node> nodes_;
-  std::vector<Cand> pool_;
-  size_t minPartCells_ = 0;
-  std::vector<double> hist_;
-  std::unordered_map<uint64_t, ConnCache> conn_;
-  std::unordered_map<uint64_t, std::vector<uint32_t>> fine_;
-  FloodScratch flood_;
-  std::vector<uint32_t> dsuParent_, dsuAdded_, dsuKey_, dsuSize_, order_;
-  std::vector<FaceChange> changes_;
-  std::vector<uint8_t> dsuGrounded_;
-  uint32_t dsuGen_ = 0;
-  int line_ = 0;
-  double progressNow_ = 0;
-  bool cancelled_ = false;
-};
-
-// ---- candidate normals -----------------------------------------------------------------------
-
-// The Fibonacci sphere of o.samples points turned by `phase` (radians) about Z, within the tilt
-// range (or o.candidateNormals as given, within it).
-std::vector<Vec3> sphereNormals(const MultidirOptions& o, double phase) {
-  std::vector<Vec3> out;
-  const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
-  if (!o.candidateNormals.empty()) {
-    for (const Vec3& n : o.candidateNormals) {
-      const Vec3 u = n.normalized();
-      if (u.z() >= minZ) out.push_back(u);
-    }
-    return out;
-  }
-  const double golden = kPi * (3 - std::sqrt(5.0));
-  const int N = o.samples;
-  for (int i = 0; i < N; ++i) {
-    const double z = 1 - (2.0 * i + 1) / N;
-    const double r = std::sqrt(std::max(0.0, 1 - z * z));
-    const double phi = golden * i + phase;
-    if (z >= minZ) out.emplace_back(r * det::cos(phi), r * det::sin(phi), z);
-  }
-  return out;
-}
-
-// Normals n(theta) = cos(theta) Z + sin(theta) (r x Z) on the great circle n . r = 0, theta a
-// multiple of the stepper angle (or of 360/samples), |theta| <= rangeDeg.
-std::vector<Vec3> circleNormals(const MultidirOptions& o, const Vec3& r) {
-  if (!o.candidateNormals.empty()) {
-    std::vector<Vec3> out;
-    for (const Vec3& n : o.candidateNormals) out.push_back(n.normalized());
-    return out;
-  }
-  const Vec3 v = r.cross(Vec3(0, 0, 1)).normalized();
-  const double stepDeg = o.stepAngleDeg > 0 ? o.stepAngleDeg : 360.0 / o.samples;
-  const int kMax = static_cast<int>(std::floor(o.rangeDeg / stepDeg + 1e-9));
-  std::vector<Vec3> out;
-  for (int k = -kMax; k <= kMax; ++k) {
-    const double th = k * stepDeg * kPi / 180;
-    if (std::abs(k * stepDeg) > 180 - 1e-9 && k < 0) continue;  // theta = -180 equals +180
-    out.push_back(det::cos(th) * Vec3(0, 0, 1) + det::sin(th) * v);
-  }
-  return out;
-}
-
-// ---- local refinement of the found planes ------------------------------------------------------
-
-// The occupancy cells kept by planes [0, k).
-Bits cellsKept(const Model& m, const std::vector<Vec3>& ns, const std::vector<double>& ds, size_t k,
-               size_t& count) {
-  Bits s((m.cells + 63) / 64, 0);
-  count = 0;
-  for (size_t c = 0; c < m.cells; ++c) {
-    bool keep = true;
-    for (size_t i = 0; i < k && keep; ++i) keep = ns[i].dot(m.centre[c]) <= ds[i];
-    if (keep) {
-      setBit(s, c);
-      ++count;
-    }
-  }
-  return s;
-}
-
-// The cells of s whose centres lie on or below the plane {x : n.x = d}, and how many.
-Bits cellsBelow(const Model& m, const Bits& s, const Vec3& n, double d, size_t& count) {
-  Bits below(s.size(), 0);
-  count = 0;
-  forEachBit(s, [&](size_t c) {
-    if (n.dot(m.centre[c]) <= d) {
-      setBit(below, c);
-      ++count;
-    }
-  });
-  return below;
-}
-
-// Criteria II-IV for planes [from, end) starting from the cells kept before `from`.
-bool planesValid(const Model& m, const MultidirOptions& o, Bits s, size_t count,
-                 const std::vector<Vec3>& ns, const std::vector<double>& ds, size_t from, FloodScratch& fs) {
-  const size_t minPart = static_cast<size_t>(std::ceil(static_cast<double>(m.cells) / o.w - 1e-9));
-  for (size_t k = from; k < ns.size(); ++k) {
-    if (m.platformLimit(ns[k]) > ds[k] + 1e-9) return false;
-    size_t nBelow = 0;
-    Bits below = cellsBelow(m, s, ns[k], ds[k], nBelow);
-    const size_t nAbove = count - nBelow;
-    if (nAbove == 0 || nAbove < minPart) return false;
-    const size_t reached = reachableBelow(m, s, ns[k], ds[k], fs);
-    if (static_cast<double>(nBelow - reached) > o.floatingToleranceCells) return false;
-    s.swap(below);
-    count = nBelow;
-  }
-  return true;
-}
-
-// Normals near n that the machine can realise: rings up to 12 deg (5dof, within maxTiltDeg), or
-// rotations near n's about the axis (4dof: +-0.5..6 deg, or +-1..3 stepper steps, within range).
-std::vector<Vec3> nearbyNormals(const MultidirOptions& o, bool fourDof, const Vec3& axis, const Vec3& n) {
-  std::vector<Vec3> out;
-  if (!o.candidateNormals.empty()) return out;
-  if (!fourDof) {
-    const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
-    const Vec3 u = n.unitOrthogonal(), v = n.cross(u);
-    for (double deg : {1.5, 3.0, 4.5, 6.0, 8.0, 10.0, 12.0}) {
-      const double a = deg * kPi / 180;
-      for (int az = 0; az < 8; ++az) {
-        const double b = (az + (deg == 3.0 || deg == 6.0 || deg == 10.0 ? 0.5 : 0.0)) * kPi / 4;
-        const Vec3 q = (det::cos(a) * n + det::sin(a) * (det::cos(b) * u + det::sin(b) * v)).normalized();
-        if (q.z() >= minZ) out.push_back(q);
-      }
-    }
-    return out;
-  }
-  const Vec3 side = axis.cross(Vec3(0, 0, 1)).normalized();
-  const double theta = det::atan2(n.dot(side), n.z()) * 180 / kPi;
-  std::vector<double> deltas;
-  if (o.stepAngleDeg > 0) {
-    for (int k = 1; k <= 3; ++k) deltas.insert(deltas.end(), {k * o.stepAngleDeg, -k * o.stepAngleDeg});
-  } else {
-    for (int k = 1; k <= 12; ++k) deltas.insert(deltas.end(), {0.5 * k, -0.5 * k});
-  }
-  for (double dt : deltas) {
-    double t = theta + dt;
-    if (o.stepAngleDeg > 0) t = std::round(t / o.stepAngleDeg) * o.stepAngleDeg;
-    if (std::abs(t) > o.rangeDeg + 1e-9) continue;
-    const double r = t * kPi / 180;
-    out.push_back(det::cos(r) * Vec3(0, 0, 1) + det::sin(r) * side);
-  }
-  return out;
-}
-
-struct Piece {
-  uint32_t face;
-  bool whole;  // the whole triangle (closed form), else `poly`
-  Poly poly;
-  double area;
-  double w;    // 1 when risky in the part it falls in without plane k
-};
-
-// Coordinate descent on the planes (paper VI-C names it as future work): plane k moves to a
-// nearby normal and an offset within +-4 mm (half steps) when the exact J_G of the whole
-// sequence drops and Criteria II-IV still hold. Returns the number of (normal, offset) pairs
-// evaluated.
-size_t refinePlanes(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-                    std::vector<Vec3>& ns, std::vector<double>& ds, const ProgressFn& progress,
-                    double fraction, bool& cancelled) {
-  const size_t np = ns.size();
-  const double delta = 0.5 * o.offsetStepMm;
-  const int half = static_cast<int>(std::lround(4.0 / delta));
-  const int span = 2 * half + 1;
-  size_t evaluated = 0;
-  FloodScratch fs;
-  for (int pass = 0; pass < 2; ++pass) {
-    bool improved = false;
-    for (size_t k = 0; k < np; ++k) {
-      if (!reportProgress(progress, "decompose", fraction)) {
-        cancelled = true;
-        return evaluated;
-      }
-      const std::vector<double> risk = exactRisk(m, ns, ds);
-      double tail = 0;
-      for (size_t i = k; i < risk.size(); ++i) tail += risk[i];
-      if (tail <= kMinGainMm2) break;
-      // Pieces of the faces kept by planes [0, k), split by the later planes (plane k ignored).
-      std::vector<Piece> pieces;
-      double t0 = 0;
-      for (uint32_t f = 0; f < m.tri.size(); ++f) {
-        if (!(m.area[f] > 0)) continue;
-        Poly poly = {m.corner[f][0], m.corner[f][1], m.corner[f][2]};
-        bool whole = true;
-        for (size_t i = 0; i < k && !poly.empty(); ++i) {
-          double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
-          for (const Vec3& q : poly) {
-            tmin = std::min(tmin, ns[i].dot(q));
-            tmax = std::max(tmax, ns[i].dot(q));
-          }
-          if (tmin >= ds[i]) poly.clear();
-          else if (tmax > ds[i]) {
-            poly = clipPoly(poly, ns[i], ds[i], false);
-            whole = false;
-          }
-        }
-        if (poly.empty()) continue;
-        auto add = [&](Poly&& p, bool isWhole, double w) {
-          Piece pc{f, isWhole, std::move(p), 0, w};
-          pc.area = isWhole ? m.area[f] : polyArea(pc.poly, m.normal[f]);
-          t0 += w * pc.area;
-          pieces.push_back(std::move(pc));
-        };
-        for (size_t j = k + 1; j < np && !poly.empty(); ++j) {
-          double tmin = std::numeric_limits<double>::infinity(), tmax = -tmin;
-          for (const Vec3& q : poly) {
-            tmin = std::min(tmin, ns[j].dot(q));
-            tmax = std::max(tmax, ns[j].dot(q));
-          }
-          const double w = m.riskyAlong(f, ns[j]) ? 1.0 : 0.0;
-          if (tmin >= ds[j]) {
-            add(std::move(poly), whole, w);
-            poly.clear();
-          } else if (tmax > ds[j]) {
-            add(clipPoly(poly, ns[j], ds[j], true), false, w);
-            poly = clipPoly(poly, ns[j], ds[j], false);
-            whole = false;
-          }
-        }
-        if (!poly.empty()) add(std::move(poly), whole, m.platRisk[f] > 0 ? 1.0 : 0.0);
-      }
-      // tail(n', d_i) = t0 - sum over pieces of (w - risky along n') * (area above d_i).
-      struct Option {
-        double tail;
-        size_t order;  // creation order: a total order, so every platform sorts alike
-        Vec3 n;
-        double d;
-      };
-      std::vector<Option> options;
-      std::vector<Vec3> normals = nearbyNormals(o, fourDof, axis, ns[k]);
-      normals.insert(normals.begin(), ns[k]);
-      // Pieces whose weight (w - risky along n') is 0 for every normal tried are skipped: a
-      // face's n_f . n' differs from n_f . n_k by at most |n' - n_k|, so away from the risky
-      // boundary its state is the same for all of them (the sums below are unchanged).
-      double reach = 0;
-      for (const Vec3& n : normals) reach = std::max(reach, (n - ns[k]).norm());
-      reach += 1e-9;
-      // Likewise |n' . q - n_k . q| <= |n' - n_k| |q|: a piece wholly below the offset window
-      // along n_k by more than that is below it along every normal tried (skipped), one wholly
-      // above it is above it along all (its weight goes to the top offset without projecting).
-      const double d0 = ds[k] - half * delta;
-      const double top = d0 + (span - 1) * delta;
-      std::vector<uint32_t> active;
-      std::vector<uint8_t> aboveAll;
-      for (uint32_t i = 0; i < pieces.size(); ++i) {
-        const Piece& pc = pieces[i];
-        const double margin = m.normal[pc.face].dot(ns[k]) + m.sinAlpha;
-        if (pc.w == 0 ? margin > reach : margin < -reach) continue;
-        double lo = std::numeric_limits<double>::infinity(), hi = -lo, rho = 0;
-        auto extend = [&](const Vec3& q) {
-          lo = std::min(lo, ns[k].dot(q));
-          hi = std::max(hi, ns[k].dot(q));
-          rho = std::max(rho, q.norm());
-        };
-        if (pc.whole) {
-          for (const Vec3& q : m.corner[pc.face]) extend(q);
-        } else {
-          for (const Vec3& q : pc.poly) extend(q);
-        }
-        const double slack = reach * rho + 1e-6;
-        if (hi + slack <= d0) continue;
-        active.push_back(i);
-        aboveAll.push_back(lo - slack >= top ? 1 : 0);
-      }
-      std::vector<double> diff(span + 1);
-      for (const Vec3& n : normals) {
-        std::fill(diff.begin(), diff.end(), 0.0);
-        for (size_t j = 0; j < active.size(); ++j) {
-          const Piece& pc = pieces[active[j]];
-          const double c = pc.w - (m.riskyAlong(pc.face, n) ? 1.0 : 0.0);
-          if (c == 0) continue;
-          if (aboveAll[j]) {
-            diff[span - 1] += c * pc.area;
-            continue;
-          }
-          double a, b = 0, e;
-          if (pc.whole) {
-            a = n.dot(m.corner[pc.face][0]);
-            b = n.dot(m.corner[pc.face][1]);
-            e = n.dot(m.corner[pc.face][2]);
-            sort3(a, b, e);
-          } else {
-            a = std::numeric_limits<double>::infinity();
-            e = -a;
-            for (const Vec3& q : pc.poly) {
-              a = std::min(a, n.dot(q));
-              e = std::max(e, n.dot(q));
-            }
-          }
-          // wholly above offsets i <= iFull, partly above iFull < i < iTop
-          const int iFull = static_cast<int>(std::floor((a - d0) / delta));
-          const int iTop = static_cast<int>(std::ceil((e - d0) / delta));
-          if (iTop <= 0) continue;
-          if (iFull >= 0) diff[std::min(iFull, span - 1)] += c * pc.area;
-          for (int i = std::max(iFull + 1, 0); i < std::min(iTop, span); ++i) {
-            const double d = d0 + i * delta;
-            const double above = pc.whole ? pc.area * triFractionAbove(a, b, e, d)
-                                          : polyArea(clipPoly(pc.poly, n, d, true), m.normal[pc.face]);
-            diff[i] += c * above;
-            if (i > 0) diff[i - 1] -= c * above;
-          }
-        }
-        double above = 0;
-        for (int i = span - 1; i >= 0; --i) {
-          above += diff[i];
-          ++evaluated;
-          const double t = t0 - above;
-          if (t < tail - 1e-6) options.push_back({t, options.size(), n, d0 + i * delta});
-        }
-      }
-      std::sort(options.begin(), options.end(), [](const Option& x, const Option& y) {
-        return x.tail != y.tail ? x.tail < y.tail : x.order < y.order;
-      });
-      size_t count = 0;
-      const Bits kept = cellsKept(m, ns, ds, k, count);
-      int tries = 0;
-      for (const Option& op : options) {
-        if (++tries > 24) break;
-        std::vector<Vec3> ns2 = ns;
-        std::vector<double> ds2 = ds;
-        ns2[k] = op.n;
-        ds2[k] = op.d;
-        if (!planesValid(m, o, kept, count, ns2, ds2, k, fs)) continue;
-        ns.swap(ns2);
-        ds.swap(ds2);
-        improved = true;
-        break;
-      }
-    }
-    if (!improved) break;
-  }
-  return evaluated;
-}
-
-// Iterated local search on the refined planes (the refinement alone stops in the first local
-// minimum): `o.perturbations` times, one plane, picked by a fixed pseudo-random sequence (the same
-// on every platform), jumps 6-20 deg away (4dof: a rotation of 6-20 deg about the axis, on the
-// stepper's angles, within range) and up to 8 offset steps; when Criteria II-IV still hold, the
-// whole sequence is refined again and kept if its exact J_G drops. Stops once J_G <= delta0.
-// Returns the number of moves kept. (Refining only the moved plane's neighbours costs ~30% less
-// and measured a little worse over 6 random sequences x 4 models, e.g. branches_16 0.494 against
-// 0.489 on average.)
-size_t perturbPlanes(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-                     std::vector<Vec3>& ns, std::vector<double>& ds, double& jg, const ProgressFn& progress,
-                     double fractionFrom, double fractionTo, bool& cancelled, MultidirStats& stats) {
-  if (ns.empty() || o.perturbations <= 0 || !o.candidateNormals.empty()) return 0;
-  uint64_t state = 0x9E3779B97F4A7C15ULL;
-  auto uniform = [&state]() {  // [0, 1), exact on every platform
-    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
-    return static_cast<double>(state >> 11) * (1.0 / 9007199254740992.0);
-  };
-  const double halfStep = 0.5 * o.offsetStepMm;
-  const double minZ = det::cos(o.maxTiltDeg * kPi / 180) - 1e-12;
-  FloodScratch fs;
-  std::vector<Bits> keptBefore;
-  std::vector<size_t> keptCount;
-  size_t kept = 0;
-  for (int it = 0; it < o.perturbations && jg > o.delta0; ++it) {
-    const double fraction = fractionFrom + (fractionTo - fractionFrom) * it / o.perturbations;
-    if (!reportProgress(progress, "decompose", fraction)) {
-      cancelled = true;
-      return kept;
-    }
-    ++stats.perturbations;
-    std::vector<Vec3> ns2 = ns;
-    std::vector<double> ds2 = ds;
-    const size_t k = std::min(ns.size() - 1, static_cast<size_t>(uniform() * static_cast<double>(ns.size())));
-    const double angle = (6 + 14 * uniform()) * kPi / 180;
-    const double azimuth = 2 * kPi * uniform();
-    const double shift = (2 * uniform() - 1) * 8 * o.offsetStepMm;
-    if (!fourDof) {
-      const Vec3 u = ns[k].unitOrthogonal(), v = ns[k].cross(u);
-      ns2[k] = (det::cos(angle) * ns[k] + det::sin(angle) * (det::cos(azimuth) * u + det::sin(azimuth) * v)).normalized();
-      if (ns2[k].z() < minZ) continue;
-    } else {
-      const Vec3 side = axis.cross(Vec3(0, 0, 1)).normalized();
-      double t = det::atan2(ns[k].dot(side), ns[k].z()) + (azimuth < kPi ? angle : -angle);
-      if (o.stepAngleDeg > 0) {
-        const double step = o.stepAngleDeg * kPi / 180;
-        t = std::round(t / step) * step;
-      }
-      if (std::abs(t) > o.rangeDeg * kPi / 180 + 1e-9) continue;
-      ns2[k] = det::cos(t) * Vec3(0, 0, 1) + det::sin(t) * side;
-    }
-    ds2[k] = std::round((ds[k] + shift) / halfStep) * halfStep;
-    // The cells kept by the planes before k (unchanged by the move), once per plane until a
-    // move is kept.
-    if (keptBefore.size() != ns.size()) {
-      keptBefore.assign(ns.size(), Bits());
-      keptCount.assign(ns.size(), 0);
-    }
-    if (keptBefore[k].empty()) keptBefore[k] = cellsKept(m, ns, ds, k, keptCount[k]);
-    if (!planesValid(m, o, keptBefore[k], keptCount[k], ns2, ds2, k, fs)) continue;
-    stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns2, ds2, progress, fraction, cancelled);
-    if (cancelled) return kept;
-    double jg2 = 0;
-    for (double r : exactRisk(m, ns2, ds2)) jg2 += r;
-    if (jg2 < jg - kMinGainMm2) {
-      ns.swap(ns2);
-      ds.swap(ds2);
-      jg = jg2;
-      ++kept;
-      keptBefore.clear();
-    }
-  }
-  return kept;
-}
-
-// A plane sequence (clipping order) ending a search line, with J_G as the search summed it.
-struct LineEnd {
-  std::vector<Vec3> ns;
-  std::vector<double> ds;
-  double searchJg = 0;
-};
-
-// The best node of every line of a finished search (greedy, constrained, beam), as plane
-// sequences; the root (no plane) when no line made a node.
-void lineEnds(const Search& s, std::vector<LineEnd>& out) {
-  std::vector<uint32_t> ends;
-  for (int line = 1; line <= s.lines(); ++line) {
-    const uint32_t id = s.best(line);
-    if (std::find(ends.begin(), ends.end(), id) == ends.end()) ends.push_back(id);
-  }
-  if (ends.empty()) ends.push_back(0);
-  for (uint32_t end : ends) {
-    LineEnd e;
-    e.searchJg = s.node(end).jg;
-    for (int id = static_cast<int>(end); id > 0; id = s.node(static_cast<uint32_t>(id)).parent) {
-      e.ns.push_back(s.node(static_cast<uint32_t>(id)).n);
-      e.ds.push_back(s.node(static_cast<uint32_t>(id)).d);
-    }
-    std::reverse(e.ns.begin(), e.ns.end());
-    std::reverse(e.ds.begin(), e.ds.end());
-    out.push_back(std::move(e));
-  }
-}
-
-// Fills planes/parts/numbers of `result` from the line ends of finished searches, each refined
-// when asked; the least exact J_G wins (then fewer planes, then the first). The refinement
-// reports progress at `fraction` (the end of these searches' span).
-void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
-                MultidirResult& result);
-
-bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
-             std::vector<LineEnd> ends, bool perturb, const ProgressFn& progress, double fraction,
-             MultidirResult& result) {
-  std::vector<Vec3> bestN;
-  std::vector<double> bestD;
-  double bestJ = std::numeric_limits<double>::infinity();
-  // Lines that ended on the same planes (often greedy and constrained) are refined once.
-  std::vector<uint8_t> repeated(ends.size(), 0);
-  for (size_t i = 0; i < ends.size(); ++i) {
-    for (size_t q = 0; q < i && !repeated[i]; ++q) {
-      repeated[i] = ends[q].ns == ends[i].ns && ends[q].ds == ends[i].ds;
-    }
-  }
-  for (size_t i = 0; i < ends.size(); ++i) {
-    if (repeated[i]) continue;
-    LineEnd& e = ends[i];
-    std::vector<Vec3>& ns = e.ns;
-    std::vector<double>& ds = e.ds;
-    if (o.refine && !ns.empty()) {
-      const auto t0 = Clock::now();
-      bool cancelled = false;
-      result.stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns, ds, progress, fraction, cancelled);
-      result.stats.msRefine += msSince(t0);
-      if (cancelled) return false;
-    }
-    const auto t0 = Clock::now();
-    double jg = 0;
-    for (double r : exactRisk(m, ns, ds)) jg += r;
-    result.stats.msExact += msSince(t0);
-    if (jg < bestJ - 1e-9 || (jg <= bestJ + 1e-9 && ns.size() < bestN.size())) {
-      bestJ = jg;
-      bestN = ns;
-      bestD = ds;
-      result.stats.searchJgMm2 = e.searchJg;
-    }
-  }
-  if (perturb) {
-    const auto t0 = Clock::now();
-    bool cancelled = false;
-    result.stats.perturbationsKept +=
-        perturbPlanes(m, o, fourDof, axis, bestN, bestD, bestJ, progress, fraction, 0.99, cancelled, result.stats);
-    result.stats.msPerturb += msSince(t0);
-    if (cancelled) return false;
-  }
-  fillResult(m, bestN, bestD, result);
-  return true;
-}
+// ---- the result -----------------------------------------------------------------------------
 
 // The planes, parts (directions, volumes, risky areas), J_G and J_G per level of a sequence.
 void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vector<double>& bestD,
@@ -1738,6 +124,290 @@ void fillResult(const Model& m, const std::vector<Vec3>& bestN, const std::vecto
   result.stats.msExact += msSince(t0);
 }
 
+// Fills planes/parts/numbers of `result` from the line ends of finished searches, each refined
+// when asked; the least exact J_G wins (then fewer planes, then the first). The refinement
+// reports progress at `fraction` (the end of these searches' span).
+bool collect(const Model& m, const MultidirOptions& o, bool fourDof, const Vec3& axis,
+             std::vector<LineEnd> ends, bool perturb, const ProgressFn& progress, double fraction,
+             MultidirResult& result) {
+  std::vector<Vec3> bestN;
+  std::vector<double> bestD;
+  double bestJ = std::numeric_limits<double>::infinity();
+  // Lines that ended on the same planes (often greedy and constrained) are refined once.
+  std::vector<uint8_t> repeated(ends.size(), 0);
+  for (size_t i = 0; i < ends.size(); ++i) {
+    for (size_t q = 0; q < i && !repeated[i]; ++q) {
+      repeated[i] = ends[q].ns == ends[i].ns && ends[q].ds == ends[i].ds;
+    }
+  }
+  for (size_t i = 0; i < ends.size(); ++i) {
+    if (repeated[i]) continue;
+    LineEnd& e = ends[i];
+    std::vector<Vec3>& ns = e.ns;
+    std::vector<double>& ds = e.ds;
+    if (o.refine && !ns.empty()) {
+      const auto t0 = Clock::now();
+      bool cancelled = false;
+      result.stats.refineEvaluated += refinePlanes(m, o, fourDof, axis, ns, ds, progress, fraction, cancelled);
+      result.stats.msRefine += msSince(t0);
+      if (cancelled) return false;
+    }
+    const auto t0 = Clock::now();
+    double jg = 0;
+    for (double r : exactRisk(m, ns, ds)) jg += r;
+    result.stats.msExact += msSince(t0);
+    if (jg < bestJ - 1e-9 || (jg <= bestJ + 1e-9 && ns.size() < bestN.size())) {
+      bestJ = jg;
+      bestN = ns;
+      bestD = ds;
+      result.stats.searchJgMm2 = e.searchJg;
+    }
+  }
+  if (perturb) {
+    const auto t0 = Clock::now();
+    bool cancelled = false;
+    result.stats.perturbationsKept +=
+        perturbPlanes(m, o, fourDof, axis, bestN, bestD, bestJ, progress, fraction, 0.99, cancelled, result.stats);
+    result.stats.msPerturb += msSince(t0);
+    if (cancelled) return false;
+  }
+  fillResult(m, bestN, bestD, result);
+  return true;
+}
+
+// The Cancelled result: the numbers known before the search and the statistics so far.
+MultidirResult cancelledResult(const Model& m, const MultidirStats& stats) {
+  MultidirResult c;
+  c.status = Status::Cancelled;
+  c.message = "decomposition cancelled";
+  c.jgBeforeMm2 = m.jgBefore;
+  c.volumeMm3 = m.volume;
+  c.stats = stats;
+  return c;
+}
+
+// `result` carrying another step's failure.
+MultidirResult withFailure(MultidirResult result, const Outcome& failure) {
+  result.status = failure.status;
+  result.message = failure.message;
+  return result;
+}
+
+// ---- the lines of each scheme ------------------------------------------------------------------
+
+// The lines of `scheme` from the search's root, within the progress span [base, base + span).
+// The beam scheme also runs the greedy and constrained-greedy lines from the same root (two
+// extra beams of width 1): the best J_G over all of them wins, so the beam never does worse.
+// False when cancelled.
+bool runScheme(Search& search, Scheme scheme, const MultidirOptions& options, double base, double span) {
+  if (scheme != Scheme::Beam) {
+    return search.runLine(scheme, 1, base, span, scheme == Scheme::Greedy ? "greedy" : "constrained");
+  }
+  return search.runLine(Scheme::Greedy, 1, base, 0.1 * span, "greedy") &&
+         search.runLine(Scheme::Constrained, 1, base + 0.1 * span, 0.1 * span, "constrained") &&
+         search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span,
+                        0.8 * span, "beam");
+}
+
+// 5dof. Restart j samples the sphere turned about Z by 2 pi frac(j (sqrt 2 - 1)): the beam's
+// choices depend on which normals exist, so each restart explores other decompositions, and as the
+// turns never repeat, more restarts only add searches. The first runs the scheme (with the
+// greedy lines), the others the beam line only. They stop once a line ends at J_G <= delta0
+// (the search's own tolerance for "no risky area": refinement only lowers it). The lines' ends
+// are then collected into `result` (searches within progress [0, searchEnd)). False when
+// cancelled.
+bool searchFiveDof(const Model& m, const MultidirOptions& options, Scheme scheme, bool perturb, double searchEnd,
+                   const ProgressFn& progress, MultidirResult& result) {
+  std::vector<LineEnd> ends;
+  const int restarts = scheme == Scheme::Beam && options.candidateNormals.empty() ? options.restarts : 1;
+  const double turn = std::sqrt(2.0) - 1;
+  for (int j = 0; j < restarts; ++j) {
+    Search search(m, options, result.stats, progress);
+    const double phase = 2 * kPi * (j * turn - std::floor(j * turn));
+    const std::vector<Vec3> normals = sphereNormals(options, phase);
+    result.stats.normals = normals.size();
+    search.setNormals(normals);
+    const double base = searchEnd * j / restarts, span = searchEnd / restarts;
+    const bool ran = j == 0 ? runScheme(search, scheme, options, base, span)
+                            : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
+    if (!ran) return false;
+    lineEnds(search, ends);
+    ++result.stats.restartsRun;
+    double least = std::numeric_limits<double>::infinity();
+    for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
+    if (least <= options.delta0) break;
+  }
+  return collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, searchEnd, result);
+}
+
+// 4dof: the rotary axes to try, axisSearch horizontal ones at 180/axisSearch degree spacing, or
+// rotationAxis alone.
+std::vector<Vec3> rotaryAxes(const MultidirOptions& options) {
+  std::vector<Vec3> axes;
+  if (options.axisSearch > 0) {
+    for (int i = 0; i < options.axisSearch; ++i) {
+      const double phi = kPi * i / options.axisSearch;
+      axes.emplace_back(det::cos(phi), det::sin(phi), 0);
+    }
+  } else {
+    axes.push_back(options.rotationAxis.normalized());
+  }
+  return axes;
+}
+
+// The screening only ranks the axes: the constrained greedy line on half the grid resolution
+// and, without a stepper, half the normals on each circle.
+MultidirOptions screeningOptions(const MultidirOptions& options) {
+  MultidirOptions coarse = options;
+  coarse.gridResolution = std::max(16, options.gridResolution / 2);
+  if (coarse.stepAngleDeg == 0) coarse.samples = std::max(1, options.samples / 2);
+  return coarse;
+}
+
+// The constrained greedy line on every axis of the coarse model `mc` (progress [0, screenSpan)),
+// ranked by J_G + 1e-9 per plane, then (exact ties, e.g. two axes that both reach J_G 0 with one
+// plane) the larger model left on the platform; returns the axes' indices to search fully: the
+// axisFullSearches best, at least 3 degrees apart (neighbours rank alike), then the next best.
+// False when cancelled.
+bool screenAxes(const Model& mc, const MultidirOptions& coarse, const std::vector<Vec3>& axes,
+                size_t axisFullSearches, double screenSpan, const ProgressFn& progress, MultidirStats& stats,
+                std::vector<size_t>& full) {
+  std::vector<std::tuple<double, size_t, size_t>> rank;
+  for (size_t a = 0; a < axes.size(); ++a) {
+    Search search(mc, coarse, stats, progress);
+    search.setNormals(circleNormals(coarse, axes[a]));
+    const double span = screenSpan / axes.size();
+    if (!search.runLine(Scheme::Constrained, 1, a * span, span, "screen")) return false;
+    const Node& b = search.node(search.best());
+    rank.emplace_back(b.jg + 1e-9 * b.level, mc.cells - b.cellCount, a);
+  }
+  std::stable_sort(rank.begin(), rank.end());
+  full.clear();
+  for (int pass = 0; pass < 2 && full.size() < axisFullSearches; ++pass) {
+    for (const auto& r : rank) {
+      if (full.size() >= axisFullSearches) break;
+      bool near = false;
+      for (size_t f : full) {
+        const double cosAngle = std::abs(axes[f].dot(axes[std::get<2>(r)]));
+        near = near || f == std::get<2>(r) || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
+      }
+      if (!near) full.push_back(std::get<2>(r));
+    }
+  }
+  return true;
+}
+
+// The scheme on each axis of `full` (progress from screenSpan on), every line's end refined; the
+// least exact J_G wins (then fewer planes, then the first axis): its planes, parts, J_G and axis
+// go into `result`. False when cancelled.
+bool searchAxes(const Model& m, const MultidirOptions& options, Scheme scheme, const std::vector<Vec3>& axes,
+                const std::vector<size_t>& full, double screenSpan, bool perturb, double searchEnd,
+                const ProgressFn& progress, MultidirResult& result) {
+  bool have = false;
+  for (size_t i = 0; i < full.size(); ++i) {
+    const size_t a = full[i];
+    Search search(m, options, result.stats, progress);
+    const std::vector<Vec3> normals = circleNormals(options, axes[a]);
+    result.stats.normals = normals.size();
+    search.setNormals(normals);
+    const double span = ((perturb ? searchEnd : 1.0) - screenSpan) / full.size();
+    if (!runScheme(search, scheme, options, screenSpan + i * span, span)) return false;
+    MultidirResult trial;
+    std::vector<LineEnd> ends;
+    lineEnds(search, ends);
+    if (!collect(m, options, true, axes[a], std::move(ends), false, progress,
+                 std::min(0.99, screenSpan + (i + 1) * span), trial)) {
+      return false;
+    }
+    result.stats.msExact += trial.stats.msExact;
+    result.stats.msRefine += trial.stats.msRefine;
+    result.stats.refineEvaluated += trial.stats.refineEvaluated;
+    const bool better = !have || trial.jgAfterMm2 < result.jgAfterMm2 - 1e-9 ||
+                        (trial.jgAfterMm2 <= result.jgAfterMm2 + 1e-9 &&
+                         trial.planes.size() < result.planes.size());
+    if (better) {
+      have = true;
+      result.planes = trial.planes;
+      result.parts = trial.parts;
+      result.jgAfterMm2 = trial.jgAfterMm2;
+      result.rotationAxis = axes[a];
+      result.stats.jgPerLevel = trial.stats.jgPerLevel;
+      result.stats.searchJgMm2 = trial.stats.searchJgMm2;
+    }
+  }
+  return true;
+}
+
+// The iterated local search (beam scheme) once, on the chosen axis (progress 0.9 to 0.99).
+// False when cancelled.
+bool perturbOnChosenAxis(const Model& m, const MultidirOptions& options, const ProgressFn& progress,
+                         MultidirResult& result) {
+  std::vector<Vec3> ns;
+  std::vector<double> ds;
+  for (const MultidirPlane& p : result.planes) {
+    ns.push_back(p.normal);
+    ds.push_back(p.offsetMm);
+  }
+  double jg = result.jgAfterMm2;
+  const auto tp = Clock::now();
+  bool stopped = false;
+  const size_t kept =
+      perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.9, 0.99, stopped, result.stats);
+  result.stats.msPerturb += msSince(tp);
+  if (stopped) return false;
+  if (kept > 0) {
+    result.stats.perturbationsKept += kept;
+    fillResult(m, ns, ds, result);
+  }
+  return true;
+}
+
+// 4dof: the axes (screened by the constrained greedy line with the beam scheme, when there are
+// more than axisFullSearches), the scheme on the best of them, the local search on the winner.
+// Statuses: those of the coarse model's buildModel, Cancelled.
+Outcome searchFourDof(const Mesh& mesh, const Model& m, const MultidirOptions& options, Scheme scheme,
+                      bool perturb, double searchEnd, const ProgressFn& progress, MultidirResult& result) {
+  const std::vector<Vec3> axes = rotaryAxes(options);
+  // Axis search with the beam: every axis is screened by the constrained greedy line, the beam
+  // runs on the axisFullSearches best of them (all when 0).
+  std::vector<size_t> full(axes.size());
+  std::iota(full.begin(), full.end(), 0);
+  const bool screen = scheme == Scheme::Beam && options.axisFullSearches > 0 &&
+                      axes.size() > static_cast<size_t>(options.axisFullSearches);
+  const double screenSpan = screen ? 0.5 : 0.0;
+  if (screen) {
+    const MultidirOptions coarse = screeningOptions(options);
+    Model mc;
+    const auto tc = Clock::now();
+    const Outcome ok = buildModel(mesh, coarse, mc);
+    result.stats.msPrepare += msSince(tc);
+    if (!ok.ok()) return ok;
+    if (!screenAxes(mc, coarse, axes, static_cast<size_t>(options.axisFullSearches), screenSpan, progress,
+                    result.stats, full)) {
+      return failed<Outcome>(Status::Cancelled, "decomposition cancelled");
+    }
+  }
+  if (!searchAxes(m, options, scheme, axes, full, screenSpan, perturb, searchEnd, progress, result)) {
+    return failed<Outcome>(Status::Cancelled, "decomposition cancelled");
+  }
+  result.stats.axesTried = axes.size();
+  if (perturb && !perturbOnChosenAxis(m, options, progress, result)) {
+    return failed<Outcome>(Status::Cancelled, "decomposition cancelled");
+  }
+  return {};
+}
+
+// The returned sequence level by level ("chosen" levels, once the search and in 4dof the axis
+// are decided), then the end of the stage. False when cancelled.
+bool reportChosenLevels(const MultidirStats& stats, const ProgressFn& progress) {
+  for (size_t k = 0; k < stats.jgPerLevel.size(); ++k) {
+    const SearchLevelProgress s{"chosen", static_cast<int>(k), stats.jgPerLevel[k], 0};
+    if (!reportProgress(progress, "decompose", 1.0, s)) return false;
+  }
+  reportProgress(progress, "decompose", 1.0);
+  return true;
+}
+
 }  // namespace
 
 MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& options,
@@ -1748,20 +418,12 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
   bool fourDof = false;
   Outcome ok = checkSearchOptions(options, scheme, fourDof);
   if (ok.ok()) ok = checkMesh(mesh);
-  if (!ok.ok()) {
-    result.status = ok.status;
-    result.message = ok.message;
-    return result;
-  }
+  if (!ok.ok()) return withFailure(std::move(result), ok);
   Model m;
   auto t0 = Clock::now();
   ok = buildModel(mesh, options, m);
   result.stats.msPrepare = msSince(t0);
-  if (!ok.ok()) {
-    result.status = ok.status;
-    result.message = ok.message;
-    return result;
-  }
+  if (!ok.ok()) return withFailure(std::move(result), ok);
   // Each state holds two arrays of (extent / step) offsets per normal: refuse absurd steps.
   if ((m.hi - m.lo).norm() / options.offsetStepMm > 20000) {
     result.status = Status::InvalidOption;
@@ -1773,175 +435,21 @@ MultidirResult searchDecomposition(const Mesh& mesh, const MultidirOptions& opti
   result.stats.gridCells = m.cells;
   result.stats.cellMm = m.h;
   result.stats.orphanCells = m.orphans;
-  auto cancelled = [&]() {
-    MultidirResult c;
-    c.status = Status::Cancelled;
-    c.message = "decomposition cancelled";
-    c.jgBeforeMm2 = m.jgBefore;
-    c.volumeMm3 = m.volume;
-    c.stats = result.stats;
-    return c;
-  };
-  // The beam scheme also runs the greedy and constrained-greedy lines from the same root (two
-  // extra beams of width 1): the best J_G over all of them wins, so the beam never does worse.
-  auto runScheme = [&](Search& search, Scheme s, double base, double span) {
-    if (s != Scheme::Beam) return search.runLine(s, 1, base, span, s == Scheme::Greedy ? "greedy" : "constrained");
-    return search.runLine(Scheme::Greedy, 1, base, 0.1 * span, "greedy") &&
-           search.runLine(Scheme::Constrained, 1, base + 0.1 * span, 0.1 * span, "constrained") &&
-           search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base + 0.2 * span,
-                          0.8 * span, "beam");
-  };
   // The beam's best sequence then goes through the iterated local search (the last 9% of the
   // progress).
   const bool perturb = scheme == Scheme::Beam && options.refine && options.perturbations > 0;
   const double searchEnd = perturb ? 0.9 : 0.99;
   if (!fourDof) {
-    // Restart j samples the sphere turned about Z by 2 pi frac(j (sqrt 2 - 1)): the beam's choices
-    // depend on which normals exist, so each restart explores other decompositions, and as the
-    // turns never repeat, more restarts only add searches. The first runs the scheme (with the
-    // greedy lines), the others the beam line only. They stop once a line ends at J_G <= delta0
-    // (the search's own tolerance for "no risky area": refinement only lowers it).
-    std::vector<LineEnd> ends;
-    const int restarts = scheme == Scheme::Beam && options.candidateNormals.empty() ? options.restarts : 1;
-    const double turn = std::sqrt(2.0) - 1;
-    for (int j = 0; j < restarts; ++j) {
-      Search search(m, options, result.stats, progress);
-      const double phase = 2 * kPi * (j * turn - std::floor(j * turn));
-      const std::vector<Vec3> normals = sphereNormals(options, phase);
-      result.stats.normals = normals.size();
-      search.setNormals(normals);
-      const double base = searchEnd * j / restarts, span = searchEnd / restarts;
-      const bool ran = j == 0 ? runScheme(search, scheme, base, span)
-                              : search.runLine(Scheme::Beam, static_cast<size_t>(options.beamWidth), base, span, "beam");
-      if (!ran) return cancelled();
-      lineEnds(search, ends);
-      ++result.stats.restartsRun;
-      double least = std::numeric_limits<double>::infinity();
-      for (const LineEnd& e : ends) least = std::min(least, e.searchJg);
-      if (least <= options.delta0) break;
-    }
-    if (!collect(m, options, false, Vec3::Zero(), std::move(ends), perturb, progress, searchEnd, result)) {
-      return cancelled();
+    if (!searchFiveDof(m, options, scheme, perturb, searchEnd, progress, result)) {
+      return cancelledResult(m, result.stats);
     }
   } else {
-    std::vector<Vec3> axes;
-    if (options.axisSearch > 0) {
-      for (int i = 0; i < options.axisSearch; ++i) {
-        const double phi = kPi * i / options.axisSearch;
-        axes.emplace_back(det::cos(phi), det::sin(phi), 0);
-      }
-    } else {
-      axes.push_back(options.rotationAxis.normalized());
-    }
-    // Axis search with the beam: every axis is screened by the constrained greedy line, the beam
-    // runs on the axisFullSearches best of them (all when 0).
-    std::vector<size_t> full(axes.size());
-    std::iota(full.begin(), full.end(), 0);
-    const bool screen = scheme == Scheme::Beam && options.axisFullSearches > 0 &&
-                        axes.size() > static_cast<size_t>(options.axisFullSearches);
-    const double screenSpan = screen ? 0.5 : 0.0;
-    if (screen) {
-      // The screening only ranks the axes: the constrained greedy line on half the grid
-      // resolution and, without a stepper, half the normals on each circle.
-      MultidirOptions coarse = options;
-      coarse.gridResolution = std::max(16, options.gridResolution / 2);
-      if (coarse.stepAngleDeg == 0) coarse.samples = std::max(1, options.samples / 2);
-      Model mc;
-      const auto tc = Clock::now();
-      ok = buildModel(mesh, coarse, mc);
-      result.stats.msPrepare += msSince(tc);
-      if (!ok.ok()) {
-        result.status = ok.status;
-        result.message = ok.message;
-        return result;
-      }
-      // Rank: J_G + 1e-9 per plane, then (exact ties, e.g. two axes that both reach J_G 0 with
-      // one plane) the larger model left on the platform.
-      std::vector<std::tuple<double, size_t, size_t>> rank;
-      for (size_t a = 0; a < axes.size(); ++a) {
-        Search search(mc, coarse, result.stats, progress);
-        search.setNormals(circleNormals(coarse, axes[a]));
-        const double span = screenSpan / axes.size();
-        if (!search.runLine(Scheme::Constrained, 1, a * span, span, "screen")) return cancelled();
-        const Node& b = search.node(search.best());
-        rank.emplace_back(b.jg + 1e-9 * b.level, mc.cells - b.cellCount, a);
-      }
-      std::stable_sort(rank.begin(), rank.end());
-      // The best screened axes, at least 3 degrees apart (neighbours rank alike).
-      full.clear();
-      for (int pass = 0; pass < 2 && full.size() < static_cast<size_t>(options.axisFullSearches); ++pass) {
-        for (const auto& r : rank) {
-          if (full.size() >= static_cast<size_t>(options.axisFullSearches)) break;
-          bool near = false;
-          for (size_t f : full) {
-            const double cosAngle = std::abs(axes[f].dot(axes[std::get<2>(r)]));
-            near = near || f == std::get<2>(r) || (pass == 0 && cosAngle > det::cos(3 * kPi / 180));
-          }
-          if (!near) full.push_back(std::get<2>(r));
-        }
-      }
-    }
-    bool have = false;
-    for (size_t i = 0; i < full.size(); ++i) {
-      const size_t a = full[i];
-      Search search(m, options, result.stats, progress);
-      const std::vector<Vec3> normals = circleNormals(options, axes[a]);
-      result.stats.normals = normals.size();
-      search.setNormals(normals);
-      const double span = ((perturb ? searchEnd : 1.0) - screenSpan) / full.size();
-      if (!runScheme(search, scheme, screenSpan + i * span, span)) return cancelled();
-      MultidirResult trial;
-      std::vector<LineEnd> ends;
-      lineEnds(search, ends);
-      if (!collect(m, options, true, axes[a], std::move(ends), false, progress,
-                   std::min(0.99, screenSpan + (i + 1) * span), trial)) {
-        return cancelled();
-      }
-      result.stats.msExact += trial.stats.msExact;
-      result.stats.msRefine += trial.stats.msRefine;
-      result.stats.refineEvaluated += trial.stats.refineEvaluated;
-      const bool better = !have || trial.jgAfterMm2 < result.jgAfterMm2 - 1e-9 ||
-                          (trial.jgAfterMm2 <= result.jgAfterMm2 + 1e-9 &&
-                           trial.planes.size() < result.planes.size());
-      if (better) {
-        have = true;
-        result.planes = trial.planes;
-        result.parts = trial.parts;
-        result.jgAfterMm2 = trial.jgAfterMm2;
-        result.rotationAxis = axes[a];
-        result.stats.jgPerLevel = trial.stats.jgPerLevel;
-        result.stats.searchJgMm2 = trial.stats.searchJgMm2;
-      }
-    }
-    result.stats.axesTried = axes.size();
-    // The iterated local search (beam scheme) once, on the chosen axis.
-    if (perturb) {
-      std::vector<Vec3> ns;
-      std::vector<double> ds;
-      for (const MultidirPlane& p : result.planes) {
-        ns.push_back(p.normal);
-        ds.push_back(p.offsetMm);
-      }
-      double jg = result.jgAfterMm2;
-      const auto tp = Clock::now();
-      bool stopped = false;
-      const size_t kept =
-          perturbPlanes(m, options, true, result.rotationAxis, ns, ds, jg, progress, 0.9, 0.99, stopped, result.stats);
-      result.stats.msPerturb += msSince(tp);
-      if (stopped) return cancelled();
-      if (kept > 0) {
-        result.stats.perturbationsKept += kept;
-        fillResult(m, ns, ds, result);
-      }
-    }
+    ok = searchFourDof(mesh, m, options, scheme, perturb, searchEnd, progress, result);
+    if (ok.status == Status::Cancelled) return cancelledResult(m, result.stats);
+    if (!ok.ok()) return withFailure(std::move(result), ok);
   }
   result.stats.msTotal = msSince(tStart);
-  // The returned sequence level by level, once the search (and in 4dof the axis) is decided.
-  for (size_t k = 0; k < result.stats.jgPerLevel.size(); ++k) {
-    const SearchLevelProgress s{"chosen", static_cast<int>(k), result.stats.jgPerLevel[k], 0};
-    if (!reportProgress(progress, "decompose", 1.0, s)) return cancelled();
-  }
-  reportProgress(progress, "decompose", 1.0);
+  if (!reportChosenLevels(result.stats, progress)) return cancelledResult(m, result.stats);
   return result;
 }
 
@@ -1952,7 +460,7 @@ MultidirEvaluation evaluateDecomposition(const Mesh& mesh, const std::vector<Mul
   for (const MultidirPlane& p : planes) {
     if (!ok.ok()) break;
     if (!isFinite(p.normal) || !(p.normal.norm() > 0) || !std::isfinite(p.offsetMm)) {
-      ok = fail(Status::InvalidOption, "a plane has a zero or non-finite normal or offset");
+      ok = failed<Outcome>(Status::InvalidOption, "a plane has a zero or non-finite normal or offset");
     }
   }
   if (ok.ok()) ok = checkMesh(mesh);

@@ -38,19 +38,20 @@
 #include <numeric>
 #include <unordered_map>
 
-#include "common/disjoint_sets.h"
 #include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/weld_vertices.h"
 #include "surface/boundary_distance.h"
+#include "surface/fermat_contours.h"
 
 namespace omnislice {
 namespace {
 
+using namespace fermat_detail;
+
 constexpr double kCornerTolerance = 0.05;  // mm: max chord deviation of the re-sampled path
 constexpr int kMaxLevels = 20000;
-
 
 // A point of an assembled path; tri = triangle containing the segment that arrives at this point
 // (-1: a hop between contours, or the first point).
@@ -59,76 +60,7 @@ struct PathPoint {
   int tri = -1;
 };
 
-struct Splice {
-  double pos = 0;  // arc position on the host contour
-  int chain = -1;  // child chain spliced in
-  int side = 1;    // +1: the child lies on the host's left, -1: on its right
-};
-
-struct Contour {
-  std::vector<Eigen::Vector3d> pts;  // closed polyline; segment i runs pts[i] -> pts[i+1 mod n]
-  std::vector<int> tri;              // triangle of segment i
-  std::vector<double> cum;           // arc length at pts[i]; cum[n] = length
-  int level = 0;
-  int lower = -1, upper = -1;  // pieces below / above (phi smaller / larger)
-  bool dropped = false;        // too short to carry gaps
-  int chain = -1;
-  int forward = -1;            // the piece ahead in its chain (on the contour's left)
-  double breakPos = 0;         // arc position of the Fermat break (cut line)
-  double gap = 0;              // half width of the gaps cut in this contour
-  std::vector<Splice> splices;
-
-  double length() const { return cum.back(); }
-  size_t size() const { return pts.size(); }
-  // Point at arc position s (taken modulo the length) and the segment it lies on.
-  Eigen::Vector3d at(double s, size_t* segment = nullptr) const {
-    const double L = length();
-    s = std::fmod(s, L);
-    if (s < 0) s += L;
-    size_t i = static_cast<size_t>(std::upper_bound(cum.begin(), cum.end(), s) - cum.begin());
-    i = std::min(std::max<size_t>(i, 1), pts.size()) - 1;
-    const double segLen = cum[i + 1] - cum[i];
-    const double t = segLen > 0 ? (s - cum[i]) / segLen : 0.0;
-    if (segment) *segment = i;
-    return pts[i] + t * (pts[(i + 1) % pts.size()] - pts[i]);
-  }
-  void reverse() {
-    const size_t n = pts.size();
-    std::vector<Eigen::Vector3d> p(n);
-    std::vector<int> t(n);
-    for (size_t i = 0; i < n; ++i) {
-      p[i] = pts[(n - i) % n];
-      t[i] = tri[(2 * n - 1 - i) % n];  // new segment i = old segment between old n-i and n-i-1
-    }
-    pts.swap(p);
-    tri.swap(t);
-    computeArcLength();
-  }
-  void computeArcLength() {
-    cum.assign(pts.size() + 1, 0.0);
-    for (size_t i = 0; i < pts.size(); ++i) {
-      cum[i + 1] = cum[i] + (pts[(i + 1) % pts.size()] - pts[i]).norm();
-    }
-  }
-  // Arc position of the closest point of the contour to q.
-  double closestPosition(const Eigen::Vector3d& q) const {
-    double best = std::numeric_limits<double>::infinity(), pos = 0;
-    const size_t n = pts.size();
-    for (size_t i = 0; i < n; ++i) {
-      const Eigen::Vector3d a = pts[i], b = pts[(i + 1) % n];
-      const Eigen::Vector3d ab = b - a;
-      const double len2 = ab.squaredNorm();
-      const double t = len2 > 0 ? std::clamp((q - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-      const double d = (a + t * ab - q).squaredNorm();
-      if (d < best) {
-        best = d;
-        pos = cum[i] + t * (cum[i + 1] - cum[i]);
-      }
-    }
-    return pos;
-  }
-};
-
+// A run of contours joined by pieces bounded by exactly two contours (step 4).
 struct Chain {
   std::vector<int> contours;
 };
@@ -302,205 +234,6 @@ struct Builder {
     }
   }
 };
-
-// Consistent face normals: breadth-first over manifold edges, flipping a neighbour that runs the
-// shared edge the same way; each component keeps its majority orientation.
-std::vector<Eigen::Vector3d> orientedFaceNormals(const Mesh& mesh, const MeshEdges& edges) {
-  const size_t nf = mesh.faceCount();
-  std::vector<int8_t> flip(nf, -1);
-  std::vector<Eigen::Vector3d> normals(nf);
-  for (size_t f = 0; f < nf; ++f) {
-    const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]), b = mesh.vertex(mesh.triangles[3 * f + 1]),
-                          c = mesh.vertex(mesh.triangles[3 * f + 2]);
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    const double len = n.norm();
-    normals[f] = len > 0 ? Eigen::Vector3d(n / len) : Eigen::Vector3d(0, 0, 1);
-  }
-  std::deque<uint32_t> queue;
-  std::vector<uint32_t> component;
-  for (size_t seed = 0; seed < nf; ++seed) {
-    if (flip[seed] >= 0) continue;
-    flip[seed] = 0;
-    queue.push_back(static_cast<uint32_t>(seed));
-    component.clear();
-    while (!queue.empty()) {
-      const uint32_t f = queue.front();
-      queue.pop_front();
-      component.push_back(f);
-      for (int k = 0; k < 3; ++k) {
-        const uint32_t h = 3 * f + k;
-        const uint32_t e = edges.edgeOfHalfedge[h];
-        if (edges.faceCount[e] != 2) continue;
-        for (uint32_t o = edges.firstHalfedge[e]; o != kNoIndex; o = edges.nextHalfedge[o]) {
-          if (o == h) continue;
-          const uint32_t g = o / 3;
-          if (flip[g] >= 0) continue;
-          const bool same = mesh.triangles[h] == mesh.triangles[o];
-          flip[g] = static_cast<int8_t>(flip[f] ^ (same ? 1 : 0));
-          queue.push_back(g);
-        }
-      }
-    }
-    size_t flipped = 0;
-    for (uint32_t f : component) flipped += flip[f];
-    const int8_t invert = 2 * flipped > component.size() ? 1 : 0;
-    for (uint32_t f : component) {
-      if (flip[f] ^ invert) normals[f] = -normals[f];
-    }
-  }
-  return normals;
-}
-
-struct ContourSet {
-  std::vector<Contour> contours;
-  int pieces = 0;
-  std::vector<int> pieceBand;
-};
-
-// Marching-triangles contours of phi at the given increasing levels and the band pieces.
-// Convention: a vertex is "above" level v when phi >= v, so a level through a vertex is handled
-// as if the vertex were infinitesimally above it.
-ContourSet extractContours(const Mesh& mesh, const MeshEdges& edges, const std::vector<double>& phi,
-                           const std::vector<double>& levels) {
-  ContourSet out;
-  auto band = [&](double x) {
-    return static_cast<int>(std::upper_bound(levels.begin(), levels.end(), x) - levels.begin());
-  };
-  const size_t ne = edges.edgeCount(), nf = mesh.faceCount();
-  // Crossings per edge: levels k with band(lo) <= k < band(hi).
-  std::vector<int> edgeFirstLevel(ne), edgeStart(ne + 1, 0);
-  std::vector<Eigen::Vector3d> crossingPoint;
-  for (size_t e = 0; e < ne; ++e) {
-    const uint32_t a = static_cast<uint32_t>(edges.keys[e] >> 32);
-    const uint32_t b = static_cast<uint32_t>(edges.keys[e] & 0xFFFFFFFFu);
-    const double pa = phi[a], pb = phi[b];
-    const int k0 = band(std::min(pa, pb)), k1 = band(std::max(pa, pb));
-    edgeFirstLevel[e] = k0;
-    edgeStart[e + 1] = edgeStart[e] + (k1 - k0);
-    for (int k = k0; k < k1; ++k) {
-      const double t = (levels[k] - pa) / (pb - pa);
-      crossingPoint.push_back(mesh.vertex(a) + std::clamp(t, 0.0, 1.0) * (mesh.vertex(b) - mesh.vertex(a)));
-    }
-  }
-  const size_t nc = crossingPoint.size();
-  std::vector<int> linkTo(2 * nc, -1), linkTri(2 * nc, -1);
-  std::vector<int> crossingLevel(nc, 0);
-  for (size_t e = 0; e < ne; ++e) {
-    for (int c = edgeStart[e]; c < edgeStart[e + 1]; ++c) crossingLevel[c] = edgeFirstLevel[e] + (c - edgeStart[e]);
-  }
-  auto link = [&](int c, int d, int t) {
-    const int slot = linkTo[2 * c] < 0 ? 0 : 1;
-    if (linkTo[2 * c + slot] >= 0) return;  // non-manifold situation: keep the first two
-    linkTo[2 * c + slot] = d;
-    linkTri[2 * c + slot] = t;
-  };
-  // Cells: the part of a face inside one band.
-  std::vector<int> cellStart(nf + 1, 0), faceBandLo(nf);
-  for (size_t f = 0; f < nf; ++f) {
-    double lo = std::numeric_limits<double>::infinity(), hi = -lo;
-    for (int k = 0; k < 3; ++k) {
-      lo = std::min(lo, phi[mesh.triangles[3 * f + k]]);
-      hi = std::max(hi, phi[mesh.triangles[3 * f + k]]);
-    }
-    const int b0 = band(lo), b1 = band(hi);
-    faceBandLo[f] = b0;
-    cellStart[f + 1] = cellStart[f] + (b1 - b0 + 1);
-    for (int k = b0; k < b1; ++k) {
-      int found[2], nfound = 0;
-      for (int j = 0; j < 3 && nfound < 2; ++j) {
-        const uint32_t e = edges.edgeOfHalfedge[3 * f + j];
-        if (k >= edgeFirstLevel[e] && k < edgeFirstLevel[e] + (edgeStart[e + 1] - edgeStart[e])) {
-          found[nfound++] = edgeStart[e] + (k - edgeFirstLevel[e]);
-        }
-      }
-      if (nfound == 2) {
-        link(found[0], found[1], static_cast<int>(f));
-        link(found[1], found[0], static_cast<int>(f));
-      }
-    }
-  }
-  DisjointSets cells(static_cast<size_t>(cellStart[nf]));
-  auto cellOf = [&](size_t f, int b) { return static_cast<uint32_t>(cellStart[f] + (b - faceBandLo[f])); };
-  for (size_t e = 0; e < ne; ++e) {
-    if (edges.faceCount[e] != 2) continue;
-    const uint32_t h1 = edges.firstHalfedge[e], h2 = edges.nextHalfedge[h1];
-    const uint32_t f1 = h1 / 3, f2 = h2 / 3;
-    const int k0 = edgeFirstLevel[e], k1 = k0 + (edgeStart[e + 1] - edgeStart[e]);
-    for (int b = k0; b <= k1; ++b) cells.unite(cellOf(f1, b), cellOf(f2, b));
-  }
-  std::vector<int> pieceId(cellStart[nf], -1);
-  for (size_t f = 0; f < nf; ++f) {
-    for (int b = faceBandLo[f]; b < faceBandLo[f] + (cellStart[f + 1] - cellStart[f]); ++b) {
-      const uint32_t r = cells.find(cellOf(f, b));
-      if (pieceId[r] < 0) {
-        pieceId[r] = out.pieces++;
-        out.pieceBand.push_back(b);
-      }
-    }
-  }
-  // Walk the closed contours.
-  std::vector<uint8_t> visited(nc, 0);
-  for (size_t start = 0; start < nc; ++start) {
-    if (visited[start] || linkTo[2 * start] < 0 || linkTo[2 * start + 1] < 0) continue;
-    Contour c;
-    c.level = crossingLevel[start];
-    int cur = static_cast<int>(start), viaTri = linkTri[2 * start + 1];
-    bool closed = false;
-    while (true) {
-      visited[cur] = 1;
-      c.pts.push_back(crossingPoint[cur]);
-      const int slot = linkTri[2 * cur] == viaTri ? 1 : 0;
-      const int next = linkTo[2 * cur + slot], t = linkTri[2 * cur + slot];
-      if (next < 0 || t < 0) break;
-      c.tri.push_back(t);
-      viaTri = t;
-      if (next == static_cast<int>(start)) {
-        closed = true;
-        break;
-      }
-      if (visited[next]) break;
-      cur = next;
-    }
-    if (!closed || c.pts.size() < 3) continue;
-    // Drop zero-length segments (levels through vertices give repeated points).
-    {
-      std::vector<Eigen::Vector3d> p;
-      std::vector<int> t;
-      for (size_t i = 0; i < c.pts.size(); ++i) {
-        const Eigen::Vector3d& next = c.pts[(i + 1) % c.pts.size()];
-        if ((next - c.pts[i]).squaredNorm() <= 1e-24) continue;
-        p.push_back(c.pts[i]);
-        t.push_back(c.tri[i]);
-      }
-      if (p.size() < 3) continue;
-      c.pts.swap(p);
-      c.tri.swap(t);
-    }
-    const size_t f = static_cast<size_t>(c.tri[0]);
-    c.lower = pieceId[cells.find(cellOf(f, c.level))];
-    c.upper = pieceId[cells.find(cellOf(f, c.level + 1))];
-    c.computeArcLength();
-    out.contours.push_back(std::move(c));
-  }
-  return out;
-}
-
-// Orient a contour so that larger phi lies on its left (seen against the face normals).
-void orientUpLeft(Contour& c, const Mesh& mesh, const std::vector<double>& phi,
-                  const std::vector<Eigen::Vector3d>& faceNormal) {
-  double score = 0;
-  const size_t n = c.size();
-  for (size_t i = 0; i < n; ++i) {
-    const int f = c.tri[i];
-    uint32_t top = mesh.triangles[3 * f];
-    for (int k = 1; k < 3; ++k) {
-      if (phi[mesh.triangles[3 * f + k]] > phi[top]) top = mesh.triangles[3 * f + k];
-    }
-    const Eigen::Vector3d dir = c.pts[(i + 1) % n] - c.pts[i];
-    score += faceNormal[f].cross(dir).dot(mesh.vertex(top) - c.pts[i]);
-  }
-  if (score < 0) c.reverse();
-}
 
 // Re-sample a path at step keeping corners; points on contour segments keep their triangle,
 // points on hops are projected onto the surface.
@@ -697,22 +430,26 @@ Mesh subdivideMidpoints(const Mesh& m) {
   return out;
 }
 
-}  // namespace
-
-SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options) {
+// The options and region: InvalidOption when unusable.
+Outcome checkSpiralInput(const Mesh& region, const SpiralOptions& options) {
+  auto bad = [](std::string message) { return failed<Outcome>(Status::InvalidOption, std::move(message)); };
   if (!(options.spacing > 0) || !std::isfinite(options.spacing)) {
-    return fail(Status::InvalidOption, "fermat spiral: spacing must be finite and > 0");
+    return bad("fermat spiral: spacing must be finite and > 0");
   }
   if (!(options.resample > 0) || !std::isfinite(options.resample)) {
-    return fail(Status::InvalidOption, "fermat spiral: resample must be finite and > 0");
+    return bad("fermat spiral: resample must be finite and > 0");
   }
   if (region.positions.size() % 3 != 0 || region.triangles.size() % 3 != 0) {
-    return fail(Status::InvalidOption, "fermat spiral: positions/triangles not multiples of 3");
+    return bad("fermat spiral: positions/triangles not multiples of 3");
   }
   for (uint32_t v : region.triangles) {
-    if (v >= region.vertexCount()) return fail(Status::InvalidOption, "fermat spiral: triangle index out of range");
+    if (v >= region.vertexCount()) return bad("fermat spiral: triangle index out of range");
   }
-  const auto t0 = Clock::now();
+  return {};
+}
+
+// The region welded and, when coarse, subdivided.
+Mesh weldedRegion(const Mesh& region) {
   // Weld bit-identical positions first: an unwelded region (one vertex per corner) would look
   // like loose triangles, all boundary, and yield no path.
   Mesh welded;
@@ -731,6 +468,412 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
                       (welded.vertexCount() < kCoarseRegionVertices || !hasInteriorVertex(welded));
        ++round)
     welded = subdivideMidpoints(welded);
+  return welded;
+}
+
+// Same cleaning as the distance: faces repeating a vertex are dropped.
+Mesh withoutRepeatedVertices(const Mesh& welded) {
+  Mesh mesh;
+  mesh.positions = welded.positions;
+  for (size_t f = 0; f < welded.faceCount(); ++f) {
+    const uint32_t a = welded.triangles[3 * f], b = welded.triangles[3 * f + 1], c = welded.triangles[3 * f + 2];
+    if (a != b && b != c && a != c) mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
+  }
+  return mesh;
+}
+
+// Mean edge length (hop tracing step).
+double meanEdgeLength(const Mesh& mesh, const MeshEdges& edges) {
+  double edgeSum = 0;
+  for (size_t e = 0; e < edges.edgeCount(); ++e) {
+    edgeSum += (mesh.vertex(edges.keys[e] >> 32) - mesh.vertex(edges.keys[e] & 0xFFFFFFFFu)).norm();
+  }
+  return edgeSum / static_cast<double>(std::max<size_t>(edges.edgeCount(), 1));
+}
+
+// Levels spacing/2 + k * step. The step is adjusted (within 15 %) so the last level lies
+// spacing/2 below the highest ridge: a level just under a ridge plateau would break into
+// specks around the field's noise and leave a loop thinner than one bead.
+// Level step. Uniform levels sit at arbitrary heights under the ridges (medial axis) of the
+// field; a ridge just above a level gives a loop thinner than half a bead folded on itself
+// (or specks around the field's noise), a ridge far above the last level leaves a gap. Ridge
+// vertices (|grad phi| < 0.5: the heat distance is smooth across the medial axis) score each
+// candidate step in [0.85, 1.05] x spacing: area with the ridge less than 0.3 spacing above the
+// level below it counts 1, more than 0.8 spacing above it 0.5. The lowest score wins, ties to
+// the step closest to the spacing. Returns the candidate steps in rank order.
+std::vector<double> candidateSteps(const Mesh& mesh, const std::vector<double>& phi, double s, double D) {
+  std::vector<double> steps;
+  std::vector<double> gradSum(mesh.vertexCount(), 0.0);
+  std::vector<double> mass(mesh.vertexCount(), 0.0);
+  for (size_t f = 0; f < mesh.faceCount(); ++f) {
+    const uint32_t i[3] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]};
+    const Eigen::Vector3d p0 = mesh.vertex(i[0]), p1 = mesh.vertex(i[1]), p2 = mesh.vertex(i[2]);
+    const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
+    const double twiceArea = n.norm();
+    if (!(twiceArea > 0)) continue;
+    const Eigen::Vector3d u = n / twiceArea;
+    const Eigen::Vector3d g = (phi[i[0]] * u.cross(p2 - p1) + phi[i[1]] * u.cross(p0 - p2) +
+                               phi[i[2]] * u.cross(p1 - p0)) / twiceArea;
+    for (uint32_t v : i) {
+      mass[v] += twiceArea / 6;
+      gradSum[v] += g.norm() * twiceArea / 6;
+    }
+  }
+  std::vector<std::pair<double, double>> ridge;  // (phi, mass)
+  for (size_t v = 0; v < mesh.vertexCount(); ++v) {
+    if (mass[v] > 0 && gradSum[v] < 0.5 * mass[v] && phi[v] > s / 2) ridge.push_back({phi[v], mass[v]});
+  }
+  std::vector<std::pair<double, double>> scored;  // (score, step), stable: ties keep order
+  for (const double factor : {1.0, 0.975, 1.025, 0.95, 1.05, 0.925, 0.9, 0.875, 0.85}) {
+    const double t = factor * s;
+    double score = 0;
+    for (const auto& [value, m] : ridge) {
+      const double above = std::fmod(value - s / 2, t);
+      if (above < 0.3 * s) score += m;
+      else if (above > 0.8 * s) score += 0.5 * m;
+    }
+    scored.push_back({score, t});
+  }
+  std::stable_sort(scored.begin(), scored.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first - 1e-12; });
+  for (size_t i = 0; i < std::min<size_t>(2, scored.size()); ++i) steps.push_back(scored[i].second);
+  // And the step putting the last level spacing/2 under the highest ridge.
+  if (D - s > 0) {
+    const double span = D - s;
+    const double up = span / std::ceil(span / s);
+    if (up >= 0.85 * s) steps.push_back(up);
+  }
+  return steps;
+}
+
+// What the contour paths are built on: the cleaned region, its edges, the boundary distance,
+// the oriented face normals and an AABB tree.
+struct SpiralSurface {
+  const Mesh& mesh;
+  const MeshEdges& edges;
+  const std::vector<double>& phi;
+  const std::vector<Eigen::Vector3d>& faceNormal;
+  const AabbTree& tree;
+};
+
+// Narrow regions: each ridge loop cut at its two tips (farthest points), one side kept: a
+// centre line.
+void centreLines(const std::vector<Contour>& C, double s, std::vector<std::vector<PathPoint>>& raw) {
+  for (const Contour& c : C) {
+    if (c.length() < s / 2) continue;
+    size_t a = 0, b = 0;
+    for (size_t i = 0; i < c.size(); ++i) {
+      if ((c.pts[i] - c.pts[0]).squaredNorm() > (c.pts[a] - c.pts[0]).squaredNorm()) a = i;
+    }
+    for (size_t i = 0; i < c.size(); ++i) {
+      if ((c.pts[i] - c.pts[a]).squaredNorm() > (c.pts[b] - c.pts[a]).squaredNorm()) b = i;
+    }
+    std::vector<PathPoint> path;
+    for (size_t i = a;; i = (i + 1) % c.size()) {
+      path.push_back({c.pts[i], path.empty() ? -1 : c.tri[(i + c.size() - 1) % c.size()]});
+      if (i == b) break;
+    }
+    raw.push_back(std::move(path));
+  }
+}
+
+// Steps 4 and 5 of the file's comment: the contours joined into chains (Fermat spirals) and
+// branches spliced into their hosts, one polyline per component.
+class SpiralConnector {
+ public:
+  // Pieces and the contours bounding them; contours shorter than a bead are dropped.
+  SpiralConnector(Builder& B, int pieces, const std::vector<int>& pieceBand, double s)
+      : B_(B), C_(B.contours), pieceBand_(pieceBand), s_(s), pieceContours_(pieces), pieceUsed_(pieces, 0) {
+    std::vector<Contour>& C = C_;
+    for (size_t i = 0; i < C.size(); ++i) {
+      if (C[i].length() < s) {
+        C[i].dropped = true;  // a speck (diameter under one bead) around a bump of the field
+        continue;
+      }
+      pieceContours_[C[i].lower].push_back(static_cast<int>(i));
+      if (C[i].upper != C[i].lower) pieceContours_[C[i].upper].push_back(static_cast<int>(i));
+    }
+  }
+
+  // Roots: one per component, the longest contour next to the boundary band first; each root's
+  // chain with its branches spliced in becomes one path (plus the children no host had room for).
+  void connect(std::vector<std::vector<PathPoint>>& raw) {
+    while (true) {
+      const int root = nextRoot();
+      if (root < 0) break;
+      const int back = C_[root].lower;  // the boundary side: the spiral starts at the outside
+      const int chainId = buildChain(root, back);
+      placeBreaks(chainId, 0.0);
+      processBranches();
+      std::vector<PathPoint> path;
+      B_.emitChain(chainId, path);
+      raw.push_back(std::move(path));
+      for (const int extra : separateChains_) {
+        std::vector<PathPoint> own;
+        B_.emitChain(extra, own);
+        raw.push_back(std::move(own));
+      }
+      separateChains_.clear();
+    }
+  }
+
+ private:
+  struct Branch {
+    int piece;
+    int entry;
+  };
+
+  bool isBottom(int piece) const { return pieceBand_[piece] == 0; }
+
+  int nextRoot() const {
+    const std::vector<Contour>& C = C_;
+    int root = -1;
+    for (size_t i = 0; i < C.size(); ++i) {
+      if (C[i].dropped || C[i].chain >= 0) continue;
+      const bool touches = isBottom(C[i].lower) || isBottom(C[i].upper);
+      if (root < 0) {
+        root = static_cast<int>(i);
+        continue;
+      }
+      const bool rootTouches = isBottom(C[root].lower) || isBottom(C[root].upper);
+      if ((touches && !rootTouches) || (touches == rootTouches && C[i].length() > C[root].length())) {
+        root = static_cast<int>(i);
+      }
+    }
+    return root;
+  }
+
+  // Build the chain starting at contour start coming from piece back; orient its contours.
+  int buildChain(int start, int back) {
+    std::vector<Contour>& C = C_;
+    const int id = static_cast<int>(B_.chains.size());
+    B_.chains.emplace_back();
+    int cur = start;
+    while (true) {
+      Contour& c = C[cur];
+      c.chain = id;
+      B_.chains[id].contours.push_back(cur);
+      const int fwd = c.lower == back ? c.upper : c.lower;
+      c.forward = fwd;
+      if (fwd == c.lower && c.lower != c.upper) c.reverse();  // forward piece on the left
+      c.gap = B_.gapOf(c);
+      if (isBottom(fwd) || pieceUsed_[fwd]) break;
+      pieceUsed_[fwd] = 1;
+      std::vector<int> others;
+      for (int o : pieceContours_[fwd]) {
+        if (o != cur && C[o].chain < 0) others.push_back(o);
+      }
+      if (others.empty()) break;
+      if (others.size() == 1) {
+        back = fwd;
+        cur = others[0];
+        continue;
+      }
+      branches_.push_back({fwd, cur});
+      break;
+    }
+    return id;
+  }
+
+  // Cut line: break points by successive closest points from the first contour's break.
+  void placeBreaks(int chainId, double firstBreak) {
+    std::vector<Contour>& C = C_;
+    const Chain& ch = B_.chains[chainId];
+    C[ch.contours[0]].breakPos = firstBreak;
+    for (size_t j = 1; j < ch.contours.size(); ++j) {
+      const Contour& prev = C[ch.contours[j - 1]];
+      C[ch.contours[j]].breakPos = C[ch.contours[j]].closestPosition(prev.at(prev.breakPos));
+    }
+  }
+
+  // Splice point on host for a child: the host vertex closest to the child among those far
+  // enough from the gaps already cut in the host (preferably two beads clear, at least so
+  // the gaps do not overlap). -1 when the host has no room left.
+  double chooseSplice(int host, const PointGrid& childGrid) const {
+    const Contour& H = C_[host];
+    const double s = s_;
+    std::vector<double> cuts{H.breakPos};
+    for (const Splice& sp : H.splices) cuts.push_back(sp.pos);
+    for (const double clearance : {2 * H.gap + 2 * s, 2 * H.gap + 0.02 * s}) {
+      double best = std::numeric_limits<double>::infinity();
+      double pos = -1;
+      for (size_t i = 0; i < H.size(); ++i) {
+        bool free = true;
+        for (double q : cuts) {
+          double a = std::fmod(std::abs(H.cum[i] - q), H.length());
+          a = std::min(a, H.length() - a);
+          if (a < clearance) free = false;
+        }
+        if (!free) continue;
+        const double d = childGrid.nearest(H.pts[i]).first;
+        if (d < best) {
+          best = d;
+          pos = H.cum[i];
+        }
+      }
+      if (pos >= 0) return pos;
+    }
+    return -1.0;
+  }
+
+  void processBranches() {
+    while (!branches_.empty()) {
+      const Branch br = branches_.front();
+      branches_.pop_front();
+      spliceBranch(br);
+    }
+  }
+
+  // The contours of a branch piece joined by a minimum spanning tree of their distances (Prim,
+  // from the entry contour); each new member's chain is spliced into its tree parent (or the
+  // nearest member with room), or kept separate.
+  void spliceBranch(const Branch& br) {
+    std::vector<Contour>& C = C_;
+    std::vector<int> members{br.entry};
+    for (int o : pieceContours_[br.piece]) {
+      if (o != br.entry && C[o].chain < 0) members.push_back(o);
+    }
+    const size_t m = members.size();
+    std::vector<PointGrid> grids;
+    grids.reserve(m);
+    for (int c : members) grids.emplace_back(C[c].pts, 2 * s_);
+    const std::vector<double> dist = memberDistances(members, grids);
+    // Prim from the entry contour; each new member is spliced into its tree parent.
+    std::vector<uint8_t> inTree(m, 0);
+    std::vector<double> key(m, std::numeric_limits<double>::infinity());
+    std::vector<size_t> parent(m, 0);
+    inTree[0] = 1;
+    for (size_t j = 1; j < m; ++j) key[j] = dist[j];
+    for (size_t step = 1; step < m; ++step) {
+      size_t next = 0;
+      double bestKey = std::numeric_limits<double>::infinity();
+      for (size_t j = 1; j < m; ++j) {
+        if (!inTree[j] && key[j] <= bestKey) {
+          bestKey = key[j];
+          next = j;
+        }
+      }
+      if (next == 0) break;
+      inTree[next] = 1;
+      // Host: the tree parent, or (when it has no room left, e.g. a short contour) the
+      // nearest member already joined that has room.
+      std::vector<size_t> hosts{parent[next]};
+      for (size_t j = 0; j < m; ++j) {
+        if (inTree[j] && j != next && j != parent[next]) hosts.push_back(j);
+      }
+      std::sort(hosts.begin() + 1, hosts.end(),
+                [&](size_t x, size_t y) { return dist[next * m + x] < dist[next * m + y]; });
+      int host = members[parent[next]];
+      double q = -1;
+      for (size_t j : hosts) {
+        q = chooseSplice(members[j], grids[next]);
+        if (q >= 0) {
+          host = members[j];
+          break;
+        }
+      }
+      const int child = members[next];
+      const int chainId = buildChain(child, br.piece);
+      if (q < 0) {
+        placeBreaks(chainId, 0.0);
+        separateChains_.push_back(chainId);
+      } else {
+        // Child oriented now: its break is the point closest to the host's splice point.
+        placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
+        const int side = C[host].forward == br.piece ? 1 : -1;
+        C[host].splices.push_back({q, chainId, side});
+      }
+      for (size_t j = 1; j < m; ++j) {
+        if (!inTree[j] && dist[next * m + j] < key[j]) {
+          key[j] = dist[next * m + j];
+          parent[j] = next;
+        }
+      }
+    }
+  }
+
+  // Pairwise contour distances (min over the points of the first), m x m.
+  std::vector<double> memberDistances(const std::vector<int>& members, const std::vector<PointGrid>& grids) const {
+    const std::vector<Contour>& C = C_;
+    const size_t m = members.size();
+    std::vector<double> dist(m * m, std::numeric_limits<double>::infinity());
+    for (size_t i = 0; i < m; ++i) {
+      for (size_t j = i + 1; j < m; ++j) {
+        double d = std::numeric_limits<double>::infinity();
+        const Contour& a = C[members[i]].size() <= C[members[j]].size() ? C[members[i]] : C[members[j]];
+        const PointGrid& g = C[members[i]].size() <= C[members[j]].size() ? grids[j] : grids[i];
+        for (const Eigen::Vector3d& p : a.pts) d = std::min(d, g.nearest(p).first);
+        dist[i * m + j] = dist[j * m + i] = d;
+      }
+    }
+    return dist;
+  }
+
+  Builder& B_;
+  std::vector<Contour>& C_;
+  const std::vector<int>& pieceBand_;
+  double s_;
+  std::vector<std::vector<int>> pieceContours_;
+  std::vector<uint8_t> pieceUsed_;
+  std::deque<Branch> branches_;
+  std::vector<int> separateChains_;  // children no host had room for: their own polylines
+};
+
+// Contours at levels, connected into paths (raw): centre lines when narrow, else spirals.
+// Returns the number of contours; adds the contour extraction's time to contourMs.
+int contourPaths(const SpiralSurface& surf, const std::vector<double>& levels, bool narrow, double s, double h,
+                 double& contourMs, std::vector<std::vector<PathPoint>>& raw) {
+  const auto tc = Clock::now();
+  ContourSet set = extractContours(surf.mesh, surf.edges, surf.phi, levels);
+  for (Contour& c : set.contours) orientUpLeft(c, surf.mesh, surf.phi, surf.faceNormal);
+  const int count = static_cast<int>(set.contours.size());
+  contourMs += msSince(tc);
+  Builder B{surf.mesh, surf.phi, surf.faceNormal, surf.tree, s, std::max(0.25 * s, 0.5 * h),
+            std::move(set.contours), {}};
+  if (narrow) {
+    centreLines(B.contours, s, raw);
+  } else {
+    SpiralConnector connector(B, set.pieces, set.pieceBand, s);
+    connector.connect(raw);
+  }
+  return count;
+}
+
+// Build the candidates in rank order; keep the one whose path overlaps itself least (fewest
+// polylines first), stopping at the first that is clearly fine. Its contour count goes to
+// result.contours.
+void bestSpiral(const SpiralSurface& surf, const std::vector<double>& steps, double s, double h, double D,
+                SpiralResult& result, std::vector<std::vector<PathPoint>>& raw) {
+  double bestScore = std::numeric_limits<double>::infinity();
+  for (size_t c = 0; c < steps.size(); ++c) {
+    bool seen = false;
+    for (size_t d = 0; d < c; ++d) seen = seen || std::abs(steps[d] - steps[c]) < 1e-9 * s;
+    if (seen) continue;
+    std::vector<double> levels;
+    for (int k = 0;; ++k) {
+      const double v = s / 2 + k * steps[c];
+      if (v >= D - 1e-9 * s) break;
+      levels.push_back(v);
+    }
+    std::vector<std::vector<PathPoint>> candidate;
+    const int count = contourPaths(surf, levels, false, s, h, result.contourMs, candidate);
+    const double score = selfOverlapFraction(candidate, s) + 0.01 * static_cast<double>(candidate.size());
+    if (score < bestScore) {
+      bestScore = score;
+      raw.swap(candidate);
+      result.contours = count;
+    }
+    if (bestScore < 0.015) break;  // one polyline, under 0.5 % overlap: good enough, stop early
+  }
+}
+
+}  // namespace
+
+SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options) {
+  const Outcome input = checkSpiralInput(region, options);
+  if (!input.ok()) return fail(input.status, input.message);
+  const auto t0 = Clock::now();
+  const Mesh welded = weldedRegion(region);
   BoundaryDistanceOptions dopt;
   dopt.timeFactor = options.timeFactor;
   dopt.boundaryCondition = options.heatBoundary;
@@ -744,13 +887,7 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   SpiralResult result;
   result.distanceMs = msSince(t0);
   const auto t1 = Clock::now();
-  // Same cleaning as the distance: faces repeating a vertex are dropped.
-  Mesh mesh;
-  mesh.positions = welded.positions;
-  for (size_t f = 0; f < welded.faceCount(); ++f) {
-    const uint32_t a = welded.triangles[3 * f], b = welded.triangles[3 * f + 1], c = welded.triangles[3 * f + 2];
-    if (a != b && b != c && a != c) mesh.triangles.insert(mesh.triangles.end(), {a, b, c});
-  }
+  const Mesh mesh = withoutRepeatedVertices(welded);
   const MeshEdges edges = buildEdges(mesh);
   const std::vector<Eigen::Vector3d> faceNormal = orientedFaceNormals(mesh, edges);
   const std::vector<double>& phi = dist.distance;
@@ -759,65 +896,8 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
   if (D / s > kMaxLevels) {
     return fail(Status::InvalidOption, "fermat spiral: spacing too small for the region (too many contours)");
   }
-  // Mean edge length (hop tracing step).
-  double edgeSum = 0;
-  for (size_t e = 0; e < edges.edgeCount(); ++e) {
-    edgeSum += (mesh.vertex(edges.keys[e] >> 32) - mesh.vertex(edges.keys[e] & 0xFFFFFFFFu)).norm();
-  }
-  const double h = edgeSum / static_cast<double>(std::max<size_t>(edges.edgeCount(), 1));
-  // Levels spacing/2 + k * step. The step is adjusted (within 15 %) so the last level lies
-  // spacing/2 below the highest ridge: a level just under a ridge plateau would break into
-  // specks around the field's noise and leave a loop thinner than one bead.
-  // Level step. Uniform levels sit at arbitrary heights under the ridges (medial axis) of the
-  // field; a ridge just above a level gives a loop thinner than half a bead folded on itself
-  // (or specks around the field's noise), a ridge far above the last level leaves a gap. Ridge
-  // vertices (|grad phi| < 0.5: the heat distance is smooth across the medial axis) score each
-  // candidate step in [0.85, 1.05] x spacing: area with the ridge less than 0.3 spacing above the
-  // level below it counts 1, more than 0.8 spacing above it 0.5. The lowest score wins, ties to
-  // the step closest to the spacing.
-  std::vector<double> steps;
-  {
-    std::vector<double> gradSum(mesh.vertexCount(), 0.0);
-    std::vector<double> mass(mesh.vertexCount(), 0.0);
-    for (size_t f = 0; f < mesh.faceCount(); ++f) {
-      const uint32_t i[3] = {mesh.triangles[3 * f], mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]};
-      const Eigen::Vector3d p0 = mesh.vertex(i[0]), p1 = mesh.vertex(i[1]), p2 = mesh.vertex(i[2]);
-      const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0);
-      const double twiceArea = n.norm();
-      if (!(twiceArea > 0)) continue;
-      const Eigen::Vector3d u = n / twiceArea;
-      const Eigen::Vector3d g = (phi[i[0]] * u.cross(p2 - p1) + phi[i[1]] * u.cross(p0 - p2) +
-                                 phi[i[2]] * u.cross(p1 - p0)) / twiceArea;
-      for (uint32_t v : i) {
-        mass[v] += twiceArea / 6;
-        gradSum[v] += g.norm() * twiceArea / 6;
-      }
-    }
-    std::vector<std::pair<double, double>> ridge;  // (phi, mass)
-    for (size_t v = 0; v < mesh.vertexCount(); ++v) {
-      if (mass[v] > 0 && gradSum[v] < 0.5 * mass[v] && phi[v] > s / 2) ridge.push_back({phi[v], mass[v]});
-    }
-    std::vector<std::pair<double, double>> scored;  // (score, step), stable: ties keep order
-    for (const double factor : {1.0, 0.975, 1.025, 0.95, 1.05, 0.925, 0.9, 0.875, 0.85}) {
-      const double t = factor * s;
-      double score = 0;
-      for (const auto& [value, m] : ridge) {
-        const double above = std::fmod(value - s / 2, t);
-        if (above < 0.3 * s) score += m;
-        else if (above > 0.8 * s) score += 0.5 * m;
-      }
-      scored.push_back({score, t});
-    }
-    std::stable_sort(scored.begin(), scored.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first - 1e-12; });
-    for (size_t i = 0; i < std::min<size_t>(2, scored.size()); ++i) steps.push_back(scored[i].second);
-    // And the step putting the last level spacing/2 under the highest ridge.
-    if (D - s > 0) {
-      const double span = D - s;
-      const double up = span / std::ceil(span / s);
-      if (up >= 0.85 * s) steps.push_back(up);
-    }
-  }
+  const double h = meanEdgeLength(mesh, edges);
+  const std::vector<double> steps = candidateSteps(mesh, phi, s, D);
   // Narrower than about 1.5 beads (a single level would give a loop thinner than half a bead):
   // one centre line instead, as wide as the region (up to a bead). Slivers down to an eighth of a
   // bead are printed: a layer region left out leaves the region above it two layers over the
@@ -828,259 +908,13 @@ SpiralResult fermatSpiralPaths(const Mesh& region, const SpiralOptions& options)
     return result;  // narrower than an eighth of a bead: nothing to print
   }
   const AabbTree tree(mesh);
-  // Contours at levels, connected into paths (raw); returns the number of contours.
-  auto build = [&](const std::vector<double>& levels, std::vector<std::vector<PathPoint>>& raw) {
-    const auto tc = Clock::now();
-    ContourSet set = extractContours(mesh, edges, phi, levels);
-    for (Contour& c : set.contours) orientUpLeft(c, mesh, phi, faceNormal);
-    const int count = static_cast<int>(set.contours.size());
-    result.contourMs += msSince(tc);
-    Builder B{mesh, phi, faceNormal, tree, s, std::max(0.25 * s, 0.5 * h), std::move(set.contours), {}};
-    std::vector<Contour>& C = B.contours;
-
-    if (narrow) {
-      // Centre line: each ridge loop cut at its two tips (farthest points), one side kept.
-      for (const Contour& c : C) {
-        if (c.length() < s / 2) continue;
-        size_t a = 0, b = 0;
-        for (size_t i = 0; i < c.size(); ++i) {
-          if ((c.pts[i] - c.pts[0]).squaredNorm() > (c.pts[a] - c.pts[0]).squaredNorm()) a = i;
-        }
-        for (size_t i = 0; i < c.size(); ++i) {
-          if ((c.pts[i] - c.pts[a]).squaredNorm() > (c.pts[b] - c.pts[a]).squaredNorm()) b = i;
-        }
-        std::vector<PathPoint> path;
-        for (size_t i = a;; i = (i + 1) % c.size()) {
-          path.push_back({c.pts[i], path.empty() ? -1 : c.tri[(i + c.size() - 1) % c.size()]});
-          if (i == b) break;
-        }
-        raw.push_back(std::move(path));
-      }
-    } else {
-      // Pieces and the contours bounding them.
-      std::vector<std::vector<int>> pieceContours(set.pieces);
-      for (size_t i = 0; i < C.size(); ++i) {
-        if (C[i].length() < s) {
-          C[i].dropped = true;  // a speck (diameter under one bead) around a bump of the field
-          continue;
-        }
-        pieceContours[C[i].lower].push_back(static_cast<int>(i));
-        if (C[i].upper != C[i].lower) pieceContours[C[i].upper].push_back(static_cast<int>(i));
-      }
-      std::vector<uint8_t> pieceUsed(set.pieces, 0);
-      auto isBottom = [&](int piece) { return set.pieceBand[piece] == 0; };
-      struct Branch {
-        int piece;
-        int entry;
-      };
-      std::deque<Branch> branches;
-      // Build the chain starting at contour start coming from piece back; orient its contours.
-      auto buildChain = [&](int start, int back) {
-        const int id = static_cast<int>(B.chains.size());
-        B.chains.emplace_back();
-        int cur = start;
-        while (true) {
-          Contour& c = C[cur];
-          c.chain = id;
-          B.chains[id].contours.push_back(cur);
-          const int fwd = c.lower == back ? c.upper : c.lower;
-          c.forward = fwd;
-          if (fwd == c.lower && c.lower != c.upper) c.reverse();  // forward piece on the left
-          c.gap = B.gapOf(c);
-          if (isBottom(fwd) || pieceUsed[fwd]) break;
-          pieceUsed[fwd] = 1;
-          std::vector<int> others;
-          for (int o : pieceContours[fwd]) {
-            if (o != cur && C[o].chain < 0) others.push_back(o);
-          }
-          if (others.empty()) break;
-          if (others.size() == 1) {
-            back = fwd;
-            cur = others[0];
-            continue;
-          }
-          branches.push_back({fwd, cur});
-          break;
-        }
-        return id;
-      };
-      // Cut line: break points by successive closest points from the first contour's break.
-      auto placeBreaks = [&](int chainId, double firstBreak) {
-        const Chain& ch = B.chains[chainId];
-        C[ch.contours[0]].breakPos = firstBreak;
-        for (size_t j = 1; j < ch.contours.size(); ++j) {
-          const Contour& prev = C[ch.contours[j - 1]];
-          C[ch.contours[j]].breakPos = C[ch.contours[j]].closestPosition(prev.at(prev.breakPos));
-        }
-      };
-      // Splice point on host for child: the host vertex closest to the child, away from the gaps
-      // already cut in the host.
-      // Splice point on host for a child: the host vertex closest to the child among those far
-      // enough from the gaps already cut in the host (preferably two beads clear, at least so
-      // the gaps do not overlap). -1 when the host has no room left.
-      auto chooseSplice = [&](int host, const PointGrid& childGrid) {
-        const Contour& H = C[host];
-        std::vector<double> cuts{H.breakPos};
-        for (const Splice& sp : H.splices) cuts.push_back(sp.pos);
-        for (const double clearance : {2 * H.gap + 2 * s, 2 * H.gap + 0.02 * s}) {
-          double best = std::numeric_limits<double>::infinity();
-          double pos = -1;
-          for (size_t i = 0; i < H.size(); ++i) {
-            bool free = true;
-            for (double q : cuts) {
-              double a = std::fmod(std::abs(H.cum[i] - q), H.length());
-              a = std::min(a, H.length() - a);
-              if (a < clearance) free = false;
-            }
-            if (!free) continue;
-            const double d = childGrid.nearest(H.pts[i]).first;
-            if (d < best) {
-              best = d;
-              pos = H.cum[i];
-            }
-          }
-          if (pos >= 0) return pos;
-        }
-        return -1.0;
-      };
-      std::vector<int> separateChains;  // children no host had room for: their own polylines
-      auto processBranches = [&]() {
-        while (!branches.empty()) {
-          const Branch br = branches.front();
-          branches.pop_front();
-          std::vector<int> members{br.entry};
-          for (int o : pieceContours[br.piece]) {
-            if (o != br.entry && C[o].chain < 0) members.push_back(o);
-          }
-          const size_t m = members.size();
-          std::vector<PointGrid> grids;
-          grids.reserve(m);
-          for (int c : members) grids.emplace_back(C[c].pts, 2 * s);
-          // Pairwise contour distances (min over the points of the first).
-          std::vector<double> dist(m * m, std::numeric_limits<double>::infinity());
-          for (size_t i = 0; i < m; ++i) {
-            for (size_t j = i + 1; j < m; ++j) {
-              double d = std::numeric_limits<double>::infinity();
-              const Contour& a = C[members[i]].size() <= C[members[j]].size() ? C[members[i]] : C[members[j]];
-              const PointGrid& g = C[members[i]].size() <= C[members[j]].size() ? grids[j] : grids[i];
-              for (const Eigen::Vector3d& p : a.pts) d = std::min(d, g.nearest(p).first);
-              dist[i * m + j] = dist[j * m + i] = d;
-            }
-          }
-          // Prim from the entry contour; each new member is spliced into its tree parent.
-          std::vector<uint8_t> inTree(m, 0);
-          std::vector<double> key(m, std::numeric_limits<double>::infinity());
-          std::vector<size_t> parent(m, 0);
-          inTree[0] = 1;
-          for (size_t j = 1; j < m; ++j) key[j] = dist[j];
-          for (size_t step = 1; step < m; ++step) {
-            size_t next = 0;
-            double bestKey = std::numeric_limits<double>::infinity();
-            for (size_t j = 1; j < m; ++j) {
-              if (!inTree[j] && key[j] <= bestKey) {
-                bestKey = key[j];
-                next = j;
-              }
-            }
-            if (next == 0) break;
-            inTree[next] = 1;
-            // Host: the tree parent, or (when it has no room left, e.g. a short contour) the
-            // nearest member already joined that has room.
-            std::vector<size_t> hosts{parent[next]};
-            for (size_t j = 0; j < m; ++j) {
-              if (inTree[j] && j != next && j != parent[next]) hosts.push_back(j);
-            }
-            std::sort(hosts.begin() + 1, hosts.end(),
-                      [&](size_t x, size_t y) { return dist[next * m + x] < dist[next * m + y]; });
-            int host = members[parent[next]];
-            double q = -1;
-            for (size_t j : hosts) {
-              q = chooseSplice(members[j], grids[next]);
-              if (q >= 0) {
-                host = members[j];
-                break;
-              }
-            }
-            const int child = members[next];
-            const int chainId = buildChain(child, br.piece);
-            if (q < 0) {
-              placeBreaks(chainId, 0.0);
-              separateChains.push_back(chainId);
-            } else {
-              // Child oriented now: its break is the point closest to the host's splice point.
-              placeBreaks(chainId, C[child].closestPosition(C[host].at(q)));
-              const int side = C[host].forward == br.piece ? 1 : -1;
-              C[host].splices.push_back({q, chainId, side});
-            }
-            for (size_t j = 1; j < m; ++j) {
-              if (!inTree[j] && dist[next * m + j] < key[j]) {
-                key[j] = dist[next * m + j];
-                parent[j] = next;
-              }
-            }
-          }
-        }
-      };
-      // Roots: one per component, the longest contour next to the boundary band first.
-      while (true) {
-        int root = -1;
-        for (size_t i = 0; i < C.size(); ++i) {
-          if (C[i].dropped || C[i].chain >= 0) continue;
-          const bool touches = isBottom(C[i].lower) || isBottom(C[i].upper);
-          if (root < 0) {
-            root = static_cast<int>(i);
-            continue;
-          }
-          const bool rootTouches = isBottom(C[root].lower) || isBottom(C[root].upper);
-          if ((touches && !rootTouches) || (touches == rootTouches && C[i].length() > C[root].length())) {
-            root = static_cast<int>(i);
-          }
-        }
-        if (root < 0) break;
-        const int back = C[root].lower;  // the boundary side: the spiral starts at the outside
-        const int chainId = buildChain(root, back);
-        placeBreaks(chainId, 0.0);
-        processBranches();
-        std::vector<PathPoint> path;
-        B.emitChain(chainId, path);
-        raw.push_back(std::move(path));
-        for (const int extra : separateChains) {
-          std::vector<PathPoint> own;
-          B.emitChain(extra, own);
-          raw.push_back(std::move(own));
-        }
-        separateChains.clear();
-      }
-  }
-    return count;
-  };
+  const SpiralSurface surf{mesh, edges, phi, faceNormal, tree};
   std::vector<std::vector<PathPoint>> raw;
   if (narrow) {
-    result.contours = build({0.8 * D}, raw);  // a thin loop around the ridge, collapsed to one side
+    // A thin loop around the ridge, collapsed to one side.
+    result.contours = contourPaths(surf, {0.8 * D}, true, s, h, result.contourMs, raw);
   } else {
-    // Build the candidates in rank order; keep the one whose path overlaps itself least (fewest
-    // polylines first), stopping at the first that is clearly fine.
-    double bestScore = std::numeric_limits<double>::infinity();
-    for (size_t c = 0; c < steps.size(); ++c) {
-      bool seen = false;
-      for (size_t d = 0; d < c; ++d) seen = seen || std::abs(steps[d] - steps[c]) < 1e-9 * s;
-      if (seen) continue;
-      std::vector<double> levels;
-      for (int k = 0;; ++k) {
-        const double v = s / 2 + k * steps[c];
-        if (v >= D - 1e-9 * s) break;
-        levels.push_back(v);
-      }
-      std::vector<std::vector<PathPoint>> candidate;
-      const int count = build(levels, candidate);
-      const double score = selfOverlapFraction(candidate, s) + 0.01 * static_cast<double>(candidate.size());
-      if (score < bestScore) {
-        bestScore = score;
-        raw.swap(candidate);
-        result.contours = count;
-      }
-      if (bestScore < 0.015) break;  // one polyline, under 0.5 % overlap: good enough, stop early
-    }
+    bestSpiral(surf, steps, s, h, D, result, raw);
   }
 
   double rawLength = 0;

@@ -356,31 +356,53 @@ std::string fmt(double v) {
   return buf;
 }
 
-// One meshing at options.cellSize (or the size estimated from targetTets when 0).
-TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
-                         const ProgressFn& progress) {
-  TetMesherResult r;
-  const char* stage = "tetmesh";
-  // ---- Input and options.
+const char* const kStage = "tetmesh";
+
+Outcome cancelled() { return failed<Outcome>(Status::Cancelled, "tetrahedralize: cancelled"); }
+
+// ---- Input and options.
+Outcome checkMesherOptions(const Mesh& solid, const TetMesherOptions& options) {
+  auto fail = [](Status s, std::string message) { return failed<Outcome>(s, std::move(message)); };
   if (solid.triangles.empty() || solid.positions.empty()) {
-    fail(r, Status::EmptyInput, "tetrahedralize: the solid has no triangles");
-    return r;
+    return fail(Status::EmptyInput, "tetrahedralize: the solid has no triangles");
   }
   if (!std::isfinite(options.cellSize) || options.cellSize < 0) {
-    fail(r, Status::InvalidOption,
-         "tetrahedralize: cellSize must be finite and >= 0 (got " + fmt(options.cellSize) + ")");
-    return r;
+    return fail(Status::InvalidOption,
+                "tetrahedralize: cellSize must be finite and >= 0 (got " + fmt(options.cellSize) + ")");
   }
   if (!std::isfinite(options.boundaryTolerance) || options.boundaryTolerance < 0) {
-    fail(r, Status::InvalidOption, "tetrahedralize: boundaryTolerance must be finite and >= 0");
-    return r;
+    return fail(Status::InvalidOption, "tetrahedralize: boundaryTolerance must be finite and >= 0");
   }
   if (options.maxTets == 0 || (options.cellSize == 0 && options.targetTets == 0)) {
-    fail(r, Status::InvalidOption, "tetrahedralize: targetTets and maxTets must be positive");
-    return r;
+    return fail(Status::InvalidOption, "tetrahedralize: targetTets and maxTets must be positive");
   }
-  const size_t nv = solid.vertexCount();
+  return {};
+}
+
+// The solid's triangles, bounding box, volume and area.
+struct SolidInfo {
   Solid s;
+  Vec3 lo, hi;
+  double volume = 0, area = 0, diag = 0;
+
+  // Expected tets for cell size h: 12 per interior cube plus the boundary excess.
+  double expectedTets(double h) const {
+    return 12.0 * volume / (h * h * h) + kSurfaceTetsPerArea * area / (h * h);
+  }
+  double sizeFor(double tets) const {  // expectedTets(h) = tets, by bisection on log h
+    double a = 1e-9 * diag, b = 10 * diag;
+    for (int it = 0; it < 200; ++it) {
+      const double m = std::sqrt(a * b);
+      (expectedTets(m) > tets ? a : b) = m;
+    }
+    return b;
+  }
+};
+
+// DegenerateInput (an index out of range, no volume) or NonFiniteVertex.
+Outcome readSolid(const Mesh& solid, SolidInfo& info) {
+  const size_t nv = solid.vertexCount();
+  Solid& s = info.s;
   s.a.reserve(solid.faceCount());
   s.b.reserve(solid.faceCount());
   s.c.reserve(solid.faceCount());
@@ -392,15 +414,13 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
     const uint32_t i = solid.triangles[3 * f], j = solid.triangles[3 * f + 1],
                    k = solid.triangles[3 * f + 2];
     if (i >= nv || j >= nv || k >= nv) {
-      fail(r, Status::DegenerateInput,
-           "tetrahedralize: triangle " + std::to_string(f) + " has a vertex index out of range");
-      return r;
+      return failed<Outcome>(Status::DegenerateInput, "tetrahedralize: triangle " + std::to_string(f) +
+                                                          " has a vertex index out of range");
     }
     const Vec3 a = solid.vertex(i), b = solid.vertex(j), c = solid.vertex(k);
     if (!a.allFinite() || !b.allFinite() || !c.allFinite()) {
-      fail(r, Status::NonFiniteVertex,
-           "tetrahedralize: triangle " + std::to_string(f) + " has a non-finite vertex");
-      return r;
+      return failed<Outcome>(Status::NonFiniteVertex,
+                             "tetrahedralize: triangle " + std::to_string(f) + " has a non-finite vertex");
     }
     lo = lo.cwiseMin(a).cwiseMin(b).cwiseMin(c);
     hi = hi.cwiseMax(a).cwiseMax(b).cwiseMax(c);
@@ -410,45 +430,30 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
     s.b.push_back(b);
     s.c.push_back(c);
   }
-  const double solidVolume = std::abs(volume6) / 6.0, area = area2 / 2.0;
-  const double diag = (hi - lo).norm();
-  if (!(solidVolume > 1e-12 * diag * diag * diag)) {
-    fail(r, Status::DegenerateInput, "tetrahedralize: the solid encloses no volume");
-    return r;
+  info.lo = lo;
+  info.hi = hi;
+  info.volume = std::abs(volume6) / 6.0;
+  info.area = area2 / 2.0;
+  info.diag = (hi - lo).norm();
+  if (!(info.volume > 1e-12 * info.diag * info.diag * info.diag)) {
+    return failed<Outcome>(Status::DegenerateInput, "tetrahedralize: the solid encloses no volume");
   }
-  // Expected tets for cell size h: 12 per interior cube plus the boundary excess.
-  auto expectedTets = [&](double h) {
-    return 12.0 * solidVolume / (h * h * h) + kSurfaceTetsPerArea * area / (h * h);
-  };
-  auto sizeFor = [&](double tets) {  // expectedTets(h) = tets, by bisection on log h
-    double a = 1e-9 * diag, b = 10 * diag;
-    for (int it = 0; it < 200; ++it) {
-      const double m = std::sqrt(a * b);
-      (expectedTets(m) > tets ? a : b) = m;
-    }
-    return b;
-  };
-  const double h = options.cellSize > 0 ? options.cellSize : sizeFor(double(options.targetTets));
-  const double expected = expectedTets(h);
-  if (expected > double(options.maxTets)) {
-    fail(r, Status::InvalidOption,
-         "tetrahedralize: cellSize " + fmt(h) + " mm would make about " + fmt(expected) +
-             " tets, more than maxTets " + std::to_string(options.maxTets) +
-             "; a cellSize of at least " + fmt(sizeFor(double(options.maxTets))) + " mm fits");
-    return r;
-  }
-  Lattice L;
+  return {};
+}
+
+// The lattice of cell size h around the box [lo, hi]. InvalidOption when it would have more
+// than kMaxLatticeVertices vertices.
+Outcome makeLattice(const Vec3& lo, const Vec3& hi, double h, Lattice& L) {
   L.h = h;
   L.origin = lo - Vec3::Constant(kMargin * h);
   {
     const Vec3 n = ((hi - L.origin) / h).array() + kMargin + 1.0;
     const double total = (n.x() + 1) * (n.y() + 1) * (n.z() + 1) + n.x() * n.y() * n.z();
     if (!(total <= double(kMaxLatticeVertices))) {
-      fail(r, Status::InvalidOption,
-           "tetrahedralize: cellSize " + fmt(h) + " mm needs a lattice of " + fmt(total) +
-               " vertices (limit " + std::to_string(kMaxLatticeVertices) +
-               "): the solid is too thin or sparse for its bounding box at this size");
-      return r;
+      return failed<Outcome>(Status::InvalidOption,
+                             "tetrahedralize: cellSize " + fmt(h) + " mm needs a lattice of " + fmt(total) +
+                                 " vertices (limit " + std::to_string(kMaxLatticeVertices) +
+                                 "): the solid is too thin or sparse for its bounding box at this size");
     }
     L.nx = std::max(2, int(std::ceil(n.x())));
     L.ny = std::max(2, int(std::ceil(n.y())));
@@ -456,68 +461,67 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
   }
   L.nb = uint32_t((L.nx + 1) * size_t(L.ny + 1) * (L.nz + 1));
   L.nr = uint32_t(size_t(L.nx) * L.ny * L.nz);
-  r.cellSize = h;
-  const double tolerance = options.boundaryTolerance > 0 ? options.boundaryTolerance : 0.05 * h;
-  if (!reportProgress(progress, stage, 0)) {
-    fail(r, Status::Cancelled, "tetrahedralize: cancelled");
-    return r;
-  }
+  return {};
+}
 
-  // ---- (1) Classification by column parity.
-  double t0 = nowMs();
-  const AabbTree tree(solid);
-  std::vector<int8_t> sign(L.count(), 1);
+// ---- (1) Classification by column parity: sign[v] = -1 inside, +1 outside. OpenMesh when a
+// column enters the surface more often than it leaves it; Cancelled.
+Outcome classifyColumns(const AabbTree& tree, const Lattice& L, const ProgressFn& progress,
+                        std::vector<int8_t>& sign) {
+  const double h = L.h;
+  sign.assign(L.count(), 1);
   size_t unbalanced = 0;
-  {
-    std::vector<ColumnCrossing> cr;
-    const size_t columns = size_t(L.nx + 1) * (L.ny + 1) + size_t(L.nx) * L.ny;
-    size_t done = 0;
-    for (int red = 0; red < 2; ++red) {
-      const int ni = red ? L.nx : L.nx + 1, nj = red ? L.ny : L.ny + 1, nk = red ? L.nz : L.nz + 1;
-      const double off = red ? 0.5 : 0.0;
-      for (int j = 0; j < nj; ++j) {
-        if (!reportProgress(progress, stage, 0.3 * double(done) / double(columns))) {
-          fail(r, Status::Cancelled, "tetrahedralize: cancelled");
-          return r;
-        }
-        for (int i = 0; i < ni; ++i, ++done) {
-          tree.columnCrossings(L.origin.x() + (i + off) * h, L.origin.y() + (j + off) * h, cr);
-          if (cr.empty()) continue;
-          std::sort(cr.begin(), cr.end(),
-                    [](const ColumnCrossing& p, const ColumnCrossing& q) { return p.z < q.z; });
-          size_t next = 0;
-          int w = 0, total = 0;
-          for (const ColumnCrossing& c : cr) total += c.sign;
-          if (total != 0) ++unbalanced;
-          for (int k = 0; k < nk; ++k) {
-            const double z = L.origin.z() + (k + off) * h;
-            while (next < cr.size() && cr[next].z <= z) w += cr[next++].sign;
-            if (w != 0) sign[red ? L.red(i, j, k) : L.black(i, j, k)] = -1;
-          }
+  std::vector<ColumnCrossing> cr;
+  const size_t columns = size_t(L.nx + 1) * (L.ny + 1) + size_t(L.nx) * L.ny;
+  size_t done = 0;
+  for (int red = 0; red < 2; ++red) {
+    const int ni = red ? L.nx : L.nx + 1, nj = red ? L.ny : L.ny + 1, nk = red ? L.nz : L.nz + 1;
+    const double off = red ? 0.5 : 0.0;
+    for (int j = 0; j < nj; ++j) {
+      if (!reportProgress(progress, kStage, 0.3 * double(done) / double(columns))) return cancelled();
+      for (int i = 0; i < ni; ++i, ++done) {
+        tree.columnCrossings(L.origin.x() + (i + off) * h, L.origin.y() + (j + off) * h, cr);
+        if (cr.empty()) continue;
+        std::sort(cr.begin(), cr.end(),
+                  [](const ColumnCrossing& p, const ColumnCrossing& q) { return p.z < q.z; });
+        size_t next = 0;
+        int w = 0, total = 0;
+        for (const ColumnCrossing& c : cr) total += c.sign;
+        if (total != 0) ++unbalanced;
+        for (int k = 0; k < nk; ++k) {
+          const double z = L.origin.z() + (k + off) * h;
+          while (next < cr.size() && cr[next].z <= z) w += cr[next++].sign;
+          if (w != 0) sign[red ? L.red(i, j, k) : L.black(i, j, k)] = -1;
         }
       }
     }
   }
   if (unbalanced > 0) {
-    fail(r, Status::OpenMesh,
-         "tetrahedralize: the surface is not closed (" + std::to_string(unbalanced) +
-             " lattice columns enter it more often than they leave it)");
-    return r;
+    return failed<Outcome>(Status::OpenMesh, "tetrahedralize: the surface is not closed (" +
+                                                 std::to_string(unbalanced) +
+                                                 " lattice columns enter it more often than they leave it)");
   }
+  return {};
+}
 
-  // ---- (2) Cut points on edges joining inside and outside vertices.
-  const TriangleBins bins = binTriangles(s, L);
-  std::unordered_map<uint64_t, uint32_t> cutOf;
-  std::vector<uint32_t> cutU, cutV;
-  std::vector<Vec3> cutPos;
+// The cut points of the lattice edges joining an inside and an outside vertex.
+struct Cuts {
+  std::unordered_map<uint64_t, uint32_t> cutOf;  // edge key -> cut index
+  std::vector<uint32_t> cutU, cutV;              // inside and outside end of each cut edge
+  std::vector<Vec3> cutPos;                      // position of each cut point
   size_t insideVertices = 0;
+};
+
+// ---- (2) Cut points on edges joining inside and outside vertices. Cancelled.
+Outcome cutPoints(const Solid& s, const AabbTree& tree, const Lattice& L, const std::vector<int8_t>& sign,
+                  const ProgressFn& progress, Cuts& cuts) {
+  const TriangleBins bins = binTriangles(s, L);
   for (uint32_t u = 0; u < L.count(); ++u) {
-    if ((u & 0xffff) == 0 && !reportProgress(progress, stage, 0.3 + 0.1 * double(u) / L.count())) {
-      fail(r, Status::Cancelled, "tetrahedralize: cancelled");
-      return r;
+    if ((u & 0xffff) == 0 && !reportProgress(progress, kStage, 0.3 + 0.1 * double(u) / L.count())) {
+      return cancelled();
     }
     if (sign[u] >= 0) continue;
-    ++insideVertices;
+    ++cuts.insideVertices;
     uint32_t nb[14];
     bool isLong[14];
     const int n = L.neighbours(u, nb, isLong);
@@ -543,120 +547,66 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
       }
       // Strictly inside the edge, so an un-warped end never coincides with its cut point.
       best = std::clamp(best, kMinCutParameter, 1 - kMinCutParameter);
-      cutOf.emplace(edgeKey(u, nb[e]), uint32_t(cutPos.size()));
-      cutU.push_back(u);
-      cutV.push_back(nb[e]);
-      cutPos.push_back(pu + best * d);
+      cuts.cutOf.emplace(edgeKey(u, nb[e]), uint32_t(cuts.cutPos.size()));
+      cuts.cutU.push_back(u);
+      cuts.cutV.push_back(nb[e]);
+      cuts.cutPos.push_back(pu + best * d);
     }
   }
-  r.classifyMs = nowMs() - t0;
-  if (insideVertices == 0) {
-    fail(r, Status::DegenerateInput,
-         "tetrahedralize: no lattice vertex lies inside the solid at cellSize " + fmt(h) +
-             " mm: the solid is thinner than the lattice (use a smaller cellSize)");
-    return r;
-  }
-  if (!reportProgress(progress, stage, 0.4)) {
-    fail(r, Status::Cancelled, "tetrahedralize: cancelled");
-    return r;
+  return {};
+}
+
+// ---- (3) Warp lattice vertices that violate a cut point on one of their edges.
+class Warping {
+ public:
+  Warping(const Lattice& L, const Cuts& cuts, std::vector<int8_t>& sign)
+      : L_(L), cuts_(cuts), sign_(sign), originalSign_(sign), frozen_(L.count(), 0) {
+    for (uint32_t c = 0; c < cuts.cutPos.size(); ++c) {
+      const uint32_t ends[2] = {cuts.cutU[c], cuts.cutV[c]};
+      const Vec3 pu = L.position(ends[0]), pv = L.position(ends[1]);
+      const bool isLong = L.isRed(ends[0]) == L.isRed(ends[1]);
+      const double limit = (isLong ? kAlphaLong : kAlphaShort) * (pv - pu).norm();
+      const double du = (cuts.cutPos[c] - pu).norm(), dv = (cuts.cutPos[c] - pv).norm();
+      if (du < limit) violations_.push_back({ends[0], ends[1], c, du});
+      if (dv < limit) violations_.push_back({ends[1], ends[0], c, dv});
+    }
+    std::sort(violations_.begin(), violations_.end(), [](const Violation& p, const Violation& q) {
+      // A total order (ties by cut): std::sort differs between libstdc++ and libc++ on equal keys.
+      if (p.vertex != q.vertex) return p.vertex < q.vertex;
+      return p.distance != q.distance ? p.distance < q.distance : p.cut < q.cut;
+    });
   }
 
-  // ---- (3) Warp lattice vertices that violate a cut point on one of their edges.
-  t0 = nowMs();
-  std::unordered_map<uint32_t, Vec3> warped;
-  const std::vector<int8_t> originalSign = sign;
-  std::vector<char> frozen(L.count(), 0);  // put back once: never warped again
-  struct Violation {
-    uint32_t vertex, other, cut;
-    double distance;
-  };
-  std::vector<Violation> violations;
-  for (uint32_t c = 0; c < cutPos.size(); ++c) {
-    const uint32_t ends[2] = {cutU[c], cutV[c]};
-    const Vec3 pu = L.position(ends[0]), pv = L.position(ends[1]);
-    const bool isLong = L.isRed(ends[0]) == L.isRed(ends[1]);
-    const double limit = (isLong ? kAlphaLong : kAlphaShort) * (pv - pu).norm();
-    const double du = (cutPos[c] - pu).norm(), dv = (cutPos[c] - pv).norm();
-    if (du < limit) violations.push_back({ends[0], ends[1], c, du});
-    if (dv < limit) violations.push_back({ends[1], ends[0], c, dv});
-  }
-  std::sort(violations.begin(), violations.end(), [](const Violation& p, const Violation& q) {
-    // A total order (ties by cut): std::sort differs between libstdc++ and libc++ on equal keys.
-    if (p.vertex != q.vertex) return p.vertex < q.vertex;
-    return p.distance != q.distance ? p.distance < q.distance : p.cut < q.cut;
-  });
   // Each vertex takes its nearest violating cut whose edge is still cut (other end not warped).
   // Re-run after vertices are put back: their neighbours' cuts on edges to them count again.
-  auto warp = [&] {
-    for (const Violation& v : violations) {
-      if (frozen[v.vertex] || sign[v.vertex] == 0 || sign[v.other] == 0) continue;
-      sign[v.vertex] = 0;
-      warped.emplace(v.vertex, cutPos[v.cut]);
+  void warp() {
+    for (const Violation& v : violations_) {
+      if (frozen_[v.vertex] || sign_[v.vertex] == 0 || sign_[v.other] == 0) continue;
+      sign_[v.vertex] = 0;
+      warped_.emplace(v.vertex, cuts_.cutPos[v.cut]);
     }
-  };
-  warp();
+  }
 
-  // ---- (4) Stencils. Actual positions per reference (lattice ids then cuts), filled lazily.
-  // Warping can pinch the boundary where the surface comes back within a cell (two sheets of a
-  // crevice warped onto the same lattice edge): then a boundary edge joins more than two
-  // boundary faces. Without warping, filling by sign patterns is marching tetrahedra, whose
-  // boundary is always a closed 2-manifold, so the warped ends of such edges are put back
-  // (un-warped) and the lattice re-filled, until no such edge remains.
-  auto latticeActual = [&](uint32_t v) {
-    const auto it = warped.find(v);
-    return it != warped.end() ? it->second : L.position(v);
-  };
-  Stuffer st{L, sign, cutOf, cutU, cutV, cutPos, tree, {}};
-  for (int round = 0;; ++round) {
-    st.out.clear();
-    for (int k = 0; k < L.nz; ++k) {
-      if (!reportProgress(progress, stage, 0.4 + 0.4 * (1 - std::pow(0.5, round + double(k) / L.nz)))) {
-        fail(r, Status::Cancelled, "tetrahedralize: cancelled");
-        return r;
-      }
-      for (int j = 0; j < L.ny; ++j)
-        for (int i = 0; i < L.nx; ++i) {
-          const uint32_t r1 = L.red(i, j, k);
-          for (int axis = 0; axis < 3; ++axis) {
-            const int i2 = i + (axis == 0), j2 = j + (axis == 1), k2 = k + (axis == 2);
-            if (i2 >= L.nx || j2 >= L.ny || k2 >= L.nz) continue;
-            const uint32_t r2 = L.red(i2, j2, k2);
-            // Corners of the shared face, in cyclic order.
-            uint32_t b[4];
-            if (axis == 0) {
-              b[0] = L.black(i2, j, k), b[1] = L.black(i2, j + 1, k);
-              b[2] = L.black(i2, j + 1, k + 1), b[3] = L.black(i2, j, k + 1);
-            } else if (axis == 1) {
-              b[0] = L.black(i, j2, k), b[1] = L.black(i + 1, j2, k);
-              b[2] = L.black(i + 1, j2, k + 1), b[3] = L.black(i, j2, k + 1);
-            } else {
-              b[0] = L.black(i, j, k2), b[1] = L.black(i + 1, j, k2);
-              b[2] = L.black(i + 1, j + 1, k2), b[3] = L.black(i, j + 1, k2);
-            }
-            if (sign[r1] > 0 && sign[r2] > 0 && sign[b[0]] > 0 && sign[b[1]] > 0 &&
-                sign[b[2]] > 0 && sign[b[3]] > 0)
-              continue;
-            for (int e = 0; e < 4; ++e) {
-              const uint32_t v[4] = {r1, r2, b[e], b[(e + 1) & 3]};
-              Vec3 pa[4];
-              for (int q = 0; q < 4; ++q) {
-                if (sign[v[q]] <= 0) pa[q] = latticeActual(v[q]);
-              }
-              st.fill(v, pa);
-            }
-          }
-        }
-    }
+  // The position of lattice vertex v, warped or not.
+  Vec3 actual(uint32_t v) const {
+    const auto it = warped_.find(v);
+    return it != warped_.end() ? it->second : L_.position(v);
+  }
+
+  // Where warping pinched the boundary (a boundary edge of the tets `out` on more than two
+  // boundary faces), the warped ends go back (un-warped, frozen). Returns the number of pinched
+  // edges; `restored` counts the vertices put back.
+  size_t restorePinched(const std::vector<uint32_t>& out, size_t& restored) {
     // Boundary faces: faces met once, among faces without an inside lattice vertex (a face
     // with one is always shared by two filled tets).
     std::vector<std::array<uint32_t, 3>> faces;
-    const size_t nt = st.out.size() / 4;
+    const size_t nt = out.size() / 4;
     for (size_t t = 0; t < nt; ++t) {
-      const uint32_t* q = &st.out[4 * t];
+      const uint32_t* q = &out[4 * t];
       for (int f = 0; f < 4; ++f) {
         std::array<uint32_t, 3> tri{q[(f + 1) & 3], q[(f + 2) & 3], q[(f + 3) & 3]};
         bool candidate = true;
-        for (uint32_t x : tri) candidate = candidate && !(x < L.count() && sign[x] < 0);
+        for (uint32_t x : tri) candidate = candidate && !(x < L_.count() && sign_[x] < 0);
         if (!candidate) continue;
         std::sort(tri.begin(), tri.end());
         faces.push_back(tri);
@@ -676,7 +626,8 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
       x = y;
     }
     std::sort(edges.begin(), edges.end());
-    size_t restored = 0, pinched = 0;
+    size_t pinched = 0;
+    restored = 0;
     for (size_t x = 0; x < edges.size();) {
       size_t y = x;
       while (y < edges.size() && edges[y] == edges[x]) ++y;
@@ -687,40 +638,293 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
         const uint32_t ends[2] = {uint32_t(edges[x] >> 32), uint32_t(edges[x])};
         bool anyOutside = false;
         for (const uint32_t end : ends)
-          anyOutside = anyOutside || (end < L.count() && sign[end] == 0 && originalSign[end] > 0);
+          anyOutside = anyOutside || (end < L_.count() && sign_[end] == 0 && originalSign_[end] > 0);
         for (const uint32_t end : ends) {
-          if (end < L.count() && sign[end] == 0 && (!anyOutside || originalSign[end] > 0)) {
-            sign[end] = originalSign[end];
-            warped.erase(end);
-            frozen[end] = 1;
+          if (end < L_.count() && sign_[end] == 0 && (!anyOutside || originalSign_[end] > 0)) {
+            sign_[end] = originalSign_[end];
+            warped_.erase(end);
+            frozen_[end] = 1;
             ++restored;
           }
         }
       }
       x = y;
     }
+    return pinched;
+  }
+
+ private:
+  struct Violation {
+    uint32_t vertex, other, cut;
+    double distance;
+  };
+  const Lattice& L_;
+  const Cuts& cuts_;
+  std::vector<int8_t>& sign_;
+  const std::vector<int8_t> originalSign_;
+  std::vector<char> frozen_;  // put back once: never warped again
+  std::unordered_map<uint32_t, Vec3> warped_;
+  std::vector<Violation> violations_;
+};
+
+// ---- (4) Stencils: every BCC tet of the lattice filled by the stencil of its sign pattern
+// into st.out (positions of lattice vertices by warping.actual). False when cancelled.
+bool fillLattice(const Lattice& L, const std::vector<int8_t>& sign, const Warping& warping, int round,
+                 const ProgressFn& progress, Stuffer& st) {
+  st.out.clear();
+  for (int k = 0; k < L.nz; ++k) {
+    if (!reportProgress(progress, kStage, 0.4 + 0.4 * (1 - std::pow(0.5, round + double(k) / L.nz)))) {
+      return false;
+    }
+    for (int j = 0; j < L.ny; ++j)
+      for (int i = 0; i < L.nx; ++i) {
+        const uint32_t r1 = L.red(i, j, k);
+        for (int axis = 0; axis < 3; ++axis) {
+          const int i2 = i + (axis == 0), j2 = j + (axis == 1), k2 = k + (axis == 2);
+          if (i2 >= L.nx || j2 >= L.ny || k2 >= L.nz) continue;
+          const uint32_t r2 = L.red(i2, j2, k2);
+          // Corners of the shared face, in cyclic order.
+          uint32_t b[4];
+          if (axis == 0) {
+            b[0] = L.black(i2, j, k), b[1] = L.black(i2, j + 1, k);
+            b[2] = L.black(i2, j + 1, k + 1), b[3] = L.black(i2, j, k + 1);
+          } else if (axis == 1) {
+            b[0] = L.black(i, j2, k), b[1] = L.black(i + 1, j2, k);
+            b[2] = L.black(i + 1, j2, k + 1), b[3] = L.black(i, j2, k + 1);
+          } else {
+            b[0] = L.black(i, j, k2), b[1] = L.black(i + 1, j, k2);
+            b[2] = L.black(i + 1, j + 1, k2), b[3] = L.black(i, j + 1, k2);
+          }
+          if (sign[r1] > 0 && sign[r2] > 0 && sign[b[0]] > 0 && sign[b[1]] > 0 &&
+              sign[b[2]] > 0 && sign[b[3]] > 0)
+            continue;
+          for (int e = 0; e < 4; ++e) {
+            const uint32_t v[4] = {r1, r2, b[e], b[(e + 1) & 3]};
+            Vec3 pa[4];
+            for (int q = 0; q < 4; ++q) {
+              if (sign[v[q]] <= 0) pa[q] = warping.actual(v[q]);
+            }
+            st.fill(v, pa);
+          }
+        }
+      }
+  }
+  return true;
+}
+
+// Compact the references into the output mesh.
+TetMesh compactMesh(const std::vector<uint32_t>& out, const Lattice& L, const Cuts& cuts, const Warping& warping) {
+  TetMesh mesh;
+  std::vector<int32_t> outId(size_t(L.count()) + cuts.cutPos.size(), -1);
+  mesh.tets.resize(out.size());
+  for (size_t x = 0; x < out.size(); ++x) {
+    const uint32_t ref = out[x];
+    if (outId[ref] < 0) {
+      outId[ref] = int32_t(mesh.positions.size() / 3);
+      const Vec3 p = ref < L.count() ? warping.actual(ref) : cuts.cutPos[ref - L.count()];
+      mesh.positions.insert(mesh.positions.end(), {p.x(), p.y(), p.z()});
+    }
+    mesh.tets[x] = uint32_t(outId[ref]);
+  }
+  return mesh;
+}
+
+// The tets around each vertex (CSR) and the vertices on the boundary, for step (5).
+struct VertexTets {
+  std::vector<uint32_t> first, inc;
+  std::vector<char> onBoundary;
+
+  explicit VertexTets(const TetMesh& mesh) {
+    const Mesh boundary = tetBoundary(mesh);
+    const size_t n = mesh.vertexCount();
+    onBoundary.assign(n, 0);
+    for (uint32_t v : boundary.triangles) onBoundary[v] = 1;
+    // Vertex -> incident tets (CSR), for the guard.
+    first.assign(n + 1, 0);
+    inc.resize(mesh.tets.size());
+    for (uint32_t v : mesh.tets) ++first[v + 1];
+    for (size_t v = 0; v < n; ++v) first[v + 1] += first[v];
+    std::vector<uint32_t> fill(first.begin(), first.end() - 1);
+    for (size_t x = 0; x < mesh.tets.size(); ++x) inc[fill[mesh.tets[x]]++] = uint32_t(x / 4);
+  }
+};
+
+double tetShape(const TetMesh& mesh, uint32_t t) {
+  const uint32_t* q = &mesh.tets[4 * size_t(t)];
+  return shapeMeasure(mesh.vertex(q[0]), mesh.vertex(q[1]), mesh.vertex(q[2]), mesh.vertex(q[3]));
+}
+
+// Slivers (left where a vertex was put back next to its cut points): their interior
+// vertices try a few positions (toward the centroid of their neighbours, or away from the
+// surface) and keep the one that most raises the smallest dihedral angle around them.
+// 6V / l_max^3 <= sin(smallest dihedral), so tets above sin(kSliverDegrees) are skipped
+// cheaply. Smooth models have no such tet. Returns the number of moves.
+size_t smoothSlivers(const AabbTree& tree, const VertexTets& vt, double h, TetMesh& mesh) {
+  const std::vector<uint32_t>& first = vt.first;
+  const std::vector<uint32_t>& inc = vt.inc;
+  size_t smoothed = 0;
+  auto angleOf = [&](uint32_t t) {
+    const uint32_t* q = &mesh.tets[4 * size_t(t)];
+    const Vec3 p[4] = {mesh.vertex(q[0]), mesh.vertex(q[1]), mesh.vertex(q[2]),
+                       mesh.vertex(q[3])};
+    return sixVolume(p[0], p[1], p[2], p[3]) > 0 ? minDihedralDegrees(p) : -1.0;
+  };
+  auto worstAround = [&](uint32_t v) {
+    double w = 180;
+    for (uint32_t x = first[v]; x < first[v + 1]; ++x) w = std::min(w, angleOf(inc[x]));
+    return w;
+  };
+  const double shapeLimit = det::sin(kSliverDegrees * 0.017453292519943295);
+  std::vector<uint32_t> movable;
+  for (uint32_t t = 0; t < mesh.tetCount(); ++t) {
+    if (tetShape(mesh, t) >= shapeLimit || angleOf(t) >= kSliverDegrees) continue;
+    for (int k = 0; k < 4; ++k) {
+      const uint32_t v = mesh.tets[4 * size_t(t) + k];
+      if (!vt.onBoundary[v]) movable.push_back(v);
+    }
+  }
+  std::sort(movable.begin(), movable.end());
+  movable.erase(std::unique(movable.begin(), movable.end()), movable.end());
+  for (int pass = 0; pass < 3; ++pass) {
+    for (uint32_t v : movable) {
+      Vec3 centroid(0, 0, 0);
+      double count = 0;
+      for (uint32_t x = first[v]; x < first[v + 1]; ++x)
+        for (int k = 0; k < 4; ++k) {
+          const uint32_t w = mesh.tets[4 * size_t(inc[x]) + k];
+          if (w != v) centroid += mesh.vertex(w), count += 1;
+        }
+      centroid /= count;
+      const Vec3 p = mesh.vertex(v);
+      const ClosestPoint cp = tree.closest(p);
+      const Vec3 inward = cp.triangle >= 0 && cp.distance > 0 ? Vec3((p - cp.point) / cp.distance)
+                                                             : Vec3(0, 0, 0);
+      const Vec3 candidates[6] = {centroid, 0.5 * (p + centroid), p + 0.1 * h * inward,
+                                  p + 0.2 * h * inward, p + 0.3 * h * inward,
+                                  p + 0.4 * h * inward};
+      double best = worstAround(v);
+      Vec3 bestPos = p;
+      for (const Vec3& q : candidates) {
+        for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = q[k];
+        const double w = worstAround(v);
+        if (w > best) best = w, bestPos = q;
+      }
+      for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = bestPos[k];
+      if (bestPos != p) ++smoothed;
+    }
+  }
+  return smoothed;
+}
+
+// Boundary vertices onto the surface (options.snap), each move shortened or undone when it
+// would flatten a tet; the boundary figures (count, largest distance, unsnapped) into r.
+void snapBoundary(const AabbTree& tree, const VertexTets& vt, const TetMesherOptions& options, double h,
+                  double tolerance, TetMesh& mesh, TetMesherResult& r) {
+  const std::vector<uint32_t>& first = vt.first;
+  const std::vector<uint32_t>& inc = vt.inc;
+  const size_t n = mesh.vertexCount();
+  std::vector<double> before;
+  for (uint32_t v = 0; v < n; ++v) {
+    if (!vt.onBoundary[v]) continue;
+    ++r.boundaryVertices;
+    const Vec3 p = mesh.vertex(v);
+    const ClosestPoint cp = tree.closest(p);
+    double dist = cp.distance;
+    // Every vertex off the surface by more than roundoff is moved (cut points kept 1e-3 of an
+    // edge from a lattice vertex, flat faces' vertices back onto their plane); the tolerance
+    // only decides what counts as unsnapped.
+    if (options.snap && dist > 1e-9 * h) {
+      before.clear();
+      for (uint32_t x = first[v]; x < first[v + 1]; ++x) before.push_back(tetShape(mesh, inc[x]));
+      double step = 1;
+      for (int attempt = 0; attempt < 6; ++attempt, step *= 0.5) {
+        const Vec3 q = p + step * (cp.point - p);
+        for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = q[k];
+        bool good = true;
+        for (uint32_t x = first[v]; x < first[v + 1] && good; ++x) {
+          good = tetShape(mesh, inc[x]) >= std::min(before[x - first[v]], kMinShape);
+        }
+        if (good) {
+          dist = (q - cp.point).norm();
+          break;
+        }
+        for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = p[k];
+      }
+    }
+    r.maxBoundaryDistance = std::max(r.maxBoundaryDistance, dist);
+    if (dist > tolerance) ++r.unsnapped;
+  }
+}
+
+// One meshing at options.cellSize (or the size estimated from targetTets when 0).
+TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
+                         const ProgressFn& progress) {
+  TetMesherResult r;
+  auto failWith = [&](const Outcome& o) {
+    fail(r, o.status, o.message);
+    return r;
+  };
+  Outcome ok = checkMesherOptions(solid, options);
+  if (!ok.ok()) return failWith(ok);
+  SolidInfo info;
+  ok = readSolid(solid, info);
+  if (!ok.ok()) return failWith(ok);
+  const double h = options.cellSize > 0 ? options.cellSize : info.sizeFor(double(options.targetTets));
+  const double expected = info.expectedTets(h);
+  if (expected > double(options.maxTets)) {
+    fail(r, Status::InvalidOption,
+         "tetrahedralize: cellSize " + fmt(h) + " mm would make about " + fmt(expected) +
+             " tets, more than maxTets " + std::to_string(options.maxTets) +
+             "; a cellSize of at least " + fmt(info.sizeFor(double(options.maxTets))) + " mm fits");
+    return r;
+  }
+  Lattice L;
+  ok = makeLattice(info.lo, info.hi, h, L);
+  if (!ok.ok()) return failWith(ok);
+  r.cellSize = h;
+  const double tolerance = options.boundaryTolerance > 0 ? options.boundaryTolerance : 0.05 * h;
+  if (!reportProgress(progress, kStage, 0)) return failWith(cancelled());
+
+  // (1) and (2): signs and cut points.
+  double t0 = nowMs();
+  const AabbTree tree(solid);
+  std::vector<int8_t> sign;
+  ok = classifyColumns(tree, L, progress, sign);
+  if (!ok.ok()) return failWith(ok);
+  Cuts cuts;
+  ok = cutPoints(info.s, tree, L, sign, progress, cuts);
+  if (!ok.ok()) return failWith(ok);
+  r.classifyMs = nowMs() - t0;
+  if (cuts.insideVertices == 0) {
+    fail(r, Status::DegenerateInput,
+         "tetrahedralize: no lattice vertex lies inside the solid at cellSize " + fmt(h) +
+             " mm: the solid is thinner than the lattice (use a smaller cellSize)");
+    return r;
+  }
+  if (!reportProgress(progress, kStage, 0.4)) return failWith(cancelled());
+
+  // (3) and (4): warp, fill. Warping can pinch the boundary where the surface comes back within
+  // a cell (two sheets of a crevice warped onto the same lattice edge): then a boundary edge
+  // joins more than two boundary faces. Without warping, filling by sign patterns is marching
+  // tetrahedra, whose boundary is always a closed 2-manifold, so the warped ends of such edges
+  // are put back (un-warped) and the lattice re-filled, until no such edge remains.
+  t0 = nowMs();
+  Warping warping(L, cuts, sign);
+  warping.warp();
+  Stuffer st{L, sign, cuts.cutOf, cuts.cutU, cuts.cutV, cuts.cutPos, tree, {}};
+  for (int round = 0;; ++round) {
+    if (!fillLattice(L, sign, warping, round, progress, st)) return failWith(cancelled());
+    size_t restored = 0;
+    const size_t pinched = warping.restorePinched(st.out, restored);
     r.unwarped += restored;
     if (pinched == 0 || restored == 0 || round >= 8) {
       r.pinchedEdges = pinched;
       break;
     }
-    warp();
+    warping.warp();
   }
-  // Compact the references into the output mesh.
+  r.mesh = compactMesh(st.out, L, cuts, warping);
   TetMesh& mesh = r.mesh;
-  {
-    std::vector<int32_t> outId(size_t(L.count()) + cutPos.size(), -1);
-    mesh.tets.resize(st.out.size());
-    for (size_t x = 0; x < st.out.size(); ++x) {
-      const uint32_t ref = st.out[x];
-      if (outId[ref] < 0) {
-        outId[ref] = int32_t(mesh.positions.size() / 3);
-        const Vec3 p = ref < L.count() ? latticeActual(ref) : cutPos[ref - L.count()];
-        mesh.positions.insert(mesh.positions.end(), {p.x(), p.y(), p.z()});
-      }
-      mesh.tets[x] = uint32_t(outId[ref]);
-    }
-  }
   r.stuffMs = nowMs() - t0;
   if (mesh.tetCount() == 0) {
     fail(r, Status::DegenerateInput,
@@ -737,124 +941,19 @@ TetMesherResult meshOnce(const Mesh& solid, const TetMesherOptions& options,
              fmt(h * std::cbrt(tets / double(options.maxTets))) + " mm fits");
     return r;
   }
-  if (!reportProgress(progress, stage, 0.8)) {
-    fail(r, Status::Cancelled, "tetrahedralize: cancelled");
-    return r;
-  }
+  if (!reportProgress(progress, kStage, 0.8)) return failWith(cancelled());
 
-  // ---- (5) Boundary vertices onto the surface, guarded.
+  // (5) Slivers, then boundary vertices onto the surface, guarded.
   t0 = nowMs();
   {
-    const Mesh boundary = tetBoundary(mesh);
-    const size_t n = mesh.vertexCount();
-    std::vector<char> onBoundary(n, 0);
-    for (uint32_t v : boundary.triangles) onBoundary[v] = 1;
-    // Vertex -> incident tets (CSR), for the guard.
-    std::vector<uint32_t> first(n + 1, 0), inc(mesh.tets.size());
-    for (uint32_t v : mesh.tets) ++first[v + 1];
-    for (size_t v = 0; v < n; ++v) first[v + 1] += first[v];
-    {
-      std::vector<uint32_t> fill(first.begin(), first.end() - 1);
-      for (size_t x = 0; x < mesh.tets.size(); ++x) inc[fill[mesh.tets[x]]++] = uint32_t(x / 4);
-    }
-    auto shapeOf = [&](uint32_t t) {
-      const uint32_t* q = &mesh.tets[4 * size_t(t)];
-      return shapeMeasure(mesh.vertex(q[0]), mesh.vertex(q[1]), mesh.vertex(q[2]),
-                          mesh.vertex(q[3]));
-    };
-    // Slivers (left where a vertex was put back next to its cut points): their interior
-    // vertices try a few positions (toward the centroid of their neighbours, or away from the
-    // surface) and keep the one that most raises the smallest dihedral angle around them.
-    // 6V / l_max^3 <= sin(smallest dihedral), so tets above sin(kSliverDegrees) are skipped
-    // cheaply. Smooth models have no such tet.
-    {
-      auto angleOf = [&](uint32_t t) {
-        const uint32_t* q = &mesh.tets[4 * size_t(t)];
-        const Vec3 p[4] = {mesh.vertex(q[0]), mesh.vertex(q[1]), mesh.vertex(q[2]),
-                           mesh.vertex(q[3])};
-        return sixVolume(p[0], p[1], p[2], p[3]) > 0 ? minDihedralDegrees(p) : -1.0;
-      };
-      auto worstAround = [&](uint32_t v) {
-        double w = 180;
-        for (uint32_t x = first[v]; x < first[v + 1]; ++x) w = std::min(w, angleOf(inc[x]));
-        return w;
-      };
-      const double shapeLimit = det::sin(kSliverDegrees * 0.017453292519943295);
-      std::vector<uint32_t> movable;
-      for (uint32_t t = 0; t < mesh.tetCount(); ++t) {
-        if (shapeOf(t) >= shapeLimit || angleOf(t) >= kSliverDegrees) continue;
-        for (int k = 0; k < 4; ++k) {
-          const uint32_t v = mesh.tets[4 * size_t(t) + k];
-          if (!onBoundary[v]) movable.push_back(v);
-        }
-      }
-      std::sort(movable.begin(), movable.end());
-      movable.erase(std::unique(movable.begin(), movable.end()), movable.end());
-      for (int pass = 0; pass < 3; ++pass) {
-        for (uint32_t v : movable) {
-          Vec3 centroid(0, 0, 0);
-          double count = 0;
-          for (uint32_t x = first[v]; x < first[v + 1]; ++x)
-            for (int k = 0; k < 4; ++k) {
-              const uint32_t w = mesh.tets[4 * size_t(inc[x]) + k];
-              if (w != v) centroid += mesh.vertex(w), count += 1;
-            }
-          centroid /= count;
-          const Vec3 p = mesh.vertex(v);
-          const ClosestPoint cp = tree.closest(p);
-          const Vec3 inward = cp.triangle >= 0 && cp.distance > 0 ? Vec3((p - cp.point) / cp.distance)
-                                                                 : Vec3(0, 0, 0);
-          const Vec3 candidates[6] = {centroid, 0.5 * (p + centroid), p + 0.1 * h * inward,
-                                      p + 0.2 * h * inward, p + 0.3 * h * inward,
-                                      p + 0.4 * h * inward};
-          double best = worstAround(v);
-          Vec3 bestPos = p;
-          for (const Vec3& q : candidates) {
-            for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = q[k];
-            const double w = worstAround(v);
-            if (w > best) best = w, bestPos = q;
-          }
-          for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = bestPos[k];
-          if (bestPos != p) ++r.smoothed;
-        }
-      }
-    }
-    std::vector<double> before;
-    for (uint32_t v = 0; v < n; ++v) {
-      if (!onBoundary[v]) continue;
-      ++r.boundaryVertices;
-      const Vec3 p = mesh.vertex(v);
-      const ClosestPoint cp = tree.closest(p);
-      double dist = cp.distance;
-      // Every vertex off the surface by more than roundoff is moved (cut points kept 1e-3 of an
-      // edge from a lattice vertex, flat faces' vertices back onto their plane); the tolerance
-      // only decides what counts as unsnapped.
-      if (options.snap && dist > 1e-9 * h) {
-        before.clear();
-        for (uint32_t x = first[v]; x < first[v + 1]; ++x) before.push_back(shapeOf(inc[x]));
-        double step = 1;
-        for (int attempt = 0; attempt < 6; ++attempt, step *= 0.5) {
-          const Vec3 q = p + step * (cp.point - p);
-          for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = q[k];
-          bool good = true;
-          for (uint32_t x = first[v]; x < first[v + 1] && good; ++x) {
-            good = shapeOf(inc[x]) >= std::min(before[x - first[v]], kMinShape);
-          }
-          if (good) {
-            dist = (q - cp.point).norm();
-            break;
-          }
-          for (int k = 0; k < 3; ++k) mesh.positions[3 * v + k] = p[k];
-        }
-      }
-      r.maxBoundaryDistance = std::max(r.maxBoundaryDistance, dist);
-      if (dist > tolerance) ++r.unsnapped;
-    }
+    const VertexTets vt(mesh);
+    r.smoothed += smoothSlivers(tree, vt, h, mesh);
+    snapBoundary(tree, vt, options, h, tolerance, mesh, r);
   }
   r.snapMs = nowMs() - t0;
   r.quality = tetQuality(mesh);
-  r.volumeRatio = r.quality.volume / solidVolume;
-  reportProgress(progress, stage, 1);
+  r.volumeRatio = r.quality.volume / info.volume;
+  reportProgress(progress, kStage, 1);
   return r;
 }
 

@@ -35,7 +35,9 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -357,17 +359,11 @@ class EarlierSamples {
   std::vector<uint32_t> top_;  // nodes of the top level
 };
 
-}  // namespace
+Outcome cancelled() { return failed<Outcome>(Status::Cancelled, "verify cancelled"); }
 
-VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
-                           const VerifyOptions& options, const ProgressFn& progressFn) {
-  VerifyReport rep;
-  auto fail = [&](Status s, const std::string& msg) {
-    VerifyReport f;
-    f.status = s;
-    f.message = msg;
-    return f;
-  };
+// The program, part mesh and options: their failure (unreadable, empty, non-finite, out of range).
+Outcome checkVerifyInput(const ParsedProgram& program, const Mesh& partMesh, const VerifyOptions& options) {
+  auto fail = [](Status s, const std::string& msg) { return failed<Outcome>(s, msg); };
   if (!program.ok()) return fail(program.status, "program not readable: " + program.message);
   if (partMesh.empty()) return fail(Status::EmptyInput, "part mesh has no triangles");
   for (double v : partMesh.positions) {
@@ -384,18 +380,16 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
       options.gridSpacing < 0 || !std::isfinite(options.gridSpacing)) {
     return fail(Status::InvalidOption, "sample spacing must be > 0 and grid spacing >= 0");
   }
-  const double nozzle =
-      program.nozzleDiameter > 0 ? program.nozzleDiameter : program.machine.nozzle.diameter;
-  const double g = options.gridSpacing > 0 ? options.gridSpacing : std::min(nozzle, h);
-  Progress progress{progressFn};
-  if (!reportProgress(progressFn, "verify", 0)) return fail(Status::Cancelled, "verify cancelled");
+  return {};
+}
 
-  // ---- limits, extrusion, segments ----
-  // Limits by value index (machineLimits(): axis letters of G-code kinds, joint limits of robot6).
-  // A move cut into pieces by the reader counts once, by its end (its last piece): the values
-  // change linearly, so a move within limits at both ends is within them all along.
+// ---- limits, extrusion, segments ----
+// Limits by value index (machineLimits(): axis letters of G-code kinds, joint limits of robot6).
+// A move cut into pieces by the reader counts once, by its end (its last piece): the values
+// change linearly, so a move within limits at both ends is within them all along. The extruding
+// moves become segments, grouped in beads. InvalidOption for a coordinate beyond 1e6 mm.
+Outcome extrudingSegments(const ParsedProgram& program, std::vector<Segment>& segments, VerifyReport& rep) {
   const std::vector<std::pair<double, double>> limits = machineLimits(program.machine);
-  std::vector<Segment> segments;
   int bead = -1;
   bool prevExtruding = false;
   Eigen::Vector3d prevEnd(0, 0, 0);
@@ -414,8 +408,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     // Hash-cell and grid indices are 64-bit integers: keep coordinates in a sane range.
     if (m.from.cwiseAbs().maxCoeff() > kMaxCoordinate || m.to.cwiseAbs().maxCoeff() > kMaxCoordinate ||
         !m.from.allFinite() || !m.to.allFinite()) {
-      return fail(Status::InvalidOption, "move on line " + std::to_string(m.line) +
-                                             " has a coordinate beyond 1e6 mm or not finite");
+      return failed<Outcome>(Status::InvalidOption, "move on line " + std::to_string(m.line) +
+                                                        " has a coordinate beyond 1e6 mm or not finite");
     }
     const double len = (m.to - m.from).norm();
     const bool extruding = m.filament > 0 && len > 1e-9;
@@ -443,17 +437,16 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     prevExtruding = true;
     prevEnd = m.to;
   }
-  rep.layers = program.layerCount;
-  if (segments.empty()) return fail(Status::EmptyInput, "program has no extruding moves");
+  return {};
+}
 
-  // ---- samples ----
-  if (rep.pathMm / options.sampleSpacing + double(segments.size()) > double(options.maxSamples)) {
-    return fail(Status::InvalidOption, "program has more than maxSamples path samples");
-  }
+// ---- samples ----
+// Every `spacing` mm along each segment from its start; one sample on a shorter segment.
+std::vector<Sample> pathSamples(const std::vector<Segment>& segments, double spacing) {
   std::vector<Sample> samples;
   auto sampleCount = [&](const Segment& s) {  // k = 0, 1, ... while k = 0 or k spacing < length
     size_t k = 1;
-    while (double(k) * options.sampleSpacing < s.length) ++k;
+    while (double(k) * spacing < s.length) ++k;
     return k;
   };
   {
@@ -465,40 +458,49 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     const Segment& s = segments[si];
     const size_t n = sampleCount(s);
     for (size_t k = 0; k < n; ++k) {
-      const double t = double(k) * options.sampleSpacing;
+      const double t = double(k) * spacing;
       samples.push_back({s.a + (t / s.length) * (s.b - s.a), int(si), s.beadStart + t});
     }
   }
-  rep.samples = samples.size();
+  return samples;
+}
 
-  // ---- inside and surface samples ----
-  const AabbTree tree(partMesh);
-  // Squared distance of each sample to the surface where it is below w^2 (else w^2): the least
-  // (closestPointOnTriangle(p, a, b, c) - p).squaredNorm() over the triangles, the expression of
-  // AabbTree::closest(p, w), found by each triangle visiting the samples in its box grown by w.
-  std::vector<double> near2(samples.size(), w * w);
-  {
-    const SampleGrid grid(samples, w);
-    const double reach = w + 1e-9;  // grows the boxes by far more than rounding
-    const bool done = forEachTriangleBox(partMesh, reach, progress, 0.0, 0.2, [&](const Eigen::Vector3d& a,
-        const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-      // A sample that close lies within w of the triangle's plane too (1e-9 mm over it: far more
-      // than rounding); degenerate triangles skip this test.
-      Eigen::Vector3d n = (b - a).cross(c - a);
-      const double nn = n.norm();
-      const bool plane = nn > 0;
-      if (plane) n /= nn;
-      grid.forEachIn(lo, hi, [&](uint32_t i) {
-        const Eigen::Vector3d& p = samples[i].p;
-        if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return;
-        if (plane && std::abs(n.dot(p - a)) > reach) return;
-        const double d2 = (closestPointOnTriangle(p, a, b, c) - p).squaredNorm();
-        if (d2 < near2[i]) near2[i] = d2;
-      });
+// ---- inside and surface samples ----
+// Squared distance of each sample to the surface where it is below w^2 (else w^2): the least
+// (closestPointOnTriangle(p, a, b, c) - p).squaredNorm() over the triangles, the expression of
+// AabbTree::closest(p, w), found by each triangle visiting the samples in its box grown by w.
+// False when cancelled.
+bool surfaceDistances2(const Mesh& partMesh, const std::vector<Sample>& samples, double w, Progress& progress,
+                       std::vector<double>& near2) {
+  near2.assign(samples.size(), w * w);
+  const SampleGrid grid(samples, w);
+  const double reach = w + 1e-9;  // grows the boxes by far more than rounding
+  return forEachTriangleBox(partMesh, reach, progress, 0.0, 0.2, [&](const Eigen::Vector3d& a,
+      const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    // A sample that close lies within w of the triangle's plane too (1e-9 mm over it: far more
+    // than rounding); degenerate triangles skip this test.
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    const double nn = n.norm();
+    const bool plane = nn > 0;
+    if (plane) n /= nn;
+    grid.forEachIn(lo, hi, [&](uint32_t i) {
+      const Eigen::Vector3d& p = samples[i].p;
+      if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) return;
+      if (plane && std::abs(n.dot(p - a)) > reach) return;
+      const double d2 = (closestPointOnTriangle(p, a, b, c) - p).squaredNorm();
+      if (d2 < near2[i]) near2[i] = d2;
     });
-    if (!done) return fail(Status::Cancelled, "verify cancelled");
-  }
-  std::vector<uint8_t> nearSurface(samples.size(), 0);
+  });
+}
+
+// The fraction of part samples inside the solid (rep.inside, rep.supportSamples) and which
+// samples lie within w of the surface (nearSurface).
+Outcome insideSamples(const AabbTree& tree, const Mesh& partMesh, const std::vector<Segment>& segments,
+                      const std::vector<Sample>& samples, double w, Progress& progress,
+                      std::vector<uint8_t>& nearSurface, VerifyReport& rep) {
+  std::vector<double> near2;
+  if (!surfaceDistances2(partMesh, samples, w, progress, near2)) return cancelled();
+  nearSurface.assign(samples.size(), 0);
   size_t insideCount = 0, partSamples = 0;
   // Two samples both farther than w from the surface and closer than 2w to each other see no
   // surface between them (every point of the chord is within half its length of an end), so the
@@ -506,7 +508,7 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   bool prevFar = false, prevInside = false;
   Eigen::Vector3d prevP(0, 0, 0);
   for (size_t i = 0; i < samples.size(); ++i) {
-    if (!progress.tick(i, samples.size(), 0.2, 0.3)) return fail(Status::Cancelled, "verify cancelled");
+    if (!progress.tick(i, samples.size(), 0.2, 0.3)) return cancelled();
     const Eigen::Vector3d& p = samples[i].p;
     // As AabbTree::closest(p, w).distance: infinity when no triangle is closer than w.
     const double distance =
@@ -531,355 +533,468 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   }
   rep.supportSamples = samples.size() - partSamples;
   rep.inside = partSamples ? double(insideCount) / double(partSamples) : 1.0;
+  return {};
+}
 
-  // ---- supported ----
-  {
-    const double R = 1.5 * h;
-    const double exclusion = std::max(0.5, 3.0 * h);
-    const double cs = std::max(2.0 * R, 0.5);
-    struct Piece {
-      Eigen::Vector3d a, b;
-      double s0, s1;
-    };
-    std::vector<Piece> pieces;
-    std::vector<int> pieceBead;
-    {
-      size_t count = 0;
-      for (const Segment& s : segments) count += size_t(std::max(1, int(std::ceil(s.length / cs))));
-      pieces.reserve(count);
-      pieceBead.reserve(count);
+// ---- supported ----
+// A centre-line piece (at most one hash cell long) with its arc lengths within its bead.
+struct Piece {
+  Eigen::Vector3d a, b;
+  double s0, s1;
+};
+
+// Pieces in print order, bucketed once into a dense cell grid (CSR): a piece is listed in every
+// cell its R-expanded box touches, in increasing index, so a sample scans the list of its own
+// cell while the index is below nextPiece (the prefix laid before it).
+struct PieceGrid {
+  Eigen::Vector3d glo, ghi;
+  double gs = 0;  // cell size: grows until the grid has at most ~4 cells per piece
+  int64_t dims[3] = {0, 0, 0};
+  size_t cellCount = 0;
+  std::vector<uint32_t> offsets, entries;
+};
+
+// InvalidOption when there are too many pieces.
+Outcome buildPieceGrid(const std::vector<Piece>& pieces, double R, double cs, PieceGrid& grid) {
+  Eigen::Vector3d& glo = grid.glo;
+  Eigen::Vector3d& ghi = grid.ghi;
+  glo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  ghi = -glo;
+  for (const Piece& p : pieces) {
+    const Eigen::Vector3d lo = p.a.cwiseMin(p.b).array() - R, hi = p.a.cwiseMax(p.b).array() + R;
+    glo = glo.cwiseMin(lo);
+    ghi = ghi.cwiseMax(hi);
+  }
+  double& gs = grid.gs;
+  int64_t* dims = grid.dims;
+  gs = cs;
+  const double maxCells = std::max(double(1 << 20), 4.0 * double(pieces.size()));
+  for (;;) {
+    double cells = 1;
+    for (int a = 0; a < 3; ++a) {
+      dims[a] = pieces.empty() ? 0 : int64_t(std::floor((ghi[a] - glo[a]) / gs)) + 1;
+      cells *= double(std::max<int64_t>(dims[a], 0));
     }
-    for (const Segment& s : segments) {
-      const int n = std::max(1, int(std::ceil(s.length / cs)));
-      for (int k = 0; k < n; ++k) {
-        const double t0 = double(k) / n, t1 = double(k + 1) / n;
-        pieces.push_back({s.a + t0 * (s.b - s.a), s.a + t1 * (s.b - s.a),
-                          s.beadStart + t0 * s.length, s.beadStart + t1 * s.length});
-        pieceBead.push_back(s.bead);
+    if (cells <= maxCells) break;
+    gs *= 1.5;
+  }
+  auto cellRange = [&](double lo, double hi, int a, int64_t& c0, int64_t& c1) {
+    c0 = std::clamp(int64_t(std::floor((lo - glo[a]) / gs)), int64_t(0), dims[a] - 1);
+    c1 = std::clamp(int64_t(std::floor((hi - glo[a]) / gs)), int64_t(0), dims[a] - 1);
+  };
+  const size_t cellCount = size_t(dims[0] * dims[1] * dims[2]);
+  grid.cellCount = cellCount;
+  std::vector<uint32_t>& offsets = grid.offsets;
+  std::vector<uint32_t>& entries = grid.entries;
+  offsets.assign(cellCount + 1, 0);
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<uint32_t> fill;
+    if (pass == 1) {
+      for (size_t c = 0; c < cellCount; ++c) offsets[c + 1] += offsets[c];
+      if (offsets[cellCount] > std::numeric_limits<uint32_t>::max() / 2) {
+        return failed<Outcome>(Status::InvalidOption, "too many centre-line pieces to check support");
       }
+      entries.resize(offsets[cellCount]);
+      fill.assign(offsets.begin(), offsets.end() - 1);
     }
-    // Pieces in print order, bucketed once into a dense cell grid (CSR): a piece is listed in
-    // every cell its R-expanded box touches, in increasing index, so a sample scans the list of its
-    // own cell while the index is below nextPiece (the prefix laid before it).
-    Eigen::Vector3d glo = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-    Eigen::Vector3d ghi = -glo;
-    for (const Piece& p : pieces) {
+    for (uint32_t pi = 0; pi < pieces.size(); ++pi) {
+      const Piece& p = pieces[pi];
       const Eigen::Vector3d lo = p.a.cwiseMin(p.b).array() - R, hi = p.a.cwiseMax(p.b).array() + R;
-      glo = glo.cwiseMin(lo);
-      ghi = ghi.cwiseMax(hi);
+      int64_t x0, x1, y0, y1, z0, z1;
+      cellRange(lo.x(), hi.x(), 0, x0, x1);
+      cellRange(lo.y(), hi.y(), 1, y0, y1);
+      cellRange(lo.z(), hi.z(), 2, z0, z1);
+      for (int64_t z = z0; z <= z1; ++z)
+        for (int64_t y = y0; y <= y1; ++y)
+          for (int64_t x = x0; x <= x1; ++x) {
+            const size_t c = size_t((z * dims[1] + y) * dims[0] + x);
+            if (pass == 0) ++offsets[c + 1];
+            else entries[fill[c]++] = pi;
+          }
     }
-    double gs = cs;  // cell size: grows until the grid has at most ~4 cells per piece
-    int64_t dims[3] = {0, 0, 0};
-    const double maxCells = std::max(double(1 << 20), 4.0 * double(pieces.size()));
-    for (;;) {
-      double cells = 1;
+  }
+  return {};
+}
+
+// An unsupported sample as an example: where, and the overhang of the nearest face.
+UnsupportedExample unsupportedExample(const Sample& smp, const std::vector<Segment>& segments, const AabbTree& tree,
+                                      const Mesh& partMesh) {
+  UnsupportedExample ex;
+  for (int a = 0; a < 3; ++a) ex.tip[a] = smp.p[a];
+  ex.layer = segments[smp.segment].layer;
+  ex.line = segments[smp.segment].line;
+  const ClosestPoint c = tree.closest(smp.p);
+  if (c.triangle >= 0) {
+    const size_t f = size_t(c.triangle);
+    const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]),
+                          b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
+                          cc = partMesh.vertex(partMesh.triangles[3 * f + 2]);
+    const Eigen::Vector3d n = (b - a).cross(cc - a);
+    if (n.norm() > 0) {
+      const Eigen::Vector3d u = n.normalized();
+      const double overhang =
+          std::acos(std::clamp(-u.dot(segments[smp.segment].u), -1.0, 1.0)) * 180 / kPi;
+      ex.overhangDeg = 90 - overhang;  // 90 = a face looking straight down along -u
+    }
+  }
+  return ex;
+}
+
+// A sample is supported when earlier material (earlier beads, and its own bead laid more than
+// the exclusion before it) or the platform lies within R = 1.5 h: rep.supported over the surface
+// samples of the part, rep.supportedAll over all, and up to 10 examples.
+Outcome supportedSamples(const AabbTree& tree, const Mesh& partMesh, const std::vector<Segment>& segments,
+                         const std::vector<Sample>& samples, const std::vector<uint8_t>& nearSurface, double h,
+                         Progress& progress, VerifyReport& rep) {
+  const double R = 1.5 * h;
+  const double exclusion = std::max(0.5, 3.0 * h);
+  const double cs = std::max(2.0 * R, 0.5);
+  std::vector<Piece> pieces;
+  std::vector<int> pieceBead;
+  {
+    size_t count = 0;
+    for (const Segment& s : segments) count += size_t(std::max(1, int(std::ceil(s.length / cs))));
+    pieces.reserve(count);
+    pieceBead.reserve(count);
+  }
+  for (const Segment& s : segments) {
+    const int n = std::max(1, int(std::ceil(s.length / cs)));
+    for (int k = 0; k < n; ++k) {
+      const double t0 = double(k) / n, t1 = double(k + 1) / n;
+      pieces.push_back({s.a + t0 * (s.b - s.a), s.a + t1 * (s.b - s.a),
+                        s.beadStart + t0 * s.length, s.beadStart + t1 * s.length});
+      pieceBead.push_back(s.bead);
+    }
+  }
+  PieceGrid grid;
+  const Outcome built = buildPieceGrid(pieces, R, cs, grid);
+  if (!built.ok()) return built;
+  const Eigen::Vector3d& glo = grid.glo;
+  const double gs = grid.gs;
+  const int64_t* dims = grid.dims;
+  size_t nextPiece = 0;  // pieces [0, nextPiece) were laid before the current sample
+  size_t supportedSurface = 0, surfaceCount = 0, supportedAll = 0;
+  std::vector<size_t> unsupported;  // surface samples not supported
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!progress.tick(i, samples.size(), 0.3, 0.5)) return cancelled();
+    const Sample& smp = samples[i];
+    const int myBead = segments[smp.segment].bead;
+    const double cutoff = smp.beadS - exclusion;
+    // Everything of earlier beads, and this bead's path laid before the cut-off.
+    while (nextPiece < pieces.size() &&
+           (pieceBead[nextPiece] < myBead ||
+            (pieceBead[nextPiece] == myBead && pieces[nextPiece].s1 <= cutoff))) {
+      ++nextPiece;
+    }
+    bool ok = smp.p.z() <= R;  // the platform z = 0
+    if (!ok && nextPiece < pieces.size() && pieceBead[nextPiece] == myBead &&
+        pieces[nextPiece].s0 < cutoff) {
+      // The piece straddling the cut-off, clipped to the part laid before it.
+      const Piece& p = pieces[nextPiece];
+      const double t = (cutoff - p.s0) / (p.s1 - p.s0);
+      ok = pointSegmentDistance2(smp.p, p.a, p.a + t * (p.b - p.a)) <= R * R;
+    }
+    if (!ok && grid.cellCount > 0) {
+      bool inGrid = true;
+      int64_t cx[3];
       for (int a = 0; a < 3; ++a) {
-        dims[a] = pieces.empty() ? 0 : int64_t(std::floor((ghi[a] - glo[a]) / gs)) + 1;
-        cells *= double(std::max<int64_t>(dims[a], 0));
+        const double f = std::floor((smp.p[a] - glo[a]) / gs);
+        inGrid = inGrid && f >= 0 && f < double(dims[a]);
+        cx[a] = inGrid ? int64_t(f) : 0;
       }
-      if (cells <= maxCells) break;
-      gs *= 1.5;
-    }
-    auto cellRange = [&](double lo, double hi, int a, int64_t& c0, int64_t& c1) {
-      c0 = std::clamp(int64_t(std::floor((lo - glo[a]) / gs)), int64_t(0), dims[a] - 1);
-      c1 = std::clamp(int64_t(std::floor((hi - glo[a]) / gs)), int64_t(0), dims[a] - 1);
-    };
-    const size_t cellCount = size_t(dims[0] * dims[1] * dims[2]);
-    std::vector<uint32_t> offsets(cellCount + 1, 0), entries;
-    for (int pass = 0; pass < 2; ++pass) {
-      std::vector<uint32_t> fill;
-      if (pass == 1) {
-        for (size_t c = 0; c < cellCount; ++c) offsets[c + 1] += offsets[c];
-        if (offsets[cellCount] > std::numeric_limits<uint32_t>::max() / 2) {
-          return fail(Status::InvalidOption, "too many centre-line pieces to check support");
-        }
-        entries.resize(offsets[cellCount]);
-        fill.assign(offsets.begin(), offsets.end() - 1);
-      }
-      for (uint32_t pi = 0; pi < pieces.size(); ++pi) {
-        const Piece& p = pieces[pi];
-        const Eigen::Vector3d lo = p.a.cwiseMin(p.b).array() - R, hi = p.a.cwiseMax(p.b).array() + R;
-        int64_t x0, x1, y0, y1, z0, z1;
-        cellRange(lo.x(), hi.x(), 0, x0, x1);
-        cellRange(lo.y(), hi.y(), 1, y0, y1);
-        cellRange(lo.z(), hi.z(), 2, z0, z1);
-        for (int64_t z = z0; z <= z1; ++z)
-          for (int64_t y = y0; y <= y1; ++y)
-            for (int64_t x = x0; x <= x1; ++x) {
-              const size_t c = size_t((z * dims[1] + y) * dims[0] + x);
-              if (pass == 0) ++offsets[c + 1];
-              else entries[fill[c]++] = pi;
-            }
-      }
-    }
-    size_t nextPiece = 0;  // pieces [0, nextPiece) were laid before the current sample
-    size_t supportedSurface = 0, surfaceCount = 0, supportedAll = 0;
-    std::vector<size_t> unsupported;  // surface samples not supported
-    for (size_t i = 0; i < samples.size(); ++i) {
-      if (!progress.tick(i, samples.size(), 0.3, 0.5)) return fail(Status::Cancelled, "verify cancelled");
-      const Sample& smp = samples[i];
-      const int myBead = segments[smp.segment].bead;
-      const double cutoff = smp.beadS - exclusion;
-      // Everything of earlier beads, and this bead's path laid before the cut-off.
-      while (nextPiece < pieces.size() &&
-             (pieceBead[nextPiece] < myBead ||
-              (pieceBead[nextPiece] == myBead && pieces[nextPiece].s1 <= cutoff))) {
-        ++nextPiece;
-      }
-      bool ok = smp.p.z() <= R;  // the platform z = 0
-      if (!ok && nextPiece < pieces.size() && pieceBead[nextPiece] == myBead &&
-          pieces[nextPiece].s0 < cutoff) {
-        // The piece straddling the cut-off, clipped to the part laid before it.
-        const Piece& p = pieces[nextPiece];
-        const double t = (cutoff - p.s0) / (p.s1 - p.s0);
-        ok = pointSegmentDistance2(smp.p, p.a, p.a + t * (p.b - p.a)) <= R * R;
-      }
-      if (!ok && cellCount > 0) {
-        bool inGrid = true;
-        int64_t cx[3];
-        for (int a = 0; a < 3; ++a) {
-          const double f = std::floor((smp.p[a] - glo[a]) / gs);
-          inGrid = inGrid && f >= 0 && f < double(dims[a]);
-          cx[a] = inGrid ? int64_t(f) : 0;
-        }
-        if (inGrid) {
-          // The pieces of the cell laid before the sample, latest first (the layer below is met
-          // before older ones): "any within R" does not depend on the order.
-          const size_t c = size_t((cx[2] * dims[1] + cx[1]) * dims[0] + cx[0]);
-          const uint32_t* const first = entries.data() + offsets[c];
-          const uint32_t* const last = entries.data() + offsets[c + 1];
-          const uint32_t* end = std::lower_bound(first, last, uint32_t(nextPiece));
-          while (end != first) {
-            const Piece& p = pieces[*--end];
-            if (pointSegmentDistance2(smp.p, p.a, p.b) <= R * R) {
-              ok = true;
-              break;
-            }
+      if (inGrid) {
+        // The pieces of the cell laid before the sample, latest first (the layer below is met
+        // before older ones): "any within R" does not depend on the order.
+        const size_t c = size_t((cx[2] * dims[1] + cx[1]) * dims[0] + cx[0]);
+        const uint32_t* const first = grid.entries.data() + grid.offsets[c];
+        const uint32_t* const last = grid.entries.data() + grid.offsets[c + 1];
+        const uint32_t* end = std::lower_bound(first, last, uint32_t(nextPiece));
+        while (end != first) {
+          const Piece& p = pieces[*--end];
+          if (pointSegmentDistance2(smp.p, p.a, p.b) <= R * R) {
+            ok = true;
+            break;
           }
         }
       }
-      if (ok) ++supportedAll;
-      if (nearSurface[i] && !segments[smp.segment].support) {
-        ++surfaceCount;
-        if (ok) ++supportedSurface;
-        else unsupported.push_back(i);
-      }
     }
-    rep.supported = surfaceCount ? double(supportedSurface) / double(surfaceCount) : 1.0;
-    rep.supportedAll = double(supportedAll) / double(samples.size());
-    const size_t shown = std::min<size_t>(10, unsupported.size());
-    for (size_t k = 0; k < shown; ++k) {
-      const Sample& smp = samples[unsupported[k * unsupported.size() / shown]];
-      UnsupportedExample ex;
-      for (int a = 0; a < 3; ++a) ex.tip[a] = smp.p[a];
-      ex.layer = segments[smp.segment].layer;
-      ex.line = segments[smp.segment].line;
-      const ClosestPoint c = tree.closest(smp.p);
-      if (c.triangle >= 0) {
-        const size_t f = size_t(c.triangle);
-        const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]),
-                              b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
-                              cc = partMesh.vertex(partMesh.triangles[3 * f + 2]);
-        const Eigen::Vector3d n = (b - a).cross(cc - a);
-        if (n.norm() > 0) {
-          const Eigen::Vector3d u = n.normalized();
-          const double overhang =
-              std::acos(std::clamp(-u.dot(segments[smp.segment].u), -1.0, 1.0)) * 180 / kPi;
-          ex.overhangDeg = 90 - overhang;  // 90 = a face looking straight down along -u
-        }
-      }
-      rep.unsupportedExamples.push_back(ex);
+    if (ok) ++supportedAll;
+    if (nearSurface[i] && !segments[smp.segment].support) {
+      ++surfaceCount;
+      if (ok) ++supportedSurface;
+      else unsupported.push_back(i);
     }
   }
+  rep.supported = surfaceCount ? double(supportedSurface) / double(surfaceCount) : 1.0;
+  rep.supportedAll = double(supportedAll) / double(samples.size());
+  const size_t shown = std::min<size_t>(10, unsupported.size());
+  for (size_t k = 0; k < shown; ++k) {
+    const Sample& smp = samples[unsupported[k * unsupported.size() / shown]];
+    rep.unsupportedExamples.push_back(unsupportedExample(smp, segments, tree, partMesh));
+  }
+  return {};
+}
 
-  // ---- collisions ----
-  // Exactly the samples that have an earlier sample in their cone (PROGRAM-FORMAT.md): while all
-  // earlier material lies at or below the level no scan is needed (every layer-by-layer print);
-  // otherwise the cell hierarchy of EarlierSamples prunes whole regions, and the example's earlier
-  // point is the one the plain scan in print order meets first.
-  {
-    Cone cone;
-    cone.h = h;
-    cone.tol = 0.001;
-    cone.length = program.machine.nozzle.coneLength;
-    cone.tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
-    if (cone.tanT > 0 && std::isfinite(cone.tanT)) {
-      cone.cosT = 1.0 / std::sqrt(1.0 + cone.tanT * cone.tanT);
-      cone.sinT = cone.tanT * cone.cosT;
-    }
-    EarlierSamples earlier(samples);
-    const double inf = std::numeric_limits<double>::infinity();
-    Eigen::Vector3d glo(inf, inf, inf), ghi(-inf, -inf, -inf);
-    for (size_t i = 0; i < samples.size(); ++i) {
-      if (!progress.tick(i, samples.size(), 0.5, 0.6)) return fail(Status::Cancelled, "verify cancelled");
-      const Sample& s = samples[i];
-      cone.tip = s.p;
-      cone.u = segments[size_t(s.segment)].u;
-      cone.level = s.p.dot(cone.u) + h + cone.tol;
-      if (i > 0 && cone.support(glo, ghi) > cone.level) {
-        earlier.addUpTo(i);
-        if (earlier.anyHit(cone)) {
-          ++rep.collisions;
-          uint32_t hitPoint = 0;
-          if (rep.collisionExamples.size() < 10 && earlier.firstHitInScanOrder(cone, hitPoint)) {
-            CollisionExample e;
-            for (int k = 0; k < 3; ++k) {
-              e.tip[k] = s.p[k];
-              e.axis[k] = cone.u[k];
-              e.earlier[k] = samples[hitPoint].p[k];
-            }
-            e.layer = segments[size_t(s.segment)].layer;
-            e.line = segments[size_t(s.segment)].line;
-            rep.collisionExamples.push_back(e);
+// ---- collisions ----
+// Exactly the samples that have an earlier sample in their cone (PROGRAM-FORMAT.md): while all
+// earlier material lies at or below the level no scan is needed (every layer-by-layer print);
+// otherwise the cell hierarchy of EarlierSamples prunes whole regions, and the example's earlier
+// point is the one the plain scan in print order meets first.
+Outcome collidingSamples(const ParsedProgram& program, const std::vector<Segment>& segments,
+                         const std::vector<Sample>& samples, double h, Progress& progress, VerifyReport& rep) {
+  Cone cone;
+  cone.h = h;
+  cone.tol = 0.001;
+  cone.length = program.machine.nozzle.coneLength;
+  cone.tanT = std::tan(program.machine.nozzle.coneHalfAngleDegrees * kPi / 180.0);
+  if (cone.tanT > 0 && std::isfinite(cone.tanT)) {
+    cone.cosT = 1.0 / std::sqrt(1.0 + cone.tanT * cone.tanT);
+    cone.sinT = cone.tanT * cone.cosT;
+  }
+  EarlierSamples earlier(samples);
+  const double inf = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d glo(inf, inf, inf), ghi(-inf, -inf, -inf);
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (!progress.tick(i, samples.size(), 0.5, 0.6)) return cancelled();
+    const Sample& s = samples[i];
+    cone.tip = s.p;
+    cone.u = segments[size_t(s.segment)].u;
+    cone.level = s.p.dot(cone.u) + h + cone.tol;
+    if (i > 0 && cone.support(glo, ghi) > cone.level) {
+      earlier.addUpTo(i);
+      if (earlier.anyHit(cone)) {
+        ++rep.collisions;
+        uint32_t hitPoint = 0;
+        if (rep.collisionExamples.size() < 10 && earlier.firstHitInScanOrder(cone, hitPoint)) {
+          CollisionExample e;
+          for (int k = 0; k < 3; ++k) {
+            e.tip[k] = s.p[k];
+            e.axis[k] = cone.u[k];
+            e.earlier[k] = samples[hitPoint].p[k];
           }
+          e.layer = segments[size_t(s.segment)].layer;
+          e.line = segments[size_t(s.segment)].line;
+          rep.collisionExamples.push_back(e);
         }
       }
-      glo = glo.cwiseMin(s.p);
-      ghi = ghi.cwiseMax(s.p);
     }
+    glo = glo.cwiseMin(s.p);
+    ghi = ghi.cwiseMax(s.p);
   }
+  return {};
+}
 
-  // ---- coverage ----
-  {
-    const BoundingBox box = boundingBox(partMesh);
-    // Index ranges in double first: nothing is cast to an integer before the size check.
-    const Eigen::Vector3d lo = (box.min / g).array().ceil(), hi = (box.max / g).array().floor();
-    const Eigen::Vector3d counts = (hi - lo).array() + 1.0;
-    const double total = counts.minCoeff() <= 0 ? 0.0 : counts.x() * counts.y() * counts.z();
-    if (total > double(options.maxGridPoints) || !std::isfinite(total)) {
-      char msg[160];
-      std::snprintf(msg, sizeof msg,
-                    "coverage grid of %.0f points at spacing %g mm exceeds maxGridPoints %zu", total,
-                    g, options.maxGridPoints);
-      return fail(Status::InvalidOption, msg);
+// ---- coverage ----
+// The grid points (spacing g) of the part's bounding box: index ranges i0..i1, j0..j1, k0..k1.
+struct CoverageGrid {
+  double g = 0;
+  int64_t i0 = 0, i1 = 0, j0 = 0, j1 = 0, k0 = 0, k1 = 0;
+  int64_t nx = 0, ny = 0;
+  size_t n = 0;
+  // The grid points inside the box [lo, hi], clamped to the grid: indices [a, b] per axis
+  // (empty when a > b on some axis).
+  struct Cells {
+    int64_t a[3], b[3];
+    bool empty() const { return a[0] > b[0] || a[1] > b[1] || a[2] > b[2]; }
+  };
+  Cells cellsIn(const Eigen::Vector3d& boxLo, const Eigen::Vector3d& boxHi) const {
+    const int64_t first[3] = {i0, j0, k0}, last[3] = {i1, j1, k1};
+    Cells c;
+    for (int d = 0; d < 3; ++d) {
+      c.a[d] = std::max(first[d], int64_t(std::ceil(boxLo[d] / g)));
+      c.b[d] = std::min(last[d], int64_t(std::floor(boxHi[d] / g)));
     }
-    const int64_t i0 = int64_t(lo.x()), i1 = int64_t(hi.x()), j0 = int64_t(lo.y()),
-                  j1 = int64_t(hi.y()), k0 = int64_t(lo.z()), k1 = int64_t(hi.z());
-    const int64_t nx = std::max<int64_t>(0, i1 - i0 + 1), ny = std::max<int64_t>(0, j1 - j0 + 1);
-    const size_t n = size_t(total);
-    // The grid points inside the box [lo, hi], clamped to the grid: indices [a, b] per axis
-    // (empty when a > b on some axis).
-    struct Cells {
-      int64_t a[3], b[3];
-      bool empty() const { return a[0] > b[0] || a[1] > b[1] || a[2] > b[2]; }
-    };
-    auto cellsIn = [&](const Eigen::Vector3d& boxLo, const Eigen::Vector3d& boxHi) {
-      const int64_t first[3] = {i0, j0, k0}, last[3] = {i1, j1, k1};
-      Cells c;
-      for (int d = 0; d < 3; ++d) {
-        c.a[d] = std::max(first[d], int64_t(std::ceil(boxLo[d] / g)));
-        c.b[d] = std::min(last[d], int64_t(std::floor(boxHi[d] / g)));
-      }
-      return c;
-    };
-    auto index = [&](int64_t i, int64_t j, int64_t k) {
-      return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));
-    };
-    // Interior points: the candidates lie between a crossing where their column enters the solid
-    // and the next one, at least w/2 from both; a candidate is interior when no triangle lies
-    // within w/2 of it (the test of AabbTree::anyWithin, same expression and bound). Each triangle
-    // clears the candidates it is that close to: those lie in its box grown by w/2 and, on a
-    // column, within w/2 / |n_z| of its plane.
-    Bits interior(n), covered(n);
-    const double half = 0.5 * w;
-    std::vector<ColumnCrossing> xs;
-    size_t column = 0;
-    const size_t columns = size_t(nx * ny);
-    for (int64_t j = j0; j <= j1; ++j) {
-      for (int64_t i = i0; i <= i1; ++i, ++column) {
-        if (!progress.tick(column, columns, 0.6, 0.7)) return fail(Status::Cancelled, "verify cancelled");
-        const double x = double(i) * g, y = double(j) * g;
-        tree.columnCrossings(x, y, xs);
-        std::sort(xs.begin(), xs.end(),
-                  [](const ColumnCrossing& a, const ColumnCrossing& b) { return a.z < b.z; });
-        int wind = 0;
-        for (size_t m = 0; m + 1 < xs.size(); ++m) {
-          wind += xs[m].sign;
-          if (wind == 0) continue;
-          const double zLo = xs[m].z + half, zHi = xs[m + 1].z - half;
-          const int64_t kEnd = std::min(k1, int64_t(std::floor(zHi / g)));
-          for (int64_t k = std::max(k0, int64_t(std::ceil(zLo / g))); k <= kEnd; ++k) {
-            interior.set(index(i, j, k));
-          }
-        }
-      }
-    }
-    {
-      const double r = half * (1 - 1e-9), r2 = r * r;
-      const double reach = r + 1e-9;  // grows the boxes by far more than rounding
-      const bool done = forEachTriangleBox(partMesh, reach, progress, 0.7, 0.8, [&](const Eigen::Vector3d& a,
-          const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-        const Cells cells = cellsIn(lo, hi);
-        if (cells.empty()) return;
-        const int64_t ia = cells.a[0], ib = cells.b[0], ja = cells.a[1], jb = cells.b[1], ka = cells.a[2],
-                      kb = cells.b[2];
-        // The plane: |n.(p - a)| <= reach for every point that close. Only for faces not steeper
-        // than about 78 degrees; the 1e-6 mm margin covers the rounding of zc.
-        Eigen::Vector3d nrm = (b - a).cross(c - a);
-        const double nn = nrm.norm();
-        const bool slab = nn > 0 && std::abs(nrm.z()) > 0.2 * nn;
-        if (slab) nrm /= nn;
-        const double slabHalf = slab ? reach / std::abs(nrm.z()) + 1e-6 : 0.0;
-        for (int64_t j = ja; j <= jb; ++j) {
-          const double y = double(j) * g;
-          for (int64_t i = ia; i <= ib; ++i) {
-            const double x = double(i) * g;
-            int64_t kLo = ka, kHi = kb;
-            if (slab) {
-              const double zc = a.z() - (nrm.x() * (x - a.x()) + nrm.y() * (y - a.y())) / nrm.z();
-              kLo = std::max(kLo, int64_t(std::ceil((zc - slabHalf) / g)));
-              kHi = std::min(kHi, int64_t(std::floor((zc + slabHalf) / g)));
-            }
-            for (int64_t k = kLo; k <= kHi; ++k) {
-              const size_t idx = index(i, j, k);
-              if (!interior.get(idx)) continue;
-              const Eigen::Vector3d p(x, y, double(k) * g);
-              if ((closestPointOnTriangle(p, a, b, c) - p).squaredNorm() <= r2) interior.clear(idx);
-            }
-          }
-        }
-      });
-      if (!done) return fail(Status::Cancelled, "verify cancelled");
-    }
-    rep.gridPoints = interior.count();
-    const double rax = 0.75 * h, rlat = 0.75 * w;
-    const double pieceLen = std::max(4.0 * g, 1.0);
-    for (size_t si = 0; si < segments.size(); ++si) {
-      if (!progress.tick(si, segments.size(), 0.8, 1.0)) return fail(Status::Cancelled, "verify cancelled");
-      const Segment& s = segments[si];
-      const Eigen::Vector3d ab = s.b - s.a;
-      const double len2 = ab.squaredNorm();
-      // A covered point lies within the bead's ellipsoid of a point of the segment, so within the
-      // ellipsoid's extent along each grid axis, sqrt(rax^2 u_k^2 + rlat^2 (1 - u_k^2)), of the
-      // piece holding that point (1e-9 mm over it: far more than rounding).
-      Eigen::Vector3d reach;
-      for (int k = 0; k < 3; ++k) {
-        const double uk2 = s.u[k] * s.u[k];
-        reach[k] = std::sqrt(std::max(0.0, rax * rax * uk2 + rlat * rlat * (1 - uk2))) + 1e-9;
-      }
-      const int pieces = std::max(1, int(std::ceil(s.length / pieceLen)));
-      for (int q = 0; q < pieces; ++q) {
-        const Eigen::Vector3d pa = s.a + (double(q) / pieces) * ab,
-                              pb = s.a + (double(q + 1) / pieces) * ab;
-        const Eigen::Vector3d lo = pa.cwiseMin(pb) - reach, hi = pa.cwiseMax(pb) + reach;
-        const Cells cells = cellsIn(lo, hi);
-        for (int64_t k = cells.a[2]; k <= cells.b[2]; ++k)
-          for (int64_t j = cells.a[1]; j <= cells.b[1]; ++j)
-            for (int64_t i = cells.a[0]; i <= cells.b[0]; ++i) {
-              const size_t idx = index(i, j, k);
-              if (!interior.get(idx) || covered.get(idx)) continue;
-              const Eigen::Vector3d p(double(i) * g, double(j) * g, double(k) * g);
-              const double t = std::clamp((p - s.a).dot(ab) / len2, 0.0, 1.0);
-              const Eigen::Vector3d d = p - (s.a + t * ab);
-              const double axial = d.dot(s.u);
-              const double lat2 = std::max(0.0, d.squaredNorm() - axial * axial);
-              if ((axial * axial) / (rax * rax) + lat2 / (rlat * rlat) <= 1.0) covered.set(idx);
-            }
-      }
-    }
-    rep.coverage = rep.gridPoints ? double(covered.countAnd(interior)) / double(rep.gridPoints) : 0.0;
+    return c;
   }
-  if (!reportProgress(progressFn, "verify", 1.0)) return fail(Status::Cancelled, "verify cancelled");
+  size_t index(int64_t i, int64_t j, int64_t k) const {
+    return size_t(((k - k0) * ny + (j - j0)) * nx + (i - i0));
+  }
+};
+
+// InvalidOption when the grid would have more than maxGridPoints points.
+Outcome coverageGrid(const Mesh& partMesh, double g, size_t maxGridPoints, CoverageGrid& grid) {
+  const BoundingBox box = boundingBox(partMesh);
+  // Index ranges in double first: nothing is cast to an integer before the size check.
+  const Eigen::Vector3d lo = (box.min / g).array().ceil(), hi = (box.max / g).array().floor();
+  const Eigen::Vector3d counts = (hi - lo).array() + 1.0;
+  const double total = counts.minCoeff() <= 0 ? 0.0 : counts.x() * counts.y() * counts.z();
+  if (total > double(maxGridPoints) || !std::isfinite(total)) {
+    char msg[160];
+    std::snprintf(msg, sizeof msg,
+                  "coverage grid of %.0f points at spacing %g mm exceeds maxGridPoints %zu", total,
+                  g, maxGridPoints);
+    return failed<Outcome>(Status::InvalidOption, msg);
+  }
+  grid.g = g;
+  grid.i0 = int64_t(lo.x());
+  grid.i1 = int64_t(hi.x());
+  grid.j0 = int64_t(lo.y());
+  grid.j1 = int64_t(hi.y());
+  grid.k0 = int64_t(lo.z());
+  grid.k1 = int64_t(hi.z());
+  grid.nx = std::max<int64_t>(0, grid.i1 - grid.i0 + 1);
+  grid.ny = std::max<int64_t>(0, grid.j1 - grid.j0 + 1);
+  grid.n = size_t(total);
+  return {};
+}
+
+// Interior points: the candidates lie between a crossing where their column enters the solid
+// and the next one, at least w/2 from both; a candidate is interior when no triangle lies
+// within w/2 of it (the test of AabbTree::anyWithin, same expression and bound). Each triangle
+// clears the candidates it is that close to: those lie in its box grown by w/2 and, on a
+// column, within w/2 / |n_z| of its plane.
+bool interiorPoints(const AabbTree& tree, const Mesh& partMesh, const CoverageGrid& grid, double w,
+                    Progress& progress, Bits& interior) {
+  const double g = grid.g;
+  const double half = 0.5 * w;
+  std::vector<ColumnCrossing> xs;
+  size_t column = 0;
+  const size_t columns = size_t(grid.nx * grid.ny);
+  for (int64_t j = grid.j0; j <= grid.j1; ++j) {
+    for (int64_t i = grid.i0; i <= grid.i1; ++i, ++column) {
+      if (!progress.tick(column, columns, 0.6, 0.7)) return false;
+      const double x = double(i) * g, y = double(j) * g;
+      tree.columnCrossings(x, y, xs);
+      std::sort(xs.begin(), xs.end(),
+                [](const ColumnCrossing& a, const ColumnCrossing& b) { return a.z < b.z; });
+      int wind = 0;
+      for (size_t m = 0; m + 1 < xs.size(); ++m) {
+        wind += xs[m].sign;
+        if (wind == 0) continue;
+        const double zLo = xs[m].z + half, zHi = xs[m + 1].z - half;
+        const int64_t kEnd = std::min(grid.k1, int64_t(std::floor(zHi / g)));
+        for (int64_t k = std::max(grid.k0, int64_t(std::ceil(zLo / g))); k <= kEnd; ++k) {
+          interior.set(grid.index(i, j, k));
+        }
+      }
+    }
+  }
+  const double r = half * (1 - 1e-9), r2 = r * r;
+  const double reach = r + 1e-9;  // grows the boxes by far more than rounding
+  return forEachTriangleBox(partMesh, reach, progress, 0.7, 0.8, [&](const Eigen::Vector3d& a,
+      const Eigen::Vector3d& b, const Eigen::Vector3d& c, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+    const CoverageGrid::Cells cells = grid.cellsIn(lo, hi);
+    if (cells.empty()) return;
+    const int64_t ia = cells.a[0], ib = cells.b[0], ja = cells.a[1], jb = cells.b[1], ka = cells.a[2],
+                  kb = cells.b[2];
+    // The plane: |n.(p - a)| <= reach for every point that close. Only for faces not steeper
+    // than about 78 degrees; the 1e-6 mm margin covers the rounding of zc.
+    Eigen::Vector3d nrm = (b - a).cross(c - a);
+    const double nn = nrm.norm();
+    const bool slab = nn > 0 && std::abs(nrm.z()) > 0.2 * nn;
+    if (slab) nrm /= nn;
+    const double slabHalf = slab ? reach / std::abs(nrm.z()) + 1e-6 : 0.0;
+    for (int64_t j = ja; j <= jb; ++j) {
+      const double y = double(j) * g;
+      for (int64_t i = ia; i <= ib; ++i) {
+        const double x = double(i) * g;
+        int64_t kLo = ka, kHi = kb;
+        if (slab) {
+          const double zc = a.z() - (nrm.x() * (x - a.x()) + nrm.y() * (y - a.y())) / nrm.z();
+          kLo = std::max(kLo, int64_t(std::ceil((zc - slabHalf) / g)));
+          kHi = std::min(kHi, int64_t(std::floor((zc + slabHalf) / g)));
+        }
+        for (int64_t k = kLo; k <= kHi; ++k) {
+          const size_t idx = grid.index(i, j, k);
+          if (!interior.get(idx)) continue;
+          const Eigen::Vector3d p(x, y, double(k) * g);
+          if ((closestPointOnTriangle(p, a, b, c) - p).squaredNorm() <= r2) interior.clear(idx);
+        }
+      }
+    }
+  });
+}
+
+// The interior points within some segment's bead ellipsoid (axial 0.75 h, lateral 0.75 w).
+bool coveredPoints(const std::vector<Segment>& segments, const CoverageGrid& grid, const Bits& interior, double h,
+                   double w, Progress& progress, Bits& covered) {
+  const double g = grid.g;
+  const double rax = 0.75 * h, rlat = 0.75 * w;
+  const double pieceLen = std::max(4.0 * g, 1.0);
+  for (size_t si = 0; si < segments.size(); ++si) {
+    if (!progress.tick(si, segments.size(), 0.8, 1.0)) return false;
+    const Segment& s = segments[si];
+    const Eigen::Vector3d ab = s.b - s.a;
+    const double len2 = ab.squaredNorm();
+    // A covered point lies within the bead's ellipsoid of a point of the segment, so within the
+    // ellipsoid's extent along each grid axis, sqrt(rax^2 u_k^2 + rlat^2 (1 - u_k^2)), of the
+    // piece holding that point (1e-9 mm over it: far more than rounding).
+    Eigen::Vector3d reach;
+    for (int k = 0; k < 3; ++k) {
+      const double uk2 = s.u[k] * s.u[k];
+      reach[k] = std::sqrt(std::max(0.0, rax * rax * uk2 + rlat * rlat * (1 - uk2))) + 1e-9;
+    }
+    const int pieces = std::max(1, int(std::ceil(s.length / pieceLen)));
+    for (int q = 0; q < pieces; ++q) {
+      const Eigen::Vector3d pa = s.a + (double(q) / pieces) * ab,
+                            pb = s.a + (double(q + 1) / pieces) * ab;
+      const Eigen::Vector3d lo = pa.cwiseMin(pb) - reach, hi = pa.cwiseMax(pb) + reach;
+      const CoverageGrid::Cells cells = grid.cellsIn(lo, hi);
+      for (int64_t k = cells.a[2]; k <= cells.b[2]; ++k)
+        for (int64_t j = cells.a[1]; j <= cells.b[1]; ++j)
+          for (int64_t i = cells.a[0]; i <= cells.b[0]; ++i) {
+            const size_t idx = grid.index(i, j, k);
+            if (!interior.get(idx) || covered.get(idx)) continue;
+            const Eigen::Vector3d p(double(i) * g, double(j) * g, double(k) * g);
+            const double t = std::clamp((p - s.a).dot(ab) / len2, 0.0, 1.0);
+            const Eigen::Vector3d d = p - (s.a + t * ab);
+            const double axial = d.dot(s.u);
+            const double lat2 = std::max(0.0, d.squaredNorm() - axial * axial);
+            if ((axial * axial) / (rax * rax) + lat2 / (rlat * rlat) <= 1.0) covered.set(idx);
+          }
+    }
+  }
+  return true;
+}
+
+// rep.gridPoints (interior points) and rep.coverage (the fraction covered by some bead).
+Outcome coverage(const AabbTree& tree, const Mesh& partMesh, const std::vector<Segment>& segments, double g,
+                 double h, double w, size_t maxGridPoints, Progress& progress, VerifyReport& rep) {
+  CoverageGrid grid;
+  const Outcome ok = coverageGrid(partMesh, g, maxGridPoints, grid);
+  if (!ok.ok()) return ok;
+  Bits interior(grid.n), covered(grid.n);
+  if (!interiorPoints(tree, partMesh, grid, w, progress, interior)) return cancelled();
+  rep.gridPoints = interior.count();
+  if (!coveredPoints(segments, grid, interior, h, w, progress, covered)) return cancelled();
+  rep.coverage = rep.gridPoints ? double(covered.countAnd(interior)) / double(rep.gridPoints) : 0.0;
+  return {};
+}
+
+}  // namespace
+
+VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
+                           const VerifyOptions& options, const ProgressFn& progressFn) {
+  VerifyReport rep;
+  auto fail = [](const Outcome& o) { return failed<VerifyReport>(o); };
+  Outcome ok = checkVerifyInput(program, partMesh, options);
+  if (!ok.ok()) return fail(ok);
+  const double h = program.layerHeight, w = program.lineWidth;
+  const double nozzle =
+      program.nozzleDiameter > 0 ? program.nozzleDiameter : program.machine.nozzle.diameter;
+  const double g = options.gridSpacing > 0 ? options.gridSpacing : std::min(nozzle, h);
+  Progress progress{progressFn};
+  if (!reportProgress(progressFn, "verify", 0)) return fail(cancelled());
+
+  std::vector<Segment> segments;
+  ok = extrudingSegments(program, segments, rep);
+  if (!ok.ok()) return fail(ok);
+  rep.layers = program.layerCount;
+  if (segments.empty()) return fail(failed<Outcome>(Status::EmptyInput, "program has no extruding moves"));
+  if (rep.pathMm / options.sampleSpacing + double(segments.size()) > double(options.maxSamples)) {
+    return fail(failed<Outcome>(Status::InvalidOption, "program has more than maxSamples path samples"));
+  }
+  const std::vector<Sample> samples = pathSamples(segments, options.sampleSpacing);
+  rep.samples = samples.size();
+
+  const AabbTree tree(partMesh);
+  std::vector<uint8_t> nearSurface;
+  ok = insideSamples(tree, partMesh, segments, samples, w, progress, nearSurface, rep);
+  if (ok.ok()) ok = supportedSamples(tree, partMesh, segments, samples, nearSurface, h, progress, rep);
+  if (ok.ok()) ok = collidingSamples(program, segments, samples, h, progress, rep);
+  if (ok.ok()) ok = coverage(tree, partMesh, segments, g, h, w, options.maxGridPoints, progress, rep);
+  if (!ok.ok()) return fail(ok);
+  if (!reportProgress(progressFn, "verify", 1.0)) return fail(cancelled());
   return rep;
 }
 
