@@ -1,12 +1,12 @@
 // SPDX-License-Identifier: MIT
 #include "multidir/multidir_parts.h"
 
+#include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <limits>
 
-#include "common/det_math.h"
-#include "common/math_constants.h"
+#include "multidir/risky_faces.h"
 
 namespace omnislice {
 
@@ -49,7 +49,7 @@ Outcome reachAcross(const Mesh& model, const std::vector<Plane>& planes, int pla
 
 void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alphaMaxDeg, double bandMm,
                 std::vector<uint8_t>& riskyBefore, std::vector<uint8_t>& riskyAfter) {
-  const double sinAlpha = det::sin(alphaMaxDeg * kPi / 180);
+  const double sinAlpha = sinAlphaMax(alphaMaxDeg);
   const size_t nf = part.faceCount();
   riskyBefore.assign(nf, 0);
   riskyAfter.assign(nf, 0);
@@ -62,7 +62,7 @@ void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alpha
     const Eigen::Vector3d n = cross.normalized();
     const Eigen::Vector3d centroid = (a + b + c) / 3;
     const bool onPlatform = centroid.z() < bandMm;
-    const bool riskyUp = !onPlatform && n.z() + sinAlpha < 0;
+    const bool riskyUp = !onPlatform && riskyAlong(n, Eigen::Vector3d::UnitZ(), sinAlpha);
     riskyBefore[f] = riskyUp ? 1 : 0;
     bool after = riskyUp;
     for (const Plane& q : planes) {
@@ -70,7 +70,7 @@ void riskyFlags(const Mesh& part, const std::vector<Plane>& planes, double alpha
       if (!(len > 0)) continue;
       const Eigen::Vector3d d = q.normal / len;
       if (d.dot(centroid) >= q.offset / len) {
-        after = n.dot(d) + sinAlpha < 0;
+        after = riskyAlong(n, d, sinAlpha);
         break;
       }
     }
