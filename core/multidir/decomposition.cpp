@@ -25,6 +25,17 @@
 #include <vector>
 
 namespace omnislice {
+
+const char* searchSchemeName(SearchScheme scheme) {
+  switch (scheme) {
+    case SearchScheme::Greedy: return "greedy";
+    case SearchScheme::Constrained: return "constrained";
+    case SearchScheme::Beam: return "beam";
+  }
+  return "beam";
+}
+
+const char* dofModeName(DofMode dof) { return dof == DofMode::FourDof ? "4dof" : "5dof"; }
 namespace {
 
 using namespace decomposition_detail;
@@ -37,9 +48,7 @@ Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourD
   auto bad = [](const std::string& what) { return failed<Outcome>(Status::InvalidOption, what); };
   if (o.samples < 1) return bad("samples must be >= 1");
   if (!(o.offsetStepMm > 0) || !std::isfinite(o.offsetStepMm)) return bad("offsetStepMm must be finite and > 0");
-  if (o.dof == "5dof") fourDof = false;
-  else if (o.dof == "4dof") fourDof = true;
-  else return bad("dof must be \"5dof\" or \"4dof\", got \"" + o.dof + "\"");
+  fourDof = o.dof == DofMode::FourDof;
   if (!(o.maxTiltDeg > 0 && o.maxTiltDeg <= 180)) return bad("maxTiltDeg must be in (0, 180]");
   if (!isFinite(o.rotationAxis)) return bad("rotationAxis must be finite");
   if (fourDof && o.axisSearch == 0) {
@@ -59,10 +68,7 @@ Outcome checkSearchOptions(const MultidirOptions& o, Scheme& scheme, bool& fourD
   if (o.perturbations < 0 || o.perturbations > 10000) return bad("perturbations must be in [0, 10000]");
   if (!(o.delta0 > 0) || !std::isfinite(o.delta0)) return bad("delta0 must be finite and > 0");
   if (!(o.relaxFactor > 1) || !std::isfinite(o.relaxFactor)) return bad("relaxFactor must be finite and > 1");
-  if (o.scheme == "greedy") scheme = Scheme::Greedy;
-  else if (o.scheme == "constrained") scheme = Scheme::Constrained;
-  else if (o.scheme == "beam") scheme = Scheme::Beam;
-  else return bad("scheme must be \"greedy\", \"constrained\" or \"beam\", got \"" + o.scheme + "\"");
+  scheme = o.scheme;
   if (!(o.similarityFraction >= 0) || !std::isfinite(o.similarityFraction)) {
     return bad("similarityFraction must be finite and >= 0");
   }

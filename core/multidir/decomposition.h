@@ -22,6 +22,17 @@
 
 namespace omnislice {
 
+// The search schemes of Section IV: greedy (Eq. 8-9), constrained greedy (Eq. 10-11), beam
+// (IV-B: beam-guided with progressive relaxation).
+enum class SearchScheme { Greedy, Constrained, Beam };
+
+// The machine's freedom: 5dof (a tilting table or a robot: normals on the sphere within a tilt)
+// or 4dof (one rotary axis: normals on the great circle across it).
+enum class DofMode { FiveDof, FourDof };
+
+const char* searchSchemeName(SearchScheme scheme);  // "greedy", "constrained", "beam"
+const char* dofModeName(DofMode dof);                // "5dof", "4dof"
+
 struct MultidirOptions {
   double alphaMaxDeg = 45;          // maximal self-supporting angle alpha_max, degrees, in (0, 90)
   int samples = 250;                // candidate normals: points on the whole Gaussian sphere
@@ -29,7 +40,7 @@ struct MultidirOptions {
                                     // circle (4dof, spacing 360/samples when stepAngleDeg = 0); >= 1
   double offsetStepMm = 1;          // plane offsets d = k * offsetStepMm (k integer) along each
                                     // normal, within the remaining model's extent; > 0
-  std::string dof = "5dof";         // "5dof" (tilting table / robot) | "4dof" (one rotary axis)
+  DofMode dof = DofMode::FiveDof;
   double maxTiltDeg = 90;           // 5dof: largest angle between a normal and +Z, degrees, in
                                     // (0, 180]; 90 = never print downward (180 = whole sphere)
   Eigen::Vector3d rotationAxis{1, 0, 0};  // 4dof: the rotary axis r, horizontal (r.z = 0), any
@@ -37,7 +48,7 @@ struct MultidirOptions {
   int axisSearch = 0;               // 4dof: > 0 = try this many horizontal axes at 180/axisSearch
                                     // degree spacing and keep the least J_G (paper VI-C: 180);
                                     // 0 = use rotationAxis only
-  int axisFullSearches = 4;         // 4dof axis search with scheme "beam": every axis is screened
+  int axisFullSearches = 4;         // 4dof axis search with the beam scheme: every axis is screened
                                     // by the constrained greedy line (half grid resolution, half
                                     // the normals), the beam runs on this many best axes at least
                                     // 3 deg apart (0 = on every axis); >= 0
@@ -63,7 +74,7 @@ struct MultidirOptions {
   double delta0 = 0.1;              // first risk bound delta of the progressive relaxation, mm^2,
                                     // > 0; also the "R = 0" tolerance of the constrained greedy
   double relaxFactor = 5;           // delta *= relaxFactor until the b beams are filled, > 1
-  std::string scheme = "beam";      // "greedy" (Eq. 8-9) | "constrained" (Eq. 10-11) | "beam"
+  SearchScheme scheme = SearchScheme::Beam;
   double platformMarginMm = 5;      // Criterion III: the platform P is the model's footprint
                                     // (vertices below platformBandMm, projected on z = 0) grown by
                                     // this margin, mm, >= 0 ...

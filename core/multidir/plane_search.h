@@ -36,8 +36,8 @@ namespace omnislice::decomposition_detail {
 
 constexpr int kMaxLevels = 256;  // safety bound; Criterion IV already limits parts to w
 
-// The schemes of Section IV: greedy (Eq. 8-9), constrained greedy (Eq. 10-11), beam (IV-B).
-enum class Scheme { Greedy, Constrained, Beam };
+// The schemes of Section IV (decomposition.h SearchScheme).
+using Scheme = SearchScheme;
 
 // The J_L / R difference arrays hold areas in fixed point: integer multiples of 2^-40 mm^2 (a
 // coarser power of 2 when the model's surface area S is 2^22 mm^2 = 4.2e6 mm^2 or more, see

@@ -35,15 +35,6 @@ void mergeParts(const std::vector<ClipPart>& parts, MultidirPreview& p) {
   }
 }
 
-const char* schemeName(MultidirScheme s) {
-  switch (s) {
-    case MultidirScheme::Beam: return "beam";
-    case MultidirScheme::Greedy: return "greedy";
-    case MultidirScheme::Constrained: return "constrained";
-  }
-  return "beam";
-}
-
 MultidirReport::Search searchReport(const MultidirStats& st) {
   MultidirReport::Search s;
   s.normals = st.normals;
@@ -92,10 +83,10 @@ MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& co
   o.beamWidth = ms.beamWidth;
   o.restarts = ms.restarts;
   o.perturbations = ms.perturbations;
-  o.scheme = schemeName(ms.scheme);
+  o.scheme = ms.scheme;
   o.platformMarginMm = ms.platformMarginMm;
   if (fourDof) {
-    o.dof = "4dof";
+    o.dof = DofMode::FourDof;
     o.rotationAxis = Eigen::Vector3d::UnitX();  // rotary4 turns the part about X (A axis)
     o.axisSearch = ms.axisSearch;
     o.stepAngleDeg = ms.stepAngleDeg > 0 ? ms.stepAngleDeg : machine.stepAngleDegrees;
@@ -104,7 +95,7 @@ MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& co
                      ? std::max(1.0, std::min(std::abs(a->second.first), std::abs(a->second.second)))
                      : 90.0;
   } else {
-    o.dof = "5dof";
+    o.dof = DofMode::FiveDof;
     o.maxTiltDeg = ms.maxTiltDeg > 0 ? ms.maxTiltDeg : machineTiltLimitDegrees(machine);
   }
   auto t0 = Clock::now();
@@ -237,8 +228,8 @@ MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& co
   report.jgBeforeMm2 = search.jgBeforeMm2;
   report.jgAfterMm2 = search.jgAfterMm2;
   report.alphaMaxDeg = o.alphaMaxDeg;
-  report.scheme = o.scheme;
-  report.dof = o.dof;
+  report.scheme = searchSchemeName(o.scheme);
+  report.dof = dofModeName(o.dof);
   if (fourDof) report.rotationAxis = search.rotationAxis;
   report.volumeMm3 = parts.inputVolume;
   report.capAreaMm2 = parts.totalCapArea;

@@ -15,6 +15,7 @@
 #include "common/status.h"
 #include "geodesic/print_order.h"
 #include "mesh/place_mesh.h"
+#include "multidir/decomposition.h"
 #include "pipeline/method.h"
 #include "program/write_gcode.h"
 #include "slice/plan_layers.h"
@@ -29,9 +30,6 @@ enum class FillMode { Auto, Isoplanar, Spiral };
 
 // Supports: auto (multidir: projected, planar: none) | none | projected.
 enum class SupportMode { Auto, None, Projected };
-
-// The multidir plane search (paper 000 Section IV).
-enum class MultidirScheme { Beam, Greedy, Constrained };
 
 // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof.
 enum class MultidirDof { Auto, FourDof, FiveDof };
@@ -116,7 +114,7 @@ struct MultidirSettings {
   int perturbations = 60;        // beam: iterated local search moves on the refined planes
                                  // (0 = off); they stop once J_G <= 0.1 mm^2
   int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
-  MultidirScheme scheme = MultidirScheme::Beam;
+  SearchScheme scheme = SearchScheme::Beam;  // beam | greedy | constrained
   MultidirDof dof = MultidirDof::Auto;
   double interfaceOverlap = 0.8; // an earlier part reaches across a later part's plane by this
                                  // fraction of (h/2)(1 - |cos beta|) (multidir_method.cpp); 0 = none

@@ -27,6 +27,15 @@
 namespace omnislice {
 namespace {
 
+// The scheme of a name as the search's progress lines call it.
+SearchScheme schemeNamed(const std::string& name) {
+  for (SearchScheme s : {SearchScheme::Greedy, SearchScheme::Constrained, SearchScheme::Beam}) {
+    if (name == searchSchemeName(s)) return s;
+  }
+  ADD_FAILURE() << "no scheme " << name;
+  return SearchScheme::Beam;
+}
+
 
 using test::Box;
 using test::makeBoxUnion;
@@ -217,7 +226,7 @@ TEST(DecompCriteria, FloatingPieceAndPlatformAboveAreRefused) {
   // The plane removing the most risky area (d ~ 8-17, both undersides) is refused; the search
   // settles for a plane that keeps a sliver of the bridge (d > 40 / sqrt 2), pendant attached.
   for (const char* scheme : {"greedy", "constrained", "beam"}) {
-    o.scheme = scheme;
+    o.scheme = schemeNamed(scheme);
     const MultidirResult r = searchDecomposition(arch, o);
     ASSERT_TRUE(r.ok()) << r.message;
     ASSERT_FALSE(r.planes.empty()) << scheme;
@@ -340,7 +349,7 @@ TEST(DecompSchemes, EachSchemeOnTheT) {
   double jg[3];
   int i = 0;
   for (const char* scheme : {"greedy", "constrained", "beam"}) {
-    o.scheme = scheme;
+    o.scheme = schemeNamed(scheme);
     const MultidirResult r = searchDecomposition(t, o);
     ASSERT_TRUE(r.ok()) << scheme << ": " << r.message;
     printResult(scheme, r);
@@ -359,7 +368,7 @@ TEST(DecompSchemes, FourDofNormalsAreOnTheStepperGrid) {
   const Mesh l = makeL();
   MultidirOptions o;
   o.alphaMaxDeg = 40;
-  o.dof = "4dof";
+  o.dof = DofMode::FourDof;
   o.rotationAxis = Eigen::Vector3d(0, 2, 0);  // any length
   o.stepAngleDeg = 7.5;
   o.rangeDeg = 60;
@@ -393,7 +402,7 @@ TEST(DecompSchemes, FourDofAxisSearchFindsTheBestAxis) {
   const Mesh l = makeL();
   MultidirOptions o;
   o.alphaMaxDeg = 40;
-  o.dof = "4dof";
+  o.dof = DofMode::FourDof;
   o.axisSearch = 12;  // every 15 deg
   o.axisFullSearches = 3;
   o.samples = 72;
@@ -437,10 +446,8 @@ TEST(DecompStatus, BadOptionsAndInputs) {
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.floatingToleranceCells = -1; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.stepAngleDeg = -1; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) { o.rangeDeg = 0; }), Status::InvalidOption);
-  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.scheme = "best"; }), Status::InvalidOption);
-  EXPECT_EQ(statusWith([](MultidirOptions& o) { o.dof = "6dof"; }), Status::InvalidOption);
   EXPECT_EQ(statusWith([](MultidirOptions& o) {
-              o.dof = "4dof";
+              o.dof = DofMode::FourDof;
               o.rotationAxis = {0, 0, 1};
             }),
             Status::InvalidOption);
@@ -590,7 +597,7 @@ TEST(DecompProgress, EachSchemeReportsItsLinesLevelByLevelThenTheChosenSequence)
   for (const char* scheme : {"greedy", "constrained", "beam"}) {
     MultidirOptions o;
     o.platformMarginMm = 2;
-    o.scheme = scheme;
+    o.scheme = schemeNamed(scheme);
     Recorded rec;
     const MultidirResult r = searchDecomposition(t, o, recorder(rec));
     ASSERT_TRUE(r.ok()) << r.message;
@@ -626,7 +633,7 @@ TEST(DecompProgress, AxisSearchScreensThenSearchesThenReportsTheWinner) {
   const Mesh l = makeL();
   MultidirOptions o;
   o.alphaMaxDeg = 40;
-  o.dof = "4dof";
+  o.dof = DofMode::FourDof;
   o.axisSearch = 12;
   o.axisFullSearches = 3;
   o.samples = 72;
@@ -709,7 +716,7 @@ TEST(DecompShared, BeamBeatsBothGreedySchemesOnEveryClosedModel) {
     int i = 0;
     std::printf("%s (%zu faces)\n", s.file, mesh.faceCount());
     for (const char* scheme : {"greedy", "constrained", "beam"}) {
-      o.scheme = scheme;
+      o.scheme = schemeNamed(scheme);
       const MultidirResult r = searchDecomposition(mesh, o);
       ASSERT_TRUE(r.ok()) << s.file << " " << scheme << ": " << r.message;
       printResult(scheme, r);
@@ -869,7 +876,7 @@ TEST(DecompShared, LocalSearchMovesOnlyLowerJG) {
   expectValid(m, b, on, "Kitten turned, moves");
   // The greedy schemes are the paper's: no moves.
   MultidirOptions greedy;
-  greedy.scheme = "greedy";
+  greedy.scheme = SearchScheme::Greedy;
   const MultidirResult g = searchDecomposition(m, greedy);
   ASSERT_TRUE(g.ok()) << g.message;
   EXPECT_EQ(g.stats.perturbations, 0u);
@@ -924,7 +931,7 @@ TEST(DecompShared, FourDofLocalSearchStaysOnTheMachinesAngles) {
   const Mesh kitten = loadPlaced("voxelmaam_kitten.ply", UpAxis::PosY);
   for (const double step : {0.0, 2.5}) {
     MultidirOptions on, off;
-    on.dof = off.dof = "4dof";
+    on.dof = off.dof = DofMode::FourDof;
     on.rangeDeg = off.rangeDeg = 60;
     on.stepAngleDeg = off.stepAngleDeg = step;
     off.perturbations = 0;
@@ -953,7 +960,7 @@ TEST(DecompShared, KittenFourDofAxisSearch) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
-  o.dof = "4dof";
+  o.dof = DofMode::FourDof;
   o.axisSearch = 180;
   o.rangeDeg = 60;
   const MultidirResult r = searchDecomposition(kitten, o);
