@@ -25,8 +25,6 @@
 #include "../test_support.h"
 #include "geodesic/heat_geodesic.h"
 #include "geodesic/igds.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 #include "tet/tet_mesh.h"
 #include "tet/tet_mesher.h"
 
@@ -1426,13 +1424,7 @@ TEST(PrintOrderSharedModels, TetModels) {
 TEST(PrintOrderSharedModels, CompasBranchesThroughTetMesher) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const char* file = "compas_branches_16_closed_mid_res.stl";
-  const ReadMeshResult raw = readMeshFile((test::sharedModelsDir() / file).string());
-  ASSERT_TRUE(raw.ok()) << file << ": " << raw.message;
-  PrepareOptions po;
-  po.checkSelfIntersections = false;
-  const PrepareMeshResult prep = prepareMesh(raw.mesh, po);
-  ASSERT_TRUE(prep.ok() && prep.solid.ok()) << file << ": " << prep.message << prep.solid.message;
-  const TetMesherResult tm = tetrahedralize(prep.mesh);
+  const TetMesherResult tm = tetrahedralize(test::loadModel(file));
   ASSERT_TRUE(tm.ok()) << file << ": " << tm.message;
   const SolidLayers s = layersOfSolid(tm.mesh, 150);
   const SolidResult r = checkSolid(file, s, {45.0, 15.0});

@@ -12,8 +12,6 @@
 #include <utility>
 
 #include "../test_support.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 
 namespace omnislice {
 namespace {
@@ -322,17 +320,14 @@ TEST(SurfaceSamples, GaussBonnetOnRealMeshes) {
     int genus;
   };
   for (const Case& c : {Case{"compas_bunny_closed_high_res.stl", 0}, Case{"pymdp_kitten.off", 1}}) {
-    const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / c.file).string());
-    ASSERT_TRUE(read.ok()) << read.message;
-    const PrepareMeshResult prep = prepareMesh(read.mesh, PrepareOptions{});
-    ASSERT_TRUE(prep.ok());
-    const SurfaceSamplesResult res = surfaceSamples(prep.mesh, 0.2);
+    const Mesh mesh = test::loadModel(c.file);
+    const SurfaceSamplesResult res = surfaceSamples(mesh, 0.2);
     ASSERT_TRUE(res.ok());
     for (const SurfaceSample& s : res.samples) {
       ASSERT_TRUE(s.shape.allFinite());
       ASSERT_NEAR(s.normal.norm(), 1, 1e-12);
     }
-    const double total = totalGaussCurvature(prep.mesh, res);
+    const double total = totalGaussCurvature(mesh, res);
     const double expect = 2 * kPi * (2 - 2 * c.genus);
     std::printf("%s: total Gaussian curvature %.3f (2 pi chi = %.3f)\n", c.file, total, expect);
     // Pointwise fits on scanned meshes with sharp features (ears): within 15 % of 4 pi (a sign

@@ -32,7 +32,6 @@
 #include "mesh/mesh_topology.h"
 #include "mesh/prepare_mesh.h"
 #include "slice/slice_mesh.h"
-#include "slice/slice_test_support.h"
 #include "test_support.h"
 
 namespace omnislice {
@@ -876,7 +875,7 @@ class ClipMeshModels : public ::testing::TestWithParam<ModelCase> {};
 TEST_P(ClipMeshModels, RandomPlanes) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const ModelCase c = GetParam();
-  const Mesh solid = test::loadSolid(c.file, c.scale);
+  const Mesh solid = test::loadModel(c.file, c.scale);
   ASSERT_FALSE(solid.empty());
   std::mt19937 rng(2024);
   const BoundingBox box = boundingBox(solid);
@@ -937,7 +936,7 @@ INSTANTIATE_TEST_SUITE_P(ClipMesh, ClipMeshModels,
 // middle, best and mean of repeated runs.
 TEST(ClipMesh, KittenTiming) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = test::loadSolid("pymdp_kitten.off");
+  const Mesh kitten = test::loadModel("pymdp_kitten.off");
   ASSERT_EQ(kitten.faceCount(), 10000u);
   const BoundingBox b = boundingBox(kitten);
   const Eigen::Vector3d centre = 0.5 * (b.min + b.max);

@@ -19,7 +19,6 @@
 #include "common/math_constants.h"
 #include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 #include "multidir/decomposition.h"
 #include "box_union.h"
 #include "test_support.h"
@@ -87,21 +86,6 @@ double bruteForceJg(const Mesh& mesh, const std::vector<MultidirPlane>& planes, 
     }
   }
   return jg;
-}
-
-Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm = 0) {
-  const ReadMeshResult r = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(r.ok()) << file << ": " << r.message;
-  PrepareOptions po;
-  po.checkSelfIntersections = false;
-  const PrepareMeshResult p = prepareMesh(r.mesh, po);
-  EXPECT_TRUE(p.ok()) << file << ": " << p.message;
-  PlaceOptions place;
-  place.up = up;
-  place.fitMm = fitMm;
-  const PlaceMeshResult pl = placeMesh(p.mesh, place);
-  EXPECT_TRUE(pl.ok()) << file << ": " << pl.message;
-  return pl.mesh;
 }
 
 void printResult(const char* name, const MultidirResult& r) {
@@ -298,7 +282,7 @@ TEST(DecompExact, MatchesBruteForceSubdivision) {
 
 TEST(DecompExact, KittenBeforeAndAfterMatchBruteForce) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
   const MultidirEvaluation before = evaluateDecomposition(kitten, {}, o);
   ASSERT_TRUE(before.ok()) << before.message;
@@ -323,7 +307,7 @@ TEST(DecompExact, KittenBeforeAndAfterMatchBruteForce) {
 
 TEST(DecompExact, SearchSumsEqualClippingAndRefinementOnlyLowers) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
   o.refine = false;
   const MultidirResult raw = searchDecomposition(kitten, o);
@@ -668,7 +652,7 @@ TEST(DecompProgress, CancellingOnASearchLevelStopsTheSearch) {
 
 TEST(DecompProgress, KittenLevelsMatchTheResult) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   Recorded rec;
   const MultidirResult r = searchDecomposition(kitten, {}, recorder(rec));
   ASSERT_TRUE(r.ok()) << r.message;
@@ -710,7 +694,7 @@ const SharedModel kShared[] = {
 TEST(DecompShared, BeamBeatsBothGreedySchemesOnEveryClosedModel) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const SharedModel& s : kShared) {
-    const Mesh mesh = loadPlaced(s.file, s.up, s.fitMm);
+    const Mesh mesh = test::loadPlaced(s.file, s.up, s.fitMm);
     MultidirOptions o;
     double jg[3] = {0, 0, 0};
     int i = 0;
@@ -739,7 +723,7 @@ TEST(DecompShared, BeamBeatsBothGreedySchemesOnEveryClosedModel) {
 // 2.78 and 3.31 mm^2.
 TEST(DecompShared, RestartsFindTheKittensDecompositionWhereOneSearchMissesIt) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   for (const double turn : {0.5, 3.5}) {
     Mesh m = kitten;
     const double c = std::cos(turn), s = std::sin(turn);
@@ -830,7 +814,7 @@ double criterionThreeBound(const Mesh& mesh, const MultidirOptions& o, double de
 // assumed a flat base like the paper's Bunny). The search never goes below the bound.
 TEST(DecompShared, BowlBaseBoundsTheCompasBunnyFromBelow) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
+  const Mesh bunny = test::loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
   const MultidirOptions o;
   const double bound = criterionThreeBound(bunny, o, 0.01);
   const MultidirResult r = searchDecomposition(bunny, o);
@@ -840,7 +824,7 @@ TEST(DecompShared, BowlBaseBoundsTheCompasBunnyFromBelow) {
   EXPECT_GE(r.jgAfterMm2, bound);
   EXPECT_GT(bound, 0.3 * r.jgBeforeMm2);
   // The bound is no artefact of the bunny: the Kitten (flat base) has none.
-  EXPECT_EQ(criterionThreeBound(loadPlaced("pymdp_kitten.off", UpAxis::PosY), o, 0.02), 0.0);
+  EXPECT_EQ(criterionThreeBound(test::loadPlaced("pymdp_kitten.off", UpAxis::PosY), o, 0.02), 0.0);
 }
 
 // The iterated local search on the refined planes: it starts from the search's result and keeps a
@@ -848,7 +832,7 @@ TEST(DecompShared, BowlBaseBoundsTheCompasBunnyFromBelow) {
 // three restarts at 0.71 mm^2 (measured); the moves take it to 0.00 (4 kept of 47 tried).
 TEST(DecompShared, LocalSearchMovesOnlyLowerJG) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  Mesh m = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  Mesh m = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   const double c = std::cos(1.0), s = std::sin(1.0);
   for (size_t i = 0; i < m.vertexCount(); ++i) {
     const double x = m.positions[3 * i], y = m.positions[3 * i + 1];
@@ -887,7 +871,7 @@ TEST(DecompShared, LocalSearchMovesOnlyLowerJG) {
 // moves run.
 TEST(DecompShared, LocalSearchReportsProgressAndCancels) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
+  const Mesh bunny = test::loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
   MultidirOptions o;
   o.restarts = 1;
   o.perturbations = 20;
@@ -928,7 +912,7 @@ TEST(DecompShared, LocalSearchReportsProgressAndCancels) {
 // (3 moves kept of 60), on a 2.5 deg stepper 93.05 -> 92.93 (1 kept).
 TEST(DecompShared, FourDofLocalSearchStaysOnTheMachinesAngles) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("voxelmaam_kitten.ply", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("voxelmaam_kitten.ply", UpAxis::PosY);
   for (const double step : {0.0, 2.5}) {
     MultidirOptions on, off;
     on.dof = off.dof = DofMode::FourDof;
@@ -958,7 +942,7 @@ TEST(DecompShared, FourDofLocalSearchStaysOnTheMachinesAngles) {
 
 TEST(DecompShared, KittenFourDofAxisSearch) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
   o.dof = DofMode::FourDof;
   o.axisSearch = 180;

@@ -505,7 +505,7 @@ TEST(PlanLayers, TimingHundredThousandTriangles) {
 
 TEST(PlanLayers, RealModelKittenTilted) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = test::loadSolid("pymdp_kitten.off");
+  const Mesh kitten = test::loadModel("pymdp_kitten.off");
   ASSERT_EQ(kitten.faceCount(), 10000u);
   for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0.2)}) {
     SliceOptions o;

@@ -437,7 +437,7 @@ TEST(SliceMesh, RealModelsAlongSeveralDirections) {
   struct Model { const char* file; double scale; };
   for (const Model& model : {Model{"compas_bunny_closed_low_res.obj", 0.5}, Model{"pymdp_kitten.off", 1.0},
                              Model{"compas_branches_16_closed_mid_res.stl", 0.5}}) {
-    const Mesh mesh = test::loadSolid(model.file, model.scale);
+    const Mesh mesh = test::loadModel(model.file, model.scale);
     ASSERT_GT(mesh.faceCount(), 1000u) << model.file;
     const double volume = meshVolume(mesh);
     ASSERT_GT(volume, 0) << model.file;

@@ -162,24 +162,3 @@ inline double slicedVolume(const SliceResult& r) {
 }
 
 }  // namespace omnislice::test
-
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
-
-namespace omnislice::test {
-
-// A shared model read and prepared as the pipeline does (welded, oriented outward), scaled by
-// `scale`; fails the calling test when it is not a closed solid.
-inline Mesh loadSolid(const std::string& file, double scale = 1.0) {
-  const ReadMeshResult raw = readMeshFile((sharedModelsDir() / file).string());
-  EXPECT_TRUE(raw.ok()) << file << ": " << raw.message;
-  PrepareOptions options;
-  options.checkSelfIntersections = false;
-  PrepareMeshResult prepared = prepareMesh(raw.mesh, options);
-  EXPECT_TRUE(prepared.ok()) << file << ": " << prepared.message;
-  EXPECT_TRUE(prepared.solid.ok()) << file << ": " << prepared.solid.message;
-  for (double& c : prepared.mesh.positions) c *= scale;
-  return prepared.mesh;
-}
-
-}  // namespace omnislice::test

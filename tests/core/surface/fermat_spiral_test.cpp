@@ -17,7 +17,6 @@
 #include <unordered_map>
 
 #include "geometry/aabb_tree.h"
-#include "mesh/read_mesh.h"
 #include "surface/surface_test_meshes.h"
 #include "test_support.h"
 
@@ -341,12 +340,11 @@ TEST(FermatSpiral, InconsistentFaceOrientationStillGivesConsistentNormals) {
 TEST(FermatSpiral, RealOpenShells) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const char* name : {"compas_connection3legs_open_low_res.obj", "compas_Y_shape_mesh.obj"}) {
-    const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / name).string());
-    ASSERT_TRUE(read.ok()) << name << ": " << read.message;
+    const Mesh shell = test::loadModel(name, 1, test::Shell::MayBeOpen);
     SpiralOptions o;
     o.spacing = 2.0;  // the shells are 200+ mm tall: a 2 mm bead keeps the test fast
     o.resample = 2.0;
-    checkSpiral(name, read.mesh, planarBoundaryDistance(read.mesh), 1, o);
+    checkSpiral(name, shell, planarBoundaryDistance(shell), 1, o);
   }
 }
 
@@ -499,10 +497,7 @@ namespace {
 // OMNISLICE_BENCH_W overrides w.
 TEST(FermatSpiral, DISABLED_BenchmarkBunnySections) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_low_res.obj").string());
-  ASSERT_TRUE(read.ok()) << read.message;
-  Mesh bunny = read.mesh;
-  for (double& x : bunny.positions) x *= 60.0 / 200.0;
+  const Mesh bunny = test::loadModel("compas_bunny_closed_low_res.obj", 60.0 / 200.0);
   const BoundingBox box = boundingBox(bunny);
   const AabbTree tree(bunny);
   double totalMs = 0, distanceMs = 0;

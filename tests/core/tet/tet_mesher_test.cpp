@@ -23,8 +23,6 @@
 #include "../test_support.h"
 #include "geodesic/heat_geodesic.h"
 #include "geometry/aabb_tree.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 
 namespace omnislice {
 namespace {
@@ -208,17 +206,6 @@ Report checkResult(const Mesh& solid, const TetMesherResult& r, const std::strin
   return rep;
 }
 
-Mesh loadModel(const std::string& file, double scale = 1) {
-  const ReadMeshResult raw = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(raw.ok()) << file << ": " << raw.message;
-  PrepareOptions po;
-  po.checkSelfIntersections = false;
-  PrepareMeshResult p = prepareMesh(raw.mesh, po);
-  EXPECT_TRUE(p.ok()) << file << ": " << p.message;
-  for (double& x : p.mesh.positions) x *= scale;
-  return p.mesh;
-}
-
 // Bounds stated for the stuffed mesh (the paper proves [10.7, 164.8] degrees for its stencils
 // and parity rule; our diagonal rule differs, these are the bounds measured with margin).
 constexpr double kMinDihedralStuffed = 8.0, kMaxDihedralStuffed = 172.0;
@@ -317,7 +304,7 @@ TEST(TetMesher, SharedModelsAtDefaultSize) {
                           {"pymdp_kitten.off", 1},
                           {"nestedcages_fertility.off", 100}};
   for (const Model& m : models) {
-    const Mesh solid = loadModel(m.file, m.scale);
+    const Mesh solid = test::loadModel(m.file, m.scale);
     const TetMesherResult r = tetrahedralize(solid);
     const Report rep = checkResult(solid, r, m.file);
     EXPECT_NEAR(rep.volumeRatio, 1.0, 0.015) << m.file;
@@ -338,7 +325,7 @@ TEST(TetMesher, SharedModelsAtDefaultSize) {
 // size (thin struts lose their rims) and within 2 % at 1.2 mm cells.
 TEST(TetMesher, BranchesValidDespiteThinStrutsAndTouchingParts) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh solid = loadModel("compas_branches_16_closed_mid_res.stl");
+  const Mesh solid = test::loadModel("compas_branches_16_closed_mid_res.stl");
   const TetMesherResult r = tetrahedralize(solid);
   const Report rep = checkResult(solid, r, "branches default");
   EXPECT_NEAR(rep.volumeRatio, 1.0, 0.10);
@@ -363,7 +350,7 @@ TEST(TetMesher, BranchesValidDespiteThinStrutsAndTouchingParts) {
 // The Y-shape model of the manifest is an open shell (88 boundary edges): not a solid.
 TEST(TetMesher, OpenShellModelIsRefused) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh shell = loadModel("compas_Y_shape_mesh.obj");
+  const Mesh shell = test::loadModel("compas_Y_shape_mesh.obj", 1, test::Shell::MayBeOpen);
   const TetMesherResult r = tetrahedralize(shell);
   EXPECT_EQ(r.status, Status::OpenMesh) << r.message;
   EXPECT_NE(r.message.find("not closed"), std::string::npos) << r.message;
@@ -379,7 +366,7 @@ TEST(TetMesher, OpenShellModelIsRefused) {
 TEST(TetMesher, RotatedModelsAtSeveralSizes) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const char* file : {"compas_bunny_closed_low_res.obj", "pymdp_kitten.off"}) {
-    const Mesh base = loadModel(file);
+    const Mesh base = test::loadModel(file);
     for (int rot = 0; rot < 4; ++rot) {
       Mesh solid = base;
       const Eigen::Matrix3d rotation =
@@ -589,7 +576,7 @@ TEST(TetMesher, HeatGeodesicOnMeshedBox) {
 TEST(TetMesher, TimingsAtSixtyThousandTets) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const char* file : {"compas_bunny_closed_low_res.obj", "pymdp_kitten.off"}) {
-    const Mesh solid = loadModel(file);
+    const Mesh solid = test::loadModel(file);
     double best = 1e300;
     TetMesherResult r;
     for (int rep = 0; rep < 3; ++rep) {

@@ -16,7 +16,6 @@
 #include <utility>
 
 #include "geometry/aabb_tree.h"
-#include "mesh/read_mesh.h"
 #include "voxel/voxelize.h"
 #include "test_support.h"
 
@@ -722,21 +721,17 @@ TEST(CurvedLayers, ProgressAndCancellation) {
   EXPECT_TRUE(cancelled.layers.empty());
 }
 
-// Real model: the closed low-resolution Bunny (Z-up, placed on z = 0), scaled to 40 mm tall.
-Mesh loadBunny(double height) {
-  ReadMeshResult read =
-      readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_low_res.obj").string());
-  EXPECT_TRUE(read.ok()) << read.message;
-  Mesh m = read.mesh;
-  const BoundingBox bb = boundingBox(m);
-  const double s = height / (bb.max.z() - bb.min.z());
-  for (size_t i = 0; i < m.positions.size(); ++i) m.positions[i] *= s;
-  return placed(m);
+// Real model: the closed low-resolution Bunny (Z-up, 200 mm tall and standing on z = 0 in the
+// file), scaled to 40 mm tall.
+Mesh bunny40() {
+  PlaceOptions place;
+  place.scale = 40.0 / 200;
+  return test::loadPlaced("compas_bunny_closed_low_res.obj", place);
 }
 
 TEST(CurvedLayers, BunnyFlatLayersAreTrimmedOnTheSurface) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   const double w = 0.8;
   const VoxelGrid grid = voxelGridOf(bunny, w);
   CurvedLayersOptions opt;  // Eq. 2 step: w / d = 2 with d = 0.4
@@ -793,7 +788,7 @@ double sectionArea(const Mesh& m, double h) {
 // cross-section of the solid: every layer's area matches the exact section area of the mesh.
 TEST(CurvedLayers, VoxelizedBunnyLayersCoverTheExactSections) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   VoxelizeOptions vopt;
   vopt.width = 0.5;
   const VoxelizeResult vox = voxelizeSolid(bunny, vopt);
@@ -825,7 +820,7 @@ TEST(CurvedLayers, VoxelizedBunnyLayersCoverTheExactSections) {
 // Curved, integer-noisy layers; their trimmed boundaries still lie on the surface.
 TEST(CurvedLayers, BunnyBreadthFirstFieldGivesCurvedTrimmedLayers) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   VoxelizeOptions vopt;
   vopt.width = 0.8;
   const VoxelizeResult vox = voxelizeSolid(bunny, vopt);
@@ -891,7 +886,7 @@ TEST(CurvedLayers, BunnyBreadthFirstFieldGivesCurvedTrimmedLayers) {
 
 // Extracts the flat-growth layers of the Bunny at voxel width w and prints the timings.
 double timeBunnyLayers(double w, size_t minVoxels) {
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   const VoxelGrid grid = voxelGridOf(bunny, w);
   const size_t voxels = printableCount(grid);
   CurvedLayersOptions opt;

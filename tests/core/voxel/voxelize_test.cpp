@@ -16,8 +16,6 @@
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
 #include "mesh/place_mesh.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 
 namespace omnislice {
 namespace {
@@ -190,19 +188,6 @@ void checkConservative(const Mesh& m, double w, size_t insideSamples, uint32_t s
               "(V~ - V) / (A w) %.3f, %.1f ms\n",
               w, r.solidCount, g.dims.x(), g.dims.y(), g.dims.z(), voxelVolume / volume,
               (voxelVolume - volume) / (area * w), ms);
-}
-
-Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm) {
-  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(read.ok()) << read.message;
-  const PrepareMeshResult prep = prepareMesh(read.mesh, {});
-  EXPECT_TRUE(prep.ok() && prep.solid.ok()) << prep.message << prep.solid.message;
-  PlaceOptions ps;
-  ps.up = up;
-  ps.fitMm = fitMm;
-  const PlaceMeshResult placedMesh = placeMesh(prep.mesh, ps);
-  EXPECT_TRUE(placedMesh.ok()) << placedMesh.message;
-  return placedMesh.mesh;
 }
 
 // Number of lattice cells (pitch w) whose open interval meets [a, b], a < b.
@@ -545,7 +530,7 @@ TEST(VoxelizeModels, BunnyKittenFertilityAreConservative) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
     std::printf("%s (fit %g):\n", c.file, c.fitMm);
-    const Mesh m = loadPlaced(c.file, c.up, c.fitMm);
+    const Mesh m = test::loadPlaced(c.file, c.up, c.fitMm);
     checkConservative(m, c.width, 4000, 17);
   }
 }
@@ -553,7 +538,7 @@ TEST(VoxelizeModels, BunnyKittenFertilityAreConservative) {
 // Measurement: a ~540k-Solid-voxel grid of the full-resolution Bunny (the paper's Fig. 3 size).
 TEST(VoxelizeModels, FiveHundredFortyThousandVoxelsUnderASecond) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh m = loadPlaced("compas_bunny_closed_high_res.stl", UpAxis::PosZ, 0);
+  const Mesh m = test::loadPlaced("compas_bunny_closed_high_res.stl", UpAxis::PosZ, 0);
   const double w = std::cbrt(test::meshVolume(m) / 540000.0);
   VoxelizeOptions o;
   o.width = w;
