@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Shared helpers for the C++ tests: locating ../shared/models (skip when absent, fail under CI=true),
-// reading files, temp paths, loading a shared model read, prepared and placed as the pipeline does,
-// and small generated meshes.
+// reading files, temp paths, independent volume and area sums, and loading a shared model read,
+// prepared and placed as the pipeline does. Generated meshes are in test_meshes.h.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -67,14 +67,14 @@ inline double meshVolume(const Mesh& m) {
   return v;
 }
 
-// Axis-aligned box [x0,x1]x[y0,y1]x[z0,z1] as 8 vertices / 12 outward-oriented triangles.
-inline Mesh makeBox(double x0, double y0, double z0, double x1, double y1, double z1) {
-  Mesh m;
-  m.positions = {x0, y0, z0, x1, y0, z0, x1, y1, z0, x0, y1, z0,
-                 x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1};
-  m.triangles = {0, 2, 1, 0, 3, 2,  4, 5, 6, 4, 6, 7,  0, 1, 5, 0, 5, 4,
-                 1, 2, 6, 1, 6, 5,  2, 3, 7, 2, 7, 6,  3, 0, 4, 3, 4, 7};
-  return m;
+// Surface area (sum of triangle areas), written independently of the core's.
+inline double surfaceArea(const Mesh& m) {
+  double a = 0;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const Eigen::Vector3d p = m.vertex(m.triangles[3 * f]);
+    a += (m.vertex(m.triangles[3 * f + 1]) - p).cross(m.vertex(m.triangles[3 * f + 2]) - p).norm() / 2;
+  }
+  return a;
 }
 
 // Whether loadModel insists on a closed manifold.

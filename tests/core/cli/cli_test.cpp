@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "../box_union.h"
+#include "../test_meshes.h"
 #include "../pipeline/pipeline_fixtures.h"
 #include "../test_support.h"
 

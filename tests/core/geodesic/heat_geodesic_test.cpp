@@ -16,7 +16,7 @@
 #include <string>
 
 #include "../test_support.h"
-#include "grid_tets.h"
+#include "../test_meshes.h"
 
 namespace omnislice {
 namespace {

@@ -22,7 +22,7 @@
 #include <unordered_map>
 
 #include "../test_support.h"
-#include "grid_tets.h"
+#include "../test_meshes.h"
 #include "geodesic/heat_geodesic.h"
 #include "geometry/aabb_tree.h"
 #include "surface/fermat_spiral.h"

@@ -7,6 +7,7 @@
 
 #include "../program/test_toolpaths.h"
 #include "cgal/mesh_distance_reference.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 
 namespace omnislice {

@@ -28,7 +28,7 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/prepare_mesh.h"
 #include "slice/slice_mesh.h"

@@ -20,7 +20,7 @@
 #include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "multidir/decomposition.h"
-#include "box_union.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {

@@ -12,7 +12,7 @@
 #include <map>
 #include <vector>
 
-#include "box_union.h"
+#include "test_meshes.h"
 #include "common/math_constants.h"
 #include "geometry/aabb_tree.h"
 #include "multidir/projected_supports.h"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "box_union.h"
+#include "test_meshes.h"
 #include "pipeline_fixtures.h"
 #include "slice_and_verify.h"
 #include "pipeline/pipeline.h"

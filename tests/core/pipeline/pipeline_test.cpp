@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"

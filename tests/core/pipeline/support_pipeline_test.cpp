@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "box_union.h"
+#include "test_meshes.h"
 #include "geometry/aabb_tree.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "isoplanar/surface_samples.h"
 #include "kinematics/kinematics.h"

@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "slice/travel_order.h"
 #include "slice_test_support.h"

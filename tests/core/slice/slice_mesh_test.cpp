@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "slice_test_support.h"
 

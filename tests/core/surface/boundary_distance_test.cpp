@@ -11,6 +11,7 @@
 #include <string>
 
 #include "surface/surface_test_meshes.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {

@@ -18,6 +18,7 @@
 
 #include "geometry/aabb_tree.h"
 #include "surface/surface_test_meshes.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {

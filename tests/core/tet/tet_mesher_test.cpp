@@ -20,6 +20,7 @@
 #include <utility>
 #include <vector>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geodesic/heat_geodesic.h"
 #include "geometry/aabb_tree.h"

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../program/test_toolpaths.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
 #include "machine/machine_json.h"

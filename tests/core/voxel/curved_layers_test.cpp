@@ -17,6 +17,7 @@
 
 #include "geometry/aabb_tree.h"
 #include "voxel/voxelize.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {

@@ -12,7 +12,7 @@
 #include <cstdio>
 #include <random>
 
-#include "../mesh/generated_meshes.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
 #include "mesh/place_mesh.h"
