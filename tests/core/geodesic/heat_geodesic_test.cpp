@@ -15,8 +15,8 @@
 #include <sstream>
 #include <string>
 
-#include "../test_support.h"
 #include "../test_meshes.h"
+#include "../test_support.h"
 
 namespace omnislice {
 namespace {

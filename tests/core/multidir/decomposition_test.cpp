@@ -38,10 +38,11 @@ SearchScheme schemeNamed(const std::string& name) {
 
 using test::Box;
 using test::makeBoxUnion;
+using test::makeLBracket;
 
-// L-bracket: column [0,20]^2 x [0,60] with an arm [20,60] x [0,20] x [40,60]; the arm's underside
-// (800 mm^2 at z = 40) is the only risky area along +Z.
-Mesh makeL() { return makeBoxUnion({{0, 0, 0, 20, 20, 60}, {20, 0, 40, 60, 20, 60}}); }
+// makeLBracket(20): column [0,20]^2 x [0,60] with an arm [20,60] x [0,20] x [40,60]; the arm's
+// underside (800 mm^2 at z = 40) is the only risky area along +Z.
+
 // T: the same column with a bar [-40,60] x [0,20] x [40,60]: two overhangs of 800 mm^2.
 Mesh makeT() { return makeBoxUnion({{0, 0, 0, 20, 20, 60}, {-40, 0, 40, 60, 20, 60}}); }
 // Arch with a pendant: columns x in [0,10] and [40,50], bridge [0,50] x z [40,50], pendant
@@ -122,7 +123,7 @@ void expectValid(const Mesh& mesh, const MultidirResult& r, const MultidirOption
 // ---- synthetic solids with a known optimum -----------------------------------------------------
 
 TEST(DecompSynthetic, BoxUnionIsClosedAndOutward) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   EXPECT_NEAR(test::meshVolume(l), 20 * 20 * 60 + 40 * 20 * 20, 1e-9);
   const PrepareMeshResult p = prepareMesh(l, {});
   ASSERT_TRUE(p.ok());
@@ -140,7 +141,7 @@ TEST(DecompSynthetic, BoxHasNoRiskyFaceOnThePlatform) {
 }
 
 TEST(DecompSynthetic, LBracketOneCutSeparatesTheOverhang) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.platformMarginMm = 2;
   const MultidirResult r = searchDecomposition(l, o);
@@ -251,7 +252,7 @@ TEST(DecompCriteria, TinyPartIsRefused) {
 TEST(DecompCriteria, PlatformDiscRadius) {
   // With a disc of radius 200 mm the platform reaches under the whole arm: no sideways plane
   // fits between it and the underside (normals of tilt < 45 deg make the underside risky).
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.platformRadiusMm = 200;
   const MultidirResult r = searchDecomposition(l, o);
@@ -349,7 +350,7 @@ TEST(DecompSchemes, EachSchemeOnTheT) {
 // while a +-Y face turns risky beyond 40 deg of tilt towards -+Y: one plane rotated about y
 // (normals in the x-z plane) prints the arm sideways; about x it takes two.
 TEST(DecompSchemes, FourDofNormalsAreOnTheStepperGrid) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.alphaMaxDeg = 40;
   o.dof = DofMode::FourDof;
@@ -383,7 +384,7 @@ TEST(DecompSchemes, FourDofNormalsAreOnTheStepperGrid) {
 }
 
 TEST(DecompSchemes, FourDofAxisSearchFindsTheBestAxis) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.alphaMaxDeg = 40;
   o.dof = DofMode::FourDof;
@@ -406,7 +407,7 @@ TEST(DecompSchemes, FourDofAxisSearchFindsTheBestAxis) {
 // ---- options, statuses, cancellation --------------------------------------------------------
 
 TEST(DecompStatus, BadOptionsAndInputs) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   auto statusWith = [&](auto edit) {
     MultidirOptions o;
     edit(o);
@@ -614,7 +615,7 @@ TEST(DecompProgress, EachSchemeReportsItsLinesLevelByLevelThenTheChosenSequence)
 // 4dof axis search: each screened axis, then the lines of every fully searched axis; the chosen
 // sequence once, for the winning axis, after all of them.
 TEST(DecompProgress, AxisSearchScreensThenSearchesThenReportsTheWinner) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.alphaMaxDeg = 40;
   o.dof = DofMode::FourDof;

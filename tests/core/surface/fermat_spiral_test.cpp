@@ -61,16 +61,6 @@ class Grid {
   std::unordered_map<int64_t, std::vector<size_t>> cells_;
 };
 
-double meshArea(const Mesh& m) {
-  double a = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    a += 0.5 * (m.vertex(m.triangles[3 * f + 1]) - m.vertex(m.triangles[3 * f]))
-                   .cross(m.vertex(m.triangles[3 * f + 2]) - m.vertex(m.triangles[3 * f]))
-                   .norm();
-  }
-  return a;
-}
-
 // Euclidean distance to the boundary polyline: exact on planar meshes, a lower bound of the
 // geodesic distance on curved ones.
 DistanceFn planarBoundaryDistance(const Mesh& m) {
@@ -158,7 +148,7 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
   // Coverage: points sampled on the region at least s/2 from the boundary within 0.75 s of the path.
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> u(0, 1);
-  const double area = meshArea(m);
+  const double area = test::surfaceArea(m);
   std::vector<double> cdf;
   double acc = 0;
   for (size_t f = 0; f < m.faceCount(); ++f) {

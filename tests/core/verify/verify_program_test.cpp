@@ -291,7 +291,7 @@ TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
 
 TEST(VerifyProgram, SphereOf30mmPasses) {
   const double R = 15;
-  const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 256, 128);
+  const Mesh sphere = test::makeUvSphere(R, 256, 128, {0, 0, R});
   const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
   const auto t0 = std::chrono::steady_clock::now();
   const VerifyReport r = verifyProgram(p, sphere);
@@ -309,7 +309,7 @@ TEST(VerifyProgram, SphereOf30mmPasses) {
 // count with the AABB tree: winding number and "any triangle within w/2".
 TEST(VerifyProgram, InteriorGridPointsMatchPointByPointDistance) {
   const double R = 4;
-  const Mesh sphere = test::makeUvSphere(R, {0.07, -0.03, R}, 48, 24);
+  const Mesh sphere = test::makeUvSphere(R, 48, 24, {0.07, -0.03, R});
   const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
   const VerifyReport r = verifyProgram(p, sphere);
   ASSERT_TRUE(r.ok()) << r.message;
@@ -330,7 +330,7 @@ TEST(VerifyProgram, InteriorGridPointsMatchPointByPointDistance) {
 // the winding number) on a curved part, for a program shifted so that part of it lies outside.
 TEST(VerifyProgram, InsideMatchesSampleBySampleDistance) {
   const double R = 4;
-  const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 40, 20);
+  const Mesh sphere = test::makeUvSphere(R, 40, 20, {0, 0, R});
   Toolpath tp = test::sphereToolpath(R, 0.2, 0.45);
   for (Move& m : tp.moves) m.position += Eigen::Vector3d(0.61, -0.37, 0.05);
   tp.start += Eigen::Vector3d(0.61, -0.37, 0.05);
