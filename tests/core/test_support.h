@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Shared helpers for the C++ tests: locating ../shared/models (skip when absent, fail under CI=true),
-// reading files, temp paths, and small generated meshes.
+// reading files, temp paths, independent volume and area sums, and loading a shared model read,
+// prepared and placed as the pipeline does. Generated meshes are in test_meshes.h.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -13,6 +14,9 @@
 #include <vector>
 
 #include "mesh/mesh.h"
+#include "mesh/place_mesh.h"
+#include "mesh/prepare_mesh.h"
+#include "mesh/read_mesh.h"
 
 namespace omnislice::test {
 
@@ -63,14 +67,52 @@ inline double meshVolume(const Mesh& m) {
   return v;
 }
 
-// Axis-aligned box [x0,x1]x[y0,y1]x[z0,z1] as 8 vertices / 12 outward-oriented triangles.
-inline Mesh makeBox(double x0, double y0, double z0, double x1, double y1, double z1) {
-  Mesh m;
-  m.positions = {x0, y0, z0, x1, y0, z0, x1, y1, z0, x0, y1, z0,
-                 x0, y0, z1, x1, y0, z1, x1, y1, z1, x0, y1, z1};
-  m.triangles = {0, 2, 1, 0, 3, 2,  4, 5, 6, 4, 6, 7,  0, 1, 5, 0, 5, 4,
-                 1, 2, 6, 1, 6, 5,  2, 3, 7, 2, 7, 6,  3, 0, 4, 3, 4, 7};
-  return m;
+// Surface area (sum of triangle areas), written independently of the core's.
+inline double surfaceArea(const Mesh& m) {
+  double a = 0;
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const Eigen::Vector3d p = m.vertex(m.triangles[3 * f]);
+    a += (m.vertex(m.triangles[3 * f + 1]) - p).cross(m.vertex(m.triangles[3 * f + 2]) - p).norm() / 2;
+  }
+  return a;
+}
+
+// Whether loadModel insists on a closed manifold.
+enum class Shell { Closed, MayBeOpen };
+
+// A shared model (../shared/models/<file>) read and prepared as the pipeline does (vertices welded,
+// degenerate and duplicate faces dropped, shells oriented outward; the self-intersection search,
+// which only warns, is skipped), every coordinate then multiplied by `scale`. Fails the calling
+// test when the file cannot be read or prepared, and with Shell::Closed when the result is not a
+// closed manifold. Call OMNISLICE_REQUIRE_SHARED_MODELS() first.
+inline Mesh loadModel(const std::string& file, double scale = 1.0, Shell shell = Shell::Closed) {
+  const ReadMeshResult raw = readMeshFile((sharedModelsDir() / file).string());
+  EXPECT_TRUE(raw.ok()) << file << ": " << raw.message;
+  PrepareOptions options;
+  options.checkSelfIntersections = false;
+  PrepareMeshResult prepared = prepareMesh(raw.mesh, options);
+  EXPECT_TRUE(prepared.ok()) << file << ": " << prepared.message;
+  if (shell == Shell::Closed) {
+    EXPECT_TRUE(prepared.solid.ok()) << file << ": " << prepared.solid.message;
+  }
+  for (double& c : prepared.mesh.positions) c *= scale;
+  return prepared.mesh;
+}
+
+// loadModel(file) put on the platform as the pipeline does (placeMesh: scale or fit, up axis,
+// rotations, lowest point at z = 0, centred in x and y unless placement.center is false).
+inline Mesh loadPlaced(const std::string& file, const PlaceOptions& placement = {}) {
+  const PlaceMeshResult placed = placeMesh(loadModel(file), placement);
+  EXPECT_TRUE(placed.ok()) << file << ": " << placed.message;
+  return placed.mesh;
+}
+
+// The same with the up axis and, when fitMm > 0, the largest side fitted to fitMm.
+inline Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm = 0) {
+  PlaceOptions placement;
+  placement.up = up;
+  placement.fitMm = fitMm;
+  return loadPlaced(file, placement);
 }
 
 }  // namespace omnislice::test

@@ -9,7 +9,7 @@
 #include <random>
 #include <set>
 
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {

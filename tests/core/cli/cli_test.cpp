@@ -12,7 +12,7 @@
 #include <sstream>
 #include <string>
 
-#include "../box_union.h"
+#include "../test_meshes.h"
 #include "../pipeline/pipeline_fixtures.h"
 #include "../test_support.h"
 
@@ -111,7 +111,7 @@ TEST(Cli, SliceWritesProgramAndReport) {
 // ("progress: decompose P% search level K: J_G = X mm^2 (LINE[, N beams])"); the chosen levels
 // are the report's J_G per level, the search lines' levels >= 1 its level count.
 TEST(Cli, ProgressPrintsStagesAndSearchLevels) {
-  const fs::path l = writeTemp("cli_l.stl", test::binaryStl(test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}})));
+  const fs::path l = writeTemp("cli_l.stl", test::binaryStl(test::makeLBracket(10)));
   const fs::path gcode = test::tempDir() / "cli_l.gcode";
   const fs::path report = test::tempDir() / "cli_l.json";
   CliRun r = runCli("slice " + l.string() + " -o " + gcode.string() + " --method multidir --machine table5 " +

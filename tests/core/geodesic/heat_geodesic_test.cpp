@@ -15,8 +15,8 @@
 #include <sstream>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
-#include "grid_tets.h"
 
 namespace omnislice {
 namespace {

@@ -21,8 +21,8 @@
 #include <memory>
 #include <unordered_map>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
-#include "grid_tets.h"
 #include "geodesic/heat_geodesic.h"
 #include "geometry/aabb_tree.h"
 #include "surface/fermat_spiral.h"
@@ -237,11 +237,7 @@ std::pair<long, long> topology(const Mesh& m) {
 
 Mesh mergeLayer(const CurvedLayer& layer) {
   Mesh m;
-  for (const LayerRegion& r : layer.regions) {
-    const uint32_t base = uint32_t(m.vertexCount());
-    m.positions.insert(m.positions.end(), r.mesh.positions.begin(), r.mesh.positions.end());
-    for (uint32_t x : r.mesh.triangles) m.triangles.push_back(base + x);
-  }
+  for (const LayerRegion& r : layer.regions) m = test::append(m, r.mesh);
   return m;
 }
 

@@ -22,11 +22,10 @@
 #include <tuple>
 #include <unordered_map>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geodesic/heat_geodesic.h"
 #include "geodesic/igds.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 #include "tet/tet_mesh.h"
 #include "tet/tet_mesher.h"
 
@@ -99,25 +98,10 @@ TetMesh voxelTets(int nx, int ny, int nz, const Vec3& origin, double h,
     vid.emplace(key, n);
     return n;
   };
-  const int perms[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2}, {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
   for (int k = 0; k < nz; ++k)
     for (int j = 0; j < ny; ++j)
-      for (int i = 0; i < nx; ++i) {
-        if (!cell(i, j, k)) continue;
-        for (const auto& perm : perms) {
-          int c[3] = {i, j, k};
-          uint32_t t[4];
-          t[0] = id(c[0], c[1], c[2]);
-          for (int s = 0; s < 3; ++s) {
-            ++c[perm[s]];
-            t[s + 1] = id(c[0], c[1], c[2]);
-          }
-          const Vec3 a = m.vertex(t[0]);
-          if ((m.vertex(t[1]) - a).dot((m.vertex(t[2]) - a).cross(m.vertex(t[3]) - a)) < 0)
-            std::swap(t[2], t[3]);
-          m.tets.insert(m.tets.end(), t, t + 4);
-        }
-      }
+      for (int i = 0; i < nx; ++i)
+        if (cell(i, j, k)) test::addKuhnTets(m, i, j, k, id);
   return m;
 }
 
@@ -1426,13 +1410,7 @@ TEST(PrintOrderSharedModels, TetModels) {
 TEST(PrintOrderSharedModels, CompasBranchesThroughTetMesher) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const char* file = "compas_branches_16_closed_mid_res.stl";
-  const ReadMeshResult raw = readMeshFile((test::sharedModelsDir() / file).string());
-  ASSERT_TRUE(raw.ok()) << file << ": " << raw.message;
-  PrepareOptions po;
-  po.checkSelfIntersections = false;
-  const PrepareMeshResult prep = prepareMesh(raw.mesh, po);
-  ASSERT_TRUE(prep.ok() && prep.solid.ok()) << file << ": " << prep.message << prep.solid.message;
-  const TetMesherResult tm = tetrahedralize(prep.mesh);
+  const TetMesherResult tm = tetrahedralize(test::loadModel(file));
   ASSERT_TRUE(tm.ok()) << file << ": " << tm.message;
   const SolidLayers s = layersOfSolid(tm.mesh, 150);
   const SolidResult r = checkSolid(file, s, {45.0, 15.0});

@@ -7,6 +7,7 @@
 
 #include "../program/test_toolpaths.h"
 #include "cgal/mesh_distance_reference.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 
 namespace omnislice {
@@ -47,7 +48,7 @@ TEST(AabbTree, ClosestPointOnTriangleMatchesDenseSampling) {
 }
 
 TEST(AabbTree, DistanceMatchesBruteForceOnRandomPoints) {
-  const Mesh sphere = test::makeUvSphere(10, {1, 2, 3}, 40, 20);
+  const Mesh sphere = test::makeUvSphere(10, 40, 20, {1, 2, 3});
   const Mesh box = test::makeBox(-3, -2, 0, 4, 5, 6);
   for (const Mesh* m : {&sphere, &box}) {
     const AabbTree tree(*m);
@@ -73,7 +74,7 @@ TEST(AabbTree, InsideMatchesAnalyticSphereAndBox) {
   const int slices = 48, stacks = 24;
   const double R = 10;
   const Eigen::Vector3d centre(0.3, -0.2, 11);
-  const Mesh sphere = test::makeUvSphere(R, centre, slices, stacks);
+  const Mesh sphere = test::makeUvSphere(R, slices, stacks, centre);
   const AabbTree tree(sphere);
   // The polyhedron lies between the inscribed radius (cos of half the angular step, squared for
   // both directions) and R.
@@ -131,7 +132,7 @@ TEST(AabbTree, ColumnCrossingsBalancedOnEdgesAndVertices) {
 
 TEST(AabbTree, AgreesWithCgalReference) {
   // Independent implementation: CGAL AABB_tree distances and Side_of_triangle_mesh.
-  const Mesh sphere = test::makeUvSphere(8, {0, 0, 8}, 64, 32);
+  const Mesh sphere = test::makeUvSphere(8, 64, 32, {0, 0, 8});
   const Mesh box = test::makeBox(-4, -3, 0, 6, 3, 7);
   for (const Mesh* m : {&sphere, &box}) {
     const AabbTree tree(*m);

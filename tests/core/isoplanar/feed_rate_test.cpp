@@ -22,6 +22,7 @@
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
 #include "motion/feed_limits.h"
+#include "test_meshes.h"
 
 namespace omnislice {
 namespace {
@@ -819,8 +820,7 @@ TEST(FeedRate, AlgorithmOneTiming) {
 // samples come with their own tangent basis and fitted second fundamental form).
 TEST(FeedRate, MeshSamplesGiveTheAnalyticCurve) {
   const MachineProfile m = machineNamed("robot6-ur5");
-  Mesh mesh = makeSaddleSurface(100, 37.5, 2500);
-  for (size_t i = 0; i < mesh.vertexCount(); ++i) mesh.positions[3 * i + 2] += 20;
+  const Mesh mesh = test::translated(makeSaddleSurface(100, 37.5, 2500), {0, 0, 20});
   const SurfaceSamplesResult fitted = surfaceSamples(mesh, 0.75);
   ASSERT_TRUE(fitted.ok()) << fitted.message;
   const Graph g = saddle(100, 20);

@@ -11,47 +11,11 @@
 #include <random>
 #include <utility>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 
 namespace omnislice {
 namespace {
-
-
-// Latitude-longitude sphere, outward (or inward) triangles.
-Mesh uvSphere(double r, int rings, int segments, bool outward) {
-  Mesh m;
-  // push_back, not insert of a list into the empty vector: GCC 12 warns (stringop-overflow) there.
-  m.positions.push_back(0);
-  m.positions.push_back(0);
-  m.positions.push_back(r);
-  for (int i = 1; i < rings; ++i) {
-    const double th = kPi * i / rings;
-    for (int j = 0; j < segments; ++j) {
-      const double ph = 2 * kPi * j / segments;
-      m.positions.insert(m.positions.end(), {r * std::sin(th) * std::cos(ph),
-                                             r * std::sin(th) * std::sin(ph), r * std::cos(th)});
-    }
-  }
-  m.positions.insert(m.positions.end(), {0, 0, -r});
-  const uint32_t south = static_cast<uint32_t>(m.vertexCount() - 1);
-  auto id = [segments](int ring, int j) {
-    return static_cast<uint32_t>(1 + (ring - 1) * segments + (j % segments));
-  };
-  auto add = [&](uint32_t a, uint32_t b, uint32_t c) {
-    if (outward) m.triangles.insert(m.triangles.end(), {a, b, c});
-    else m.triangles.insert(m.triangles.end(), {a, c, b});
-  };
-  for (int j = 0; j < segments; ++j) add(0, id(1, j), id(1, j + 1));
-  for (int i = 1; i + 1 < rings; ++i)
-    for (int j = 0; j < segments; ++j) {
-      add(id(i, j), id(i + 1, j), id(i + 1, j + 1));
-      add(id(i, j), id(i + 1, j + 1), id(i, j + 1));
-    }
-  for (int j = 0; j < segments; ++j) add(south, id(rings - 1, j + 1), id(rings - 1, j));
-  return m;
-}
 
 std::pair<double, double> principal(const SurfaceSample& s) {
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> es(s.shape);
@@ -61,7 +25,7 @@ std::pair<double, double> principal(const SurfaceSample& s) {
 TEST(SurfaceSamples, SphereBothOrientations) {
   const double r = 10;
   for (bool outward : {true, false}) {
-    const Mesh m = uvSphere(r, 40, 80, outward);
+    const Mesh m = outward ? test::makeUvSphere(r, 80, 40) : test::flipped(test::makeUvSphere(r, 80, 40));
     const SurfaceSamplesResult res = surfaceSamples(m, 0.2);
     ASSERT_TRUE(res.ok()) << res.message;
     ASSERT_EQ(res.samples.size(), m.vertexCount());
@@ -91,7 +55,7 @@ TEST(SurfaceSamples, SphereBothOrientations) {
 TEST(SurfaceSamples, IrregularSphereIsStillExact) {
   // Vertices jittered along the sphere (still on it): an irregular triangulation on a quadric.
   const double r = 7;
-  Mesh m = uvSphere(r, 30, 60, true);
+  Mesh m = test::makeUvSphere(r, 60, 30);
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> jitter(-0.12, 0.12);  // edges ~0.5-0.7 mm here
   for (size_t v = 1; v + 1 < m.vertexCount(); ++v) {
@@ -176,7 +140,7 @@ TEST(SurfaceSamples, CylinderPrincipalCurvatures) {
 }
 
 TEST(SurfaceSamples, ShapeTensorAndBlend) {
-  const Mesh m = uvSphere(10, 20, 40, true);
+  const Mesh m = test::makeUvSphere(10, 40, 20);
   const SurfaceSamplesResult res = surfaceSamples(m, 0.2);
   ASSERT_TRUE(res.ok());
   SurfaceSample a = res.samples[100], b = res.samples[101];
@@ -322,17 +286,14 @@ TEST(SurfaceSamples, GaussBonnetOnRealMeshes) {
     int genus;
   };
   for (const Case& c : {Case{"compas_bunny_closed_high_res.stl", 0}, Case{"pymdp_kitten.off", 1}}) {
-    const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / c.file).string());
-    ASSERT_TRUE(read.ok()) << read.message;
-    const PrepareMeshResult prep = prepareMesh(read.mesh, PrepareOptions{});
-    ASSERT_TRUE(prep.ok());
-    const SurfaceSamplesResult res = surfaceSamples(prep.mesh, 0.2);
+    const Mesh mesh = test::loadModel(c.file);
+    const SurfaceSamplesResult res = surfaceSamples(mesh, 0.2);
     ASSERT_TRUE(res.ok());
     for (const SurfaceSample& s : res.samples) {
       ASSERT_TRUE(s.shape.allFinite());
       ASSERT_NEAR(s.normal.norm(), 1, 1e-12);
     }
-    const double total = totalGaussCurvature(prep.mesh, res);
+    const double total = totalGaussCurvature(mesh, res);
     const double expect = 2 * kPi * (2 - 2 * c.genus);
     std::printf("%s: total Gaussian curvature %.3f (2 pi chi = %.3f)\n", c.file, total, expect);
     // Pointwise fits on scanned meshes with sharp features (ears): within 15 % of 4 pi (a sign

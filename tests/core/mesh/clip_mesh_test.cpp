@@ -28,11 +28,10 @@
 #include <utility>
 #include <vector>
 
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/prepare_mesh.h"
 #include "slice/slice_mesh.h"
-#include "slice/slice_test_support.h"
 #include "test_support.h"
 
 namespace omnislice {
@@ -205,49 +204,6 @@ Mesh makeCylinder(double r, double h, int n, double phase = 0) {
 
 // Area of the regular n-gon of circumradius r.
 double ngonArea(double r, int n) { return 0.5 * n * r * r * std::sin(2 * M_PI / n); }
-
-// Closed outward surface of unit voxels: cell (i, j, k) of an nx x ny x nz grid is solid when
-// filled(i, j, k); one quad per face between a solid and an empty cell. Cells meeting only along
-// an edge would give non-manifold edges: the shapes below avoid that.
-Mesh voxelSolid(int nx, int ny, int nz, const std::function<bool(int, int, int)>& filled) {
-  auto at = [&](int i, int j, int k) {
-    return i >= 0 && j >= 0 && k >= 0 && i < nx && j < ny && k < nz && filled(i, j, k);
-  };
-  std::map<std::array<int, 3>, uint32_t> ids;
-  Mesh m;
-  auto vertex = [&](std::array<int, 3> g) {
-    auto [it, fresh] = ids.emplace(g, static_cast<uint32_t>(ids.size()));
-    if (fresh) m.positions.insert(m.positions.end(), {double(g[0]), double(g[1]), double(g[2])});
-    return it->second;
-  };
-  for (int i = 0; i < nx; ++i) {
-    for (int j = 0; j < ny; ++j) {
-      for (int k = 0; k < nz; ++k) {
-        if (!at(i, j, k)) continue;
-        for (int a = 0; a < 3; ++a) {
-          for (int s : {1, -1}) {
-            std::array<int, 3> cell{i, j, k}, nb = cell;
-            nb[a] += s;
-            if (at(nb[0], nb[1], nb[2])) continue;
-            const int b = (a + 1) % 3, c = (a + 2) % 3;
-            std::array<uint32_t, 4> q;
-            const int uv[4][2] = {
-                {0, 0}, {1, 0}, {1, 1}, {0, 1}};  // counter-clockwise seen from +a
-            for (int corner = 0; corner < 4; ++corner) {
-              std::array<int, 3> g = cell;
-              g[a] += s > 0 ? 1 : 0;
-              g[b] += uv[corner][0];
-              g[c] += uv[corner][1];
-              q[s > 0 ? corner : 3 - corner] = vertex(g);
-            }
-            m.triangles.insert(m.triangles.end(), {q[0], q[1], q[2], q[0], q[2], q[3]});
-          }
-        }
-      }
-    }
-  }
-  return m;
-}
 
 Plane plane(double nx, double ny, double nz, double offset) {
   Plane p;
@@ -515,7 +471,7 @@ TEST(ClipMesh, TorusRandomPlanes) {
 // the floor / ceiling faces staying with the piece they close.
 TEST(ClipMesh, HollowCubeCavity) {
   const Mesh hollow =
-      voxelSolid(3, 3, 3, [](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); });
+      test::makeVoxelSolid(3, 3, 3, [](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); });
   ASSERT_NEAR(meshVolume(hollow), 26, 1e-12);
   for (const auto& [z, below] :
        std::vector<std::pair<double, double>>{{1.5, 13.5 - 0.5}, {1.0, 9}, {2.0, 17}}) {
@@ -542,13 +498,13 @@ TEST(ClipMesh, HollowCubeCavity) {
 // the cap. T-shape with the plane through the underside of the overhang: the underside faces go
 // with the piece above, the cap is the stem's section only.
 TEST(ClipMesh, StepAndOverhangFacesInPlane) {
-  const Mesh step = voxelSolid(2, 1, 2, [](int i, int, int k) { return k == 0 || i == 0; });
+  const Mesh step = test::makeVoxelSolid(2, 1, 2, [](int i, int, int k) { return k == 0 || i == 0; });
   const Plane p = plane(0, 0, 1, 1);
   const ClipResult s = clipByPlane(step, p);
   expectValidClip(step, s, p, 1e-6, "step");
   EXPECT_NEAR(s.belowVolume, 2, 1e-12);
   EXPECT_NEAR(s.capArea, 1, 1e-12);
-  const Mesh tee = voxelSolid(3, 1, 2, [](int i, int, int k) { return k == 1 || i == 1; });
+  const Mesh tee = test::makeVoxelSolid(3, 1, 2, [](int i, int, int k) { return k == 1 || i == 1; });
   const ClipResult t = clipByPlane(tee, p);
   expectValidClip(tee, t, p, 1e-6, "tee");
   EXPECT_NEAR(t.belowVolume, 1, 1e-12);
@@ -563,7 +519,7 @@ TEST(ClipMesh, StepAndOverhangFacesInPlane) {
 // A 41 x 41 plate with 400 square holes: the cap has 401 loops (collinear points all along them).
 TEST(ClipMesh, PlateWithManyHoles) {
   const Mesh plate =
-      voxelSolid(41, 41, 2, [](int i, int j, int) { return !(i % 2 == 1 && j % 2 == 1); });
+      test::makeVoxelSolid(41, 41, 2, [](int i, int j, int) { return !(i % 2 == 1 && j % 2 == 1); });
   for (double z : {0.5, 1.0, 1.25}) {
     const Plane p = plane(0, 0, 1, z);
     const ClipResult r = clipByPlane(plate, p);
@@ -588,10 +544,10 @@ TEST(ClipMesh, PlateWithManyHoles) {
 TEST(ClipMesh, VoxelShapesRandomAndGridPlanes) {
   const std::vector<std::pair<std::string, Mesh>> shapes = {
       {"hollow",
-       voxelSolid(3, 3, 3, [](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); })},
-      {"ring", voxelSolid(3, 3, 1, [](int i, int j, int) { return !(i == 1 && j == 1); })},
-      {"tee", voxelSolid(3, 1, 2, [](int i, int, int k) { return k == 1 || i == 1; })},
-      {"stairs", voxelSolid(4, 2, 4, [](int i, int, int k) { return k <= i; })}};
+       test::makeVoxelSolid(3, 3, 3, [](int i, int j, int k) { return !(i == 1 && j == 1 && k == 1); })},
+      {"ring", test::makeVoxelSolid(3, 3, 1, [](int i, int j, int) { return !(i == 1 && j == 1); })},
+      {"tee", test::makeVoxelSolid(3, 1, 2, [](int i, int, int k) { return k == 1 || i == 1; })},
+      {"stairs", test::makeVoxelSolid(4, 2, 4, [](int i, int, int k) { return k <= i; })}};
   std::mt19937 rng(5);
   for (const auto& [name, m] : shapes) {
     for (int i = 0; i < 60; ++i) {
@@ -642,7 +598,7 @@ void expectBalancedSolid(const Mesh& m, const std::string& what) {
 // the plane can leave): a valid input, the faces round the edge paired across each solid. Planes
 // across the edge, containing it, and random.
 TEST(ClipMesh, SolidsTouchingAlongAnEdge) {
-  const Mesh pair = voxelSolid(2, 2, 1, [](int i, int j, int) { return i == j; });
+  const Mesh pair = test::makeVoxelSolid(2, 2, 1, [](int i, int j, int) { return i == j; });
   ASSERT_NEAR(meshVolume(pair), 2, 1e-12);
   std::vector<Plane> planes = {plane(0, 0, 1, 0.5), plane(1, 1, 0, 2),   plane(1, -1, 0, 0),
                                plane(1, 0, 0, 1),   plane(0, -1, 0, -1), plane(1, 1, 1, 2.5)};
@@ -674,7 +630,7 @@ TEST(ClipMesh, ConcaveEdgeInPlane) {
       {2, 2, 2}, {2, 3, 0}, {2, 3, 1}, {3, 0, 0}, {3, 0, 1}, {3, 1, 0}, {3, 1, 1},
       {3, 1, 2}, {3, 2, 0}, {3, 2, 1}, {3, 2, 2}, {3, 3, 0}, {3, 3, 1}, {3, 3, 2},
       {4, 1, 0}, {4, 1, 1}, {4, 2, 0}, {4, 2, 1}, {4, 2, 2}, {4, 3, 0}, {4, 3, 1}};
-  const Mesh blob = voxelSolid(5, 5, 5, [&](int i, int j, int k) {
+  const Mesh blob = test::makeVoxelSolid(5, 5, 5, [&](int i, int j, int k) {
     return std::find(cells.begin(), cells.end(), std::array<int, 3>{i, j, k}) != cells.end();
   });
   ASSERT_NEAR(meshVolume(blob), double(cells.size()), 1e-12);
@@ -876,7 +832,7 @@ class ClipMeshModels : public ::testing::TestWithParam<ModelCase> {};
 TEST_P(ClipMeshModels, RandomPlanes) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const ModelCase c = GetParam();
-  const Mesh solid = test::loadSolid(c.file, c.scale);
+  const Mesh solid = test::loadModel(c.file, c.scale);
   ASSERT_FALSE(solid.empty());
   std::mt19937 rng(2024);
   const BoundingBox box = boundingBox(solid);
@@ -937,7 +893,7 @@ INSTANTIATE_TEST_SUITE_P(ClipMesh, ClipMeshModels,
 // middle, best and mean of repeated runs.
 TEST(ClipMesh, KittenTiming) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = test::loadSolid("pymdp_kitten.off");
+  const Mesh kitten = test::loadModel("pymdp_kitten.off");
   ASSERT_EQ(kitten.faceCount(), 10000u);
   const BoundingBox b = boundingBox(kitten);
   const Eigen::Vector3d centre = 0.5 * (b.min + b.max);

@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "mesh/mesh_topology.h"
 #include "test_support.h"
 

@@ -5,7 +5,7 @@
 
 #include <Eigen/Geometry>
 
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "test_support.h"

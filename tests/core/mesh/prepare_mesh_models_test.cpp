@@ -12,7 +12,7 @@
 #include <string>
 
 #include "cgal/self_intersections.h"
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "pipeline/pipeline_fixtures.h"

@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "mesh/generated_meshes.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {

@@ -14,6 +14,7 @@
 #include <tuple>
 #include <vector>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "mesh/read_formats.h"
 #include "mesh/zip_archive.h"

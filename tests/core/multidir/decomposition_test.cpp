@@ -19,9 +19,8 @@
 #include "common/math_constants.h"
 #include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 #include "multidir/decomposition.h"
-#include "box_union.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {
@@ -39,10 +38,11 @@ SearchScheme schemeNamed(const std::string& name) {
 
 using test::Box;
 using test::makeBoxUnion;
+using test::makeLBracket;
 
-// L-bracket: column [0,20]^2 x [0,60] with an arm [20,60] x [0,20] x [40,60]; the arm's underside
-// (800 mm^2 at z = 40) is the only risky area along +Z.
-Mesh makeL() { return makeBoxUnion({{0, 0, 0, 20, 20, 60}, {20, 0, 40, 60, 20, 60}}); }
+// makeLBracket(20): column [0,20]^2 x [0,60] with an arm [20,60] x [0,20] x [40,60]; the arm's
+// underside (800 mm^2 at z = 40) is the only risky area along +Z.
+
 // T: the same column with a bar [-40,60] x [0,20] x [40,60]: two overhangs of 800 mm^2.
 Mesh makeT() { return makeBoxUnion({{0, 0, 0, 20, 20, 60}, {-40, 0, 40, 60, 20, 60}}); }
 // Arch with a pendant: columns x in [0,10] and [40,50], bridge [0,50] x z [40,50], pendant
@@ -89,21 +89,6 @@ double bruteForceJg(const Mesh& mesh, const std::vector<MultidirPlane>& planes, 
   return jg;
 }
 
-Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm = 0) {
-  const ReadMeshResult r = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(r.ok()) << file << ": " << r.message;
-  PrepareOptions po;
-  po.checkSelfIntersections = false;
-  const PrepareMeshResult p = prepareMesh(r.mesh, po);
-  EXPECT_TRUE(p.ok()) << file << ": " << p.message;
-  PlaceOptions place;
-  place.up = up;
-  place.fitMm = fitMm;
-  const PlaceMeshResult pl = placeMesh(p.mesh, place);
-  EXPECT_TRUE(pl.ok()) << file << ": " << pl.message;
-  return pl.mesh;
-}
-
 void printResult(const char* name, const MultidirResult& r) {
   std::printf("  %-34s %-11s J_G %9.2f -> %8.2f (ratio %.4f), parts %zu, %7.1f ms (sweep %.1f, checks %.1f), "
               "candidates %zu, checked %zu, floods %zu, beams %zu, levels %zu\n",
@@ -138,7 +123,7 @@ void expectValid(const Mesh& mesh, const MultidirResult& r, const MultidirOption
 // ---- synthetic solids with a known optimum -----------------------------------------------------
 
 TEST(DecompSynthetic, BoxUnionIsClosedAndOutward) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   EXPECT_NEAR(test::meshVolume(l), 20 * 20 * 60 + 40 * 20 * 20, 1e-9);
   const PrepareMeshResult p = prepareMesh(l, {});
   ASSERT_TRUE(p.ok());
@@ -156,7 +141,7 @@ TEST(DecompSynthetic, BoxHasNoRiskyFaceOnThePlatform) {
 }
 
 TEST(DecompSynthetic, LBracketOneCutSeparatesTheOverhang) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.platformMarginMm = 2;
   const MultidirResult r = searchDecomposition(l, o);
@@ -267,7 +252,7 @@ TEST(DecompCriteria, TinyPartIsRefused) {
 TEST(DecompCriteria, PlatformDiscRadius) {
   // With a disc of radius 200 mm the platform reaches under the whole arm: no sideways plane
   // fits between it and the underside (normals of tilt < 45 deg make the underside risky).
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.platformRadiusMm = 200;
   const MultidirResult r = searchDecomposition(l, o);
@@ -298,7 +283,7 @@ TEST(DecompExact, MatchesBruteForceSubdivision) {
 
 TEST(DecompExact, KittenBeforeAndAfterMatchBruteForce) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
   const MultidirEvaluation before = evaluateDecomposition(kitten, {}, o);
   ASSERT_TRUE(before.ok()) << before.message;
@@ -323,7 +308,7 @@ TEST(DecompExact, KittenBeforeAndAfterMatchBruteForce) {
 
 TEST(DecompExact, SearchSumsEqualClippingAndRefinementOnlyLowers) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
   o.refine = false;
   const MultidirResult raw = searchDecomposition(kitten, o);
@@ -365,7 +350,7 @@ TEST(DecompSchemes, EachSchemeOnTheT) {
 // while a +-Y face turns risky beyond 40 deg of tilt towards -+Y: one plane rotated about y
 // (normals in the x-z plane) prints the arm sideways; about x it takes two.
 TEST(DecompSchemes, FourDofNormalsAreOnTheStepperGrid) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.alphaMaxDeg = 40;
   o.dof = DofMode::FourDof;
@@ -399,7 +384,7 @@ TEST(DecompSchemes, FourDofNormalsAreOnTheStepperGrid) {
 }
 
 TEST(DecompSchemes, FourDofAxisSearchFindsTheBestAxis) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.alphaMaxDeg = 40;
   o.dof = DofMode::FourDof;
@@ -422,7 +407,7 @@ TEST(DecompSchemes, FourDofAxisSearchFindsTheBestAxis) {
 // ---- options, statuses, cancellation --------------------------------------------------------
 
 TEST(DecompStatus, BadOptionsAndInputs) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   auto statusWith = [&](auto edit) {
     MultidirOptions o;
     edit(o);
@@ -630,7 +615,7 @@ TEST(DecompProgress, EachSchemeReportsItsLinesLevelByLevelThenTheChosenSequence)
 // 4dof axis search: each screened axis, then the lines of every fully searched axis; the chosen
 // sequence once, for the winning axis, after all of them.
 TEST(DecompProgress, AxisSearchScreensThenSearchesThenReportsTheWinner) {
-  const Mesh l = makeL();
+  const Mesh l = makeLBracket(20);
   MultidirOptions o;
   o.alphaMaxDeg = 40;
   o.dof = DofMode::FourDof;
@@ -668,7 +653,7 @@ TEST(DecompProgress, CancellingOnASearchLevelStopsTheSearch) {
 
 TEST(DecompProgress, KittenLevelsMatchTheResult) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   Recorded rec;
   const MultidirResult r = searchDecomposition(kitten, {}, recorder(rec));
   ASSERT_TRUE(r.ok()) << r.message;
@@ -710,7 +695,7 @@ const SharedModel kShared[] = {
 TEST(DecompShared, BeamBeatsBothGreedySchemesOnEveryClosedModel) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const SharedModel& s : kShared) {
-    const Mesh mesh = loadPlaced(s.file, s.up, s.fitMm);
+    const Mesh mesh = test::loadPlaced(s.file, s.up, s.fitMm);
     MultidirOptions o;
     double jg[3] = {0, 0, 0};
     int i = 0;
@@ -739,7 +724,7 @@ TEST(DecompShared, BeamBeatsBothGreedySchemesOnEveryClosedModel) {
 // 2.78 and 3.31 mm^2.
 TEST(DecompShared, RestartsFindTheKittensDecompositionWhereOneSearchMissesIt) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   for (const double turn : {0.5, 3.5}) {
     Mesh m = kitten;
     const double c = std::cos(turn), s = std::sin(turn);
@@ -830,7 +815,7 @@ double criterionThreeBound(const Mesh& mesh, const MultidirOptions& o, double de
 // assumed a flat base like the paper's Bunny). The search never goes below the bound.
 TEST(DecompShared, BowlBaseBoundsTheCompasBunnyFromBelow) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
+  const Mesh bunny = test::loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
   const MultidirOptions o;
   const double bound = criterionThreeBound(bunny, o, 0.01);
   const MultidirResult r = searchDecomposition(bunny, o);
@@ -840,7 +825,7 @@ TEST(DecompShared, BowlBaseBoundsTheCompasBunnyFromBelow) {
   EXPECT_GE(r.jgAfterMm2, bound);
   EXPECT_GT(bound, 0.3 * r.jgBeforeMm2);
   // The bound is no artefact of the bunny: the Kitten (flat base) has none.
-  EXPECT_EQ(criterionThreeBound(loadPlaced("pymdp_kitten.off", UpAxis::PosY), o, 0.02), 0.0);
+  EXPECT_EQ(criterionThreeBound(test::loadPlaced("pymdp_kitten.off", UpAxis::PosY), o, 0.02), 0.0);
 }
 
 // The iterated local search on the refined planes: it starts from the search's result and keeps a
@@ -848,7 +833,7 @@ TEST(DecompShared, BowlBaseBoundsTheCompasBunnyFromBelow) {
 // three restarts at 0.71 mm^2 (measured); the moves take it to 0.00 (4 kept of 47 tried).
 TEST(DecompShared, LocalSearchMovesOnlyLowerJG) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  Mesh m = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  Mesh m = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   const double c = std::cos(1.0), s = std::sin(1.0);
   for (size_t i = 0; i < m.vertexCount(); ++i) {
     const double x = m.positions[3 * i], y = m.positions[3 * i + 1];
@@ -887,7 +872,7 @@ TEST(DecompShared, LocalSearchMovesOnlyLowerJG) {
 // moves run.
 TEST(DecompShared, LocalSearchReportsProgressAndCancels) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
+  const Mesh bunny = test::loadPlaced("compas_bunny_closed_low_res.obj", UpAxis::PosZ);
   MultidirOptions o;
   o.restarts = 1;
   o.perturbations = 20;
@@ -928,7 +913,7 @@ TEST(DecompShared, LocalSearchReportsProgressAndCancels) {
 // (3 moves kept of 60), on a 2.5 deg stepper 93.05 -> 92.93 (1 kept).
 TEST(DecompShared, FourDofLocalSearchStaysOnTheMachinesAngles) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("voxelmaam_kitten.ply", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("voxelmaam_kitten.ply", UpAxis::PosY);
   for (const double step : {0.0, 2.5}) {
     MultidirOptions on, off;
     on.dof = off.dof = DofMode::FourDof;
@@ -958,7 +943,7 @@ TEST(DecompShared, FourDofLocalSearchStaysOnTheMachinesAngles) {
 
 TEST(DecompShared, KittenFourDofAxisSearch) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = loadPlaced("pymdp_kitten.off", UpAxis::PosY);
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", UpAxis::PosY);
   MultidirOptions o;
   o.dof = DofMode::FourDof;
   o.axisSearch = 180;

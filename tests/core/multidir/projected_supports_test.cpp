@@ -12,31 +12,23 @@
 #include <map>
 #include <vector>
 
-#include "box_union.h"
 #include "common/math_constants.h"
 #include "geometry/aabb_tree.h"
 #include "multidir/projected_supports.h"
+#include "test_meshes.h"
+#include "test_support.h"
 
 namespace omnislice {
 namespace {
 
-
-double signedVolume(const Mesh& m) {
-  double v = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    v += m.vertex(m.triangles[3 * f]).dot(m.vertex(m.triangles[3 * f + 1]).cross(m.vertex(m.triangles[3 * f + 2])));
-  }
-  return v / 6;
-}
-
-// L-bracket: column [0,10]^2 x [0,30], arm [10,30] x [0,10] x [20,30]; underside 200 mm^2 at z = 20.
-Mesh makeL() { return test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}}); }
+// test::makeLBracket(10): column [0,10]^2 x [0,30], arm [10,30] x [0,10] x [20,30]; underside
+// 200 mm^2 at z = 20.
 
 TEST(ProjectedSupports, FixedDirectionSamplesTheUndersideAndReachesThePlatform) {
   SupportOptions o;
   o.samplingMm = 2;
   o.mergeAngleDeg = 0;  // straight columns (trees: ProjectedSupports.TreesMerge...)
-  const SupportResult r = projectedSupports(makeL(), {}, o);
+  const SupportResult r = projectedSupports(test::makeLBracket(10), {}, o);
   ASSERT_TRUE(r.ok()) << r.message;
   // Grid nodes (2i, 2j) inside the underside [10,30] x [0,10] (closed): 11 x 6, less the column
   // edge x = 10 which the column's own faces border (still in the closed face: counted).
@@ -72,7 +64,7 @@ TEST(ProjectedSupports, StrutsLandOnTheModelBelow) {
 // then along -Z to the platform. Every trace is a chain of pieces, each along -d of its subspace
 // with its midpoint inside that subspace, the last one on the platform or the surface.
 TEST(ProjectedSupports, ProgressiveProjectionChainsPiecesThroughSubspaces) {
-  const Mesh m = makeL();
+  const Mesh m = test::makeLBracket(10);
   const Eigen::Vector3d n = Eigen::Vector3d(std::sin(kPi / 6), 0, std::cos(kPi / 6));
   const std::vector<Plane> planes = {{n, n.dot(Eigen::Vector3d(20, 0, 20))}};
   SupportOptions o;
@@ -121,7 +113,7 @@ TEST(ProjectedSupports, StrutIntoALaterSubspaceIsBlocked) {
   // risky samples in subspace 1 = the platform's. With the platform direction +Z nothing crosses
   // x = 25: nothing is blocked. Tilting subspace 0's plane so that it covers the space under the
   // arm (normal pointing down-left) makes the way down cross into it.
-  const Mesh m = makeL();
+  const Mesh m = test::makeLBracket(10);
   const SupportResult free = projectedSupports(m, {{Eigen::Vector3d(1, 0, 0), 25}});
   ASSERT_TRUE(free.ok());
   EXPECT_EQ(free.blocked, 0u);
@@ -137,7 +129,7 @@ TEST(ProjectedSupports, StrutIntoALaterSubspaceIsBlocked) {
 TEST(ProjectedSupports, SupportMeshIsClosedOutwardAndHasThePrimitivesVolume) {
   SupportOptions o;
   o.roofMm = 0.4;
-  const SupportResult r = projectedSupports(makeL(), {}, o);
+  const SupportResult r = projectedSupports(test::makeLBracket(10), {}, o);
   ASSERT_TRUE(r.ok());
   const int sides = 8;
   const Mesh mesh = supportMesh(r, 0, o, sides);
@@ -159,7 +151,7 @@ TEST(ProjectedSupports, SupportMeshIsClosedOutwardAndHasThePrimitivesVolume) {
     expect += sides * rin * rin * std::tan(kPi / sides) * (s.top - s.bottom).z();  // height along d
   }
   expect += r.roofVolumeMm3;
-  EXPECT_NEAR(signedVolume(mesh), expect, 1e-6 * expect);
+  EXPECT_NEAR(test::meshVolume(mesh), expect, 1e-6 * expect);
   EXPECT_NEAR(r.roofVolumeMm3, 200 * 0.4, 1e-9);
   EXPECT_TRUE(supportMesh(r, 1, o).empty());  // no such subspace
 }
@@ -169,7 +161,7 @@ TEST(ProjectedSupports, SupportMeshIsClosedOutwardAndHasThePrimitivesVolume) {
 // on the platform or at the top of another piece of its tree; trees use less strut volume than
 // the straight columns and hold every sample.
 TEST(ProjectedSupports, TreesMergeWithinThirtyDegreesAndSaveVolume) {
-  const Mesh m = makeL();
+  const Mesh m = test::makeLBracket(10);
   SupportOptions columns;
   columns.mergeAngleDeg = 0;
   const SupportResult straight = projectedSupports(m, {}, columns);
@@ -205,7 +197,7 @@ TEST(ProjectedSupports, TreesMergeWithinThirtyDegreesAndSaveVolume) {
 }
 
 TEST(ProjectedSupports, BadOptionsAndCancel) {
-  const Mesh m = makeL();
+  const Mesh m = test::makeLBracket(10);
   SupportOptions o;
   o.samplingMm = 0;
   EXPECT_EQ(projectedSupports(m, {}, o).status, Status::InvalidOption);

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"

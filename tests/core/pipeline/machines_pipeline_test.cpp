@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "kinematics/kinematics.h"
 #include "pipeline/pipeline.h"

@@ -15,7 +15,7 @@
 #include <string>
 #include <vector>
 
-#include "box_union.h"
+#include "test_meshes.h"
 #include "pipeline_fixtures.h"
 #include "slice_and_verify.h"
 #include "pipeline/pipeline.h"
@@ -112,7 +112,7 @@ double planarSupported(const std::vector<uint8_t>& bytes, const std::string& nam
 // direction, no risky face is left, and the program is fully supported where the planar print of
 // the same bracket is not.
 TEST(MultidirPipeline, LBracketOneCutIsSupportFreeOnTheTable) {
-  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const Mesh l = test::makeLBracket(10);
   const std::vector<uint8_t> bytes = test::binaryStl(l);
   Settings s = multidirSettings("table5");
   // 0.2 mm layers: verify's reach 1.5 h = 0.3 mm is then below the solid line spacing (0.41 mm),
@@ -137,7 +137,7 @@ TEST(MultidirPipeline, LBracketOneCutIsSupportFreeOnTheTable) {
 // The preview buffers for the page: every part's closed mesh with its print index per triangle,
 // and risky flags per triangle of the placed part whose areas give J_G before and after.
 TEST(MultidirPipeline, PreviewBuffersHoldPartsAndRiskyFaces) {
-  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const Mesh l = test::makeLBracket(10);
   const std::vector<uint8_t> bytes = test::binaryStl(l);
   const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", multidirSettings("table5"));
   ASSERT_TRUE(out.ok()) << out.message;
@@ -372,7 +372,7 @@ TEST(MultidirPipeline, RefusesBadSetUps) {
 }
 
 TEST(MultidirPipeline, CancelStopsInEveryStage) {
-  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const Mesh l = test::makeLBracket(10);
   const std::vector<uint8_t> bytes = test::binaryStl(l);
   const Settings s = multidirSettings("table5");
   std::set<std::string> seen;

@@ -9,6 +9,7 @@
 #include <set>
 #include <sstream>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"
@@ -81,7 +82,7 @@ TEST(Pipeline, BoxSlicesAndVerifies) {
 // Slicing along a direction d on cartesian3 turns d up; the recorded placement maps the input
 // onto the part frame, so verify against the input mesh succeeds for every direction.
 TEST(Pipeline, DirectionsOtherThanZ) {
-  const auto bytes = test::binaryStl(test::makeSphere(8, 24, 32));
+  const auto bytes = test::binaryStl(test::makeUvSphere(8, 32, 24));
   for (const char* d : {"0,0,1", "1,0,0", "1,1,1", "0,-1,0.3"}) {
     Settings s = solidSettings();
     ASSERT_TRUE(setSetting(s, "direction", d).ok());
@@ -169,7 +170,7 @@ TEST(Pipeline, ErrorsAreStatuses) {
 
 // Progress names the stages in order; returning false cancels at any stage.
 TEST(Pipeline, ProgressAndCancel) {
-  const auto bytes = test::binaryStl(test::makeSphere(10, 16, 24));
+  const auto bytes = test::binaryStl(test::makeUvSphere(10, 24, 16));
   Settings s;
   std::vector<std::string> stages;
   SliceOutput out = runSlice(bytes.data(), bytes.size(), "s.stl", s, [&](const char* st, double f) {

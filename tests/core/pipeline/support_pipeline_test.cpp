@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "box_union.h"
+#include "test_meshes.h"
 #include "geometry/aabb_tree.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"
@@ -73,7 +73,7 @@ SupportMoves checkSupportMoves(const Sliced& r, double w) {
 }
 
 TEST(SupportPipeline, PlanarSupportsHoldTheOverhang) {
-  const Mesh l = test::makeBoxUnion({{0, 0, 0, 10, 10, 30}, {10, 0, 20, 30, 10, 30}});
+  const Mesh l = test::makeLBracket(10);
   const std::vector<uint8_t> bytes = test::binaryStl(l);
   Settings s;
   s.machine = "cartesian3";

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "isoplanar/surface_samples.h"
 #include "kinematics/kinematics.h"
@@ -90,8 +91,7 @@ TEST(SurfacePipeline, SeatOnTable5PassesVerify) {
 TEST(SurfacePipeline, ThetaStarBeatsOtherDirectionsOnTheSaddle) {
   MachineProfileResult robot = builtinMachine("robot6-ur5", {220, 220, 250}, 1.0);
   ASSERT_TRUE(robot.ok());
-  Mesh saddle = makeSaddleSurface(100, 37.5, 5000);
-  for (size_t i = 2; i < saddle.positions.size(); i += 3) saddle.positions[i] += 20;  // on a base
+  const Mesh saddle = test::translated(makeSaddleSurface(100, 37.5, 5000), {0, 0, 20});  // on a base
   IsoplanarSettings set;
   set.directions = 60;
   IsoplanarFillOptions o;
@@ -124,7 +124,7 @@ TEST(SurfacePipeline, RefusesWhatIsNotAPrintableSurface) {
   Settings s = surfaceSettings("robot6-ur5");
   // A closed solid is not a surface.
   {
-    const std::vector<uint8_t> bytes = test::binaryStl(test::makeSphere(10, 12, 24));
+    const std::vector<uint8_t> bytes = test::binaryStl(test::makeUvSphere(10, 24, 12));
     SliceOutput out = runSlice(bytes.data(), bytes.size(), "ball.stl", s);
     EXPECT_FALSE(out.ok());
     EXPECT_EQ(out.status, Status::DegenerateInput) << out.message;

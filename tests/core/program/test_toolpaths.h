@@ -1,7 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Hand-built tool-paths for the writer, reader and verification tests (independent of the slicer):
-// a solid box (two walls + zig-zag at 100 %) and a solid sphere (concentric rings), plus a UV
-// sphere mesh.
+// a solid box (two walls + zig-zag at 100 %) and a solid sphere (concentric rings).
 #pragma once
 #include <Eigen/Core>
 #include <algorithm>
@@ -9,7 +8,6 @@
 #include <functional>
 #include <vector>
 
-#include "mesh/mesh.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice::test {
@@ -133,39 +131,6 @@ inline Toolpath sphereToolpath(double R, double h, double w) {
     }
   }
   return b.path;
-}
-
-// UV sphere (outward-oriented, closed) of radius R centred at c.
-inline Mesh makeUvSphere(double R, const Eigen::Vector3d& c, int slices = 96, int stacks = 48) {
-  Mesh m;
-  auto add = [&](const Eigen::Vector3d& p) {
-    m.positions.push_back(p.x());
-    m.positions.push_back(p.y());
-    m.positions.push_back(p.z());
-    return uint32_t(m.positions.size() / 3 - 1);
-  };
-  const uint32_t south = add(c + Eigen::Vector3d(0, 0, -R));
-  for (int i = 1; i < stacks; ++i) {
-    const double phi = M_PI * i / stacks - M_PI / 2;
-    for (int j = 0; j < slices; ++j) {
-      const double th = 2 * M_PI * j / slices;
-      add(c + R * Eigen::Vector3d(std::cos(phi) * std::cos(th), std::cos(phi) * std::sin(th),
-                                  std::sin(phi)));
-    }
-  }
-  const uint32_t north = add(c + Eigen::Vector3d(0, 0, R));
-  auto ring = [&](int i, int j) { return uint32_t(1 + (i - 1) * slices + (j % slices)); };
-  for (int j = 0; j < slices; ++j) {
-    m.triangles.insert(m.triangles.end(), {south, ring(1, j + 1), ring(1, j)});
-    m.triangles.insert(m.triangles.end(), {north, ring(stacks - 1, j), ring(stacks - 1, j + 1)});
-  }
-  for (int i = 1; i + 1 < stacks; ++i) {
-    for (int j = 0; j < slices; ++j) {
-      m.triangles.insert(m.triangles.end(), {ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-      m.triangles.insert(m.triangles.end(), {ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-    }
-  }
-  return m;
 }
 
 }  // namespace omnislice::test

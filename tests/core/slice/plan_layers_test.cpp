@@ -10,6 +10,7 @@
 #include <random>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "slice/travel_order.h"
 #include "slice_test_support.h"
@@ -223,9 +224,9 @@ TEST(PlanLayers, GridInfillShareAndFullInfill) {
 TEST(PlanLayers, TravelRetractionAndLayerStarts) {
   // Four separate columns: islands far apart force long travels.
   Mesh m = makeBox(0, 0, 0, 8, 8, 3);
-  m = test::appendMesh(m, makeBox(30, 0, 0, 38, 8, 3));
-  m = test::appendMesh(m, makeBox(0, 30, 0, 8, 38, 3));
-  m = test::appendMesh(m, makeBox(30, 30, 0, 38, 38, 3));
+  m = test::append(m, makeBox(30, 0, 0, 38, 8, 3));
+  m = test::append(m, makeBox(0, 30, 0, 8, 38, 3));
+  m = test::append(m, makeBox(30, 30, 0, 38, 38, 3));
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
   const PlanarOptions s = baseSettings();
@@ -306,8 +307,8 @@ double shuffledTravel(std::vector<PrintRun> runs, unsigned seed) {
 }
 
 TEST(PlanLayers, TravelOrderBeatsUnorderedBaseline) {
-  Mesh m = test::makeTorus({0, 0, 5}, 15, 5, 64, 32);
-  m = test::appendMesh(m, makeBox(30, -5, 0, 40, 5, 10));
+  Mesh m = test::makeTorus(15, 5, 64, 32, {0, 0, 5});
+  m = test::append(m, makeBox(30, -5, 0, 40, 5, 10));
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
   const PlanarOptions s = baseSettings();
@@ -369,7 +370,7 @@ TEST(PlanLayers, ManyIslandsOrderedQuickly) {
   // tour of about 400 x pitch per layer, far below a shuffled order).
   Mesh m;
   for (int i = 0; i < 20; ++i) {
-    for (int j = 0; j < 20; ++j) m = test::appendMesh(m, makeBox(5 * i, 5 * j, 0, 5 * i + 3, 5 * j + 3, 2));
+    for (int j = 0; j < 20; ++j) m = test::append(m, makeBox(5 * i, 5 * j, 0, 5 * i + 3, 5 * j + 3, 2));
   }
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
@@ -391,7 +392,7 @@ TEST(PlanLayers, ManyIslandsOrderedQuickly) {
 }
 
 TEST(PlanLayers, TiltedDirectionsStayInsideSections) {
-  const Mesh sphere = test::makeSphere({0, 0, 10}, 10, 32, 64);
+  const Mesh sphere = test::makeUvSphere(10, 64, 32, {0, 0, 10});
   for (const Eigen::Vector3d& dir :
        {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(1, 1, 1), Eigen::Vector3d(0, -1, 0.3)}) {
     SliceOptions o;
@@ -417,7 +418,7 @@ TEST(PlanLayers, TiltedDirectionsStayInsideSections) {
 }
 
 TEST(PlanLayers, TorusWallsAroundHole) {
-  const Mesh torus = test::makeTorus({0, 0, 5}, 10, 3, 96, 48);
+  const Mesh torus = test::makeTorus(10, 3, 96, 48, {0, 0, 5});
   const SliceResult slices = sliceMesh(torus, SliceOptions{});
   ASSERT_TRUE(slices.ok());
   PlanarOptions s = baseSettings();
@@ -438,7 +439,7 @@ TEST(PlanLayers, TorusWallsAroundHole) {
 }
 
 TEST(PlanLayers, EmptyLayersAndNoWalls) {
-  const Mesh two = test::appendMesh(makeBox(0, 0, 0, 4, 4, 1), makeBox(0, 0, 2, 4, 4, 3));
+  const Mesh two = test::append(makeBox(0, 0, 0, 4, 4, 1), makeBox(0, 0, 2, 4, 4, 3));
   SliceOptions o;
   o.layerHeight = 0.25;
   const SliceResult slices = sliceMesh(two, o);
@@ -485,7 +486,7 @@ TEST(PlanLayers, StatusForBadInput) {
 
 TEST(PlanLayers, TimingHundredThousandTriangles) {
   // ~100k triangles, 100 mm tall: a sphere of radius 50 mm (nLat 224 x nLon 448 = 100,352 faces).
-  const Mesh sphere = test::makeSphere({0, 0, 50}, 50, 224, 224);
+  const Mesh sphere = test::makeUvSphere(50, 224, 224, {0, 0, 50});
   ASSERT_GE(sphere.faceCount(), 99000u);
   const auto t0 = std::chrono::steady_clock::now();
   const SliceResult slices = sliceMesh(sphere, SliceOptions{});
@@ -505,7 +506,7 @@ TEST(PlanLayers, TimingHundredThousandTriangles) {
 
 TEST(PlanLayers, RealModelKittenTilted) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh kitten = test::loadSolid("pymdp_kitten.off");
+  const Mesh kitten = test::loadModel("pymdp_kitten.off");
   ASSERT_EQ(kitten.faceCount(), 10000u);
   for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(1, 1, 0.2)}) {
     SliceOptions o;

@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "slice_test_support.h"
 
@@ -17,7 +18,7 @@ namespace {
 using test::layerArea;
 using test::makeBox;
 using test::makeBipyramid;
-using test::makeSphere;
+using test::makeUvSphere;
 using test::makeTorus;
 using test::meshVolume;
 using test::slicedVolume;
@@ -155,7 +156,7 @@ TEST(SliceMesh, LayerCountRuleKeepsHeightWithinHalfLayer) {
 }
 
 TEST(SliceMesh, SphereVolumeAlongSeveralDirections) {
-  const Mesh sphere = makeSphere({3, -2, 12}, 10, 48, 96);
+  const Mesh sphere = makeUvSphere(10, 96, 48, {3, -2, 12});
   const double volume = meshVolume(sphere);
   ASSERT_GT(volume, 0);
   for (const Eigen::Vector3d& dir : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(1, 0, 0),
@@ -177,7 +178,7 @@ TEST(SliceMesh, SphereVolumeAlongSeveralDirections) {
 
 TEST(SliceMesh, TorusIslandsAndHoles) {
   // Torus around Z: R = 10, r = 3, centre z = 5.
-  const Mesh torus = makeTorus({0, 0, 5}, 10, 3, 96, 48);
+  const Mesh torus = makeTorus(10, 3, 96, 48, {0, 0, 5});
   const double volume = meshVolume(torus);
   SliceOptions o;
   o.layerHeight = 0.2;
@@ -300,7 +301,7 @@ TEST(SliceMesh, DegenerateEmptySlices) {
   ASSERT_TRUE(r.ok());
   for (const SliceLayer& layer : r.layers) EXPECT_FALSE(layer.islands.empty());
   // Two shells with a gap: the layers in the gap are empty, the others hold one island.
-  const Mesh two = test::appendMesh(makeBox(0, 0, 0, 4, 4, 1), makeBox(0, 0, 2, 4, 4, 3));
+  const Mesh two = test::append(makeBox(0, 0, 0, 4, 4, 1), makeBox(0, 0, 2, 4, 4, 3));
   const SliceResult r2 = sliceMesh(two, o);
   expectWellFormed(r2, two, 0.25, "two boxes");
   ASSERT_EQ(r2.layers.size(), 12u);
@@ -322,7 +323,7 @@ TEST(SliceMesh, PartThinnerThanHalfFirstLayer) {
 
 TEST(SliceMesh, OverlappingShellsAreUnited) {
   // Two overlapping boxes (non-zero union): one island of the union's area.
-  const Mesh two = test::appendMesh(makeBox(0, 0, 0, 4, 4, 2), makeBox(2, 2, 0, 6, 6, 2));
+  const Mesh two = test::append(makeBox(0, 0, 0, 4, 4, 2), makeBox(2, 2, 0, 6, 6, 2));
   const SliceResult r = sliceMesh(two, SliceOptions{});
   expectWellFormed(r, two, 0.2, "overlap");
   for (const SliceLayer& layer : r.layers) {
@@ -339,12 +340,12 @@ TEST(SliceMesh, ManyOverlappingShellsFormIslandsWithHoles) {
   Mesh soup;
   for (int k = 0; k <= 40; ++k) {
     const double t = 0.5 * k;
-    soup = test::appendMesh(soup, makeBox(t, 0, 0, t + 1, 1, 1));
-    soup = test::appendMesh(soup, makeBox(t, 20, 0, t + 1, 21, 1));
-    soup = test::appendMesh(soup, makeBox(0, t, 0, 1, t + 1, 1));
-    soup = test::appendMesh(soup, makeBox(20, t, 0, 21, t + 1, 1));
+    soup = test::append(soup, makeBox(t, 0, 0, t + 1, 1, 1));
+    soup = test::append(soup, makeBox(t, 20, 0, t + 1, 21, 1));
+    soup = test::append(soup, makeBox(0, t, 0, 1, t + 1, 1));
+    soup = test::append(soup, makeBox(20, t, 0, 21, t + 1, 1));
   }
-  for (int k = 0; k < 30; ++k) soup = test::appendMesh(soup, makeBox(3 + 0.5 * k, 10, 0, 4 + 0.5 * k, 11, 1));
+  for (int k = 0; k < 30; ++k) soup = test::append(soup, makeBox(3 + 0.5 * k, 10, 0, 4 + 0.5 * k, 11, 1));
   SliceOptions o;
   o.layerHeight = 0.25;
   const SliceResult r = sliceMesh(soup, o);
@@ -361,9 +362,9 @@ TEST(SliceMesh, ManyOverlappingShellsFormIslandsWithHoles) {
 TEST(SliceMesh, InsideOutMeshGivesTheSameRegions) {
   // Non-zero union: with every face flipped, loops reverse (outer CW, holes CCW) yet the winding
   // is still non-zero exactly inside the solid, so islands and holes are unchanged.
-  Mesh torus = makeTorus({0, 0, 5}, 10, 3, 48, 24);
+  Mesh torus = makeTorus(10, 3, 48, 24, {0, 0, 5});
   const SliceResult a = sliceMesh(torus, SliceOptions{});
-  test::flipFaces(torus);
+  torus = test::flipped(torus);
   const SliceResult b = sliceMesh(torus, SliceOptions{});
   ASSERT_TRUE(a.ok() && b.ok());
   ASSERT_EQ(a.layers.size(), b.layers.size());
@@ -376,7 +377,7 @@ TEST(SliceMesh, InsideOutMeshGivesTheSameRegions) {
 
 TEST(SliceMesh, ClosingRadiusBridgesTinyGaps) {
   // Two boxes 0.02 mm apart: two islands; closing with 0.05 mm merges them.
-  const Mesh two = test::appendMesh(makeBox(0, 0, 0, 4, 4, 1), makeBox(4.02, 0, 0, 8, 4, 1));
+  const Mesh two = test::append(makeBox(0, 0, 0, 4, 4, 1), makeBox(4.02, 0, 0, 8, 4, 1));
   SliceOptions o;
   EXPECT_EQ(sliceMesh(two, o).layers[2].islands.size(), 2u);
   o.closingRadius = 0.05;
@@ -437,7 +438,7 @@ TEST(SliceMesh, RealModelsAlongSeveralDirections) {
   struct Model { const char* file; double scale; };
   for (const Model& model : {Model{"compas_bunny_closed_low_res.obj", 0.5}, Model{"pymdp_kitten.off", 1.0},
                              Model{"compas_branches_16_closed_mid_res.stl", 0.5}}) {
-    const Mesh mesh = test::loadSolid(model.file, model.scale);
+    const Mesh mesh = test::loadModel(model.file, model.scale);
     ASSERT_GT(mesh.faceCount(), 1000u) << model.file;
     const double volume = meshVolume(mesh);
     ASSERT_GT(volume, 0) << model.file;

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "surface/surface_test_meshes.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {
@@ -196,11 +197,7 @@ TEST(BoundaryDistance, InvalidInputsReturnStatus) {
   EXPECT_EQ(boundaryGeodesicDistance(test::makeBox(0, 0, 0, 1, 1, 1)).status, Status::InvalidOption);
   // A disc plus a separate closed box: the closed component has no boundary.
   {
-    Mesh m = test::makeDisc(3, 0.5);
-    const Mesh box = test::makeBox(10, 10, 0, 11, 11, 1);
-    const uint32_t base = static_cast<uint32_t>(m.vertexCount());
-    m.positions.insert(m.positions.end(), box.positions.begin(), box.positions.end());
-    for (uint32_t v : box.triangles) m.triangles.push_back(v + base);
+    const Mesh m = test::append(test::makeDisc(3, 0.5), test::makeBox(10, 10, 0, 11, 11, 1));
     EXPECT_EQ(boundaryGeodesicDistance(m).status, Status::InvalidOption);
   }
   EXPECT_EQ(boundaryGeodesicDistance(Mesh{}).status, Status::EmptyInput);

@@ -17,8 +17,8 @@
 #include <unordered_map>
 
 #include "geometry/aabb_tree.h"
-#include "mesh/read_mesh.h"
 #include "surface/surface_test_meshes.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {
@@ -60,16 +60,6 @@ class Grid {
   double cell_;
   std::unordered_map<int64_t, std::vector<size_t>> cells_;
 };
-
-double meshArea(const Mesh& m) {
-  double a = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    a += 0.5 * (m.vertex(m.triangles[3 * f + 1]) - m.vertex(m.triangles[3 * f]))
-                   .cross(m.vertex(m.triangles[3 * f + 2]) - m.vertex(m.triangles[3 * f]))
-                   .norm();
-  }
-  return a;
-}
 
 // Euclidean distance to the boundary polyline: exact on planar meshes, a lower bound of the
 // geodesic distance on curved ones.
@@ -158,7 +148,7 @@ SpiralStats checkSpiral(const char* name, const Mesh& m, const DistanceFn& exact
   // Coverage: points sampled on the region at least s/2 from the boundary within 0.75 s of the path.
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> u(0, 1);
-  const double area = meshArea(m);
+  const double area = test::surfaceArea(m);
   std::vector<double> cdf;
   double acc = 0;
   for (size_t f = 0; f < m.faceCount(); ++f) {
@@ -341,12 +331,11 @@ TEST(FermatSpiral, InconsistentFaceOrientationStillGivesConsistentNormals) {
 TEST(FermatSpiral, RealOpenShells) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const char* name : {"compas_connection3legs_open_low_res.obj", "compas_Y_shape_mesh.obj"}) {
-    const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / name).string());
-    ASSERT_TRUE(read.ok()) << name << ": " << read.message;
+    const Mesh shell = test::loadModel(name, 1, test::Shell::MayBeOpen);
     SpiralOptions o;
     o.spacing = 2.0;  // the shells are 200+ mm tall: a 2 mm bead keeps the test fast
     o.resample = 2.0;
-    checkSpiral(name, read.mesh, planarBoundaryDistance(read.mesh), 1, o);
+    checkSpiral(name, shell, planarBoundaryDistance(shell), 1, o);
   }
 }
 
@@ -499,10 +488,7 @@ namespace {
 // OMNISLICE_BENCH_W overrides w.
 TEST(FermatSpiral, DISABLED_BenchmarkBunnySections) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_low_res.obj").string());
-  ASSERT_TRUE(read.ok()) << read.message;
-  Mesh bunny = read.mesh;
-  for (double& x : bunny.positions) x *= 60.0 / 200.0;
+  const Mesh bunny = test::loadModel("compas_bunny_closed_low_res.obj", 60.0 / 200.0);
   const BoundingBox box = boundingBox(bunny);
   const AabbTree tree(bunny);
   double totalMs = 0, distanceMs = 0;

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <map>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
 #include "isoplanar/surface_samples.h"
@@ -16,11 +17,6 @@
 
 namespace omnislice {
 namespace {
-
-Mesh lifted(Mesh m, double dz) {
-  for (size_t i = 2; i < m.positions.size(); i += 3) m.positions[i] += dz;
-  return m;
-}
 
 // The solid passes the project's own solid checks without any repair.
 void expectValidSolid(const HeightFieldSolid& r) {
@@ -41,7 +37,7 @@ void expectValidSolid(const HeightFieldSolid& r) {
 
 TEST(HeightFieldSolid, SaddleVolumeAndSolidChecks) {
   const double R = 100, half = 37.5, c = 20;
-  const Mesh top = lifted(makeSaddleSurface(R, half, 10000), c);
+  const Mesh top = test::translated(makeSaddleSurface(R, half, 10000), {0, 0, c});
   const HeightFieldSolid r = heightFieldSolid(top);
   expectValidSolid(r);
   // Integral of c + (x^2 - y^2)/R over the square: the quadratic terms cancel.
@@ -73,7 +69,7 @@ TEST(HeightFieldSolid, BowlVolumeWithinMeshError) {
 }
 
 TEST(HeightFieldSolid, SeatSolidAndOffsetTop) {
-  const Mesh seat = lifted(makeSeatSurface(110, 6000), 25);
+  const Mesh seat = test::translated(makeSeatSurface(110, 6000), {0, 0, 25});
   const HeightFieldSolid r = heightFieldSolid(seat);
   expectValidSolid(r);
   const double offset = 0.4;
@@ -111,8 +107,7 @@ TEST(HeightFieldSolid, SeatSolidAndOffsetTop) {
 }
 
 TEST(HeightFieldSolid, DownFacingSurfaceIsFlipped) {
-  Mesh m = lifted(makeSaddleSurface(100, 20, 900), 10);
-  for (size_t f = 0; f < m.faceCount(); ++f) std::swap(m.triangles[3 * f + 1], m.triangles[3 * f + 2]);
+  const Mesh m = test::flipped(test::translated(makeSaddleSurface(100, 20, 900), {0, 0, 10}));
   const HeightFieldSolid r = heightFieldSolid(m);
   expectValidSolid(r);
   EXPECT_NEAR(test::meshVolume(r.solid), 4 * 20 * 20 * 10, 1e-6);
@@ -123,7 +118,7 @@ TEST(HeightFieldSolid, DownFacingSurfaceIsFlipped) {
 
 TEST(HeightFieldSolid, AnnulusWithHole) {
   // A grid with the middle quads removed: two boundary loops (outer CCW, inner CW).
-  Mesh m = lifted(makeSaddleSurface(100, 20, 441), 10);  // 21 x 21
+  Mesh m = test::translated(makeSaddleSurface(100, 20, 441), {0, 0, 10});  // 21 x 21
   Mesh cut = m;
   cut.triangles.clear();
   for (size_t f = 0; f < m.faceCount(); ++f) {
@@ -138,7 +133,7 @@ TEST(HeightFieldSolid, AnnulusWithHole) {
 }
 
 TEST(HeightFieldSolid, Refusals) {
-  const Mesh good = lifted(makeSaddleSurface(100, 10, 121), 5);
+  const Mesh good = test::translated(makeSaddleSurface(100, 10, 121), {0, 0, 5});
   EXPECT_EQ(heightFieldSolid(Mesh{}).status, Status::EmptyInput);
   Mesh nan = good;
   nan.positions[7] = NAN;
@@ -175,20 +170,12 @@ TEST(HeightFieldSolid, Refusals) {
   EXPECT_EQ(folded.status, Status::DegenerateInput);
   EXPECT_NE(folded.message.find("fold"), std::string::npos);
   // Two stacked sheets, both facing up: covered twice.
-  Mesh stacked = good;
-  const Mesh upper = lifted(makeSaddleSurface(100, 5, 36), 20);
-  const uint32_t base = static_cast<uint32_t>(stacked.vertexCount());
-  stacked.positions.insert(stacked.positions.end(), upper.positions.begin(), upper.positions.end());
-  for (uint32_t i : upper.triangles) stacked.triangles.push_back(i + base);
+  const Mesh stacked = test::append(good, test::translated(makeSaddleSurface(100, 5, 36), {0, 0, 20}));
   const HeightFieldSolid twice = heightFieldSolid(stacked);
   EXPECT_EQ(twice.status, Status::DegenerateInput);
   EXPECT_NE(twice.message.find("2 times"), std::string::npos) << twice.message;
   // Two sheets whose outlines cross (both up): the boundaries intersect seen from above.
-  Mesh crossing = good;
-  Mesh shifted = lifted(makeSaddleSurface(100, 5, 36), 20);
-  for (size_t i = 0; i < shifted.positions.size(); i += 3) shifted.positions[i] += 10;
-  crossing.positions.insert(crossing.positions.end(), shifted.positions.begin(), shifted.positions.end());
-  for (uint32_t i : shifted.triangles) crossing.triangles.push_back(i + base);
+  const Mesh crossing = test::append(good, test::translated(makeSaddleSurface(100, 5, 36), {10, 0, 20}));
   EXPECT_EQ(heightFieldSolid(crossing).status, Status::DegenerateInput);
   // Steep faces below minNormalZ are refused, accepted with a lower limit.
   Mesh steep;

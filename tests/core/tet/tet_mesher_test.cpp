@@ -20,66 +20,18 @@
 #include <utility>
 #include <vector>
 
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geodesic/heat_geodesic.h"
 #include "geometry/aabb_tree.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 
 namespace omnislice {
 namespace {
 
 using test::makeBox;
+using test::makeTorus;
+using test::makeUvSphere;
 using test::meshVolume;
-
-
-// Closed parametric surface on an (nu x nv) grid with u periodic; v either periodic (torus) or
-// running pole to pole (sphere, poles as single vertices). Outward for the maps below.
-Mesh makeSphere(double radius, int nu, int nv, const Eigen::Vector3d& centre = {0, 0, 0}) {
-  Mesh m;
-  auto add = [&](const Eigen::Vector3d& p) {
-    m.positions.insert(m.positions.end(), {p.x(), p.y(), p.z()});
-    return uint32_t(m.positions.size() / 3 - 1);
-  };
-  const uint32_t south = add(centre - Eigen::Vector3d(0, 0, radius));
-  for (int j = 1; j < nv; ++j) {
-    const double th = kPi * j / nv - kPi / 2;
-    for (int i = 0; i < nu; ++i) {
-      const double ph = 2 * kPi * i / nu;
-      add(centre + radius * Eigen::Vector3d(std::cos(th) * std::cos(ph),
-                                            std::cos(th) * std::sin(ph), std::sin(th)));
-    }
-  }
-  const uint32_t north = add(centre + Eigen::Vector3d(0, 0, radius));
-  auto ring = [&](int j, int i) { return uint32_t(1 + (j - 1) * nu + ((i % nu) + nu) % nu); };
-  for (int i = 0; i < nu; ++i) {
-    m.triangles.insert(m.triangles.end(), {south, ring(1, i + 1), ring(1, i)});
-    m.triangles.insert(m.triangles.end(), {north, ring(nv - 1, i), ring(nv - 1, i + 1)});
-    for (int j = 1; j + 1 < nv; ++j) {
-      m.triangles.insert(m.triangles.end(), {ring(j, i), ring(j, i + 1), ring(j + 1, i + 1)});
-      m.triangles.insert(m.triangles.end(), {ring(j, i), ring(j + 1, i + 1), ring(j + 1, i)});
-    }
-  }
-  return m;
-}
-
-Mesh makeTorus(double big, double small, int nu, int nv) {
-  Mesh m;
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
-      const double rr = big + small * std::cos(v);
-      m.positions.insert(m.positions.end(),
-                         {rr * std::cos(u), rr * std::sin(u), small * std::sin(v)});
-    }
-  auto id = [&](int i, int j) { return uint32_t(((i + nu) % nu) * nv + (j + nv) % nv); };
-  for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) {
-      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      m.triangles.insert(m.triangles.end(), {id(i, j), id(i + 1, j + 1), id(i, j + 1)});
-    }
-  return m;
-}
 
 // Euler characteristic V - E + F of a triangle mesh over its referenced vertices.
 long eulerCharacteristic(const Mesh& m) {
@@ -208,17 +160,6 @@ Report checkResult(const Mesh& solid, const TetMesherResult& r, const std::strin
   return rep;
 }
 
-Mesh loadModel(const std::string& file, double scale = 1) {
-  const ReadMeshResult raw = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(raw.ok()) << file << ": " << raw.message;
-  PrepareOptions po;
-  po.checkSelfIntersections = false;
-  PrepareMeshResult p = prepareMesh(raw.mesh, po);
-  EXPECT_TRUE(p.ok()) << file << ": " << p.message;
-  for (double& x : p.mesh.positions) x *= scale;
-  return p.mesh;
-}
-
 // Bounds stated for the stuffed mesh (the paper proves [10.7, 164.8] degrees for its stencils
 // and parity rule; our diagonal rule differs, these are the bounds measured with margin).
 constexpr double kMinDihedralStuffed = 8.0, kMaxDihedralStuffed = 172.0;
@@ -235,9 +176,9 @@ TEST(TetMesher, GeneratedSolidsValidConformingVolumeGenus) {
   cases.push_back({"box 10 mm centred on the origin", makeBox(-5, -5, -5, 5, 5, 5), 1.0, 0.02});
   cases.push_back({"box 100 m from the origin",
                    makeBox(1e5, -1e5, 1e5, 1e5 + 20, -1e5 + 30, 1e5 + 40), 2.0, 0.02});
-  cases.push_back({"sphere r=10", makeSphere(10, 96, 48), 0.8, 0.02});
+  cases.push_back({"sphere r=10", makeUvSphere(10, 96, 48), 0.8, 0.02});
   cases.push_back({"torus R=12 r=4", makeTorus(12, 4, 96, 48), 0.7, 0.03});
-  cases.push_back({"sphere r=10 default size", makeSphere(10, 96, 48), 0, 0.02});
+  cases.push_back({"sphere r=10 default size", makeUvSphere(10, 96, 48), 0, 0.02});
   for (const Case& c : cases) {
     TetMesherOptions o;
     o.cellSize = c.cellSize;
@@ -250,21 +191,6 @@ TEST(TetMesher, GeneratedSolidsValidConformingVolumeGenus) {
   }
 }
 
-Mesh joined(const Mesh& a, const Mesh& b, bool flipB) {
-  Mesh m = a;
-  const uint32_t base = uint32_t(a.vertexCount());
-  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-  for (size_t f = 0; f < b.faceCount(); ++f) {
-    const uint32_t* t = &b.triangles[3 * f];
-    if (flipB) {
-      m.triangles.insert(m.triangles.end(), {base + t[0], base + t[2], base + t[1]});
-    } else {
-      m.triangles.insert(m.triangles.end(), {base + t[0], base + t[1], base + t[2]});
-    }
-  }
-  return m;
-}
-
 // Several shells: a cavity (inner sphere facing inward) stays empty and gives a second boundary
 // component; overlapping shells are meshed as their union (winding number non-zero); an
 // inward-facing solid is meshed the same as the outward one.
@@ -272,7 +198,7 @@ TEST(TetMesher, CavityUnionAndOrientation) {
   TetMesherOptions o;
   o.cellSize = 0.7;
   {
-    const Mesh hollow = joined(makeSphere(10, 96, 48), makeSphere(5, 64, 32), true);
+    const Mesh hollow = test::append(makeUvSphere(10, 96, 48), test::flipped(makeUvSphere(5, 64, 32)));
     const TetMesherResult r = tetrahedralize(hollow, o);
     const Report rep = checkResult(hollow, r, "hollow sphere");
     EXPECT_NEAR(rep.volumeRatio, 1.0, 0.02);
@@ -285,8 +211,8 @@ TEST(TetMesher, CavityUnionAndOrientation) {
     }
   }
   {
-    const Mesh a = makeSphere(10, 96, 48), b = makeSphere(10, 96, 48, {10, 0, 0});
-    const Mesh both = joined(a, b, false);
+    const Mesh a = makeUvSphere(10, 96, 48), b = makeUvSphere(10, 96, 48, {10, 0, 0});
+    const Mesh both = test::append(a, b);
     const TetMesherResult r = tetrahedralize(both, o);
     ASSERT_TRUE(r.ok()) << r.message;
     // Union = two balls minus the lens pi (4R + d)(2R - d)^2 / 12, from the discrete volume.
@@ -297,8 +223,8 @@ TEST(TetMesher, CavityUnionAndOrientation) {
     EXPECT_TRUE(validateTetMesh(r.mesh).ok());
   }
   {
-    const Mesh out = makeSphere(10, 64, 32);
-    const Mesh in = joined(Mesh{}, out, true);
+    const Mesh out = makeUvSphere(10, 64, 32);
+    const Mesh in = test::flipped(out);
     const TetMesherResult a = tetrahedralize(out, o), b = tetrahedralize(in, o);
     ASSERT_TRUE(a.ok() && b.ok()) << a.message << b.message;
     EXPECT_EQ(a.mesh.tetCount(), b.mesh.tetCount());
@@ -317,7 +243,7 @@ TEST(TetMesher, SharedModelsAtDefaultSize) {
                           {"pymdp_kitten.off", 1},
                           {"nestedcages_fertility.off", 100}};
   for (const Model& m : models) {
-    const Mesh solid = loadModel(m.file, m.scale);
+    const Mesh solid = test::loadModel(m.file, m.scale);
     const TetMesherResult r = tetrahedralize(solid);
     const Report rep = checkResult(solid, r, m.file);
     EXPECT_NEAR(rep.volumeRatio, 1.0, 0.015) << m.file;
@@ -338,7 +264,7 @@ TEST(TetMesher, SharedModelsAtDefaultSize) {
 // size (thin struts lose their rims) and within 2 % at 1.2 mm cells.
 TEST(TetMesher, BranchesValidDespiteThinStrutsAndTouchingParts) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh solid = loadModel("compas_branches_16_closed_mid_res.stl");
+  const Mesh solid = test::loadModel("compas_branches_16_closed_mid_res.stl");
   const TetMesherResult r = tetrahedralize(solid);
   const Report rep = checkResult(solid, r, "branches default");
   EXPECT_NEAR(rep.volumeRatio, 1.0, 0.10);
@@ -363,7 +289,7 @@ TEST(TetMesher, BranchesValidDespiteThinStrutsAndTouchingParts) {
 // The Y-shape model of the manifest is an open shell (88 boundary edges): not a solid.
 TEST(TetMesher, OpenShellModelIsRefused) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh shell = loadModel("compas_Y_shape_mesh.obj");
+  const Mesh shell = test::loadModel("compas_Y_shape_mesh.obj", 1, test::Shell::MayBeOpen);
   const TetMesherResult r = tetrahedralize(shell);
   EXPECT_EQ(r.status, Status::OpenMesh) << r.message;
   EXPECT_NE(r.message.find("not closed"), std::string::npos) << r.message;
@@ -379,15 +305,11 @@ TEST(TetMesher, OpenShellModelIsRefused) {
 TEST(TetMesher, RotatedModelsAtSeveralSizes) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const char* file : {"compas_bunny_closed_low_res.obj", "pymdp_kitten.off"}) {
-    const Mesh base = loadModel(file);
+    const Mesh base = test::loadModel(file);
     for (int rot = 0; rot < 4; ++rot) {
-      Mesh solid = base;
       const Eigen::Matrix3d rotation =
           Eigen::AngleAxisd(0.37 * rot, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
-      for (size_t i = 0; i < solid.vertexCount(); ++i) {
-        const Eigen::Vector3d p = rotation * solid.vertex(i);
-        for (int k = 0; k < 3; ++k) solid.positions[3 * i + k] = p[k];
-      }
+      const Mesh solid = test::transformed(base, rotation, Eigen::Vector3d::Zero());
       for (size_t target : {20000u, 60000u}) {
         TetMesherOptions o;
         o.targetTets = target;
@@ -411,7 +333,7 @@ TEST(TetMesher, RotatedModelsAtSeveralSizes) {
 // must bring every boundary vertex onto the surface) leaves no tet flatter than the bound.
 TEST(TetMesher, DihedralBoundsBeforeAndAfterSnapping) {
   std::vector<std::pair<std::string, Mesh>> solids;
-  solids.emplace_back("sphere", makeSphere(10, 64, 32));
+  solids.emplace_back("sphere", makeUvSphere(10, 64, 32));
   solids.emplace_back("torus", makeTorus(12, 4, 64, 32));
   solids.emplace_back("box", makeBox(0, 0, 0, 10, 12, 14));
   for (const auto& [name, solid] : solids) {
@@ -446,7 +368,7 @@ TEST(TetMesher, DihedralBoundsBeforeAndAfterSnapping) {
 
 TEST(TetMesher, CellSizeFromTargetTets) {
   std::vector<std::pair<std::string, Mesh>> solids;
-  solids.emplace_back("sphere", makeSphere(10, 64, 32));
+  solids.emplace_back("sphere", makeUvSphere(10, 64, 32));
   solids.emplace_back("torus", makeTorus(12, 4, 64, 32));
   solids.emplace_back("box", makeBox(0, 0, 0, 10, 20, 80));
   for (const auto& [name, solid] : solids)
@@ -507,11 +429,7 @@ TEST(TetMesher, BadInput) {
   // Two small spheres 1.7 m apart at 0.1 mm cells: few tets (about 0.1 M) but a lattice of
   // about 1e13 vertices, refused before anything is allocated.
   {
-    Mesh two = makeSphere(1, 16, 8);
-    const Mesh far = makeSphere(1, 16, 8, {1000, 1000, 1000});
-    const uint32_t base = uint32_t(two.vertexCount());
-    two.positions.insert(two.positions.end(), far.positions.begin(), far.positions.end());
-    for (uint32_t i : far.triangles) two.triangles.push_back(base + i);
+    const Mesh two = test::append(makeUvSphere(1, 16, 8), makeUvSphere(1, 16, 8, {1000, 1000, 1000}));
     TetMesherOptions o;
     o.cellSize = 0.1;
     const TetMesherResult r = tetrahedralize(two, o);
@@ -536,7 +454,7 @@ TEST(TetMesher, BadInput) {
   for (double at : {0.0, 0.5}) {
     bool stageOk = true;
     const TetMesherResult r =
-        tetrahedralize(makeSphere(10, 64, 32), {}, [&](const char* stage, double f) {
+        tetrahedralize(makeUvSphere(10, 64, 32), {}, [&](const char* stage, double f) {
           stageOk = stageOk && std::string(stage) == "tetmesh";
           return f < at || (at == 0 && false);
         });
@@ -589,7 +507,7 @@ TEST(TetMesher, HeatGeodesicOnMeshedBox) {
 TEST(TetMesher, TimingsAtSixtyThousandTets) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   for (const char* file : {"compas_bunny_closed_low_res.obj", "pymdp_kitten.off"}) {
-    const Mesh solid = loadModel(file);
+    const Mesh solid = test::loadModel(file);
     double best = 1e300;
     TetMesherResult r;
     for (int rep = 0; rep < 3; ++rep) {

@@ -9,8 +9,6 @@
 
 #include "../test_support.h"
 #include "mesh/place_mesh.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 #include "pipeline/settings.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
@@ -29,15 +27,12 @@ struct EndToEnd {
 
 EndToEnd sliceAndVerify(const std::string& file, UpAxis up, double fitMm, double infill) {
   EndToEnd out;
-  const ReadMeshResult raw = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(raw.ok()) << raw.message;
-  const PrepareMeshResult prepared = prepareMesh(raw.mesh, PrepareOptions{});
-  EXPECT_TRUE(prepared.ok() && prepared.solid.ok()) << prepared.message << prepared.solid.message;
+  const Mesh prepared = test::loadModel(file);
   Settings settings;
   settings.placement.up = up;
   settings.placement.fitMm = fitMm;
   settings.infillPercent = infill;
-  const PlaceMeshResult placed = placeMesh(prepared.mesh, settings.placement);
+  const PlaceMeshResult placed = placeMesh(prepared, settings.placement);
   EXPECT_TRUE(placed.ok()) << placed.message;
   SliceOptions so;
   so.layerHeight = settings.layerHeight;
@@ -64,8 +59,8 @@ EndToEnd sliceAndVerify(const std::string& file, UpAxis up, double fitMm, double
   const ParsedProgram program = readProgram(written.text);
   EXPECT_TRUE(program.ok()) << program.message;
   // The header's placement brings the input mesh into the part frame.
-  for (size_t i = 0; i < prepared.mesh.vertexCount(); i += 97) {
-    const Eigen::Vector4d v = program.placement * prepared.mesh.vertex(i).homogeneous();
+  for (size_t i = 0; i < prepared.vertexCount(); i += 97) {
+    const Eigen::Vector4d v = program.placement * prepared.vertex(i).homogeneous();
     EXPECT_LT((v.head<3>() - placed.mesh.vertex(i)).norm(), 1e-6) << "vertex " << i;
   }
   const auto t0 = std::chrono::steady_clock::now();

@@ -8,6 +8,7 @@
 #include <cstdio>
 
 #include "../program/test_toolpaths.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "motion/plan_motion.h"
 #include "program/read_program.h"

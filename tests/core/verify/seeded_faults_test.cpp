@@ -11,6 +11,7 @@
 
 #include "../program/machine_paths.h"
 #include "../program/test_toolpaths.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"

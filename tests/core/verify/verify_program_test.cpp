@@ -7,9 +7,11 @@
 #include <nlohmann/json.hpp>
 
 #include "../program/test_toolpaths.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
 #include "machine/machine_json.h"
+#include "mesh/place_mesh.h"
 #include "program/write_gcode.h"
 
 namespace omnislice {
@@ -289,7 +291,7 @@ TEST(VerifyProgram, BeyondTheBedViolatesLimits) {
 
 TEST(VerifyProgram, SphereOf30mmPasses) {
   const double R = 15;
-  const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 256, 128);
+  const Mesh sphere = test::makeUvSphere(R, 256, 128, {0, 0, R});
   const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
   const auto t0 = std::chrono::steady_clock::now();
   const VerifyReport r = verifyProgram(p, sphere);
@@ -307,7 +309,7 @@ TEST(VerifyProgram, SphereOf30mmPasses) {
 // count with the AABB tree: winding number and "any triangle within w/2".
 TEST(VerifyProgram, InteriorGridPointsMatchPointByPointDistance) {
   const double R = 4;
-  const Mesh sphere = test::makeUvSphere(R, {0.07, -0.03, R}, 48, 24);
+  const Mesh sphere = test::makeUvSphere(R, 48, 24, {0.07, -0.03, R});
   const ParsedProgram p = throughGcode(test::sphereToolpath(R, 0.2, 0.45));
   const VerifyReport r = verifyProgram(p, sphere);
   ASSERT_TRUE(r.ok()) << r.message;
@@ -328,7 +330,7 @@ TEST(VerifyProgram, InteriorGridPointsMatchPointByPointDistance) {
 // the winding number) on a curved part, for a program shifted so that part of it lies outside.
 TEST(VerifyProgram, InsideMatchesSampleBySampleDistance) {
   const double R = 4;
-  const Mesh sphere = test::makeUvSphere(R, {0, 0, R}, 40, 20);
+  const Mesh sphere = test::makeUvSphere(R, 40, 20, {0, 0, R});
   Toolpath tp = test::sphereToolpath(R, 0.2, 0.45);
   for (Move& m : tp.moves) m.position += Eigen::Vector3d(0.61, -0.37, 0.05);
   tp.start += Eigen::Vector3d(0.61, -0.37, 0.05);
@@ -350,26 +352,6 @@ TEST(VerifyProgram, InsideMatchesSampleBySampleDistance) {
   EXPECT_EQ(r.inside, double(in) / double(n));
   EXPECT_LT(r.inside, 0.99);
   EXPECT_GT(r.inside, 0.5);
-}
-
-// Minimal ASCII OFF reader for the shared models (triangles only).
-Mesh readOff(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  std::string magic;
-  size_t nv = 0, nf = 0, ne = 0;
-  in >> magic >> nv >> nf >> ne;
-  Mesh m;
-  m.positions.resize(3 * nv);
-  for (double& x : m.positions) in >> x;
-  for (size_t f = 0; f < nf; ++f) {
-    int k = 0;
-    uint32_t a, b, c;
-    in >> k >> a >> b >> c;
-    m.triangles.push_back(a);
-    m.triangles.push_back(b);
-    m.triangles.push_back(c);
-  }
-  return m;
 }
 
 // 100 % raster tool-path of any closed mesh, independent of the slicer: per layer, lines along X
@@ -426,17 +408,12 @@ Toolpath rasterToolpath(const Mesh& mesh, double h, double w) {
 
 TEST(VerifyProgram, KittenOf30mmRasterPasses) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  Mesh kitten = readOff(test::sharedModelsDir() / "pymdp_kitten.off");
-  ASSERT_EQ(kitten.faceCount(), 10000u);
   // Y-up to Z-up (rotation about X by +90 degrees), scaled to 30 mm tall, resting on z = 0.
-  const double scale = 30.0 / 116.3;
-  for (size_t i = 0; i < kitten.vertexCount(); ++i) {
-    const double x = kitten.positions[3 * i], y = kitten.positions[3 * i + 1],
-                 z = kitten.positions[3 * i + 2];
-    kitten.positions[3 * i] = scale * x;
-    kitten.positions[3 * i + 1] = -scale * z;
-    kitten.positions[3 * i + 2] = scale * y;
-  }
+  PlaceOptions place;
+  place.up = UpAxis::PosY;
+  place.scale = 30.0 / 116.3;
+  const Mesh kitten = test::loadPlaced("pymdp_kitten.off", place);
+  ASSERT_EQ(kitten.faceCount(), 10000u);
   const Toolpath tp = rasterToolpath(kitten, 0.2, 0.45);
   const ParsedProgram p = throughGcode(tp);
   const auto t0 = std::chrono::steady_clock::now();

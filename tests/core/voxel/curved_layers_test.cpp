@@ -16,67 +16,14 @@
 #include <utility>
 
 #include "geometry/aabb_tree.h"
-#include "mesh/read_mesh.h"
 #include "voxel/voxelize.h"
+#include "test_meshes.h"
 #include "test_support.h"
 
 namespace omnislice {
 namespace {
 
 using test::makeBox;
-
-Mesh concat(const Mesh& a, const Mesh& b) {
-  Mesh m = a;
-  const uint32_t base = static_cast<uint32_t>(a.vertexCount());
-  m.positions.insert(m.positions.end(), b.positions.begin(), b.positions.end());
-  for (uint32_t v : b.triangles) m.triangles.push_back(base + v);
-  return m;
-}
-
-// Icosphere (subdivided icosahedron projected on the sphere), outward oriented.
-Mesh makeSphere(const Eigen::Vector3d& c, double r, int subdivisions) {
-  const double t = (1 + std::sqrt(5.0)) / 2;
-  std::vector<Eigen::Vector3d> v = {{-1, t, 0}, {1, t, 0},  {-1, -t, 0}, {1, -t, 0},
-                                    {0, -1, t}, {0, 1, t},  {0, -1, -t}, {0, 1, -t},
-                                    {t, 0, -1}, {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<std::array<uint32_t, 3>> f = {
-      {0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-      {11, 10, 2}, {10, 7, 6}, {7, 1, 8},  {3, 9, 4},  {3, 4, 2},   {3, 2, 6}, {3, 6, 8},
-      {3, 8, 9},  {4, 9, 5},  {2, 4, 11},  {6, 2, 10}, {8, 6, 7},   {9, 8, 1}};
-  for (auto& p : v) p.normalize();
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mid;
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-      const auto key = std::make_pair(std::min(a, b), std::max(a, b));
-      auto it = mid.find(key);
-      if (it != mid.end()) return it->second;
-      v.push_back((v[a] + v[b]).normalized());
-      return mid[key] = static_cast<uint32_t>(v.size() - 1);
-    };
-    std::vector<std::array<uint32_t, 3>> g;
-    for (const auto& t3 : f) {
-      const uint32_t a = midpoint(t3[0], t3[1]), b = midpoint(t3[1], t3[2]), d = midpoint(t3[2], t3[0]);
-      g.push_back({t3[0], a, d});
-      g.push_back({t3[1], b, a});
-      g.push_back({t3[2], d, b});
-      g.push_back({a, b, d});
-    }
-    f.swap(g);
-  }
-  Mesh m;
-  for (const auto& p : v) {
-    const Eigen::Vector3d q = c + r * p;
-    m.positions.insert(m.positions.end(), {q.x(), q.y(), q.z()});
-  }
-  for (const auto& t3 : f) m.triangles.insert(m.triangles.end(), {t3[0], t3[1], t3[2]});
-  return m;
-}
-
-Mesh placed(Mesh m) {  // translate so min z = 0
-  const BoundingBox bb = boundingBox(m);
-  for (size_t i = 2; i < m.positions.size(); i += 3) m.positions[i] -= bb.min.z();
-  return m;
-}
 
 // Voxel grid of a placed solid: cells with k > platformK whose centre is inside, dilated by one
 // cell (26-neighbourhood, not into the platform layer); Platform cells below the lowest part
@@ -422,14 +369,10 @@ TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
 // trimmed outlines on the faces, every layer one convex polygon of the exact section's area.
 TEST(CurvedLayers, RotatedCubeLargeTrianglesTrimExactly) {
   const double w = 0.3;
-  Mesh cube = makeBox(-7, -7, -7, 7, 7, 7);
   const Eigen::Matrix3d rot = (Eigen::AngleAxisd(0.5, Eigen::Vector3d(1, 2, 0.5).normalized()))
                                   .toRotationMatrix();
-  for (size_t v = 0; v < cube.vertexCount(); ++v) {
-    const Eigen::Vector3d p = rot * cube.vertex(v);
-    for (int k = 0; k < 3; ++k) cube.positions[3 * v + k] = p[k];
-  }
-  cube = placed(cube);
+  const Mesh cube =
+      test::onPlatform(test::transformed(makeBox(-7, -7, -7, 7, 7, 7), rot, Eigen::Vector3d::Zero()));
   const VoxelGrid grid = voxelGridOf(cube, w);
   CurvedLayersOptions opt;
   opt.isoStep = 4.1;
@@ -510,7 +453,7 @@ TEST(CurvedLayers, SphericalGrowthGivesSphericalLayers) {
 
 TEST(CurvedLayers, SphereSolidTrimmedBoundaryLiesOnSurface) {
   const double w = 0.3;
-  const Mesh sphere = placed(makeSphere({1.1, -0.4, 0}, 3.0, 4));
+  const Mesh sphere = test::onPlatform(test::makeIcosphere(3.0, 4, {1.1, -0.4, 0}));
   const VoxelGrid grid = voxelGridOf(sphere, w);
   CurvedLayersOptions opt;
   opt.isoStep = 1.3;
@@ -535,8 +478,8 @@ TEST(CurvedLayers, SphereSolidTrimmedBoundaryLiesOnSurface) {
 TEST(CurvedLayers, TwoPillarsGiveTwoRegionsOnUpperLayers) {
   const double w = 0.4;
   // Union of three overlapping boxes (the winding test treats the overlap as inside).
-  const Mesh solid = concat(concat(makeBox(0, 0, 0, 10, 4, 2), makeBox(0.5, 0.5, 1, 3.5, 3.5, 6)),
-                            makeBox(6.5, 0.5, 1, 9.5, 3.5, 6));
+  const Mesh pillars = test::append(makeBox(0.5, 0.5, 1, 3.5, 3.5, 6), makeBox(6.5, 0.5, 1, 9.5, 3.5, 6));
+  const Mesh solid = test::append(makeBox(0, 0, 0, 10, 4, 2), pillars);
   const VoxelGrid grid = voxelGridOf(solid, w);
   CurvedLayersOptions opt;
   opt.isoStep = 0.9;  // planes avoid z = 2, the top of the base
@@ -722,21 +665,17 @@ TEST(CurvedLayers, ProgressAndCancellation) {
   EXPECT_TRUE(cancelled.layers.empty());
 }
 
-// Real model: the closed low-resolution Bunny (Z-up, placed on z = 0), scaled to 40 mm tall.
-Mesh loadBunny(double height) {
-  ReadMeshResult read =
-      readMeshFile((test::sharedModelsDir() / "compas_bunny_closed_low_res.obj").string());
-  EXPECT_TRUE(read.ok()) << read.message;
-  Mesh m = read.mesh;
-  const BoundingBox bb = boundingBox(m);
-  const double s = height / (bb.max.z() - bb.min.z());
-  for (size_t i = 0; i < m.positions.size(); ++i) m.positions[i] *= s;
-  return placed(m);
+// Real model: the closed low-resolution Bunny (Z-up, 200 mm tall and standing on z = 0 in the
+// file), scaled to 40 mm tall.
+Mesh bunny40() {
+  PlaceOptions place;
+  place.scale = 40.0 / 200;
+  return test::loadPlaced("compas_bunny_closed_low_res.obj", place);
 }
 
 TEST(CurvedLayers, BunnyFlatLayersAreTrimmedOnTheSurface) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   const double w = 0.8;
   const VoxelGrid grid = voxelGridOf(bunny, w);
   CurvedLayersOptions opt;  // Eq. 2 step: w / d = 2 with d = 0.4
@@ -793,7 +732,7 @@ double sectionArea(const Mesh& m, double h) {
 // cross-section of the solid: every layer's area matches the exact section area of the mesh.
 TEST(CurvedLayers, VoxelizedBunnyLayersCoverTheExactSections) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   VoxelizeOptions vopt;
   vopt.width = 0.5;
   const VoxelizeResult vox = voxelizeSolid(bunny, vopt);
@@ -825,7 +764,7 @@ TEST(CurvedLayers, VoxelizedBunnyLayersCoverTheExactSections) {
 // Curved, integer-noisy layers; their trimmed boundaries still lie on the surface.
 TEST(CurvedLayers, BunnyBreadthFirstFieldGivesCurvedTrimmedLayers) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   VoxelizeOptions vopt;
   vopt.width = 0.8;
   const VoxelizeResult vox = voxelizeSolid(bunny, vopt);
@@ -891,7 +830,7 @@ TEST(CurvedLayers, BunnyBreadthFirstFieldGivesCurvedTrimmedLayers) {
 
 // Extracts the flat-growth layers of the Bunny at voxel width w and prints the timings.
 double timeBunnyLayers(double w, size_t minVoxels) {
-  const Mesh bunny = loadBunny(40);
+  const Mesh bunny = bunny40();
   const VoxelGrid grid = voxelGridOf(bunny, w);
   const size_t voxels = printableCount(grid);
   CurvedLayersOptions opt;

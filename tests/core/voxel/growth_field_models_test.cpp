@@ -13,8 +13,6 @@
 
 #include "../test_support.h"
 #include "mesh/place_mesh.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 #include "pipeline/settings.h"
 #include "voxel/growth_field.h"
 #include "voxel/lattice_hull.h"
@@ -24,16 +22,6 @@ namespace omnislice {
 namespace {
 
 using V3 = Eigen::Vector3i;
-
-Mesh loadPlaced(const std::string& file, const PlaceOptions& placement) {
-  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(read.ok()) << read.message;
-  const PrepareMeshResult prepared = prepareMesh(read.mesh, {});
-  EXPECT_TRUE(prepared.ok()) << prepared.message;
-  const PlaceMeshResult placed = placeMesh(prepared.mesh, placement);
-  EXPECT_TRUE(placed.ok()) << placed.message;
-  return placed.mesh;
-}
 
 // The pipeline's conservative voxelisation (voxelizeSolid), platform = footprint.
 VoxelGrid voxelGrid(const Mesh& mesh, double w) {
@@ -128,7 +116,7 @@ TEST(GrowthFieldModels, BunnyAndKittenHaveNoMissedVoxels) {
     PlaceOptions pl;
     pl.up = c.up;
     pl.fitMm = c.fitMm;
-    const VoxelGrid grid = voxelGrid(loadPlaced(c.file, pl), c.width);
+    const VoxelGrid grid = voxelGrid(test::loadPlaced(c.file, pl), c.width);
     std::printf("[ model ] %s: grid %dx%dx%d, %zu voxels\n", c.file, grid.dims.x(), grid.dims.y(),
                 grid.dims.z(), countPrintable(grid));
     {
@@ -174,7 +162,7 @@ TEST(GrowthFieldModels, BunnyOnADiscPlatform) {
   VoxelizeOptions vo;
   vo.width = 0.8;
   vo.platformRadius = 60;
-  const VoxelizeResult v = voxelizeSolid(loadPlaced("compas_bunny_closed_low_res.obj", pl), vo);
+  const VoxelizeResult v = voxelizeSolid(test::loadPlaced("compas_bunny_closed_low_res.obj", pl), vo);
   ASSERT_TRUE(v.ok()) << v.message;
   std::printf("[ model ] bunny on a 60 mm disc: %zu platform cells\n", v.platformCount);
   const GrowthField greedy = runCase(v.grid, "bunny-disc", GrowthStrategy::Gcfa);
@@ -190,7 +178,7 @@ TEST(GrowthFieldModels, LargeGridTiming) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   PlaceOptions pl;
   pl.fitMm = 80;
-  const VoxelGrid grid = voxelGrid(loadPlaced("compas_bunny_closed_high_res.stl", pl), 0.6);
+  const VoxelGrid grid = voxelGrid(test::loadPlaced("compas_bunny_closed_high_res.stl", pl), 0.6);
   std::printf("[ model ] bunny high-res at 0.6 mm: grid %dx%dx%d (%zu cells), %zu voxels\n",
               grid.dims.x(), grid.dims.y(), grid.dims.z(), grid.cellCount(), countPrintable(grid));
   const GrowthField f = runCase(grid, "bunny-0.6", GrowthStrategy::PgSpGcfa);
@@ -213,7 +201,7 @@ TEST(GrowthFieldModels, EpsilonSweep) {
     PlaceOptions pl;
     pl.up = c.up;
     pl.fitMm = c.fitMm;
-    const VoxelGrid grid = voxelGrid(loadPlaced(c.file, pl), c.width);
+    const VoxelGrid grid = voxelGrid(test::loadPlaced(c.file, pl), c.width);
     for (double eps : {1.0, 0.75, 0.5, 0.3, 0.1}) {
       const GrowthField f = runCase(grid, c.file, GrowthStrategy::PgSpGcfa, eps);
       expectFieldInvariants(grid, f, eps);
@@ -233,7 +221,7 @@ TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
   const char* names[] = {"+z", "-z", "+y", "-y", "+x", "-x"};
   for (UpAxis up : {UpAxis::PosZ, UpAxis::NegZ, UpAxis::PosY, UpAxis::NegY, UpAxis::PosX, UpAxis::NegX}) {
     pl.up = up;
-    const VoxelGrid g = voxelGrid(loadPlaced("nestedcages_fertility.off", pl), 0.8);
+    const VoxelGrid g = voxelGrid(test::loadPlaced("nestedcages_fertility.off", pl), 0.8);
     size_t foot = 0;
     for (size_t c = 0; c < g.cellCount(); ++c) foot += g.state[c] == uint8_t(VoxelState::Platform);
     std::printf("[ model ] fertility up %s: footprint %zu cells\n", names[int(up)], foot);
@@ -243,7 +231,7 @@ TEST(GrowthFieldModels, FertilityMissesAtMostThePapersCount) {
     }
   }
   pl.up = best;
-  const VoxelGrid grid = voxelGrid(loadPlaced("nestedcages_fertility.off", pl), 0.8);
+  const VoxelGrid grid = voxelGrid(test::loadPlaced("nestedcages_fertility.off", pl), 0.8);
   std::printf("[ model ] fertility: up %s, grid %dx%dx%d, %zu voxels\n", names[int(best)],
               grid.dims.x(), grid.dims.y(), grid.dims.z(), countPrintable(grid));
   for (GrowthStrategy s : strategiesToRun()) {

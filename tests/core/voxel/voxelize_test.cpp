@@ -12,12 +12,10 @@
 #include <cstdio>
 #include <random>
 
-#include "../mesh/generated_meshes.h"
+#include "../test_meshes.h"
 #include "../test_support.h"
 #include "geometry/aabb_tree.h"
 #include "mesh/place_mesh.h"
-#include "mesh/prepare_mesh.h"
-#include "mesh/read_mesh.h"
 
 namespace omnislice {
 namespace {
@@ -27,15 +25,6 @@ using Eigen::Vector3d;
 const uint8_t kSolid = static_cast<uint8_t>(VoxelState::Solid);
 const uint8_t kPlatform = static_cast<uint8_t>(VoxelState::Platform);
 const uint8_t kSupport = static_cast<uint8_t>(VoxelState::Support);
-
-// Moves the mesh so its lowest vertex is at z = 0 exactly.
-Mesh placed(Mesh m) {
-  double zmin = std::numeric_limits<double>::infinity();
-  for (size_t v = 0; v < m.vertexCount(); ++v) zmin = std::min(zmin, m.positions[3 * v + 2]);
-  for (size_t v = 0; v < m.vertexCount(); ++v) m.positions[3 * v + 2] -= zmin;
-  for (size_t v = 0; v < m.vertexCount(); ++v) m.positions[3 * v + 2] = std::max(0.0, m.positions[3 * v + 2]);
-  return m;
-}
 
 size_t countState(const VoxelGrid& g, uint8_t s) {
   return static_cast<size_t>(std::count(g.state.begin(), g.state.end(), s));
@@ -57,16 +46,6 @@ bool inSolidCell(const VoxelGrid& g, const Vector3d& p) {
       for (int i = lo[0]; i <= hi[0]; ++i)
         if (g.inRange(i, j, k) && g.at(i, j, k) == VoxelState::Solid) return true;
   return false;
-}
-
-double meshArea(const Mesh& m) {
-  double a = 0;
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    const Vector3d p = m.vertex(m.triangles[3 * f]), q = m.vertex(m.triangles[3 * f + 1]),
-                   r = m.vertex(m.triangles[3 * f + 2]);
-    a += 0.5 * (q - p).cross(r - p).norm();
-  }
-  return a;
 }
 
 // Grid invariants every result must satisfy: margin of >= 2 empty cells, no Solid below the
@@ -178,7 +157,7 @@ void checkConservative(const Mesh& m, double w, size_t insideSamples, uint32_t s
   }
   EXPECT_EQ(loose, 0u) << "Solid cells neither inside nor within half a diagonal of the surface";
 
-  const double volume = test::meshVolume(m), area = meshArea(m);
+  const double volume = test::meshVolume(m), area = test::surfaceArea(m);
   const double voxelVolume = double(r.solidCount) * w * w * w;
   EXPECT_GE(voxelVolume, volume) << "H~ must contain H";
   // The extra volume per unit area over a plane of normal n is about w (|nx| + |ny| + |nz|) / 2
@@ -190,19 +169,6 @@ void checkConservative(const Mesh& m, double w, size_t insideSamples, uint32_t s
               "(V~ - V) / (A w) %.3f, %.1f ms\n",
               w, r.solidCount, g.dims.x(), g.dims.y(), g.dims.z(), voxelVolume / volume,
               (voxelVolume - volume) / (area * w), ms);
-}
-
-Mesh loadPlaced(const std::string& file, UpAxis up, double fitMm) {
-  const ReadMeshResult read = readMeshFile((test::sharedModelsDir() / file).string());
-  EXPECT_TRUE(read.ok()) << read.message;
-  const PrepareMeshResult prep = prepareMesh(read.mesh, {});
-  EXPECT_TRUE(prep.ok() && prep.solid.ok()) << prep.message << prep.solid.message;
-  PlaceOptions ps;
-  ps.up = up;
-  ps.fitMm = fitMm;
-  const PlaceMeshResult placedMesh = placeMesh(prep.mesh, ps);
-  EXPECT_TRUE(placedMesh.ok()) << placedMesh.message;
-  return placedMesh.mesh;
 }
 
 // Number of lattice cells (pitch w) whose open interval meets [a, b], a < b.
@@ -271,7 +237,7 @@ TEST(Voxelize, RandomBoxesMatchAnalyticCount) {
 TEST(Voxelize, IcosphereBetweenInscribedAndCircumscribedBalls) {
   const double radius = 6;
   const Mesh raw = test::makeIcosphere(radius, 3, Vector3d(0.37, -0.21, 0));
-  const Mesh m = placed(raw);
+  const Mesh m = test::onPlatform(raw);
   const Vector3d c0(0.37, -0.21, -boundingBox(raw).min.z());  // the centre after placing
   double inradius = radius;
   for (size_t f = 0; f < m.faceCount(); ++f) {
@@ -307,7 +273,7 @@ TEST(Voxelize, IcosphereBetweenInscribedAndCircumscribedBalls) {
 TEST(Voxelize, TorusAndRotatedBoxAreConservativeAndTight) {
   {
     SCOPED_TRACE("torus");
-    checkConservative(placed(test::makeTorus(10, 3.3, 48, 24)), 0.6, 3000, 3);
+    checkConservative(test::onPlatform(test::makeTorus(10, 3.3, 48, 24)), 0.6, 3000, 3);
   }
   {
     SCOPED_TRACE("rotated box");
@@ -317,7 +283,7 @@ TEST(Voxelize, TorusAndRotatedBoxAreConservativeAndTight) {
       const Vector3d p = rot * box.vertex(v);
       for (int d = 0; d < 3; ++d) box.positions[3 * v + d] = p[d];
     }
-    checkConservative(placed(box), 0.37, 3000, 5);
+    checkConservative(test::onPlatform(box), 0.37, 3000, 5);
   }
 }
 
@@ -330,7 +296,7 @@ TEST(Voxelize, LargeSlantedTrianglesAreFast) {
     const Vector3d p = rot * box.vertex(v);
     for (int d = 0; d < 3; ++d) box.positions[3 * v + d] = p[d];
   }
-  const Mesh m = placed(box);
+  const Mesh m = test::onPlatform(box);
   const auto t0 = std::chrono::steady_clock::now();
   const VoxelizeResult r = voxelizeSolid(m, {0.25});
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -343,7 +309,7 @@ TEST(Voxelize, LargeSlantedTrianglesAreFast) {
 // Inside-ness uses the non-zero winding rule, and the triangle test does not care about order:
 // an inward-oriented copy with shuffled faces gives the same grid.
 TEST(Voxelize, IndependentOfOrientationAndFaceOrder) {
-  const Mesh m = placed(test::makeTorus(10, 3.3, 48, 24));
+  const Mesh m = test::onPlatform(test::makeTorus(10, 3.3, 48, 24));
   Mesh flipped = m;
   const size_t nf = m.faceCount();
   std::vector<size_t> order(nf);
@@ -394,11 +360,7 @@ TEST(Voxelize, PlatformDiscAroundFootprintCentre) {
 
 TEST(Voxelize, SupportColumnsEndOnSolidOrPlatform) {
   // An overhanging T: a pillar [0,1]^2 x [0,4] and a slab [-3,4] x [-3,4] x [4,5].
-  Mesh m = test::makeBox(0, 0, 0, 1, 1, 4.0);
-  const Mesh slab = test::makeBox(-3, -3, 4.0, 4, 4, 5);
-  const uint32_t base = static_cast<uint32_t>(m.vertexCount());
-  m.positions.insert(m.positions.end(), slab.positions.begin(), slab.positions.end());
-  for (uint32_t t : slab.triangles) m.triangles.push_back(t + base);
+  Mesh m = test::append(test::makeBox(0, 0, 0, 1, 1, 4.0), test::makeBox(-3, -3, 4.0, 4, 4, 5));
   const double w = 0.5;
   VoxelizeResult r = voxelizeSolid(m, {w});
   ASSERT_TRUE(r.ok()) << r.message;
@@ -506,7 +468,7 @@ TEST(Voxelize, BadInputReturnsStatus) {
 }
 
 TEST(Voxelize, ProgressAndCancellation) {
-  const Mesh m = placed(test::makeTorus(10, 3, 64, 32));
+  const Mesh m = test::onPlatform(test::makeTorus(10, 3, 64, 32));
   double last = -1;
   bool monotone = true;
   const VoxelizeResult ok = voxelizeSolid(m, {0.2}, [&](const char* stage, double f) {
@@ -545,7 +507,7 @@ TEST(VoxelizeModels, BunnyKittenFertilityAreConservative) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.file);
     std::printf("%s (fit %g):\n", c.file, c.fitMm);
-    const Mesh m = loadPlaced(c.file, c.up, c.fitMm);
+    const Mesh m = test::loadPlaced(c.file, c.up, c.fitMm);
     checkConservative(m, c.width, 4000, 17);
   }
 }
@@ -553,7 +515,7 @@ TEST(VoxelizeModels, BunnyKittenFertilityAreConservative) {
 // Measurement: a ~540k-Solid-voxel grid of the full-resolution Bunny (the paper's Fig. 3 size).
 TEST(VoxelizeModels, FiveHundredFortyThousandVoxelsUnderASecond) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Mesh m = loadPlaced("compas_bunny_closed_high_res.stl", UpAxis::PosZ, 0);
+  const Mesh m = test::loadPlaced("compas_bunny_closed_high_res.stl", UpAxis::PosZ, 0);
   const double w = std::cbrt(test::meshVolume(m) / 540000.0);
   VoxelizeOptions o;
   o.width = w;
