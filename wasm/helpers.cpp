@@ -139,6 +139,8 @@ val previewToJs(const SlicePreview& p) {
   setArray(out, "partIds", "Uint32Array", m.partIds);
   setArray(out, "riskyBefore", "Uint8Array", m.riskyBefore);
   setArray(out, "riskyAfter", "Uint8Array", m.riskyAfter);
+  setArray(out, "unsupportedPoints", "Float32Array", p.verify.unsupported);
+  setArray(out, "collisionPoints", "Float32Array", p.verify.collisions);
   return out;
 }
 

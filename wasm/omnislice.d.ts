@@ -4,7 +4,7 @@
 export type StatusCode =
   | 'empty_input' | 'unsupported_format' | 'parse_error' | 'truncated_file'
   | 'non_finite_vertex' | 'degenerate_input' | 'open_mesh' | 'non_manifold'
-  | 'self_intersecting' | 'invalid_option' | 'io_error' | 'cancelled' | 'internal'
+  | 'self_intersecting' | 'invalid_option' | 'io_error' | 'cancelled' | 'unsound_program' | 'internal'
   | 'worker_failed';
 
 export const STATUS_CODES: readonly ('ok' | StatusCode)[];
@@ -15,6 +15,13 @@ export class OmnisliceError extends Error {
   code: StatusCode;
   /** Set when the wasm instance aborted and must be discarded. */
   fatal?: boolean;
+  /** unsound_program (a slice refused after its simulation): the report (with `verify`: the
+   *  figures, failures and statement), the input's info, the preview (where it fails) and the
+   *  placed mesh, as a slice result would carry them; no program. */
+  report?: Record<string, any>;
+  info?: Record<string, any>;
+  preview?: PreviewBuffers;
+  mesh?: MeshBuffers;
 }
 
 export type SettingValue = number | string | boolean | number[];
@@ -58,6 +65,10 @@ export interface PreviewBuffers {
   partIds?: Uint32Array;
   riskyBefore?: Uint8Array;
   riskyAfter?: Uint8Array;
+  /** The simulated program (report.verify): #*3 part-frame tips of its unsupported and colliding
+   *  samples, spread evenly, at most 4000 each; empty with verify = off. */
+  unsupportedPoints?: Float32Array;
+  collisionPoints?: Float32Array;
 }
 
 /** A machine profile as the program header writes it (PROGRAM-FORMAT.md, docs/MACHINES.md). */

@@ -7,7 +7,7 @@
 export const STATUS_CODES = Object.freeze([
   'ok', 'empty_input', 'unsupported_format', 'parse_error', 'truncated_file',
   'non_finite_vertex', 'degenerate_input', 'open_mesh', 'non_manifold', 'self_intersecting',
-  'invalid_option', 'io_error', 'cancelled', 'internal', 'worker_failed',
+  'invalid_option', 'io_error', 'cancelled', 'unsound_program', 'internal', 'worker_failed',
 ]);
 
 /** The one error class of the JS side: `code` is one of STATUS_CODES (never 'ok'). */
@@ -130,7 +130,11 @@ export class Omnislice {
     this.aborted = false;
   }
 
-  #call(fn) {
+  /**
+   * Run a raw call; a non-ok status throws OmnisliceError. details(out), when given, returns
+   * fields to attach to that error (an unsound slice keeps its report and preview).
+   */
+  #call(fn, details) {
     if (this.aborted) throw new OmnisliceError('internal', 'the wasm module aborted earlier; load it again');
     let out;
     try {
@@ -142,7 +146,11 @@ export class Omnislice {
       err.fatal = true;
       throw err;
     }
-    if (out.status !== 'ok') throw new OmnisliceError(out.status, out.message);
+    if (out.status !== 'ok') {
+      const err = new OmnisliceError(out.status, out.message);
+      if (details) Object.assign(err, details(out));
+      throw err;
+    }
     return out;
   }
 
@@ -159,7 +167,11 @@ export class Omnislice {
   slice(bytes, name, settings = {}, { onProgress, programAs = 'string' } = {}) {
     const data = toBytes(bytes, 'bytes');
     const lines = settingsToLines(settings);
-    const out = this.#call(() => this.raw._slice(data, String(name ?? ''), lines, progressAdapter(onProgress)));
+    // unsound_program: the program was refused, but the error keeps what says why and where.
+    const unsound = (o) => (o.status === 'unsound_program'
+      ? { report: parseJson(o.report, 'report'), info: parseJson(o.info, 'info'), preview: o.preview, mesh: o.mesh }
+      : {});
+    const out = this.#call(() => this.raw._slice(data, String(name ?? ''), lines, progressAdapter(onProgress)), unsound);
     return {
       program: programAs === 'bytes' ? out.program : new TextDecoder().decode(out.program),
       report: parseJson(out.report, 'report'),

@@ -81,6 +81,13 @@ export const PAGE_FIELDS = [
       geodesic: 'geodesic (curved layers of a tet mesh)', multidir: 'multi-directional (3+2-axis parts by planar clipping)' } },
   { group: 'Slicing', key: 'fill', label: 'fill', type: 'select', testid: 'setting-fill',
     labels: { auto: 'auto', isoplanar: 'iso-planar (paper 003)', spiral: 'spiral' } },
+  // The program is simulated before it is written (core/pipeline/soundness.h): an unsound one is
+  // refused with why and what would print the model, unless the user asks for it anyway.
+  { group: 'Slicing', key: 'verify', label: 'check the program by simulation', type: 'select', testid: 'setting-verify',
+    labels: {
+      auto: 'auto (multi-axis: refuse unsound programs)', refuse: 'refuse unsound programs',
+      warn: 'write unsound programs with a warning', off: 'off',
+    } },
   // The geodesic method's interval defaults to the layer height.
   { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', step: 0.01,
     showIf: (v) => !isVoxel(v) },

@@ -97,6 +97,10 @@ class Slicer {
       case Reply.ERROR: {
         this.#pending.delete(msg.id);
         const err = new OmnisliceError(msg.code, msg.message);
+        // unsound_program: what the refused slice measured and where it fails.
+        for (const key of ['report', 'info', 'preview', 'mesh']) {
+          if (msg[key] !== undefined) err[key] = msg[key];
+        }
         entry.reject(err);
         if (msg.fatal) {
           // The wasm instance crashed: discard the worker; other requests fail with worker_failed.

@@ -12,7 +12,10 @@
 //                                                               'decompose'; see SEARCH_LINES)
 //   result:   {id, type: 'result', result}                      ArrayBuffers inside are transferred
 //   error:    {id, type: 'error', code, message, fatal}         code: a STATUS_CODES string;
-//                                                               fatal: the worker must be discarded
+//                                                               fatal: the worker must be discarded;
+//                                                               unsound_program also carries the
+//                                                               refused slice's report, info,
+//                                                               preview and mesh
 // A mesh is sent once (`load`, with a facade-chosen meshId) and referenced by meshId after that.
 // Cancel is not a message: the facade terminates the worker and spawns a new one.
 
@@ -41,7 +44,8 @@ export const Request = Object.freeze({
    *  features, layers, machine, axes, surfacePositions, surfaceTriangles, surfaceLayers,
    *  missedVoxels, supportVoxels, voxelWidth, curves, fieldPositions, fieldTriangles,
    *  fieldValues, nodePositions, nodeLayers, treeEdges, sequence, skippedSegments,
-   *  skippedLayers, partPositions, partTriangles, partIds, riskyBefore, riskyAfter}
+   *  skippedLayers, partPositions, partTriangles, partIds, riskyBefore, riskyAfter,
+   *  unsupportedPoints, collisionPoints}
    *  (core/pipeline/preview.h SlicePreview, flattened; the curved-layer, voxel, geodesic and multidir
    *  buffers are empty for other methods; curves: #S 1-based NL curve index per segment, 0 =
    *  none, empty unless the iso-planar fill ran; field*: the boundary surface with the geodesic
@@ -49,7 +53,9 @@ export const Request = Object.freeze({
    *  order; skippedSegments: #K*6 ends of the tool path left out where no nozzle axis clears the
    *  part, skippedLayers: #K their layers; part*: the multidir parts' closed meshes with the print
    *  index per triangle; risky*: Uint8 flag per triangle of mesh, risky along +Z (before) and in
-   *  its part (after)), mesh: {positions, indices}}
+   *  its part (after); unsupportedPoints, collisionPoints: #*3 tips of the simulated program's
+   *  unsupported and colliding samples, at most 4000 each, empty with verify = off), mesh:
+   *  {positions, indices}}
    *  (all buffers transferred). */
   SLICE: 'slice',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
@@ -110,5 +116,10 @@ export function transferList(...arrays) {
 export function errorReply(id, error) {
   const code = error && typeof error.code === 'string' ? error.code : 'internal';
   const message = error && error.message ? error.message : String(error);
-  return { id, type: Reply.ERROR, code, message, fatal: !!(error && error.fatal) };
+  const reply = { id, type: Reply.ERROR, code, message, fatal: !!(error && error.fatal) };
+  // unsound_program: the refused slice's report, info, preview and mesh (what says why and where).
+  for (const key of ['report', 'info', 'preview', 'mesh']) {
+    if (error && error[key] !== undefined) reply[key] = error[key];
+  }
+  return reply;
 }

@@ -116,14 +116,7 @@ const handlers = {
       info: r.info, layers: r.layers, preview: r.preview, mesh: r.mesh,
     };
     post({ id, type: Reply.RESULT, result },
-      transferList(r.program, r.preview.positions, r.preview.features, r.preview.layers,
-        r.preview.machine, r.preview.axes, r.preview.surfacePositions, r.preview.surfaceTriangles,
-        r.preview.surfaceLayers, r.preview.missedVoxels, r.preview.supportVoxels, r.preview.curves,
-        r.preview.fieldPositions, r.preview.fieldTriangles, r.preview.fieldValues,
-        r.preview.nodePositions, r.preview.nodeLayers, r.preview.treeEdges, r.preview.sequence,
-        r.preview.skippedSegments, r.preview.skippedLayers,
-        r.preview.partPositions, r.preview.partTriangles, r.preview.partIds, r.preview.riskyBefore,
-        r.preview.riskyAfter, r.mesh.positions, r.mesh.indices));
+      transferList(r.program, ...Object.values(r.preview), r.mesh.positions, r.mesh.indices));
   },
 
   async [Request.VERIFY](id, payload) {
@@ -176,6 +169,7 @@ self.onmessage = async (event) => {
       err = new OmnisliceError('internal', `worker crashed: ${error && error.message || error}`);
       err.fatal = true;
     }
-    post(errorReply(id, err));
+    const reply = errorReply(id, err);
+    post(reply, transferList(...Object.values(reply.preview || {}), ...Object.values(reply.mesh || {})));
   }
 };

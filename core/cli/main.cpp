@@ -244,6 +244,10 @@ int cmdSlice(int argc, char** argv) {
   const bool progress = std::find(a.flags.begin(), a.flags.end(), "--progress") != a.flags.end();
   SliceOutput out = runSlice(bytes.data(), bytes.size(), fileName(a.positional[0]), s,
                              stderrProgress(progress));
+  // A refused (unsound) program: no program is written, but the report says why and where.
+  if (out.status == Status::UnsoundProgram && a.has("--report")) {
+    writeFileAtomic(a.get("--report"), out.reportJson + "\n");
+  }
   check(out);
   writeFileAtomic(outPath, out.program);
   if (a.has("--report")) writeFileAtomic(a.get("--report"), out.reportJson + "\n");

@@ -18,6 +18,7 @@ const char* statusCode(Status s) {
     case Status::InvalidOption: return "invalid_option";
     case Status::IoError: return "io_error";
     case Status::Cancelled: return "cancelled";
+    case Status::UnsoundProgram: return "unsound_program";
     case Status::Internal: return "internal";
   }
   return "internal";

@@ -21,6 +21,9 @@ enum class Status {
   InvalidOption,       // absurd or unknown setting / option
   IoError,             // cannot read or write a file
   Cancelled,           // progress callback asked to stop
+  UnsoundProgram,      // the program was made, but simulating it shows it cannot print soundly
+                       // (nozzle collisions, tool path left out, unsupported surface, ...);
+                       // refused before writing, with why and what would print it
   Internal,            // a bug: an invariant failed
 };
 

@@ -276,6 +276,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   timings.emplace_back("toolpath_gouging", tp.gougingMs);
   out.toolpath = std::move(tp.toolpath);
   if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
+  out.leftOutMm = tp.skippedMm;
   out.layerHeight = interval;
   const int printedLayers = stage::printedLayerCount(filled.paths);
   out.slicedLayers = static_cast<size_t>(printedLayers);

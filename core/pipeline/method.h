@@ -62,6 +62,8 @@ struct MethodResult : Outcome {
                                                        // onto a 4dof machine's axis
   std::optional<Mesh> part;   // the part as printed when the method changed it (turned, or the
                               // solid under a surface); else the placed part
+  double leftOutMm = 0;       // tool path the method planned but left out (no nozzle axis clears
+                              // the part there), mm: a program with any is not sound
   Timings timingsMs;          // the method's stages, in the order they ran
   std::vector<Warning> warnings;  // what the user should know about the delivered result
   MethodReport report;        // the method's sections of the report

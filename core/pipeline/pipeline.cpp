@@ -14,6 +14,7 @@
 #include "mesh/read_mesh.h"
 #include "motion/plan_motion.h"
 #include "pipeline/method.h"
+#include "pipeline/soundness.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
 #include "surface/height_field_solid.h"
@@ -219,6 +220,41 @@ MotionReport motionReport(const MachinePath& motion) {
   return r;
 }
 
+// The report of a slice from the method's result, the motion and the program (the stages'
+// timings, the verification and the input's figures are added by runSlice).
+SliceReport sliceReport(const Settings& settings, const MachineProfile& machine, MethodResult& result,
+                        const MachinePath& motion, const WriteProgramResult& written, const ProgramInfo& pinfo,
+                        const Eigen::Vector3d& direction, const Eigen::Matrix4d& placement) {
+  SliceReport r;
+  const ToolpathStats stats = toolpathStats(result.toolpath, settings.acceleration);
+  r.method = methodName(settings.method);
+  r.machine = machine.name;
+  r.machineKind = machine.kind;
+  r.programFormat = machine.kind != MachineKind::Robot6 ? "gcode" : robotFormatName(settings.robotFormat);
+  r.programExtension = programExtension(machine.kind, pinfo.robotFormat);
+  r.layers = written.layers;
+  r.slicedLayers = result.slicedLayers;
+  r.layerHeightMm = result.layerHeight;
+  r.pathMm = stats.pathMm;
+  // What the program extrudes (unretracts of the motion planner's safe rotations included), the
+  // figure `verify` measures.
+  for (const MachineMove& m : motion.moves) r.extrusionMm += std::max(0.0, m.filament);
+  r.travelMm = stats.travelMm;
+  r.retractions = stats.retractions;
+  r.estimatedTimeS = written.estimatedTimeS;
+  r.moves = result.toolpath.moves.size();
+  r.motion = motionReport(motion);
+  r.machineProfile = machine;
+  r.direction = direction;
+  r.placement = placement;
+  r.openChains = result.openChains;
+  r.sections = std::move(result.report);
+  r.fill = findSetting("fill")->format(settings);
+  r.warnings = result.warnings;
+  r.settings = pinfo.settings;
+  return r;
+}
+
 }  // namespace
 
 SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
@@ -273,47 +309,42 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     clock.done("program");
     if (!reportProgress(progress, "program", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
 
+    // Simulate what was made (pipeline/soundness.h) before anything is written.
+    const VerifyMode mode = effectiveVerifyMode(settings);
+    std::optional<SoundnessCheck> check;
+    if (mode != VerifyMode::Off) {
+      check = checkProgram(written.text, part.mesh, settings, machine, result, mode, {}, progress);
+      if (!check->ok()) return failed<SliceOutput>(*check);
+      clock.done("verify");
+      if (!check->section.sound && mode == VerifyMode::Warn) {
+        result.warnings.push_back({"unsound_program", check->section.statement});
+      }
+    }
+
     // The result and its report.
     SliceOutput out;
     out.layers = written.layers;  // layers that deposit material: one program marker each
-    out.program = std::move(written.text);
     out.programExtension = programExtension(machine.kind, pinfo.robotFormat);
     out.warnings = result.warnings;
+    out.report = sliceReport(settings, machine, result, motion, written, pinfo, d, part.placement);
     SliceReport& r = out.report;
-    const ToolpathStats stats = toolpathStats(result.toolpath, settings.acceleration);
-    r.method = methodName(settings.method);
-    r.machine = machine.name;
-    r.machineKind = machine.kind;
-    r.programFormat = machine.kind != MachineKind::Robot6 ? "gcode" : robotFormatName(settings.robotFormat);
-    r.programExtension = out.programExtension;
-    r.layers = out.layers;
-    r.slicedLayers = result.slicedLayers;
-    r.layerHeightMm = result.layerHeight;
-    r.pathMm = stats.pathMm;
-    // What the program extrudes (unretracts of the motion planner's safe rotations included), the
-    // figure `verify` measures.
-    for (const MachineMove& m : motion.moves) r.extrusionMm += std::max(0.0, m.filament);
-    r.travelMm = stats.travelMm;
-    r.retractions = stats.retractions;
-    r.estimatedTimeS = written.estimatedTimeS;
-    r.moves = result.toolpath.moves.size();
-    r.motion = motionReport(motion);
-    r.machineProfile = machine;
-    r.direction = d;
-    r.placement = part.placement;
-    r.openChains = result.openChains;
-    r.sections = std::move(result.report);
-    r.fill = findSetting("fill")->format(settings);
-    r.warnings = out.warnings;
+    if (check) r.verify = check->section;
     r.timingsMs = std::move(clock.timings);
     r.timingsMs.emplace_back("total", msSince(start));
     r.mesh = inputReport(in, part.placement, part.mesh);
-    r.settings = pinfo.settings;
     out.reportJson = sliceReportJson(r);
     out.infoJson = inputReportJson(r.mesh);
     out.preview.toolpath = toolpathPreview(motion, result.toolpath);
     out.preview.method = std::move(result.preview);
+    if (check) out.preview.verify = std::move(check->preview);
     out.partMesh = std::move(part.mesh);
+    if (check && !check->section.sound && mode == VerifyMode::Refuse) {
+      // Refused: no program, but the report and the preview say why and where.
+      out.status = Status::UnsoundProgram;
+      out.message = check->section.statement;
+      return out;
+    }
+    out.program = std::move(written.text);
     return out;
   } catch (const std::bad_alloc&) {
     return failed<SliceOutput>(Status::Internal, "out of memory while slicing");

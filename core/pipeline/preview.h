@@ -77,9 +77,17 @@ struct MethodPreview {
   MultidirPreview multidir;
 };
 
+// Where the simulated program fails (verify): tips of unsupported and of colliding samples,
+// spread evenly, at most a few thousand each.
+struct VerifyPreview {
+  std::vector<float> unsupported;  // #U*3
+  std::vector<float> collisions;   // #C*3
+};
+
 struct SlicePreview {
   ToolpathPreview toolpath;
   MethodPreview method;
+  VerifyPreview verify;
 };
 
 // The tool-path preview of a planned machine path: the part-frame tip path of every move that

@@ -206,6 +206,21 @@ struct MotionReport {
   double minSingularity = 0, estimatedTimeS = 0;
 };
 
+// "verify": the program as made, simulated as `omnislice verify` does (PROGRAM-FORMAT.md), and
+// judged sound or not (pipeline/soundness.h: inside >= 0.99, coverage >= 0.97 where the fill is
+// solid, supported >= 0.99, no collision, no limit violated, no tool path left out).
+struct VerifySection {
+  std::string mode;                   // refuse | warn: what an unsound program meets
+  double inside = 0, coverage = 0, supported = 0, supportedAll = 0;
+  size_t collisions = 0, limits = 0, samples = 0;
+  double leftOutMm = 0;               // tool path the method left out
+  bool coverageJudged = false;        // the fill is solid (curved methods, or 100 % infill)
+  bool sound = true;
+  std::vector<std::string> failures;  // what fails, one phrase each ("56 samples collide ...")
+  std::string statement;              // unsound: why and what would print it ("" when sound)
+  double ms = 0;
+};
+
 // What a method adds to the report: its own sections.
 struct MethodReport {
   std::optional<VoxelReport> voxel;
@@ -241,6 +256,7 @@ struct SliceReport {
   Eigen::Matrix4d placement = Eigen::Matrix4d::Identity();
   size_t openChains = 0;
   MethodReport sections;
+  std::optional<VerifySection> verify;  // absent with verify = off
   std::string fill;
   std::vector<Warning> warnings;
   Timings timingsMs;

@@ -324,6 +324,23 @@ Json multidirJson(const MultidirReport& r) {
           {"timings_ms", timings(r.timingsMs)}};
 }
 
+Json verifyJson(const VerifySection& v) {
+  return {{"mode", v.mode},
+          {"sound", v.sound},
+          {"inside", num(v.inside)},
+          {"coverage", num(v.coverage)},
+          {"coverage_judged", v.coverageJudged},
+          {"supported", num(v.supported)},
+          {"supported_all", num(v.supportedAll)},
+          {"collisions", v.collisions},
+          {"limits", v.limits},
+          {"left_out_mm", num(v.leftOutMm)},
+          {"samples", v.samples},
+          {"failures", v.failures},
+          {"statement", v.statement},
+          {"ms", num(v.ms)}};
+}
+
 Json inputJson(const InputReport& in) {
   Json info = Json::parse(meshInfoJson(in.info));
   info["format"] = in.format;
@@ -379,6 +396,7 @@ std::string sliceReportJson(const SliceReport& r) {
   if (s.multidir) j["multidir"] = multidirJson(*s.multidir);
   if (s.isoplanar) j["isoplanar"] = isoplanarJson(*s.isoplanar);
   if (s.support) j["support"] = supportJson(*s.support);
+  if (r.verify) j["verify"] = verifyJson(*r.verify);
   j["fill"] = r.fill;
   Json warnings = Json::array();
   for (const Warning& w : r.warnings) warnings.push_back({{"code", w.code}, {"message", w.message}});

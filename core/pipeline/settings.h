@@ -34,6 +34,12 @@ enum class SupportMode { Auto, None, Projected };
 // auto (rotary4: 4dof about its A axis, else 5dof) | 4dof | 5dof.
 enum class MultidirDof { Auto, FourDof, FiveDof };
 
+// What the pipeline does with the program it made: simulate it (the checks of `omnislice verify`)
+// and refuse it when it is not sound (refuse), deliver it with a warning (warn), or not simulate
+// (off). auto: refuse for the multi-axis methods, off for the planar method (a planar print
+// without supports is what every 3-axis slicer delivers; verify it on request).
+enum class VerifyMode { Auto, Refuse, Warn, Off };
+
 // The voxel method (paper 001): voxelisation, growing field, curved layers, Fermat spirals.
 struct VoxelSettings {
   double widthMm = 0;                  // voxel width w, mm; 0 = 0.8 x nozzle (paper Section 6.2.1)
@@ -155,6 +161,7 @@ struct Settings {
   bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter
   double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more
   double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
+  VerifyMode verify = VerifyMode::Auto;  // auto | refuse | warn | off (pipeline/soundness.h)
   PlaceOptions placement;
   Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
 

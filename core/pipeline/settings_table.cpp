@@ -193,6 +193,11 @@ SettingSpec vector3(const char* key, Field<Eigen::Vector3d> field, const char* u
   return s;
 }
 
+SettingSpec unlisted(SettingSpec s) {
+  s.listed = false;
+  return s;
+}
+
 SettingSpec onlyWith(Method method, SettingSpec s) {
   s.onlyFor = method;
   return s;
@@ -473,6 +478,14 @@ std::vector<SettingSpec> makeTable() {
       onlyWith(Method::Geodesic, boolean("geodesic.remesh", [](S& s) -> bool& { return s.geodesic.remesh; },
                                          "isotropic remeshing and smoothing of the layers")),
       machineJsonSpec(),
+      // Not listed: it decides whether the program is delivered, not what it holds.
+      unlisted(choice<VerifyMode>("verify", [](S& s) -> VerifyMode& { return s.verify; },
+                                  {{"auto", VerifyMode::Auto}, {"refuse", VerifyMode::Refuse},
+                                   {"warn", VerifyMode::Warn}, {"off", VerifyMode::Off}},
+                                  "a verify mode",
+                                  "simulate the program as `omnislice verify` does: refuse it when unsound, "
+                                  "deliver it with a warning, or not simulate (auto: refuse for multi-axis "
+                                  "methods, off for planar)")),
   };
   return t;
 }

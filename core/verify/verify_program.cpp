@@ -616,6 +616,17 @@ Outcome buildPieceGrid(const std::vector<Piece>& pieces, double R, double cs, Pi
   return {};
 }
 
+// Up to `keep` of the samples `which` (spread evenly over them) as #*3 float positions.
+void keepSpread(const std::vector<Sample>& samples, const std::vector<size_t>& which, size_t keep,
+                std::vector<float>& out) {
+  const size_t n = std::min(keep, which.size());
+  out.reserve(3 * n);
+  for (size_t k = 0; k < n; ++k) {
+    const Eigen::Vector3d& p = samples[which[k * which.size() / n]].p;
+    for (int a = 0; a < 3; ++a) out.push_back(static_cast<float>(p[a]));
+  }
+}
+
 // An unsupported sample as an example: where, and the overhang of the nearest face.
 UnsupportedExample unsupportedExample(const Sample& smp, const std::vector<Segment>& segments, const AabbTree& tree,
                                       const Mesh& partMesh) {
@@ -645,7 +656,7 @@ UnsupportedExample unsupportedExample(const Sample& smp, const std::vector<Segme
 // samples of the part, rep.supportedAll over all, and up to 10 examples.
 Outcome supportedSamples(const AabbTree& tree, const Mesh& partMesh, const std::vector<Segment>& segments,
                          const std::vector<Sample>& samples, const std::vector<uint8_t>& nearSurface, double h,
-                         Progress& progress, VerifyReport& rep) {
+                         size_t keepPoints, Progress& progress, VerifyReport& rep) {
   const double R = 1.5 * h;
   const double exclusion = std::max(0.5, 3.0 * h);
   const double cs = std::max(2.0 * R, 0.5);
@@ -732,6 +743,7 @@ Outcome supportedSamples(const AabbTree& tree, const Mesh& partMesh, const std::
     const Sample& smp = samples[unsupported[k * unsupported.size() / shown]];
     rep.unsupportedExamples.push_back(unsupportedExample(smp, segments, tree, partMesh));
   }
+  keepSpread(samples, unsupported, keepPoints, rep.unsupportedPoints);
   return {};
 }
 
@@ -741,7 +753,9 @@ Outcome supportedSamples(const AabbTree& tree, const Mesh& partMesh, const std::
 // otherwise the cell hierarchy of EarlierSamples prunes whole regions, and the example's earlier
 // point is the one the plain scan in print order meets first.
 Outcome collidingSamples(const ParsedProgram& program, const std::vector<Segment>& segments,
-                         const std::vector<Sample>& samples, double h, Progress& progress, VerifyReport& rep) {
+                         const std::vector<Sample>& samples, double h, size_t keepPoints, Progress& progress,
+                         VerifyReport& rep) {
+  std::vector<size_t> colliding;  // keepPoints: the colliding samples
   Cone cone;
   cone.h = h;
   cone.tol = 0.001;
@@ -764,6 +778,7 @@ Outcome collidingSamples(const ParsedProgram& program, const std::vector<Segment
       earlier.addUpTo(i);
       if (earlier.anyHit(cone)) {
         ++rep.collisions;
+        if (keepPoints > 0) colliding.push_back(i);
         uint32_t hitPoint = 0;
         if (rep.collisionExamples.size() < 10 && earlier.firstHitInScanOrder(cone, hitPoint)) {
           CollisionExample e;
@@ -781,6 +796,7 @@ Outcome collidingSamples(const ParsedProgram& program, const std::vector<Segment
     glo = glo.cwiseMin(s.p);
     ghi = ghi.cwiseMax(s.p);
   }
+  keepSpread(samples, colliding, keepPoints, rep.collisionPoints);
   return {};
 }
 
@@ -990,8 +1006,10 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   const AabbTree tree(partMesh);
   std::vector<uint8_t> nearSurface;
   ok = insideSamples(tree, partMesh, segments, samples, w, progress, nearSurface, rep);
-  if (ok.ok()) ok = supportedSamples(tree, partMesh, segments, samples, nearSurface, h, progress, rep);
-  if (ok.ok()) ok = collidingSamples(program, segments, samples, h, progress, rep);
+  if (ok.ok()) {
+    ok = supportedSamples(tree, partMesh, segments, samples, nearSurface, h, options.keepPoints, progress, rep);
+  }
+  if (ok.ok()) ok = collidingSamples(program, segments, samples, h, options.keepPoints, progress, rep);
   if (ok.ok()) ok = coverage(tree, partMesh, segments, g, h, w, options.maxGridPoints, progress, rep);
   if (!ok.ok()) return fail(ok);
   if (!reportProgress(progressFn, "verify", 1.0)) return fail(cancelled());

@@ -17,6 +17,9 @@ struct VerifyOptions {
   double gridSpacing = 0;        // mm for coverage, 0 = min(nozzle diameter, layer height)
   size_t maxGridPoints = 200000000;  // refuse coverage grids larger than this (InvalidOption)
   size_t maxSamples = 50000000;      // refuse programs with more path samples (InvalidOption)
+  size_t keepPoints = 0;             // > 0: keep up to this many positions of the unsupported
+                                     // and of the colliding samples (spread evenly over them), for
+                                     // viewers to draw where a program fails
 };
 
 // Where a collision happened: the sample (tip position and nozzle axis), the earlier material
@@ -47,6 +50,8 @@ struct VerifyReport : Outcome {
   double supportedAll = 0;      // same over all samples
   size_t collisions = 0;        // samples with an earlier sample inside the nozzle cone
   std::vector<CollisionExample> collisionExamples;  // the first few (at most 10), in print order
+  std::vector<float> unsupportedPoints;  // options.keepPoints: #U*3 tips of unsupported samples
+  std::vector<float> collisionPoints;    // options.keepPoints: #C*3 tips of colliding samples
   size_t limitViolations = 0;   // moves with an axis outside the declared limits
   double extrusionMm = 0;       // filament deposited
   double pathMm = 0;            // extruding path length

@@ -213,6 +213,8 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
   await setSetting('machine', 'table5');
   assert.equal(await page.isHidden(tid('method-hint')), true);
   await setSetting('voxel-width', 1.2);
+  // The demo's voxel program is short of the soundness criteria (issue 25): written with a warning.
+  await setSetting('setting-verify', 'warn');
   const before = await page.evaluate(() => Number(document.body.dataset.sliceCount || 0));
   const started = Date.now();
   await page.click(tid('slice-button'));
@@ -281,6 +283,7 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
     assert.ok(text.length > 1000);
   } finally {
     await setSetting('voxel-width', 0);
+    await setSetting('setting-verify', 'auto');
     await setSetting('setting-method', 'planar');
     await setSetting('machine', 'cartesian3');
   }

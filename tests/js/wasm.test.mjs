@@ -146,7 +146,9 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
 
   // Issue 4: the voxel method gives the same field, layers and paths in wasm and natively.
   test('same voxel report as the native CLI: generated sphere on table5', { skip: nativeWhy || false }, () => {
-    const s = { method: 'voxel', machine: 'table5', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.9 };
+    // verify = warn: the sphere's underside is short of the soundness criteria (issue 25); this
+    // test compares native and wasm figures.
+    const s = { method: 'voxel', machine: 'table5', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.9, verify: 'warn' };
     const bytes = new Uint8Array(sphereStl(7, 48, 24));
     const file = path.join(tmp, 'voxel-sphere.stl');
     fs.writeFileSync(file, bytes);
@@ -202,7 +204,7 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
   // Issue 5: the surface method (paper 003) gives the same theta*, curve and paths in wasm and natively.
   test('same iso-planar report as the native CLI: saddle surface on robot6', { skip: nativeWhy || false }, () => {
     const s = { method: 'surface', machine: 'robot6-ur5', nozzle_diameter: 1, layer_height: 0.75, line_width: 1.125,
-      'isoplanar.directions': 60 };
+      'isoplanar.directions': 60, verify: 'warn' };
     const text = saddleObj(50, 15, 24);
     const bytes = new TextEncoder().encode(text);
     const file = path.join(tmp, 'saddle.obj');

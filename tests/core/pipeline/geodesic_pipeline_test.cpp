@@ -34,6 +34,10 @@ Settings geodesicSettings(const std::string& machine, double interval) {
   s.nozzleDiameter = 0.8;
   s.layerHeight = interval;
   s.lineWidth = 0.9;
+  // These tests check the method's own properties against `omnislice verify`'s figures; a
+  // program short of the strict soundness criteria (pipeline/soundness.h) is still delivered
+  // here (soundness_test.cpp tests the refusal).
+  s.verify = VerifyMode::Warn;
   return s;
 }
 
@@ -152,8 +156,11 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   const auto [lowest, highest] = std::minmax_element(r.out.preview.method.geodesic.skippedLayers.begin(), r.out.preview.method.geodesic.skippedLayers.end());
   EXPECT_EQ(*lowest, layers[0].get<uint32_t>());
   EXPECT_EQ(*highest, layers[1].get<uint32_t>());
-  ASSERT_EQ(r.out.warnings.size(), 1u);
+  // The method's warning, then the verification's: tool path left out is unsound (verify = warn).
+  ASSERT_EQ(r.out.warnings.size(), 2u);
   EXPECT_EQ(r.out.warnings[0].code, "skipped_tool_path");
+  EXPECT_EQ(r.out.warnings[1].code, "unsound_program");
+  EXPECT_NE(r.out.warnings[1].message.find("of tool path is left out"), std::string::npos);
   EXPECT_EQ(r.report["warnings"][0]["code"], "skipped_tool_path");
   EXPECT_EQ(r.report["warnings"][0]["message"], r.out.warnings[0].message);
   const std::string where = "layers " + std::to_string(layers[0].get<int>() + 1) + "-" + std::to_string(layers[1].get<int>() + 1);

@@ -1,0 +1,152 @@
+// SPDX-License-Identifier: MIT
+#include "pipeline/soundness.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "common/stopwatch.h"
+#include "program/read_program.h"
+#include "verify/verify_program.h"
+
+namespace omnislice {
+
+namespace {
+
+// Positions kept per kind for the page to draw (evenly spread over all of them).
+constexpr size_t kKeptPoints = 4000;
+
+std::string percent(double share) {
+  char s[32];
+  std::snprintf(s, sizeof s, "%.1f %%", 100 * share);
+  return s;
+}
+
+std::string joined(const std::vector<std::string>& items, const char* sep) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : sep) + s;
+  return out;
+}
+
+void addOnce(std::vector<std::string>& list, const std::string& item) {
+  if (std::find(list.begin(), list.end(), item) == list.end()) list.push_back(item);
+}
+
+// The fill is solid: the curved methods fill their layers completely; planar layers only at 100 %
+// infill (sparse infill lowers coverage by design, PROGRAM-FORMAT.md).
+bool solidFill(const Settings& settings) {
+  if (settings.method == Method::Voxel || settings.method == Method::Geodesic) return true;
+  return settings.method != Method::Surface && settings.infillPercent >= 100;
+}
+
+size_t tiltClamped(const MethodResult& result) {
+  if (result.report.voxel) return result.report.voxel->tiltClamped;
+  if (result.report.geodesic) return result.report.geodesic->tiltClamped;
+  if (result.report.isoplanar && result.report.isoplanar->surface) return result.report.isoplanar->surface->tiltClamped;
+  return 0;
+}
+
+// What would print the model instead, from what fails and how it was sliced.
+std::vector<std::string> remedies(const VerifySection& v, const SoundnessCriteria& c, const Settings& settings,
+                                  const MachineProfile& machine, const MethodResult& result) {
+  std::vector<std::string> out;
+  const bool unsupported = v.supported < c.minSupported;
+  const bool blocked = v.collisions > 0 || v.leftOutMm > 0;
+  const Method m = settings.method;
+  const bool curved = m == Method::Voxel || m == Method::Geodesic || m == Method::Surface;
+  if (unsupported) {
+    if (m == Method::Planar) addOnce(out, "supports under the overhangs (support=projected)");
+    if (m == Method::Multidir && settings.support.mode == SupportMode::None) {
+      addOnce(out, "projected supports under what the parts leave risky (support=auto)");
+    }
+    if (curved) {
+      addOnce(out, "--method multidir (parts printed along their own directions, projected supports under the rest)");
+      addOnce(out, "planar layers with supports (--method planar, support=projected)");
+    }
+  }
+  if (blocked) {
+    if (curved) addOnce(out, "--method multidir (planar parts: the nozzle stays above each part's layers)");
+    if (machine.kind == MachineKind::Table5 && tiltClamped(result) > 0) {
+      addOnce(out, "a machine that tilts the nozzle further (robot6-ur5)");
+    }
+    addOnce(out, "a slimmer nozzle cone (nozzle.cone_half_angle_deg in the machine profile)");
+    addOnce(out, "another placement of the part (up, rotate_x_deg, rotate_y_deg)");
+  }
+  if (v.coverageJudged && v.coverage < c.minCoverage) {
+    if (m == Method::Voxel) addOnce(out, "a finer voxel grid (smaller voxel.width_mm)");
+    else if (m == Method::Geodesic) addOnce(out, "finer tets (smaller geodesic.tet_size_mm)");
+    else addOnce(out, "a smaller line width or layer height");
+  }
+  if (v.inside < c.minInside) addOnce(out, "a finer layer height or line width (the beads stand out of the part)");
+  if (v.limits > 0) addOnce(out, "a smaller part (--fit-mm) or a machine with larger axis ranges");
+  return out;
+}
+
+}  // namespace
+
+VerifyMode effectiveVerifyMode(const Settings& settings) {
+  if (settings.verify != VerifyMode::Auto) return settings.verify;
+  return settings.method == Method::Planar ? VerifyMode::Off : VerifyMode::Refuse;
+}
+
+SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, const Settings& settings,
+                            const MachineProfile& machine, const MethodResult& result, VerifyMode mode,
+                            const SoundnessCriteria& c, const ProgressFn& progress) {
+  const Clock::time_point t0 = Clock::now();
+  SoundnessCheck out;
+  ParsedProgram program = readProgram(programText);
+  if (!program.ok()) {
+    return failed<SoundnessCheck>(Status::Internal, "the program just written does not read back: " + program.message);
+  }
+  VerifyOptions vo;
+  vo.keepPoints = kKeptPoints;
+  VerifyReport rep = verifyProgram(program, part, vo, progress);
+  if (!rep.ok()) return failed<SoundnessCheck>(rep);
+
+  VerifySection& v = out.section;
+  v.mode = mode == VerifyMode::Warn ? "warn" : "refuse";
+  v.inside = rep.inside;
+  v.coverage = rep.coverage;
+  v.supported = rep.supported;
+  v.supportedAll = rep.supportedAll;
+  v.collisions = rep.collisions;
+  v.limits = rep.limitViolations;
+  v.samples = rep.samples;
+  v.leftOutMm = result.leftOutMm;
+  v.coverageJudged = solidFill(settings) && rep.gridPoints > 0;  // a part thinner than the grid: nothing to judge
+  if (v.inside < c.minInside) {
+    v.failures.push_back(percent(1 - v.inside) + " of the tool path lies outside the part (at most " +
+                         percent(1 - c.minInside) + ")");
+  }
+  if (v.coverageJudged && v.coverage < c.minCoverage) {
+    v.failures.push_back("only " + percent(v.coverage) + " of the interior is filled (at least " +
+                         percent(c.minCoverage) + ")");
+  }
+  if (v.supported < c.minSupported) {
+    v.failures.push_back(percent(1 - v.supported) + " of the surface is printed over air (at most " +
+                         percent(1 - c.minSupported) + ")");
+  }
+  if (v.collisions > 0) {
+    v.failures.push_back(std::to_string(v.collisions) +
+                         " tool-path samples put the nozzle cone into material printed before");
+  }
+  if (v.leftOutMm > 0) {
+    char s[96];
+    std::snprintf(s, sizeof s, "%.1f mm of tool path is left out (no nozzle axis reaches it)", v.leftOutMm);
+    v.failures.push_back(s);
+  }
+  if (v.limits > 0) v.failures.push_back(std::to_string(v.limits) + " moves leave the machine's axis limits");
+  v.sound = v.failures.empty();
+  if (!v.sound) {
+    const std::vector<std::string> fix = remedies(v, c, settings, machine, result);
+    v.statement = std::string("the ") + methodName(settings.method) + " method cannot print this model soundly on " +
+                  machine.name + ": " + joined(v.failures, "; ") + ". " +
+                  (fix.empty() ? std::string() : "What would: " + joined(fix, "; ") + ".") +
+                  (mode == VerifyMode::Refuse ? " To write this program anyway, set verify=warn." : "");
+  }
+  out.preview.unsupported = std::move(rep.unsupportedPoints);
+  out.preview.collisions = std::move(rep.collisionPoints);
+  v.ms = msSince(t0);
+  return out;
+}
+
+}  // namespace omnislice

@@ -1,0 +1,44 @@
+// SPDX-License-Identifier: MIT
+// Sound or not (issue 25): the program the pipeline made, simulated as `omnislice verify` does
+// (PROGRAM-FORMAT.md "What verification measures"), judged by fixed criteria, and, when it is not
+// sound, the statement a user gets before anything is written: what fails, where, and what would
+// print the model (supports, another method, another machine, another placement).
+#pragma once
+#include <string>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "machine/machine.h"
+#include "mesh/mesh.h"
+#include "pipeline/method.h"
+#include "pipeline/preview.h"
+#include "pipeline/report.h"
+#include "pipeline/settings.h"
+
+namespace omnislice {
+
+// The criteria a sound program meets (the Goal of issue 25).
+struct SoundnessCriteria {
+  double minInside = 0.99;     // share of samples within w/2 of the solid
+  double minCoverage = 0.97;   // share of interior grid points inside a bead (solid fills only)
+  double minSupported = 0.99;  // share of surface samples with earlier material within 1.5 h
+  // No collision, no limit violated, no tool path left out: zero, not a share.
+};
+
+// The mode a slice runs in: auto is refuse for the multi-axis methods and off for planar.
+VerifyMode effectiveVerifyMode(const Settings& settings);
+
+struct SoundnessCheck : Outcome {
+  VerifySection section;  // the report's "verify"
+  VerifyPreview preview;  // where it fails, for viewers
+};
+
+// Simulate `program` (the text the pipeline wrote) against `part` (the printed solid in the part
+// frame; for the surface method the solid under the surface) and judge it. The statement is filled
+// when it is not sound. Progress stage "verify". Statuses: those of readProgram and
+// verifyProgram (Internal when the pipeline's own program does not parse), Cancelled.
+SoundnessCheck checkProgram(const std::string& program, const Mesh& part, const Settings& settings,
+                            const MachineProfile& machine, const MethodResult& result, VerifyMode mode,
+                            const SoundnessCriteria& criteria = {}, const ProgressFn& progress = {});
+
+}  // namespace omnislice

@@ -1,0 +1,147 @@
+// SPDX-License-Identifier: MIT
+// The pipeline simulates what it made before writing it (issue 25: never a silently defective
+// program): an unsound multi-axis program is refused with a statement of why and what would print
+// the model, the report and the preview still say where; verify = warn delivers it with a
+// warning; the figures are those of `omnislice verify` on the same program.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "pipeline/pipeline.h"
+#include "pipeline/pipeline_fixtures.h"
+#include "test_meshes.h"
+#include "test_support.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::json;
+
+// A sphere resting on its pole, sliced by the voxel method on table5 at 0.8 mm: its lower half
+// hangs over the first layers (measured: ~14 % of the surface unsupported).
+std::vector<uint8_t> sphereBytes() { return test::binaryStl(test::makeUvSphere(8, 32, 16, {0, 0, 8})); }
+
+Settings voxelOnTable() {
+  Settings s;
+  s.method = Method::Voxel;
+  s.machine = "table5";
+  return s;
+}
+
+TEST(Soundness, UnsoundMultiAxisProgramIsRefusedWithAStatementAndTheFiguresStay) {
+  const std::vector<uint8_t> bytes = sphereBytes();
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", voxelOnTable());
+  ASSERT_EQ(out.status, Status::UnsoundProgram) << out.message;
+  EXPECT_TRUE(out.program.empty()) << "a refused program is not delivered";
+  EXPECT_EQ(out.message.rfind("the voxel method cannot print this model soundly on table5: ", 0), 0u) << out.message;
+  EXPECT_NE(out.message.find("What would: "), std::string::npos) << out.message;
+  EXPECT_NE(out.message.find("--method multidir"), std::string::npos) << out.message;
+  EXPECT_NE(out.message.find("verify=warn"), std::string::npos) << out.message;
+  // The report still says what was measured and why.
+  const Json r = Json::parse(out.reportJson);
+  const Json& v = r["verify"];
+  EXPECT_EQ(v["mode"], "refuse");
+  EXPECT_FALSE(v["sound"].get<bool>());
+  ASSERT_FALSE(v["failures"].empty());
+  EXPECT_LT(v["supported"].get<double>(), 0.99);
+  EXPECT_EQ(v["statement"], out.message);
+  // Where it fails: the unsupported tips lie on the part (within a bead of its box).
+  const std::vector<float>& pts = out.preview.verify.unsupported;
+  ASSERT_FALSE(pts.empty());
+  ASSERT_EQ(pts.size() % 3, 0u);
+  EXPECT_LE(pts.size() / 3, 4000u);
+  for (size_t i = 0; i < pts.size(); i += 3) {
+    const Eigen::Vector3d p(pts[i], pts[i + 1], pts[i + 2]);
+    EXPECT_LT(std::abs(std::hypot(p.x(), p.y(), p.z() - 8) - 8), 1.0) << "unsupported tip off the sphere: " << p.transpose();
+  }
+}
+
+TEST(Soundness, WarnDeliversTheSameProgramWithTheStatementAsAWarning) {
+  const std::vector<uint8_t> bytes = sphereBytes();
+  Settings s = voxelOnTable();
+  s.verify = VerifyMode::Warn;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
+  ASSERT_TRUE(out.ok()) << out.message;
+  ASSERT_FALSE(out.program.empty());
+  bool warned = false;
+  for (const Warning& w : out.warnings) warned = warned || (w.code == "unsound_program" && !w.message.empty());
+  EXPECT_TRUE(warned);
+  // The figures are `omnislice verify`'s on the delivered program (the same simulation, run
+  // independently from the program text and the input bytes).
+  const Json v = Json::parse(out.reportJson)["verify"];
+  const VerifyOutput check = runVerify(out.program, bytes.data(), bytes.size(), "sphere.stl");
+  ASSERT_TRUE(check.ok()) << check.message;
+  const Json c = Json::parse(check.verifyJson);
+  EXPECT_EQ(v["mode"], "warn");
+  EXPECT_DOUBLE_EQ(v["supported"].get<double>(), c["supported"].get<double>());
+  EXPECT_DOUBLE_EQ(v["inside"].get<double>(), c["inside"].get<double>());
+  EXPECT_DOUBLE_EQ(v["coverage"].get<double>(), c["coverage"].get<double>());
+  EXPECT_EQ(v["collisions"].get<size_t>(), c["collisions"].get<size_t>());
+  EXPECT_EQ(v["samples"].get<size_t>(), c["samples"].get<size_t>());
+}
+
+TEST(Soundness, SoundProgramPassesAndOffSkipsTheSimulation) {
+  // The L-bracket cut once by multidir on table5 prints soundly (measured supported 0.996).
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s;
+  s.method = Method::Multidir;
+  s.machine = "table5";
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json v = Json::parse(out.reportJson)["verify"];
+  EXPECT_TRUE(v["sound"].get<bool>());
+  EXPECT_TRUE(v["failures"].empty());
+  EXPECT_EQ(v["statement"], "");
+  EXPECT_EQ(v["collisions"].get<size_t>(), 0u);
+  EXPECT_GE(v["supported"].get<double>(), 0.99);
+  EXPECT_FALSE(v["coverage_judged"].get<bool>()) << "sparse infill is not judged by coverage";
+  // verify = off: no simulation, no section; the planar method's auto is off.
+  s.verify = VerifyMode::Off;
+  const SliceOutput off = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  ASSERT_TRUE(off.ok());
+  EXPECT_FALSE(Json::parse(off.reportJson).contains("verify"));
+  EXPECT_EQ(off.program.size(), out.program.size());
+  Settings planar;
+  const SliceOutput p = runSlice(bytes.data(), bytes.size(), "l.stl", planar);
+  ASSERT_TRUE(p.ok());
+  EXPECT_FALSE(Json::parse(p.reportJson).contains("verify"));
+}
+
+TEST(Soundness, PlanarOnRequestNamesSupportsAsTheRemedy) {
+  // The bracket's arm overhangs: planar without supports leaves it over air.
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s;
+  s.verify = VerifyMode::Refuse;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  ASSERT_EQ(out.status, Status::UnsoundProgram) << out.message;
+  EXPECT_NE(out.message.find("printed over air"), std::string::npos) << out.message;
+  EXPECT_NE(out.message.find("support=projected"), std::string::npos) << out.message;
+}
+
+TEST(Soundness, CliWritesTheReportButNoProgramWhenRefused) {
+  const std::filesystem::path dir = test::tempDir() / "soundness";
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path stl = dir / "sphere.stl", prog = dir / "sphere.gcode", rep = dir / "sphere.json",
+                              err = dir / "stderr.txt";
+  const std::vector<uint8_t> bytes = sphereBytes();
+  std::ofstream(stl, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  std::filesystem::remove(prog);
+  std::filesystem::remove(rep);
+  const std::string cmd = std::string(OMNISLICE_CLI_PATH) + " slice " + stl.string() + " -o " + prog.string() +
+                          " --method voxel --machine table5 --report " + rep.string() + " 2>" + err.string();
+  const int rc = std::system(cmd.c_str());
+  EXPECT_NE(rc, 0);
+  EXPECT_FALSE(std::filesystem::exists(prog));
+  ASSERT_TRUE(std::filesystem::exists(rep));
+  const Json r = Json::parse(std::ifstream(rep));
+  EXPECT_FALSE(r["verify"]["sound"].get<bool>());
+  std::ifstream e(err);
+  const std::string text((std::istreambuf_iterator<char>(e)), {});
+  EXPECT_NE(text.find("error: unsound_program: the voxel method cannot print"), std::string::npos) << text;
+}
+
+}  // namespace
+}  // namespace omnislice
