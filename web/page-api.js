@@ -2,7 +2,7 @@
 // window.omnislice: a read-only view of the page for diagnostics and the end-to-end tests (what is
 // loaded, the last report, what each view draws, the progress of the last slice), and one test
 // hook that shows a made-up result as if the engine had produced it.
-import { geodesic, multidir, surface, voxel } from './methods/index.js';
+import { check, geodesic, multidir, surface, voxel } from './methods/index.js';
 import { stageTimes } from './status-panel.js';
 
 /** Install window.omnislice over the app state (main.js); app.actions.showResult draws a result. */
@@ -10,6 +10,8 @@ export function installPageApi(app) {
   window.omnislice = {
     get state() { return document.body.dataset.state; },
     get report() { return app.result ? app.result.report : null; },
+    /** The report of the refused slice shown (error unsound_program; no program), or null. */
+    get refusedReport() { return app.refused ? app.refused.report : null; },
     get info() { return app.mesh ? app.mesh.info : null; },
     get previewSegments() { return app.views.planar ? app.views.planar.segmentCount : 0; },
     get featureCounts() { return app.views.planar ? app.views.planar.featureCounts : null; },
@@ -28,6 +30,11 @@ export function installPageApi(app) {
     get geodesic() { return geodesic.view.inspect(app); },
     /** The multidir view: what it holds and draws (MultidirView.stats()), or null. */
     get multidir() { return multidir.view.inspect(app); },
+    /**
+     * The check before writing: {state (sound, warned, refused, unsound), refused, rows {key: {text,
+     * state}}, points (CheckView.stats()) | null, leftOut (segments)}, or null without report.verify.
+     */
+    get check() { return check.view.inspect(app); },
     /**
      * The search levels of the last slice's multidir decomposition: {levels: progress.search of
      * every event in arrival order, liveDraws: the live J_G chart's values at each of its drawings}.

@@ -16,15 +16,22 @@ export function svgElement(name, attributes, text) {
   return el;
 }
 
-/** [key, label, text] rows as dt/dd pairs in `dl` (dd data-testid `${prefix}-${key}`). */
+/**
+ * [key, label, text, state?] rows as dt/dd pairs in `dl` (dd data-testid `${prefix}-${key}`); a
+ * row's state (e.g. 'pass', 'fail') becomes the dd's class and data-state.
+ */
 export function fillFigureList(dl, rows, prefix) {
   dl.replaceChildren();
-  for (const [key, label, text] of rows) {
+  for (const [key, label, text, state] of rows) {
     const dt = document.createElement('dt');
     dt.textContent = label;
     const dd = document.createElement('dd');
     dd.dataset.testid = `${prefix}-${key}`;
     dd.textContent = text;
+    if (state) {
+      dd.className = state;
+      dd.dataset.state = state;
+    }
     dl.append(dt, dd);
   }
 }

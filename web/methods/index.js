@@ -11,6 +11,12 @@
 // is the method's current view object, app.result the shown result, app.busy, app.viewer, ...;
 // app.actions are the page's operations a panel may start (slice, runSlice, setPreview,
 // applyLayerRange, updateButtons).
+//
+// Beside the methods, the registry holds what every result shows whatever its method, in the same
+// shape without a method's own data (stage weights, settings group, machine hint): the check
+// before writing (check.js). The page's loops over report groups, panels and views run over both
+// (SHOWN); what belongs to a method (its stages, hints, settings) only over METHODS.
+import { check } from './check.js';
 import { geodesic } from './geodesic.js';
 import { multidir } from './multidir.js';
 import { planar } from './planar.js';
@@ -52,7 +58,13 @@ import { voxel } from './voxel.js';
 /** The methods in the page's drawing order (the tool paths first; views are added in this order). */
 export const METHODS = Object.freeze([planar, voxel, surface, geodesic, multidir]);
 
-export { geodesic, multidir, planar, surface, voxel };
+/** What every result shows besides its method's parts (check.js), drawn after the methods' views. */
+export const EXTRAS = Object.freeze([check]);
+
+/** The modules whose report groups, panels and views the page shows, in drawing order. */
+const SHOWN = Object.freeze([...METHODS, ...EXTRAS]);
+
+export { check, geodesic, multidir, planar, surface, voxel };
 
 /** The module of a method name; planar for a name it does not know. */
 export function methodNamed(name) {
@@ -78,44 +90,48 @@ export function progressDetail(search) {
 
 /**
  * The line after 'done in … s: ' for a report: its method section's summary (a report has at
- * most one of the voxel, geodesic and multidir sections), '' for none.
+ * most one of the voxel, geodesic and multidir sections), then the check's verdict ('sound'),
+ * joined by ' · '; '' for none.
  */
 export function doneSummary(report) {
-  for (const m of METHODS) {
+  const parts = [];
+  const method = METHODS.map((m) => m.data.doneSummary(m.data.section(report))).find((text) => text);
+  if (method) parts.push(method);
+  for (const m of EXTRAS) {
     const text = m.data.doneSummary(m.data.section(report));
-    if (text) return text;
+    if (text) parts.push(text);
   }
-  return '';
+  return parts.join(' · ');
 }
 
 /** Every method's report group shows the report (null clears them). */
 export function showReports(app, report) {
-  for (const m of METHODS) m.panel.show(app, m.data.section(report));
+  for (const m of SHOWN) m.panel.show(app, m.data.section(report));
 }
 
 /** Every method's controls, once at start-up. */
 export function wirePanels(app) {
-  for (const m of METHODS) m.panel.wire(app);
+  for (const m of SHOWN) m.panel.wire(app);
 }
 
 /** The methods' buttons follow app.busy. */
 export function enablePanels(app) {
-  for (const m of METHODS) if (m.panel.enable) m.panel.enable(app);
+  for (const m of SHOWN) if (m.panel.enable) m.panel.enable(app);
 }
 
 /** A new result or model: the methods forget their extra runs. */
 export function resetPanels(app) {
-  for (const m of METHODS) if (m.panel.reset) m.panel.reset(app);
+  for (const m of SHOWN) if (m.panel.reset) m.panel.reset(app);
 }
 
 /** A running slice's progress, painted once per frame. */
 export function showProgress(app, progress) {
-  for (const m of METHODS) if (m.panel.showProgress) m.panel.showProgress(app, progress);
+  for (const m of SHOWN) if (m.panel.showProgress) m.panel.showProgress(app, progress);
 }
 
 /** A slice failed or was cancelled. */
 export function sliceFailed(app, progress) {
-  for (const m of METHODS) if (m.panel.sliceFailed) m.panel.sliceFailed(app, progress);
+  for (const m of SHOWN) if (m.panel.sliceFailed) m.panel.sliceFailed(app, progress);
 }
 
 /**
@@ -127,7 +143,7 @@ export async function buildViews(result, { onError }) {
   const views = {};
   const buffers = result && result.preview;
   if (!buffers) return views;
-  for (const m of METHODS) {
+  for (const m of SHOWN) {
     if (!m.view.build || !m.data.hasView(buffers)) continue;
     try {
       views[m.name] = await m.view.build(result);
@@ -144,24 +160,24 @@ export async function buildViews(result, { onError }) {
  * views).
  */
 export function viewRoot(views) {
-  const objects = METHODS.filter((m) => views[m.name]).map((m) => views[m.name].object);
+  const objects = SHOWN.filter((m) => views[m.name]).map((m) => views[m.name].object);
   for (const o of objects.slice(1)) objects[0].add(o);
   return objects[0] || null;
 }
 
 /** Free what the views own (the viewer frees the objects it was given). */
 export function disposeViews(views) {
-  for (const m of METHODS) if (views[m.name] && views[m.name].dispose) views[m.name].dispose();
+  for (const m of SHOWN) if (views[m.name] && views[m.name].dispose) views[m.name].dispose();
 }
 
 /** After new views (app.views): every method's bar follows its view. */
 export function setupViews(app, options) {
-  for (const m of METHODS) m.view.setup(app, options);
+  for (const m of SHOWN) m.view.setup(app, options);
 }
 
 /** The layer sliders' range lo..hi (atTop: hi is the last layer) for every view and panel. */
 export function setLayerRange(app, lo, hi, atTop) {
-  for (const m of METHODS) {
+  for (const m of SHOWN) {
     if (m.view.setLayerRange) m.view.setLayerRange(app, lo, hi, atTop);
     if (m.panel.showLayer) m.panel.showLayer(app, hi);
   }
