@@ -3,7 +3,9 @@
 // the settings and machine panels (built once the engine gives its settings table: defaults,
 // ranges and choices are the core's), and the operations the controls start: load a mesh (file
 // input, drag-and-drop, demo menu), place it again after a placement edit, slice with progress and
-// cancel, show the result (report, model, views, machine animation), download the program.
+// cancel, show the result (report, model, views, machine animation), download the program. A slice
+// the core refuses as unsound (error code unsound_program) still shows what it measured: its
+// report, model and views, with the error and without a program (app.refused).
 // What a method shows comes from the method registry (methods/index.js): each method's module
 // draws its report section and builds its view when the result carries them.
 // All heavy work runs in the engine's worker; the main thread only moves typed arrays around.
@@ -38,6 +40,7 @@ const app = {
   history: new History(),
   mesh: null,        // {name, meshId, info} of the loaded mesh
   result: null,      // last successful slice result
+  refused: null,     // the refused slice shown instead ({report, info, preview, mesh} of its unsound_program error)
   busy: null,        // 'loading' | 'placing' | 'slicing' | 'showing' | null
   abort: null,       // AbortController of the running slice
   placementDirty: false,
@@ -94,6 +97,7 @@ function clearReport() {
   resetPanels(app);
   showReport(null);
   app.result = null;
+  app.refused = null;
   app.replay = null;
   $('download-program').disabled = true;
   setDownloadLabel('gcode');
@@ -239,8 +243,8 @@ async function loadFile(file) {
 /**
  * Run one slice request with the page's progress, cancel and error handling: the progress text
  * starts at `startText`; onResult(result, started) shows the result; a failure shows its error,
- * 'cancelled' or `failText`, after onFailure(). marked: performance marks 'omnislice:slice-start'
- * and 'omnislice:result' for the tests' long-task check.
+ * 'cancelled', or the text onFailure(err, started) resolves to (else `failText`). marked:
+ * performance marks 'omnislice:slice-start' and 'omnislice:result' for the tests' long-task check.
  */
 async function runSlice(settings, { startText, failText, onResult, onFailure = () => {}, marked = false }) {
   if (!app.slicer || !app.mesh || app.busy) return;
@@ -259,10 +263,16 @@ async function runSlice(settings, { startText, failText, onResult, onFailure = (
     if (marked) performance.mark('omnislice:result');
     await onResult(result, started);
   } catch (err) {
-    onFailure();
     const cancelled = err && err.code === 'cancelled';
+    let text = '';
+    try {
+      text = await onFailure(err, started);
+    } catch (failed) {
+      // The slice's own error is what the user must read; a failure to show more is secondary.
+      console.error('showing the failed slice:', failed);
+    }
     showError(err);
-    setProgressText(cancelled ? 'cancelled' : failText, 0);
+    setProgressText(cancelled ? 'cancelled' : text || failText, 0);
     setPageState(cancelled ? 'cancelled' : 'error');
   } finally {
     app.busy = null;
@@ -278,7 +288,14 @@ function slice() {
     startText: 'starting',
     failText: 'slicing failed',
     marked: true,
-    onFailure: () => sliceFailed(app, app.progress),
+    async onFailure(err, started) {
+      sliceFailed(app, app.progress);
+      if (!(err && err.code === 'unsound_program' && err.report)) return '';
+      // What the refused slice measured stays on show: figures, model, views; no program.
+      const { report, info, preview, mesh } = err;
+      await showResult({ report, info, preview, mesh }, started, { refused: true });
+      return `refused after ${((performance.now() - started) / 1000).toFixed(2)} s: not sound, no program written`;
+    },
     async onResult(result, started) {
       await showResult(result, started);
       app.resultSettings = settings;
@@ -289,13 +306,16 @@ function slice() {
 /**
  * Show a slice result: report, model, views, machine view; the summary line and the page state
  * 'done' last. Each step is its own task, so none of them holds the main thread for long.
+ * refused: a refused slice's measures (no program): shown as app.refused, the caller reports the
+ * failure (no 'done', no slice counted).
  */
-async function showResult(result, started) {
+async function showResult(result, started, { refused = false } = {}) {
   app.busy = 'showing';
   await nextFrame();
   timed('show-report', () => {
     resetPanels(app);
-    app.result = result;
+    app.result = refused ? null : result;
+    app.refused = refused ? result : null;
     app.resultSettings = null;
     app.replay = null;
     showReport(result.report);
@@ -311,6 +331,7 @@ async function showResult(result, started) {
   await setPreview(result, { fresh: true });
   performance.mark('omnislice:preview-built');
   if ($('machine-toggle').checked) timed('machine-view', () => openMachineView(app));
+  if (refused) return;
   app.sliceCount += 1;
   document.body.dataset.sliceCount = String(app.sliceCount);
   const wall = ((performance.now() - started) / 1000).toFixed(2);
