@@ -4,7 +4,7 @@
 //   - the demo's planar slice carries no check (verify auto is off for planar): no check group,
 //     no check bar;
 //   - multidir is sound: the report says so plainly, every figure passes, the done line ends in
-//     'sound';
+//     'sound'; its few tolerated unsupported tips are behind the check toggle, off;
 //   - the voxel method at a 1.2 mm voxel width is refused (error unsound_program with the core's
 //     statement): the page still shows what the refused slice measured (verdict, figures with the
 //     failing ones marked, the model, the tool paths, the unsupported and colliding tips drawn in
@@ -78,6 +78,16 @@ test('a sound multidir slice says so, every figure passing', async (t) => {
   assert.match(await page.textContent(tid('progress-text')), /^done in [\d.]+ s: \d+ parts?, J_G .* · sound$/);
   assert.equal(await page.isEnabled(tid('download-program')), true);
   assert.equal(await page.isHidden(tid('write-anyway')), true);
+  // The few tolerated unsupported tips are behind the toggle, off for a sound result.
+  assert.equal(await page.isVisible(tid('check-bar')), true);
+  assert.equal(await page.isChecked(tid('show-check')), false);
+  let points = (await page.evaluate(() => window.omnislice.check)).points;
+  assert.ok(points.unsupported > 0 && points.unsupportedDrawn === 0, JSON.stringify(points));
+  assert.equal(await page.isHidden(tid('legend-collisions')), true);
+  await setSetting('show-check', true);
+  points = (await page.evaluate(() => window.omnislice.check)).points;
+  assert.equal(points.unsupportedDrawn, points.unsupported);
+  await setSetting('show-check', false);
 });
 
 test('a refused voxel slice shows what it measured and where it fails, without a program; "Write it anyway" writes it with a warning', async (t) => {
@@ -112,7 +122,9 @@ test('a refused voxel slice shows what it measured and where it fails, without a
   assert.equal(await page.isDisabled(tid('machine-toggle')), true);
   assert.equal(await page.evaluate(() => window.omnislice.report), null);
 
-  // Where it fails: both clouds drawn, counted in the legend and on the screen.
+  // Where it fails: both clouds drawn (the toggle on again for a result that is not sound),
+  // counted in the legend and on the screen.
+  assert.equal(await page.isChecked(tid('show-check')), true);
   const check = await page.evaluate(() => window.omnislice.check);
   assert.equal(check.state, 'refused');
   assert.ok(check.points.unsupportedDrawn > 10, JSON.stringify(check.points));

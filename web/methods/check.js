@@ -58,7 +58,16 @@ export const check = {
   },
   view: {
     build: (result) => timed('check-view', () => new CheckView(result.preview, verifySection(result.report))),
-    setup(app) {
+    /**
+     * A new result shows where it fails when it is not sound; a sound one keeps its few tolerated
+     * points (under 1 % of the surface) behind the toggle, so a sound print does not look alarming.
+     */
+    setup(app, { fresh = false } = {}) {
+      if (fresh) {
+        const shown = app.result || app.refused;
+        const v = verifySection(shown && shown.report);
+        $('show-check').checked = !(v && checkVerdict(v, { refused: !!app.refused }).state === 'sound');
+      }
       applyVisible(app);
     },
     /** What the check shows: the verdict's state, whether the slice was refused, the points drawn. */
