@@ -101,6 +101,12 @@ struct VoxelReport {
     double meanMm = 0, stdMm = 0, maxDeviationMm = 0;
     double histogramMinMm = 0, histogramBinMm = 0;
     std::vector<uint32_t> histogram;
+    // Per printed layer in print order: min and max distance to the layers below (mm) and
+    // whether it is a partial layer (bounded thickness).
+    std::vector<double> layerMinMm, layerMaxMm;
+    std::vector<uint8_t> layerPartial;
+    double maxRatio = 0;           // voxel.max_thickness_ratio
+    size_t partialLayers = 0;
   } thickness;
   size_t shadowChecks = 0, hullBuilds = 0;
   size_t orientationFallbacks = 0, tiltClamped = 0, gougingCorrections = 0, gougingUncorrected = 0;

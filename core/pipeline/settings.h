@@ -57,6 +57,12 @@ struct VoxelSettings {
   double isoStep = 0;                  // curved-layer iso step in G units; 0 = from layerMm
   double layerMm = 0;                  // target curved-layer thickness, mm; 0 = w (0.8 x nozzle,
                                        // the paper's calibrated layer of Section 6.2.1)
+  double maxThicknessRatio = 1.3;      // bounded thickness: partial layers where a curved layer
+                                       // lies further than this x the target layer from the one
+                                       // below (curved_layers.h maxThickness); 0 = off. 1.3
+                                       // leaves room for the lateral step to the bead below
+                                       // within verify's 1.5 h (Bunny, Yoga, Kitten at 40 mm on
+                                       // table5: supported 0.71-0.90 -> 0.996-0.999)
   double platformRadiusMm = 0;         // platform disc radius; 0 = the part's footprint
   double maxVoxels = 3e6;              // refuse grids with more solid voxels
   double maxTiltDegrees = 0;           // nozzle axes lean at most this far from +Z; 0 = the

@@ -371,6 +371,8 @@ std::vector<SettingSpec> makeTable() {
              "curved-layer iso step (0 = from voxel.layer_mm)"),
       number("voxel.layer_mm", [](S& s) -> double& { return s.voxel.layerMm; }, 0, 5, "mm",
              "target curved-layer thickness (0 = the voxel width)"),
+      number("voxel.max_thickness_ratio", [](S& s) -> double& { return s.voxel.maxThicknessRatio; }, 0, 10,
+             "x layer", "partial layers where a layer lies further than this from the one below (0 = off)"),
       number("voxel.max_tilt_deg", [](S& s) -> double& { return s.voxel.maxTiltDegrees; }, 0, 180, "deg",
              "nozzle axes lean at most this far from +Z (0 = the machine's)"),
       number("voxel.max_voxels", [](S& s) -> double& { return s.voxel.maxVoxels; }, 1000, 1e9, "voxels",

@@ -116,11 +116,12 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
                  : mmPerUnit > 0            ? targetLayer / mmPerUnit
                                             : 2.0 * std::max(1, fieldMax);  // one layer
   lopt.nozzleDiameter = nozzle;
+  lopt.maxThickness = settings.voxel.maxThicknessRatio * targetLayer;
   CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
   if (!layers.ok()) return failure(layers);
   // The gradient estimate can miss on fields of a few voxels: when the measured mean thickness is
   // off the target by more than half, extract once more with the step scaled by their ratio.
-  const double measured = layers.thickness.samples > 0 ? layers.thickness.mean : 0;
+  const double measured = layers.thickness.samples > 0 ? layers.thickness.fullMean() : 0;
   if (settings.voxel.isoStep <= 0 && measured > 0 &&
       (measured < 0.5 * targetLayer || measured > 1.5 * targetLayer)) {
     lopt.isoStep *= targetLayer / measured;
@@ -132,7 +133,11 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   // 4. Fermat spirals on every region (Section 5.1) and the tool-path (Section 5.2); with fill =
   // isoplanar (paper 003) every region gets its own theta* and iso-planar NL curves.
   t0 = Clock::now();
-  const double measuredHeight = layers.thickness.samples > 0 ? layers.thickness.mean : w;
+  // The nominal layer: the measured mean thickness, or the target the partial layers bound the
+  // thickness by when there are any.
+  const double measuredHeight = layers.partialLayers > 0        ? targetLayer
+                                : layers.thickness.samples > 0 ? layers.thickness.mean
+                                                               : w;
   stage::CurvedFill filled =
       stage::fillCurvedLayers(layers.layers, settings, machine, measuredHeight, "toolpath", 0.8, progress);
   if (!filled.ok()) return failure(filled);
@@ -140,8 +145,14 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   const double spiralMs = msSince(t0);
   // The largest region's curve and theta*; totals over every region.
   out.report.isoplanar = std::move(filled.isoplanar);
-  const CurvedToolpathOptions topt =
+  CurvedToolpathOptions topt =
       stage::curvedToolpathOptions(settings, machine, measuredHeight, machineTiltDegrees(settings, machine));
+  // Eq. 3 and the bead heights look back past every partial layer to the full one below.
+  int partialRun = 0;
+  for (const CurvedLayer& layer : layers.layers) {
+    partialRun = layer.partial ? partialRun + 1 : 0;
+    topt.earlierLayers = std::max(topt.earlierLayers, partialRun + 1);
+  }
   CurvedToolpathResult tp = buildCurvedToolpath(layers.layers, paths, topt, progress);
   if (!tp.ok()) return failure(tp);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
@@ -193,7 +204,16 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   r.isoStep = lopt.isoStep;
   r.mmPerFieldUnit = mmPerUnit;
   r.targetLayerMm = targetLayer;
-  r.thickness = {th.samples, th.mean, th.stddev, th.maxDeviation, th.histogramMin, th.histogramBin, th.histogram};
+  r.thickness = {th.samples, th.mean, th.stddev, th.maxDeviation, th.histogramMin, th.histogramBin, th.histogram,
+                 {}, {}, {}, settings.voxel.maxThicknessRatio, layers.partialLayers};
+  for (size_t l = 0; l < th.layers.size() && l < paths.size(); ++l) {
+    bool printed = false;
+    for (const auto& region : paths[l]) printed = printed || !region.empty();
+    if (!printed) continue;
+    r.thickness.layerMinMm.push_back(th.layers[l].min);
+    r.thickness.layerMaxMm.push_back(th.layers[l].max);
+    r.thickness.layerPartial.push_back(th.layers[l].full ? 0 : 1);
+  }
   r.timingsMs = {{"voxelize", out.timingsMs[0].second},
                  {"peeling", peelingMs},
                  {"shadow", shadowMs},

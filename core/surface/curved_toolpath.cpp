@@ -269,6 +269,7 @@ class CurvedToolpathBuilder {
     }
     double best = std::max(0.0, q.z());
     Vector3d c(q.x(), q.y(), 0);
+    const double platformDistance = best;
     const size_t first = l > size_t(o_.earlierLayers) ? l - size_t(o_.earlierLayers) : 0;
     if (prev && prev->triangle >= 0) {
       const Mesh& m = merged_[size_t(prev->layer)];
@@ -295,6 +296,20 @@ class CurvedToolpathBuilder {
     }
     s.distance = best;
     s.height = std::clamp(best, hMin_, hMax_);
+    // A partial layer (bounded thickness) sizes the bead but does not orient it: next to its cut
+    // edge q - c_q would lean sideways, so the axis comes from the full layers below.
+    if (s.layer >= 0 && layers_[size_t(s.layer)].partial) {
+      double bestFull = platformDistance;
+      c = Vector3d(q.x(), q.y(), 0);
+      for (size_t k = l; k-- > first;) {
+        if (layers_[k].partial || !trees_[k] || trees_[k]->triangleCount() == 0) continue;
+        const ClosestPoint cp = trees_[k]->closest(q, bestFull);
+        if (cp.distance < bestFull) {
+          bestFull = cp.distance;
+          c = cp.point;
+        }
+      }
+    }
     const Vector3d t = q - c;
     const double d = t.norm();
     const double nn = n.norm();

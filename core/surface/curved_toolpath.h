@@ -87,7 +87,9 @@ struct CurvedToolpathResult : Outcome {
 // move's curve = the path's curves[i] for the segment ending at point i, when given).
 // Orientation per point (Eq. 3): axis = normalize(q - c_q), c_q the closest point on the regions
 // of the previous earlierLayers layers or on the platform plane z = 0 (T is printed before every
-// layer); +Z on layer 0. Where |q - c_q| < 0.1 nominalHeight or q - c_q is more than 80 degrees from
+// layer); +Z on layer 0. Partial layers (CurvedLayer::partial) count for the bead height but
+// not for the axis, which then comes from the closest point on the full layers (or the
+// platform). Where |q - c_q| < 0.1 nominalHeight or q - c_q is more than 80 degrees from
 // the path normal (flipped to the side of q - c_q, or of the previous point's axis, +Z for the
 // first, when q - c_q is that short), the normal is used and counted in
 // orientationFallbacks. Bead height per point = |q - c_q| clamped to [min, max] x nominalHeight

@@ -17,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <string>
 
@@ -904,6 +905,52 @@ void splitRegions(const LayerSurface& s, const InsideTest& inside,
   }
 }
 
+// Bounded thickness (CurvedLayersOptions::maxThickness): the partial layers between the full
+// layers g_(i-1) (previous) and g_i (layer), in print order. The levels needed follow from the
+// largest distance of the layer's vertices to the previous one or the platform (z = 0); the sub-surface at fraction
+// k / 2^levels of the step is kept where the two full layers lie further apart (sum of the
+// distances to both) than kPartialClip x maxThickness x 2^(its level - 1).
+constexpr double kPartialClip = 0.95;
+constexpr int kMaxPartialLevels = 3;
+
+template <class SurfaceAt>
+std::vector<CurvedLayer> partialLayersBetween(int i, const CurvedLayer& layer, const AabbTree& previous,
+                                              const AabbTree& current, SurfaceAt&& surfaceAt, double isoLo,
+                                              double isoHi, double maxThickness, double minArea) {
+  std::vector<CurvedLayer> out;
+  const double reach = 8 * maxThickness;  // farther counts as nothing below (a new island)
+  double worst = 0;
+  for (const LayerRegion& r : layer.regions)
+    for (size_t v = 0; v < r.mesh.vertexCount(); ++v) {
+      const Eigen::Vector3d p = r.mesh.vertex(v);
+      const double d = std::min(std::max(0.0, p.z()), previous.closest(p, reach).distance);  // platform z = 0
+      if (std::isfinite(d) && d < reach) worst = std::max(worst, d);
+    }
+  if (!(worst > maxThickness)) return out;
+  const int levels = std::min(kMaxPartialLevels, static_cast<int>(std::ceil(std::log2(worst / maxThickness))));
+  const int pieces = 1 << levels;
+  for (int k = 1; k < pieces; ++k) {
+    int zeros = 0;
+    while (((k >> zeros) & 1) == 0) ++zeros;
+    const int level = levels - zeros;
+    const double threshold = kPartialClip * maxThickness * double(1 << (level - 1));
+    CurvedLayer sub = surfaceAt(i, isoLo + (isoHi - isoLo) * double(k) / double(pieces));
+    clipLayerRegions(
+        sub,
+        [&](const Eigen::Vector3d& p) {
+          const double a = std::min(std::max(0.0, p.z()), previous.closest(p, reach).distance),
+                       b = current.closest(p, reach).distance;
+          if (!std::isfinite(a) || !std::isfinite(b)) return -1.0;
+          return a + b - threshold;
+        },
+        minArea);
+    if (sub.regions.empty()) continue;
+    sub.partial = true;
+    out.push_back(std::move(sub));
+  }
+  return out;
+}
+
 }  // namespace
 
 CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<int32_t>& g,
@@ -1011,29 +1058,53 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
   KeyMap edgeMap;
   LayerSurface raw, trimmed;
   std::vector<std::vector<uint32_t>> vertexTriangles;  // collapse workspace
-  for (int i = 1; i <= layerCount; ++i) {
-    if (!reportProgress(progress, "layers", static_cast<double>(i - 1) / layerCount)) {
-      return fail(Status::Cancelled, "curved layers: cancelled");
-    }
-    const double iso = isoValue(i);
+  // The iso-surface at `iso` (between g_(i-1) and g_i), trimmed and split into regions.
+  auto surfaceAt = [&](int i, double iso) {
+    CurvedLayer layer;
+    layer.isoValue = iso;
     const auto te = Clock::now();
     extractIsoSurface(grid, field, bucket.data() + bucketStart[i], bucketStart[i + 1] - bucketStart[i],
                       iso, edgeMap, raw);
     result.extractionMs += msSince(te);
-    if (raw.triangles.empty()) continue;
+    if (raw.triangles.empty()) return layer;
     const auto tt = Clock::now();
     trimSurface(raw, inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
                 edgeMap, trimmed);
     collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance,
                        vertexTriangles);
-    CurvedLayer layer;
-    layer.isoValue = iso;
     splitRegions(trimmed, inside, options.minRegionArea, layer);
     result.trimmingMs += msSince(tt);
-    if (layer.regions.empty()) continue;
+    return layer;
+  };
+  auto keep = [&](CurvedLayer&& layer) {
     for (const LayerRegion& r : layer.regions) result.triangleCount += r.mesh.faceCount();
     result.regionCount += layer.regions.size();
+    result.partialLayers += layer.partial ? 1 : 0;
     result.layers.push_back(std::move(layer));
+  };
+  // Bounded thickness: the previous full layer (index, surface tree) while it is g_(i-1).
+  std::unique_ptr<AabbTree> previousTree;
+  int previousIndex = -1;
+  for (int i = 1; i <= layerCount; ++i) {
+    if (!reportProgress(progress, "layers", static_cast<double>(i - 1) / layerCount)) {
+      return fail(Status::Cancelled, "curved layers: cancelled");
+    }
+    CurvedLayer layer = surfaceAt(i, isoValue(i));
+    if (layer.regions.empty()) continue;
+    if (options.maxThickness > 0) {
+      const auto tp = Clock::now();
+      auto currentTree = std::make_unique<AabbTree>(layerMesh(layer));
+      if (previousIndex == i - 1) {
+        for (CurvedLayer& partial : partialLayersBetween(i, layer, *previousTree, *currentTree, surfaceAt,
+                                                         isoValue(i - 1), isoValue(i), options.maxThickness,
+                                                         options.minRegionArea))
+          keep(std::move(partial));
+      }
+      previousTree = std::move(currentTree);
+      previousIndex = i;
+      result.partialMs += msSince(tp);
+    }
+    keep(std::move(layer));
   }
   if (!reportProgress(progress, "layers", 1.0)) return fail(Status::Cancelled, "curved layers: cancelled");
 

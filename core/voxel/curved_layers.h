@@ -25,6 +25,12 @@ struct CurvedLayersOptions {
   double collapseRatio = 0.3;    // x voxel width: interior edges shorter than this are collapsed
                                  // (manifold-safe) after trimming, removing the slivers of
                                  // marching tetrahedra; 0 = off
+  // Bounded thickness (mm; 0 = off): where a layer lies further than this from the layer before
+  // it, partial layers at iso-values between the two (halves, quarters, eighths of the step) are
+  // laid over the thick region only, each kept where the two full layers around it lie further
+  // apart than 0.95 x maxThickness x 2^(level - 1) (level 1 the half, 2 the quarters, 3 the
+  // eighths), so the pieces measure at most maxThickness and at least about half of it.
+  double maxThickness = 0;
 };
 
 struct CurvedLayersResult : Outcome {
@@ -32,7 +38,8 @@ struct CurvedLayersResult : Outcome {
   size_t regionCount = 0;
   size_t triangleCount = 0;
   ThicknessStats thickness;
-  double extractionMs = 0, trimmingMs = 0, thicknessMs = 0;
+  size_t partialLayers = 0;         // layers with CurvedLayer::partial (maxThickness)
+  double extractionMs = 0, trimmingMs = 0, thicknessMs = 0, partialMs = 0;
 };
 
 // grid and g (GrowthField::g, per cell; <= 0 means no value) as produced by growField; solid is

@@ -365,6 +365,68 @@ TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
   EXPECT_GT(*mode, t.samples / 2);
 }
 
+// A fanned field (layers 2 w thick at x = 0, 2/3 w at the far side of a 10 mm box): with
+// maxThickness = 1.3 w, partial layers over the thick side bound every layer's distance to the
+// layers below by maxThickness (up to the sampling and the linear interpolation of the clip);
+// without them the thick side measures about 2 w. Partial layers lie only where the full layers
+// around them are more than 0.95 maxThickness apart, and are manifold with their cut edges flagged.
+TEST(CurvedLayers, PartialLayersBoundTheThicknessOfFannedLayers) {
+  const double w = 0.4;
+  const Mesh box = makeBox(0, 0, 0, 10, 3, 6);
+  const VoxelGrid grid = voxelGridOf(box, w);
+  int iMin = grid.dims.x(), iMax = 0;
+  for (size_t c = 0; c < grid.cellCount(); ++c)
+    if (grid.printable(c)) {
+      iMin = std::min(iMin, grid.cell(c).x());
+      iMax = std::max(iMax, grid.cell(c).x());
+    }
+  // G = (k - platformK) x (8 + 16 (i - iMin) / (iMax - iMin)): 16 units of G are 2 w at iMin and
+  // 2/3 w at iMax.
+  std::vector<int32_t> g(grid.cellCount(), 0);
+  for (size_t c = 0; c < g.size(); ++c)
+    if (grid.printable(c)) {
+      const Eigen::Vector3i v = grid.cell(c);
+      g[c] = (v.z() - grid.platformK) * (8 + 16 * (v.x() - iMin) / (iMax - iMin));
+    }
+  CurvedLayersOptions opt;
+  opt.isoStep = 16;
+  const CurvedLayersResult plain = extractCurvedLayers(grid, g, box, opt);
+  ASSERT_TRUE(plain.ok()) << plain.message;
+  EXPECT_EQ(plain.partialLayers, 0u);
+  double plainMax = 0;
+  for (const LayerThickness& lt : plain.thickness.layers) plainMax = std::max(plainMax, lt.max);
+  EXPECT_GT(plainMax, 1.8 * w);
+
+  opt.maxThickness = 1.3 * w;
+  const CurvedLayersResult res = extractCurvedLayers(grid, g, box, opt);
+  ASSERT_TRUE(res.ok()) << res.message;
+  EXPECT_GT(res.partialLayers, 3u);
+  ASSERT_EQ(res.thickness.layers.size(), res.layers.size());
+  size_t partialRegions = 0;
+  for (size_t l = 1; l < res.layers.size(); ++l) {
+    const CurvedLayer& layer = res.layers[l];
+    EXPECT_EQ(res.thickness.layers[l].full, !layer.partial);
+    // The top layer is trimmed by the box's top face, where its foot may fall past the last
+    // full layer; every other layer keeps the bound.
+    if (layer.regions.empty() || l + 1 == res.layers.size()) continue;
+    EXPECT_LE(res.thickness.layers[l].max, opt.maxThickness * 1.08) << "layer " << l << " g " << layer.isoValue;
+    if (!layer.partial) continue;
+    EXPECT_GT(layer.isoValue, res.layers[l - 1].isoValue);
+    for (const LayerRegion& r : layer.regions) {
+      ++partialRegions;
+      expectRegionManifold(r, "partial layer g " + std::to_string(layer.isoValue));
+      for (size_t v = 0; v < r.mesh.vertexCount(); ++v) {
+        // Full layers more than 0.95 x 1.3 w apart: 16 / (8 + 16 x / 10) x w > 1.235 w, so
+        // x < 5.1 mm (the box spans x in [0, 10]; one voxel of slack for the grid's cells).
+        EXPECT_LT(r.mesh.vertex(v).x(), 5.1 + w) << "partial layer g " << layer.isoValue;
+      }
+    }
+  }
+  EXPECT_GE(partialRegions, res.partialLayers);
+  // The partial layers add layers only where needed: fewer than the full layers.
+  EXPECT_LT(res.partialLayers, res.layers.size() - res.partialLayers);
+}
+
 // Large slanted triangles (a rotated 14 mm cube, 12 triangles, each over thousands of cells):
 // trimmed outlines on the faces, every layer one convex polygon of the exact section's area.
 TEST(CurvedLayers, RotatedCubeLargeTrianglesTrimExactly) {
