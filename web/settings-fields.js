@@ -127,6 +127,8 @@ export const PAGE_FIELDS = [
     testid: 'voxel-smooth', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.layer_mm', label: 'layer thickness (mm, 0 = voxel width)', step: 0.05,
     testid: 'voxel-layer-mm', showIf: isVoxel, sendIf: isVoxel },
+  { group: 'Voxel', key: 'voxel.max_thickness_ratio', label: 'thickest layer (× layer; partial layers above; 0 = off)', step: 0.05,
+    testid: 'voxel-max-thickness', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.iso_step', label: 'iso step (field units, 0 = from the thickness)', step: 0.1,
     testid: 'voxel-iso-step', showIf: isVoxel, sendIf: isVoxel },
   { group: 'Voxel', key: 'voxel.max_tilt_deg', label: 'max nozzle tilt (°, 0 = machine)', step: 5,

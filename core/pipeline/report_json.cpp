@@ -341,6 +341,9 @@ Json verifyJson(const VerifySection& v) {
           {"limits", v.limits},
           {"left_out_mm", num(v.leftOutMm)},
           {"samples", v.samples},
+          {"surface_samples", v.surfaceSamples},
+          {"unsupported_samples", v.unsupportedSamples},
+          {"criteria", {{"inside", num(v.minInside)}, {"coverage", num(v.minCoverage)}, {"supported", num(v.minSupported)}}},
           {"failures", v.failures},
           {"statement", v.statement},
           {"ms", num(v.ms)}};

@@ -55,8 +55,19 @@ std::vector<std::string> remedies(const VerifySection& v, const SoundnessCriteri
   const bool curved = m == Method::Voxel || m == Method::Geodesic || m == Method::Surface;
   if (unsupported) {
     if (m == Method::Planar) addOnce(out, "supports under the overhangs (support=projected)");
-    if (m == Method::Multidir && settings.support.mode == SupportMode::None) {
-      addOnce(out, "projected supports under what the parts leave risky (support=auto)");
+    if (m == Method::Multidir) {
+      if (settings.support.mode == SupportMode::None) {
+        addOnce(out, "projected supports under what the parts leave risky (support=auto)");
+      } else {
+        // Supports are on and still some surface hangs: mostly where a later part's cut meets an
+        // earlier part's edge, or overhangs steeper than the supports' angle leaves alone.
+        addOnce(out, "supports under gentler overhangs too (a smaller support.angle_deg, e.g. 30)");
+        if (machine.kind == MachineKind::Table5 || machine.kind == MachineKind::Rotary4) {
+          addOnce(out, "a machine that turns the part further (robot6-ur5)");
+        }
+      }
+      addOnce(out, "another placement of the part (up, rotate_x_deg, rotate_y_deg)");
+      addOnce(out, "planar layers with supports (--method planar, support=projected)");
     }
     if (curved) {
       addOnce(out, "--method multidir (parts printed along their own directions, projected supports under the rest)");
@@ -64,7 +75,7 @@ std::vector<std::string> remedies(const VerifySection& v, const SoundnessCriteri
     }
   }
   if (blocked) {
-    if (curved) addOnce(out, "--method multidir (planar parts: the nozzle stays above each part's layers)");
+    if (curved && !unsupported) addOnce(out, "--method multidir (planar parts: the nozzle stays above each part's layers)");
     if (machine.kind == MachineKind::Table5 && tiltClamped(result) > 0) {
       addOnce(out, "a machine that tilts the nozzle further (robot6-ur5)");
     }
@@ -111,6 +122,11 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
   v.collisions = rep.collisions;
   v.limits = rep.limitViolations;
   v.samples = rep.samples;
+  v.surfaceSamples = rep.surfaceSamples;
+  v.unsupportedSamples = rep.unsupportedSamples;
+  v.minInside = c.minInside;
+  v.minCoverage = c.minCoverage;
+  v.minSupported = c.minSupported;
   v.leftOutMm = result.leftOutMm;
   v.coverageJudged = solidFill(settings) && rep.gridPoints > 0;  // a part thinner than the grid: nothing to judge
   if (v.inside < c.minInside) {
@@ -138,10 +154,12 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
   v.sound = v.failures.empty();
   if (!v.sound) {
     const std::vector<std::string> fix = remedies(v, c, settings, machine, result);
-    v.statement = std::string("the ") + methodName(settings.method) + " method cannot print this model soundly on " +
-                  machine.name + ": " + joined(v.failures, "; ") + ". " +
-                  (fix.empty() ? std::string() : "What would: " + joined(fix, "; ") + ".") +
-                  (mode == VerifyMode::Refuse ? " To write this program anyway, set verify=warn." : "");
+    std::vector<std::string> sentences{std::string("the ") + methodName(settings.method) +
+                                       " method cannot print this model soundly on " + machine.name + ": " +
+                                       joined(v.failures, "; ") + "."};
+    if (!fix.empty()) sentences.push_back("What would: " + joined(fix, "; ") + ".");
+    if (mode == VerifyMode::Refuse) sentences.push_back("To write this program anyway, set verify=warn.");
+    v.statement = joined(sentences, " ");
   }
   out.preview.unsupported = std::move(rep.unsupportedPoints);
   out.preview.collisions = std::move(rep.collisionPoints);

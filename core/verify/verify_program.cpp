@@ -737,6 +737,8 @@ Outcome supportedSamples(const AabbTree& tree, const Mesh& partMesh, const std::
     }
   }
   rep.supported = surfaceCount ? double(supportedSurface) / double(surfaceCount) : 1.0;
+  rep.surfaceSamples = surfaceCount;
+  rep.unsupportedSamples = surfaceCount - supportedSurface;
   rep.supportedAll = double(supportedAll) / double(samples.size());
   const size_t shown = std::min<size_t>(10, unsupported.size());
   for (size_t k = 0; k < shown; ++k) {

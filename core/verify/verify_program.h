@@ -46,6 +46,8 @@ struct VerifyReport : Outcome {
   double supported = 0;         // share of the part's surface samples supported (by anything
                                 // earlier, support included; support's own samples are not judged)
   size_t supportSamples = 0;    // samples on support features
+  size_t surfaceSamples = 0;    // the part's surface samples (judged for supported)
+  size_t unsupportedSamples = 0;  // of those, not supported
   std::vector<UnsupportedExample> unsupportedExamples;  // up to 10, spread over all of them
   double supportedAll = 0;      // same over all samples
   size_t collisions = 0;        // samples with an earlier sample inside the nozzle cone

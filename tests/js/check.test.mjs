@@ -74,6 +74,9 @@ test('checkRows: a refused voxel program, every figure against its criterion', (
   // The rows that fail are the core's failures (its criteria are the page's).
   assert.equal(checkRows(VOXEL_REFUSED).filter((r) => r[3] === 'fail').length, VOXEL_REFUSED.failures.length);
   assert.deepEqual(SOUNDNESS_CRITERIA, { inside: 0.99, coverage: 0.97, supported: 0.99 });
+  // The report's own bounds win over the defaults (a report recorded with other criteria).
+  const stricter = rowsOf({ ...MULTIDIR_SOUND, criteria: { inside: 0.99, coverage: 0.97, supported: 0.995 } });
+  assert.deepEqual(stricter.supported, ['99.1 % (≥ 99.5 %)', 'fail']);
 });
 
 test('checkRows: coverage only where it is judged; left-out tool path in mm; missing figures as dashes', () => {

@@ -222,7 +222,7 @@ test('settings: voxel rows only for the voxel method; planar-only rows hidden fo
     return f.showIf ? f.showIf(model.values) : true;
   };
   const voxelKeys = fields.filter((f) => f.group === 'Voxel').map((f) => f.key);
-  assert.deepEqual(voxelKeys.sort(), ['voxel.epsilon', 'voxel.iso_step', 'voxel.layer_field', 'voxel.layer_mm', 'voxel.max_tilt_deg',
+  assert.deepEqual(voxelKeys.sort(), ['voxel.epsilon', 'voxel.iso_step', 'voxel.layer_field', 'voxel.layer_mm', 'voxel.max_thickness_ratio', 'voxel.max_tilt_deg',
     'voxel.max_voxels', 'voxel.peel_step', 'voxel.platform_radius_mm', 'voxel.shadow', 'voxel.smooth', 'voxel.strategy', 'voxel.supports',
     'voxel.width_mm'].sort());
   assert.ok(voxelKeys.every((k) => !showIf(k)), 'hidden for planar');

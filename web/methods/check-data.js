@@ -8,9 +8,10 @@
 import { figure, formatLength, formatMs, plural } from '../format.js';
 
 /**
- * The criteria of a sound program, as core/pipeline/soundness.h SoundnessCriteria has them (the
- * report gives the figures and the failures, not the bounds; the rows show the bound beside
- * each figure). Collisions, limits and left-out tool path must be zero.
+ * The default criteria of a sound program, as core/pipeline/soundness.h SoundnessCriteria has
+ * them. The report's verify.criteria gives the bounds judged against and wins; these serve a
+ * report without them (recorded before they were written). Collisions, limits and left-out tool
+ * path must be zero.
  */
 export const SOUNDNESS_CRITERIA = Object.freeze({ inside: 0.99, coverage: 0.97, supported: 0.99 });
 
@@ -55,7 +56,11 @@ function countText(n, word) {
  */
 export function checkRows(v) {
   if (!v) return [];
-  const c = SOUNDNESS_CRITERIA;
+  const given = v.criteria && typeof v.criteria === 'object' ? v.criteria : {};
+  const c = {};
+  for (const key of Object.keys(SOUNDNESS_CRITERIA)) {
+    c[key] = Number.isFinite(given[key]) ? given[key] : SOUNDNESS_CRITERIA[key];
+  }
   const state = (ok) => (ok === null ? '' : ok ? 'pass' : 'fail');
   const atLeast = (x, min) => (Number.isFinite(x) ? state(x >= min) : '');
   const zero = (x) => (Number.isFinite(x) ? state(x === 0) : '');
