@@ -36,7 +36,7 @@ const SHARED_MODELS = process.env.OMNISLICE_SHARED_MODELS || path.resolve(ROOT, 
 const REPS = Math.max(1, Number(process.env.BENCH_REPS) || 3);
 const STAGES = ['read', 'validate', 'place', 'voxelize', 'peeling', 'growth', 'layers', 'slice', 'toolpath',
   'isoplanar_samples', 'isoplanar_feed', 'isoplanar_direction', 'isoplanar_paths', 'isoplanar_benchmark',
-  'tetmesh', 'field', 'igds', 'order', 'paths', 'decompose', 'clip', 'motion', 'program'];
+  'tetmesh', 'field', 'igds', 'order', 'paths', 'decompose', 'clip', 'motion', 'program', 'verify'];
 const tmp = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-bench-'));
 
 for (const f of [CLI, path.join(WASM_DIR, 'omnislice.mjs')]) {
