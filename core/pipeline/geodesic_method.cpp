@@ -317,6 +317,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.maxTiltDeg = topt.maxTiltDegrees;
   report.gougingCorrections = tp.gougingCorrections;
   report.gougingUncorrected = tp.gougingUncorrected;
+  report.reorderedPaths = tp.reorderedPaths;
   report.skippedSegments = tp.skippedPoints;
   report.skippedMm = tp.skippedMm;
   out.report.geodesic = std::move(report);

@@ -110,6 +110,7 @@ struct VoxelReport {
   } thickness;
   size_t shadowChecks = 0, hullBuilds = 0;
   size_t orientationFallbacks = 0, tiltClamped = 0, gougingCorrections = 0, gougingUncorrected = 0;
+  size_t reorderedPaths = 0;  // paths printed in another order to free self-blocked points
   double maxTiltDeg = 0, gougingMs = 0;
   Timings timingsMs;  // voxelize, peeling, shadow, growth, extraction, spirals, toolpaths
 };
@@ -165,6 +166,7 @@ struct GeodesicReport {
   size_t orientationFallbacks = 0, tiltClamped = 0;
   double maxTiltDeg = 0;
   size_t gougingCorrections = 0, gougingUncorrected = 0, skippedSegments = 0;
+  size_t reorderedPaths = 0;  // paths printed in another order to free self-blocked points
   double skippedMm = 0;
   std::optional<std::pair<int32_t, int32_t>> skippedLayers;  // [first, last], 0-based
   Timings timingsMs;

@@ -179,6 +179,7 @@ Json voxelJson(const VoxelReport& r) {
           {"tilt_clamped", r.tiltClamped},
           {"gouging_corrections", r.gougingCorrections},
           {"gouging_uncorrected", r.gougingUncorrected},
+          {"reordered_paths", r.reorderedPaths},
           {"gouging_ms", num(r.gougingMs)}};
 }
 
@@ -270,6 +271,7 @@ Json geodesicJson(const GeodesicReport& r) {
           {"max_tilt_deg", num(r.maxTiltDeg)},
           {"gouging_corrections", r.gougingCorrections},
           {"gouging_uncorrected", r.gougingUncorrected},
+          {"reordered_paths", r.reorderedPaths},
           {"skipped_segments", r.skippedSegments},
           {"skipped_mm", num(r.skippedMm)},
           {"skipped_layers", r.skippedLayers ? Json::array({r.skippedLayers->first, r.skippedLayers->second})

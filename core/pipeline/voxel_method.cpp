@@ -228,6 +228,7 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   r.tiltClamped = tp.tiltClamped;
   r.gougingCorrections = tp.gougingCorrections;
   r.gougingUncorrected = tp.gougingUncorrected;
+  r.reorderedPaths = tp.reorderedPaths;
   r.gougingMs = tp.gougingMs;
   if (auto w = stage::nozzleCollisionWarning(tp.gougingUncorrected)) out.warnings.push_back(*w);
   return out;

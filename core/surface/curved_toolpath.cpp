@@ -437,6 +437,7 @@ class CurvedToolpathBuilder {
     const auto g0 = Clock::now();
     const size_t np = pts.size();
     skip_.assign(np, 0);
+    selfBlocked_.clear();
     pathPositions(pts);
     for (size_t i = 0; i < np; ++i) {
       for (const Vector3d& p : positions_[i]) printed_.add(p, seqOf_[i]);
@@ -483,7 +484,7 @@ class CurvedToolpathBuilder {
 
   // Each colliding axis turned to a free one near it (preferring the previous point's turn).
   // True when any collided.
-  bool turnCollidingAxes(PathAxes& a) const {
+  bool turnCollidingAxes(PathAxes& a) {
     const size_t np = a.axes.size();
     std::vector<Vector3d>& axes = a.axes;
     bool anyChange = false;
@@ -497,6 +498,16 @@ class CurvedToolpathBuilder {
       } else {
         a.bad[i] = 1;
         a.noFree[i] = 1;
+        // Blocked only by this path's own earlier points (free against all printed before it):
+        // printed before them, it would be free (printRegion tries that order).
+        bool before = false;
+        for (const Vector3d& p : positions_[i]) {
+          if (printed_.hit(p, axes[i], seqOf_.empty() ? 0 : seqOf_[0], cone_, nullptr)) {
+            before = true;
+            break;
+          }
+        }
+        if (!before) selfBlocked_.push_back(i);
       }
     }
     return anyChange;
@@ -718,11 +729,165 @@ class CurvedToolpathBuilder {
       if (np < 2) continue;
       const double width = path.width > 0 ? std::min(path.width, o_.lineWidth) : o_.lineWidth;
       if (!orientPath(l, path, done)) return false;
+      const Counters before = counters();
       correctPath(path.points, samples_, layer);
+      if (o_.reorderSelfBlocked && !selfBlocked_.empty()) {
+        const int reordered = printSelfBlockedFirst(l, path, before, width, speed, printKind, feature, done);
+        if (reordered < 0) return false;
+        if (reordered > 0) continue;
+      }
       travelTo(path.points[0], samples_[0].axis, layer);
       printSegments(path, width, speed, printKind, feature, layer);
     }
     return true;
+  }
+
+  // The counters a path's orientation and correction add to (restored when a trial is undone).
+  struct Counters {
+    size_t fallbacks = 0, clamped = 0, corrections = 0, uncorrected = 0, skippedPoints = 0, skippedEnds = 0;
+    double skippedMm = 0;
+  };
+  Counters counters() const {
+    return {result_.orientationFallbacks, result_.tiltClamped, result_.gougingCorrections, result_.gougingUncorrected,
+            result_.skippedPoints, result_.skippedEnds.size(), result_.skippedMm};
+  }
+  void restore(const Counters& c) {
+    result_.orientationFallbacks = c.fallbacks;
+    result_.tiltClamped = c.clamped;
+    result_.gougingCorrections = c.corrections;
+    result_.gougingUncorrected = c.uncorrected;
+    result_.skippedPoints = c.skippedPoints;
+    result_.skippedEnds.resize(c.skippedEnds);
+    result_.skippedLayers.resize(c.skippedEnds / 2);
+    result_.skippedMm = c.skippedMm;
+  }
+
+  // A corrected piece of a path, kept until the order is chosen.
+  struct Piece {
+    SurfacePath path;
+    std::vector<Sample> samples;
+    std::vector<uint8_t> skip;
+    std::vector<std::vector<Vector3d>> positions;
+    std::vector<uint32_t> seq;
+  };
+  Piece keep(SurfacePath path) {
+    return {std::move(path), samples_, skip_, positions_, seqOf_};
+  }
+  // Takes a corrected path's points out of the printed set (a trial undone).
+  void retire(const std::vector<std::vector<Vector3d>>& positions, const std::vector<uint32_t>& seq,
+              const std::vector<uint8_t>& skip) {
+    for (size_t i = 0; i < positions.size(); ++i) {
+      // Segments skipped by skipCollidingSegments were retired already (all but their start).
+      const size_t n = skip[i] ? std::min<size_t>(1, positions[i].size()) : positions[i].size();
+      for (size_t k = 0; k < n; ++k) printed_.retire(positions[i][k], seq[i]);
+    }
+  }
+
+  // The points i0..i1 (inclusive) of a path as a path of their own.
+  static SurfacePath subPath(const SurfacePath& path, size_t i0, size_t i1) {
+    SurfacePath out;
+    out.width = path.width;
+    out.points.assign(path.points.begin() + long(i0), path.points.begin() + long(i1) + 1);
+    if (path.normals.size() == path.points.size()) {
+      out.normals.assign(path.normals.begin() + long(i0), path.normals.begin() + long(i1) + 1);
+    }
+    if (path.curves.size() == path.points.size()) {
+      out.curves.assign(path.curves.begin() + long(i0), path.curves.begin() + long(i1) + 1);
+      out.curves[0] = 0;
+    }
+    return out;
+  }
+
+  // The pieces of a path in another order: runs-first (kind 0: the runs of self-blocked segments,
+  // then the rest, each in path order) or reversed (kind 1: the whole path from its end).
+  std::vector<SurfacePath> reordered(const SurfacePath& path, int kind) const {
+    const size_t np = path.points.size();
+    std::vector<SurfacePath> out;
+    if (kind == 1) {
+      SurfacePath r = path;
+      std::reverse(r.points.begin(), r.points.end());
+      std::reverse(r.normals.begin(), r.normals.end());
+      if (!r.curves.empty()) {
+        // curves[i] names the segment ending at i: reversed, the segment ending at i ends at i + 1.
+        std::vector<uint32_t> c(np, 0);
+        for (size_t i = 1; i < np; ++i) c[np - i] = path.curves[i];
+        r.curves = std::move(c);
+      }
+      out.push_back(std::move(r));
+      return out;
+    }
+    std::vector<uint8_t> first(np, 0);
+    for (size_t i : selfBlocked_) first[i] = 1;
+    first[0] = 0;
+    std::vector<std::pair<size_t, size_t>> ahead, rest;  // point ranges [i0, i1]
+    for (size_t i = 1; i < np;) {
+      size_t j = i;
+      while (j + 1 < np && first[j + 1] == first[i]) ++j;
+      (first[i] ? ahead : rest).push_back({i - 1, j});
+      i = j + 1;
+    }
+    ahead.insert(ahead.end(), rest.begin(), rest.end());
+    for (const auto& [i0, i1] : ahead) out.push_back(subPath(path, i0, i1));
+    return out;
+  }
+
+  // Orients and corrects pieces in order (their points enter the printed set). False when cancelled.
+  bool correctPieces(size_t l, std::vector<SurfacePath> paths, std::vector<Piece>& pieces, double done) {
+    pieces.clear();
+    for (SurfacePath& piece : paths) {
+      if (!orientPath(l, piece, done)) return false;
+      correctPath(piece.points, samples_, static_cast<int32_t>(l));
+      pieces.push_back(keep(std::move(piece)));
+    }
+    return true;
+  }
+  void undo(const std::vector<Piece>& pieces, const Counters& before) {
+    for (auto k = pieces.rbegin(); k != pieces.rend(); ++k) retire(k->positions, k->seq, k->skip);
+    restore(before);
+  }
+
+  // Where some points of a path have no free axis only because of the path's own earlier points
+  // (a spiral closing on a layer that leans away from the nozzle at the machine's tilt limit: its
+  // centre lies under the rings printed before it), two other orders are tried: the runs of those
+  // segments first and the rest after them, and the whole path reversed. The order that leaves the
+  // fewest points colliding is printed, the path's own order when no other leaves fewer (ties
+  // keep it). Returns 1 when another order was printed, 0 when the path's order stays (its
+  // correction redone as before, so samples_ and skip_ are the path's), -1 when cancelled.
+  int printSelfBlockedFirst(size_t l, const SurfacePath& path, const Counters& before, double width, double speed,
+                            MoveKind printKind, Feature feature, double done) {
+    const int32_t layer = static_cast<int32_t>(l);
+    size_t bestBad = result_.gougingUncorrected - before.uncorrected;
+    int bestKind = -1;
+    std::vector<SurfacePath> orders[2] = {reordered(path, 0), reordered(path, 1)};
+    std::vector<Piece> pieces;
+    pieces.push_back(keep(path));
+    for (int kind = 0; kind < 2; ++kind) {
+      undo(pieces, before);
+      if (!correctPieces(l, orders[kind], pieces, done)) return -1;
+      const size_t bad = result_.gougingUncorrected - before.uncorrected;
+      if (bad < bestBad) {
+        bestBad = bad;
+        bestKind = kind;
+      }
+    }
+    if (bestKind != 1) {
+      // Redo the chosen order (the same corrections: the printed set is as it was).
+      undo(pieces, before);
+      if (bestKind < 0) {
+        if (!orientPath(l, path, done)) return -1;
+        correctPath(path.points, samples_, layer);
+        return 0;
+      }
+      if (!correctPieces(l, orders[bestKind], pieces, done)) return -1;
+    }
+    ++result_.reorderedPaths;
+    for (Piece& piece : pieces) {
+      samples_ = std::move(piece.samples);
+      skip_ = std::move(piece.skip);
+      travelTo(piece.path.points[0], samples_[0].axis, layer);
+      printSegments(piece.path, width, speed, printKind, feature, layer);
+    }
+    return 1;
   }
 
   // samples_ of a path's points (Eq. 3 within the tilt range). False when cancelled.
@@ -790,6 +955,7 @@ class CurvedToolpathBuilder {
   std::vector<std::vector<Vector3d>> positions_;
   std::vector<uint32_t> seqOf_;
   std::vector<uint8_t> skip_;  // per path point: the segment ending there is not printed
+  std::vector<size_t> selfBlocked_;  // path points with no free axis only because of the path itself
   // The nozzle: where the last move ended, with which axis.
   bool started_ = false, extruded_ = false;
   Vector3d pos_{0, 0, 0}, axis_{0, 0, 1};

@@ -63,6 +63,10 @@ struct CurvedToolpathOptions {
   // loop of the part, the cut locus of a geodesic field) the last gap faces the nozzle from both
   // sides and no axis within the cone and tilt limits is free.
   bool skipUncorrectable = false;
+  // true: where points of a path have no free axis only because of the path's own earlier points,
+  // the runs of those segments are printed first and the rest after them, when that leaves fewer
+  // points colliding (CurvedToolpathResult::reorderedPaths).
+  bool reorderSelfBlocked = true;
 };
 
 struct CurvedToolpathResult : Outcome {
@@ -72,6 +76,7 @@ struct CurvedToolpathResult : Outcome {
   size_t tiltClamped = 0;           // samples whose axis was turned onto the maxTiltDegrees cone
   size_t gougingCorrections = 0;    // path points whose axis was turned to avoid earlier material
   size_t gougingUncorrected = 0;    // path points left colliding (no free axis within the limits)
+  size_t reorderedPaths = 0;        // paths printed with their self-blocked runs first
   size_t skippedPoints = 0;         // skipUncorrectable: segments left out
   double skippedMm = 0;             // their length, mm
   std::vector<Eigen::Vector3d> skippedEnds;  // start and end of each segment left out (2 per segment)

@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <ostream>
 #include <string>
 #include <vector>
 
@@ -54,6 +55,11 @@ struct SweepCase {
   const char* method;
   const char* machine;
 };
+
+// How gtest names a case in its output (instead of the struct's bytes).
+void PrintTo(const SweepCase& c, std::ostream* os) {
+  *os << c.model.file << " " << c.method << " " << c.machine;
+}
 
 std::vector<SweepCase> sweepCases() {
   std::vector<SweepCase> out;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -705,5 +706,75 @@ TEST(CurvedToolpath, UncorrectableSegmentsAreLeftOutAndCounted) {
   EXPECT_EQ(layer0, layer0Kept);
 }
 
+// The print segments of a tool path as unordered end-point pairs (rounded to 1e-9 mm), sorted.
+std::vector<std::array<double, 6>> printSegments(const Toolpath& tp) {
+  std::vector<std::array<double, 6>> out;
+  Vector3d pos = tp.start;
+  auto r = [](double x) { return std::round(x * 1e9) / 1e9; };
+  for (const Move& m : tp.moves) {
+    if (m.kind == MoveKind::Print && (m.position - pos).norm() > 1e-12) {
+      std::array<double, 6> a{r(pos.x()), r(pos.y()), r(pos.z()), r(m.position.x()), r(m.position.y()), r(m.position.z())};
+      const std::array<double, 6> b{a[3], a[4], a[5], a[0], a[1], a[2]};
+      out.push_back(std::min(a, b));
+    }
+    pos = m.position;
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// A path that runs under what it printed itself: the wall over the disc and the disc's zigzag
+// joined into one path, the axes held within 5 degrees of +Z (no free axis under the wall). In
+// its own order the zigzag under the wall collides with the wall printed just before; printed in
+// another order (the blocked runs first, or reversed) fewer points collide, and every segment is
+// still printed, once.
+TEST(CurvedToolpath, SelfBlockedPathPrintsInAnotherOrder) {
+  DiscStack s = wallOverDisc();
+  ASSERT_EQ(s.paths[1][0].size(), 2u);
+  SurfacePath joined = s.paths[1][0][0];
+  const SurfacePath& disc = s.paths[1][0][1];
+  // From the wall's end down to the zigzag's start: a segment of its own, as a spiral's joins are.
+  joined.points.insert(joined.points.end(), disc.points.begin(), disc.points.end());
+  joined.normals.insert(joined.normals.end(), disc.normals.begin(), disc.normals.end());
+  s.paths[1][0] = {joined};
+
+  CurvedToolpathOptions o;
+  o.collisionClearance = o.nominalHeight;
+  o.maxTiltDegrees = 5;
+  o.reorderSelfBlocked = false;
+  const CurvedToolpathResult inOrder = buildCurvedToolpath(s.layers, s.paths, o);
+  ASSERT_TRUE(inOrder.ok()) << inOrder.message;
+  EXPECT_GT(inOrder.gougingUncorrected, 0u);
+  EXPECT_EQ(inOrder.reorderedPaths, 0u);
+  const size_t collidingInOrder = bruteForceCollisions(inOrder.toolpath, o.nominalHeight, 40, 25);
+  EXPECT_GT(collidingInOrder, 0u);
+
+  o.reorderSelfBlocked = true;
+  const CurvedToolpathResult r = buildCurvedToolpath(s.layers, s.paths, o);
+  expectWellFormed(r, o);
+  EXPECT_EQ(r.reorderedPaths, 1u);
+  EXPECT_LT(r.gougingUncorrected, inOrder.gougingUncorrected);
+  const size_t colliding = bruteForceCollisions(r.toolpath, o.nominalHeight, 40, 25);
+  printf("self-blocked path: %zu -> %zu points left colliding, %zu -> %zu colliding samples\n",
+         inOrder.gougingUncorrected, r.gougingUncorrected, collidingInOrder, colliding);
+  EXPECT_LT(colliding, collidingInOrder);
+  EXPECT_EQ(printSegments(r.toolpath), printSegments(inOrder.toolpath)) << "the same segments, each once";
+
+  // A path that does not block itself keeps its order: the stacked discs are as without it.
+  const DiscStack stack = discStack(4, 0.16, 0.4);
+  CurvedToolpathOptions plain = o;
+  plain.reorderSelfBlocked = false;
+  const CurvedToolpathResult a = buildCurvedToolpath(stack.layers, stack.paths, o);
+  const CurvedToolpathResult b = buildCurvedToolpath(stack.layers, stack.paths, plain);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a.reorderedPaths, 0u);
+  ASSERT_EQ(a.toolpath.moves.size(), b.toolpath.moves.size());
+  for (size_t i = 0; i < a.toolpath.moves.size(); ++i) {
+    EXPECT_EQ(a.toolpath.moves[i].position, b.toolpath.moves[i].position);
+    EXPECT_EQ(a.toolpath.moves[i].axis, b.toolpath.moves[i].axis);
+  }
+}
+
 }  // namespace
 }  // namespace omnislice
+
