@@ -851,8 +851,10 @@ class CurvedToolpathBuilder {
   // centre lies under the rings printed before it), two other orders are tried: the runs of those
   // segments first and the rest after them, and the whole path reversed. The order that leaves the
   // fewest points colliding is printed, the path's own order when no other leaves fewer (ties
-  // keep it). Returns 1 when another order was printed, 0 when the path's order stays (its
-  // correction redone as before, so samples_ and skip_ are the path's), -1 when cancelled.
+  // keep it). Returns 1 when another order was printed, 0 when the path's order stays (corrected
+  // again against the same live points, so samples_ and skip_ are the path's; the trials leave
+  // retired points and cells behind, which can change the order of the `away` sums and so the
+  // rounding of the search's starting azimuth), -1 when cancelled.
   int printSelfBlockedFirst(size_t l, const SurfacePath& path, const Counters& before, double width, double speed,
                             MoveKind printKind, Feature feature, double done) {
     const int32_t layer = static_cast<int32_t>(l);
@@ -871,7 +873,7 @@ class CurvedToolpathBuilder {
       }
     }
     if (bestKind != 1) {
-      // Redo the chosen order (the same corrections: the printed set is as it was).
+      // Redo the chosen order against the points printed before the path.
       undo(pieces, before);
       if (bestKind < 0) {
         if (!orientPath(l, path, done)) return -1;
