@@ -168,6 +168,9 @@ class CurvedToolpathBuilder {
     cone_.length = o_.coneLength;
     cone_.tanAngle = std::tan((o_.coneHalfAngleDegrees + o_.gougingMarginDegrees) * kDeg);
     cone_.radius = 0.5 * kSpacing;
+    exactCone_ = cone_;
+    exactCone_.tanAngle = std::tan(o_.coneHalfAngleDegrees * kDeg);
+    exactCone_.radius = 0;
   }
 
   // The regions in the given order (layers revisited keep their trees). False when cancelled.
@@ -366,10 +369,11 @@ class CurvedToolpathBuilder {
     }
   }
 
-  bool collides(size_t i, const Vector3d& u, Vector3d* away) const {
+  bool collides(size_t i, const Vector3d& u, Vector3d* away) const { return collides(i, u, away, cone_); }
+  bool collides(size_t i, const Vector3d& u, Vector3d* away, const GougingCone& cone) const {
     bool any = false;
     for (const Vector3d& p : positions_[i]) {
-      if (printed_.hit(p, u, seqOf_[i], cone_, away)) {
+      if (printed_.hit(p, u, seqOf_[i], cone, away)) {
         any = true;
         if (!away) return true;
       }
@@ -456,7 +460,12 @@ class CurvedToolpathBuilder {
       }
     }
     if (!o_.skipUncorrectable) {
-      for (size_t i = 0; i < np; ++i) result_.gougingUncorrected += a.bad[i];
+      for (size_t i = 0; i < np; ++i) {
+        result_.gougingUncorrected += a.bad[i];
+        // Of those, the ones the exact cone of `omnislice verify` still finds colliding (the
+        // search's cone is wider and its points blown up: most bad points are only near misses).
+        if (a.bad[i] && collides(i, a.axes[i], nullptr, exactCone_)) ++exactBad_;
+      }
     } else {
       skipCollidingSegments(pts, smp, layer);
       for (size_t i = 0; i < np; ++i) result_.gougingUncorrected += skip_[i];
@@ -746,12 +755,19 @@ class CurvedToolpathBuilder {
   struct Counters {
     size_t fallbacks = 0, clamped = 0, corrections = 0, uncorrected = 0, skippedPoints = 0, skippedEnds = 0;
     double skippedMm = 0;
+    size_t exactBad = 0;
   };
   Counters counters() const {
     return {result_.orientationFallbacks, result_.tiltClamped, result_.gougingCorrections, result_.gougingUncorrected,
-            result_.skippedPoints, result_.skippedEnds.size(), result_.skippedMm};
+            result_.skippedPoints, result_.skippedEnds.size(), result_.skippedMm, exactBad_};
+  }
+  // What an order is judged by: left out (skipUncorrectable) or left colliding under the exact
+  // cone since the counters c.
+  size_t badSince(const Counters& c) const {
+    return o_.skipUncorrectable ? result_.gougingUncorrected - c.uncorrected : exactBad_ - c.exactBad;
   }
   void restore(const Counters& c) {
+    exactBad_ = c.exactBad;
     result_.orientationFallbacks = c.fallbacks;
     result_.tiltClamped = c.clamped;
     result_.gougingCorrections = c.corrections;
@@ -850,7 +866,9 @@ class CurvedToolpathBuilder {
   // (a spiral closing on a layer that leans away from the nozzle at the machine's tilt limit: its
   // centre lies under the rings printed before it), two other orders are tried: the runs of those
   // segments first and the rest after them, and the whole path reversed. The order that leaves the
-  // fewest points colliding is printed, the path's own order when no other leaves fewer (ties
+  // fewest points colliding under verify's exact cone (the search's wider cone flags many near
+  // misses; with skipUncorrectable: the fewest segments left out) is printed, the path's own order
+  // when no other leaves fewer (ties
   // keep it). Returns 1 when another order was printed, 0 when the path's order stays (corrected
   // again against the same live points, so samples_ and skip_ are the path's; the trials leave
   // retired points and cells behind, which can change the order of the `away` sums and so the
@@ -858,7 +876,7 @@ class CurvedToolpathBuilder {
   int printSelfBlockedFirst(size_t l, const SurfacePath& path, const Counters& before, double width, double speed,
                             MoveKind printKind, Feature feature, double done) {
     const int32_t layer = static_cast<int32_t>(l);
-    size_t bestBad = result_.gougingUncorrected - before.uncorrected;
+    size_t bestBad = badSince(before);
     int bestKind = -1;
     std::vector<SurfacePath> orders[2] = {reordered(path, 0), reordered(path, 1)};
     std::vector<Piece> pieces;
@@ -866,7 +884,7 @@ class CurvedToolpathBuilder {
     for (int kind = 0; kind < 2; ++kind) {
       undo(pieces, before);
       if (!correctPieces(l, orders[kind], pieces, done)) return -1;
-      const size_t bad = result_.gougingUncorrected - before.uncorrected;
+      const size_t bad = badSince(before);
       if (bad < bestBad) {
         bestBad = bad;
         bestKind = kind;
@@ -954,6 +972,8 @@ class CurvedToolpathBuilder {
   PrintedPoints printed_;
   uint32_t nextSeq_ = 0;
   GougingCone cone_;
+  GougingCone exactCone_;  // verify's cone: the half-angle alone, points as points
+  size_t exactBad_ = 0;    // bad points the exact cone finds colliding, so far
   std::vector<std::vector<Vector3d>> positions_;
   std::vector<uint32_t> seqOf_;
   std::vector<uint8_t> skip_;  // per path point: the segment ending there is not printed
