@@ -23,6 +23,7 @@
 #include "motion/orientation_smoothing.h"
 #include "toolpath/bead.h"
 #include "surface/printed_points.h"
+#include "surface/surface_layers.h"
 
 namespace omnislice {
 
@@ -34,17 +35,6 @@ CurvedToolpathResult fail(Status s, std::string message) { return failed<CurvedT
 
 bool positiveFinite(double v) { return std::isfinite(v) && v > 0; }
 bool nonNegativeFinite(double v) { return std::isfinite(v) && v >= 0; }
-
-// All regions of one layer as one mesh (for one AABB tree per layer).
-Mesh mergeLayer(const CurvedLayer& layer) {
-  Mesh out;
-  for (const LayerRegion& region : layer.regions) {
-    const uint32_t base = static_cast<uint32_t>(out.vertexCount());
-    out.positions.insert(out.positions.end(), region.mesh.positions.begin(), region.mesh.positions.end());
-    for (uint32_t t : region.mesh.triangles) out.triangles.push_back(t + base);
-  }
-  return out;
-}
 
 // Orientation and local height of one path point.
 struct Sample {
@@ -249,7 +239,7 @@ class CurvedToolpathBuilder {
     }
     for (size_t k = first; k < l; ++k) {
       if (trees_[k]) continue;
-      merged_[k] = mergeLayer(layers_[k]);
+      merged_[k] = layerMesh(layers_[k]);  // one AABB tree per layer
       trees_[k] = std::make_unique<AabbTree>(merged_[k]);
     }
   }
