@@ -161,6 +161,8 @@ class CurvedToolpathBuilder {
     exactCone_ = cone_;
     exactCone_.tanAngle = std::tan(o_.coneHalfAngleDegrees * kDeg);
     exactCone_.radius = 0;
+    tightCone_ = cone_;
+    tightCone_.tanAngle = exactCone_.tanAngle;
   }
 
   // The regions in the given order (layers revisited keep their trees). False when cancelled.
@@ -359,7 +361,9 @@ class CurvedToolpathBuilder {
     }
   }
 
-  bool collides(size_t i, const Vector3d& u, Vector3d* away) const { return collides(i, u, away, cone_); }
+  bool collides(size_t i, const Vector3d& u, Vector3d* away) const {
+    return collides(i, u, away, i < tight_.size() && tight_[i] ? tightCone_ : cone_);
+  }
   bool collides(size_t i, const Vector3d& u, Vector3d* away, const GougingCone& cone) const {
     bool any = false;
     for (const Vector3d& p : positions_[i]) {
@@ -374,6 +378,9 @@ class CurvedToolpathBuilder {
   // The move ending at point i turns the axis from a0 to a1 on the way (the writers interpolate
   // it): the positions checked with the axis at their share of the turn.
   bool collidesTurning(size_t i, const Vector3d& a0, const Vector3d& a1) const {
+    return collidesTurning(i, a0, a1, cone_);
+  }
+  bool collidesTurning(size_t i, const Vector3d& a0, const Vector3d& a1, const GougingCone& cone) const {
     const size_t n = positions_[i].size();
     const double angle = axisAngleDegrees(a0, a1);
     if (n < 2 || angle < 1) return false;
@@ -384,7 +391,7 @@ class CurvedToolpathBuilder {
     for (size_t k = 0; k <= steps; ++k) {
       const double t = double(k) / double(steps);
       const Vector3d u = slerpAxis(a0, a1, t);
-      if (u.allFinite() && printed_.hit(p0 + t * (p1 - p0), u, seqOf_[i], cone_, nullptr)) return true;
+      if (u.allFinite() && printed_.hit(p0 + t * (p1 - p0), u, seqOf_[i], cone, nullptr)) return true;
     }
     return false;
   }
@@ -431,6 +438,7 @@ class CurvedToolpathBuilder {
     const auto g0 = Clock::now();
     const size_t np = pts.size();
     skip_.assign(np, 0);
+    tight_.assign(np, 0);
     selfBlocked_.clear();
     pathPositions(pts);
     for (size_t i = 0; i < np; ++i) {
@@ -443,10 +451,16 @@ class CurvedToolpathBuilder {
       alignTurns(a);
       taperTurns(a);
       smoothJumps(a);
-      // Paths without a collision keep their Eq. 3 axes (the planner filters them as checked).
+    }
+    // Paths without a collision keep their Eq. 3 axes (the planner filters them as checked),
+    // unless a turn between them collides.
+    std::vector<Vector3d> written(np);
+    for (size_t i = 0; i < np; ++i) written[i] = anyChange ? a.axes[i] : smp[i].axis;
+    const size_t turnsLeft = checkAsPrinted(written, a.bad);
+    if (anyChange || turnsLeft != kUnchanged) {
       for (size_t i = 0; i < np; ++i) {
-        result_.gougingCorrections += axisAngleDegrees(a.axes[i], a.base[i]) > 1e-6;
-        smp[i].axis = a.axes[i];
+        result_.gougingCorrections += axisAngleDegrees(written[i], a.base[i]) > 1e-6;
+        smp[i].axis = written[i];
       }
     }
     if (!o_.skipUncorrectable) {
@@ -454,13 +468,97 @@ class CurvedToolpathBuilder {
         result_.gougingUncorrected += a.bad[i];
         // Of those, the ones the exact cone of `omnislice verify` still finds colliding (the
         // search's cone is wider and its points blown up: most bad points are only near misses).
-        if (a.bad[i] && collides(i, a.axes[i], nullptr, exactCone_)) ++exactBad_;
+        if (a.bad[i] && collides(i, written[i], nullptr, exactCone_)) ++exactBad_;
+      }
+      // Turns left colliding count as bad points (they are collisions as verify finds them).
+      if (turnsLeft != kUnchanged) {
+        result_.gougingUncorrected += turnsLeft;
+        exactBad_ += turnsLeft;
       }
     } else {
       skipCollidingSegments(pts, smp, layer);
       for (size_t i = 0; i < np; ++i) result_.gougingUncorrected += skip_[i];
     }
     gougingMs_ += msSince(g0);
+  }
+
+  // The axes as the program prints them (the planner's low-pass filter over the path's print
+  // moves; the travel to the path arrives with point 0's axis, and each move turns on the way),
+  // checked with tightCone_. Where a move's turn collides (its end axes are free: the obstacle
+  // lies between them), its end point takes an axis on rings around it (2 to 30 degrees, least
+  // turn first) that is free and from and to which both of its moves turn freely; again until
+  // none changes, at most 3 rounds. Points in `bad` (no free axis) are left as they are. Returns
+  // kUnchanged when no turn collided; otherwise the turns still colliding.
+  static constexpr size_t kUnchanged = std::numeric_limits<size_t>::max();
+  size_t checkAsPrinted(std::vector<Vector3d>& axes, const std::vector<uint8_t>& bad) const {
+    const size_t np = axes.size();
+    if (np < 2) return kUnchanged;
+    std::vector<int> run(np, 0);
+    run[0] = -1;
+    bool changedAny = false;
+    size_t left = 0;
+    for (int round = 0; round < 4; ++round) {
+      std::vector<Vector3d> f = axes;
+      filterOrientations(f, run, 10.0);
+      left = 0;
+      bool changed = false;
+      for (size_t i = 1; i < np; ++i) {
+        const Vector3d& from = i == 1 ? axes[0] : f[i - 1];
+        if (bad[i] || !collidesTurning(i, from, f[i], tightCone_)) continue;
+        if (round == 3) {
+          ++left;
+          continue;
+        }
+        // The first move: the travel may arrive with the new axis (no turn on the way).
+        auto ok = [&](const Vector3d& c) {
+          return !collides(i, c, nullptr, tightCone_) && (i == 1 || !collidesTurning(i, from, c, tightCone_)) &&
+                 (i + 1 >= np || !collidesTurning(i + 1, c, f[i + 1], tightCone_));
+        };
+        Vector3d u = axes[i];
+        if (i == 1 && ok(u)) {
+          axes[0] = u;
+          changed = true;
+        } else if (ringSearch(u, from, ok)) {
+          if (i == 1) axes[0] = u;
+          axes[i] = u;
+          f[i] = u;
+          changed = true;
+        } else {
+          ++left;
+        }
+      }
+      if (!changed) break;
+      changedAny = true;
+    }
+    return changedAny || left > 0 ? left : kUnchanged;
+  }
+
+  // The axis on rings of 2 to 30 degrees around u (24 azimuths, within the tilt range) that
+  // satisfies ok, on the first ring that has one, nearest to ref. False when none.
+  template <class Ok>
+  bool ringSearch(Vector3d& u, const Vector3d& ref, const Ok& ok) const {
+    const Vector3d e1 = u.unitOrthogonal(), e2 = u.cross(e1);
+    constexpr int kAzimuths = 24;
+    for (double delta = 2; delta <= 30 + 1e-9; delta += 2) {
+      double best = std::numeric_limits<double>::infinity();
+      Vector3d pick = u;
+      for (int k = 0; k < kAzimuths; ++k) {
+        const double phi = 2 * kPi * k / kAzimuths;
+        const Vector3d c = (std::cos(delta * kDeg) * u +
+                            std::sin(delta * kDeg) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
+        if (std::acos(std::clamp(c.z(), -1.0, 1.0)) > maxTilt_ + 1e-9) continue;
+        const double d = axisAngleDegrees(c, ref);
+        if (d < best && ok(c)) {
+          best = d;
+          pick = c;
+        }
+      }
+      if (best < std::numeric_limits<double>::infinity()) {
+        u = pick;
+        return true;
+      }
+    }
+    return false;
   }
 
   // The axes as the planner will print them: its low-pass filter first, so the check sees the
@@ -491,7 +589,16 @@ class CurvedToolpathBuilder {
       Vector3d u = axes[i];
       if (!collides(i, u, nullptr)) continue;
       anyChange = true;
-      if (searchFree(i, u, i > 0 ? axes[i - 1] : u, 8)) {
+      bool found = searchFree(i, u, i > 0 ? axes[i - 1] : u, 8);
+      if (!found) {
+        // None with the search's margin: one with verify's cone angle, checked again as printed
+        // (checkAsPrinted).
+        tight_[i] = 1;
+        u = axes[i];
+        found = searchFree(i, u, i > 0 ? axes[i - 1] : u, 8);
+        if (!found) tight_[i] = 0;
+      }
+      if (found) {
         axes[i] = u;
         a.changed[i] = 1;
       } else {
@@ -655,7 +762,7 @@ class CurvedToolpathBuilder {
         // The travel to point i - 1 arrives with the axis of point 0 (path start) or of point i
         // (after a skipped segment).
         const Vector3d& from = i == 1 ? smp[0].axis : skip_[i - 1] ? smp[i].axis : filtered[i - 1];
-        if (!collides(i, filtered[i], nullptr) && !collidesTurning(i, from, filtered[i])) continue;
+        if (!collides(i, filtered[i], nullptr, tightCone_) && !collidesTurning(i, from, filtered[i], tightCone_)) continue;
         skip_[i] = 1;
         added = true;
         ++result_.skippedPoints;
@@ -963,6 +1070,11 @@ class CurvedToolpathBuilder {
   uint32_t nextSeq_ = 0;
   GougingCone cone_;
   GougingCone exactCone_;  // verify's cone: the half-angle alone, points as points
+  // verify's half-angle with the points as balls of half the spacing (verify samples the same
+  // segments at other points, at most that far from these): where the search's wider cone finds
+  // no free axis, and for the check of the axes as the planner prints them.
+  GougingCone tightCone_;
+  std::vector<uint8_t> tight_;  // per path point: its free axis was found with tightCone_
   size_t exactBad_ = 0;    // bad points the exact cone finds colliding, so far
   std::vector<std::vector<Vector3d>> positions_;
   std::vector<uint32_t> seqOf_;

@@ -47,7 +47,13 @@ struct CurvedToolpathOptions {
   // of the print moves before it, in print order) lies strictly inside that cone: (p - s).u >
   // collisionClearance, angle(p - s, u) < coneHalfAngleDegrees, |p - s| < coneLength (the rule of
   // `omnislice verify`). Colliding axes are turned to the nearest collision-free axis within the
-  // maxTiltDegrees cone and the change is tapered over the path's neighbours.
+  // maxTiltDegrees cone and the change is tapered over the path's neighbours. Where the search's
+  // wider cone (below) finds no free axis, one free under verify's half-angle is taken. Then the
+  // axes are checked as the program moves them (the planner's low-pass filter, the turn of each
+  // move on the way, under verify's half-angle with the points as balls of half the sample
+  // spacing): a move whose turn sweeps the cone through material gets an end axis, within 30
+  // degrees, from and to which both its moves turn freely (the first move's travel arrives with
+  // it); turns left colliding count in gougingUncorrected.
   bool correctGouging = true;
   double coneHalfAngleDegrees = 40;  // degrees, in (0, 90)
   double coneLength = 25;            // mm, > 0
@@ -57,9 +63,9 @@ struct CurvedToolpathOptions {
                                      // low-pass filter and interpolation), degrees
   double maxCorrectionDegrees = 60;  // largest turn from the Eq. 3 axis searched, degrees
   double correctionTaperDegrees = 4; // neighbours take the correction less this per point, degrees
-  // true: a segment whose end point is left colliding after the correction is not printed (the
-  // nozzle travels over it; the material is missing and counted in skippedPoints / skippedMm),
-  // so the program never drives the nozzle into the part. Where two growth fronts meet (a closed
+  // true: a segment whose motion (as above: filter, turns, verify's half-angle) is left colliding
+  // after the correction is not printed (the nozzle travels over it; the material is missing and
+  // counted in skippedPoints / skippedMm), so the program never drives the nozzle into the part. Where two growth fronts meet (a closed
   // loop of the part, the cut locus of a geodesic field) the last gap faces the nozzle from both
   // sides and no axis within the cone and tilt limits is free.
   bool skipUncorrectable = false;
