@@ -126,8 +126,13 @@ std::vector<uint32_t> sweepOrder(const SpMat& A, const std::vector<double>& vert
   return order;
 }
 
-// Eq. 6 by symmetric Gauss-Seidel: a forward sweep in order of distance from the sources, then a
-// backward one, until the largest change of any vertex relative to its own value is below
+// Over-relaxation of the heat sweeps (symmetric SOR; any weight in (0, 2) converges on the SPD
+// heat matrix). Measured on the bench bunny (60k tets): 94 -> 47 sweeps at t = h^2, 940 -> 552
+// at t = 30 h^2 (field 437 -> 307 ms); 1.8 is slower than 1.5 on both.
+constexpr double kOverRelaxation = 1.5;
+
+// Eq. 6 by symmetric (over-relaxed) Gauss-Seidel: a forward sweep in order of distance from the
+// sources, then a backward one, until the largest change of any vertex relative to its own value is below
 // tolerance. Heat flows outward from the sources, so the forward sweep carries it across the whole
 // part in one pass; each vertex is solved from its own row, which keeps the relative accuracy of
 // the exponentially small far-field values (the heat matrix V + h^2 K is symmetric positive
@@ -145,7 +150,7 @@ int heatSweeps(const SpMat& A, const std::vector<double>& invDiagonal,
     double s = b[i];
     for (int k = outer[i]; k < outer[i + 1]; ++k)
       if (uint32_t(inner[k]) != i) s -= value[k] * u[inner[k]];
-    const double next = s * invDiagonal[i];
+    const double next = u[i] + kOverRelaxation * (s * invDiagonal[i] - u[i]);
     const double change = std::abs(next - u[i]);
     u[i] = next;
     return next != 0 ? change / std::abs(next) : 0.0;

@@ -181,6 +181,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   t0 = Clock::now();
   if (!reportProgress(progress, "field", 0)) return failure(Status::Cancelled, "cancelled");
   HeatGeodesicOptions hopt;
+  hopt.timeFactor = gs.heatTime;
   hopt.renormalizations = 1;  // a broad source: even layer spacing (heat_geodesic.h)
   HeatGeodesic heat(tets, hopt);
   if (!heat.status().ok()) return failure(heat.status());
@@ -299,6 +300,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.sources = sources.size();
   report.baseBandMm = baseBand;
   report.maxThicknessRatio = gs.maxThicknessRatio;
+  report.heatTime = gs.heatTime;
   report.maxGeodesicMm = field.maxDistance;
   report.intervalMm = interval;
   report.layers = igds.layers.size();

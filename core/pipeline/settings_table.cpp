@@ -477,6 +477,10 @@ std::vector<SettingSpec> makeTable() {
                                      {{"a3", TraversalKind::A3}, {"lpt", TraversalKind::LPT},
                                       {"dpt", TraversalKind::DPT}},
                                      "a print sequence", "print order: a3 (Algorithm 3), lpt or dpt", {}, true)),
+      onlyWith(Method::Geodesic,
+               number("geodesic.heat_time", [](S& s) -> double& { return s.geodesic.heatTime; }, 0.1, 1000, "h^2",
+                      "heat-method time step over the squared mean tet edge (1 = the paper; longer aligns "
+                      "the layers where fronts merge: fewer tool paths left out)")),
       onlyWith(Method::Geodesic, boolean("geodesic.remesh", [](S& s) -> bool& { return s.geodesic.remesh; },
                                          "isotropic remeshing and smoothing of the layers")),
       machineJsonSpec(),
