@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "pipeline/curved_stage.h"
 
+#include <cstdio>
+
 #include "pipeline/isoplanar_fill.h"
 
 namespace omnislice::stage {
@@ -80,6 +82,26 @@ std::optional<Warning> nozzleCollisionWarning(size_t uncorrectedPoints) {
   return Warning{"nozzle_collision", std::to_string(uncorrectedPoints) +
                                          " tool-path points print with the nozzle cone touching printed material: no "
                                          "nozzle axis within the correction and tilt limits clears the part there"};
+}
+
+std::optional<Warning> beadOnPlatformWarning(const Toolpath& toolpath) {
+  double total = 0, low = 0;
+  Eigen::Vector3d from = toolpath.start;
+  for (const Move& m : toolpath.moves) {
+    const double len = (m.position - from).norm();
+    from = m.position;
+    if (m.kind != MoveKind::Print && m.kind != MoveKind::Support) continue;
+    total += len;
+    if (m.position.z() < 0.5 * m.height) low += len;
+  }
+  if (!(total > 0) || low < 1.0) return std::nullopt;
+  char text[320];
+  std::snprintf(text, sizeof text,
+                "%.1f mm of the extruding path (%.2f %%) runs closer to the platform than half its bead "
+                "height: the curved layers reach down to the bed there, so the nozzle would press into it "
+                "(planar and multidir print a flat first layer)",
+                low, 100 * low / total);
+  return Warning{"bead_on_platform", text};
 }
 
 int printedLayerCount(const std::vector<std::vector<std::vector<SurfacePath>>>& paths) {

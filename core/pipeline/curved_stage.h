@@ -42,6 +42,11 @@ CurvedToolpathOptions curvedToolpathOptions(const Settings& settings, const Mach
 // none when every point was cleared. verify counts them as collisions.
 std::optional<Warning> nozzleCollisionWarning(size_t uncorrectedPoints);
 
+// Beads laid closer to the platform than half their planned height (a curved first layer that
+// touches the bed: the nozzle would press into it, or the filament back up): the warning
+// ("bead_on_platform", the length and share of the extruding path), or none below 1 mm. verify's measures do not see it (its beads are ellipsoids around the tip path).
+std::optional<Warning> beadOnPlatformWarning(const Toolpath& toolpath);
+
 // Layers with at least one path.
 int printedLayerCount(const std::vector<std::vector<std::vector<SurfacePath>>>& paths);
 

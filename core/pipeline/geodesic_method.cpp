@@ -277,6 +277,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   timings.emplace_back("toolpath_gouging", tp.gougingMs);
   out.toolpath = std::move(tp.toolpath);
   if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
+  if (auto w = stage::beadOnPlatformWarning(out.toolpath)) out.warnings.push_back(*w);
   out.leftOutMm = tp.skippedMm;
   out.layerHeight = interval;
   const int printedLayers = stage::printedLayerCount(filled.paths);

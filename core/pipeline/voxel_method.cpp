@@ -231,6 +231,7 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   r.reorderedPaths = tp.reorderedPaths;
   r.gougingMs = tp.gougingMs;
   if (auto w = stage::nozzleCollisionWarning(tp.gougingUncorrected)) out.warnings.push_back(*w);
+  if (auto w = stage::beadOnPlatformWarning(out.toolpath)) out.warnings.push_back(*w);
   return out;
 }
 
