@@ -282,6 +282,8 @@ bool HeatGeodesic::Impl::build(const TetMesh& input, const HeatGeodesicOptions& 
     return fail(Status::InvalidOption, "heat geodesic: heatTolerance must be in (0, 1)");
   if (opt.maxIterations < 1)
     return fail(Status::InvalidOption, "heat geodesic: maxIterations must be at least 1");
+  if (opt.alignPasses < 0 || opt.alignPasses > 100)
+    return fail(Status::InvalidOption, "heat geodesic: alignPasses must be in 0-100");
   if (opt.renormalizations < 0 || opt.renormalizations > 10)
     return fail(Status::InvalidOption, "heat geodesic: renormalizations must be in 0-10");
   TetLaplacian lap = tetCotanLaplacian(input);
@@ -423,6 +425,7 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
   const size_t T = m.mesh.tetCount();
   auto divergence = [&](const Eigen::VectorXd& f, double sign) {
     Eigen::VectorXd div = Eigen::VectorXd::Zero(n);
+    std::vector<Eigen::Vector3d> X(T, Eigen::Vector3d::Zero());
     for (size_t k = 0; k < T; ++k) {
       const uint32_t* t = &m.mesh.tets[4 * k];
       const double* a = &m.areaVectors[12 * k];
@@ -432,7 +435,30 @@ GeodesicField HeatGeodesic::distanceFrom(const std::vector<uint32_t>& sources,
       g *= sign * m.invThreeVolume[k];
       const double len = g.norm();
       if (!(len > 0) || !std::isfinite(len)) continue;  // no heat reached this tet
-      g /= len;
+      X[k] = g / len;
+    }
+    // HeatGeodesicOptions::alignPasses: each tet's direction becomes the normalised sum of the
+    // directions around its four vertices (the heat's X only; the renormalisation passes take
+    // phi's own gradient, already smooth).
+    if (sign > 0) {
+      for (int pass = 0; pass < m.options.alignPasses; ++pass) {
+        std::vector<Eigen::Vector3d> vx(n, Eigen::Vector3d::Zero());
+        for (size_t k = 0; k < T; ++k)
+          for (int c = 0; c < 4; ++c) vx[m.mesh.tets[4 * k + c]] += X[k];
+        for (size_t k = 0; k < T; ++k) {
+          if (X[k].squaredNorm() == 0) continue;
+          Eigen::Vector3d s = Eigen::Vector3d::Zero();
+          for (int c = 0; c < 4; ++c) s += vx[m.mesh.tets[4 * k + c]];
+          const double l = s.norm();
+          if (l > 0) X[k] = s / l;
+        }
+      }
+    }
+    for (size_t k = 0; k < T; ++k) {
+      if (X[k].squaredNorm() == 0) continue;
+      const uint32_t* t = &m.mesh.tets[4 * k];
+      const double* a = &m.areaVectors[12 * k];
+      const Eigen::Vector3d& g = X[k];
       for (int c = 0; c < 4; ++c)
         div[t[c]] -= (a[3 * c] * g[0] + a[3 * c + 1] * g[1] + a[3 * c + 2] * g[2]) / 3.0;
     }

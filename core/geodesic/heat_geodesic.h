@@ -53,6 +53,13 @@ struct HeatGeodesicOptions {
   // 0 (the paper's method) by default: near a point source it does harm (a box corner's mean
   // error 0.33 -> 0.34 mm, max 1.2 -> 1.6 mm); the pipeline's platform sources take 1.
   int renormalizations = 0;
+  // Smoothing passes over the unit directions X of Eq. 7 before the divergence (0-100; 0 = the
+  // paper). Where fronts from two branches merge (the cut locus) X turns by up to 180 degrees
+  // between neighbouring tets and the iso-surfaces meet at a sharp crease no nozzle reaches;
+  // averaging X there aligns the merging geodesics (paper 002's future work) and rounds the
+  // crease, and leaves X alone where it is already uniform. Each pass: per vertex the sum of its
+  // tets' X, per tet the normalised sum over its four vertices.
+  int alignPasses = 0;
 };
 
 struct GeodesicField : Outcome {

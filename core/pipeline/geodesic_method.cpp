@@ -182,6 +182,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   if (!reportProgress(progress, "field", 0)) return failure(Status::Cancelled, "cancelled");
   HeatGeodesicOptions hopt;
   hopt.timeFactor = gs.heatTime;
+  hopt.alignPasses = static_cast<int>(gs.alignPasses);
   hopt.renormalizations = 1;  // a broad source: even layer spacing (heat_geodesic.h)
   HeatGeodesic heat(tets, hopt);
   if (!heat.status().ok()) return failure(heat.status());
@@ -302,6 +303,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.baseBandMm = baseBand;
   report.maxThicknessRatio = gs.maxThicknessRatio;
   report.heatTime = gs.heatTime;
+  report.alignPasses = gs.alignPasses;
   report.maxGeodesicMm = field.maxDistance;
   report.intervalMm = interval;
   report.layers = igds.layers.size();

@@ -231,6 +231,7 @@ Json geodesicJson(const GeodesicReport& r) {
           {"base_band_mm", num(r.baseBandMm)},
           {"max_thickness_ratio", num(r.maxThicknessRatio)},
           {"heat_time", num(r.heatTime)},
+          {"align_passes", num(r.alignPasses)},
           {"max_geodesic_mm", num(r.maxGeodesicMm)},
           {"interval_mm", num(r.intervalMm)},
           {"step_min_mm", num(r.stepMinMm)},

@@ -107,20 +107,24 @@ struct GeodesicSettings {
                                 // degrees; 0 = the machine's nozzle cone half-angle
   double baseBandMm = 0;        // boundary vertices this close to the platform are the heat
                                 // source, held at their height; 0 = a quarter interval
-  double maxThicknessRatio = 1;  // iso-values stepped so the layers stand at most this many
+  double maxThicknessRatio = 0.7;  // iso-values stepped so the layers stand at most this many
                                 // intervals apart where they meet the surface (99 % of it;
                                 // surfaceLimitedIsoValues): the interval is the thickest layer
                                 // there, as a layer height is; 0 = phi_i = i d (the paper)
   // Heat-method time step t as a multiple of h^2 (h the mean tet edge; the paper: t = h^2). A
-  // longer diffusion smooths the field where fronts from two branches merge, so the layers meet
-  // at gentler creases (paper 002's "future work": align the merging geodesics). Measured on the
-  // nine shared closed models at 40 mm on table5 (left-out tool path, mm, at 1 / 10 / 30 / 100):
-  // kitten 770 / 203 / 102 / 63, kitten (ply) 1296 / 881 / 765 / 845, fertility 4189 / 4826 /
-  // 4150 / 2500, yoga 104 / 117 / 112 / 88, topopt 46 / 27 / 20 / 23; supported 0.978-0.994 ->
-  // 0.989-0.996; coin and bunnyhead become sound; 10-50 % more layers where the field stretches.
-  // 30, not 100: the bench bunny's slice (60k tets) costs 6.0 s native at 30 and 6.9 s at 100
-  // (4.9 s at 1), more layers and a slower heat solve.
-  double heatTime = 30;
+  // longer diffusion also aligns fronts that merge, more weakly than alignPasses and at a cost:
+  // at 30 h^2 (40 mm, table5) the kitten left 102 mm out instead of 770, but the bench bunny's
+  // field took 2x as long (598 ms in wasm) for 13 % more layers.
+  double heatTime = 1;
+  // Smoothing passes over the heat's unit directions X before the Poisson step
+  // (HeatGeodesicOptions::alignPasses; 0 = the paper). Where fronts merge, paper 002's kitten
+  // failed on the "misalignment of the geodesics from the two branches" (its future work: adapt
+  // the field so they align); 10 passes round those creases. On the nine shared closed models at
+  // 40 mm, table5, with maxThicknessRatio 0.7 (left-out mm, before -> after, against heatTime 30
+  // and ratio 1): kitten 102 -> 0, kitten (ply) 765 -> 343, fertility 4,149 -> 1,995, yoga 112 ->
+  // 85, topopt 19 -> 0; sound 2 -> 5 of 9 for about the same number of layers; bench bunny 5.9 ->
+  // 5.1 s native, field 308 -> 147 ms.
+  double alignPasses = 10;
   TraversalKind sequence = TraversalKind::A3;  // print order: a3 (Algorithm 3) | lpt | dpt
   bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
 };

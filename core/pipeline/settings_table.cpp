@@ -478,6 +478,9 @@ std::vector<SettingSpec> makeTable() {
                                       {"dpt", TraversalKind::DPT}},
                                      "a print sequence", "print order: a3 (Algorithm 3), lpt or dpt", {}, true)),
       onlyWith(Method::Geodesic,
+               number("geodesic.align_passes", [](S& s) -> double& { return s.geodesic.alignPasses; }, 0, 100,
+                      "passes", "smoothing of the heat's directions: aligns the layers where fronts merge (0 = the paper)")),
+      onlyWith(Method::Geodesic,
                number("geodesic.heat_time", [](S& s) -> double& { return s.geodesic.heatTime; }, 0.1, 1000, "h^2",
                       "heat-method time step over the squared mean tet edge (1 = the paper; longer aligns "
                       "the layers where fronts merge: fewer tool paths left out)")),

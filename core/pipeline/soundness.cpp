@@ -76,7 +76,7 @@ std::vector<std::string> remedies(const VerifySection& v, const SoundnessCriteri
     }
     // Geodesic: where the field is slow at the surface the outer beads stand out over the layer
     // below; thinner steps there (measured at 20 and 40 mm on eight shared models: supported
-    // 0.967-0.991 at the default 1, >= 0.993 at 0.7, for about 40 % more layers).
+    // 0.967-0.991 at 1, >= 0.993 at 0.7, for about 40 % more layers; 0.7 is the default now).
     if (m == Method::Geodesic && (settings.geodesic.maxThicknessRatio == 0 || settings.geodesic.maxThicknessRatio > 0.7)) {
       addOnce(out, "thinner layers at the surface (geodesic.max_thickness_ratio=0.7, about 40 % more layers)");
     }

@@ -148,12 +148,14 @@ TEST(Soundness, SoundVoxelSphereWithTheThicknessBound) {
 
 // The statement's remedy is true: a shared model at 20 mm on table5 is refused because its surface
 // hangs; the statement names `key=value`, and with it the same slice is sound.
-void expectRemedyMakesItSound(const char* file, Method method, const std::string& key, const std::string& value) {
+void expectRemedyMakesItSound(const char* file, Method method, const std::string& key, const std::string& value,
+                              const std::vector<std::pair<std::string, std::string>>& start = {}) {
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
   Settings s;
   s.method = method;
   s.machine = "table5";
   s.placement.fitMm = 20;
+  for (const auto& [k, v] : start) ASSERT_TRUE(setSetting(s, k, v).ok()) << k;
   const SliceOutput refused = runSlice(bytes.data(), bytes.size(), file, s);
   ASSERT_EQ(refused.status, Status::UnsoundProgram) << refused.message;
   EXPECT_NE(refused.message.find("printed over air"), std::string::npos) << refused.message;
@@ -167,11 +169,13 @@ void expectRemedyMakesItSound(const char* file, Method method, const std::string
   EXPECT_GT(v["supported"].get<double>(), Json::parse(refused.reportJson)["verify"]["supported"].get<double>());
 }
 
-// Geodesic on the shared coin: the outer beads stand out where the field is slow at the surface
+// Geodesic on the shared coin with the field of the paper and surface steps of a whole interval
+// (geodesic.align_passes 0, geodesic.max_thickness_ratio 1, the defaults before 10 and 0.7): the outer beads stand out where the field is slow at the surface
 // (supported 0.990); thinner surface steps.
 TEST(Soundness, GeodesicRemedyAppliedGivesASoundProgram) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  expectRemedyMakesItSound("compas_overhang_coin_closed_low_res.stl", Method::Geodesic, "geodesic.max_thickness_ratio", "0.7");
+  expectRemedyMakesItSound("compas_overhang_coin_closed_low_res.stl", Method::Geodesic, "geodesic.max_thickness_ratio", "0.7",
+                           {{"geodesic.max_thickness_ratio", "1"}, {"geodesic.align_passes", "0"}});
 }
 
 // Multidir on the shared topopt (supports on): overhangs just under the paper's 45 deg hang
@@ -208,18 +212,18 @@ TEST(Soundness, VoxelTurnsBetweenFreeAxesDoNotCollide) {
   EXPECT_EQ(v["collisions"].get<size_t>(), 0u) << v.dump();
 }
 
-// The kitten (genus 1) at 40 mm: where the fronts around its hole merge, the paper's field
-// (t = h^2) leaves layers meeting at sharp creases that no nozzle axis reaches (770 mm of tool
-// path left out); the default longer diffusion (30 h^2) aligns them (102 mm).
-TEST(Soundness, GeodesicHeatTimeLeavesLessToolPathOut) {
+// The kitten (genus 1) at 40 mm: where the fronts around its hole merge, the paper's field leaves
+// layers meeting at sharp creases that no nozzle axis reaches (770 mm of tool path left out);
+// aligning the heat's directions there (geodesic.align_passes, default 10) leaves none, and the
+// program is sound.
+TEST(Soundness, GeodesicAlignedFrontsLeaveNoToolPathOut) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Json paper = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40, {{"geodesic.heat_time", "1"}}, UpAxis::PosY);
+  const Json paper = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40, {{"geodesic.align_passes", "0"}}, UpAxis::PosY);
   const Json now = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40, {}, UpAxis::PosY);
   ASSERT_TRUE(paper.contains("left_out_mm") && now.contains("left_out_mm"));
   EXPECT_GT(paper["left_out_mm"].get<double>(), 100.0) << paper.dump();
-  EXPECT_LT(now["left_out_mm"].get<double>(), 0.5 * paper["left_out_mm"].get<double>()) << now.dump();
-  EXPECT_EQ(now["collisions"].get<size_t>(), 0u);
-  EXPECT_GE(now["supported"].get<double>(), 0.99);
+  EXPECT_LT(now["left_out_mm"].get<double>(), 1.0) << now.dump();
+  EXPECT_TRUE(now["sound"].get<bool>()) << now.dump();
 }
 
 TEST(Soundness, CliWritesTheReportButNoProgramWhenRefused) {

@@ -145,7 +145,9 @@ TEST_P(VoxelPipeline, MushroomPrintsWithCurvedLayersAndVerifies) {
   // follows them.
   ASSERT_GE(out.warnings.size(), uncorrected > 0 ? 1u : 0u) << report["warnings"].dump();
   for (size_t i = uncorrected > 0 ? 1 : 0; i < out.warnings.size(); ++i) {
-    EXPECT_EQ(out.warnings[i].code, "unsound_program") << report["warnings"].dump();
+    if (out.warnings[i].code == "bead_on_platform" && i + 1 < out.warnings.size()) continue;  // the method's too
+    EXPECT_TRUE(out.warnings[i].code == "unsound_program" || out.warnings[i].code == "bead_on_platform")
+        << report["warnings"].dump();
   }
   if (uncorrected > 0) {
     EXPECT_EQ(out.warnings[0].code, "nozzle_collision");
