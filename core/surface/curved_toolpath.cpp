@@ -414,9 +414,8 @@ class CurvedToolpathBuilder {
       for (int k = 0; k < kAzimuths; ++k) {
         const int step = (k + 1) / 2 * (k % 2 ? 1 : -1);  // 0, +1, -1, +2, -2, ...
         const double phi = 2 * kPi * step / kAzimuths;
-        const Vector3d c = (std::cos(delta * kDeg) * u +
-                            std::sin(delta * kDeg) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
-        if (std::acos(std::clamp(c.z(), -1.0, 1.0)) > maxTilt_ + 1e-9) continue;
+        const Vector3d c = ringAxis(u, e1, e2, delta, phi);
+        if (!withinTilt(c)) continue;
         const double cost = delta + axisAngleDegrees(c, ref);
         if (cost >= bestCost) continue;
         if (!collides(i, c, nullptr)) {
@@ -493,17 +492,14 @@ class CurvedToolpathBuilder {
   size_t checkAsPrinted(std::vector<Vector3d>& axes, const std::vector<uint8_t>& bad) const {
     const size_t np = axes.size();
     if (np < 2) return kUnchanged;
-    std::vector<int> run(np, 0);
-    run[0] = -1;
     bool changedAny = false;
     size_t left = 0;
     for (int round = 0; round < 4; ++round) {
-      std::vector<Vector3d> f = axes;
-      filterOrientations(f, run, 10.0);
+      std::vector<Vector3d> f = filteredAsPrinted(axes);
       left = 0;
       bool changed = false;
       for (size_t i = 1; i < np; ++i) {
-        const Vector3d& from = i == 1 ? axes[0] : f[i - 1];
+        const Vector3d from = moveStartAxis(i, axes, f);
         if (bad[i] || !collidesTurning(i, from, f[i], tightCone_)) continue;
         if (round == 3) {
           ++left;
@@ -533,6 +529,36 @@ class CurvedToolpathBuilder {
     return changedAny || left > 0 ? left : kUnchanged;
   }
 
+  // The axis delta degrees from u toward azimuth phi (radians) in the frame (e1, e2) normal to u:
+  // the candidates of the rings the gouging searches walk.
+  static Vector3d ringAxis(const Vector3d& u, const Vector3d& e1, const Vector3d& e2, double delta, double phi) {
+    return (std::cos(delta * kDeg) * u + std::sin(delta * kDeg) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
+  }
+  bool withinTilt(const Vector3d& c) const { return std::acos(std::clamp(c.z(), -1.0, 1.0)) <= maxTilt_ + 1e-9; }
+
+  // The axes as the program moves them: the planner's low-pass filter over each run of printed
+  // segments (a segment in skip_ ends a run: a travel follows).
+  std::vector<Vector3d> filteredAsPrinted(const std::vector<Vector3d>& axes) const {
+    const size_t np = axes.size();
+    std::vector<int> runs(np, -1);
+    int id = 0;
+    for (size_t i = 1; i < np; ++i) {
+      if (skip_[i]) {
+        ++id;
+        continue;
+      }
+      runs[i] = id;
+    }
+    std::vector<Vector3d> filtered = axes;
+    filterOrientations(filtered, runs, 10.0);
+    return filtered;
+  }
+  // The axis move i starts turning from: the travel to point i - 1 arrives with the axis of point
+  // 0 (path start) or of point i (after a skipped segment); otherwise the previous move's.
+  const Vector3d& moveStartAxis(size_t i, const std::vector<Vector3d>& axes, const std::vector<Vector3d>& filtered) const {
+    return i == 1 ? axes[0] : skip_[i - 1] ? axes[i] : filtered[i - 1];
+  }
+
   // The axis on rings of 2 to 30 degrees around u (24 azimuths, within the tilt range) that
   // satisfies ok, on the first ring that has one, nearest to ref. False when none.
   template <class Ok>
@@ -544,9 +570,8 @@ class CurvedToolpathBuilder {
       Vector3d pick = u;
       for (int k = 0; k < kAzimuths; ++k) {
         const double phi = 2 * kPi * k / kAzimuths;
-        const Vector3d c = (std::cos(delta * kDeg) * u +
-                            std::sin(delta * kDeg) * (std::cos(phi) * e1 + std::sin(phi) * e2)).normalized();
-        if (std::acos(std::clamp(c.z(), -1.0, 1.0)) > maxTilt_ + 1e-9) continue;
+        const Vector3d c = ringAxis(u, e1, e2, delta, phi);
+        if (!withinTilt(c)) continue;
         const double d = axisAngleDegrees(c, ref);
         if (d < best && ok(c)) {
           best = d;
@@ -742,26 +767,14 @@ class CurvedToolpathBuilder {
   // until none is added.
   void skipCollidingSegments(const std::vector<Vector3d>& pts, const std::vector<Sample>& smp, int32_t layer) {
     const size_t np = pts.size();
-    std::vector<Vector3d> filtered;
+    std::vector<Vector3d> axes(np);
+    for (size_t i = 0; i < np; ++i) axes[i] = smp[i].axis;
     for (int round = 0; round < 4; ++round) {
-      std::vector<int> runs(np, -1);
-      int id = 0;
-      for (size_t i = 1; i < np; ++i) {
-        if (skip_[i]) {
-          ++id;
-          continue;
-        }
-        runs[i] = id;
-      }
-      filtered.resize(np);
-      for (size_t i = 0; i < np; ++i) filtered[i] = smp[i].axis;
-      filterOrientations(filtered, runs, 10.0);
+      const std::vector<Vector3d> filtered = filteredAsPrinted(axes);
       bool added = false;
       for (size_t i = 1; i < np; ++i) {
         if (skip_[i]) continue;
-        // The travel to point i - 1 arrives with the axis of point 0 (path start) or of point i
-        // (after a skipped segment).
-        const Vector3d& from = i == 1 ? smp[0].axis : skip_[i - 1] ? smp[i].axis : filtered[i - 1];
+        const Vector3d& from = moveStartAxis(i, axes, filtered);
         if (!collides(i, filtered[i], nullptr, tightCone_) && !collidesTurning(i, from, filtered[i], tightCone_)) continue;
         skip_[i] = 1;
         added = true;
