@@ -71,6 +71,7 @@ CurvedToolpathOptions curvedToolpathOptions(const Settings& settings, const Mach
   o.coneHalfAngleDegrees = machine.nozzle.coneHalfAngleDegrees;
   o.coneLength = machine.nozzle.coneLength;
   o.collisionClearance = nominalHeight;
+  o.filterThresholdDegrees = settings.smoothOrientations ? settings.orientationFilterDegrees : 180;
   const bool isoplanar = settings.fill == FillMode::Isoplanar;
   o.lineWidth = isoplanar ? settings.nozzleDiameter : settings.effectiveLineWidth();
   o.ellipseBeads = isoplanar;

@@ -80,10 +80,10 @@ Outcome checkInputs(const std::vector<CurvedLayer>& layers,
   if (!(o.coneHalfAngleDegrees > 0 && o.coneHalfAngleDegrees < 90) || !positiveFinite(o.coneLength) ||
       !nonNegativeFinite(o.collisionClearance) || !nonNegativeFinite(o.gougingMarginDegrees) ||
       !nonNegativeFinite(o.maxCorrectionDegrees) || !positiveFinite(o.correctionTaperDegrees) ||
-      o.coneHalfAngleDegrees + o.gougingMarginDegrees >= 90) {
+      !positiveFinite(o.filterThresholdDegrees) || o.coneHalfAngleDegrees + o.gougingMarginDegrees >= 90) {
     return fail(Status::InvalidOption,
                 "gouging cone: half-angle (plus margin) in (0, 90) degrees, length > 0 mm, clearance, "
-                "margin and largest correction >= 0, taper > 0");
+                "margin and largest correction >= 0, taper and filter threshold > 0");
   }
   if (paths.size() != layers.size()) {
     return fail(Status::InvalidOption, "paths must have one entry per layer");
@@ -550,7 +550,7 @@ class CurvedToolpathBuilder {
       runs[i] = id;
     }
     std::vector<Vector3d> filtered = axes;
-    filterOrientations(filtered, runs, 10.0);
+    filterOrientations(filtered, runs, o_.filterThresholdDegrees);
     return filtered;
   }
   // The axis move i starts turning from: the travel to point i - 1 arrives with the axis of point
@@ -595,7 +595,7 @@ class CurvedToolpathBuilder {
     base.resize(np);
     for (size_t i = 0; i < np; ++i) base[i] = smp[i].axis;
     std::vector<int> run(np, 0);
-    filterOrientations(base, run, 10.0);
+    filterOrientations(base, run, o_.filterThresholdDegrees);
     for (size_t i = 0; i < np; ++i) base[i] = limitTilt(base[i].normalized(), maxTilt_);
     a.axes = base;
     a.bad.assign(np, 0);

@@ -63,6 +63,9 @@ struct CurvedToolpathOptions {
                                      // low-pass filter and interpolation), degrees
   double maxCorrectionDegrees = 60;  // largest turn from the Eq. 3 axis searched, degrees
   double correctionTaperDegrees = 4; // neighbours take the correction less this per point, degrees
+  // The motion planner's orientation filter as the checks simulate it (motion.filter_deg; 180 =
+  // the planner does not filter, motion.smooth_orientations off), degrees.
+  double filterThresholdDegrees = 10;
   // true: a segment whose motion (as above: filter, turns, verify's half-angle) is left colliding
   // after the correction is not printed (the nozzle travels over it; the material is missing and
   // counted in skippedPoints / skippedMm), so the program never drives the nozzle into the part. Where two growth fronts meet (a closed
