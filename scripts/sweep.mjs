@@ -61,6 +61,8 @@ for (const [name, file, placement] of models) {
           inside: round(v.inside), cov: round(v.coverage), sup: round(v.supported), coll: v.collisions,
           left: round(v.left_out_mm, 1), lim: v.limits, sound: v.sound,
         });
+        const bed = (r.warnings || []).find((w) => w.code === 'bead_on_platform');
+        if (bed) row.bed_mm = Number(bed.message.split(' mm')[0]);
         if (r.voxel) Object.assign(row, { partial: r.voxel.thickness.partial_layers, reordered: r.voxel.reordered_paths });
         if (r.geodesic) row.reordered = r.geodesic.reordered_paths;
       } catch (e) {

@@ -114,7 +114,7 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   const int32_t fieldMax = *std::max_element(layerField.begin(), layerField.end());
   lopt.isoStep = settings.voxel.isoStep > 0 ? settings.voxel.isoStep
                  : mmPerUnit > 0            ? targetLayer / mmPerUnit
-                                            : 2.0 * std::max(1, fieldMax);  // one layer
+                                            : std::max(1, fieldMax);  // one layer, at the cells' centres
   lopt.nozzleDiameter = nozzle;
   lopt.maxThickness = settings.voxel.maxThicknessRatio * targetLayer;
   CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);

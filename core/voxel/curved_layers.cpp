@@ -353,10 +353,18 @@ CentreField buildField(const VoxelGrid& grid, const std::vector<int32_t>& g) {
       f.value[c] = static_cast<float>(g[c]);
       f.maxG = std::max(f.maxG, static_cast<double>(g[c]));
       valued.push_back(static_cast<uint32_t>(c));
-    } else if (grid.state[c] == static_cast<uint8_t>(VoxelState::Platform)) {
-      f.value[c] = 0;
-      valued.push_back(static_cast<uint32_t>(c));
     }
+  }
+  // The platform's own plane (z = 0, half-way between the platform cells' centres and the first
+  // grown cells') is the zero level: a platform cell under a grown cell takes minus that cell's
+  // value, so g = 0 at z = 0 in every column whatever the field's scale, and layer i (g = i x step)
+  // stands i layers above the bed. Other platform cells (the disc around the footprint) are
+  // extension cells: with a fixed 0 they bent the layers near the rim down to the bed.
+  const size_t nxy = static_cast<size_t>(grid.dims.x()) * static_cast<size_t>(grid.dims.y());
+  for (size_t c = 0; c + nxy < n; ++c) {
+    if (grid.state[c] != static_cast<uint8_t>(VoxelState::Platform) || g[c + nxy] < 1) continue;
+    f.value[c] = -static_cast<float>(g[c + nxy]);
+    valued.push_back(static_cast<uint32_t>(c));
   }
   // Extension band: cells within Chebyshev distance 1 of a valued cell.
   std::vector<uint8_t> inBand(n, 0);
@@ -994,13 +1002,15 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
   const double step = options.isoStep > 0 ? options.isoStep : grid.width / options.nozzleDiameter;
   const CentreField field = buildField(grid, g);
   if (field.maxG < 1) return fail(Status::EmptyInput, "curved layers: no grown voxels (max G < 1)");
-  const double layerCountD = std::ceil(field.maxG / step - 1e-9);
+  // Layer i is the iso-surface g = i x step (its beads' tops: the first layer one step above the
+  // bed); the top layer may lie in the extension band, half a cell above the last grown centres.
+  const double layerCountD = std::ceil(field.maxG / step - 1e-9) + 1;
   if (layerCountD > 1e6) {
     return fail(Status::InvalidOption, "curved layers: isoStep " + std::to_string(step) +
                                            " gives over a million iso-values");
   }
   const int layerCount = std::max(1, static_cast<int>(layerCountD));
-  auto isoValue = [&](int i) { return (i - 0.5) * step; };
+  auto isoValue = [&](int i) { return i * step; };
 
   // Dual cubes with all 8 corners valued, bucketed by the iso-values they may cross (CSR), so each
   // layer visits only its narrow band.

@@ -17,7 +17,7 @@ namespace omnislice {
 
 struct CurvedLayersOptions {
   // Iso-value step in G units; 0 = Eq. 2's w/d (voxel width over nozzle diameter). g_i =
-  // (i - 1/2) * step, i = 1 .. ceil(max G / step).
+  // i * step (g = 0 on the bed's plane), i = 1 .. ceil(max G / step) + 1.
   double isoStep = 0;
   double nozzleDiameter = 0.4;   // d, mm (for Eq. 2)
   double trimTolerance = 0.005;  // mm, trimmed boundary points lie within this of the surface
@@ -44,8 +44,9 @@ struct CurvedLayersResult : Outcome {
 
 // grid and g (GrowthField::g, per cell; <= 0 means no value) as produced by growField; solid is
 // the placed input solid (part frame) the layers are trimmed by. Progress stage "layers".
-// Method: G on cell centres (Platform cells = 0) is extended over every cell within one cell of a
-// valued one by linear extrapolation from its valued face neighbours (flat fields continue
+// Method: G on cell centres (a Platform cell under a grown cell = minus its value, so g = 0 on the
+// bed's plane; layer i is the iso-surface g_i = i x isoStep) is extended over every cell within
+// one cell of a valued one by linear extrapolation from its valued face neighbours (flat fields continue
 // exactly); iso-surfaces by marching tetrahedra on the centre grid (Freudenthal 6-tetrahedron
 // split: manifold, vertices welded by lattice edge, oriented towards increasing G), visiting only
 // the cubes bucketed for each g_i; trimmed by the solid's winding test (support cells count as

@@ -72,9 +72,19 @@ std::vector<int32_t> flatField(const VoxelGrid& grid) {
   return g;
 }
 
-// Height of iso-value g under flat growth: G interpolates linearly between centres, G = 0 at the
-// platform centre z = -w/2, so z(g) = (g - 1/2) w.
-double flatHeight(double g, double w) { return (g - 0.5) * w; }
+// Height of iso-value g under flat growth: G interpolates linearly between centres, G = 1 at the
+// first cells' centres z = w/2 and, on the platform centres z = -w/2, minus that (the bed's plane
+// z = 0 is g = 0): z(g) = g w / 2 below the first centres, (g - 1/2) w above.
+double flatHeight(double g, double w) { return g <= 1 ? 0.5 * g * w : (g - 0.5) * w; }
+
+// Flat growth linear down to the platform: G = 2 (k - platformK) - 1 on printable cells, so the
+// platform's -1 continues it and z(g) = g w / 2 everywhere (even g: the planes of cell faces).
+std::vector<int32_t> linearFlatField(const VoxelGrid& grid) {
+  std::vector<int32_t> g(grid.cellCount(), 0);
+  for (size_t c = 0; c < g.size(); ++c)
+    if (grid.printable(c)) g[c] = 2 * (grid.cell(c).z() - grid.platformK) - 1;
+  return g;
+}
 
 size_t printableCount(const VoxelGrid& grid) {
   size_t n = 0;
@@ -189,15 +199,15 @@ TEST(CurvedLayers, FlatGrowthGivesPlanesAtPredictedHeights) {
   const VoxelGrid grid = voxelGridOf(box, w);
   const std::vector<int32_t> g = flatField(grid);
   CurvedLayersOptions opt;
-  opt.isoStep = 0.7;
+  opt.isoStep = 1.15;  // no plane through the lattice's centres (integer g) below the top
   const CurvedLayersResult res = extractCurvedLayers(grid, g, box, opt);
   ASSERT_TRUE(res.ok()) << res.message;
   int maxG = 0;
   for (int32_t v : g) maxG = std::max(maxG, v);
-  // Predicted: iso-values g_i, i = 1..ceil(maxG / step), whose plane cuts the box.
+  // Predicted: iso-values g_i = i step, i = 1..ceil(maxG / step) + 1, whose plane cuts the box.
   std::vector<double> expected;
-  for (int i = 1; i <= static_cast<int>(std::ceil(maxG / opt.isoStep)); ++i) {
-    const double z = flatHeight((i - 0.5) * opt.isoStep, w);
+  for (int i = 1; i <= static_cast<int>(std::ceil(maxG / opt.isoStep)) + 1; ++i) {
+    const double z = flatHeight(i * opt.isoStep, w);
     if (z > 1e-6 && z < top - 1e-6) expected.push_back(z);
   }
   ASSERT_EQ(res.layers.size(), expected.size());
@@ -298,13 +308,13 @@ TEST(CurvedLayers, FacesOnLatticePlanesStayConsistent) {
     for (const double ratio : {0.3, 0.0}) {
       const VoxelGrid grid = voxelGridOf(box, w, offset, offset);
       CurvedLayersOptions opt;
-      opt.isoStep = 1.0;  // planes z = 0, 0.5, ..., 3: on the bottom and top faces too
+      opt.isoStep = 2.0;  // planes z = 0.5, 1, ..., 3: on cell faces and the top face too
       opt.collapseRatio = ratio;
-      const CurvedLayersResult res = extractCurvedLayers(grid, flatField(grid), box, opt);
+      const CurvedLayersResult res = extractCurvedLayers(grid, linearFlatField(grid), box, opt);
       ASSERT_TRUE(res.ok()) << res.message;
       size_t full = 0;
       for (const CurvedLayer& layer : res.layers) {
-        const double z = flatHeight(layer.isoValue, w);
+        const double z = 0.5 * layer.isoValue * w;
         double area = 0;
         for (const LayerRegion& r : layer.regions) {
           area += r.area;
@@ -335,7 +345,7 @@ TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
   for (size_t c = 0; c < g.size(); ++c)
     if (grid.printable(c)) g[c] = grid.cell(c).z() - grid.platformK + grid.cell(c).x() - iMin;
   CurvedLayersOptions opt;
-  opt.isoStep = 1.7;
+  opt.isoStep = 1.65;  // no plane through the lattice's centres (integer g) below g = 33
   const CurvedLayersResult res = extractCurvedLayers(grid, g, box, opt);
   ASSERT_TRUE(res.ok()) << res.message;
   ASSERT_GE(res.layers.size(), 8u);
@@ -353,15 +363,15 @@ TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
   }
   EXPECT_GT(checked, 500u);
   expectTrimmed(res, box, opt.trimTolerance);
-  // Consecutive planes 1.7 w / sqrt(2) apart: the histogram's fullest bin holds that distance
+  // Consecutive planes 1.65 w / sqrt(2) apart: the histogram's fullest bin holds that distance
   // (near the box's sides a plane's foot falls off the previous layer and the distance grows).
   const ThicknessStats& t = res.thickness;
   ASSERT_FALSE(t.histogram.empty());
   const auto mode = std::max_element(t.histogram.begin(), t.histogram.end());
   const double modeLo = t.mean + t.histogramMin +
                         static_cast<double>(mode - t.histogram.begin()) * t.histogramBin;
-  EXPECT_GE(1.7 * w / std::sqrt(2.0), modeLo - 1e-9);
-  EXPECT_LT(1.7 * w / std::sqrt(2.0), modeLo + t.histogramBin + 1e-9);
+  EXPECT_GE(1.65 * w / std::sqrt(2.0), modeLo - 1e-9);
+  EXPECT_LT(1.65 * w / std::sqrt(2.0), modeLo + t.histogramBin + 1e-9);
   EXPECT_GT(*mode, t.samples / 2);
 }
 
@@ -466,7 +476,7 @@ TEST(CurvedLayers, DefaultStepIsVoxelWidthOverNozzle) {
   ASSERT_TRUE(res.ok()) << res.message;
   ASSERT_GE(res.layers.size(), 2u);
   for (size_t l = 0; l < res.layers.size(); ++l) {
-    const double i = res.layers[l].isoValue / 0.8 + 0.5;
+    const double i = res.layers[l].isoValue / 0.8;  // g_i = i step
     EXPECT_NEAR(i, std::round(i), 1e-9);
     if (l > 0) {
       EXPECT_NEAR(res.layers[l].isoValue - res.layers[l - 1].isoValue, 0.8, 1e-9);
@@ -748,14 +758,15 @@ TEST(CurvedLayers, BunnyFlatLayersAreTrimmedOnTheSurface) {
               printableCount(grid), res.layers.size(), res.regionCount, res.triangleCount,
               res.extractionMs, res.trimmingMs, res.thicknessMs, res.thickness.mean,
               res.thickness.stddev);
-  // Layer planes z = (2 i - 1.5) w (g_i = 2 i - 1) up to the top (40 mm); the last may be a
+  // Layer planes z = (2 i - 0.5) w (g_i = 2 i) up to the top (40 mm); the last may be a
   // sliver under minRegionArea.
   EXPECT_NEAR(static_cast<double>(res.layers.size()), std::floor((40 / w + 1.5) / 2), 1.0);
   EXPECT_GT(res.regionCount, res.layers.size());  // ears and head separate near the top
   // Edges that leave the solid between two inside ends are split before trimming; what remains
-  // of a reflex corner of the cross-section is a fraction of an edge's sagitta (0.049 mm found at
-  // w = 0.8 on the coarse Bunny, 0.11 mm without the split).
-  expectTrimmed(res, bunny, opt.trimTolerance, 0.1 * w);
+  // of a reflex corner of the cross-section is a fraction of an edge's sagitta (found at w = 0.8
+  // on the coarse Bunny: 0.049 mm on the planes g = 2 i - 1, 0.118 mm on g = 2 i (z = 12.4 mm);
+  // 0.11 mm on the former without the split).
+  expectTrimmed(res, bunny, opt.trimTolerance, 0.18 * w);
   // Most samples sit one layer spacing (2 w) above the previous plane; overhangs (chin, ears)
   // see the previous layer's rim farther away, so the mean is a little larger.
   ASSERT_FALSE(res.thickness.histogram.empty());
@@ -861,9 +872,13 @@ TEST(CurvedLayers, BunnyBreadthFirstFieldGivesCurvedTrimmedLayers) {
   size_t unreached = 0;
   for (size_t c = 0; c < g.size(); ++c) unreached += grid.printable(c) && g[c] == 0;
   EXPECT_EQ(unreached, 0u);
+  // Layers between the fronts (g + 1/2; as 2 g - 1 and a step of 2, in integers), not through
+  // the lattice's centres.
+  std::vector<int32_t> between(g);
+  for (int32_t& v : between) v = v > 0 ? 2 * v - 1 : v;
   CurvedLayersOptions opt;
-  opt.isoStep = 1.0;
-  const CurvedLayersResult res = extractCurvedLayers(grid, g, bunny, opt);
+  opt.isoStep = 2.0;
+  const CurvedLayersResult res = extractCurvedLayers(grid, between, bunny, opt);
   ASSERT_TRUE(res.ok()) << res.message;
   std::printf("bunny BFS field: %zu voxels, max G %d, %zu layers, %zu regions, %zu triangles; "
               "thickness mean %.3f std %.3f max dev %.3f\n",
