@@ -252,7 +252,12 @@ bool Planner::validate() {
 
 void Planner::buildPieces() {
   const bool stepped = m_.kind == MachineKind::Rotary4 && m_.stepAngleDegrees > 0;
-  const bool smooth = o_.smoothOrientations && m_.kind != MachineKind::Cartesian3 && !stepped;
+  // Turns are cut into steps of at most maxAxisStepDegrees whether or not the axes are filtered:
+  // the steps make the machine turn the nozzle along the great circle the tool path checked for
+  // collisions (curved_toolpath's turn check); without them it interpolates its joints linearly
+  // and sweeps the cone elsewhere (a 40 mm yoga, voxel, filter off: about 5,000 colliding samples).
+  const bool turns = m_.kind != MachineKind::Cartesian3 && !stepped;
+  const bool smooth = o_.smoothOrientations && turns;
   if (smooth) {
     std::vector<int> run(tp_.moves.size(), -1);
     int id = -1;
@@ -269,7 +274,7 @@ void Planner::buildPieces() {
   for (size_t i = 0; i < tp_.moves.size(); ++i) {
     const Move& mv = tp_.moves[i];
     size_t sub = 1;
-    if (smooth && (isExtruding(mv.kind) || robot_)) {
+    if (turns && (isExtruding(mv.kind) || robot_)) {
       const double angle = axisAngleDegrees(prevAxis, axes_[i]);
       sub = std::max<size_t>(1, static_cast<size_t>(std::ceil(angle / o_.maxAxisStepDegrees - 1e-9)));
     }

@@ -16,7 +16,7 @@ namespace omnislice {
 
 struct MotionOptions {
   int freeRotationSamples = 30;     // robot6: samples of the rotation about the nozzle axis
-  bool smoothOrientations = true;   // paper 001 Section 5.2 low-pass filter and crest subdivision
+  bool smoothOrientations = true;   // paper 001 Section 5.2 low-pass filter (turns are subdivided either way)
   double filterThresholdDegrees = 10;  // filter where neighbouring axes differ by more than this
   double maxAxisStepDegrees = 2;    // subdivide (quaternion interpolation) so consecutive nozzle
                                     // axes differ by at most this

@@ -132,6 +132,33 @@ TEST(PlanMotion, Table5CrestIsSmoothedAndContinuous) {
   }
 }
 
+// Without the filter (motion.smooth_orientations off) turns are still cut into steps of at most
+// maxAxisStepDegrees along the great circle the tool path checked; before, the ridge's 90 degree
+// flip was one move and the machine interpolated B and C linearly (a 40 mm yoga, voxel: 5,192
+// colliding samples, 1,459 with the steps).
+TEST(PlanMotion, Table5TurnsAreSubdividedWithoutTheFilter) {
+  const Toolpath tp = test::crestToolpath(20, 30, 1.0, 3.0);
+  const MachineProfile m = table5TestProfile();
+  MotionOptions o;
+  o.smoothOrientations = false;
+  const MachinePath mp = planMachineMotion(tp, m, o);
+  ASSERT_TRUE(mp.ok()) << mp.message;
+  EXPECT_EQ(mp.stats.filteredOrientations, 0u);
+  EXPECT_GE(mp.stats.subdivisions, 90u / 2 - 1);
+  Eigen::Vector3d prevAxis, tip;
+  forwardMap(m, mp.start, tip, prevAxis);
+  for (const MachineMove& mv : mp.moves) {
+    EXPECT_LE(angleDeg(prevAxis, mv.axis), o.maxAxisStepDegrees + 1e-6);
+    prevAxis = mv.axis;
+  }
+  // Every source move's own axis is kept (no filter).
+  for (const MachineMove& mv : mp.moves) {
+    if (&mv == &mp.moves.back() || mv.source != (&mv + 1)->source) {
+      EXPECT_LT(angleDeg(mv.axis, tp.moves[mv.source].axis.normalized()), 1e-6) << mv.source;
+    }
+  }
+}
+
 TEST(PlanMotion, Table5FeedLimitsHold) {
   const Toolpath tp = test::helixToolpath(15, 5, 1, 2, 0.8, 40);
   MachineProfile m = table5TestProfile();
