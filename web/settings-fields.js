@@ -164,6 +164,8 @@ export const PAGE_FIELDS = [
     testid: 'geodesic-max-thickness', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.align_passes', label: 'align merging fronts (smoothing passes; 0 = the paper\'s field)', type: 'integer', step: 1,
     testid: 'geodesic-align-passes', showIf: isGeodesic, sendIf: isGeodesic },
+  { group: 'Geodesic', key: 'geodesic.align_retry_passes', label: 'where tool path is left out, slice again with (passes; 0 = no retry)', type: 'integer', step: 1,
+    testid: 'geodesic-align-retry', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.heat_time', label: 'heat time (× h², 1 = the paper)', step: 1,
     testid: 'geodesic-heat-time', showIf: isGeodesic, sendIf: isGeodesic },
   { group: 'Geodesic', key: 'geodesic.nozzle_angle_deg', label: 'nozzle angle (°, 0 = the machine\'s cone)', step: 1,

@@ -142,6 +142,129 @@ void addLayerMetrics(GeodesicReport& report, const IgdsMetrics& metrics) {
   report.overhangMaxLayerDeg = metrics.overhangMaxLayerDegrees;
 }
 
+// Steps 2-6 of the method with `alignPasses` (HeatGeodesicOptions::alignPasses): what the rest
+// of the method reads, with its timings.
+struct GeodesicAttempt : Outcome {
+  int alignPasses = 0;
+  GeodesicField field;
+  IgdsResult igds;
+  IgdsMetrics metrics;
+  Mesh boundary;
+  SkeletonTree tree;
+  CollisionModel collisions;
+  PrintSequence sequences[3];
+  int chosenIndex = 0;
+  std::vector<GeodesicReport::Sequence> traversals;
+  stage::CurvedFill filled;
+  CurvedToolpathOptions topt;
+  CurvedToolpathResult tp;
+  Timings stageMs, reportMs;  // MethodResult::timingsMs and GeodesicReport::timingsMs entries
+  const PrintSequence& chosen() const { return sequences[chosenIndex]; }
+};
+
+GeodesicAttempt geodesicAttempt(const TetMesh& tets, const std::vector<uint32_t>& sources, int alignPasses,
+                                double interval, const MethodContext& context) {
+  const Settings& settings = context.settings;
+  const MachineProfile& machine = context.machine;
+  const ProgressFn& progress = context.progress;
+  const GeodesicSettings& gs = settings.geodesic;
+  GeodesicAttempt a;
+  a.alignPasses = alignPasses;
+  auto fail = [](const auto& r) { return failed<GeodesicAttempt>(r); };
+
+  // 2. Geodesic distance from the platform (Section 2.1).
+  Clock::time_point t0 = Clock::now();
+  if (!reportProgress(progress, "field", 0)) return failed<GeodesicAttempt>(Status::Cancelled, "cancelled");
+  HeatGeodesicOptions hopt;
+  hopt.timeFactor = gs.heatTime;
+  hopt.alignPasses = alignPasses;
+  hopt.renormalizations = 1;  // a broad source: even layer spacing (heat_geodesic.h)
+  HeatGeodesic heat(tets, hopt);
+  if (!heat.status().ok()) return fail(heat.status());
+  // The heat source: the boundary vertices within geodesic.base_band_mm of the platform (0 = a
+  // quarter interval: they print in the first layer anyway), held at their height above it. A
+  // wider band helps a base that is not exactly flat and grows domes from a few contact points
+  // (the shared Kitten's bottom rises 0.5 mm over its width): full size at 0.6 mm, 2,721 tool-path
+  // segments (2.1 m) could not be printed without gouging with the quarter interval, 107 (84 mm)
+  // with one interval. It harms a base with a pocket (the compas bunny's bowl, fit 60: 0 -> 361
+  // segments, the sources then climb its inner slope), so it is not the default.
+  a.field = heat.distanceFrom(sources, heightsAboveLowest(tets, sources), progress);
+  if (!a.field.ok()) return fail(a.field);
+  a.stageMs.emplace_back("field", msSince(t0));
+  a.reportMs.emplace_back("field", a.stageMs.back().second);
+  a.reportMs.emplace_back("field_setup", a.field.setupMs);
+  a.reportMs.emplace_back("field_solve", a.field.heatMs + a.field.gradientMs + a.field.poissonMs);
+
+  // 3. IGDS (Section 2.2) and their metrics (Eq. 11, Fig. 10).
+  t0 = Clock::now();
+  IgdsOptions iopt;
+  iopt.interval = interval;
+  // Steps shortened where the field is slow at the surface (geodesic.max_thickness_ratio; 0 =
+  // the paper's i d): the interval is then the thickest layer at the part's surface.
+  if (gs.maxThicknessRatio > 0) {
+    iopt.isoValues = surfaceLimitedIsoValues(tets, a.field.distance, interval, gs.maxThicknessRatio);
+  }
+  iopt.remesh = gs.remesh;
+  a.igds = extractIgds(tets, a.field.distance, iopt, progress);
+  if (!a.igds.ok()) return fail(a.igds);
+  a.stageMs.emplace_back("igds", msSince(t0));
+  a.reportMs.emplace_back("igds", a.stageMs.back().second);
+  a.reportMs.emplace_back("interpolation", a.igds.interpolationMs);
+  a.reportMs.emplace_back("remesh", a.igds.remeshMs);
+  a.reportMs.emplace_back("smooth", a.igds.smoothMs);
+  t0 = Clock::now();
+  a.metrics = igdsMetrics(a.igds.layers, interval);
+  a.reportMs.emplace_back("metrics", msSince(t0));
+
+  // 4. Skeleton tree, potential collision surfaces, the three traversals (Section 3.1).
+  t0 = Clock::now();
+  if (!reportProgress(progress, "order", 0)) return failed<GeodesicAttempt>(Status::Cancelled, "cancelled");
+  a.boundary = tetBoundary(tets);
+  a.tree = buildSkeletonTree(a.igds.layers, a.boundary, a.field.distance);
+  if (!a.tree.ok()) return fail(a.tree);
+  CollisionConeOptions copt;
+  copt.angleDegrees = gs.nozzleAngleDeg > 0 ? gs.nozzleAngleDeg : machine.nozzle.coneHalfAngleDegrees;
+  copt.length = machine.nozzle.coneLength;
+  copt.clearance = interval;
+  a.collisions = potentialCollisionSurfaces(a.igds.layers, a.tree, copt, progress);
+  if (!a.collisions.ok()) return fail(a.collisions);
+  const TraversalKind kinds[3] = {TraversalKind::LPT, TraversalKind::DPT, TraversalKind::A3};
+  for (int k = 0; k < 3; ++k) {
+    a.sequences[k] = printSequence(a.tree, a.collisions, kinds[k]);
+    if (!a.sequences[k].ok()) return fail(a.sequences[k]);
+    a.traversals.push_back(sequenceReport(a.sequences[k]));
+    if (kinds[k] == gs.sequence) a.chosenIndex = k;
+  }
+  a.stageMs.emplace_back("order", msSince(t0));
+  a.reportMs.emplace_back("tree", a.tree.ms);
+  a.reportMs.emplace_back("collision", a.collisions.ms);
+  a.reportMs.emplace_back("order", a.stageMs.back().second);
+
+  // 5. Filling paths on every IGDS (Section 3.2).
+  t0 = Clock::now();
+  a.filled = stage::fillCurvedLayers(a.igds.layers, settings, machine, interval, "paths", 1, progress);
+  if (!a.filled.ok()) return fail(a.filled);
+  a.stageMs.emplace_back("paths", msSince(t0));
+  a.reportMs.emplace_back("paths", a.stageMs.back().second);
+
+  // 6. The tool-path in the chosen sequence: nozzle along the IGDS normal, bead height from the
+  // local distance to the layer below (Eq. 12's variable extrusion).
+  t0 = Clock::now();
+  std::vector<std::pair<uint32_t, uint32_t>> order;
+  order.reserve(a.chosen().order.size());
+  for (uint32_t node : a.chosen().order) order.emplace_back(a.tree.nodes[node].layer, a.tree.nodes[node].region);
+  a.topt = stage::curvedToolpathOptions(settings, machine, interval, machineTiltLimitDegrees(machine));
+  a.topt.axisFromNormals = true;
+  a.topt.skipUncorrectable = true;
+  a.tp = buildCurvedToolpath(a.igds.layers, a.filled.paths, order, a.topt, progress);
+  if (!a.tp.ok()) return fail(a.tp);
+  a.stageMs.emplace_back("toolpath", msSince(t0));
+  a.reportMs.emplace_back("toolpath", a.stageMs.back().second);
+  a.reportMs.emplace_back("toolpath_orientation", a.tp.orientationMs);
+  a.reportMs.emplace_back("toolpath_gouging", a.tp.gougingMs);
+  return a;
+}
+
 }  // namespace
 
 MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& context) {
@@ -177,105 +300,44 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   out.timingsMs.emplace_back("tetmesh", msSince(t0));
   timings.emplace_back("tetmesh", out.timingsMs.back().second);
 
-  // 2. Geodesic distance from the platform (Section 2.1).
-  t0 = Clock::now();
-  if (!reportProgress(progress, "field", 0)) return failure(Status::Cancelled, "cancelled");
-  HeatGeodesicOptions hopt;
-  hopt.timeFactor = gs.heatTime;
-  hopt.alignPasses = static_cast<int>(gs.alignPasses);
-  hopt.renormalizations = 1;  // a broad source: even layer spacing (heat_geodesic.h)
-  HeatGeodesic heat(tets, hopt);
-  if (!heat.status().ok()) return failure(heat.status());
-  // The heat source: the boundary vertices within geodesic.base_band_mm of the platform (0 = a
-  // quarter interval: they print in the first layer anyway), held at their height above it. A
-  // wider band helps a base that is not exactly flat and grows domes from a few contact points
-  // (the shared Kitten's bottom rises 0.5 mm over its width): full size at 0.6 mm, 2,721 tool-path
-  // segments (2.1 m) could not be printed without gouging with the quarter interval, 107 (84 mm)
-  // with one interval. It harms a base with a pocket (the compas bunny's bowl, fit 60: 0 -> 361
-  // segments, the sources then climb its inner slope), so it is not the default.
+  // 2-6. The field, layers, order, paths and tool path: one attempt with geodesic.align_passes,
+  // and where it leaves tool path out, a second with geodesic.align_retry_passes (stronger
+  // alignment rounds the creases more, yet on some models leaves a little path out where the
+  // first left none, so it is the retry, not the default); the one leaving less out is kept.
   const double baseBand = std::max(1e-4, gs.baseBandMm > 0 ? gs.baseBandMm : 0.25 * interval);
   const std::vector<uint32_t> sources = platformVertices(tets, baseBand);
   if (sources.empty()) {
     return failure(Status::DegenerateInput, "no vertex of the tet mesh lies on the platform");
   }
-  GeodesicField field = heat.distanceFrom(sources, heightsAboveLowest(tets, sources), progress);
-  if (!field.ok()) return failure(field);
-  out.timingsMs.emplace_back("field", msSince(t0));
-  timings.emplace_back("field", out.timingsMs.back().second);
-  timings.emplace_back("field_setup", field.setupMs);
-  timings.emplace_back("field_solve", field.heatMs + field.gradientMs + field.poissonMs);
-
-  // 3. IGDS (Section 2.2) and their metrics (Eq. 11, Fig. 10).
-  t0 = Clock::now();
-  IgdsOptions iopt;
-  iopt.interval = interval;
-  // Steps shortened where the field is slow at the surface (geodesic.max_thickness_ratio; 0 =
-  // the paper's i d): the interval is then the thickest layer at the part's surface.
-  if (gs.maxThicknessRatio > 0) {
-    iopt.isoValues = surfaceLimitedIsoValues(tets, field.distance, interval, gs.maxThicknessRatio);
+  const Clock::time_point firstStart = Clock::now();
+  GeodesicAttempt attempt = geodesicAttempt(tets, sources, static_cast<int>(gs.alignPasses), interval, context);
+  if (!attempt.ok()) return failure(attempt);
+  report.alignFirstLeftOutMm = attempt.tp.skippedMm;
+  const int retryPasses = static_cast<int>(gs.alignRetryPasses);
+  if (attempt.tp.skippedMm > 0 && retryPasses > static_cast<int>(gs.alignPasses)) {
+    const double firstMs = msSince(firstStart);
+    GeodesicAttempt retry = geodesicAttempt(tets, sources, retryPasses, interval, context);
+    if (!retry.ok()) return failure(retry);
+    report.alignRetried = true;
+    report.alignRetryMs = firstMs;
+    if (retry.tp.skippedMm < attempt.tp.skippedMm) {
+      attempt = std::move(retry);
+    } else {
+      report.alignRetryMs = msSince(firstStart) - firstMs;
+    }
   }
-  iopt.remesh = gs.remesh;
-  IgdsResult igds = extractIgds(tets, field.distance, iopt, progress);
-  if (!igds.ok()) return failure(igds);
-  out.timingsMs.emplace_back("igds", msSince(t0));
-  timings.emplace_back("igds", out.timingsMs.back().second);
-  timings.emplace_back("interpolation", igds.interpolationMs);
-  timings.emplace_back("remesh", igds.remeshMs);
-  timings.emplace_back("smooth", igds.smoothMs);
-  t0 = Clock::now();
-  const IgdsMetrics metrics = igdsMetrics(igds.layers, interval);
-  timings.emplace_back("metrics", msSince(t0));
-
-  // 4. Skeleton tree, potential collision surfaces, the three traversals (Section 3.1).
-  t0 = Clock::now();
-  if (!reportProgress(progress, "order", 0)) return failure(Status::Cancelled, "cancelled");
-  const Mesh boundary = tetBoundary(tets);
-  SkeletonTree tree = buildSkeletonTree(igds.layers, boundary, field.distance);
-  if (!tree.ok()) return failure(tree);
-  CollisionConeOptions copt;
-  copt.angleDegrees = gs.nozzleAngleDeg > 0 ? gs.nozzleAngleDeg : machine.nozzle.coneHalfAngleDegrees;
-  copt.length = machine.nozzle.coneLength;
-  copt.clearance = interval;
-  CollisionModel collisions = potentialCollisionSurfaces(igds.layers, tree, copt, progress);
-  if (!collisions.ok()) return failure(collisions);
-  PrintSequence sequences[3];
-  const TraversalKind kinds[3] = {TraversalKind::LPT, TraversalKind::DPT, TraversalKind::A3};
-  const PrintSequence* chosen = nullptr;
-  for (int k = 0; k < 3; ++k) {
-    sequences[k] = printSequence(tree, collisions, kinds[k]);
-    if (!sequences[k].ok()) return failure(sequences[k]);
-    report.traversals.push_back(sequenceReport(sequences[k]));
-    if (kinds[k] == gs.sequence) chosen = &sequences[k];
-  }
-  out.timingsMs.emplace_back("order", msSince(t0));
-  timings.emplace_back("tree", tree.ms);
-  timings.emplace_back("collision", collisions.ms);
-  timings.emplace_back("order", out.timingsMs.back().second);
-
-  // 5. Filling paths on every IGDS (Section 3.2).
-  t0 = Clock::now();
-  stage::CurvedFill filled = stage::fillCurvedLayers(igds.layers, settings, machine, interval, "paths", 1, progress);
-  if (!filled.ok()) return failure(filled);
-  out.report.isoplanar = std::move(filled.isoplanar);
-  out.timingsMs.emplace_back("paths", msSince(t0));
-  timings.emplace_back("paths", out.timingsMs.back().second);
-
-  // 6. The tool-path in the chosen sequence: nozzle along the IGDS normal, bead height from the
-  // local distance to the layer below (Eq. 12's variable extrusion).
-  t0 = Clock::now();
-  std::vector<std::pair<uint32_t, uint32_t>> order;
-  order.reserve(chosen->order.size());
-  for (uint32_t node : chosen->order) order.emplace_back(tree.nodes[node].layer, tree.nodes[node].region);
-  CurvedToolpathOptions topt =
-      stage::curvedToolpathOptions(settings, machine, interval, machineTiltLimitDegrees(machine));
-  topt.axisFromNormals = true;
-  topt.skipUncorrectable = true;
-  CurvedToolpathResult tp = buildCurvedToolpath(igds.layers, filled.paths, order, topt, progress);
-  if (!tp.ok()) return failure(tp);
-  out.timingsMs.emplace_back("toolpath", msSince(t0));
-  timings.emplace_back("toolpath", out.timingsMs.back().second);
-  timings.emplace_back("toolpath_orientation", tp.orientationMs);
-  timings.emplace_back("toolpath_gouging", tp.gougingMs);
+  const GeodesicField& field = attempt.field;
+  const IgdsResult& igds = attempt.igds;
+  const SkeletonTree& tree = attempt.tree;
+  const CollisionModel& collisions = attempt.collisions;
+  const stage::CurvedFill& filled = attempt.filled;
+  CurvedToolpathResult& tp = attempt.tp;
+  const CurvedToolpathOptions& topt = attempt.topt;
+  for (const auto& [name, ms] : attempt.stageMs) out.timingsMs.emplace_back(name, ms);
+  for (const auto& [name, ms] : attempt.reportMs) timings.emplace_back(name, ms);
+  if (report.alignRetried) timings.emplace_back("align_retry", report.alignRetryMs);
+  report.traversals = attempt.traversals;
+  out.report.isoplanar = std::move(attempt.filled.isoplanar);
   out.toolpath = std::move(tp.toolpath);
   if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
   if (auto w = stage::beadOnPlatformWarning(out.toolpath)) out.warnings.push_back(*w);
@@ -286,14 +348,14 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
 
   // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
   stage::appendLayerSurfaces(igds.layers, out.preview.surfaces);
-  out.preview.geodesic = geodesicPreview(tp, boundary, field.distance, tree, chosen->order);
+  out.preview.geodesic = geodesicPreview(tp, attempt.boundary, field.distance, tree, attempt.chosen().order);
 
   // The report.
   if (!tp.skippedLayers.empty()) {
     const auto [lo, hi] = std::minmax_element(tp.skippedLayers.begin(), tp.skippedLayers.end());
     report.skippedLayers = std::make_pair(*lo, *hi);
   }
-  addLayerMetrics(report, metrics);
+  addLayerMetrics(report, attempt.metrics);
   report.tets = tets.tetCount();
   report.vertices = tets.vertexCount();
   report.tetSource = placed.tets ? "input" : "mesher";
@@ -303,7 +365,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.baseBandMm = baseBand;
   report.maxThicknessRatio = gs.maxThicknessRatio;
   report.heatTime = gs.heatTime;
-  report.alignPasses = gs.alignPasses;
+  report.alignPasses = attempt.alignPasses;
   report.maxGeodesicMm = field.maxDistance;
   report.intervalMm = interval;
   report.layers = igds.layers.size();
@@ -312,7 +374,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.triangles = igds.triangleCount;
   report.interpolatedTriangles = igds.interpolatedTriangles;
   report.tree = treeReport(tree, igds.layers.size());
-  report.nozzleAngleDeg = copt.angleDegrees;
+  report.nozzleAngleDeg = gs.nozzleAngleDeg > 0 ? gs.nozzleAngleDeg : machine.nozzle.coneHalfAngleDegrees;
   report.pcsPairsTested = collisions.pairsTested;
   report.sequence = traversalName(gs.sequence);
   report.paths = filled.pathCount;

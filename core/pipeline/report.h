@@ -131,7 +131,11 @@ struct GeodesicReport {
     double volumeMm3 = 0, meanEdgeMm = 0, minDihedralDeg = 0, maxDihedralDeg = 0, minRadiusRatio = 0;
   } tetQuality;
   size_t sources = 0;
-  double heatTime = 0, alignPasses = 0;
+  double heatTime = 0, alignPasses = 0;  // alignPasses: those of the attempt kept
+  // geodesic.align_retry_passes: whether a second attempt ran, what the first left out, and the
+  // time of the attempt not kept.
+  bool alignRetried = false;
+  double alignFirstLeftOutMm = 0, alignRetryMs = 0;
   double baseBandMm = 0, maxThicknessRatio = 0, maxGeodesicMm = 0, intervalMm = 0, stepMinMm = 0;
   size_t layers = 0;
   int printedLayers = 0;

@@ -125,6 +125,13 @@ struct GeodesicSettings {
   // 85, topopt 19 -> 0; sound 2 -> 5 of 9 for about the same number of layers; bench bunny 5.9 ->
   // 5.1 s native, field 308 -> 147 ms.
   double alignPasses = 10;
+  // Where those passes leave tool path out, the field, layers and tool path are made once more
+  // with this many passes and the attempt leaving less out is kept (0, or not above alignPasses:
+  // no retry). More passes round the creases further but are not better everywhere (40 mm,
+  // table5, left-out mm at 10 / 30 / 40 / 50 passes: kitten (ply) 343 / 0 / 0 / 0 with supported
+  // 0.992 / 0.990 / 0.988 at 30-50, yoga 85 / 1.7 / 0 / 0, fertility 1,995 / 817 / 552 / 417,
+  // bunny 0 / 0.9 / 0.8 / 1.8), so they are the retry, not the default.
+  double alignRetryPasses = 40;
   TraversalKind sequence = TraversalKind::A3;  // print order: a3 (Algorithm 3) | lpt | dpt
   bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
 };

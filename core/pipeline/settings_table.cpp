@@ -481,6 +481,11 @@ std::vector<SettingSpec> makeTable() {
                number("geodesic.align_passes", [](S& s) -> double& { return s.geodesic.alignPasses; }, 0, 100,
                       "passes", "smoothing of the heat's directions: aligns the layers where fronts merge (0 = the paper)")),
       onlyWith(Method::Geodesic,
+               number("geodesic.align_retry_passes", [](S& s) -> double& { return s.geodesic.alignRetryPasses; }, 0,
+                      100, "passes",
+                      "where align_passes leaves tool path out, slice again with this many and keep the attempt "
+                      "leaving less out (0 = no retry)")),
+      onlyWith(Method::Geodesic,
                number("geodesic.heat_time", [](S& s) -> double& { return s.geodesic.heatTime; }, 0.1, 1000, "h^2",
                       "heat-method time step over the squared mean tet edge (1 = the paper; longer aligns "
                       "the layers where fronts merge: fewer tool paths left out)")),

@@ -331,8 +331,8 @@ test('settings schema: geodesic rows shown and sent only for the geodesic method
   const field = (key) => fields.find((f) => f.key === key);
   const keys = fields.filter((f) => f.group === 'Geodesic').map((f) => f.key);
   assert.deepEqual(keys, ['geodesic.interval_mm', 'geodesic.tet_size_mm', 'geodesic.target_tets', 'geodesic.base_band_mm',
-    'geodesic.max_thickness_ratio', 'geodesic.align_passes', 'geodesic.heat_time', 'geodesic.nozzle_angle_deg',
-    'geodesic.sequence', 'geodesic.remesh']);
+    'geodesic.max_thickness_ratio', 'geodesic.align_passes', 'geodesic.align_retry_passes', 'geodesic.heat_time',
+    'geodesic.nozzle_angle_deg', 'geodesic.sequence', 'geodesic.remesh']);
   assert.ok(field('method').options.some((o) => o.value === 'geodesic'), 'a method choice');
   for (const k of keys) assert.equal(field(k).showIf(model.values), false, `${k} hidden for planar`);
   model.set('geodesic.interval_mm', 0.8);
@@ -350,7 +350,7 @@ test('settings schema: geodesic rows shown and sent only for the geodesic method
   model.set('geodesic.tet_size_mm', 1.5);
   assert.equal(field('geodesic.target_tets').showIf(model.values), false, 'the target count is unused with a tet size');
   // The core's defaults and ranges (core/pipeline/settings_table.cpp), which the fields take.
-  assert.deepEqual(keys.map((k) => field(k).value), [0, 0, 60000, 0, 0.7, 10, 1, 0, 'a3', true]);
+  assert.deepEqual(keys.map((k) => field(k).value), [0, 0, 60000, 0, 0.7, 10, 40, 1, 0, 'a3', true]);
   assert.throws(() => normaliseValue(field('geodesic.align_passes'), '101'), /within 0..100/);
   assert.throws(() => normaliseValue(field('geodesic.base_band_mm'), '21'), /within 0..20/);
   assert.throws(() => normaliseValue(field('geodesic.max_thickness_ratio'), '3.5'), /within 0..3/);

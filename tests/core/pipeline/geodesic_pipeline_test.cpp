@@ -105,6 +105,7 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   // The paper's field, whose loop closure leaves path out (the subject of this test); with the
   // default alignment (geodesic.align_passes) it leaves none.
   s.geodesic.alignPasses = 0;
+  s.geodesic.alignRetryPasses = 0;
   s.geodesic.maxThicknessRatio = 1;
   const Sliced r = sliceAndVerify(bytes, "yoga.tet", s);
   if (!r.out.ok()) return;
@@ -241,6 +242,7 @@ TEST(GeodesicPipeline, CoinLayersKeepNoFoldedEarAndPrintCollisionFree) {
   // The paper's field (t = h^2, no alignment, whole-interval steps), where the ears were found.
   s.geodesic.heatTime = 1;
   s.geodesic.alignPasses = 0;
+  s.geodesic.alignRetryPasses = 0;
   s.geodesic.maxThicknessRatio = 1;
   const Sliced r = sliceAndVerify(bytes, "coin.stl", s);
   if (!r.out.ok()) return;
@@ -326,6 +328,7 @@ TEST(GeodesicPipeline, SequenceSettingIsFollowed) {
   s.geodesic.targetTets = 4000;
   s.geodesic.heatTime = 1;  // the paper's field: the box's height within 5 % (12.6 mm at 30 h^2)
   s.geodesic.alignPasses = 0;
+  s.geodesic.alignRetryPasses = 0;
   for (const char* seq : {"lpt", "dpt", "a3"}) {
     Settings c = s;
     ASSERT_TRUE(setSetting(c, "geodesic.sequence", seq).ok());

@@ -176,7 +176,8 @@ void expectRemedyMakesItSound(const char* file, Method method, const std::string
 TEST(Soundness, GeodesicRemedyAppliedGivesASoundProgram) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   expectRemedyMakesItSound("compas_overhang_coin_closed_low_res.stl", Method::Geodesic, "geodesic.max_thickness_ratio", "0.7",
-                           {{"geodesic.max_thickness_ratio", "1"}, {"geodesic.align_passes", "0"}});
+                           {{"geodesic.max_thickness_ratio", "1"}, {"geodesic.align_passes", "0"},
+                            {"geodesic.align_retry_passes", "0"}});
 }
 
 // Multidir on the shared topopt (supports on): overhangs just under the paper's 45 deg hang
@@ -219,12 +220,46 @@ TEST(Soundness, VoxelTurnsBetweenFreeAxesDoNotCollide) {
 // program is sound.
 TEST(Soundness, GeodesicAlignedFrontsLeaveNoToolPathOut) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  const Json paper = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40, {{"geodesic.align_passes", "0"}}, UpAxis::PosY);
+  const Json paper = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40,
+                                    {{"geodesic.align_passes", "0"}, {"geodesic.align_retry_passes", "0"}}, UpAxis::PosY);
   const Json now = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40, {}, UpAxis::PosY);
   ASSERT_TRUE(paper.contains("left_out_mm") && now.contains("left_out_mm"));
   EXPECT_GT(paper["left_out_mm"].get<double>(), 100.0) << paper.dump();
   EXPECT_LT(now["left_out_mm"].get<double>(), 1.0) << now.dump();
   EXPECT_TRUE(now["sound"].get<bool>()) << now.dump();
+}
+
+// The kitten (ply, genus 1) at 20 mm: ten alignment passes still leave 25 mm of tool path out;
+// the second attempt with geodesic.align_retry_passes (default 40) leaves none and is kept, and
+// the report says what the first left out. Without the retry the slice is refused.
+TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const char* file = "voxelmaam_kitten.ply";
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
+  Settings s;
+  s.method = Method::Geodesic;
+  s.machine = "table5";
+  s.placement.fitMm = 20;
+  ASSERT_TRUE(setSetting(s, "verify", "warn").ok());
+  ASSERT_TRUE(setSetting(s, "geodesic.align_retry_passes", "0").ok());
+  const SliceOutput once = runSlice(bytes.data(), bytes.size(), file, s);
+  ASSERT_TRUE(once.ok()) << once.message;
+  const Json a = Json::parse(once.reportJson);
+  const double firstLeftOut = a["verify"]["left_out_mm"].get<double>();
+  EXPECT_GT(firstLeftOut, 10.0) << a["verify"].dump();
+  EXPECT_FALSE(a["geodesic"]["align_retry"]["retried"].get<bool>());
+
+  s.geodesic.alignRetryPasses = Settings().geodesic.alignRetryPasses;
+  const SliceOutput twice = runSlice(bytes.data(), bytes.size(), file, s);
+  ASSERT_TRUE(twice.ok()) << twice.message;
+  const Json b = Json::parse(twice.reportJson);
+  const Json& retry = b["geodesic"]["align_retry"];
+  EXPECT_TRUE(retry["retried"].get<bool>()) << retry.dump();
+  EXPECT_NEAR(retry["first_left_out_mm"].get<double>(), firstLeftOut, 1e-9);
+  EXPECT_EQ(b["geodesic"]["align_passes"].get<double>(), 40);
+  EXPECT_EQ(b["verify"]["left_out_mm"].get<double>(), 0.0);
+  EXPECT_TRUE(b["verify"]["sound"].get<bool>()) << b["verify"].dump();
+  for (const Warning& w : twice.warnings) EXPECT_NE(w.code, "skipped_tool_path") << w.message;
 }
 
 TEST(Soundness, CliWritesTheReportButNoProgramWhenRefused) {
