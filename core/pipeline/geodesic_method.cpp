@@ -148,8 +148,6 @@ struct GeodesicAttempt : Outcome {
   int alignPasses = 0;
   GeodesicField field;
   IgdsResult igds;
-  IgdsMetrics metrics;
-  Mesh boundary;
   SkeletonTree tree;
   CollisionModel collisions;
   PrintSequence sequences[3];
@@ -162,8 +160,8 @@ struct GeodesicAttempt : Outcome {
   const PrintSequence& chosen() const { return sequences[chosenIndex]; }
 };
 
-GeodesicAttempt geodesicAttempt(const TetMesh& tets, const std::vector<uint32_t>& sources, int alignPasses,
-                                double interval, const MethodContext& context) {
+GeodesicAttempt geodesicAttempt(const TetMesh& tets, const Mesh& boundary, const std::vector<uint32_t>& sources,
+                                int alignPasses, double interval, const MethodContext& context) {
   const Settings& settings = context.settings;
   const MachineProfile& machine = context.machine;
   const ProgressFn& progress = context.progress;
@@ -212,15 +210,11 @@ GeodesicAttempt geodesicAttempt(const TetMesh& tets, const std::vector<uint32_t>
   a.reportMs.emplace_back("interpolation", a.igds.interpolationMs);
   a.reportMs.emplace_back("remesh", a.igds.remeshMs);
   a.reportMs.emplace_back("smooth", a.igds.smoothMs);
-  t0 = Clock::now();
-  a.metrics = igdsMetrics(a.igds.layers, interval);
-  a.reportMs.emplace_back("metrics", msSince(t0));
 
   // 4. Skeleton tree, potential collision surfaces, the three traversals (Section 3.1).
   t0 = Clock::now();
   if (!reportProgress(progress, "order", 0)) return failed<GeodesicAttempt>(Status::Cancelled, "cancelled");
-  a.boundary = tetBoundary(tets);
-  a.tree = buildSkeletonTree(a.igds.layers, a.boundary, a.field.distance);
+  a.tree = buildSkeletonTree(a.igds.layers, boundary, a.field.distance);
   if (!a.tree.ok()) return fail(a.tree);
   CollisionConeOptions copt;
   copt.angleDegrees = gs.nozzleAngleDeg > 0 ? gs.nozzleAngleDeg : machine.nozzle.coneHalfAngleDegrees;
@@ -310,13 +304,15 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
     return failure(Status::DegenerateInput, "no vertex of the tet mesh lies on the platform");
   }
   const Clock::time_point firstStart = Clock::now();
-  GeodesicAttempt attempt = geodesicAttempt(tets, sources, static_cast<int>(gs.alignPasses), interval, context);
+  const Mesh boundary = tetBoundary(tets);
+  GeodesicAttempt attempt =
+      geodesicAttempt(tets, boundary, sources, static_cast<int>(gs.alignPasses), interval, context);
   if (!attempt.ok()) return failure(attempt);
   report.alignFirstLeftOutMm = attempt.tp.skippedMm;
   const int retryPasses = static_cast<int>(gs.alignRetryPasses);
   if (attempt.tp.skippedMm > 0 && retryPasses > static_cast<int>(gs.alignPasses)) {
     const double firstMs = msSince(firstStart);
-    GeodesicAttempt retry = geodesicAttempt(tets, sources, retryPasses, interval, context);
+    GeodesicAttempt retry = geodesicAttempt(tets, boundary, sources, retryPasses, interval, context);
     if (!retry.ok()) return failure(retry);
     report.alignRetried = true;
     report.alignRetryMs = firstMs;
@@ -336,6 +332,9 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   for (const auto& [name, ms] : attempt.stageMs) out.timingsMs.emplace_back(name, ms);
   for (const auto& [name, ms] : attempt.reportMs) timings.emplace_back(name, ms);
   if (report.alignRetried) timings.emplace_back("align_retry", report.alignRetryMs);
+  t0 = Clock::now();
+  const IgdsMetrics metrics = igdsMetrics(igds.layers, interval);
+  timings.emplace_back("metrics", msSince(t0));
   report.traversals = attempt.traversals;
   out.report.isoplanar = std::move(attempt.filled.isoplanar);
   out.toolpath = std::move(tp.toolpath);
@@ -348,14 +347,14 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
 
   // Preview: IGDS, the boundary with the field, the skeleton tree and the sequence.
   stage::appendLayerSurfaces(igds.layers, out.preview.surfaces);
-  out.preview.geodesic = geodesicPreview(tp, attempt.boundary, field.distance, tree, attempt.chosen().order);
+  out.preview.geodesic = geodesicPreview(tp, boundary, field.distance, tree, attempt.chosen().order);
 
   // The report.
   if (!tp.skippedLayers.empty()) {
     const auto [lo, hi] = std::minmax_element(tp.skippedLayers.begin(), tp.skippedLayers.end());
     report.skippedLayers = std::make_pair(*lo, *hi);
   }
-  addLayerMetrics(report, attempt.metrics);
+  addLayerMetrics(report, metrics);
   report.tets = tets.tetCount();
   report.vertices = tets.vertexCount();
   report.tetSource = placed.tets ? "input" : "mesher";
