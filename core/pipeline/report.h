@@ -225,11 +225,12 @@ struct MotionReport {
 struct VerifySection {
   std::string mode;                   // refuse | warn: what an unsound program meets
   double inside = 0, coverage = 0, supported = 0, supportedAll = 0;
+  double surfaceReached = 0, surfaceReachMm = 0;  // share of the surface with a bead within reach
   size_t collisions = 0, limits = 0, samples = 0;
   size_t surfaceSamples = 0, unsupportedSamples = 0;  // judged for supported, and not supported
   double leftOutMm = 0;               // tool path the method left out
   // The bounds judged against (SoundnessCriteria), so viewers need not copy them.
-  double minInside = 0, minCoverage = 0, minSupported = 0;
+  double minInside = 0, minCoverage = 0, minSupported = 0, minReached = 0;
   bool coverageJudged = false;        // the fill is solid (curved methods, or 100 % infill)
   bool sound = true;
   std::vector<std::string> failures;  // what fails, one phrase each ("56 samples collide ...")

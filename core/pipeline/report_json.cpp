@@ -342,6 +342,8 @@ Json verifyJson(const VerifySection& v) {
           {"inside", num(v.inside)},
           {"coverage", num(v.coverage)},
           {"coverage_judged", v.coverageJudged},
+          {"surface_reached", num(v.surfaceReached)},
+          {"surface_reach_mm", num(v.surfaceReachMm)},
           {"supported", num(v.supported)},
           {"supported_all", num(v.supportedAll)},
           {"collisions", v.collisions},
@@ -350,7 +352,8 @@ Json verifyJson(const VerifySection& v) {
           {"samples", v.samples},
           {"surface_samples", v.surfaceSamples},
           {"unsupported_samples", v.unsupportedSamples},
-          {"criteria", {{"inside", num(v.minInside)}, {"coverage", num(v.minCoverage)}, {"supported", num(v.minSupported)}}},
+          {"criteria", {{"inside", num(v.minInside)}, {"coverage", num(v.minCoverage)}, {"supported", num(v.minSupported)},
+                        {"surface_reached", num(v.minReached)}}},
           {"failures", v.failures},
           {"statement", v.statement},
           {"ms", num(v.ms)}};

@@ -979,6 +979,78 @@ Outcome coverage(const AabbTree& tree, const Mesh& partMesh, const std::vector<S
   return {};
 }
 
+// ---- surface reached ----
+// The share of the part's surface area with a bead sample (support excluded) within `reach`:
+// points at the centroids of an n x n subdivision of each triangle (n = ceil(longest edge /
+// spacing), spacing reach / 2, raised to keep at most about four million points), each weighing
+// its share of the area; the samples bucketed in cells of `reach`, 27 cells per point. A part of
+// the model no bead comes near (a branch the layers never reach, a feature thinner than a bead)
+// lowers it, where coverage, whose grid points stand w/2 inside the solid, sees nothing on a
+// part thinner than a bead.
+bool reachedSurface(const Mesh& partMesh, const std::vector<Segment>& segments, const std::vector<Sample>& samples,
+                    double reach, Progress& progress, VerifyReport& rep) {
+  const size_t faces = partMesh.faceCount();
+  double spacing = 0.5 * reach, total = 0;
+  auto pointsAt = [&](double sp) {
+    double count = 0;
+    for (size_t f = 0; f < faces; ++f) {
+      const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]), b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
+                            c = partMesh.vertex(partMesh.triangles[3 * f + 2]);
+      const double edge = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+      const double n = std::max(1.0, std::ceil(edge / sp));
+      count += n * n;
+    }
+    return count;
+  };
+  while (pointsAt(spacing) > 4e6) spacing *= 1.5;
+  std::unordered_map<int64_t, std::vector<uint32_t>> cells;
+  auto key = [&](const Eigen::Vector3d& p, int dx, int dy, int dz) {
+    return cellKey(int64_t(std::floor(p.x() / reach)) + dx, int64_t(std::floor(p.y() / reach)) + dy,
+                   int64_t(std::floor(p.z() / reach)) + dz);
+  };
+  for (size_t i = 0; i < samples.size(); ++i) {
+    if (segments[samples[i].segment].support) continue;
+    cells[key(samples[i].p, 0, 0, 0)].push_back(static_cast<uint32_t>(i));
+  }
+  const double reach2 = reach * reach;
+  auto near = [&](const Eigen::Vector3d& p) {
+    for (int dz = -1; dz <= 1; ++dz)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const auto it = cells.find(key(p, dx, dy, dz));
+          if (it == cells.end()) continue;
+          for (uint32_t i : it->second)
+            if ((samples[i].p - p).squaredNorm() <= reach2) return true;
+        }
+    return false;
+  };
+  double reached = 0;
+  for (size_t f = 0; f < faces; ++f) {
+    if (!progress.tick(f, faces, 0.98, 1.0)) return false;
+    const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]), b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
+                          c = partMesh.vertex(partMesh.triangles[3 * f + 2]);
+    const double area = 0.5 * (b - a).cross(c - a).norm();
+    if (!(area > 0)) continue;
+    const double edge = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+    const int n = static_cast<int>(std::max(1.0, std::ceil(edge / spacing)));
+    const double w = area / (double(n) * n);
+    total += area;
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; i + j < n; ++j) {
+        // The sub-triangle with corner (i, j) pointing up, and the one pointing down beside it.
+        const double u = (i + 1.0 / 3) / n, v = (j + 1.0 / 3) / n;
+        if (near(a + u * (b - a) + v * (c - a))) reached += w;
+        if (i + j + 1 < n) {
+          const double u2 = (i + 2.0 / 3) / n, v2 = (j + 2.0 / 3) / n;
+          if (near(a + u2 * (b - a) + v2 * (c - a))) reached += w;
+        }
+      }
+  }
+  rep.surfaceReached = total > 0 ? std::min(1.0, reached / total) : 1.0;
+  rep.surfaceReach = reach;
+  return true;
+}
+
 }  // namespace
 
 VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
@@ -1014,6 +1086,9 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   if (ok.ok()) ok = collidingSamples(program, segments, samples, h, options.keepPoints, progress, rep);
   if (ok.ok()) ok = coverage(tree, partMesh, segments, g, h, w, options.maxGridPoints, progress, rep);
   if (!ok.ok()) return fail(ok);
+  if (!reachedSurface(partMesh, segments, samples, w + h + 0.5 * options.sampleSpacing, progress, rep)) {
+    return fail(cancelled());
+  }
   if (!reportProgress(progressFn, "verify", 1.0)) return fail(cancelled());
   return rep;
 }
@@ -1022,6 +1097,8 @@ std::string verifyReportJson(const VerifyReport& r) {
   nlohmann::ordered_json j;
   j["inside"] = r.inside;
   j["coverage"] = r.coverage;
+  j["surface_reached"] = r.surfaceReached;
+  j["surface_reach_mm"] = r.surfaceReach;
   j["supported"] = r.supported;
   j["supported_all"] = r.supportedAll;
   j["support_samples"] = r.supportSamples;

@@ -43,6 +43,8 @@ struct VerifyReport : Outcome {
   double inside = 0;            // share of the part's samples (support excluded: it lies outside
                                 // the part by design) within w/2 of the solid
   double coverage = 0;          // share of interior grid points inside some bead
+  double surfaceReached = 0;    // share of the part's surface area with a bead sample within
+  double surfaceReach = 0;      // this distance (w + h + half the sample spacing), mm
   double supported = 0;         // share of the part's surface samples supported (by anything
                                 // earlier, support included; support's own samples are not judged)
   size_t supportSamples = 0;    // samples on support features
@@ -66,7 +68,7 @@ struct VerifyReport : Outcome {
 VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
                            const VerifyOptions& options = {}, const ProgressFn& progress = {});
 
-// JSON object with keys inside, coverage, supported, supported_all, collisions, limits,
+// JSON object with keys inside, coverage, surface_reached, surface_reach_mm, supported, supported_all, collisions, limits,
 // extrusion_mm, path_mm, samples, grid_points, layers, collision_examples [{tip, axis, earlier,
 // layer, line}].
 std::string verifyReportJson(const VerifyReport& report);

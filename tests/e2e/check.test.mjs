@@ -67,7 +67,7 @@ test('a sound multidir slice says so, every figure passing', async (t) => {
   assert.equal(await page.textContent(tid('check-verdict')), 'Sound: the simulated program meets every criterion.');
   assert.equal(await page.getAttribute(tid('check-verdict'), 'data-state'), 'sound');
   const rows = await shownRows();
-  assert.deepEqual(Object.keys(rows), ['inside', 'supported', 'collisions', 'limits', 'left_out', 'simulated'],
+  assert.deepEqual(Object.keys(rows), ['inside', 'surface_reached', 'supported', 'collisions', 'limits', 'left_out', 'simulated'],
     'coverage is not judged for a sparse fill');
   assert.ok(Object.values(rows).every(([, state]) => state !== 'fail'), JSON.stringify(rows));
   assert.equal(rows.collisions[0], 'none');

@@ -73,7 +73,7 @@ test('checkRows: a refused voxel program, every figure against its criterion', (
   });
   // The rows that fail are the core's failures (its criteria are the page's).
   assert.equal(checkRows(VOXEL_REFUSED).filter((r) => r[3] === 'fail').length, VOXEL_REFUSED.failures.length);
-  assert.deepEqual(SOUNDNESS_CRITERIA, { inside: 0.99, coverage: 0.97, supported: 0.99 });
+  assert.deepEqual(SOUNDNESS_CRITERIA, { inside: 0.99, coverage: 0.97, supported: 0.99, surface_reached: 0.99 });
   // The report's own bounds win over the defaults (a report recorded with other criteria).
   const stricter = rowsOf({ ...MULTIDIR_SOUND, criteria: { inside: 0.99, coverage: 0.97, supported: 0.995 } });
   assert.deepEqual(stricter.supported, ['99.1 % (≥ 99.5 %)', 'fail']);
@@ -95,6 +95,15 @@ test('checkRows: coverage only where it is judged; left-out tool path in mm; mis
     inside: ['—', ''], supported: ['—', ''], collisions: ['—', ''], limits: ['—', ''], left_out: ['—', ''], simulated: ['—', ''],
   });
   assert.deepEqual(checkRows(null), []);
+});
+
+test('checkRows: the share of the surface printed, where the report has it', () => {
+  const branches = rowsOf({ ...MULTIDIR_SOUND, surface_reached: 0.3151, surface_reach_mm: 0.9,
+    criteria: { inside: 0.99, coverage: 0.97, supported: 0.99, surface_reached: 0.99 } });
+  assert.deepEqual(branches.surface_reached, ['31.5 % (≥ 99 %)', 'fail']);
+  assert.deepEqual(rowsOf({ ...MULTIDIR_SOUND, surface_reached: 1 }).surface_reached, ['100.0 % (≥ 99 %)', 'pass']);
+  assert.deepEqual(checkRows({ ...VOXEL_REFUSED, surface_reached: 0.998 }).map(([key]) => key),
+    ['inside', 'coverage', 'surface_reached', 'supported', 'collisions', 'limits', 'left_out', 'simulated']);
 });
 
 test('checkVerdict: sound, refused, written anyway; the done line', () => {

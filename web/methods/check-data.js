@@ -13,7 +13,7 @@ import { figure, formatLength, formatMs, plural } from '../format.js';
  * report without them (recorded before they were written). Collisions, limits and left-out tool
  * path must be zero.
  */
-export const SOUNDNESS_CRITERIA = Object.freeze({ inside: 0.99, coverage: 0.97, supported: 0.99 });
+export const SOUNDNESS_CRITERIA = Object.freeze({ inside: 0.99, coverage: 0.97, supported: 0.99, surface_reached: 0.99 });
 
 /** Colours (0..255 RGB) of the failing points: apart from every feature colour and from each other. */
 export const UNSUPPORTED_COLOR = Object.freeze([0xff, 0x2b, 0xd6]);
@@ -70,6 +70,10 @@ export function checkRows(v) {
     ['inside', 'inside the part', bound(v.inside, c.inside), atLeast(v.inside, c.inside)],
   ];
   if (v.coverage_judged) rows.push(['coverage', 'interior filled', bound(v.coverage, c.coverage), atLeast(v.coverage, c.coverage)]);
+  if (Number.isFinite(v.surface_reached)) {
+    rows.push(['surface_reached', 'surface printed', bound(v.surface_reached, c.surface_reached),
+      atLeast(v.surface_reached, c.surface_reached)]);
+  }
   rows.push(
     ['supported', 'surface supported', bound(v.supported, c.supported), atLeast(v.supported, c.supported)],
     ['collisions', 'nozzle collisions', countText(v.collisions, 'sample'), zero(v.collisions)],

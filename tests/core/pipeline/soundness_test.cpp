@@ -262,6 +262,32 @@ TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
   for (const Warning& w : twice.warnings) EXPECT_NE(w.code, "skipped_tool_path") << w.message;
 }
 
+// The branches at 20 mm, geodesic: the mesher's tets (0.31 mm cells) fill 55 % of the thin
+// branches, so the layers reach 5 of 18 mm and the program prints 3 layers of 38. Coverage has no
+// interior point in a part this thin, so the slice was judged sound; the share of the surface a
+// bead comes near (31.5 %) refuses it now, and the statement names a tet size to try.
+TEST(Soundness, GeodesicPartTheLayersDoNotReachIsRefused) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const char* file = "compas_branches_70_closed_low_res.stl";
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
+  Settings s;
+  s.method = Method::Geodesic;
+  s.machine = "table5";
+  s.placement.fitMm = 20;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), file, s);
+  ASSERT_EQ(out.status, Status::UnsoundProgram) << out.message;
+  EXPECT_NE(out.message.find("of the part's surface has no bead within"), std::string::npos) << out.message;
+  EXPECT_NE(out.message.find("geodesic.tet_size_mm=0.16"), std::string::npos) << out.message;
+  const Json v = Json::parse(out.reportJson)["verify"];
+  EXPECT_FALSE(v["coverage_judged"].get<bool>()) << v.dump();
+  EXPECT_LT(v["surface_reached"].get<double>(), 0.5) << v.dump();
+  // The same figure on a program that lays beads all over the part: the voxel branches (0.992).
+  s.method = Method::Voxel;
+  const SliceOutput voxel = runSlice(bytes.data(), bytes.size(), file, s);
+  const Json vv = Json::parse(voxel.reportJson)["verify"];
+  EXPECT_GE(vv["surface_reached"].get<double>(), 0.99) << vv.dump();
+}
+
 TEST(Soundness, CliWritesTheReportButNoProgramWhenRefused) {
   const std::filesystem::path dir = test::tempDir() / "soundness";
   std::filesystem::create_directories(dir);

@@ -89,6 +89,7 @@ std::vector<std::string> failingCriteria(const Json& v, bool coverageJudged, dou
   std::vector<std::string> out;
   if (v["inside"].get<double>() < c.minInside) out.push_back("inside");
   if (coverageJudged && v["coverage"].get<double>() < c.minCoverage) out.push_back("coverage");
+  if (v["surface_reached"].get<double>() < c.minReached) out.push_back("surface_reached");
   if (v["supported"].get<double>() < c.minSupported) out.push_back("supported");
   if (v["collisions"].get<size_t>() > 0) out.push_back("collisions");
   if (v["limits"].get<size_t>() > 0) out.push_back("limits");
@@ -143,6 +144,7 @@ TEST_P(Sweep, SoundProgramOrAnUpFrontStatement) {
   // The gate's figures are runVerify's.
   EXPECT_NEAR(gate["supported"].get<double>(), checked["supported"].get<double>(), 1e-12);
   EXPECT_EQ(gate["collisions"].get<size_t>(), checked["collisions"].get<size_t>());
+  EXPECT_NEAR(gate["surface_reached"].get<double>(), checked["surface_reached"].get<double>(), 1e-12);
   // Deposited equals planned: the program extrudes the filament of the tool path the method planned
   // (to the writer's rounding), nothing dropped or doubled between the method and the program.
   // (The printed path itself is longer than the planned one: the tip wobbles within the chord
@@ -154,11 +156,11 @@ TEST_P(Sweep, SoundProgramOrAnUpFrontStatement) {
 
   std::string failed;
   for (const std::string& f : failing) failed += (failed.empty() ? "" : ",") + f;
-  std::printf("sweep: %-10s %-8s %-10s %-7s inside %.4f coverage %.4f supported %.4f collisions %zu "
+  std::printf("sweep: %-10s %-8s %-10s %-7s inside %.4f coverage %.4f reached %.4f supported %.4f collisions %zu "
               "limits %zu left_out %.1f mm path %+.2f %% time %.2f h  %.1f s%s%s\n",
               c.model.name, c.method, c.machine, out.ok() ? "sound" : "refused",
               checked["inside"].get<double>(), checked["coverage"].get<double>(),
-              checked["supported"].get<double>(), checked["collisions"].get<size_t>(),
+              checked["surface_reached"].get<double>(), checked["supported"].get<double>(), checked["collisions"].get<size_t>(),
               checked["limits"].get<size_t>(), leftOut,
               100 * (printed / report["path_mm"].get<double>() - 1),
               report.value("estimated_time_s", 0.0) / 3600.0, seconds, failed.empty() ? "" : "  fails: ",

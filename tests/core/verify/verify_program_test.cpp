@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include "../program/test_toolpaths.h"
@@ -181,6 +182,24 @@ TEST(VerifyProgram, MissingEveryOtherLayerFailsCoverage) {
   ASSERT_TRUE(r.ok()) << r.message;
   EXPECT_LT(r.coverage, 0.7);
   EXPECT_GE(r.inside, 0.99);
+}
+
+// The share of the surface with a bead within reach, against the area computed by hand: the box's
+// lower half printed (layers 0-24, tips up to z = 5) reaches its bottom face and its sides up to
+// 5 + sqrt(reach^2 - (w/2)^2) (the outer wall's tips stand w/2 inside), reach = w + h + 0.25.
+TEST(VerifyProgram, SurfaceReachedIsTheAreaNearSomeBead) {
+  const VerifyReport full = verifyBox({});
+  ASSERT_TRUE(full.ok()) << full.message;
+  EXPECT_NEAR(full.surfaceReach, 0.45 + 0.2 + 0.25, 1e-12);
+  EXPECT_GE(full.surfaceReached, 0.999);
+  test::BoxPathOptions o;
+  o.keepLayer = [](int l) { return l < 25; };
+  const VerifyReport half = verifyBox(o);
+  ASSERT_TRUE(half.ok()) << half.message;
+  const double reach = half.surfaceReach;
+  const double expected = (100 + 40 * (5 + std::sqrt(reach * reach - 0.225 * 0.225))) / 600;
+  EXPECT_NEAR(half.surfaceReached, expected, 0.01);
+  EXPECT_GE(half.coverage, 0.45);  // the interior of the lower half is filled
 }
 
 TEST(VerifyProgram, ShiftedProgramFailsInside) {
@@ -436,12 +455,12 @@ TEST(VerifyProgram, ReportJsonAndStatuses) {
   const VerifyReport r = verifyProgram(p, part);
   ASSERT_TRUE(r.ok());
   const nlohmann::json j = nlohmann::json::parse(verifyReportJson(r));
-  for (const char* key : {"inside", "coverage", "supported", "supported_all", "collisions", "limits",
-                          "extrusion_mm", "path_mm", "samples", "grid_points", "layers"}) {
+  for (const char* key : {"inside", "coverage", "surface_reached", "surface_reach_mm", "supported", "supported_all",
+                          "collisions", "limits", "extrusion_mm", "path_mm", "samples", "grid_points", "layers"}) {
     EXPECT_TRUE(j.contains(key)) << key;
   }
   EXPECT_EQ(j["samples"].get<size_t>(), r.samples);
-  EXPECT_EQ(j.size(), 14u);
+  EXPECT_EQ(j.size(), 16u);
   EXPECT_EQ(j["support_samples"].get<size_t>(), 0u);
   EXPECT_TRUE(j["unsupported_examples"].is_array());
   EXPECT_TRUE(j["collision_examples"].is_array() && j["collision_examples"].empty());
