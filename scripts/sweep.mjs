@@ -58,7 +58,8 @@ for (const [name, file, placement] of models) {
         const v = r.verify;
         Object.assign(row, {
           s: (Date.now() - t0) / 1000, h: round(r.estimated_time_s / 3600, 2), layers: r.layers,
-          inside: round(v.inside), cov: round(v.coverage), sup: round(v.supported), coll: v.collisions,
+          inside: round(v.inside), cov: round(v.coverage), reached: round(v.surface_reached), sup: round(v.supported),
+          coll: v.collisions,
           left: round(v.left_out_mm, 1), lim: v.limits, sound: v.sound,
         });
         const bed = (r.warnings || []).find((w) => w.code === 'bead_on_platform');
