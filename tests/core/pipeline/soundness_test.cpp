@@ -26,6 +26,15 @@ using Json = nlohmann::json;
 // with the bound the same slice is sound, SoundVoxelSphereWithTheThicknessBound).
 std::vector<uint8_t> sphereBytes() { return test::binaryStl(test::makeUvSphere(8, 32, 16, {0, 0, 8})); }
 
+// A shared model's slice on table5 at fitMm.
+Settings onTable5(Method method, double fitMm) {
+  Settings s;
+  s.method = method;
+  s.machine = "table5";
+  s.placement.fitMm = fitMm;
+  return s;
+}
+
 Settings voxelOnTable() {
   Settings s;
   s.method = Method::Voxel;
@@ -152,10 +161,7 @@ TEST(Soundness, SoundVoxelSphereWithTheThicknessBound) {
 void expectRemedyMakesItSound(const char* file, Method method, const std::string& key, const std::string& value,
                               const std::vector<std::pair<std::string, std::string>>& start = {}) {
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
-  Settings s;
-  s.method = method;
-  s.machine = "table5";
-  s.placement.fitMm = 20;
+  Settings s = onTable5(method, 20);
   for (const auto& [k, v] : start) ASSERT_TRUE(setSetting(s, k, v).ok()) << k;
   const SliceOutput refused = runSlice(bytes.data(), bytes.size(), file, s);
   ASSERT_EQ(refused.status, Status::UnsoundProgram) << refused.message;
@@ -191,10 +197,7 @@ TEST(Soundness, MultidirRemedyAppliedGivesASoundProgram) {
 Json checkedFigures(const char* file, Method method, double fitMm, const std::vector<std::pair<std::string, std::string>>& set,
                     UpAxis up = UpAxis::PosZ) {
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
-  Settings s;
-  s.method = method;
-  s.machine = "table5";
-  s.placement.fitMm = fitMm;
+  Settings s = onTable5(method, fitMm);
   s.placement.up = up;
   EXPECT_TRUE(setSetting(s, "verify", "warn").ok());
   for (const auto& [key, value] : set) EXPECT_TRUE(setSetting(s, key, value).ok()) << key;
@@ -236,10 +239,7 @@ TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const char* file = "voxelmaam_kitten.ply";
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
-  Settings s;
-  s.method = Method::Geodesic;
-  s.machine = "table5";
-  s.placement.fitMm = 20;
+  Settings s = onTable5(Method::Geodesic, 20);
   ASSERT_TRUE(setSetting(s, "verify", "warn").ok());
   ASSERT_TRUE(setSetting(s, "geodesic.align_retry_passes", "0").ok());
   const SliceOutput once = runSlice(bytes.data(), bytes.size(), file, s);
@@ -270,10 +270,7 @@ TEST(Soundness, GeodesicPartTheLayersDoNotReachIsRefused) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const char* file = "compas_branches_70_closed_low_res.stl";
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
-  Settings s;
-  s.method = Method::Geodesic;
-  s.machine = "table5";
-  s.placement.fitMm = 20;
+  Settings s = onTable5(Method::Geodesic, 20);
   const SliceOutput out = runSlice(bytes.data(), bytes.size(), file, s);
   ASSERT_EQ(out.status, Status::UnsoundProgram) << out.message;
   EXPECT_NE(out.message.find("of the part's surface has no bead within"), std::string::npos) << out.message;
