@@ -148,6 +148,8 @@ MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& co
   // 4. Each part sliced along its direction and planned, with its subspace's supports; parts one
   // after the other.
   double sliceMs = 0, planMs = 0;
+  double thinArea = 0, sectionArea = 0;  // islands too narrow for a path, and all islands (mm^2)
+  size_t thinIslands = 0;
   int layerOffset = 0;
   MultidirReport report;
   bool first = true;
@@ -201,6 +203,9 @@ MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& co
     PlanLayersResult plan = planLayers(slices, planar, static_cast<int>(i), progress, withSupports ? &regions.layers : nullptr);
     if (!plan.ok()) return failure(plan.status, "part " + std::to_string(i) + ": " + plan.message);
     planMs += msSince(s0);
+    thinArea += plan.thinAreaMm2;
+    sectionArea += plan.sectionAreaMm2;
+    thinIslands += plan.thinIslands;
     int maxLayer = -1;
     for (Move m : plan.toolpath.moves) {
       maxLayer = std::max(maxLayer, m.layer);
@@ -217,6 +222,9 @@ MethodResult runMultidirMethod(const PlacedPart& placed, const MethodContext& co
     first = false;
   }
   if (out.toolpath.moves.empty()) return failure(Status::Internal, "multidir: no part produced a tool-path");
+  if (auto w = thinSectionsWarning(thinArea, sectionArea, thinIslands, settings.effectiveLineWidth())) {
+    out.warnings.push_back(*w);
+  }
   out.slicedLayers = static_cast<size_t>(layerOffset);
   out.layerHeight = settings.layerHeight;
   out.timingsMs.emplace_back("slice", sliceMs);

@@ -63,6 +63,9 @@ MethodResult runPlanarMethod(const PlacedPart& part, const MethodContext& contex
   if (!plan.ok()) return failed<MethodResult>(plan);
   out.timingsMs.emplace_back("toolpath", msSince(t0));
   out.toolpath = std::move(plan.toolpath);
+  if (auto w = thinSectionsWarning(plan.thinAreaMm2, plan.sectionAreaMm2, plan.thinIslands, planar.lineWidth)) {
+    out.warnings.push_back(*w);
+  }
   if (supports) {
     out.report.support =
         stage::supportReport(*supports, supportOptions, regions.volumeMm3,

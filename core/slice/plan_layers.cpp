@@ -24,6 +24,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -266,6 +267,14 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
           iw.walls.push_back(std::move(level));
         }
         iw.fill = clip::offset(iw.outline, -fillInset);
+        const double area = clip::areaMm2(iw.outline);
+        result.sectionAreaMm2 += area;
+        if (iw.walls.empty() && iw.fill.empty()) {
+          result.thinAreaMm2 += area;
+          ++result.thinIslands;
+          if (result.thinFirstLayer < 0) result.thinFirstLayer = static_cast<int>(i);
+          result.thinLastLayer = static_cast<int>(i);
+        }
         islands.push_back(std::move(iw));
       }
 
@@ -413,6 +422,18 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
   if (!started) tp.start = frame.toPart(Vec2(0, 0), slices.minHeight + kParkClearanceMm);
   if (!reportProgress(progress, "toolpath", 1.0)) return fail(Status::Cancelled, "cancelled");
   return result;
+}
+
+std::optional<Warning> thinSectionsWarning(double thinAreaMm2, double sectionAreaMm2, size_t thinIslands,
+                                           double lineWidthMm) {
+  if (!(thinAreaMm2 >= 1.0) || !(thinAreaMm2 >= 0.005 * sectionAreaMm2)) return std::nullopt;
+  char text[400];
+  std::snprintf(text, sizeof text,
+                "%zu sections of the part (%.1f mm^2, %.1f %% of the sliced area) are narrower than the %.2f mm "
+                "line and get no path: those parts of the model are not printed. Scale the part up, or use a "
+                "smaller nozzle and line width",
+                thinIslands, thinAreaMm2, 100 * thinAreaMm2 / std::max(sectionAreaMm2, 1e-9), lineWidthMm);
+  return Warning{"thin_sections", text};
 }
 
 }  // namespace omnislice

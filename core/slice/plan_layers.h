@@ -3,6 +3,7 @@
 // ordering and retraction, extrusion from the bead cross-section. For d = +Z a complete 3-axis
 // slicer.
 #pragma once
+#include <optional>
 #include <vector>
 
 #include "common/progress.h"
@@ -43,6 +44,11 @@ struct PlanLayersResult : Outcome {
   // Per-layer region breakdown (for reports and tests).
   std::vector<double> skinAreaMm2;    // solid-skin area per layer
   std::vector<double> infillAreaMm2;  // sparse-infill area per layer
+  // Islands too narrow for any wall or fill (every offset by half a line width or more is empty):
+  // they get no path. Their area, the area of every island, and the first and last such layer.
+  double thinAreaMm2 = 0, sectionAreaMm2 = 0;
+  size_t thinIslands = 0;
+  int thinFirstLayer = -1, thinLastLayer = -1;
 };
 
 // Plan tool-paths for every layer of `slices` with options (walls, topLayers, bottomLayers,
@@ -60,5 +66,12 @@ struct PlanLayersResult : Outcome {
 PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& options, int partIndex = 0,
                             const ProgressFn& progress = {},
                             const std::vector<std::vector<ExPolygon2>>* supportRegions = nullptr);
+
+// The warning `thin_sections` when the islands too narrow for any path (PlanLayersResult::
+// thinAreaMm2, summed over the parts planned) hold at least 1 mm^2 and 0.5 % of the section area:
+// a part of the model thinner than a line is not printed (a dome's last sliver is not worth
+// saying). What would: a larger part, a smaller nozzle and line width.
+std::optional<Warning> thinSectionsWarning(double thinAreaMm2, double sectionAreaMm2, size_t thinIslands,
+                                           double lineWidthMm);
 
 }  // namespace omnislice

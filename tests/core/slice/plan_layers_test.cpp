@@ -192,6 +192,34 @@ TEST(PlanLayers, BoxWallsSkinsInfillAlongZ) {
   }
 }
 
+// Islands narrower than a line get no path, and the plan says how much: a 10 x 10 x 1 mm base with
+// a fin 0.3 mm thick (10 mm long, 4 mm tall) on it; the fin's sections are 3 mm^2 in each of the
+// 20 layers above the base, all dropped and warned (thin_sections). A 1 mm fin is printed.
+TEST(PlanLayers, SectionsNarrowerThanALineAreCountedAndWarned) {
+  for (const double fin : {0.3, 1.0}) {
+    const Mesh part = test::makeBoxUnion({{0, 0, 0, 10, 10, 1}, {0, 5, 1, 10, 5 + fin, 5}});
+    const SliceResult slices = sliceMesh(part, SliceOptions{});
+    ASSERT_TRUE(slices.ok());
+    const PlanarOptions s = baseSettings();
+    const PlanLayersResult plan = planLayers(slices, s);
+    ASSERT_TRUE(plan.ok()) << plan.message;
+    const std::optional<Warning> w = thinSectionsWarning(plan.thinAreaMm2, plan.sectionAreaMm2, plan.thinIslands,
+                                                         s.lineWidth);
+    if (fin < s.lineWidth) {
+      EXPECT_EQ(plan.thinIslands, 20u);
+      EXPECT_NEAR(plan.thinAreaMm2, 20 * 10 * fin, 1e-6);
+      EXPECT_EQ(plan.thinFirstLayer, 5);
+      EXPECT_EQ(plan.thinLastLayer, 24);
+      ASSERT_TRUE(w.has_value());
+      EXPECT_EQ(w->code, "thin_sections");
+      EXPECT_NE(w->message.find("20 sections of the part (60.0 mm^2"), std::string::npos) << w->message;
+    } else {
+      EXPECT_EQ(plan.thinIslands, 0u);
+      EXPECT_FALSE(w.has_value());
+    }
+  }
+}
+
 TEST(PlanLayers, GridInfillShareAndFullInfill) {
   const Mesh box = makeBox(0, 0, 0, 30, 25, 4);
   const SliceResult slices = sliceMesh(box, SliceOptions{});
