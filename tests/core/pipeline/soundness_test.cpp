@@ -285,6 +285,29 @@ TEST(Soundness, GeodesicPartTheLayersDoNotReachIsRefused) {
   EXPECT_GE(vv["surface_reached"].get<double>(), 0.99) << vv.dump();
 }
 
+// The tool path's count of points it could not clear is conservative (a cone 3 deg wider, points as
+// 0.25 mm balls): the ply kitten at 20 mm, voxel, leaves 246 such points and the simulation finds
+// no collision. The nozzle_collision warning, which said they print touching the part, then goes
+// (it contradicted the sound verdict); with verify off it stays.
+TEST(Soundness, NozzleCollisionWarningDroppedWhereTheSimulationFindsNone) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const char* file = "voxelmaam_kitten.ply";
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
+  Settings s = onTable5(Method::Voxel, 20);
+  const SliceOutput checked = runSlice(bytes.data(), bytes.size(), file, s);
+  ASSERT_TRUE(checked.ok()) << checked.message;
+  const Json r = Json::parse(checked.reportJson);
+  ASSERT_GT(r["voxel"]["gouging_uncorrected"].get<size_t>(), 0u) << "no conservative count left: pick another case";
+  EXPECT_EQ(r["verify"]["collisions"].get<size_t>(), 0u);
+  for (const Warning& w : checked.warnings) EXPECT_NE(w.code, "nozzle_collision") << w.message;
+  ASSERT_TRUE(setSetting(s, "verify", "off").ok());
+  const SliceOutput unchecked = runSlice(bytes.data(), bytes.size(), file, s);
+  ASSERT_TRUE(unchecked.ok()) << unchecked.message;
+  bool warned = false;
+  for (const Warning& w : unchecked.warnings) warned = warned || w.code == "nozzle_collision";
+  EXPECT_TRUE(warned);
+}
+
 TEST(Soundness, CliWritesTheReportButNoProgramWhenRefused) {
   const std::filesystem::path dir = test::tempDir() / "soundness";
   std::filesystem::create_directories(dir);
