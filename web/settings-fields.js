@@ -88,6 +88,10 @@ export const PAGE_FIELDS = [
       auto: 'auto (multi-axis: refuse unsound programs)', refuse: 'refuse unsound programs',
       warn: 'write unsound programs with a warning', off: 'off',
     } },
+  // An unsound program is made again with the remedies the core applies itself (the report's
+  // verify.attempts); the first sound one is delivered with a `remedied` warning.
+  { group: 'Slicing', key: 'verify_attempts', label: 'programs made at most when one is not sound (1 = no second attempt)',
+    type: 'integer', step: 1, testid: 'setting-verify-attempts', showIf: (v) => v.verify !== 'off' },
   // The geodesic method's interval defaults to the layer height.
   { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', step: 0.01,
     showIf: (v) => !isVoxel(v) },

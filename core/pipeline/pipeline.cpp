@@ -257,6 +257,74 @@ SliceReport sliceReport(const Settings& settings, const MachineProfile& machine,
   return r;
 }
 
+// One program made and checked: the method with these settings, the motion, the program and,
+// unless verify is off, the check (soundness.h).
+struct Attempt : Outcome {
+  Settings settings;
+  MethodResult result;
+  Mesh printed;                                        // the part as printed (part frame)
+  Eigen::Matrix4d placement = Eigen::Matrix4d::Identity();
+  MachinePath motion;
+  ProgramInfo pinfo;
+  WriteProgramResult written;
+  std::optional<SoundnessCheck> check;
+  Timings timingsMs;  // the method's stages, motion, program, verify
+  double ms = 0;
+};
+
+Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const MachineProfile& machine,
+                    const MethodEntry& method, VerifyMode mode, const ProgressFn& progress) {
+  const Clock::time_point start = Clock::now();
+  Attempt a;
+  a.settings = settings;
+  // The method: a part-frame tool path with its report and preview sections.
+  a.result = method.run(part, MethodContext{settings, machine, progress});
+  if (!a.result.ok()) return failed<Attempt>(a.result);
+  StageClock clock;
+  clock.timings = a.result.timingsMs;
+  a.placement = part.placement;
+  if (a.result.part) {
+    a.printed = std::move(*a.result.part);
+    a.result.part.reset();
+    a.placement = a.result.turn * part.placement;
+    if (Outcome o = fitsMachine(a.printed, machine, settings); !o.ok()) return failed<Attempt>(o);
+  } else {
+    a.printed = part.mesh;
+  }
+
+  // Motion and program.
+  a.motion = planMachineMotion(a.result.toolpath, machine, motionOptions(settings), progress);
+  if (!a.motion.ok()) return failed<Attempt>(a.motion);
+  clock.done("motion");
+  if (!reportProgress(progress, "program", 0)) return failed<Attempt>(Status::Cancelled, "cancelled");
+  a.pinfo = programInfo(settings, machine, a.placement, a.result.layerHeight);
+  a.written = writeProgram(a.motion, a.pinfo);
+  if (!a.written.ok()) return failed<Attempt>(a.written);
+  clock.done("program");
+  if (!reportProgress(progress, "program", 1)) return failed<Attempt>(Status::Cancelled, "cancelled");
+
+  // Simulate what was made (pipeline/soundness.h) before anything is written.
+  if (mode != VerifyMode::Off) {
+    a.check = checkProgram(a.written.text, a.printed, settings, machine, a.result, mode, {}, progress);
+    if (!a.check->ok()) return failed<Attempt>(*a.check);
+    clock.done("verify");
+    // The method's own count of points it could not clear (nozzle_collision) is conservative
+    // (a wider cone, points as balls); where the simulation finds no collision it is dropped
+    // rather than contradict the verdict.
+    if (a.check->section.collisions == 0) {
+      auto& ws = a.result.warnings;
+      ws.erase(std::remove_if(ws.begin(), ws.end(), [](const Warning& w) { return w.code == "nozzle_collision"; }),
+               ws.end());
+    }
+    if (!a.check->section.sound && mode == VerifyMode::Warn) {
+      a.result.warnings.push_back({"unsound_program", a.check->section.statement});
+    }
+  }
+  a.timingsMs = std::move(clock.timings);
+  a.ms = msSince(start);
+  return a;
+}
+
 }  // namespace
 
 SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
@@ -289,54 +357,66 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       if (Outcome o = placedTets(data, size, part.placement, part.tets); !o.ok()) return failed<SliceOutput>(o);
     }
 
-    // The method: a part-frame tool path with its report and preview sections.
-    MethodResult result = method.run(part, MethodContext{settings, machine, progress});
-    if (!result.ok()) return failed<SliceOutput>(result);
-    clock.timings.insert(clock.timings.end(), result.timingsMs.begin(), result.timingsMs.end());
-    clock.t0 = Clock::now();
-    if (result.part) {
-      part.mesh = std::move(*result.part);
-      part.placement = result.turn * part.placement;
-      if (Outcome o = fitsMachine(part.mesh, machine, settings); !o.ok()) return failed<SliceOutput>(o);
-    }
-
-    // Motion and program.
-    MachinePath motion = planMachineMotion(result.toolpath, machine, motionOptions(settings), progress);
-    if (!motion.ok()) return failed<SliceOutput>(motion);
-    clock.done("motion");
-    if (!reportProgress(progress, "program", 0)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
-    const ProgramInfo pinfo = programInfo(settings, machine, part.placement, result.layerHeight);
-    WriteProgramResult written = writeProgram(motion, pinfo);
-    if (!written.ok()) return failed<SliceOutput>(written);
-    clock.done("program");
-    if (!reportProgress(progress, "program", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
-
-    // Simulate what was made (pipeline/soundness.h) before anything is written.
+    // The method, the motion, the program and the check: one attempt. When the check finds the
+    // program unsound, the remedies the slicer can apply itself (soundness.h automaticRemedies)
+    // are tried, up to verify_attempts programs in all, and the first sound one is delivered;
+    // when none is, the one made with the user's settings, its statement naming what was tried.
     const VerifyMode mode = effectiveVerifyMode(settings);
-    std::optional<SoundnessCheck> check;
-    if (mode != VerifyMode::Off) {
-      check = checkProgram(written.text, part.mesh, settings, machine, result, mode, {}, progress);
-      if (!check->ok()) return failed<SliceOutput>(*check);
-      clock.done("verify");
-      // The method's own count of points it could not clear (nozzle_collision) is conservative
-      // (a wider cone, points as balls); where the simulation finds no collision it is dropped
-      // rather than contradict the verdict.
-      if (check->section.collisions == 0) {
-        auto& ws = result.warnings;
-        ws.erase(std::remove_if(ws.begin(), ws.end(), [](const Warning& w) { return w.code == "nozzle_collision"; }),
-                 ws.end());
+    Attempt made = makeAttempt(part, settings, machine, method, mode, progress);
+    if (!made.ok()) return failed<SliceOutput>(made);
+    std::vector<AttemptSection> tried;
+    double retryMs = 0;  // attempts not delivered
+    if (made.check && !made.check->section.sound) {
+      const std::vector<SettingRemedy> remedies = automaticRemedies(made.check->section, settings);
+      for (size_t k = 0; k < remedies.size() && k + 1 < size_t(settings.verifyAttempts); ++k) {
+        Settings changed = settings;
+        if (Outcome o = setSetting(changed, remedies[k].key, remedies[k].value); !o.ok()) continue;
+        Attempt again = makeAttempt(part, changed, machine, method, mode, progress);
+        if (again.status == Status::Cancelled) return failed<SliceOutput>(again);
+        AttemptSection t;
+        t.settings = remedies[k].key + "=" + remedies[k].value;
+        t.why = remedies[k].why;
+        t.ms = again.ms;
+        if (again.ok() && again.check) {
+          t.sound = again.check->section.sound;
+          t.failures = again.check->section.failures;
+        } else {
+          t.failures = {again.message};
+        }
+        tried.push_back(t);
+        if (t.sound) {
+          retryMs = made.ms;
+          for (size_t j = 0; j + 1 < tried.size(); ++j) retryMs += tried[j].ms;
+          again.result.warnings.push_back({"remedied", remediedMessage(made.check->section, tried)});
+          made = std::move(again);
+          break;
+        }
       }
-      if (!check->section.sound && mode == VerifyMode::Warn) {
-        result.warnings.push_back({"unsound_program", check->section.statement});
+      noteAttempts(made.check->section, tried);
+      if (!made.check->section.sound) {
+        for (const AttemptSection& t : tried) retryMs += t.ms;
+        for (Warning& w : made.result.warnings) {
+          if (w.code == "unsound_program") w.message = made.check->section.statement;
+        }
       }
     }
+    MethodResult& result = made.result;
+    std::optional<SoundnessCheck>& check = made.check;
+    const MachinePath& motion = made.motion;
+    const ProgramInfo& pinfo = made.pinfo;
+    WriteProgramResult& written = made.written;
+    part.mesh = std::move(made.printed);
+    part.placement = made.placement;
+    clock.timings.insert(clock.timings.end(), made.timingsMs.begin(), made.timingsMs.end());
+    if (!tried.empty()) clock.timings.emplace_back("retries", retryMs);
+    clock.t0 = Clock::now();
 
     // The result and its report.
     SliceOutput out;
     out.layers = written.layers;  // layers that deposit material: one program marker each
     out.programExtension = programExtension(machine.kind, pinfo.robotFormat);
     out.warnings = result.warnings;
-    out.report = sliceReport(settings, machine, result, motion, written, pinfo, d, part.placement);
+    out.report = sliceReport(made.settings, machine, result, motion, written, pinfo, d, part.placement);
     SliceReport& r = out.report;
     if (check) r.verify = check->section;
     r.timingsMs = std::move(clock.timings);

@@ -219,6 +219,16 @@ struct MotionReport {
   double minSingularity = 0, estimatedTimeS = 0;
 };
 
+// A program the pipeline made again with a remedy it applies itself (pipeline/soundness.h
+// automaticRemedies) after the check found the first one unsound.
+struct AttemptSection {
+  std::string settings;               // the change, "key=value"
+  std::string why;                    // what the remedy addresses
+  bool sound = false;
+  std::vector<std::string> failures;  // what still failed (empty when sound)
+  double ms = 0;                      // the attempt's time: method, motion, program, check
+};
+
 // "verify": the program as made, simulated as `omnislice verify` does (PROGRAM-FORMAT.md), and
 // judged sound or not (pipeline/soundness.h: inside >= 0.99, coverage >= 0.97 where the fill is
 // solid, supported >= 0.99, no collision, no limit violated, no tool path left out).
@@ -235,6 +245,10 @@ struct VerifySection {
   bool sound = true;
   std::vector<std::string> failures;  // what fails, one phrase each ("56 samples collide ...")
   std::string statement;              // unsound: why and what would print it ("" when sound)
+  // The programs made again after the one of the user's settings was unsound, in order; the
+  // last one is delivered when it is sound (then this section is its check), else the first
+  // program is (this section is that one's, the statement names what was tried).
+  std::vector<AttemptSection> attempts;
   double ms = 0;
 };
 

@@ -336,6 +336,14 @@ Json multidirJson(const MultidirReport& r) {
           {"timings_ms", timings(r.timingsMs)}};
 }
 
+Json attemptsJson(const std::vector<AttemptSection>& attempts) {
+  Json a = Json::array();
+  for (const AttemptSection& t : attempts) {
+    a.push_back({{"settings", t.settings}, {"why", t.why}, {"sound", t.sound}, {"failures", t.failures}, {"ms", num(t.ms)}});
+  }
+  return a;
+}
+
 Json verifyJson(const VerifySection& v) {
   return {{"mode", v.mode},
           {"sound", v.sound},
@@ -356,6 +364,7 @@ Json verifyJson(const VerifySection& v) {
                         {"surface_reached", num(v.minReached)}}},
           {"failures", v.failures},
           {"statement", v.statement},
+          {"attempts", attemptsJson(v.attempts)},
           {"ms", num(v.ms)}};
 }
 

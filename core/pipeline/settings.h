@@ -195,6 +195,10 @@ struct Settings {
   double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more
   double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
   VerifyMode verify = VerifyMode::Auto;  // auto | refuse | warn | off (pipeline/soundness.h)
+  // Programs made at most: when the check finds one unsound, again with the remedies the slicer
+  // applies itself (soundness.h automaticRemedies), the first sound one delivered; 1 = only the
+  // program of these settings.
+  int verifyAttempts = 3;
   PlaceOptions placement;
   Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
 

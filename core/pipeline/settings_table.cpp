@@ -500,6 +500,12 @@ std::vector<SettingSpec> makeTable() {
                                   "simulate the program as `omnislice verify` does: refuse it when unsound, "
                                   "deliver it with a warning, or not simulate (auto: refuse for multi-axis "
                                   "methods, off for planar)")),
+      // Not listed either: the delivered program's header lists the settings it was made with.
+      unlisted(integer("verify_attempts", [](S& s) -> int& { return s.verifyAttempts; }, 1, 10, "programs",
+                       "when the check finds a program unsound, make it again with the remedies the slicer "
+                       "can apply itself (voxel: another smoothing of the layer field; geodesic: thinner "
+                       "layers at the surface) and deliver the first sound one; at most this many programs "
+                       "(1 = no second attempt)")),
   };
   return t;
 }

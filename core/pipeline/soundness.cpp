@@ -2,6 +2,7 @@
 #include "pipeline/soundness.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "common/stopwatch.h"
@@ -11,6 +12,8 @@
 namespace omnislice {
 
 namespace {
+
+const char* const kWriteAnyway = "To write this program anyway, set verify=warn.";
 
 // Positions kept per kind for the page to draw (evenly spread over all of them).
 constexpr size_t kKeptPoints = 4000;
@@ -195,13 +198,59 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
                                        " method cannot print this model soundly on " + machine.name + ": " +
                                        joined(v.failures, "; ") + "."};
     if (!fix.empty()) sentences.push_back("What would: " + joined(fix, "; ") + ".");
-    if (mode == VerifyMode::Refuse) sentences.push_back("To write this program anyway, set verify=warn.");
+    if (mode == VerifyMode::Refuse) sentences.push_back(kWriteAnyway);
     v.statement = joined(sentences, " ");
   }
   out.preview.unsupported = std::move(rep.unsupportedPoints);
   out.preview.collisions = std::move(rep.collisionPoints);
   v.ms = msSince(t0);
   return out;
+}
+
+std::vector<SettingRemedy> automaticRemedies(const VerifySection& v, const Settings& settings) {
+  std::vector<SettingRemedy> out;
+  auto number = [](double x) {
+    char s[32];
+    std::snprintf(s, sizeof s, "%g", x);
+    return std::string(s);
+  };
+  if (settings.method == Method::Voxel && v.collisions > 0) {
+    const double passes = settings.voxel.smoothIterations;
+    const char* why = "nozzle collisions: another smoothing of the layer field moves its creases";
+    if (passes >= 2) out.push_back({"voxel.smooth", number(std::round(passes / 2)), why});
+    if (passes > 0 && 2 * passes <= 200) out.push_back({"voxel.smooth", number(2 * passes), why});
+    if (passes == 0) out.push_back({"voxel.smooth", "10", why});
+  }
+  if (settings.method == Method::Geodesic && v.supported < v.minSupported) {
+    const double ratio = settings.geodesic.maxThicknessRatio;
+    const char* why = "beads over air: thinner layers where the field is slow at the surface";
+    for (double r : {0.55, 0.45}) {
+      if (ratio == 0 || ratio > r + 1e-9) out.push_back({"geodesic.max_thickness_ratio", number(r), why});
+    }
+  }
+  return out;
+}
+
+std::string remediedMessage(const VerifySection& first, const std::vector<AttemptSection>& tried) {
+  std::string s = "the program of these settings was not sound (" + joined(first.failures, "; ") + ")";
+  for (size_t k = 0; k + 1 < tried.size(); ++k) {
+    s += "; made again with " + tried[k].settings + ": not sound either";
+  }
+  s += "; this one is made with " + tried.back().settings + " (" + tried.back().why + ") and is sound";
+  return s;
+}
+
+void noteAttempts(VerifySection& v, const std::vector<AttemptSection>& tried) {
+  v.attempts = tried;
+  if (v.sound || tried.empty()) return;
+  std::vector<std::string> parts;
+  for (const AttemptSection& t : tried) {
+    parts.push_back(t.settings + (t.failures.empty() ? "" : " (still: " + joined(t.failures, "; ") + ")"));
+  }
+  const std::string sentence = "Made again with " + joined(parts, "; ") + ".";
+  const size_t at = v.statement.rfind(kWriteAnyway);
+  if (at != std::string::npos) v.statement.insert(at, sentence + " ");
+  else v.statement += " " + sentence;
 }
 
 }  // namespace omnislice

@@ -46,4 +46,29 @@ SoundnessCheck checkProgram(const std::string& program, const Mesh& part, const 
                             const MachineProfile& machine, const MethodResult& result, VerifyMode mode,
                             const SoundnessCriteria& criteria = {}, const ProgressFn& progress = {});
 
+// A change of one setting the pipeline may try by itself when a program is unsound.
+struct SettingRemedy {
+  std::string key, value;  // as setSetting takes them
+  std::string why;         // what it addresses ("collisions": another layer field)
+};
+
+// The remedies for this check's failures, in the order to try them (empty when none applies):
+// - voxel, colliding samples: the layer field smoothed half and twice as much (voxel.smooth;
+//   the collisions sit in creases of the field, and where they fall moves with the smoothing:
+//   40 mm, table5, at 20 / 10 / 40 passes the Kitten 14 / 0 / 13 colliding samples, the topopt
+//   part 28 / 35 / 2, the Yoga 144 / 35 / 462; no single value is best for every model);
+// - geodesic, supported below the bound: thinner layers where the field is slow at the surface
+//   (geodesic.max_thickness_ratio 0.55, then 0.45; the Yoga on robot6 at 40 mm 0.9895 -> 0.995
+//   for 18 % more layers).
+std::vector<SettingRemedy> automaticRemedies(const VerifySection& check, const Settings& settings);
+
+// The "remedied" warning: the program of the user's settings failed (first.failures) and the
+// delivered one was made with the last of `tried`.
+std::string remediedMessage(const VerifySection& first, const std::vector<AttemptSection>& tried);
+
+// The attempts into the check of the delivered program; when it is not sound, its statement names
+// them before its last sentence: "Made again with voxel.smooth=10 (still: 3 tool-path samples
+// ...); voxel.smooth=40 (still: ...)."
+void noteAttempts(VerifySection& check, const std::vector<AttemptSection>& tried);
+
 }  // namespace omnislice

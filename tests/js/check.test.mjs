@@ -8,7 +8,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  COLLISION_COLOR, FAILING_POINTS, SOUNDNESS_CRITERIA, UNSUPPORTED_COLOR, checkDoneSummary, checkRows, checkVerdict, failingPoints,
+  COLLISION_COLOR, FAILING_POINTS, SOUNDNESS_CRITERIA, UNSUPPORTED_COLOR, attemptsText, checkDoneSummary, checkRows, checkVerdict, failingPoints,
   hasCheckPoints, pointCloud, pointCountText, ringSprite, shareText, verifySection,
 } from '../../web/methods/check-data.js';
 import { CheckView } from '../../web/methods/check-view.js';
@@ -95,6 +95,20 @@ test('checkRows: coverage only where it is judged; left-out tool path in mm; mis
     inside: ['—', ''], supported: ['—', ''], collisions: ['—', ''], limits: ['—', ''], left_out: ['—', ''], simulated: ['—', ''],
   });
   assert.deepEqual(checkRows(null), []);
+});
+
+test('checkRows: the programs made again after an unsound one, in order, the delivered one named', () => {
+  const remedied = { ...MULTIDIR_SOUND, attempts: [
+    { settings: 'voxel.smooth=10', why: 'nozzle collisions', sound: false, failures: ['3 tool-path samples ...'], ms: 900 },
+    { settings: 'voxel.smooth=40', why: 'nozzle collisions', sound: true, failures: [], ms: 950 },
+  ] };
+  assert.deepEqual(rowsOf(remedied).attempts, ['voxel.smooth=10: not sound; voxel.smooth=40: sound (delivered)', '']);
+  assert.equal(checkRows(remedied).at(-1)[0], 'attempts', 'after the figures');
+  assert.equal(rowsOf(MULTIDIR_SOUND).attempts, undefined, 'none made again: no row');
+  assert.equal(rowsOf({ ...MULTIDIR_SOUND, attempts: [] }).attempts, undefined);
+  assert.equal(attemptsText([{ settings: 'geodesic.max_thickness_ratio=0.55', sound: false }]),
+    'geodesic.max_thickness_ratio=0.55: not sound');
+  assert.equal(attemptsText(null), '');
 });
 
 test('checkRows: the share of the surface printed, where the report has it', () => {

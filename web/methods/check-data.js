@@ -83,7 +83,20 @@ export function checkRows(v) {
     ['simulated', 'simulated', Number.isFinite(v.samples)
       ? `${plural(v.samples, 'sample')}${Number.isFinite(v.ms) ? `, ${formatMs(v.ms)}` : ''}` : '—', ''],
   );
+  const attempts = attemptsText(v.attempts);
+  if (attempts) rows.push(['attempts', 'made again', attempts, '']);
   return rows;
+}
+
+/**
+ * The programs the core made again after the one of the user's settings was unsound (the
+ * report's verify.attempts: [{settings, sound}]), e.g. "voxel.smooth=10: not sound; voxel.smooth=40:
+ * sound (delivered)"; '' without any.
+ */
+export function attemptsText(attempts) {
+  if (!Array.isArray(attempts) || attempts.length === 0) return '';
+  return attempts.map((a) => `${a && a.settings ? a.settings : '?'}: ${a && a.sound ? 'sound (delivered)' : 'not sound'}`)
+    .join('; ');
 }
 
 /**

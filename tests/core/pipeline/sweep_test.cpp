@@ -118,7 +118,12 @@ TEST_P(Sweep, SoundProgramOrAnUpFrontStatement) {
   if (out.ok()) {
     EXPECT_TRUE(gate["sound"].get<bool>());
     EXPECT_TRUE(gate["failures"].empty()) << gate["failures"].dump();
+    // Made again with a remedy: the last attempt is the delivered program, and it was sound.
+    if (!gate["attempts"].empty()) {
+      EXPECT_TRUE(gate["attempts"].back()["sound"].get<bool>()) << gate.dump();
+    }
   } else {
+    for (const Json& a : gate["attempts"]) EXPECT_FALSE(a["sound"].get<bool>()) << "a sound attempt is delivered";
     // Refused: nothing written, the statement names every failure and a remedy.
     EXPECT_TRUE(out.program.empty());
     EXPECT_FALSE(gate["sound"].get<bool>());
@@ -128,8 +133,11 @@ TEST_P(Sweep, SoundProgramOrAnUpFrontStatement) {
       EXPECT_NE(out.message.find(f.get<std::string>()), std::string::npos) << f << " not in: " << out.message;
     }
     EXPECT_NE(out.message.find("What would: "), std::string::npos) << out.message;
-    // Justified: the same program written anyway is the one that fails.
-    const SliceOutput anyway = runSlice(bytes.data(), bytes.size(), c.model.file, sweepSettings(c, "warn"));
+    // Justified: the same program written anyway is the one that fails (the one of these
+    // settings: when no second attempt was sound, that is the program refused).
+    Settings warn = sweepSettings(c, "warn");
+    warn.verifyAttempts = 1;
+    const SliceOutput anyway = runSlice(bytes.data(), bytes.size(), c.model.file, warn);
     ASSERT_TRUE(anyway.ok()) << anyway.message;
     programText = anyway.program;
   }
@@ -156,15 +164,18 @@ TEST_P(Sweep, SoundProgramOrAnUpFrontStatement) {
 
   std::string failed;
   for (const std::string& f : failing) failed += (failed.empty() ? "" : ",") + f;
+  std::string made;  // the programs made again (the last one delivered when sound)
+  for (const Json& a : gate["attempts"]) made += " " + a["settings"].get<std::string>();
+  if (!made.empty()) made = "  made again:" + made;
   std::printf("sweep: %-10s %-8s %-10s %-7s inside %.4f coverage %.4f reached %.4f supported %.4f collisions %zu "
-              "limits %zu left_out %.1f mm path %+.2f %% time %.2f h  %.1f s%s%s\n",
+              "limits %zu left_out %.1f mm path %+.2f %% time %.2f h  %.1f s%s%s%s\n",
               c.model.name, c.method, c.machine, out.ok() ? "sound" : "refused",
               checked["inside"].get<double>(), checked["coverage"].get<double>(),
               checked["surface_reached"].get<double>(), checked["supported"].get<double>(), checked["collisions"].get<size_t>(),
               checked["limits"].get<size_t>(), leftOut,
               100 * (printed / report["path_mm"].get<double>() - 1),
               report.value("estimated_time_s", 0.0) / 3600.0, seconds, failed.empty() ? "" : "  fails: ",
-              failed.c_str());
+              failed.c_str(), made.c_str());
 }
 
 std::string caseName(const ::testing::TestParamInfo<SweepCase>& info) {
