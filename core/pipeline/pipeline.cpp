@@ -371,6 +371,10 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
       for (size_t k = 0; k < remedies.size() && k + 1 < size_t(settings.verifyAttempts); ++k) {
         Settings changed = settings;
         if (Outcome o = setSetting(changed, remedies[k].key, remedies[k].value); !o.ok()) continue;
+        // Viewers see the stages again after this one (the method's, motion, program, verify).
+        if (!reportProgress(progress, "retry", double(k) / double(remedies.size()))) {
+          return failed<SliceOutput>(Status::Cancelled, "cancelled");
+        }
         Attempt again = makeAttempt(part, changed, machine, method, mode, progress);
         if (again.status == Status::Cancelled) return failed<SliceOutput>(again);
         AttemptSection t;

@@ -52,7 +52,8 @@ struct SettingRemedy {
   std::string why;         // what it addresses ("collisions": another layer field)
 };
 
-// The remedies for this check's failures, in the order to try them (empty when none applies):
+// The remedies for this check's failures, in the order to try them (empty when none applies, or
+// when another failure besides theirs would leave the program unsound anyway):
 // - voxel, colliding samples: the layer field smoothed half and twice as much (voxel.smooth;
 //   the collisions sit in creases of the field, and where they fall moves with the smoothing:
 //   40 mm, table5, at 20 / 10 / 40 passes the Kitten 14 / 0 / 13 colliding samples, the topopt

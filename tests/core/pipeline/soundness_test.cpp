@@ -328,6 +328,7 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   }
   s.method = Method::Geodesic;
   EXPECT_TRUE(automaticRemedies(v, s).empty()) << "geodesic collisions: no setting the slicer changes";
+  v.collisions = 0;
   v.supported = 0.985;
   r = automaticRemedies(v, s);
   ASSERT_EQ(r.size(), 2u);
@@ -337,6 +338,19 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   r = automaticRemedies(v, s);
   ASSERT_EQ(r.size(), 1u) << "only ratios below the user's";
   EXPECT_EQ(r[0].value, "0.45");
+  // Another failure besides the one a remedy addresses: nothing is tried.
+  VerifySection both = v;
+  both.leftOutMm = 22;
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "beads over air and tool path left out";
+  both = v;
+  both.collisions = 0;
+  both.surfaceReached = 0.5;
+  both.minReached = 0.99;
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "beads over air and part of the surface not printed";
+  s.method = Method::Voxel;
+  both = v;
+  both.collisions = 3;
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "collisions and beads over air";
   s.method = Method::Multidir;
   EXPECT_TRUE(automaticRemedies(v, s).empty());
 }
