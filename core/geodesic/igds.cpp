@@ -737,7 +737,12 @@ std::vector<double> surfaceLimitedIsoValues(const TetMesh& mesh, const std::vect
   };
   for (double c = 0;;) {
     double s = interval;
-    for (int refine = 0; refine < 3; ++refine) s = stepFrom(c, s);
+    // The first layer lies on the platform, which carries it wherever the field is slow: a
+    // whole interval, as in the paper (a shorter one laid its beads closer to the bed than half
+    // their height where the field dips at the surface).
+    if (c > 0) {
+      for (int refine = 0; refine < 3; ++refine) s = stepFrom(c, s);
+    }
     c += s;
     if (!(c < maxPhi)) break;
     iso.push_back(c);

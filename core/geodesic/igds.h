@@ -105,7 +105,8 @@ IgdsResult extractIgds(const TetMesh& mesh, const std::vector<double>& distance,
 // apart and a bead there is not carried by the one below. Here phi_0 = 0 and
 // phi_{i+1} = phi_i + s, s = d min(1, max(1/2, maxRatio q)), q the area-weighted quantile
 // (0..1) of |grad phi| (in the face's tet) over the boundary faces whose phi range meets
-// (phi_i, phi_i + s], s found from d and refined twice; while phi < max phi. Where the field is
+// (phi_i, phi_i + s], s found from d and refined twice; while phi < max phi. The first step is d
+// (the platform carries the first layer). Where the field is
 // unit-speed this is i d. Empty when d or maxRatio is not finite and positive, or the sizes differ.
 // Measured (full-size Kitten, d = 0.2 mm, table5; verify's supported / layers / path): uniform
 // 0.927 / 641 / 2.18 m; maxRatio 1.15: 0.982 / 716 / 2.42 m; 1.0: 0.994 / 824 / 2.78 m with

@@ -606,6 +606,15 @@ TEST(Igds, SurfaceLimitedStepsKeepLayersWithinTheRatio) {
   EXPECT_TRUE(surfaceLimitedIsoValues(box, zphi, 0.0, 1.15).empty());
   EXPECT_TRUE(surfaceLimitedIsoValues(box, zphi, d, std::nan("")).empty());
   EXPECT_TRUE(surfaceLimitedIsoValues(box, std::vector<double>(3, 1.0), d, 1.15).empty());
+
+  // A field slow everywhere (phi = 0.7 z): every step is 0.7 d but the first, a whole interval
+  // (the platform carries the first layer; a shorter first step laid beads closer to the bed
+  // than half their height where the field dips at the surface).
+  const std::vector<double> slow = fieldOf(box, [](const Eigen::Vector3d& p) { return 0.7 * p.z(); });
+  const std::vector<double> steps = surfaceLimitedIsoValues(box, slow, d, 1.0);
+  ASSERT_GT(steps.size(), 10u);
+  EXPECT_NEAR(steps[0], d, 1e-12);
+  for (size_t i = 1; i < steps.size(); ++i) EXPECT_NEAR(steps[i] - steps[i - 1], 0.7 * d, 1e-9) << i;
 }
 
 TEST(Igds, BadInputReturnsDocumentedStatuses) {
