@@ -352,6 +352,15 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   both.collisions = 3;
   EXPECT_TRUE(automaticRemedies(both, s).empty()) << "collisions and beads over air";
   s.method = Method::Multidir;
+  r = automaticRemedies(v, s);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].key + "=" + r[0].value, "multidir.alpha_max_deg=40");
+  s.multidir.alphaMaxDeg = 40;
+  EXPECT_TRUE(automaticRemedies(v, s).empty()) << "already that strict";
+  s.multidir.alphaMaxDeg = 45;
+  s.support.mode = SupportMode::None;
+  EXPECT_TRUE(automaticRemedies(v, s).empty()) << "without supports the statement sends to support=auto";
+  s.method = Method::Planar;
   EXPECT_TRUE(automaticRemedies(v, s).empty());
 }
 
