@@ -375,7 +375,13 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
         if (!reportProgress(progress, "retry", double(k) / double(remedies.size()))) {
           return failed<SliceOutput>(Status::Cancelled, "cancelled");
         }
-        Attempt again = makeAttempt(part, changed, machine, method, mode, progress);
+        // A second program that does not fit in memory leaves the first one delivered.
+        Attempt again;
+        try {
+          again = makeAttempt(part, changed, machine, method, mode, progress);
+        } catch (const std::bad_alloc&) {
+          again = failed<Attempt>(Status::Internal, "out of memory while making the program again");
+        }
         if (again.status == Status::Cancelled) return failed<SliceOutput>(again);
         AttemptSection t;
         t.settings = remedies[k].key + "=" + remedies[k].value;
