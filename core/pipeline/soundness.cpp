@@ -224,8 +224,7 @@ std::vector<SettingRemedy> automaticRemedies(const VerifySection& v, const Setti
     const double passes = settings.voxel.smoothIterations;
     const char* why = "nozzle collisions: another smoothing of the layer field moves its creases";
     if (passes >= 2) out.push_back({"voxel.smooth", number(std::round(passes / 2)), why});
-    if (passes > 0 && 2 * passes <= 200) out.push_back({"voxel.smooth", number(2 * passes), why});
-    if (passes == 0) out.push_back({"voxel.smooth", "10", why});
+    if (passes < 2) out.push_back({"voxel.smooth", "10", why});
   }
   if (settings.method == Method::Multidir && v.supported < v.minSupported && v.collisions == 0 &&
       settings.support.mode != SupportMode::None && settings.multidir.alphaMaxDeg > 40 + 1e-9) {
