@@ -504,8 +504,8 @@ std::vector<SettingSpec> makeTable() {
       unlisted(integer("verify_attempts", [](S& s) -> int& { return s.verifyAttempts; }, 1, 10, "programs",
                        "when the check finds a program unsound, make it again with the remedies the slicer "
                        "can apply itself (voxel: another smoothing of the layer field; geodesic: thinner "
-                       "layers at the surface; multidir: a stricter self-supporting angle) and deliver the first sound one; at most this many programs "
-                       "(1 = no second attempt)")),
+                       "layers at the surface; multidir: a stricter self-supporting angle) and deliver "
+                       "the first sound one; at most this many programs (1 = no second attempt)")),
   };
   return t;
 }
