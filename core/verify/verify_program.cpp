@@ -991,15 +991,15 @@ bool reachedSurface(const Mesh& partMesh, const std::vector<Segment>& segments, 
                     double reach, Progress& progress, VerifyReport& rep) {
   const size_t faces = partMesh.faceCount();
   double spacing = 0.5 * reach, total = 0;
+  auto corner = [&](size_t f, int k) { return partMesh.vertex(partMesh.triangles[3 * f + k]); };
+  // Subdivisions per side of face f at spacing sp (its longest edge over sp, at least 1).
+  auto divisions = [&](size_t f, double sp) {
+    const Eigen::Vector3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
+    return std::max(1.0, std::ceil(std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()}) / sp));
+  };
   auto pointsAt = [&](double sp) {
     double count = 0;
-    for (size_t f = 0; f < faces; ++f) {
-      const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]), b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
-                            c = partMesh.vertex(partMesh.triangles[3 * f + 2]);
-      const double edge = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-      const double n = std::max(1.0, std::ceil(edge / sp));
-      count += n * n;
-    }
+    for (size_t f = 0; f < faces; ++f) count += divisions(f, sp) * divisions(f, sp);
     return count;
   };
   while (pointsAt(spacing) > 4e6) spacing *= 1.5;
@@ -1027,12 +1027,10 @@ bool reachedSurface(const Mesh& partMesh, const std::vector<Segment>& segments, 
   double reached = 0;
   for (size_t f = 0; f < faces; ++f) {
     if (!progress.tick(f, faces, 0.98, 1.0)) return false;
-    const Eigen::Vector3d a = partMesh.vertex(partMesh.triangles[3 * f]), b = partMesh.vertex(partMesh.triangles[3 * f + 1]),
-                          c = partMesh.vertex(partMesh.triangles[3 * f + 2]);
+    const Eigen::Vector3d a = corner(f, 0), b = corner(f, 1), c = corner(f, 2);
     const double area = 0.5 * (b - a).cross(c - a).norm();
     if (!(area > 0)) continue;
-    const double edge = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-    const int n = static_cast<int>(std::max(1.0, std::ceil(edge / spacing)));
+    const int n = static_cast<int>(divisions(f, spacing));
     const double w = area / (double(n) * n);
     total += area;
     for (int i = 0; i < n; ++i)
