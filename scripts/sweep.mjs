@@ -61,6 +61,9 @@ for (const [name, file, placement] of models) {
           inside: round(v.inside), cov: round(v.coverage), reached: round(v.surface_reached), sup: round(v.supported),
           coll: v.collisions,
           left: round(v.left_out_mm, 1), lim: v.limits, sound: v.sound,
+          // Issue 33's motion figures: total rotary motion (deg; joint radians on robot6) and
+          // the share of moves an axis or joint limits.
+          rot: Math.round(r.motion.pose_cost), axis_limited: round(r.motion.feed_limited_moves / Math.max(1, r.motion.machine_moves), 3),
         });
         const bed = (r.warnings || []).find((w) => w.code === 'bead_on_platform');
         if (bed) row.bed_mm = Number(bed.message.split(' mm')[0]);

@@ -380,6 +380,8 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.unfilledRegions = filled.unfilled;
   report.orientationFallbacks = tp.orientationFallbacks;
   report.tiltClamped = tp.tiltClamped;
+  report.axesFreed = tp.axesFreed;
+  report.axisFreedomDeg = topt.axisFreedomDegrees;
   report.maxTiltDeg = topt.maxTiltDegrees;
   report.gougingCorrections = tp.gougingCorrections;
   report.gougingUncorrected = tp.gougingUncorrected;

@@ -110,8 +110,9 @@ struct VoxelReport {
   } thickness;
   size_t shadowChecks = 0, hullBuilds = 0;
   size_t orientationFallbacks = 0, tiltClamped = 0, gougingCorrections = 0, gougingUncorrected = 0;
+  size_t axesFreed = 0;       // samples whose axis leans from its ideal for motion
   size_t reorderedPaths = 0;  // paths printed in another order to free self-blocked points
-  double maxTiltDeg = 0, gougingMs = 0;
+  double maxTiltDeg = 0, axisFreedomDeg = 0, gougingMs = 0;
   Timings timingsMs;  // voxelize, peeling, shadow, growth, extraction, spirals, toolpaths
 };
 
@@ -169,6 +170,8 @@ struct GeodesicReport {
   std::vector<Sequence> traversals;  // lpt, dpt, a3
   size_t paths = 0, unfilledRegions = 0;
   size_t orientationFallbacks = 0, tiltClamped = 0;
+  size_t axesFreed = 0;  // samples whose axis leans from its ideal for motion
+  double axisFreedomDeg = 0;
   double maxTiltDeg = 0;
   size_t gougingCorrections = 0, gougingUncorrected = 0, skippedSegments = 0;
   size_t reorderedPaths = 0;  // paths printed in another order to free self-blocked points

@@ -193,6 +193,9 @@ struct Settings {
   int freeRotationSamples = 30;        // robot6: samples of the rotation about the nozzle axis
   bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter
   double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more
+  // Curved layers (voxel, geodesic): how far a nozzle axis may lean from its ideal (Eq. 3 / the
+  // layer normal) to keep the rotary axes still (motion/axis_freedom.h); 0 = the ideal axes.
+  double axisFreedomDegrees = 15;
   double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
   VerifyMode verify = VerifyMode::Auto;  // auto | refuse | warn | off (pipeline/soundness.h)
   // Programs made at most: when the check finds one unsound, again with the remedies the slicer

@@ -102,6 +102,9 @@ MethodResult runSurfaceMethod(const PlacedPart& placed, const MethodContext& con
       stage::curvedToolpathOptions(settings, machine, h, machineTiltLimitDegrees(machine));
   topt.lineWidth = s;             // the ellipse's major axis (paper 003 Table 1: s = nozzle)
   topt.axisFromNormals = true;
+  // Paper 003 aligns the nozzle with the surface normal; the motion term is the curved-layer
+  // methods' (its drive direction already chooses the motion).
+  topt.axisFreedomDegrees = 0;
   topt.ellipseBeads = true;
   topt.printSpeed = fo.maxFeed;   // requested; the motion planner slows to the joint limits
   topt.firstLayerSpeed = fo.maxFeed;

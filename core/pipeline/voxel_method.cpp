@@ -226,6 +226,8 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   r.orientationFallbacks = tp.orientationFallbacks;
   r.maxTiltDeg = topt.maxTiltDegrees;
   r.tiltClamped = tp.tiltClamped;
+  r.axesFreed = tp.axesFreed;
+  r.axisFreedomDeg = topt.axisFreedomDegrees;
   r.gougingCorrections = tp.gougingCorrections;
   r.gougingUncorrected = tp.gougingUncorrected;
   r.reorderedPaths = tp.reorderedPaths;

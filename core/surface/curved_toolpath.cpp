@@ -20,6 +20,7 @@
 #include "common/math_constants.h"
 #include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
+#include "motion/axis_freedom.h"
 #include "motion/orientation_smoothing.h"
 #include "toolpath/bead.h"
 #include "surface/printed_points.h"
@@ -39,10 +40,12 @@ bool nonNegativeFinite(double v) { return std::isfinite(v) && v >= 0; }
 // Orientation and local height of one path point.
 struct Sample {
   Vector3d axis{0, 0, 1};
+  Vector3d ideal{0, 0, 1};  // the axis before the motion term (Eq. 3 / the normal, tilt-limited)
   double height = 0;
   double distance = std::numeric_limits<double>::infinity();  // |q - c_q|
   int64_t layer = -1, triangle = -1;  // where c_q lies (-1: the platform)
   bool fallback = false;
+  bool clamped = false;  // turned onto the tilt range
 };
 
 // Axis u turned toward +Z onto the cone of half-angle maxTilt when it leans further.
@@ -77,6 +80,9 @@ Outcome checkInputs(const std::vector<CurvedLayer>& layers,
     return fail(Status::InvalidOption, "retraction length, minimum travel and clearance must be >= 0 mm");
   }
   if (o.earlierLayers < 1) return fail(Status::InvalidOption, "earlierLayers must be >= 1");
+  if (!(o.axisFreedomDegrees >= 0 && o.axisFreedomDegrees <= 90)) {
+    return fail(Status::InvalidOption, "axis freedom must be in [0, 90] degrees");
+  }
   if (!(o.coneHalfAngleDegrees > 0 && o.coneHalfAngleDegrees < 90) || !positiveFinite(o.coneLength) ||
       !nonNegativeFinite(o.collisionClearance) || !nonNegativeFinite(o.gougingMarginDegrees) ||
       !nonNegativeFinite(o.maxCorrectionDegrees) || !positiveFinite(o.correctionTaperDegrees) ||
@@ -128,6 +134,8 @@ struct PathAxes {
   std::vector<Vector3d> base;  // Eq. 3 axes through the planner's low-pass filter, within the tilt
                                // range: what the path prints with when nothing collides
   std::vector<Vector3d> axes;  // the corrected axes
+  std::vector<Vector3d> ideal; // the axes before the motion term (tilt-limited): tried first
+                               // where the base axis collides
   std::vector<uint8_t> bad;      // no free axis found (yet)
   std::vector<uint8_t> changed;  // turned to a free axis
   // noFree[i]: the search around base[i] found no free axis. Whether one exists depends only on
@@ -340,6 +348,7 @@ class CurvedToolpathBuilder {
     const double hn = horizontal.norm();
     horizontal = hn > 1e-12 ? Vector3d(horizontal / hn) : Vector3d::UnitX();
     s.axis = std::cos(maxTilt_) * Vector3d::UnitZ() + std::sin(maxTilt_) * horizontal;
+    s.clamped = true;
     ++result_.tiltClamped;
     return s;
   }
@@ -597,6 +606,8 @@ class CurvedToolpathBuilder {
     std::vector<int> run(np, 0);
     filterOrientations(base, run, o_.filterThresholdDegrees);
     for (size_t i = 0; i < np; ++i) base[i] = limitTilt(base[i].normalized(), maxTilt_);
+    a.ideal.resize(np);
+    for (size_t i = 0; i < np; ++i) a.ideal[i] = limitTilt(smp[i].ideal.normalized(), maxTilt_);
     a.axes = base;
     a.bad.assign(np, 0);
     a.changed.assign(np, 0);
@@ -614,6 +625,12 @@ class CurvedToolpathBuilder {
       Vector3d u = axes[i];
       if (!collides(i, u, nullptr)) continue;
       anyChange = true;
+      // The motion term leaned it: its ideal axis first (the surface term wins over motion).
+      if (o_.axisFreedomDegrees > 0 && (a.ideal[i] - u).norm() > 1e-9 && !collides(i, a.ideal[i], nullptr)) {
+        axes[i] = a.ideal[i];
+        a.changed[i] = 1;
+        continue;
+      }
       bool found = searchFree(i, u, i > 0 ? axes[i - 1] : u, 8);
       if (!found) {
         // None with the search's margin: one with verify's cone angle, checked again as printed
@@ -863,12 +880,14 @@ class CurvedToolpathBuilder {
 
   // The counters a path's orientation and correction add to (restored when a trial is undone).
   struct Counters {
-    size_t fallbacks = 0, clamped = 0, corrections = 0, uncorrected = 0, skippedPoints = 0, skippedEnds = 0;
+    size_t fallbacks = 0, clamped = 0, freed = 0, corrections = 0, uncorrected = 0, skippedPoints = 0,
+           skippedEnds = 0;
     double skippedMm = 0;
     size_t exactBad = 0;
   };
   Counters counters() const {
-    return {result_.orientationFallbacks, result_.tiltClamped, result_.gougingCorrections, result_.gougingUncorrected,
+    return {result_.orientationFallbacks, result_.tiltClamped, result_.axesFreed, result_.gougingCorrections,
+            result_.gougingUncorrected,
             result_.skippedPoints, result_.skippedEnds.size(), result_.skippedMm, exactBad_};
   }
   // What an order is judged by: left out (skipUncorrectable) or left colliding under the exact
@@ -880,6 +899,7 @@ class CurvedToolpathBuilder {
     exactBad_ = c.exactBad;
     result_.orientationFallbacks = c.fallbacks;
     result_.tiltClamped = c.clamped;
+    result_.axesFreed = c.freed;
     result_.gougingCorrections = c.corrections;
     result_.gougingUncorrected = c.uncorrected;
     result_.skippedPoints = c.skippedPoints;
@@ -1034,6 +1054,21 @@ class CurvedToolpathBuilder {
                                        i > 0 ? samples_[i - 1].axis : Vector3d::UnitZ(),
                                        i > 0 ? &samples_[i - 1] : nullptr));
       result_.orientationFallbacks += samples_[i].fallback;
+      samples_[i].ideal = samples_[i].axis;
+    }
+    if (o_.axisFreedomDegrees > 0) {
+      axes_.resize(np);
+      freedom_.resize(np);
+      for (size_t i = 0; i < np; ++i) {
+        axes_[i] = samples_[i].axis;
+        // An axis turned onto the tilt range already leans from Eq. 3: it keeps its axis.
+        freedom_[i] = samples_[i].clamped ? 0.0 : o_.axisFreedomDegrees;
+      }
+      AxisFreedomOptions fo;
+      fo.freedomDegrees = o_.axisFreedomDegrees;
+      fo.maxTiltDegrees = o_.maxTiltDegrees;
+      result_.axesFreed += chooseAxesForMotion(path.points, axes_, fo, freedom_);
+      for (size_t i = 0; i < np; ++i) samples_[i].axis = axes_[i];
     }
     orientationMs_ += msSince(s0);
     return true;
@@ -1077,6 +1112,8 @@ class CurvedToolpathBuilder {
   std::vector<Mesh> merged_;
   double hMin_ = 0, hMax_ = 0, tinyDistance_ = 0, cosLimit_ = 0, maxTilt_ = 0;
   std::vector<Sample> samples_;  // the current path's
+  std::vector<Vector3d> axes_;   // scratch: its axes for the motion term
+  std::vector<double> freedom_;  // and their freedom
   // Gouging: the points printed so far, the cone, the current path's checked positions, the
   // sequence number of each point and the segments it leaves out.
   PrintedPoints printed_;

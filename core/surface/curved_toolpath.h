@@ -35,6 +35,10 @@ struct CurvedToolpathOptions {
   int earlierLayers = 3;            // layers below searched for c_q (Eq. 3)
   double maxTiltDegrees = 180;      // axes leaning from +Z by more are turned toward +Z onto this
                                     // cone (a table's tilt range); 180 = no limit
+  // The axis field's motion term (motion/axis_freedom.h): each path's axes may lean up to this
+  // far from their ideal (Eq. 3 or the normal) to keep the machine's rotary axes still; 0 = the
+  // ideal axes (paper 001 as written). The gouging correction starts from the chosen axes.
+  double axisFreedomDegrees = 0;
   bool axisFromNormals = false;     // true: the nozzle axis is the path's surface normal at every
                                     // point (paper 003: "aligned with the surface normal"; the
                                     // paths' normals must point to the nozzle side), on every
@@ -83,6 +87,7 @@ struct CurvedToolpathResult : Outcome {
                                     // (Feature::Support for support regions), axis per move
   size_t orientationFallbacks = 0;  // samples that used the surface normal instead of Eq. 3
   size_t tiltClamped = 0;           // samples whose axis was turned onto the maxTiltDegrees cone
+  size_t axesFreed = 0;             // samples whose axis leans from its ideal for motion
   size_t gougingCorrections = 0;    // path points whose axis was turned to avoid earlier material
   size_t gougingUncorrected = 0;    // path points left colliding (no free axis within the limits)
   size_t reorderedPaths = 0;        // paths printed with their self-blocked runs first

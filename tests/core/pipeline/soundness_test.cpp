@@ -180,13 +180,15 @@ void expectRemedyMakesItSound(const char* file, Method method, const std::string
 }
 
 // Geodesic on the shared coin with the field of the paper and surface steps of a whole interval
-// (geodesic.align_passes 0, geodesic.max_thickness_ratio 1, the defaults before 10 and 0.7): the outer beads stand out where the field is slow at the surface
-// (supported 0.990); thinner surface steps.
+// (geodesic.align_passes 0, geodesic.max_thickness_ratio 1, the defaults before 10 and 0.7) and
+// the ideal nozzle axes (motion.axis_freedom_deg 0; with the default 15 this coin is sound): the
+// outer beads stand out where the field is slow at the surface (supported 0.990); thinner
+// surface steps.
 TEST(Soundness, GeodesicRemedyAppliedGivesASoundProgram) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   expectRemedyMakesItSound("compas_overhang_coin_closed_low_res.stl", Method::Geodesic, "geodesic.max_thickness_ratio", "0.7",
                            {{"geodesic.max_thickness_ratio", "1"}, {"geodesic.align_passes", "0"},
-                            {"geodesic.align_retry_passes", "0"}});
+                            {"geodesic.align_retry_passes", "0"}, {"motion.axis_freedom_deg", "0"}});
 }
 
 // Multidir on the shared topopt (supports on): overhangs just under the paper's 45 deg hang
