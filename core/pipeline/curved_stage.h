@@ -21,14 +21,26 @@ namespace omnislice::stage {
 // path and counts as unfilled), or with fill = isoplanar the iso-planar paths of paper 003 (one
 // theta* per region, beads of the nozzle width and isoLayerHeight). Progress: `stage` at
 // progressScale (l + 1) / layers after each layer.
+//
+// Sparse fill (issue 33; spiral fill, `infill` < 100, `solid` given): a part region's shell,
+// the points within curvedShellMm (walls x line width, top/bottom layers x isoLayerHeight, at
+// least one line; plus one line) of the solid's surface, is filled solid as above, and the rest, its interior,
+// with Fermat spirals spaced line width x 100 / infill (none at 0 %): walls along the part's
+// sides and skins under and over its top and bottom surfaces stay solid, since curved layers
+// meet those surfaces at whatever angle. Triangles with every corner deeper than the shell are
+// interior. Supports and partial layers' cut edges are judged the same way (supports: solid).
 struct CurvedFill : Outcome {
   std::vector<std::vector<std::vector<SurfacePath>>> paths;
   size_t regions = 0, pathCount = 0, unfilled = 0;
   std::optional<IsoplanarReport> isoplanar;  // fill = isoplanar: the regions' totals
+  std::optional<CurvedSparseReport> sparse;  // sparse fill: its figures
 };
 CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settings& settings,
                             const MachineProfile& machine, double isoLayerHeight, const char* stage,
-                            double progressScale, const ProgressFn& progress);
+                            double progressScale, const ProgressFn& progress, const Mesh* solid = nullptr);
+
+// The solid shell of curved layers under sparse fill, mm (see fillCurvedLayers).
+double curvedShellMm(const Settings& settings, double isoLayerHeight);
 
 // Speeds, retraction and filament from the settings; the nozzle cone from the machine; the tilt
 // limit maxTiltDegrees; bead height nominalHeight, also the gouging check's clearance (the

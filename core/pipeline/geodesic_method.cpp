@@ -236,7 +236,7 @@ GeodesicAttempt geodesicAttempt(const TetMesh& tets, const Mesh& boundary, const
 
   // 5. Filling paths on every IGDS (Section 3.2).
   t0 = Clock::now();
-  a.filled = stage::fillCurvedLayers(a.igds.layers, settings, machine, interval, "paths", 1, progress);
+  a.filled = stage::fillCurvedLayers(a.igds.layers, settings, machine, interval, "paths", 1, progress, &boundary);
   if (!a.filled.ok()) return fail(a.filled);
   a.stageMs.emplace_back("paths", msSince(t0));
   a.reportMs.emplace_back("paths", a.stageMs.back().second);
@@ -337,6 +337,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   timings.emplace_back("metrics", msSince(t0));
   report.traversals = attempt.traversals;
   out.report.isoplanar = std::move(attempt.filled.isoplanar);
+  out.report.sparseFill = attempt.filled.sparse;
   out.toolpath = std::move(tp.toolpath);
   if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
   if (auto w = stage::beadOnPlatformWarning(out.toolpath)) out.warnings.push_back(*w);

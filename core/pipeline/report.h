@@ -35,6 +35,15 @@ struct SupportReport {
 
 // "isoplanar" (paper 003): theta* by the deposition rate and, when paths were planned on a
 // surface, their figures.
+// Sparse fill of curved layers (voxel, geodesic; pipeline/curved_stage.h).
+struct CurvedSparseReport {
+  double infillPercent = 100;          // the interior's density
+  double shellMm = 0;                  // solid within this distance of the part's surface
+  double interiorSpacingMm = 0;        // the interior spirals' spacing (0: no interior paths)
+  size_t sparseRegions = 0;            // regions with an interior
+  double areaMm2 = 0, interiorAreaMm2 = 0;  // of every part region, of their interiors
+};
+
 struct IsoplanarReport {
   double thetaDeg = 0;                            // theta* (or the forced angle)
   bool forced = false;
@@ -261,6 +270,7 @@ struct MethodReport {
   std::optional<GeodesicReport> geodesic;
   std::optional<MultidirReport> multidir;
   std::optional<IsoplanarReport> isoplanar;
+  std::optional<CurvedSparseReport> sparseFill;  // voxel, geodesic with infill < 100
   std::optional<SupportReport> support;  // planar supports
 };
 

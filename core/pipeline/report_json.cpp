@@ -66,6 +66,15 @@ Json supportJson(const SupportReport& r) {
           {"ms", num(r.ms)}};
 }
 
+Json sparseFillJson(const CurvedSparseReport& r) {
+  return {{"infill_percent", num(r.infillPercent)},
+          {"shell_mm", num(r.shellMm)},
+          {"interior_spacing_mm", num(r.interiorSpacingMm)},
+          {"sparse_regions", r.sparseRegions},
+          {"area_mm2", num(r.areaMm2)},
+          {"interior_area_mm2", num(r.interiorAreaMm2)}};
+}
+
 Json isoplanarJson(const IsoplanarReport& r) {
   Json j;
   j["theta_deg"] = num(r.thetaDeg);
@@ -426,6 +435,7 @@ std::string sliceReportJson(const SliceReport& r) {
   if (s.geodesic) j["geodesic"] = geodesicJson(*s.geodesic);
   if (s.multidir) j["multidir"] = multidirJson(*s.multidir);
   if (s.isoplanar) j["isoplanar"] = isoplanarJson(*s.isoplanar);
+  if (s.sparseFill) j["sparse_fill"] = sparseFillJson(*s.sparseFill);
   if (s.support) j["support"] = supportJson(*s.support);
   if (r.verify) j["verify"] = verifyJson(*r.verify);
   j["fill"] = r.fill;

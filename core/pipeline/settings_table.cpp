@@ -295,7 +295,9 @@ std::vector<SettingSpec> makeTable() {
              "tets the mesher aims at when geodesic.tet_size_mm is 0"),
       number("geodesic.tet_size_mm", [](S& s) -> double& { return s.geodesic.tetSizeMm; }, 0, 100, "mm",
              "tet lattice spacing (0 = from geodesic.target_tets)"),
-      number("infill", [](S& s) -> double& { return s.infillPercent; }, 0, 100, "%", "sparse infill density (100 = solid)"),
+      number("infill", [](S& s) -> double& { return s.infillPercent; }, 0, 100, "%",
+             "sparse infill density (100 = solid); voxel and geodesic: the curved layers' interior "
+             "spirals, spaced line width x 100 / infill, inside a solid shell"),
       number("infill_angle_deg", [](S& s) -> double& { return s.infillAngleDegrees; }, -360, 360, "deg",
              "angle of the infill lines in the layer plane"),
       number("infill_overlap_pct", [](S& s) -> double& { return s.infillOverlapPercent; }, 0, 100,

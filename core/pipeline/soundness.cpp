@@ -37,7 +37,10 @@ void addOnce(std::vector<std::string>& list, const std::string& item) {
 // The fill is solid: the curved methods fill their layers completely; planar layers only at 100 %
 // infill (sparse infill lowers coverage by design, PROGRAM-FORMAT.md).
 bool solidFill(const Settings& settings) {
-  if (settings.method == Method::Voxel || settings.method == Method::Geodesic) return true;
+  // Curved layers: solid unless sparse (spiral fill below 100 %, pipeline/curved_stage.h).
+  if (settings.method == Method::Voxel || settings.method == Method::Geodesic) {
+    return settings.fill == FillMode::Isoplanar || settings.infillPercent >= 100;
+  }
   return settings.method != Method::Surface && settings.infillPercent >= 100;
 }
 

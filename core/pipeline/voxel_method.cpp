@@ -139,12 +139,13 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
                                 : layers.thickness.samples > 0 ? layers.thickness.mean
                                                                : w;
   stage::CurvedFill filled =
-      stage::fillCurvedLayers(layers.layers, settings, machine, measuredHeight, "toolpath", 0.8, progress);
+      stage::fillCurvedLayers(layers.layers, settings, machine, measuredHeight, "toolpath", 0.8, progress, &part);
   if (!filled.ok()) return failure(filled);
   std::vector<std::vector<std::vector<SurfacePath>>>& paths = filled.paths;
   const double spiralMs = msSince(t0);
   // The largest region's curve and theta*; totals over every region.
   out.report.isoplanar = std::move(filled.isoplanar);
+  out.report.sparseFill = filled.sparse;
   CurvedToolpathOptions topt =
       stage::curvedToolpathOptions(settings, machine, measuredHeight, machineTiltDegrees(settings, machine));
   // Eq. 3 and the bead heights look back past every partial layer to the full one below.

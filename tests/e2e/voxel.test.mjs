@@ -30,7 +30,8 @@ test('the method choice shows the voxel settings and hides the planar-only ones'
     'voxel-smooth', 'voxel-layer-mm', 'voxel-iso-step', 'voxel-max-tilt', 'voxel-supports', 'voxel-platform-radius', 'voxel-max-voxels']) {
     assert.equal(await visible(id), true, `${id} shown for voxel`);
   }
-  for (const id of ['setting-infill', 'setting-walls', 'setting-layer_height']) assert.equal(await visible(id), false, `${id} hidden for voxel`);
+  for (const id of ['setting-infill_pattern', 'setting-layer_height']) assert.equal(await visible(id), false, `${id} hidden for voxel`);
+  for (const id of ['setting-infill', 'setting-walls']) assert.equal(await visible(id), true, `${id} shown for voxel (sparse curved layers)`);
   await setSetting('voxel-strategy', 'gcfa');
   assert.equal(await visible('voxel-shadow'), false, 'plain GCFA has no shadow prevention');
   await setSetting('voxel-strategy', 'pg-sp-gcfa');

@@ -340,7 +340,8 @@ test('settings schema: geodesic rows shown and sent only for the geodesic method
   assert.equal('geodesic.interval_mm' in model.toSliceSettings(), false, 'not sent for planar');
   model.set('method', 'geodesic');
   for (const k of keys) assert.equal(field(k).showIf(model.values), true, `${k} shown for geodesic`);
-  for (const k of ['infill', 'walls', 'direction']) assert.equal(field(k).showIf(model.values), false, `${k} hidden for geodesic`);
+  for (const k of ['infill_pattern', 'direction']) assert.equal(field(k).showIf(model.values), false, `${k} hidden for geodesic`);
+  for (const k of ['infill', 'walls']) assert.equal(field(k).showIf?.(model.values) ?? true, true, `${k} shown for geodesic (sparse curved layers)`);
   assert.equal(field('layer_height').showIf(model.values), true, 'the interval defaults to the layer height');
   const s = model.toSliceSettings();
   assert.equal(s.method, 'geodesic');

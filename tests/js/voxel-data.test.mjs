@@ -229,7 +229,9 @@ test('settings: voxel rows only for the voxel method; planar-only rows hidden fo
   assert.equal(showIf('infill'), true);
   model.set('method', 'voxel');
   assert.ok(voxelKeys.every((k) => showIf(k)), 'shown for voxel (PG-SP-GCFA)');
-  for (const k of ['infill', 'walls', 'layer_height', 'direction']) assert.equal(showIf(k), false, `${k} hidden for voxel`);
+  for (const k of ['infill_pattern', 'layer_height', 'direction']) assert.equal(showIf(k), false, `${k} hidden for voxel`);
+  // The shell and the interior's density reach curved layers too.
+  for (const k of ['infill', 'walls', 'top_layers', 'bottom_layers']) assert.equal(showIf(k), true, `${k} shown for voxel`);
   assert.equal(showIf('nozzle'), true);
   model.set('voxel.strategy', 'gcfa');
   assert.equal(showIf('voxel.shadow'), false, 'no shadow prevention in plain GCFA');

@@ -75,6 +75,8 @@ Settings voxelSettings(const char* machine) {
   EXPECT_TRUE(setSetting(s, "nozzle_diameter", "0.8").ok());
   EXPECT_TRUE(setSetting(s, "layer_height", "0.6").ok());
   EXPECT_TRUE(setSetting(s, "line_width", "0.9").ok());
+  // Solid curved layers: these tests judge coverage (curved_sparse_test.cpp tests the sparse fill).
+  EXPECT_TRUE(setSetting(s, "infill", "100").ok());
   // These tests check the method's own properties against `omnislice verify`'s figures; a
   // program short of the strict soundness criteria (pipeline/soundness.h) is still delivered
   // here (soundness_test.cpp tests the refusal).
