@@ -1,0 +1,126 @@
+// SPDX-License-Identifier: MIT
+// Issue 33: the estimated time is what the program itself asks of the machine. A G-code program
+// is read back (program/read_program) and its time recomputed from its own words, apart from the
+// planner: each line's duration is its axis distance over its F (the header's feed semantics:
+// "xyz" = the linear distance, or the rotary one for a purely rotary move; "combined" = both), an
+// extrusion-only line its filament over F, and each move is ramped from and to rest at the
+// header's `acceleration` (a trapezoid on the part-frame chord of the tip). The sum is within 5 % of the
+// report's estimated_time_s, and no line moves a rotary axis faster than the machine declares.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include "../test_meshes.h"
+#include "../test_support.h"
+#include "machine/machine.h"
+#include "pipeline/pipeline.h"
+#include "pipeline_fixtures.h"
+#include "program/read_program.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::json;
+
+struct Replay {
+  double seconds = 0;
+  double worstRotaryRatio = 0;  // largest |rotary axis rate| / its declared velocity
+  size_t lines = 0;
+};
+
+Replay replayTime(const std::string& program) {
+  Replay out;
+  const ParsedProgram p = readProgram(program);
+  EXPECT_TRUE(p.ok()) << p.message;
+  if (!p.ok() || p.moves.empty()) return out;
+  std::smatch m;
+  double accel = 0;
+  if (std::regex_search(program, m, std::regex("; omnislice:setting acceleration = ([0-9.eE+-]+)"))) accel = std::stod(m[1]);
+  EXPECT_GT(accel, 0) << "the header lists the acceleration";
+  const bool combined = p.feedSemantics == "combined";
+  EXPECT_TRUE(combined || p.feedSemantics == "xyz") << p.feedSemantics;
+  const size_t n = p.moves.front().axes.size();
+  const std::vector<std::string> names = machineAxisNames(p.machine.kind);
+  // The first line moves from home (every value 0 after G28) to the park pose, where the plan
+  // and its estimate start: its rates are checked, its time is not counted.
+  std::vector<double> prev(n, 0.0);
+  size_t i = 0;
+  while (i < p.moves.size()) {
+    // One source line: its pieces (an interpolated rotary move) share the line and the feed.
+    size_t j = i;
+    double lin2 = 0, rot2 = 0, tip = 0, filament = 0;
+    std::vector<double> delta(n, 0);
+    const std::vector<double> start = prev;
+    while (j < p.moves.size() && p.moves[j].line == p.moves[i].line) {
+      filament += p.moves[j].filament;
+      prev = p.moves[j].axes;
+      ++j;
+    }
+    // The tip's chord in the part frame (a turning move's tip path bends; the ramp is the tip's).
+    tip = (p.moves[j - 1].to - p.moves[i].from).norm();
+    for (size_t k = 0; k < n; ++k) {
+      delta[k] = prev[k] - start[k];
+      (k < 3 ? lin2 : rot2) += delta[k] * delta[k];
+    }
+    const double feed = p.moves[i].feedMmPerMin / 60.0;
+    const double d = combined ? std::sqrt(lin2 + rot2) : lin2 > 0 ? std::sqrt(lin2) : std::sqrt(rot2);
+    double t = 0;
+    if (feed > 0) t = d > 0 ? d / feed : std::abs(filament) / feed;
+    if (tip > 0 && t > 0) {
+      // From and to rest at `accel` along the tip: the cruise at tip / t, or a triangle.
+      const double v = tip / t;
+      t = tip >= v * v / accel ? tip / v + v / accel : 2 * std::sqrt(tip / accel);
+    }
+    if (i > 0) {
+      out.seconds += t;
+      ++out.lines;
+    }
+    if (t > 0) {
+      for (size_t k = 3; k < n; ++k) {
+        const auto dyn = p.machine.axisDynamics.find(names[k]);
+        if (dyn == p.machine.axisDynamics.end() || !(dyn->second.velocity > 0)) continue;
+        // The written words are rounded (5 decimals of a degree): a short line's rate carries that.
+        const double rate = std::max(0.0, std::abs(delta[k]) - 2e-5) / t;
+        out.worstRotaryRatio = std::max(out.worstRotaryRatio, rate / dyn->second.velocity);
+      }
+    }
+    i = j;
+  }
+  return out;
+}
+
+void expectReplayedTime(Method method, const char* what) {
+  const Mesh sphere = test::makeUvSphere(10, 48, 24, Eigen::Vector3d(0, 0, 10));
+  const std::vector<uint8_t> bytes = test::binaryStl(sphere);
+  Settings s;
+  s.method = method;
+  s.machine = "table5";
+  s.nozzleDiameter = 0.8;
+  s.layerHeight = 0.6;
+  s.lineWidth = 0.9;
+  s.verify = VerifyMode::Warn;
+  s.verifyAttempts = 1;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json report = Json::parse(out.reportJson);
+  const double planned = report["estimated_time_s"].get<double>();
+  const Replay r = replayTime(out.program);
+  std::printf("%s: replayed %.1f s over %zu lines, report %.1f s; fastest rotary axis at %.3f of its limit\n", what,
+              r.seconds, r.lines, planned, r.worstRotaryRatio);
+  ASSERT_GT(planned, 0);
+  EXPECT_NEAR(r.seconds, planned, 0.05 * planned);
+  EXPECT_LE(r.worstRotaryRatio, 1.01);
+}
+
+TEST(TimeReplay, VoxelProgramOnTable5) { expectReplayedTime(Method::Voxel, "voxel"); }
+TEST(TimeReplay, GeodesicProgramOnTable5) { expectReplayedTime(Method::Geodesic, "geodesic"); }
+TEST(TimeReplay, MultidirProgramOnTable5) { expectReplayedTime(Method::Multidir, "multidir"); }
+
+}  // namespace
+}  // namespace omnislice
