@@ -24,7 +24,7 @@ namespace {
 
 using Json = nlohmann::json;
 
-constexpr double kRadius = 10;
+constexpr double kRadius = 14;
 
 Settings sphereSettings(Method method, double infill) {
   Settings s;
@@ -55,7 +55,7 @@ double nearestBead(const ToolpathPreview& t, const Eigen::Vector3d& p) {
 }
 
 void expectShellSolidInteriorSparse(Method method) {
-  const Mesh sphere = test::makeUvSphere(kRadius, 64, 32, Eigen::Vector3d(0, 0, kRadius));
+  const Mesh sphere = test::makeUvSphere(kRadius, 72, 36, Eigen::Vector3d(0, 0, kRadius));
   const std::vector<uint8_t> bytes = test::binaryStl(sphere);
   const SliceOutput sparse = runSlice(bytes.data(), bytes.size(), "sphere.stl", sphereSettings(method, 20));
   const SliceOutput solid = runSlice(bytes.data(), bytes.size(), "sphere.stl", sphereSettings(method, 100));
