@@ -72,8 +72,7 @@ CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settin
     sparse.interiorSpacingMm = sparse.infillPercent > 0 ? sopt.spacing * 100 / sparse.infillPercent : 0;
     interior.spacing = sparse.interiorSpacingMm;
   }
-  std::vector<double> depth;
-  std::vector<uint8_t> deep;
+  std::vector<uint8_t> shallow, deep;
   IsoplanarFillOptions iso;
   iso.beadWidth = settings.nozzleDiameter;
   iso.layerHeight = isoLayerHeight;
@@ -101,35 +100,39 @@ CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settin
       }
       std::vector<SurfacePath>& filled = out.paths[l][r];
       if (surface && !region.support) {
-        // Interior triangles: every corner deeper than the shell.
+        // Interior triangles: every corner deeper than the shell (no surface within it).
         const Mesh& m = region.mesh;
-        depth.assign(m.vertexCount(), 0);
-        for (size_t v = 0; v < m.vertexCount(); ++v) depth[v] = surface->closest(m.vertex(v)).distance;
+        shallow.assign(m.vertexCount(), 0);
+        for (size_t v = 0; v < m.vertexCount(); ++v) shallow[v] = surface->anyWithin(m.vertex(v), sparse.shellMm);
         deep.assign(m.faceCount(), 0);
         size_t deepCount = 0;
+        double area = 0, interiorArea = 0;
         for (size_t t = 0; t < m.faceCount(); ++t) {
-          const double area = triangleArea(m, t);
-          sparse.areaMm2 += area;
-          bool in = true;
-          for (int k = 0; k < 3; ++k) in = in && depth[m.triangles[3 * t + size_t(k)]] > sparse.shellMm;
-          if (!in) continue;
+          const double a = triangleArea(m, t);
+          area += a;
+          if (shallow[m.triangles[3 * t]] || shallow[m.triangles[3 * t + 1]] || shallow[m.triangles[3 * t + 2]]) continue;
           deep[t] = 1;
           ++deepCount;
-          sparse.interiorAreaMm2 += area;
+          interiorArea += a;
         }
+        sparse.areaMm2 += area;
         if (deepCount > 0) {
-          ++sparse.sparseRegions;
           SpiralResult inner;
           if (interior.spacing > 0) inner = fermatSpiralPaths(trianglesOf(m, deep), interior);
           for (uint8_t& d : deep) d = !d;
           SpiralResult outer;
           if (deepCount < m.faceCount()) outer = fermatSpiralPaths(trianglesOf(m, deep), sopt);
-          // The shell first (walls and skins), then the interior.
-          if (outer.ok()) filled = std::move(outer.paths);
-          if (inner.ok()) filled.insert(filled.end(), inner.paths.begin(), inner.paths.end());
-          if (filled.empty()) ++out.unfilled;
-          out.pathCount += filled.size();
-          continue;
+          // The shell first (walls and skins), then the interior; where either spiral fails, the
+          // whole region solid below (nothing of the shell may go missing).
+          if (outer.ok() && inner.ok()) {
+            ++sparse.sparseRegions;
+            sparse.interiorAreaMm2 += interiorArea;
+            filled = std::move(outer.paths);
+            filled.insert(filled.end(), inner.paths.begin(), inner.paths.end());
+            if (filled.empty()) ++out.unfilled;
+            out.pathCount += filled.size();
+            continue;
+          }
         }
       }
       SpiralResult spiral = fermatSpiralPaths(region.mesh, sopt);
