@@ -30,6 +30,21 @@ size_t chooseAxesForMotion(const std::vector<Vector3d>& points, std::vector<Vect
   const size_t n = axes.size();
   if (n == 0 || points.size() != n || !(o.freedomDegrees > 0) || (!limit.empty() && limit.size() != n)) return 0;
   const double freedom = std::min(o.freedomDegrees, 90.0);
+  // Lowered freedoms ramp back up along the path at limitRampDegreesPerMm (both ways), so the
+  // axis never has to jump to a point's ideal where the freedom drops.
+  std::vector<double> free(n, freedom);
+  if (!limit.empty()) {
+    for (size_t i = 0; i < n; ++i) free[i] = std::isfinite(limit[i]) ? std::clamp(limit[i], 0.0, freedom) : freedom;
+    const double ramp = std::max(0.0, o.limitRampDegreesPerMm);
+    for (size_t i = 1; i < n; ++i) {
+      const double d = (points[i] - points[i - 1]).norm();
+      if (std::isfinite(d)) free[i] = std::min(free[i], free[i - 1] + ramp * d);
+    }
+    for (size_t i = n - 1; i-- > 0;) {
+      const double d = (points[i + 1] - points[i]).norm();
+      if (std::isfinite(d)) free[i] = std::min(free[i], free[i + 1] + ramp * d);
+    }
+  }
   size_t changed = 0;
   bool havePrev = false;
   Vector3d prev = Vector3d::UnitZ();
@@ -39,10 +54,9 @@ size_t chooseAxesForMotion(const std::vector<Vector3d>& points, std::vector<Vect
       havePrev = false;  // left as it is; the next point starts again from its preferred axis
       continue;
     }
-    const double free = limit.empty() || !std::isfinite(limit[i]) ? freedom : std::clamp(limit[i], 0.0, freedom);
-    Vector3d x = havePrev ? prev : preferredAxis(u, free);
+    Vector3d x = havePrev ? prev : preferredAxis(u, free[i]);
     // Outside the ideal's cone: its nearest axis on the cone.
-    if (axisAngleDegrees(x, u) > free) x = turnToward(u, x, free);
+    if (axisAngleDegrees(x, u) > free[i]) x = turnToward(u, x, free[i]);
     // The tilt range: the chosen axis may not lean further than the range or its ideal does.
     const double tilt = axisAngleDegrees(x, Vector3d::UnitZ());
     const double range = std::max(o.maxTiltDegrees, axisAngleDegrees(u, Vector3d::UnitZ()));

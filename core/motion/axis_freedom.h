@@ -22,6 +22,7 @@ namespace omnislice {
 struct AxisFreedomOptions {
   double freedomDegrees = 15;   // largest angle between an axis and its ideal; 0 = the ideal
   double maxTiltDegrees = 180;  // the machine's tilt range from +Z (axes stay within it)
+  double limitRampDegreesPerMm = 2;  // a lowered freedom (limit) rises back at most this fast
 };
 
 // The least tilted axis within freedomDegrees of u: +Z when u leans from +Z by at most
@@ -33,7 +34,9 @@ Eigen::Vector3d preferredAxis(const Eigen::Vector3d& u, double freedomDegrees);
 // otherwise the nearest axis of that cone (the ideal turned toward the previous by the
 // freedom). Every output axis is within the freedom of its ideal (and within the tilt range
 // when the ideal is). `limit`, when not empty (one per point), lowers the freedom of single
-// points: point i leans at most min(freedomDegrees, limit[i]) (0: its ideal axis exactly).
+// points: point i leans at most min(freedomDegrees, limit[j] + limitRampDegreesPerMm x the path
+// length between i and j) over every j (0 at j: its ideal axis exactly there, and the freedom
+// ramps up around it, so the axis comes to the ideal gradually instead of jumping to it).
 // Non-finite or non-unit axes are left as they are. Returns the number of axes changed by more
 // than 1e-9. Sizes must match (otherwise nothing changes).
 size_t chooseAxesForMotion(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& axes,

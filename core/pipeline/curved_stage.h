@@ -24,11 +24,11 @@ namespace omnislice::stage {
 //
 // Sparse fill (issue 33; spiral fill, `infill` < 100, `solid` given): a part region's shell,
 // the points within curvedShellMm (walls x line width, top/bottom layers x isoLayerHeight, at
-// least one line; plus two lines) of the solid's surface, is filled solid as above, and the rest, its interior,
+// least one line) of the solid's surface, is filled solid as above, and the rest, its interior,
 // with Fermat spirals spaced line width x 100 / infill (none at 0 %): walls along the part's
 // sides and skins under and over its top and bottom surfaces stay solid, since curved layers
-// meet those surfaces at whatever angle. Triangles with every corner deeper than the shell are
-// interior. Supports and partial layers' cut edges are judged the same way (supports: solid).
+// meet those surfaces at whatever angle. Triangles every point of which lies deeper than the
+// shell are interior (each corner deeper by 0.6 x the longest edge at it). Supports and partial layers' cut edges are judged the same way (supports: solid).
 struct CurvedFill : Outcome {
   std::vector<std::vector<std::vector<SurfacePath>>> paths;
   size_t regions = 0, pathCount = 0, unfilled = 0;

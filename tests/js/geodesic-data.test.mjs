@@ -296,6 +296,7 @@ test('summary rows and the done line show the report\'s figures; absent ones a d
     tree: { nodes: 140, edges: 139, is_tree: true, branch_points: 1, merges: 0 }, sequence: 'A3', retractions: 12,
     air_move_mm: 212.5, collision_free: true, nozzle_angle_deg: 30, overhang_avg_all_deg: 18.2, overhang_max_layer_deg: 41.7,
     thickness: { max_deviation_all_percent: 35.5 }, paths: 300, timings_ms: { tetmesh: 1500, field: 420, igds: 2300.4 },
+    axes_freed: 4321, axis_freedom_deg: 15,
   };
   const rows = geodesicSummaryRows(g);
   const byKey = Object.fromEntries(rows.map(([k, , text]) => [k, text]));
@@ -307,6 +308,7 @@ test('summary rows and the done line show the report\'s figures; absent ones a d
   assert.equal(byKey.air_move, '212.5 mm');
   assert.equal(byKey.collision_free, 'yes');
   assert.equal(byKey.nozzle_angle, '30°');
+  assert.equal(byKey.axes_freed, '4,321 (≤ 15°)');
   assert.equal(byKey.thickness_dev, '35.5 %');
   assert.equal(byKey.time_tetmesh, '1.50 s');
   assert.equal(byKey.time_igds, '2.30 s');

@@ -209,6 +209,9 @@ test('voxel summary rows and the done line show the report\'s figures', () => {
   assert.equal(rows.time_peeling, '2.30 s');
   assert.equal(rows.time_voxelize, '120 ms');
   assert.equal(rows.orientation_fallbacks, '0');
+  assert.equal(rows.axes_freed, undefined, 'no row without the figure');
+  const freed = Object.fromEntries(voxelSummaryRows({ ...v, axes_freed: 12345, axis_freedom_deg: 15 }).map(([k, , text]) => [k, text]));
+  assert.equal(freed.axes_freed, '12,345 (≤ 15°)');
   assert.equal(voxelDoneSummary(v), '240 field layers → 96 layers, 130 regions, 511 missed');
   const blank = Object.fromEntries(voxelSummaryRows(null).map(([k, , text]) => [k, text]));
   assert.ok(Object.values(blank).every((t) => t === '—'));

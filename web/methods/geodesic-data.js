@@ -17,7 +17,7 @@
 //     geometry, the traversal table (report.geodesic.traversals) and the summary rows.
 import { rgbCss } from '../colors.js';
 import { figure, formatMs, niceTicks, plural, withUnit } from '../format.js';
-import { layerColor } from './voxel-data.js';
+import { axesFreedRows, layerColor } from './voxel-data.js';
 
 /**
  * Progress stages of a geodesic slice, in pipeline order, with their share of the bar (sums to 1):
@@ -417,6 +417,7 @@ export function geodesicSummaryRows(g) {
     ['overhang_max', 'largest layer overhang', Number.isFinite(r.overhang_max_layer_deg) ? `${figure(r.overhang_max_layer_deg)}°` : '—'],
     ['thickness_dev', 'max thickness deviation', Number.isFinite(th.max_deviation_all_percent) ? `${figure(th.max_deviation_all_percent)} %` : '—'],
     ['paths', 'spiral paths', figure(r.paths)],
+    ...axesFreedRows(r),
     ...(r.unfilled_regions ? [['unfilled', 'unfilled IGDS', figure(r.unfilled_regions)]] : []),
     // Tool path left out where no nozzle axis clears the part (drawn red in the view).
     ...(r.skipped_segments > 0 ? [['skipped', 'path left out', `${withUnit(r.skipped_mm, 'mm')} (${plural(r.skipped_segments, 'segment')})${

@@ -235,6 +235,17 @@ export function histogramGeometry(hist, { width = 260, height = 110, padLeft = 6
 }
 
 /**
+ * The motion term's row (motion.axis_freedom_deg): how many samples' nozzle axes lean from their
+ * ideal axis to keep the rotary axes still, and by at most how much; none when the report has no
+ * such figure (older reports).
+ */
+export function axesFreedRows(r) {
+  if (!r || !Number.isFinite(r.axes_freed)) return [];
+  const bound = Number.isFinite(r.axis_freedom_deg) ? ` (≤ ${figure(r.axis_freedom_deg)}°)` : '';
+  return [['axes_freed', 'axes leaning for motion', `${figure(r.axes_freed)}${bound}`]];
+}
+
+/**
  * Summary rows [key, label, text] of report.voxel (keys double as data-testid suffixes:
  * voxel-<key>), in display order; absent figures show '—'.
  */
@@ -269,6 +280,7 @@ export function voxelSummaryRows(v) {
     ['hull_builds', 'hull builds', figure(r.hull_builds)],
     ['orientation_fallbacks', 'orientation fallbacks', figure(r.orientation_fallbacks)],
     ...(r.tilt_clamped !== undefined ? [['tilt_clamped', 'axes clamped to max tilt', figure(r.tilt_clamped)]] : []),
+    ...axesFreedRows(r),
     ...['voxelize', 'peeling', 'shadow', 'growth', 'extraction', 'spirals', 'toolpaths']
       .filter((k) => k !== 'spirals' || t.spirals !== undefined)
       .map((k) => [`time_${k}`, `time: ${k}`, formatMs(t[k])]),

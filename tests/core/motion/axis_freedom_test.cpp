@@ -3,7 +3,8 @@
 // near-vertical ideals give +Z exactly; in a plane the total turn equals the least any axes
 // within the cones can turn from the same start (dynamic programming over a fine grid); on a
 // ring whose ideals lean further than the freedom the axis winds once, as it must, and on
-// ideals that wobble within the freedom it settles and stays still.
+// ideals that wobble within the freedom it settles and stays still; where the freedom drops, it
+// ramps instead of jumping.
 #include "common/math_constants.h"
 #include "motion/axis_freedom.h"
 #include "motion/orientation_smoothing.h"
@@ -195,6 +196,32 @@ TEST(AxisFreedom, ZeroLimitKeepsTheIdealAndBadInputIsLeftAlone) {
   for (size_t i = 0; i < n; ++i) {
     if (i != 20) EXPECT_EQ(same[i], ideal[i]);
   }
+}
+
+TEST(AxisFreedom, LoweredFreedomRampsInsteadOfJumping) {
+  // Ideals leaning 60 degrees with a slowly turning azimuth; in the middle the freedom drops to 0
+  // (axes clamped onto the tilt range keep their axis). The chosen axes come to the ideal there
+  // and leave it again no faster than the ramp allows: between neighbours (0.5 mm apart) at most
+  // the ideals' own turn plus 2 deg/mm x 0.5 mm, never a jump to the ideal.
+  const size_t n = 200;
+  std::vector<Vector3d> ideal(n);
+  for (size_t i = 0; i < n; ++i) ideal[i] = fromTiltAzimuth(60, 0.2 * double(i));
+  std::vector<double> limit(n, 15);
+  for (size_t i = 90; i < 110; ++i) limit[i] = 0;
+  std::vector<Vector3d> axes = ideal;
+  AxisFreedomOptions o;
+  o.limitRampDegreesPerMm = 2;
+  chooseAxesForMotion(linePoints(n), axes, o, limit);
+  for (size_t i = 90; i < 110; ++i) EXPECT_LT(axisAngleDegrees(axes[i], ideal[i]), 1e-9) << i;
+  for (size_t i = 1; i < n; ++i) {
+    EXPECT_LE(axisAngleDegrees(axes[i], axes[i - 1]), axisAngleDegrees(ideal[i], ideal[i - 1]) + 2 * 0.5 + 1e-6) << i;
+    // Within the ramped freedom: 15 far from the drop, less near it.
+    const double d = std::min(std::abs(double(i) - 89.5), std::abs(double(i) - 109.5)) * 0.5;
+    const double bound = i >= 90 && i < 110 ? 0.0 : std::min(15.0, 2 * (d + 0.25));
+    EXPECT_LE(axisAngleDegrees(axes[i], ideal[i]), bound + 1e-6) << i;
+  }
+  // Far from the drop the axis leans the full freedom toward +Z (the path starts there).
+  EXPECT_NEAR(axisAngleDegrees(axes[0], Vector3d::UnitZ()), 45, 1e-6);
 }
 
 }  // namespace
