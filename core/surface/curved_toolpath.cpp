@@ -131,8 +131,10 @@ const char* const kStage = "toolpath";
 
 // The axes of one path's points while its gouging is corrected.
 struct PathAxes {
-  std::vector<Vector3d> base;  // Eq. 3 axes through the planner's low-pass filter, within the tilt
-                               // range: what the path prints with when nothing collides
+  std::vector<Vector3d> base;  // the orientation's axes (Eq. 3 or the normal, leaned by the motion
+                               // term within axisFreedomDegrees) through the planner's low-pass
+                               // filter, within the tilt range: what the path prints with when
+                               // nothing collides
   std::vector<Vector3d> axes;  // the corrected axes
   std::vector<Vector3d> ideal; // the axes before the motion term (tilt-limited): tried first
                                // where the base axis collides
