@@ -27,15 +27,8 @@ using Json = nlohmann::json;
 constexpr double kRadius = 14;
 
 Settings sphereSettings(Method method, double infill) {
-  Settings s;
-  s.method = method;
-  s.machine = "table5";
-  s.nozzleDiameter = 0.8;
-  s.layerHeight = 0.6;
-  s.lineWidth = 0.9;
+  Settings s = test::coarseCurvedSettings(method);
   s.infillPercent = infill;
-  s.verify = VerifyMode::Warn;
-  s.verifyAttempts = 1;
   return s;
 }
 

@@ -175,14 +175,20 @@ TEST(GeodesicPipeline, YogaTetFileOnRobotVerifies) {
   std::printf("warning: %s (z %.1f..%.1f)\n", r.out.warnings[0].message.c_str(), zLo, zHi);
 }
 
-// A closed mesh meshed by Omnislice, on the tilting table.
-TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
-  OMNISLICE_REQUIRE_SHARED_MODELS();
-  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
+// The shared kitten (Y up) at 60 mm through Omnislice's own ~30k tets, 0.8 mm layers, table5.
+Settings meshedKittenSettings() {
   Settings s = geodesicSettings("table5", 0.8);
   s.placement.up = UpAxis::PosY;
   s.placement.fitMm = 60;
   s.geodesic.targetTets = 30000;
+  return s;
+}
+
+// A closed mesh meshed by Omnislice, on the tilting table.
+TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
+  Settings s = meshedKittenSettings();
   const Sliced r = sliceAndVerify(bytes, "kitten.off", s);
   if (!r.out.ok()) return;
   expectConsistent(r);
@@ -199,10 +205,7 @@ TEST(GeodesicPipeline, MeshedKittenOnTableVerifies) {
 TEST(GeodesicPipeline, AxisFreedomTurnsTheTableLessAsSoundly) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
-  Settings s = geodesicSettings("table5", 0.8);
-  s.placement.up = UpAxis::PosY;
-  s.placement.fitMm = 60;
-  s.geodesic.targetTets = 30000;
+  Settings s = meshedKittenSettings();
   s.verifyAttempts = 1;
   const Sliced freed = sliceAndVerify(bytes, "kitten.off", s);
   s.axisFreedomDegrees = 0;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "mesh/mesh.h"
+#include "pipeline/settings.h"
 
 namespace omnislice::test {
 
@@ -28,6 +29,20 @@ inline std::vector<uint8_t> binaryStl(const Mesh& m, const std::string& header =
     }
   }
   return out;
+}
+
+// A curved-layer method on table5 with 0.8 mm beads, 0.6 mm layers, 0.9 mm lines; the program is
+// delivered whatever the check finds (verify = warn) and made once (the tests judge it).
+inline Settings coarseCurvedSettings(Method method) {
+  Settings s;
+  s.method = method;
+  s.machine = "table5";
+  s.nozzleDiameter = 0.8;
+  s.layerHeight = 0.6;
+  s.lineWidth = 0.9;
+  s.verify = VerifyMode::Warn;
+  s.verifyAttempts = 1;
+  return s;
 }
 
 }  // namespace omnislice::test

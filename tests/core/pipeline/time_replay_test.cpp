@@ -98,14 +98,7 @@ Replay replayTime(const std::string& program) {
 void expectReplayedTime(Method method, const char* what) {
   const Mesh sphere = test::makeUvSphere(10, 48, 24, Eigen::Vector3d(0, 0, 10));
   const std::vector<uint8_t> bytes = test::binaryStl(sphere);
-  Settings s;
-  s.method = method;
-  s.machine = "table5";
-  s.nozzleDiameter = 0.8;
-  s.layerHeight = 0.6;
-  s.lineWidth = 0.9;
-  s.verify = VerifyMode::Warn;
-  s.verifyAttempts = 1;
+  const Settings s = test::coarseCurvedSettings(method);
   const SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
   ASSERT_TRUE(out.ok()) << out.message;
   const Json report = Json::parse(out.reportJson);
