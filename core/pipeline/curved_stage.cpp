@@ -40,6 +40,10 @@ double triangleArea(const Mesh& m, size_t t) {
 
 }  // namespace
 
+bool sparseCurvedFill(const Settings& settings) {
+  return settings.fill != FillMode::Isoplanar && settings.infillPercent < 100;
+}
+
 double curvedShellMm(const Settings& settings, double isoLayerHeight) {
   const double w = settings.effectiveLineWidth();
   const double walls = std::max(0, settings.walls) * w;
@@ -59,7 +63,7 @@ CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settin
   std::unique_ptr<AabbTree> surface;
   CurvedSparseReport sparse;
   SpiralOptions interior = sopt;
-  if (!isoplanar && solid != nullptr && !solid->empty() && settings.infillPercent < 100) {
+  if (sparseCurvedFill(settings) && solid != nullptr && !solid->empty()) {
     surface = std::make_unique<AabbTree>(*solid);
     sparse.infillPercent = std::max(0.0, settings.infillPercent);
     sparse.shellMm = curvedShellMm(settings, isoLayerHeight);

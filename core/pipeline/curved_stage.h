@@ -39,6 +39,10 @@ CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settin
                             const MachineProfile& machine, double isoLayerHeight, const char* stage,
                             double progressScale, const ProgressFn& progress, const Mesh* solid = nullptr);
 
+// Whether curved layers are filled sparsely: spiral fill below 100 % infill (fillCurvedLayers;
+// verify judges coverage only where this is false).
+bool sparseCurvedFill(const Settings& settings);
+
 // The solid shell of curved layers under sparse fill, mm (see fillCurvedLayers).
 double curvedShellMm(const Settings& settings, double isoLayerHeight);
 

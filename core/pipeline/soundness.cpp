@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include "common/stopwatch.h"
+#include "pipeline/curved_stage.h"
 #include "program/read_program.h"
 #include "verify/verify_program.h"
 
@@ -37,10 +38,8 @@ void addOnce(std::vector<std::string>& list, const std::string& item) {
 // The fill is solid: the curved methods fill their layers completely; planar layers only at 100 %
 // infill (sparse infill lowers coverage by design, PROGRAM-FORMAT.md).
 bool solidFill(const Settings& settings) {
-  // Curved layers: solid unless sparse (spiral fill below 100 %, pipeline/curved_stage.h).
-  if (settings.method == Method::Voxel || settings.method == Method::Geodesic) {
-    return settings.fill == FillMode::Isoplanar || settings.infillPercent >= 100;
-  }
+  // Curved layers: solid unless sparse (pipeline/curved_stage.h).
+  if (settings.method == Method::Voxel || settings.method == Method::Geodesic) return !stage::sparseCurvedFill(settings);
   return settings.method != Method::Surface && settings.infillPercent >= 100;
 }
 
