@@ -49,7 +49,7 @@ const char* kUsage =
     "Meshes: STL (binary/ASCII), OBJ, OFF, PLY, 3MF; TET (tetrahedral mesh, `N vertices`, `M tets`,\n"
     "coordinates, `4 i j k l`: the solid it fills; --method geodesic uses its tets). AXIS: z, -z,\n"
     "y, -y, x, -x.\n"
-    "Machines: cartesian3, rotary4, table5, robot6-ur5 (G-code; robot6 writes joint CSV or\n"
+    "Machines: cartesian3, rotary4, table5, robot6-ur5, robot6-ur5-rated (G-code; robot6 writes joint CSV or\n"
     "URScript). A profile file (docs/MACHINES.md) overrides --machine.\n"
     "--method surface prints an open surface (a height field) as one layer on a planar base;\n"
     "verify such a program with the same surface as --mesh.\n"

@@ -56,15 +56,19 @@ namespace {
 const double kUr5PlateOffset = 50;  // mm
 const Eigen::Vector3d kUr5NozzleTip{-500, 150, 300};  // mm, robot base frame
 
-MachineProfile ur5Profile(double nozzleDiameter) {
+// rated = false: paper 003's Table 1 joint limits (pi/6 rad/s, pi/2 rad/s^2, pi rad/s^3), so time
+// figures compare with the paper's. rated = true: the arm's rated joint speed (180 deg/s for every
+// UR5 CB3 joint, the datasheet's figure), 5 rad/s^2 (Universal Robots publish torque limits, not
+// accelerations; 5 rad/s^2 is the conservative figure their ROS 2 driver gives MoveIt for every
+// joint), and no jerk limit (URScript's movej/movel plan trapezoidal speed profiles).
+MachineProfile ur5Profile(double nozzleDiameter, bool rated) {
   MachineProfile m;
   m.kind = MachineKind::Robot6;
-  m.name = "robot6-ur5";
+  m.name = rated ? "robot6-ur5-rated" : "robot6-ur5";
   m.dh = ur5DhTable();
   for (int i = 0; i < 6; ++i) {
     m.jointLimits[i] = {-2 * kPi, 2 * kPi};
-    // Paper 003 Table 1.
-    m.jointDynamics[i] = {kPi / 6, kPi / 2, kPi};
+    m.jointDynamics[i] = rated ? AxisDynamics{kPi, 5, 0} : AxisDynamics{kPi / 6, kPi / 2, kPi};
   }
   m.flangeToPlatform = Eigen::Matrix4d::Identity();
   m.flangeToPlatform(2, 3) = kUr5PlateOffset;
@@ -102,8 +106,8 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
     gcodeDynamics(m);
     m.axisDynamics["B"] = {90, 900, 9000};
     m.axisDynamics["C"] = {90, 900, 9000};
-  } else if (name == "robot6-ur5" || name == "robot6") {
-    m = ur5Profile(nozzleDiameter);
+  } else if (name == "robot6-ur5" || name == "robot6" || name == "robot6-ur5-rated") {
+    m = ur5Profile(nozzleDiameter, name == "robot6-ur5-rated");
   } else {
     r.status = Status::InvalidOption;
     r.message = "unknown machine \"" + name + "\"; built-in machines:";
@@ -119,7 +123,7 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
 }
 
 std::vector<std::string> builtinMachineNames() {
-  return {"cartesian3", "rotary4", "table5", "robot6-ur5"};
+  return {"cartesian3", "rotary4", "table5", "robot6-ur5", "robot6-ur5-rated"};
 }
 
 const char* machineKindName(MachineKind kind) {

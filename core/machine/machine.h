@@ -109,7 +109,8 @@ struct MachineProfileResult : Outcome {
   MachineProfile machine;
 };
 
-// Built-in profiles by name: "cartesian3", "rotary4", "table5", "robot6-ur5" (alias "robot6").
+// Built-in profiles by name: "cartesian3", "rotary4", "table5", "robot6-ur5" (alias "robot6"; paper
+// 003's joint limits) and "robot6-ur5-rated" (the same arm at its rated joint speed).
 // bedSize sizes the linear axes of the G-code kinds; nozzleDiameter sets nozzle.diameter.
 // InvalidOption for an unknown name (the message lists the names).
 MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,

@@ -56,14 +56,15 @@ void expectSameProfile(const MachineProfile& a, const MachineProfile& b) {
 
 TEST(MachineProfile, BuiltinNamesAndValues) {
   const std::vector<std::string> names = builtinMachineNames();
-  ASSERT_EQ(names, (std::vector<std::string>{"cartesian3", "rotary4", "table5", "robot6-ur5"}));
+  ASSERT_EQ(names, (std::vector<std::string>{"cartesian3", "rotary4", "table5", "robot6-ur5",
+                                                          "robot6-ur5-rated"}));
   for (const std::string& n : names) {
     const MachineProfileResult r = builtinMachine(n, kBed, 0.6);
     ASSERT_TRUE(r.ok()) << r.message;
     EXPECT_EQ(r.machine.name, n);
     EXPECT_EQ(r.machine.nozzle.diameter, 0.6);
     EXPECT_EQ(machineAxisCount(r.machine.kind), int(machineAxisNames(r.machine.kind).size()));
-    EXPECT_EQ(machineAxisLetters(r.machine.kind).size(), n == "robot6-ur5" ? 0u : machineAxisNames(r.machine.kind).size());
+    EXPECT_EQ(machineAxisLetters(r.machine.kind).size(), r.machine.kind == MachineKind::Robot6 ? 0u : machineAxisNames(r.machine.kind).size());
   }
   const MachineProfile c = builtinMachine("cartesian3", kBed, 0.4).machine;
   EXPECT_EQ(c.axisLimits.at("X"), std::make_pair(-110.0, 110.0));
@@ -99,6 +100,19 @@ TEST(MachineProfile, BuiltinNamesAndValues) {
     EXPECT_DOUBLE_EQ(ur.jointDynamics[i].jerk, kPi);
   }
   EXPECT_DOUBLE_EQ(ur.nozzleAxis.norm(), 1.0);
+  // The rated arm: the same kinematics, the datasheet's 180 deg/s, 5 rad/s^2, no jerk limit.
+  const MachineProfile rated = builtinMachine("robot6-ur5-rated", kBed, 1.0).machine;
+  for (int i = 0; i < 6; ++i) {
+    EXPECT_EQ(rated.dh[i].d, ur.dh[i].d);
+    EXPECT_EQ(rated.dh[i].a, ur.dh[i].a);
+    EXPECT_EQ(rated.dh[i].alpha, ur.dh[i].alpha);
+    EXPECT_EQ(rated.jointLimits[i], ur.jointLimits[i]);
+    EXPECT_DOUBLE_EQ(rated.jointDynamics[i].velocity, kPi);
+    EXPECT_DOUBLE_EQ(rated.jointDynamics[i].acceleration, 5);
+    EXPECT_EQ(rated.jointDynamics[i].jerk, 0);
+  }
+  EXPECT_EQ(rated.nozzleTip, ur.nozzleTip);
+  EXPECT_EQ(rated.flangeToPlatform, ur.flangeToPlatform);
 
   const MachineProfileResult bad = builtinMachine("delta", kBed, 0.4);
   EXPECT_EQ(bad.status, Status::InvalidOption);
@@ -314,7 +328,7 @@ TEST(MachineProfile, FuzzedJsonNeverCrashes) {
     }
   }
   EXPECT_GT(rejected, 300);
-  EXPECT_EQ(parsed + rejected, 600);
+  EXPECT_EQ(parsed + rejected, 150 * static_cast<int>(builtinMachineNames().size()));
 }
 
 }  // namespace

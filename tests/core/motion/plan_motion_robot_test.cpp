@@ -148,6 +148,28 @@ TEST(PlanMotionRobot, TiltedHelixNearExact) {
   compareWithGreedyAndExact(test::helixToolpath(35, 5, 0.5, 3, 1.0, 35), "tilted helix", ratio);
 }
 
+// The rated arm (robot6-ur5-rated) follows the same poses as paper 003's limits (dynamics do not
+// enter the pose choice) and keeps its own, faster, joint limits: velocity pi rad/s and 5 rad/s^2
+// (no jerk limit), so the same path takes less time.
+TEST(PlanMotionRobot, RatedArmSamePosesLessTime) {
+  const Toolpath tp = test::helixToolpath(35, 5, 0.5, 3, 1.0, 35);
+  const MachinePath paper = planMachineMotion(tp, ur5(), {});
+  const MachineProfileResult rr = builtinMachine("robot6-ur5-rated", {200, 200, 200}, 0.4);
+  ASSERT_TRUE(rr.ok()) << rr.message;
+  const MachinePath rated = planMachineMotion(tp, rr.machine, {});
+  ASSERT_TRUE(paper.ok() && rated.ok()) << paper.message << rated.message;
+  ASSERT_EQ(paper.moves.size(), rated.moves.size());
+  for (size_t k = 0; k < paper.moves.size(); ++k) {
+    for (int i = 0; i < 6; ++i) ASSERT_EQ(paper.moves[k].values[i], rated.moves[k].values[i]) << k;
+  }
+  const auto r = test::recomputeFeedRatios(rated, 6, rated.machine.jointDynamics);
+  EXPECT_LE(r[0], 1 + 1e-6);
+  EXPECT_LE(r[1], 1 + 1e-4);
+  std::printf("[ robot6 ] helix: %.1f s at paper 003's joint limits, %.1f s rated\n",
+              paper.stats.estimatedTimeS, rated.stats.estimatedTimeS);
+  EXPECT_LT(rated.stats.estimatedTimeS, 0.8 * paper.stats.estimatedTimeS);
+}
+
 // Penalties in play: a singularity threshold above the measure of most poses of the path (w is
 // about 0.085-0.1 there) makes every pose pay a penalty that varies along the tracks.
 TEST(PlanMotionRobot, PenaltiesNearExact) {
