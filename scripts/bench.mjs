@@ -124,6 +124,7 @@ function wasmRun(mode, bytes, name, settings, label) {
   }
   const wall = performance.now() - t0;
   const timings = mode === 'slice' ? r.report.timings_ms : r.info.timings_ms;
+  if (mode === 'info' && r.info.repair) repairCounts[label] = r.info.repair;
   return withTotals(timings, wall);
 }
 
@@ -139,9 +140,13 @@ function best(run, reps = REPS) {
 }
 
 const models = generateBenchModels(path.join(ROOT, 'build/bench'));
+// Issue 26: read + validate + repair (repair = auto) of a 1M-triangle sphere with 1,000 holes.
+const REPAIR_1M = 'sphere-1m 1000 holes read+repair';
+const repairCounts = {};
 const cases = [
   { case: 'torus-100k slice 0.2mm', mode: 'slice', file: models['torus-100k.stl'], settings: { layer_height: 0.2 } },
   { case: 'sphere-1m read+validate', mode: 'info', file: models['sphere-1m.stl'], settings: {} },
+  { case: REPAIR_1M, mode: 'info', file: models['sphere-1m-holes.stl'], settings: {} },
 ];
 if (process.env.BENCH_SLICE_1M === '1') {
   cases.push({ case: 'sphere-1m slice 0.2mm', mode: 'slice', file: models['sphere-1m.stl'], settings: { layer_height: 0.2 } });
@@ -335,6 +340,13 @@ const rv = ['read', 'validate'].map((s) => get('sphere-1m read+validate', s));
 if (rv.every(Boolean)) {
   const ms = rv[0].native_ms + rv[1].native_ms;
   checks.push(['1M-triangle binary STL read+validate native <= 1000 ms', round(ms), ms <= 1000]);
+}
+const rr = ['read', 'validate'].map((s) => get(REPAIR_1M, s));
+if (rr.every(Boolean) && repairCounts[REPAIR_1M]) {
+  const ms = rr[0].wasm_ms + rr[1].wasm_ms;
+  const r = repairCounts[REPAIR_1M];
+  checks.push([`1M-triangle mesh with ${r.holes_filled} holes filled (largest ${round(r.largest_hole_mm)} mm), read+validate+repair in wasm <= 3000 ms`,
+    round(ms), ms <= 3000]);
 }
 const planarWall = get('torus-100k slice 0.2mm', 'wall');
 if (planarWall) checks.push(['100k-triangle slice at 0.2 mm in wasm (wall, marshalling included) <= 2000 ms', planarWall.wasm_ms, planarWall.wasm_ms <= 2000]);

@@ -1,7 +1,9 @@
 #!/usr/bin/env node
 // SPDX-License-Identifier: MIT
 // Benchmark meshes (binary STL, generated, cached): build/bench/torus-100k.stl (100,000 triangles,
-// genus 1, 80 x 80 x 20 mm) and build/bench/sphere-1m.stl (1,000,000 triangles, 100 mm).
+// genus 1, 80 x 80 x 20 mm), build/bench/sphere-1m.stl (1,000,000 triangles, 100 mm) and
+// build/bench/sphere-1m-holes.stl: the same sphere with 1,000 holes (two neighbouring quads, four
+// triangles, every 994 triangles: apart from each other, a six-point loop each) for the repair.
 // Usage: node scripts/gen-bench-models.mjs [OUT_DIR=build/bench]
 import fs from 'node:fs';
 import path from 'node:path';
@@ -13,7 +15,27 @@ const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 export const BENCH_MODELS = [
   { name: 'torus-100k.stl', triangles: 100000, make: () => torusStl(30, 10, 400, 125) },
   { name: 'sphere-1m.stl', triangles: 1000000, make: () => sphereStl(50, 1000, 501) },
+  { name: 'sphere-1m-holes.stl', triangles: 996000, make: () => withHoles(sphereStl(50, 1000, 501), 1000, 994, 4) },
 ];
+
+/** Binary STL bytes without `size` triangles at 500 + k * every, k < holes (an aligned quad pair). */
+function withHoles(stl, holes, every, size) {
+  const src = new Uint8Array(stl);
+  const n = new DataView(src.buffer, src.byteOffset).getUint32(80, true);
+  const drop = new Uint8Array(n);
+  for (let k = 0; k < holes; ++k) drop.fill(1, 500 + k * every, 500 + k * every + size);
+  const kept = n - holes * size;
+  const out = new Uint8Array(84 + 50 * kept);
+  out.set(src.subarray(0, 80));
+  new DataView(out.buffer).setUint32(80, kept, true);
+  let at = 84;
+  for (let t = 0; t < n; ++t) {
+    if (drop[t]) continue;
+    out.set(src.subarray(84 + 50 * t, 134 + 50 * t), at);
+    at += 50;
+  }
+  return out.buffer;
+}
 
 /** Write the models that are missing (or have the wrong size); returns their paths. */
 export function generateBenchModels(outDir = path.join(ROOT, 'build/bench')) {

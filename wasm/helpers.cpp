@@ -174,7 +174,7 @@ val infoJs(const val& bytes, const std::string& name, const std::string& placeme
     Outcome applied = applySettingLines(settings, placementLines);
     if (!applied.ok()) return statusObject(applied.status, applied.message);
     std::vector<uint8_t> data = bytesFromJs(bytes);
-    InfoOutput r = runInfo(data.data(), data.size(), name, settings.placement,
+    InfoOutput r = runInfo(data.data(), data.size(), name, settings,
                            progressFromJs(progress));
     val out = statusObject(r.status, r.message);
     out.set("info", r.infoJson);

@@ -222,7 +222,7 @@ int cmdInfo(int argc, char** argv) {
   Settings s;
   applyOptions(a, s);
   const std::vector<uint8_t> bytes = readFile(a.positional[0]);
-  InfoOutput out = runInfo(bytes.data(), bytes.size(), fileName(a.positional[0]), s.placement);
+  InfoOutput out = runInfo(bytes.data(), bytes.size(), fileName(a.positional[0]), s);
   check(out);
   if (a.has("--export-stl")) writeFileAtomic(a.get("--export-stl"), binaryStl(out.partMesh));
   std::cout << out.infoJson << "\n";

@@ -4,6 +4,8 @@
 // this file orders them, reports progress and words the findings.
 #include "mesh/prepare_mesh.h"
 
+#include "mesh/repair_mesh.h"
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <array>
@@ -16,6 +18,7 @@
 #include "mesh/mesh_topology.h"
 #include "mesh/openmesh_adapter.h"
 #include "mesh/orient_mesh.h"
+#include "mesh/repair_mesh.h"
 #include "mesh/weld_vertices.h"
 
 namespace omnislice {
@@ -96,24 +99,45 @@ FaceFilter dropDegenerateFaces(const Mesh& m, double areaEps2) {
 
 // Faces on the same three vertices as an earlier face. Such faces share all their edges, so only
 // the other faces on each face's first edge are compared (no hash over all faces).
-std::vector<uint32_t> duplicateFaces(const Mesh& m, const MeshEdges& edges) {
+// Faces on the same three vertices as an earlier face. With bothOfOpposite, a face running the
+// other way round from the earlier one drops that one too (an internal wall where two shells
+// touch face to face; its count goes to internalPairs).
+std::vector<uint32_t> duplicateFaces(const Mesh& m, const MeshEdges& edges, bool bothOfOpposite,
+                                     size_t& internalPairs) {
   std::vector<uint32_t> out;
+  std::vector<uint8_t> taken(bothOfOpposite ? m.faceCount() : 0, 0);
   auto sortedFace = [&](uint32_t f) {
     std::array<uint32_t, 3> s = {m.triangles[3 * f], m.triangles[3 * f + 1], m.triangles[3 * f + 2]};
     std::sort(s.begin(), s.end());
     return s;
+  };
+  // The same cyclic order (same orientation) of the three vertices.
+  auto sameWay = [&](uint32_t f, uint32_t g) {
+    const uint32_t* a = m.triangles.data() + 3 * f;
+    const uint32_t* b = m.triangles.data() + 3 * g;
+    for (int k = 0; k < 3; ++k) {
+      if (a[0] == b[k] && a[1] == b[(k + 1) % 3]) return true;
+    }
+    return false;
   };
   for (uint32_t f = 0; f < m.faceCount(); ++f) {
     const uint32_t edge = edges.edgeOfHalfedge[3 * f];
     if (edges.faceCount[edge] < 2) continue;
     const auto mine = sortedFace(f);
     for (uint32_t h = edges.firstHalfedge[edge]; h != kNoIndex && h / 3 < f; h = edges.nextHalfedge[h]) {
-      if (sortedFace(h / 3) == mine) {
-        out.push_back(f);
-        break;
+      const uint32_t g = h / 3;
+      if (sortedFace(g) != mine) continue;
+      if (bothOfOpposite && !taken[g] && !sameWay(f, g)) {
+        taken[g] = 1;
+        out.push_back(g);
+        ++internalPairs;
       }
+      out.push_back(f);
+      break;
     }
   }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
 }
 
@@ -187,7 +211,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   {
     // Weld (repair), drop degenerate faces, drop unreferenced vertices.
     Mesh welded;
-    if (options.repair) {
+    if (options.repair && options.weld) {
       WeldResult weld = weldVertices(raw, options.mergeTolerance);
       welded.positions = std::move(weld.positions);
       welded.triangles.resize(raw.triangles.size());
@@ -237,7 +261,9 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   // Topology.
   MeshEdges edges = buildEdges(mesh);
   if (options.repair) {
-    const std::vector<uint32_t> duplicates = duplicateFaces(mesh, edges);
+    size_t internalPairs = 0;
+    const std::vector<uint32_t> duplicates =
+        duplicateFaces(mesh, edges, options.closeSolid, internalPairs);
     if (!duplicates.empty()) {
       // Rare: drop them and rebuild the edges. The first copy keeps every vertex referenced.
       std::vector<uint8_t> drop(mesh.faceCount(), 0);
@@ -250,7 +276,14 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       }
       mesh.triangles.resize(3 * kept);
       edges = buildEdges(mesh);
-      info.repairs.push_back("dropped " + plural(duplicates.size(), "duplicate face", "duplicate faces"));
+      if (duplicates.size() > 2 * internalPairs) {
+        info.repairs.push_back("dropped " + plural(duplicates.size() - 2 * internalPairs,
+                                                   "duplicate face", "duplicate faces"));
+      }
+      if (internalPairs > 0) {
+        info.repairs.push_back("dropped " + plural(internalPairs, "pair", "pairs") +
+                               " of opposite faces where shells touched face to face");
+      }
     }
   }
   if (!reportProgress(progress, kStage, 0.35)) return cancelled();
@@ -367,6 +400,36 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     result.solid.message = manifoldMessage;
   }
 
+  // repair = auto for a solid: close holes, split non-manifold spots, drop debris, then validate
+  // the result again (its own report replaces this one; the repairs of both passes are kept).
+  if (options.closeSolid && options.repair && !result.solid.ok()) {
+    SolidRepairResult fixed = repairSolid(mesh, options.solidRepair, progress);
+    if (!fixed.ok()) return cancelled();
+    PrepareOptions again = options;
+    again.closeSolid = false;
+    again.weld = false;  // the split vertices share positions with their originals
+    // The second pass reports only cancellation: "validate" already ran once.
+    const ProgressFn quiet = [&progress](const char*, double) { return reportProgress(progress, kStage, 1); };
+    PrepareMeshResult second = prepareMesh(fixed.mesh, again, quiet);
+    if (!second.ok()) return second;
+    std::vector<std::string> repairs = std::move(info.repairs);
+    repairs.insert(repairs.end(), fixed.repairs.begin(), fixed.repairs.end());
+    repairs.insert(repairs.end(), second.info.repairs.begin(), second.info.repairs.end());
+    second.info.repairs = std::move(repairs);
+    second.info.solidRepair = fixed.stats;
+    second.info.solidRepaired = true;
+    if (!second.solid.ok() && fixed.stats.sheets > 0) {
+      second.solid.message = "the surface is open and cannot bound a solid: closing its " +
+                             plural(fixed.stats.holesLeft, "hole", "holes") +
+                             " would make up more than " +
+                             std::to_string(int(std::lround(100 * options.solidRepair.maxCapAreaShare))) +
+                             " % of its area (a sheet, not a solid with holes); print an open height "
+                             "field with method surface, or close it in a modelling tool";
+      second.info.errors.insert(second.info.errors.begin(), "open_mesh: " + second.solid.message);
+    }
+    return second;
+  }
+
   // Self-intersections: a warning, the slicer unions sections with the non-zero rule.
   if (options.checkSelfIntersections) {
     if (options.selfIntersectionMaxFaces > 0 && info.faces > options.selfIntersectionMaxFaces) {
@@ -416,6 +479,20 @@ std::string meshInfoJson(const MeshInfo& info) {
   j["boundary_loops"] = info.boundaryLoops;
   j["non_manifold_edges"] = info.nonManifoldEdges;
   j["non_manifold_vertices"] = info.nonManifoldVertices;
+  if (info.solidRepaired) {
+    const SolidRepairStats& r = info.solidRepair;
+    j["repair"] = {{"holes_filled", r.holesFilled},
+                   {"holes_capped", r.holesCapped},
+                   {"holes_left", r.holesLeft},
+                   {"largest_hole_mm", number(r.largestHoleMm)},
+                   {"filled_area_mm2", number(r.filledAreaMm2)},
+                   {"filled_faces", r.filledFaces},
+                   {"edges_split", r.edgesUnpaired},
+                   {"vertices_split", r.verticesSplit},
+                   {"sheets", r.sheets},
+                   {"debris_pieces", r.debrisPieces},
+                   {"debris_faces", r.debrisFaces}};
+  }
   j["self_intersections"] = info.selfIntersections;
   j["self_intersections_capped"] = info.selfIntersectionsCapped;
   j["non_finite_vertices"] = info.nonFiniteVertices;

@@ -8,6 +8,7 @@
 #include "common/progress.h"
 #include "common/status.h"
 #include "mesh/mesh.h"
+#include "mesh/repair_mesh.h"
 
 namespace omnislice {
 
@@ -30,6 +31,8 @@ struct MeshInfo {
   double areaMm2 = 0;
   BoundingBox bbox;
   std::vector<std::string> repairs;  // e.g. "merged 1240 duplicate vertices", "dropped 3 degenerate faces"
+  bool solidRepaired = false;        // PrepareOptions::closeSolid ran repairSolid (solidRepair set)
+  SolidRepairStats solidRepair;
   std::vector<std::string> errors;   // each "code: message", e.g. "open_mesh: 147 boundary edges ..."
   std::vector<std::string> warnings; // e.g. "self_intersecting: 12 face pairs intersect (sliced as union)"
 };
@@ -42,6 +45,13 @@ struct PrepareOptions {
                                              // warning (0 = no limit): it costs ~0.9 s per 1M
                                              // faces natively, the rest of validation ~0.25 s
   double mergeTolerance = 0;        // 0 = merge bit-identical positions only; > 0 in mm
+  bool weld = true;                 // with repair: merge vertices (mergeTolerance) first
+  // The `repair = auto` setting for a method that slices a solid: when the mesh does not bound
+  // one, repairSolid() (mesh/repair_mesh.h) closes its holes, splits its non-manifold edges and
+  // vertices and drops debris, and the result is validated again. Also drops both faces of a
+  // pair on the same vertices running opposite ways (an internal wall) instead of one.
+  bool closeSolid = false;
+  SolidRepairOptions solidRepair;
 };
 
 struct PrepareMeshResult : Outcome {
@@ -71,6 +81,8 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options,
 // MeshInfo as the JSON object `omnislice info` prints (keys: vertices, faces, shells, closed,
 // manifold, oriented, volume_mm3, area_mm2, bbox {min,max}, boundary_edges, boundary_loops,
 // non_manifold_edges, non_manifold_vertices, self_intersections, self_intersections_capped,
-// non_finite_vertices, repairs, errors, warnings). Non-finite numbers are written as null.
+// non_finite_vertices, repairs, errors, warnings; with solidRepaired also repair {holes_filled,
+// holes_capped, holes_left, largest_hole_mm, filled_area_mm2, filled_faces, edges_split,
+// vertices_split, sheets, debris_pieces, debris_faces}). Non-finite numbers are written as null.
 std::string meshInfoJson(const MeshInfo& info);
 }  // namespace omnislice

@@ -63,7 +63,7 @@ struct PreparedInput : Outcome {
 
 PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& fileName,
                            const PlaceOptions& placement, const Eigen::Matrix3d& extraRotation,
-                           const ProgressFn& progress, StageClock& clock) {
+                           bool closeSolid, const ProgressFn& progress, StageClock& clock) {
   PreparedInput in;
   if (!reportProgress(progress, "read", 0)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
   ReadMeshResult read = readMesh(data, size, fileName);
@@ -73,7 +73,9 @@ PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& 
   clock.done("read");
   if (!reportProgress(progress, "read", 1)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
 
-  in.prepared = prepareMesh(read.mesh, PrepareOptions{}, progress);
+  PrepareOptions prepareOptions;
+  prepareOptions.closeSolid = closeSolid;
+  in.prepared = prepareMesh(read.mesh, prepareOptions, progress);
   if (!in.prepared.ok()) return failed<PreparedInput>(in.prepared);
   clock.done("validate");
 
@@ -95,6 +97,11 @@ PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& 
   clock.done("place");
   if (!reportProgress(progress, "place", 1)) return failed<PreparedInput>(Status::Cancelled, "cancelled");
   return in;
+}
+
+// repair = auto and a method that slices a solid: prepareMesh closes what does not bound one.
+bool closesSolid(const Settings& settings) {
+  return settings.repair == RepairMode::Auto && methodEntry(settings.method).needsSolid;
 }
 
 // The input's report: the mesh as read and validated, placed by `placement` as `placed`.
@@ -339,9 +346,16 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     // that d points up (recorded in the placement); the others print on the platform as placed.
     const Eigen::Vector3d d =
         method.slicesAlongDirection ? Eigen::Vector3d(settings.direction.normalized()) : Eigen::Vector3d::UnitZ();
-    PreparedInput in = prepareInput(data, size, fileName, settings.placement, rotationToZ(d), progress, clock);
+    PreparedInput in = prepareInput(data, size, fileName, settings.placement, rotationToZ(d),
+                                    closesSolid(settings), progress, clock);
     if (!in.ok()) return failed<SliceOutput>(in);
-    if (method.needsSolid && !in.prepared.solid.ok()) return failed<SliceOutput>(in.prepared.solid);
+    if (method.needsSolid && !in.prepared.solid.ok()) {
+      Outcome refused = in.prepared.solid;
+      if (settings.repair == RepairMode::None) {
+        refused.message += " (repair = none; repair = auto closes holes and splits non-manifold edges and vertices)";
+      }
+      return failed<SliceOutput>(refused);
+    }
     MachineProfileResult resolved = resolveMachine(settings);
     if (!resolved.ok()) return failed<SliceOutput>(resolved);
     const MachineProfile& machine = resolved.machine;
@@ -453,11 +467,12 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
   }
 }
 
-InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName, const PlaceOptions& placement,
+InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
                    const ProgressFn& progress) {
   try {
     StageClock clock;
-    PreparedInput in = prepareInput(data, size, fileName, placement, Eigen::Matrix3d::Identity(), progress, clock);
+    PreparedInput in = prepareInput(data, size, fileName, settings.placement, Eigen::Matrix3d::Identity(),
+                                    closesSolid(settings), progress, clock);
     if (!in.ok()) return failed<InfoOutput>(in);
     InfoOutput out;
     out.infoJson = inputReportJson(inputReport(in, in.placed.transform, in.placed.mesh), clock.timings);
@@ -477,7 +492,11 @@ VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, 
     if (!program.ok()) return failed<VerifyOutput>(program);
     ReadMeshResult read = readMesh(meshData, meshSize, meshName);
     if (!read.ok()) return failed<VerifyOutput>(read);
-    PrepareMeshResult prepared = prepareMesh(read.mesh, PrepareOptions{}, progress);
+    // The solid a program prints is the mesh as repair = auto closes it (repair = none refuses
+    // what auto would repair, so no program was made from such a mesh that way).
+    PrepareOptions prepareOptions;
+    prepareOptions.closeSolid = program.method != methodName(Method::Surface);
+    PrepareMeshResult prepared = prepareMesh(read.mesh, prepareOptions, progress);
     if (!prepared.ok()) return failed<VerifyOutput>(prepared);
     Mesh part;
     if (program.method == methodName(Method::Surface)) {

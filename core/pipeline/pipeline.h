@@ -38,9 +38,11 @@ struct InfoOutput : Outcome {
   Mesh partMesh;             // placed mesh
 };
 
-// Read, validate and place; status is an error only when the file cannot be read at all.
+// Read, validate (repairing as the settings' `repair` and method would: repair = auto with a
+// method that slices a solid closes a mesh that does not bound one) and place by
+// settings.placement; status is an error only when the file cannot be read at all.
 InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName,
-                   const PlaceOptions& placement, const ProgressFn& progress = {});
+                   const Settings& settings, const ProgressFn& progress = {});
 
 struct VerifyOutput : Outcome {
   std::string verifyJson;    // verifyReportJson()

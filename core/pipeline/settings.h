@@ -39,6 +39,9 @@ enum class MultidirDof { Auto, FourDof, FiveDof };
 // (off). auto: refuse for the multi-axis methods, off for the planar method (a planar print
 // without supports is what every 3-axis slicer delivers; verify it on request).
 enum class VerifyMode { Auto, Refuse, Warn, Off };
+// `repair`: auto = close a mesh that does not bound a solid (mesh/repair_mesh.h) for the methods
+// that slice one; none = refuse it (open_mesh, non_manifold).
+enum class RepairMode { Auto, None };
 
 // The voxel method (paper 001): voxelisation, growing field, curved layers, Fermat spirals.
 struct VoxelSettings {
@@ -197,6 +200,7 @@ struct Settings {
   // layer normal) to keep the rotary axes still (motion/axis_freedom.h); 0 = the ideal axes.
   double axisFreedomDegrees = 15;
   double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
+  RepairMode repair = RepairMode::Auto;
   VerifyMode verify = VerifyMode::Auto;  // auto | refuse | warn | off (pipeline/soundness.h)
   // Programs made at most: when the check finds one unsound, again with the remedies the slicer
   // applies itself (soundness.h automaticRemedies), the first sound one delivered; 1 = only the

@@ -497,6 +497,14 @@ std::vector<SettingSpec> makeTable() {
       onlyWith(Method::Geodesic, boolean("geodesic.remesh", [](S& s) -> bool& { return s.geodesic.remesh; },
                                          "isotropic remeshing and smoothing of the layers")),
       machineJsonSpec(),
+      // Not listed: a program from a repaired mesh can only have been made with repair = auto
+      // (none refuses the mesh), and the report lists the repairs.
+      unlisted(choice<RepairMode>("repair", [](S& s) -> RepairMode& { return s.repair; },
+                                  {{"auto", RepairMode::Auto}, {"none", RepairMode::None}},
+                                  "a repair mode",
+                                  "auto: close holes, split non-manifold edges and vertices, drop debris "
+                                  "when the mesh does not bound a solid (methods that slice one); none: "
+                                  "refuse such a mesh")),
       // Not listed: it decides whether the program is delivered, not what it holds.
       unlisted(choice<VerifyMode>("verify", [](S& s) -> VerifyMode& { return s.verify; },
                                   {{"auto", VerifyMode::Auto}, {"refuse", VerifyMode::Refuse},

@@ -279,14 +279,23 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     expectCode(() => m.slice(stl, 'nan.stl'), 'non_finite_vertex');
   });
 
-  test('open mesh -> open_mesh (info still describes it)', () => {
+  test('open mesh: repair = auto closes it (report and info say so); repair = none -> open_mesh', () => {
     const box = new Uint8Array(boxStl(10, 10, 10));
     const open = new Uint8Array(box.subarray(0, 84 + 50 * 11));
     new DataView(open.buffer).setUint32(80, 11, true);
-    expectCode(() => m.slice(open, 'open.stl'), 'open_mesh');
+    expectCode(() => m.slice(open, 'open.stl', { repair: 'none' }), 'open_mesh');
+    const none = m.info(open, 'open.stl', { repair: 'none' }).info;
+    assert.equal(none.closed, false);
+    assert.ok(none.boundary_edges >= 3, `boundary edges ${none.boundary_edges}`);
     const { info } = m.info(open, 'open.stl');
-    assert.equal(info.closed, false);
-    assert.ok(info.boundary_edges >= 3, `boundary edges ${info.boundary_edges}`);
+    assert.equal(info.closed, true);
+    assert.equal(info.repair.holes_filled, 1);
+    assert.ok(Math.abs(info.volume_mm3 - 1000) < 1e-6, `volume ${info.volume_mm3}`);
+    const sliced = m.slice(open, 'open.stl');
+    assert.equal(sliced.report.mesh.repair.holes_filled, 1);
+    assert.ok(sliced.report.mesh.repairs.some((r) => r.startsWith('filled 1 hole')), sliced.report.mesh.repairs.join('; '));
+    // The same program as from the closed box: the hole was one flat triangle of a side.
+    assert.equal(sliced.program, m.slice(box, 'open.stl').program);
   });
 
   test('absurd or unknown settings -> invalid_option', () => {

@@ -195,17 +195,25 @@ TEST(Cli, BadInputNeverLeavesPartialFiles) {
 
 TEST(Cli, SharedModelsInfo) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  CliRun r = runCli("info " + (test::sharedModelsDir() / "compas_connection3legs_open_low_res.obj").string());
+  const std::string open = (test::sharedModelsDir() / "compas_connection3legs_open_low_res.obj").string();
+  CliRun r = runCli("info " + open + " --set repair=none");
   ASSERT_EQ(r.exitCode, 0) << r.err;
   const Json j = Json::parse(r.out);
   EXPECT_FALSE(j["closed"].get<bool>());
   EXPECT_EQ(j["boundary_edges"].get<int>(), 147);
   ASSERT_FALSE(j["errors"].empty());
   EXPECT_EQ(j["errors"][0].get<std::string>().rfind("open_mesh", 0), 0u);
-  // Slicing it is refused with the open-mesh code.
-  expectError(runCli("slice " + (test::sharedModelsDir() / "compas_connection3legs_open_low_res.obj").string() +
-                     " -o " + (test::tempDir() / "open.gcode").string()),
+  // Slicing it with repair = none is refused with the open-mesh code.
+  expectError(runCli("slice " + open + " --set repair=none -o " + (test::tempDir() / "open.gcode").string()),
               "open_mesh");
+  // repair = auto (the default): the shell's four open ends are closed, info says so.
+  r = runCli("info " + open);
+  ASSERT_EQ(r.exitCode, 0) << r.err;
+  const Json fixed = Json::parse(r.out);
+  EXPECT_TRUE(fixed["closed"].get<bool>());
+  EXPECT_TRUE(fixed["manifold"].get<bool>());
+  EXPECT_TRUE(fixed["errors"].empty()) << fixed["errors"].dump();
+  EXPECT_EQ(fixed["repair"]["holes_filled"].get<int>(), 4);
 }
 
 }  // namespace

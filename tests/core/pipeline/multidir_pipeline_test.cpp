@@ -358,11 +358,16 @@ TEST(MultidirPipeline, RefusesBadSetUps) {
   EXPECT_FALSE(setSetting(c, "multidir.perturbations", "many").ok());
   EXPECT_TRUE(setSetting(c, "multidir.perturbations", "0").ok());
   EXPECT_FALSE(setSetting(c, "multidir.w", "nan").ok());
-  // An open mesh is not a solid.
+  // An open mesh is not a solid: refused with repair = none, closed and printed with auto.
   Mesh open = test::makeBox(-8, -8, 0, 8, 8, 12);
   open.triangles.resize(open.triangles.size() - 3);
   const std::vector<uint8_t> bytes = test::binaryStl(open);
-  EXPECT_FALSE(runSlice(bytes.data(), bytes.size(), "open.stl", s).ok());
+  Settings none = s;
+  ASSERT_TRUE(setSetting(none, "repair", "none").ok());
+  EXPECT_EQ(runSlice(bytes.data(), bytes.size(), "open.stl", none).status, Status::OpenMesh);
+  const SliceOutput repaired = runSlice(bytes.data(), bytes.size(), "open.stl", s);
+  ASSERT_TRUE(repaired.ok()) << repaired.message;
+  EXPECT_EQ(Json::parse(repaired.reportJson)["mesh"]["repair"]["holes_filled"].get<int>(), 1);
   // A box needs no cut: one part, the planar print.
   const SliceOutput one = runSlice(box.data(), box.size(), "box.stl", s);
   ASSERT_TRUE(one.ok()) << one.message;

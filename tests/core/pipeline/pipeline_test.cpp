@@ -145,8 +145,11 @@ TEST(Pipeline, ErrorsAreStatuses) {
     box.triangles.resize(box.triangles.size() - 0);
     box.triangles.erase(box.triangles.begin() + 6, box.triangles.begin() + 12);
     const auto bytes = test::binaryStl(box);
-    SliceOutput out = sliceBytes(bytes, "open.stl", s);
+    Settings none = s;
+    ASSERT_TRUE(setSetting(none, "repair", "none").ok());
+    SliceOutput out = sliceBytes(bytes, "open.stl", none);
     EXPECT_EQ(out.status, Status::OpenMesh) << out.message;
+    EXPECT_NE(out.message.find("repair"), std::string::npos) << out.message;
   }
   {  // model larger than the bed
     const auto bytes = test::binaryStl(test::makeBox(0, 0, 0, 500, 10, 10));

@@ -1,0 +1,409 @@
+// SPDX-License-Identifier: MIT
+#include "mesh/repair_mesh.h"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+#include "cgal/hole_triangulation.h"
+#include "mesh/mesh_topology.h"
+#include "mesh/orient_mesh.h"
+
+namespace omnislice {
+namespace {
+
+constexpr const char* kStage = "repair";
+constexpr double kTwoPi = 6.283185307179586;
+
+struct UnionFind {
+  std::vector<uint32_t> parent;
+  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
+  uint32_t find(uint32_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(uint32_t a, uint32_t b) {
+    a = find(a), b = find(b);
+    if (a != b) parent[std::max(a, b)] = std::min(a, b);
+  }
+};
+
+std::string plural(size_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+std::string mm(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, v < 10 ? "%.2f" : "%.1f", v);
+  return buf;
+}
+
+// Corner of face f at vertex v (f has v).
+uint32_t cornerAt(const Mesh& m, uint32_t f, uint32_t v) {
+  for (uint32_t k = 0; k < 3; ++k) {
+    if (m.triangles[3 * f + k] == v) return 3 * f + k;
+  }
+  return 3 * f;
+}
+
+// Pairs of half-edges (faces) that are neighbours across their edge: the two of a manifold edge,
+// and, at an edge of more than two faces, faces sorted by angle about the edge and paired with an
+// angular neighbour that runs the edge the other way, choosing the pairing whose wedges hold
+// material (the normals of both faces point out of the wedge).
+std::vector<std::pair<uint32_t, uint32_t>> pairHalfedges(const Mesh& m, const MeshEdges& edges,
+                                                         size_t& unpairedEdges) {
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  pairs.reserve(m.faceCount() * 3 / 2);
+  std::vector<uint32_t> hs;
+  struct Around {
+    uint32_t h;
+    double angle;
+    bool forward;  // runs the edge from its lower vertex to its higher one
+    Eigen::Vector3d normal;
+  };
+  std::vector<Around> around;
+  for (size_t e = 0; e < edges.edgeCount(); ++e) {
+    hs.clear();
+    for (uint32_t h = edges.firstHalfedge[e]; h != kNoIndex; h = edges.nextHalfedge[h]) hs.push_back(h);
+    if (hs.size() == 2) {
+      pairs.emplace_back(hs[0], hs[1]);
+      continue;
+    }
+    if (hs.size() < 2) continue;
+    ++unpairedEdges;
+    const uint32_t p = static_cast<uint32_t>(edges.keys[e] >> 32);
+    const uint32_t q = static_cast<uint32_t>(edges.keys[e] & 0xFFFFFFFFu);
+    const Eigen::Vector3d P = m.vertex(p);
+    const Eigen::Vector3d d = (m.vertex(q) - P).normalized();
+    const Eigen::Vector3d e1 = d.unitOrthogonal();
+    const Eigen::Vector3d e2 = d.cross(e1);
+    around.clear();
+    for (uint32_t h : hs) {
+      const uint32_t f = h / 3;
+      const uint32_t* t = m.triangles.data() + 3 * f;
+      uint32_t w = t[0];
+      for (int k = 0; k < 3; ++k) {
+        if (t[k] != p && t[k] != q) w = t[k];
+      }
+      const Eigen::Vector3d r = m.vertex(w) - P;
+      const Eigen::Vector3d n = (m.vertex(t[1]) - m.vertex(t[0])).cross(m.vertex(t[2]) - m.vertex(t[0]));
+      around.push_back({h, std::atan2(r.dot(e2), r.dot(e1)), m.triangles[h] == p, n});
+    }
+    std::sort(around.begin(), around.end(), [](const Around& a, const Around& b) { return a.angle < b.angle; });
+    const size_t k = around.size();
+    // Score of the pairing that starts at offset o: pairs (o + 2i, o + 2i + 1) around the edge.
+    auto score = [&](size_t o) {
+      int s = 0;
+      for (size_t i = 0; i + 1 < k; i += 2) {
+        const Around& a = around[(o + i) % k];
+        const Around& b = around[(o + i + 1) % k];
+        if (a.forward == b.forward) continue;
+        double span = b.angle - a.angle;
+        if (span < 0) span += kTwoPi;
+        const double mid = a.angle + span / 2;
+        const Eigen::Vector3d w = std::cos(mid) * e1 + std::sin(mid) * e2;
+        s += 1 + (a.normal.dot(w) < 0 && b.normal.dot(w) < 0 ? 1 : 0);
+      }
+      return s;
+    };
+    const size_t o = score(1) > score(0) ? 1 : 0;
+    for (size_t i = 0; i + 1 < k; i += 2) {
+      pairs.emplace_back(around[(o + i) % k].h, around[(o + i + 1) % k].h);
+    }
+  }
+  return pairs;
+}
+
+// Step 1: one vertex per fan of faces linked through paired half-edges.
+Mesh splitFans(const Mesh& m, SolidRepairStats& stats) {
+  const MeshEdges edges = buildEdges(m);
+  const auto pairs = pairHalfedges(m, edges, stats.edgesUnpaired);
+  UnionFind uf(m.triangles.size());
+  for (const auto& [h1, h2] : pairs) {
+    const uint32_t f1 = h1 / 3, f2 = h2 / 3;
+    const uint32_t a = m.triangles[h1], b = m.triangles[3 * f1 + (h1 % 3 + 1) % 3];
+    uf.unite(cornerAt(m, f1, a), cornerAt(m, f2, a));
+    uf.unite(cornerAt(m, f1, b), cornerAt(m, f2, b));
+  }
+  Mesh out;
+  out.positions = m.positions;
+  out.triangles.resize(m.triangles.size());
+  std::vector<uint32_t> vertexOfRoot(m.triangles.size(), kNoIndex);
+  std::vector<uint8_t> used(m.vertexCount(), 0);
+  for (uint32_t c = 0; c < m.triangles.size(); ++c) {
+    const uint32_t root = uf.find(c);
+    if (vertexOfRoot[root] == kNoIndex) {
+      const uint32_t v = m.triangles[c];
+      if (!used[v]) {
+        used[v] = 1;
+        vertexOfRoot[root] = v;
+      } else {
+        vertexOfRoot[root] = static_cast<uint32_t>(out.vertexCount());
+        for (int k = 0; k < 3; ++k) out.positions.push_back(m.positions[3 * v + k]);
+        ++stats.verticesSplit;
+      }
+    }
+    out.triangles[c] = vertexOfRoot[root];
+  }
+  return out;
+}
+
+double triangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  return 0.5 * (b - a).cross(c - a).norm();
+}
+
+}  // namespace
+
+SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& options,
+                              const ProgressFn& progress) {
+  SolidRepairResult result;
+  SolidRepairStats& stats = result.stats;
+  auto cancelled = [&]() {
+    SolidRepairResult r;
+    r.status = Status::Cancelled;
+    r.message = "cancelled";
+    return r;
+  };
+  if (!reportProgress(progress, kStage, 0)) return cancelled();
+
+  // (1) Non-manifold edges and vertices.
+  Mesh mesh = splitFans(input, stats);
+  if (!reportProgress(progress, kStage, 0.3)) return cancelled();
+
+  // (2) Consistent orientation per piece.
+  MeshEdges edges = buildEdges(mesh);
+  {
+    OrientOptions oo;
+    oo.outward = false;
+    const OrientResult orient = orientMesh(mesh, edges, oo);
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+      if (orient.flip[f]) std::swap(mesh.triangles[3 * f + 1], mesh.triangles[3 * f + 2]);
+    }
+    edges = buildEdges(mesh);
+  }
+  // Faces hanging into a hole by one edge (two or three boundary edges), as cutting or a scanner
+  // leaves on a hole's rim: a triangulation of the hole would run over them again. Dropped, again
+  // until none is left, unless that would take more than maxPrunedShare of the faces.
+  {
+    Mesh pruned = mesh;
+    size_t dropped = 0;
+    for (int pass = 0; pass < 16; ++pass) {
+      const MeshEdges pe = buildEdges(pruned);
+      size_t kept = 0;
+      for (size_t f = 0; f < pruned.faceCount(); ++f) {
+        int open = 0;
+        for (int k = 0; k < 3; ++k) open += pe.faceCount[pe.edgeOfHalfedge[3 * f + k]] == 1;
+        if (open >= 2) continue;
+        for (int k = 0; k < 3; ++k) pruned.triangles[3 * kept + k] = pruned.triangles[3 * f + k];
+        ++kept;
+      }
+      if (kept == pruned.faceCount()) break;
+      dropped += pruned.faceCount() - kept;
+      pruned.triangles.resize(3 * kept);
+    }
+    if (dropped > 0 && dropped <= options.maxPrunedShare * double(mesh.faceCount())) {
+      mesh = std::move(pruned);
+      edges = buildEdges(mesh);
+      stats.facesPruned = dropped;
+    }
+  }
+  if (!reportProgress(progress, kStage, 0.4)) return cancelled();
+
+  // (3) Holes: boundary loops, followed along the hole (opposite to their faces' half-edges).
+  const FaceComponents pieces = edgeComponents(mesh, edges);
+  std::vector<double> pieceArea(pieces.count, 0), capArea(pieces.count, 0);
+  for (uint32_t f = 0; f < mesh.faceCount(); ++f) {
+    const uint32_t* t = mesh.triangles.data() + 3 * f;
+    pieceArea[pieces.label[f]] += triangleArea(mesh.vertex(t[0]), mesh.vertex(t[1]), mesh.vertex(t[2]));
+  }
+  std::vector<uint32_t> holeNext(mesh.vertexCount(), kNoIndex);
+  std::vector<uint32_t> holePiece(mesh.vertexCount(), kNoIndex);
+  std::vector<uint32_t> starts;
+  for (size_t e = 0; e < edges.edgeCount(); ++e) {
+    if (edges.faceCount[e] != 1) continue;
+    const uint32_t h = edges.firstHalfedge[e];
+    const uint32_t a = mesh.triangles[h], b = mesh.triangles[3 * (h / 3) + (h % 3 + 1) % 3];
+    if (holeNext[b] == kNoIndex) {
+      holeNext[b] = a;
+      holePiece[b] = pieces.label[h / 3];
+      starts.push_back(b);
+    }
+  }
+  struct Loop {
+    std::vector<uint32_t> vertices;
+    uint32_t piece;
+    std::vector<std::array<uint32_t, 3>> triangles;  // indices into vertices; centroid = size()
+    bool fan = false;
+    double area = 0;
+  };
+  std::vector<Loop> loops;
+  std::vector<uint8_t> visited(mesh.vertexCount(), 0);
+  std::sort(starts.begin(), starts.end());
+  for (uint32_t s : starts) {
+    if (visited[s]) continue;
+    Loop loop;
+    loop.piece = holePiece[s];
+    uint32_t v = s;
+    while (v != kNoIndex && !visited[v]) {
+      visited[v] = 1;
+      loop.vertices.push_back(v);
+      v = holeNext[v];
+    }
+    if (v != s || loop.vertices.size() < 3) continue;  // not closed: left for prepareMesh to report
+    loops.push_back(std::move(loop));
+  }
+  for (size_t i = 0; i < loops.size(); ++i) {
+    Loop& loop = loops[i];
+    std::vector<Eigen::Vector3d> points;
+    points.reserve(loop.vertices.size());
+    for (uint32_t v : loop.vertices) points.push_back(mesh.vertex(v));
+    if (points.size() <= options.maxTriangulatedLoop) loop.triangles = triangulateHoleLoop(points);
+    // A chord of the triangulation that is already an edge of the mesh would make it
+    // non-manifold: cap from the centroid instead (its new edges all end at the new vertex).
+    for (const auto& t : loop.triangles) {
+      bool clash = false;
+      for (int k = 0; k < 3 && !clash; ++k) {
+        const uint32_t i = t[k], j = t[(k + 1) % 3];
+        const uint32_t gap = j > i ? j - i : i - j;
+        if (gap == 1 || gap + 1 == points.size()) continue;  // a side of the loop
+        const uint32_t a = loop.vertices[i], b = loop.vertices[j];
+        const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+        clash = std::binary_search(edges.keys.begin(), edges.keys.end(), key);
+      }
+      if (clash) {
+        loop.triangles.clear();
+        break;
+      }
+    }
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& p : points) centroid += p;
+    centroid /= static_cast<double>(points.size());
+    if (loop.triangles.empty()) {
+      loop.fan = true;
+      const uint32_t n = static_cast<uint32_t>(points.size());
+      for (uint32_t k = 0; k < n; ++k) loop.triangles.push_back({k, (k + 1) % n, n});
+    }
+    for (const auto& t : loop.triangles) {
+      auto at = [&](uint32_t k) { return k < points.size() ? points[k] : centroid; };
+      loop.area += triangleArea(at(t[0]), at(t[1]), at(t[2]));
+    }
+    capArea[loop.piece] += loop.area;
+    if (!reportProgress(progress, kStage, 0.4 + 0.4 * double(i + 1) / double(loops.size()))) {
+      return cancelled();
+    }
+  }
+  std::vector<uint8_t> sheet(pieces.count, 0);
+  for (size_t p = 0; p < pieces.count; ++p) {
+    if (capArea[p] > options.maxCapAreaShare * (capArea[p] + pieceArea[p])) {
+      sheet[p] = 1;
+      ++stats.sheets;
+    }
+  }
+  std::vector<uint32_t> faceLabel = pieces.label;
+  for (const Loop& loop : loops) {
+    if (sheet[loop.piece]) {
+      ++stats.holesLeft;
+      continue;
+    }
+    ++stats.holesFilled;
+    if (loop.fan) ++stats.holesCapped;
+    Eigen::Vector3d lo = mesh.vertex(loop.vertices[0]), hi = lo;
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+    for (uint32_t v : loop.vertices) {
+      lo = lo.cwiseMin(mesh.vertex(v)), hi = hi.cwiseMax(mesh.vertex(v));
+      centroid += mesh.vertex(v);
+    }
+    stats.largestHoleMm = std::max(stats.largestHoleMm, (hi - lo).norm());
+    uint32_t centre = kNoIndex;
+    if (loop.fan) {
+      centroid /= static_cast<double>(loop.vertices.size());
+      centre = static_cast<uint32_t>(mesh.vertexCount());
+      for (int k = 0; k < 3; ++k) mesh.positions.push_back(centroid[k]);
+    }
+    for (const auto& t : loop.triangles) {
+      for (int k = 0; k < 3; ++k) {
+        mesh.triangles.push_back(t[k] < loop.vertices.size() ? loop.vertices[t[k]] : centre);
+      }
+      faceLabel.push_back(loop.piece);
+      ++stats.filledFaces;
+    }
+    stats.filledAreaMm2 += loop.area;
+  }
+  if (!reportProgress(progress, kStage, 0.85)) return cancelled();
+
+  // (4) Debris: small closed pieces (volume by the divergence theorem about the model's centre).
+  {
+    const BoundingBox box = boundingBox(mesh);
+    const Eigen::Vector3d centre = 0.5 * (box.min + box.max);
+    const double diagonal = (box.max - box.min).norm();
+    std::vector<double> volume(pieces.count, 0);
+    std::vector<Eigen::Vector3d> lo(pieces.count, Eigen::Vector3d::Constant(1e300));
+    std::vector<Eigen::Vector3d> hi(pieces.count, Eigen::Vector3d::Constant(-1e300));
+    for (uint32_t f = 0; f < mesh.faceCount(); ++f) {
+      const uint32_t* t = mesh.triangles.data() + 3 * f;
+      const uint32_t p = faceLabel[f];
+      const Eigen::Vector3d a = mesh.vertex(t[0]), b = mesh.vertex(t[1]), c = mesh.vertex(t[2]);
+      volume[p] += (a - centre).dot((b - centre).cross(c - centre)) / 6;
+      lo[p] = lo[p].cwiseMin(a).cwiseMin(b).cwiseMin(c);
+      hi[p] = hi[p].cwiseMax(a).cwiseMax(b).cwiseMax(c);
+    }
+    double largest = 0;
+    for (size_t p = 0; p < pieces.count; ++p) {
+      if (!sheet[p]) largest = std::max(largest, std::abs(volume[p]));
+    }
+    std::vector<uint8_t> drop(pieces.count, 0);
+    for (size_t p = 0; p < pieces.count; ++p) {
+      if (pieces.count > 1 && (sheet[p] || std::abs(volume[p]) < options.debrisVolumeShare * largest) &&
+          (hi[p] - lo[p]).norm() < options.debrisSizeShare * diagonal) {
+        drop[p] = 1;
+        ++stats.debrisPieces;
+        if (sheet[p]) {  // a small open piece: debris, not a sheet to refuse
+          --stats.sheets;
+          for (const Loop& loop : loops) stats.holesLeft -= loop.piece == p;
+        }
+      }
+    }
+    if (stats.debrisPieces > 0) {
+      size_t kept = 0;
+      for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        if (drop[faceLabel[f]]) {
+          ++stats.debrisFaces;
+          continue;
+        }
+        for (int k = 0; k < 3; ++k) mesh.triangles[3 * kept + k] = mesh.triangles[3 * f + k];
+        ++kept;
+      }
+      mesh.triangles.resize(3 * kept);
+    }
+  }
+
+  if (stats.edgesUnpaired > 0) {
+    result.repairs.push_back("split " + plural(stats.edgesUnpaired, "edge", "edges") +
+                             " shared by more than two faces into pairs of faces");
+  }
+  if (stats.verticesSplit > 0) {
+    result.repairs.push_back("split " + plural(stats.verticesSplit, "vertex", "vertices") +
+                             " where separate sheets of faces touched");
+  }
+  if (stats.facesPruned > 0) {
+    result.repairs.push_back("dropped " + plural(stats.facesPruned, "face", "faces") +
+                             " hanging into holes by one edge");
+  }
+  if (stats.holesFilled > 0) {
+    std::string s = "filled " + plural(stats.holesFilled, "hole", "holes") + " with " +
+                    plural(stats.filledFaces, "face", "faces") + " (" + mm(stats.filledAreaMm2) +
+                    " mm2; largest " + mm(stats.largestHoleMm) + " mm across";
+    if (stats.holesCapped > 0) s += "; " + std::to_string(stats.holesCapped) + " capped from their centre";
+    result.repairs.push_back(s + ")");
+  }
+  if (stats.debrisPieces > 0) {
+    result.repairs.push_back("dropped " + plural(stats.debrisPieces, "tiny piece", "tiny pieces") + " (" +
+                             plural(stats.debrisFaces, "face", "faces") + ")");
+  }
+  result.mesh = std::move(mesh);
+  if (!reportProgress(progress, kStage, 1)) return cancelled();
+  return result;
+}
+
+}  // namespace omnislice

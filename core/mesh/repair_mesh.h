@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: MIT
+// Repair of a mesh that does not bound a solid (holes, non-manifold edges and vertices, debris)
+// into a closed manifold one: the `repair = auto` step of prepareMesh (mesh/prepare_mesh.h).
+#pragma once
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/progress.h"
+#include "common/status.h"
+#include "mesh/mesh.h"
+
+namespace omnislice {
+
+struct SolidRepairOptions {
+  // Loops of more points are capped by a fan from their centroid instead of the dihedral-angle
+  // triangulation (its cost grows with n^2-n^3).
+  size_t maxTriangulatedLoop = 400;
+  // An edge-connected piece whose hole caps would make more than this share of its area is a sheet
+  // (an open surface), not a solid with holes: its holes are left open (and the solid refused).
+  double maxCapAreaShare = 0.4;
+  // Debris: a closed piece of less than this share of the largest piece's volume and whose box
+  // diagonal is below debrisSizeShare of the model's is dropped.
+  double debrisVolumeShare = 1e-4;
+  double debrisSizeShare = 0.05;
+  // Faces hanging into holes (two boundary edges) are dropped, again until none is left, unless
+  // that takes more than this share of the faces (a ribbon one face wide would vanish).
+  double maxPrunedShare = 0.5;
+};
+
+struct SolidRepairStats {
+  size_t edgesUnpaired = 0;       // edges of more than two faces split into pairs of faces
+  size_t verticesSplit = 0;       // vertex copies made so every vertex is one fan
+  size_t facesPruned = 0;         // faces hanging into holes by one edge, dropped
+  size_t holesFilled = 0;         // boundary loops closed (triangulated or capped)
+  size_t holesCapped = 0;         // of those, loops too long to triangulate: a fan from the centroid
+  size_t holesLeft = 0;           // loops of sheets, left open
+  size_t sheets = 0;              // pieces judged sheets (see maxCapAreaShare)
+  double largestHoleMm = 0;       // largest box diagonal of a filled loop
+  double filledAreaMm2 = 0;       // area of the triangles added
+  size_t filledFaces = 0;
+  size_t debrisPieces = 0;        // pieces dropped as debris
+  size_t debrisFaces = 0;
+};
+
+struct SolidRepairResult : Outcome {
+  Mesh mesh;
+  SolidRepairStats stats;
+  std::vector<std::string> repairs;   // one line per kind of repair done, with counts and sizes
+};
+
+// Repair `mesh` (welded, without degenerate or duplicate faces: prepareMesh's first repairs) toward
+// a closed manifold. Steps: (1) at an edge of more than two faces, the faces are sorted by angle
+// about the edge and paired with a neighbour running the edge the other way so that each pair
+// encloses material; then every vertex is split into one copy per fan of faces linked through
+// manifold or paired edges (non-manifold edges and vertices gone); (2) faces are oriented
+// consistently per piece, and faces hanging into a hole by one edge dropped; (3) each boundary
+// loop is triangulated (cgal/hole_triangulation.h) or, when longer than maxTriangulatedLoop or
+// when the triangulation would reuse an edge of the mesh, capped by a fan from its centroid, unless
+// its piece is a sheet; (4) small pieces (closed and tiny in volume, or sheets) are dropped. Only Cancelled is an error: what cannot be
+// repaired stays, for prepareMesh to refuse. Progress stage "repair".
+SolidRepairResult repairSolid(const Mesh& mesh, const SolidRepairOptions& options = {},
+                              const ProgressFn& progress = {});
+
+}  // namespace omnislice
