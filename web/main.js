@@ -206,7 +206,7 @@ async function showPlacedModel(name, info, mesh, frame) {
   clearReport();
   await setPreview(null);
   if (app.viewer) {
-    app.viewer.setModel(mesh);
+    app.viewer.setModel(mesh, { filledFrom: info && info.repair ? info.repair.first_filled_face : undefined });
     if (frame) app.viewer.frame();
   }
 }

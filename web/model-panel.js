@@ -22,7 +22,8 @@ export function showInfo(name, info) {
   const size = bboxSize(info && (info.placed_bbox || info.bbox));
   $('info-size').textContent = size ? size.map((x) => x.toFixed(1)).join(' × ') : '—';
   const repairs = describeList(info && info.repairs);
-  $('info-repairs').textContent = repairs.length ? repairs.join(', ') : 'none';
+  const filled = info && info.repair && info.repair.filled_faces > 0 ? ' (filled holes drawn in amber)' : '';
+  $('info-repairs').textContent = repairs.length ? repairs.join(', ') + filled : 'none';
   $('info-warnings').replaceChildren(...[['error', info && info.errors], ['warning', info && info.warnings]]
     .flatMap(([kind, list]) => describeList(list).map((text) => noteItem(kind, text))));
 }

@@ -13,6 +13,17 @@ export function installPageApi(app) {
     /** The report of the refused slice shown (error unsound_program; no program), or null. */
     get refusedReport() { return app.refused ? app.refused.report : null; },
     get info() { return app.mesh ? app.mesh.info : null; },
+    /** The model drawn: {faces, filledFaces (holes the repair closed, in their own colour), filledColor} or null. */
+    get model() {
+      const m = app.viewer && app.viewer.model;
+      if (!m) return null;
+      const index = m.geometry.index;
+      return {
+        faces: index ? index.count / 3 : m.geometry.attributes.position.count / 3,
+        filledFaces: m.userData.filledFaces || 0,
+        filledColor: Array.isArray(m.material) ? `#${m.material[1].color.getHexString()}` : null,
+      };
+    },
     get previewSegments() { return app.views.planar ? app.views.planar.segmentCount : 0; },
     get featureCounts() { return app.views.planar ? app.views.planar.featureCounts : null; },
     get drawnSegments() { return app.views.planar ? app.views.planar.drawnSegments() : [0, 0]; },

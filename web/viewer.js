@@ -94,8 +94,10 @@ export class Viewer {
   /**
    * Show the placed model.
    * @param {{positions: Float32Array, indices: Uint32Array}} mesh #V*3 part-frame positions (mm), #F*3 indices
+   * @param {{filledFrom?: number}} [options] faces from filledFrom on closed holes (the repair's
+   *   first_filled_face): drawn in their own colour
    */
-  setModel(mesh) {
+  setModel(mesh, { filledFrom } = {}) {
     this.clearModel();
     if (!mesh || !mesh.positions || mesh.positions.length === 0) return;
     const geometry = new THREE.BufferGeometry();
@@ -108,8 +110,20 @@ export class Viewer {
       color: 0x8fb3d9, roughness: 0.65, metalness: 0.05, flatShading: true,
       side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1,
     });
-    this.model = new THREE.Mesh(geometry, material);
+    const faces = mesh.indices ? mesh.indices.length / 3 : mesh.positions.length / 9;
+    let materials = material;
+    if (Number.isInteger(filledFrom) && filledFrom >= 0 && filledFrom < faces) {
+      // Two groups: the file's faces, then the faces the repair added (amber).
+      geometry.addGroup(0, 3 * filledFrom, 0);
+      geometry.addGroup(3 * filledFrom, 3 * (faces - filledFrom), 1);
+      const filled = material.clone();
+      filled.color.set(0xe0a040);
+      filled.name = 'filled-holes';
+      materials = [material, filled];
+    }
+    this.model = new THREE.Mesh(geometry, materials);
     this.model.name = 'model';
+    this.model.userData.filledFaces = materials === material ? 0 : faces - filledFrom;
     this.scene.add(this.model);
     this.applyModelLook();
     this.requestRender();
@@ -159,13 +173,14 @@ export class Viewer {
     if (this.bed) this.bed.visible = partView;
     if (this.preview) this.preview.visible = partView;
     if (!this.model) return;
-    const m = this.model.material;
     this.model.visible = this.modelVisible && partView;
     const ghost = !!this.preview;
-    m.transparent = ghost;
-    m.opacity = ghost ? 0.18 : 1;
-    m.depthWrite = !ghost;
-    m.needsUpdate = true;
+    for (const m of Array.isArray(this.model.material) ? this.model.material : [this.model.material]) {
+      m.transparent = ghost;
+      m.opacity = ghost ? 0.18 : 1;
+      m.depthWrite = !ghost;
+      m.needsUpdate = true;
+    }
   }
 
   /** Point the camera at the model's bounding box (or the bed when nothing is loaded). */

@@ -141,6 +141,33 @@ std::vector<uint32_t> duplicateFaces(const Mesh& m, const MeshEdges& edges, bool
   return out;
 }
 
+// The first face of `after` from which on every face is one of before's faces from `first` on
+// (same three positions: the second validation only drops and turns faces, never reorders);
+// after.faceCount() when the filled faces are not the trailing ones.
+size_t trailingFilledFaces(const Mesh& before, size_t first, const Mesh& after) {
+  using Key = std::array<double, 9>;
+  auto key = [](const Mesh& m, size_t f) {
+    std::array<std::array<double, 3>, 3> p;
+    for (int k = 0; k < 3; ++k) {
+      const uint32_t v = m.triangles[3 * f + k];
+      p[k] = {m.positions[3 * v], m.positions[3 * v + 1], m.positions[3 * v + 2]};
+    }
+    std::sort(p.begin(), p.end());
+    Key out;
+    for (int k = 0; k < 9; ++k) out[k] = p[k / 3][k % 3];
+    return out;
+  };
+  std::vector<Key> filled;
+  for (size_t f = first; f < before.faceCount(); ++f) filled.push_back(key(before, f));
+  std::sort(filled.begin(), filled.end());
+  size_t start = after.faceCount();
+  while (start > 0 && std::binary_search(filled.begin(), filled.end(), key(after, start - 1))) --start;
+  for (size_t f = 0; f < start; ++f) {
+    if (std::binary_search(filled.begin(), filled.end(), key(after, f))) return after.faceCount();
+  }
+  return start;
+}
+
 // Drop vertices no face references; keeps the order of the others.
 size_t compactVertices(Mesh& m) {
   constexpr uint32_t kUnused = 0xFFFFFFFFu;
@@ -418,6 +445,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     second.info.repairs = std::move(repairs);
     second.info.solidRepair = fixed.stats;
     second.info.solidRepaired = true;
+    second.info.firstFilledFace = trailingFilledFaces(fixed.mesh, fixed.firstFilledFace, second.mesh);
     if (!second.solid.ok() && fixed.stats.sheets > 0) {
       second.solid.message = "the surface is open and cannot bound a solid: closing its " +
                              plural(fixed.stats.holesLeft, "hole", "holes") +
@@ -487,6 +515,7 @@ std::string meshInfoJson(const MeshInfo& info) {
                    {"largest_hole_mm", number(r.largestHoleMm)},
                    {"filled_area_mm2", number(r.filledAreaMm2)},
                    {"filled_faces", r.filledFaces},
+                   {"first_filled_face", info.firstFilledFace},
                    {"edges_split", r.edgesUnpaired},
                    {"vertices_split", r.verticesSplit},
                    {"sheets", r.sheets},

@@ -33,6 +33,8 @@ struct MeshInfo {
   std::vector<std::string> repairs;  // e.g. "merged 1240 duplicate vertices", "dropped 3 degenerate faces"
   bool solidRepaired = false;        // PrepareOptions::closeSolid ran repairSolid (solidRepair set)
   SolidRepairStats solidRepair;
+  size_t firstFilledFace = 0;        // solidRepaired: the faces from this one on close holes (the
+                                     // mesh's last faces; = faces when they cannot be told apart)
   std::vector<std::string> errors;   // each "code: message", e.g. "open_mesh: 147 boundary edges ..."
   std::vector<std::string> warnings; // e.g. "self_intersecting: 12 face pairs intersect (sliced as union)"
 };
@@ -82,7 +84,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options,
 // manifold, oriented, volume_mm3, area_mm2, bbox {min,max}, boundary_edges, boundary_loops,
 // non_manifold_edges, non_manifold_vertices, self_intersections, self_intersections_capped,
 // non_finite_vertices, repairs, errors, warnings; with solidRepaired also repair {holes_filled,
-// holes_capped, holes_left, largest_hole_mm, filled_area_mm2, filled_faces, edges_split,
+// holes_capped, holes_left, largest_hole_mm, filled_area_mm2, filled_faces, first_filled_face, edges_split,
 // vertices_split, sheets, debris_pieces, debris_faces}). Non-finite numbers are written as null.
 std::string meshInfoJson(const MeshInfo& info);
 }  // namespace omnislice

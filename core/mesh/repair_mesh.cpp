@@ -301,6 +301,8 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     }
   }
   std::vector<uint32_t> faceLabel = pieces.label;
+  const size_t patchStart = mesh.faceCount();  // the filled faces follow the mesh's own
+  result.firstFilledFace = patchStart;
   for (const Loop& loop : loops) {
     if (sheet[loop.piece]) {
       ++stats.holesLeft;
@@ -369,6 +371,8 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
       for (size_t f = 0; f < mesh.faceCount(); ++f) {
         if (drop[faceLabel[f]]) {
           ++stats.debrisFaces;
+          if (f < patchStart) --result.firstFilledFace;
+          else --stats.filledFaces;  // a cap of a piece dropped as debris
           continue;
         }
         for (int k = 0; k < 3; ++k) mesh.triangles[3 * kept + k] = mesh.triangles[3 * f + k];

@@ -46,6 +46,7 @@ struct SolidRepairStats {
 
 struct SolidRepairResult : Outcome {
   Mesh mesh;
+  size_t firstFilledFace = 0;         // faces of mesh from this one on close holes (stats.filledFaces)
   SolidRepairStats stats;
   std::vector<std::string> repairs;   // one line per kind of repair done, with counts and sizes
 };

@@ -356,6 +356,31 @@ test('a truncated STL shows its error code; a good file loads and slices afterwa
   assert.equal((text.match(/^; omnislice:layer \d+/gm) || []).length, layers);
 });
 
+test('a file with a hole loads repaired: the panel lists the repair, the filled faces are drawn apart, it slices', async (t) => {
+  const demo = fs.readFileSync(path.join(ROOT, 'web', 'models', 'demo-overhang.stl'));
+  const n = demo.readUInt32LE(80);
+  // Without its last two triangles.
+  const holed = Buffer.concat([demo.subarray(0, 84 + 50 * (n - 2))]);
+  holed.writeUInt32LE(n - 2, 80);
+  const file = path.join(app.tmpDir, 'holed-part.stl');
+  fs.writeFileSync(file, holed);
+  await page.setInputFiles(tid('file-input'), file);
+  await page.waitForFunction(() => document.body.dataset.state === 'ready' && document.querySelector('[data-testid="model-name"]').textContent === 'holed-part.stl');
+  const repairs = await page.textContent(tid('info-repairs'));
+  assert.match(repairs, /filled 1 hole/, repairs);
+  assert.match(repairs, /amber/, repairs);
+  assert.equal(await page.textContent(tid('info-closed')), 'yes');
+  const model = await page.evaluate(() => window.omnislice.model);
+  const info = await page.evaluate(() => window.omnislice.info);
+  assert.equal(model.filledFaces, info.repair.filled_faces);
+  assert.ok(model.filledFaces >= 1, JSON.stringify(model));
+  assert.equal(model.faces, info.faces);
+  assert.equal(model.filledColor, '#e0a040');
+  await sliceWithLongTaskCheck(t, 'holed part');
+  const report = await page.evaluate(() => window.omnislice.report);
+  assert.equal(report.mesh.repair.holes_filled, 1);
+});
+
 test('cancelling a long slice returns control quickly, and slicing works again', async (t) => {
   if (sharedSkip(t)) return;
   await setSetting('fit_mm', 150);

@@ -72,6 +72,11 @@ TEST(RepairMesh, BoxWithAMissingSideIsTheBox) {
   EXPECT_NEAR(r.info.solidRepair.filledAreaMm2, 300, 1e-9);
   EXPECT_NEAR(r.info.solidRepair.largestHoleMm, std::hypot(10.0, 30.0), 1e-9);
   EXPECT_NE(joined(r.info.repairs).find("filled 1 hole with 2 faces"), std::string::npos) << joined(r.info.repairs);
+  // The filled faces are the last two, on the missing side (y = 0).
+  ASSERT_EQ(r.info.firstFilledFace, 10u);
+  for (size_t f = 10; f < 12; ++f) {
+    for (int k = 0; k < 3; ++k) EXPECT_EQ(r.mesh.vertex(r.mesh.triangles[3 * f + k]).y(), 0);
+  }
   // repair off for the solid (today's behaviour): refused.
   const PrepareMeshResult none = prepareMesh(m, {});
   EXPECT_EQ(none.solid.status, Status::OpenMesh);
@@ -148,6 +153,7 @@ TEST(RepairMesh, SphereWithHolesAndDebris) {
   EXPECT_GE(r.info.solidRepair.holesFilled, 10u);
   EXPECT_NEAR(r.info.volumeMm3, whole.info.volumeMm3, 0.01 * whole.info.volumeMm3);
   EXPECT_TRUE(sameBox(r.info.bbox, whole.info.bbox, 1e-9));
+  EXPECT_EQ(r.info.firstFilledFace, r.info.faces - r.info.solidRepair.filledFaces);
 }
 
 // The sphere with its bottom cap cut off (an open base, as scans come): capped flat.
