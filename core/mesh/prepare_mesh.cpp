@@ -439,23 +439,32 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     const ProgressFn quiet = [&progress](const char*, double) { return reportProgress(progress, kStage, 1); };
     PrepareMeshResult second = prepareMesh(fixed.mesh, again, quiet);
     if (!second.ok()) return second;
-    std::vector<std::string> repairs = std::move(info.repairs);
-    repairs.insert(repairs.end(), fixed.repairs.begin(), fixed.repairs.end());
-    repairs.insert(repairs.end(), second.info.repairs.begin(), second.info.repairs.end());
-    second.info.repairs = std::move(repairs);
-    second.info.solidRepair = fixed.stats;
-    second.info.solidRepaired = true;
-    second.info.firstFilledFace = trailingFilledFaces(fixed.mesh, fixed.firstFilledFace, second.mesh);
-    if (!second.solid.ok() && fixed.stats.sheets > 0) {
-      second.solid.message = "the surface is open and cannot bound a solid: closing its " +
-                             plural(fixed.stats.holesLeft, "hole", "holes") +
-                             " would make up more than " +
-                             std::to_string(int(std::lround(100 * options.solidRepair.maxCapAreaShare))) +
-                             " % of its area (a sheet, not a solid with holes); print an open height "
-                             "field with method surface, or close it in a modelling tool";
-      second.info.errors.insert(second.info.errors.begin(), "open_mesh: " + second.solid.message);
+    if (second.solid.ok()) {
+      std::vector<std::string> repairs = std::move(info.repairs);
+      repairs.insert(repairs.end(), fixed.repairs.begin(), fixed.repairs.end());
+      repairs.insert(repairs.end(), second.info.repairs.begin(), second.info.repairs.end());
+      second.info.repairs = std::move(repairs);
+      second.info.solidRepair = fixed.stats;
+      second.info.solidRepaired = true;
+      second.info.firstFilledFace = trailingFilledFaces(fixed.mesh, fixed.firstFilledFace, second.mesh);
+      return second;
     }
-    return second;
+    // Not repairable: this pass's mesh and findings stand, with the reason.
+    info.solidRepair = fixed.stats;
+    info.solidRepaired = true;
+    info.firstFilledFace = mesh.faceCount();
+    if (fixed.stats.sheets > 0) {
+      result.solid.status = Status::OpenMesh;
+      result.solid.message =
+          "the surface is open and cannot bound a solid: closing its " +
+          plural(fixed.stats.holesLeft, "hole", "holes") + " would make up more than " +
+          std::to_string(int(std::lround(100 * options.solidRepair.maxCapAreaShare))) +
+          " % of its area and enclose almost no volume (a sheet, not a solid with holes); print an open "
+          "height field with method surface, or close it in a modelling tool";
+      info.errors.insert(info.errors.begin(), "open_mesh: " + result.solid.message);
+    } else {
+      info.warnings.push_back("repair: could not make a closed solid of it: " + second.solid.message);
+    }
   }
 
   // Self-intersections: a warning, the slicer unions sections with the non-zero rule.

@@ -199,7 +199,10 @@ bool readHeader(const uint8_t* data, size_t size, Header& h, ReadMeshResult& r) 
       h.dataOffset = pos;
       return true;
     } else {
-      return fail(Status::ParseError, "unknown header keyword '" + key.substr(0, 40) + "'");
+      // A keyword the standard does not define (exporters add their own, e.g. 'texturefile'
+      // outside a comment): it describes no element, so the data still reads.
+      r.warnings.push_back("PLY header line " + std::to_string(lineNo) + ": skipped the unknown keyword '" +
+                           key.substr(0, 40) + "'");
     }
   }
 }

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 #include "cgal/hole_triangulation.h"
@@ -213,9 +214,16 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
   // (3) Holes: boundary loops, followed along the hole (opposite to their faces' half-edges).
   const FaceComponents pieces = edgeComponents(mesh, edges);
   std::vector<double> pieceArea(pieces.count, 0), capArea(pieces.count, 0);
+  std::vector<double> pieceVolume(pieces.count, 0);  // of the piece closed by its caps
+  const BoundingBox whole = boundingBox(mesh);
+  const Eigen::Vector3d origin = 0.5 * (whole.min + whole.max);
+  auto signedVolume = [&origin](const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+    return (a - origin).dot((b - origin).cross(c - origin)) / 6;
+  };
   for (uint32_t f = 0; f < mesh.faceCount(); ++f) {
     const uint32_t* t = mesh.triangles.data() + 3 * f;
     pieceArea[pieces.label[f]] += triangleArea(mesh.vertex(t[0]), mesh.vertex(t[1]), mesh.vertex(t[2]));
+    pieceVolume[pieces.label[f]] += signedVolume(mesh.vertex(t[0]), mesh.vertex(t[1]), mesh.vertex(t[2]));
   }
   std::vector<uint32_t> holeNext(mesh.vertexCount(), kNoIndex);
   std::vector<uint32_t> holePiece(mesh.vertexCount(), kNoIndex);
@@ -287,15 +295,20 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     for (const auto& t : loop.triangles) {
       auto at = [&](uint32_t k) { return k < points.size() ? points[k] : centroid; };
       loop.area += triangleArea(at(t[0]), at(t[1]), at(t[2]));
+      pieceVolume[loop.piece] += signedVolume(at(t[0]), at(t[1]), at(t[2]));
     }
     capArea[loop.piece] += loop.area;
     if (!reportProgress(progress, kStage, 0.4 + 0.4 * double(i + 1) / double(loops.size()))) {
       return cancelled();
     }
   }
+  // A sheet: its caps would be a large share of its area and the solid they close is flat (its
+  // isoperimetric quotient 36 pi V^2 / A^3, 1 for a ball, is small: a cap copies the sheet).
   std::vector<uint8_t> sheet(pieces.count, 0);
   for (size_t p = 0; p < pieces.count; ++p) {
-    if (capArea[p] > options.maxCapAreaShare * (capArea[p] + pieceArea[p])) {
+    const double area = capArea[p] + pieceArea[p];
+    const double quotient = area > 0 ? 36 * 3.141592653589793 * pieceVolume[p] * pieceVolume[p] / (area * area * area) : 0;
+    if (capArea[p] > options.maxCapAreaShare * area && quotient < options.sheetQuotient) {
       sheet[p] = 1;
       ++stats.sheets;
     }
@@ -354,10 +367,14 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     for (size_t p = 0; p < pieces.count; ++p) {
       if (!sheet[p]) largest = std::max(largest, std::abs(volume[p]));
     }
+    const double largestArea = *std::max_element(pieceArea.begin(), pieceArea.end());
     std::vector<uint8_t> drop(pieces.count, 0);
     for (size_t p = 0; p < pieces.count; ++p) {
-      if (pieces.count > 1 && (sheet[p] || std::abs(volume[p]) < options.debrisVolumeShare * largest) &&
-          (hi[p] - lo[p]).norm() < options.debrisSizeShare * diagonal) {
+      const bool tiny = (sheet[p] || std::abs(volume[p]) < options.debrisVolumeShare * largest) &&
+                        (hi[p] - lo[p]).norm() < options.debrisSizeShare * diagonal;
+      // An island of surface left between holes: a sheet of a small share of the largest piece.
+      const bool island = sheet[p] && pieceArea[p] < options.debrisAreaShare * largestArea;
+      if (pieces.count > 1 && (tiny || island)) {
         drop[p] = 1;
         ++stats.debrisPieces;
         if (sheet[p]) {  // a small open piece: debris, not a sheet to refuse

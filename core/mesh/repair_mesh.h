@@ -17,13 +17,19 @@ struct SolidRepairOptions {
   // Loops of more points are capped by a fan from their centroid instead of the dihedral-angle
   // triangulation (its cost grows with n^2-n^3).
   size_t maxTriangulatedLoop = 400;
-  // An edge-connected piece whose hole caps would make more than this share of its area is a sheet
-  // (an open surface), not a solid with holes: its holes are left open (and the solid refused).
+  // An edge-connected piece whose hole caps would make more than this share of its area, and
+  // whose closed volume is flat (36 pi V^2 / A^3, 1 for a ball, below sheetQuotient: a cap copies
+  // the sheet) is a sheet (an open surface), not a solid with holes: its holes are left open and
+  // the solid refused. Measured: a wavy sheet 0.0004, the Costa surface 0.00004, a hemisphere
+  // bowl 0.59, the Kitten with 40 % of its surface cut away 0.32.
   double maxCapAreaShare = 0.4;
-  // Debris: a closed piece of less than this share of the largest piece's volume and whose box
-  // diagonal is below debrisSizeShare of the model's is dropped.
+  double sheetQuotient = 0.02;
+  // Debris, dropped: a piece that is a sheet or has less than debrisVolumeShare of the largest
+  // piece's volume, and whose box diagonal is below debrisSizeShare of the model's.
   double debrisVolumeShare = 1e-4;
   double debrisSizeShare = 0.05;
+  // A sheet of less than this share of the largest piece's area (an island left between holes).
+  double debrisAreaShare = 0.02;
   // Faces hanging into holes (two boundary edges) are dropped, again until none is left, unless
   // that takes more than this share of the faces (a ribbon one face wide would vanish).
   double maxPrunedShare = 0.5;

@@ -4,6 +4,7 @@
 #include <algorithm>
 
 #include <Eigen/Geometry>
+#include <cmath>
 #include <cstdio>
 #include <exception>
 #include <new>
@@ -61,6 +62,29 @@ struct PreparedInput : Outcome {
   std::vector<std::string> readWarnings;
 };
 
+// A warning when the placed part is implausibly small (under 1 mm: modelled in metres?) or large
+// (over 2 m: in micrometres?), with the scale that would make it a part of usual size; "" when
+// plausible.
+std::string implausibleUnits(const BoundingBox& box) {
+  const double side = (box.max - box.min).maxCoeff();
+  if (!(side > 0) || !std::isfinite(side)) return {};
+  double factor = 0;
+  const char* unit = "";
+  if (side < 1) {
+    factor = 1000, unit = "metres";
+  } else if (side > 2000) {
+    factor = 0.001, unit = "micrometres";
+  } else {
+    return {};
+  }
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "units: the part is %.4g mm across, an unusual size for a print; if the file is in %s, "
+                "scale %g makes it %.4g mm (or fit_mm sets its largest side)",
+                side, unit, factor, side * factor);
+  return buf;
+}
+
 PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& fileName,
                            const PlaceOptions& placement, const Eigen::Matrix3d& extraRotation,
                            bool closeSolid, const ProgressFn& progress, StageClock& clock) {
@@ -93,6 +117,9 @@ PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& 
     if (!again.ok()) return failed<PreparedInput>(again);
     again.transform = again.transform * r * in.placed.transform;
     in.placed = std::move(again);
+  }
+  if (std::string units = implausibleUnits(boundingBox(in.placed.mesh)); !units.empty()) {
+    in.readWarnings.push_back(units);
   }
   clock.done("place");
   if (!reportProgress(progress, "place", 1)) return failed<PreparedInput>(Status::Cancelled, "cancelled");

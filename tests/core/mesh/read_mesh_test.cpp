@@ -560,10 +560,9 @@ TEST(ReadMeshMalformed, Ply) {
   {  // Header without end_header -> TruncatedFile.
     EXPECT_EQ(readText("ply\nformat ascii 1.0\nelement vertex 3\n", "t.ply").status, Status::TruncatedFile);
   }
-  {  // Unknown property type, unknown keyword, unknown format -> ParseError.
+  {  // Unknown property type, unknown format -> ParseError.
     EXPECT_EQ(readText("ply\nformat ascii 1.0\nelement vertex 1\nproperty real x\nend_header\n1\n", "t.ply").status,
               Status::ParseError);
-    EXPECT_EQ(readText("ply\nformat ascii 1.0\nbanana\nend_header\n", "t.ply").status, Status::ParseError);
     EXPECT_EQ(readText("ply\nformat binary_middle_endian 1.0\nend_header\n", "t.ply").status, Status::ParseError);
   }
   {  // Face element without vertex_indices, vertex element without z -> ParseError.
@@ -575,6 +574,16 @@ TEST(ReadMeshMalformed, Ply) {
               Status::ParseError);
   }
   const std::string head = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n";
+  {  // A header keyword the standard does not define is skipped with a warning; the mesh reads.
+    const ReadMeshResult r = readText("ply\nformat ascii 1.0\ntexturefile skin.png\nelement vertex 3\nproperty float x\n"
+                                      "property float y\nproperty float z\nelement face 1\n"
+                                      "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n",
+                                      "t.ply");
+    ASSERT_TRUE(r.ok()) << r.message;
+    EXPECT_EQ(r.mesh.faceCount(), 1u);
+    ASSERT_EQ(r.warnings.size(), 1u);
+    EXPECT_EQ(r.warnings[0], "PLY header line 3: skipped the unknown keyword 'texturefile'");
+  }
   {  // Index out of range, and a negative index -> ParseError.
     EXPECT_EQ(readText(head + "element face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 3\n",
                        "t.ply").status,

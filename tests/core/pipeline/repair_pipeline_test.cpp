@@ -5,6 +5,7 @@
 // at 100 % infill); with repair = none they are refused with a code.
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
 #include <random>
 
 #include "pipeline/pipeline.h"
@@ -83,6 +84,22 @@ TEST(RepairPipeline, KittenWithHolesPrintsMultidir) {
   const BoundingBox box = boundingBox(kitten);
   const std::vector<uint8_t> bytes = test::binaryStl(cutHoles(kitten, 12, 0.02 * (box.max - box.min).norm(), 7));
   expectPrintsRepaired(bytes, "kitten-holes.stl", "multidir", "table5", true);
+}
+
+// A part modelled in metres (0.05 mm across) or micrometres (5 m) is flagged with the scale that
+// makes it a part of usual size; a 20 mm part is not.
+TEST(RepairPipeline, ImplausibleUnitsAreFlagged) {
+  auto warnings = [](double side) {
+    const std::vector<uint8_t> bytes = test::binaryStl(test::makeBox(0, 0, 0, side, side / 2, side / 2));
+    const InfoOutput out = runInfo(bytes.data(), bytes.size(), "box.stl", Settings{});
+    EXPECT_TRUE(out.ok()) << out.message;
+    return nlohmann::json::parse(out.infoJson)["warnings"].dump();
+  };
+  const std::string tiny = warnings(0.05), huge = warnings(5000), usual = warnings(20);
+  EXPECT_NE(tiny.find("units: the part is 0.05 mm across"), std::string::npos) << tiny;
+  EXPECT_NE(tiny.find("in metres, scale 1000 makes it 50 mm"), std::string::npos) << tiny;
+  EXPECT_NE(huge.find("in micrometres, scale 0.001 makes it 5 mm"), std::string::npos) << huge;
+  EXPECT_EQ(usual.find("units:"), std::string::npos) << usual;
 }
 
 }  // namespace
