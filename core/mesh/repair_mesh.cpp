@@ -5,9 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <numeric>
 
 #include "cgal/hole_triangulation.h"
+#include "common/disjoint_sets.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/orient_mesh.h"
 
@@ -16,19 +16,10 @@ namespace {
 
 constexpr const char* kStage = "repair";
 constexpr double kTwoPi = 6.283185307179586;
+// Hole triangles of less area than this times the squared diagonal are not made (prepareMesh drops
+// faces below 1e-12).
+constexpr double kSliverArea = 1e-10;
 
-struct UnionFind {
-  std::vector<uint32_t> parent;
-  explicit UnionFind(size_t n) : parent(n) { std::iota(parent.begin(), parent.end(), 0u); }
-  uint32_t find(uint32_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
-  }
-  void unite(uint32_t a, uint32_t b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::max(a, b)] = std::min(a, b);
-  }
-};
 
 std::string plural(size_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
@@ -52,8 +43,9 @@ uint32_t cornerAt(const Mesh& m, uint32_t f, uint32_t v) {
 // and, at an edge of more than two faces, faces sorted by angle about the edge and paired with an
 // angular neighbour that runs the edge the other way, choosing the pairing whose wedges hold
 // material (the normals of both faces point out of the wedge).
+// A face left unpaired at an edge of an odd number of faces goes to leftOver.
 std::vector<std::pair<uint32_t, uint32_t>> pairHalfedges(const Mesh& m, const MeshEdges& edges,
-                                                         size_t& unpairedEdges) {
+                                                         size_t& unpairedEdges, std::vector<uint32_t>& leftOver) {
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
   pairs.reserve(m.faceCount() * 3 / 2);
   std::vector<uint32_t> hs;
@@ -108,19 +100,49 @@ std::vector<std::pair<uint32_t, uint32_t>> pairHalfedges(const Mesh& m, const Me
       }
       return s;
     };
-    const size_t o = score(1) > score(0) ? 1 : 0;
+    // An even count pairs from offset 0 or 1; an odd one leaves one face out (at (o + k - 1) % k):
+    // every offset is tried.
+    size_t o = 0;
+    int best = score(0);
+    for (size_t trial = 1; trial < (k % 2 ? k : 2); ++trial) {
+      const int sc = score(trial);
+      if (sc > best) best = sc, o = trial;
+    }
     for (size_t i = 0; i + 1 < k; i += 2) {
       pairs.emplace_back(around[(o + i) % k].h, around[(o + i + 1) % k].h);
     }
+    if (k % 2) leftOver.push_back(around[(o + k - 1) % k].h / 3);
   }
   return pairs;
 }
 
 // Step 1: one vertex per fan of faces linked through paired half-edges.
-Mesh splitFans(const Mesh& m, SolidRepairStats& stats) {
-  const MeshEdges edges = buildEdges(m);
-  const auto pairs = pairHalfedges(m, edges, stats.edgesUnpaired);
-  UnionFind uf(m.triangles.size());
+Mesh splitFans(const Mesh& input, SolidRepairStats& stats) {
+  // A face left over at an edge of an odd number of faces (a fin, a wall inside) would keep the
+  // edge non-manifold whatever the vertices do: it goes (faces it leaves hanging go next, in
+  // repairSolid's pruning).
+  Mesh m = input;
+  MeshEdges edges = buildEdges(m);
+  std::vector<std::pair<uint32_t, uint32_t>> pairs;
+  for (int round = 0; round < 8; ++round) {  // dropping a face can leave another edge odd
+    std::vector<uint32_t> leftOver;
+    size_t unpaired = 0;
+    pairs = pairHalfedges(m, edges, unpaired, leftOver);
+    if (round == 0) stats.edgesUnpaired = unpaired;
+    if (leftOver.empty()) break;
+    std::sort(leftOver.begin(), leftOver.end());
+    leftOver.erase(std::unique(leftOver.begin(), leftOver.end()), leftOver.end());
+    size_t kept = 0;
+    for (size_t f = 0; f < m.faceCount(); ++f) {
+      if (std::binary_search(leftOver.begin(), leftOver.end(), static_cast<uint32_t>(f))) continue;
+      for (int k = 0; k < 3; ++k) m.triangles[3 * kept + k] = m.triangles[3 * f + k];
+      ++kept;
+    }
+    m.triangles.resize(3 * kept);
+    stats.facesLeftOver += leftOver.size();
+    edges = buildEdges(m);
+  }
+  DisjointSets uf(m.triangles.size());
   for (const auto& [h1, h2] : pairs) {
     const uint32_t f1 = h1 / 3, f2 = h2 / 3;
     const uint32_t a = m.triangles[h1], b = m.triangles[3 * f1 + (h1 % 3 + 1) % 3];
@@ -225,6 +247,7 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     pieceArea[pieces.label[f]] += triangleArea(mesh.vertex(t[0]), mesh.vertex(t[1]), mesh.vertex(t[2]));
     pieceVolume[pieces.label[f]] += signedVolume(mesh.vertex(t[0]), mesh.vertex(t[1]), mesh.vertex(t[2]));
   }
+  const double diagonal2 = (whole.max - whole.min).squaredNorm();
   std::vector<uint32_t> holeNext(mesh.vertexCount(), kNoIndex);
   std::vector<uint32_t> holePiece(mesh.vertexCount(), kNoIndex);
   std::vector<uint32_t> starts;
@@ -279,6 +302,9 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
         const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
         clash = std::binary_search(edges.keys.begin(), edges.keys.end(), key);
       }
+      // A triangle of (almost) no area, over collinear points of the loop as CAD edges have them:
+      // validation would drop it and open the hole again.
+      clash = clash || triangleArea(points[t[0]], points[t[1]], points[t[2]]) <= kSliverArea * diagonal2;
       if (clash) {
         loop.triangles.clear();
         break;
@@ -368,9 +394,13 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
       if (!sheet[p]) largest = std::max(largest, std::abs(volume[p]));
     }
     const double largestArea = *std::max_element(pieceArea.begin(), pieceArea.end());
+    std::vector<uint8_t> holed(pieces.count, 0);
+    for (const Loop& loop : loops) holed[loop.piece] = 1;
     std::vector<uint8_t> drop(pieces.count, 0);
     for (size_t p = 0; p < pieces.count; ++p) {
-      const bool tiny = (sheet[p] || std::abs(volume[p]) < options.debrisVolumeShare * largest) &&
+      // Closed pieces, however small, are the model's (an ogre's teeth); open ones are debris
+      // when they are small.
+      const bool tiny = holed[p] && (sheet[p] || std::abs(volume[p]) < options.debrisVolumeShare * largest) &&
                         (hi[p] - lo[p]).norm() < options.debrisSizeShare * diagonal;
       // An island of surface left between holes: a sheet of a small share of the largest piece.
       const bool island = sheet[p] && pieceArea[p] < options.debrisAreaShare * largestArea;
@@ -402,6 +432,10 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
   if (stats.edgesUnpaired > 0) {
     result.repairs.push_back("split " + plural(stats.edgesUnpaired, "edge", "edges") +
                              " shared by more than two faces into pairs of faces");
+  }
+  if (stats.facesLeftOver > 0) {
+    result.repairs.push_back("dropped " + plural(stats.facesLeftOver, "face", "faces") +
+                             " left over at edges of an odd number of faces (fins, inner walls)");
   }
   if (stats.verticesSplit > 0) {
     result.repairs.push_back("split " + plural(stats.verticesSplit, "vertex", "vertices") +

@@ -24,8 +24,9 @@ struct SolidRepairOptions {
   // bowl 0.59, the Kitten with 40 % of its surface cut away 0.32.
   double maxCapAreaShare = 0.4;
   double sheetQuotient = 0.02;
-  // Debris, dropped: a piece that is a sheet or has less than debrisVolumeShare of the largest
-  // piece's volume, and whose box diagonal is below debrisSizeShare of the model's.
+  // Debris, dropped: a piece that had holes, is a sheet or has less than debrisVolumeShare of the
+  // largest piece's volume, and whose box diagonal is below debrisSizeShare of the model's. Pieces
+  // that were closed stay, however small (they are the model's: an ogre's teeth).
   double debrisVolumeShare = 1e-4;
   double debrisSizeShare = 0.05;
   // A sheet of less than this share of the largest piece's area (an island left between holes).
@@ -37,6 +38,7 @@ struct SolidRepairOptions {
 
 struct SolidRepairStats {
   size_t edgesUnpaired = 0;       // edges of more than two faces split into pairs of faces
+  size_t facesLeftOver = 0;       // faces left unpaired at an edge of an odd number of faces, dropped
   size_t verticesSplit = 0;       // vertex copies made so every vertex is one fan
   size_t facesPruned = 0;         // faces hanging into holes by one edge, dropped
   size_t holesFilled = 0;         // boundary loops closed (triangulated or capped)
@@ -65,7 +67,8 @@ struct SolidRepairResult : Outcome {
 // consistently per piece, and faces hanging into a hole by one edge dropped; (3) each boundary
 // loop is triangulated (cgal/hole_triangulation.h) or, when longer than maxTriangulatedLoop or
 // when the triangulation would reuse an edge of the mesh, capped by a fan from its centroid, unless
-// its piece is a sheet; (4) small pieces (closed and tiny in volume, or sheets) are dropped. Only Cancelled is an error: what cannot be
+// its piece is a sheet; (4) small pieces that had holes (tiny in volume, or sheets) and islands
+// of surface left between holes are dropped. Only Cancelled is an error: what cannot be
 // repaired stays, for prepareMesh to refuse. Progress stage "repair".
 SolidRepairResult repairSolid(const Mesh& mesh, const SolidRepairOptions& options = {},
                               const ProgressFn& progress = {});
