@@ -528,6 +528,7 @@ std::string meshInfoJson(const MeshInfo& info) {
                    {"edges_split", r.edgesUnpaired},
                    {"vertices_split", r.verticesSplit},
                    {"sheets", r.sheets},
+                   {"sheets_dropped", r.sheetsDropped},
                    {"debris_pieces", r.debrisPieces},
                    {"debris_faces", r.debrisFaces}};
   }

@@ -4,6 +4,7 @@
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <cstdio>
 
 #include "cgal/hole_triangulation.h"
@@ -124,12 +125,13 @@ Mesh splitFans(const Mesh& input, SolidRepairStats& stats) {
   Mesh m = input;
   MeshEdges edges = buildEdges(m);
   std::vector<std::pair<uint32_t, uint32_t>> pairs;
-  for (int round = 0; round < 8; ++round) {  // dropping a face can leave another edge odd
+  for (int round = 0;; ++round) {  // dropping a face can leave another edge odd
     std::vector<uint32_t> leftOver;
     size_t unpaired = 0;
     pairs = pairHalfedges(m, edges, unpaired, leftOver);
     if (round == 0) stats.edgesUnpaired = unpaired;
-    if (leftOver.empty()) break;
+    // The pairs are of this mesh: stop before changing it once enough rounds have run.
+    if (leftOver.empty() || round == 8) break;
     std::sort(leftOver.begin(), leftOver.end());
     leftOver.erase(std::unique(leftOver.begin(), leftOver.end()), leftOver.end());
     size_t kept = 0;
@@ -207,10 +209,14 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
   }
   // Faces hanging into a hole by one edge (two or three boundary edges), as cutting or a scanner
   // leaves on a hole's rim: a triangulation of the hole would run over them again. Dropped, again
-  // until none is left, unless that would take more than maxPrunedShare of the faces.
+  // until none is left, unless that would take more than maxPrunedShare of the faces; a piece
+  // that would lose every face (a small sheet, a ribbon) keeps them all, for the sheet and debris
+  // rules below.
   {
+    const FaceComponents before = edgeComponents(mesh, edges);
     Mesh pruned = mesh;
-    size_t dropped = 0;
+    std::vector<uint32_t> id(mesh.faceCount());  // original face of each face of pruned
+    std::iota(id.begin(), id.end(), 0u);
     for (int pass = 0; pass < 16; ++pass) {
       const MeshEdges pe = buildEdges(pruned);
       size_t kept = 0;
@@ -219,14 +225,24 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
         for (int k = 0; k < 3; ++k) open += pe.faceCount[pe.edgeOfHalfedge[3 * f + k]] == 1;
         if (open >= 2) continue;
         for (int k = 0; k < 3; ++k) pruned.triangles[3 * kept + k] = pruned.triangles[3 * f + k];
-        ++kept;
+        id[kept++] = id[f];
       }
       if (kept == pruned.faceCount()) break;
-      dropped += pruned.faceCount() - kept;
       pruned.triangles.resize(3 * kept);
+      id.resize(kept);
     }
+    std::vector<uint8_t> keep(mesh.faceCount(), 0), pieceKept(before.count, 0);
+    for (uint32_t f : id) keep[f] = 1, pieceKept[before.label[f]] = 1;
+    for (size_t f = 0; f < mesh.faceCount(); ++f) keep[f] = keep[f] || !pieceKept[before.label[f]];
+    const size_t dropped = mesh.faceCount() - static_cast<size_t>(std::count(keep.begin(), keep.end(), 1));
     if (dropped > 0 && dropped <= options.maxPrunedShare * double(mesh.faceCount())) {
-      mesh = std::move(pruned);
+      size_t kept = 0;
+      for (size_t f = 0; f < mesh.faceCount(); ++f) {
+        if (!keep[f]) continue;
+        for (int k = 0; k < 3; ++k) mesh.triangles[3 * kept + k] = mesh.triangles[3 * f + k];
+        ++kept;
+      }
+      mesh.triangles.resize(3 * kept);
       edges = buildEdges(mesh);
       stats.facesPruned = dropped;
     }
@@ -396,6 +412,7 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     const double largestArea = *std::max_element(pieceArea.begin(), pieceArea.end());
     std::vector<uint8_t> holed(pieces.count, 0);
     for (const Loop& loop : loops) holed[loop.piece] = 1;
+    constexpr uint8_t kDropDebris = 1, kDropSheet = 2;
     std::vector<uint8_t> drop(pieces.count, 0);
     for (size_t p = 0; p < pieces.count; ++p) {
       // Closed pieces, however small, are the model's (an ogre's teeth); open ones are debris
@@ -405,7 +422,7 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
       // An island of surface left between holes: a sheet of a small share of the largest piece.
       const bool island = sheet[p] && pieceArea[p] < options.debrisAreaShare * largestArea;
       if (pieces.count > 1 && (tiny || island)) {
-        drop[p] = 1;
+        drop[p] = kDropDebris;
         ++stats.debrisPieces;
         if (sheet[p]) {  // a small open piece: debris, not a sheet to refuse
           --stats.sheets;
@@ -413,11 +430,29 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
         }
       }
     }
-    if (stats.debrisPieces > 0) {
+    // Sheets beside solids (single-sided panels of a CAD model): when what is left of the solid
+    // pieces has more area than the sheets, the sheets go and the solid prints; otherwise they stay
+    // and the mesh is refused.
+    double sheetArea = 0, solidArea = 0;
+    for (size_t p = 0; p < pieces.count; ++p) {
+      if (drop[p]) continue;
+      (sheet[p] ? sheetArea : solidArea) += pieceArea[p];
+    }
+    if (sheetArea > 0 && solidArea > sheetArea) {
+      for (size_t p = 0; p < pieces.count; ++p) {
+        if (drop[p] || !sheet[p]) continue;
+        drop[p] = kDropSheet;
+        ++stats.sheetsDropped;
+        --stats.sheets;
+        stats.sheetAreaDroppedMm2 += pieceArea[p];
+        for (const Loop& loop : loops) stats.holesLeft -= loop.piece == p;
+      }
+    }
+    if (stats.debrisPieces > 0 || stats.sheetsDropped > 0) {
       size_t kept = 0;
       for (size_t f = 0; f < mesh.faceCount(); ++f) {
         if (drop[faceLabel[f]]) {
-          ++stats.debrisFaces;
+          ++(drop[faceLabel[f]] == kDropSheet ? stats.sheetFacesDropped : stats.debrisFaces);
           if (f < patchStart) --result.firstFilledFace;
           else --stats.filledFaces;  // a cap of a piece dropped as debris
           continue;
@@ -451,6 +486,11 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
                     " mm2; largest " + mm(stats.largestHoleMm) + " mm across";
     if (stats.holesCapped > 0) s += "; " + std::to_string(stats.holesCapped) + " capped from their centre";
     result.repairs.push_back(s + ")");
+  }
+  if (stats.sheetsDropped > 0) {
+    result.repairs.push_back("dropped " + plural(stats.sheetsDropped, "open sheet", "open sheets") + " (" +
+                             plural(stats.sheetFacesDropped, "face", "faces") + ", " +
+                             mm(stats.sheetAreaDroppedMm2) + " mm2) beside the solid: they bound no volume");
   }
   if (stats.debrisPieces > 0) {
     result.repairs.push_back("dropped " + plural(stats.debrisPieces, "tiny piece", "tiny pieces") + " (" +

@@ -48,6 +48,9 @@ struct SolidRepairStats {
   double largestHoleMm = 0;       // largest box diagonal of a filled loop
   double filledAreaMm2 = 0;       // area of the triangles added
   size_t filledFaces = 0;
+  size_t sheetsDropped = 0;       // sheets dropped beside solid pieces of more area
+  size_t sheetFacesDropped = 0;
+  double sheetAreaDroppedMm2 = 0;
   size_t debrisPieces = 0;        // pieces dropped as debris
   size_t debrisFaces = 0;
 };
@@ -68,7 +71,8 @@ struct SolidRepairResult : Outcome {
 // loop is triangulated (cgal/hole_triangulation.h) or, when longer than maxTriangulatedLoop or
 // when the triangulation would reuse an edge of the mesh, capped by a fan from its centroid, unless
 // its piece is a sheet; (4) small pieces that had holes (tiny in volume, or sheets) and islands
-// of surface left between holes are dropped. Only Cancelled is an error: what cannot be
+// of surface left between holes are dropped, and so are sheets beside solid pieces of more area
+// than theirs (a mesh of sheets only, or mostly, stays open and is refused). Only Cancelled is an error: what cannot be
 // repaired stays, for prepareMesh to refuse. Progress stage "repair".
 SolidRepairResult repairSolid(const Mesh& mesh, const SolidRepairOptions& options = {},
                               const ProgressFn& progress = {});

@@ -152,8 +152,7 @@ TEST(RepairMesh, SphereWithHolesAndDebris) {
   const PrepareMeshResult r = repaired(m);
   expectSolid(r);
   EXPECT_EQ(r.info.shells, 2u);                     // the sphere and the closed box
-  EXPECT_EQ(r.info.solidRepair.debrisPieces, 1u);  // the open box; the loose triangle hangs by no edge
-  EXPECT_GE(r.info.solidRepair.facesPruned, 1u);
+  EXPECT_EQ(r.info.solidRepair.debrisPieces, 2u);  // the open box and the loose triangle
   EXPECT_GE(r.info.solidRepair.holesFilled, 10u);
   EXPECT_NEAR(r.info.volumeMm3, whole.info.volumeMm3 + 0.001, 0.01 * whole.info.volumeMm3);
   EXPECT_NEAR(r.info.bbox.min.x(), -30, 1e-12);
@@ -221,6 +220,25 @@ TEST(RepairMesh, IslandInAHoleIsDropped) {
   EXPECT_EQ(r.info.solidRepair.debrisPieces, 1u);
   EXPECT_EQ(r.info.solidRepair.sheets, 0u);  // the island was dropped, not refused
   EXPECT_EQ(r.info.solidRepair.holesFilled, 1u);
+}
+
+// A single-sided panel beside a box (as CAD exports have them) is dropped and the box prints; a
+// small box beside a large sheet does not make the sheet printable: refused.
+TEST(RepairMesh, SheetsBesideASolidAreDropped) {
+  auto panel = [](double x, double size) {
+    Mesh p;
+    p.positions = {x, 0, 0, x + size, 0, 0, x + size, size, 0.5, x, size, 0.5};
+    p.triangles = {0, 1, 2, 0, 2, 3};
+    return p;
+  };
+  const PrepareMeshResult r = repaired(test::append(makeBox(0, 0, 0, 10, 10, 10), panel(12, 5)));
+  expectSolid(r);
+  EXPECT_EQ(r.info.solidRepair.sheetsDropped, 1u);
+  EXPECT_NEAR(r.info.volumeMm3, 1000, 1e-9);
+  EXPECT_NE(joined(r.info.repairs).find("dropped 1 open sheet (2 faces"), std::string::npos) << joined(r.info.repairs);
+  const PrepareMeshResult refused = repaired(test::append(makeBox(0, 0, 0, 1, 1, 1), panel(3, 40)));
+  EXPECT_EQ(refused.solid.status, Status::OpenMesh);
+  EXPECT_NE(refused.solid.message.find("method surface"), std::string::npos) << refused.solid.message;
 }
 
 // A loop too long to triangulate is capped by a fan from its centroid: still closed.
