@@ -519,6 +519,7 @@ std::string meshInfoJson(const MeshInfo& info) {
   if (info.solidRepaired) {
     const SolidRepairStats& r = info.solidRepair;
     j["repair"] = {{"holes_filled", r.holesFilled},
+                   {"holes_faired", r.holesFaired},
                    {"holes_capped", r.holesCapped},
                    {"holes_left", r.holesLeft},
                    {"largest_hole_mm", number(r.largestHoleMm)},

@@ -9,6 +9,7 @@
 
 #include "cgal/hole_triangulation.h"
 #include "common/disjoint_sets.h"
+#include "mesh/fair_patch.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/orient_mesh.h"
 
@@ -176,6 +177,37 @@ Mesh splitFans(const Mesh& input, SolidRepairStats& stats) {
 
 double triangleArea(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
   return 0.5 * (b - a).cross(c - a).norm();
+}
+
+// The surface around a hole is smooth and the hole not flat, so a fill should bend with it: the
+// faces on consecutive rim edges turn by less than 30 degrees (no crease runs into the hole, as at
+// a CAD part's edge), and the rim leaves its best plane by more than 1 % of its size.
+bool smoothAround(const Mesh& m, const MeshEdges& edges, const std::vector<uint32_t>& loop) {
+  const size_t n = loop.size();
+  std::vector<Eigen::Vector3d> normals;
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero(), planeNormal = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < n; ++i) centroid += m.vertex(loop[i]) / static_cast<double>(n);
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t a = loop[i], b = loop[(i + 1) % n];
+    planeNormal += (m.vertex(a) - centroid).cross(m.vertex(b) - centroid);
+    const uint64_t k = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
+    const auto it = std::lower_bound(edges.keys.begin(), edges.keys.end(), k);
+    if (it == edges.keys.end() || *it != k) return false;
+    const uint32_t f = edges.firstHalfedge[static_cast<size_t>(it - edges.keys.begin())] / 3;
+    const uint32_t* t = m.triangles.data() + 3 * f;
+    normals.push_back((m.vertex(t[1]) - m.vertex(t[0])).cross(m.vertex(t[2]) - m.vertex(t[0])).normalized());
+  }
+  for (size_t i = 0; i < n; ++i) {
+    if (normals[i].dot(normals[(i + 1) % n]) < std::cos(30 * kTwoPi / 360)) return false;
+  }
+  if (planeNormal.norm() == 0) return false;
+  planeNormal.normalize();
+  double size = 0, off = 0;
+  for (size_t i = 0; i < n; ++i) {
+    size = std::max(size, (m.vertex(loop[i]) - centroid).norm());
+    off = std::max(off, std::abs((m.vertex(loop[i]) - centroid).dot(planeNormal)));
+  }
+  return off > 0.01 * size;
 }
 
 }  // namespace
@@ -355,6 +387,24 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
       ++stats.sheets;
     }
   }
+  // Mesh neighbours of rim points (the ring a faired patch continues).
+  std::vector<std::vector<uint32_t>> neighbours(mesh.vertexCount());
+  if (options.fair) {
+    std::vector<uint8_t> onRim(mesh.vertexCount(), 0);
+    for (const Loop& loop : loops) {
+      for (uint32_t v : loop.vertices) onRim[v] = 1;
+    }
+    for (size_t f = 0; f < mesh.faceCount(); ++f) {
+      const uint32_t* t = mesh.triangles.data() + 3 * f;
+      for (int k = 0; k < 3; ++k) {
+        if (!onRim[t[k]]) continue;
+        for (int j = 1; j < 3; ++j) {
+          std::vector<uint32_t>& list = neighbours[t[k]];
+          if (std::find(list.begin(), list.end(), t[(k + j) % 3]) == list.end()) list.push_back(t[(k + j) % 3]);
+        }
+      }
+    }
+  }
   std::vector<uint32_t> faceLabel = pieces.label;
   const size_t patchStart = mesh.faceCount();  // the filled faces follow the mesh's own
   result.firstFilledFace = patchStart;
@@ -377,6 +427,40 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
       centroid /= static_cast<double>(loop.vertices.size());
       centre = static_cast<uint32_t>(mesh.vertexCount());
       for (int k = 0; k < 3; ++k) mesh.positions.push_back(centroid[k]);
+    }
+    if (!loop.fan && options.fair && loop.vertices.size() <= options.maxFairedLoop &&
+        smoothAround(mesh, edges, loop.vertices)) {
+      // A hole in a smooth surface: refined and bent to continue it (mesh/fair_patch.h).
+      HolePatch patch;
+      for (uint32_t v : loop.vertices) patch.points.push_back(mesh.vertex(v));
+      patch.triangles = loop.triangles;
+      std::vector<std::vector<Eigen::Vector3d>> ring;
+      for (uint32_t v : loop.vertices) {
+        ring.emplace_back();
+        for (uint32_t w : neighbours[v]) {
+          if (std::find(loop.vertices.begin(), loop.vertices.end(), w) == loop.vertices.end()) {
+            ring.back().push_back(mesh.vertex(w));
+          }
+        }
+      }
+      patch = refineAndFair(std::move(patch), loop.vertices.size(), ring);
+      const uint32_t first = static_cast<uint32_t>(mesh.vertexCount());
+      const size_t n = loop.vertices.size();
+      for (size_t i = n; i < patch.points.size(); ++i) {
+        for (int k = 0; k < 3; ++k) mesh.positions.push_back(patch.points[i][k]);
+      }
+      double area = 0;
+      for (const auto& t : patch.triangles) {
+        for (int k = 0; k < 3; ++k) {
+          mesh.triangles.push_back(t[k] < n ? loop.vertices[t[k]] : first + static_cast<uint32_t>(t[k] - n));
+        }
+        area += triangleArea(patch.points[t[0]], patch.points[t[1]], patch.points[t[2]]);
+        faceLabel.push_back(loop.piece);
+        ++stats.filledFaces;
+      }
+      if (patch.points.size() > n) ++stats.holesFaired;
+      stats.filledAreaMm2 += area;
+      continue;
     }
     for (const auto& t : loop.triangles) {
       for (int k = 0; k < 3; ++k) {
@@ -484,6 +568,7 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     std::string s = "filled " + plural(stats.holesFilled, "hole", "holes") + " with " +
                     plural(stats.filledFaces, "face", "faces") + " (" + mm(stats.filledAreaMm2) +
                     " mm2; largest " + mm(stats.largestHoleMm) + " mm across";
+    if (stats.holesFaired > 0) s += "; " + std::to_string(stats.holesFaired) + " faired to the surface around";
     if (stats.holesCapped > 0) s += "; " + std::to_string(stats.holesCapped) + " capped from their centre";
     result.repairs.push_back(s + ")");
   }

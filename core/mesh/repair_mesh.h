@@ -17,6 +17,10 @@ struct SolidRepairOptions {
   // Loops of more points are capped by a fan from their centroid instead of the dihedral-angle
   // triangulation (its cost grows with n^2-n^3).
   size_t maxTriangulatedLoop = 400;
+  // Holes of at most this many rim points in a smooth surface (no crease into the hole, rim not
+  // flat) are refined and faired to continue the surface (mesh/fair_patch.h); others stay flat.
+  bool fair = true;
+  size_t maxFairedLoop = 200;
   // An edge-connected piece whose hole caps would make more than this share of its area, and
   // whose closed volume is flat (36 pi V^2 / A^3, 1 for a ball, below sheetQuotient: a cap copies
   // the sheet) is a sheet (an open surface), not a solid with holes: its holes are left open and
@@ -42,6 +46,7 @@ struct SolidRepairStats {
   size_t verticesSplit = 0;       // vertex copies made so every vertex is one fan
   size_t facesPruned = 0;         // faces hanging into holes by one edge, dropped
   size_t holesFilled = 0;         // boundary loops closed (triangulated or capped)
+  size_t holesFaired = 0;         // of those, refined and faired to the surface around
   size_t holesCapped = 0;         // of those, loops too long to triangulate: a fan from the centroid
   size_t holesLeft = 0;           // loops of sheets, left open
   size_t sheets = 0;              // pieces judged sheets (see maxCapAreaShare)

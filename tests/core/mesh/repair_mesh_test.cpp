@@ -241,6 +241,47 @@ TEST(RepairMesh, SheetsBesideASolidAreDropped) {
   EXPECT_NE(refused.solid.message.find("method surface"), std::string::npos) << refused.solid.message;
 }
 
+// A hole in a sphere is refined and faired to continue the sphere: the new points lie near it,
+// and the volume is closer to the intact one than with a flat fill. A hole in a box side stays flat.
+TEST(RepairMesh, FairedHoleFollowsTheSurface) {
+  const Mesh intact = test::makeIcosphere(10, 4);
+  const double volume = test::meshVolume(intact);
+  Mesh m = intact;
+  m.triangles.clear();
+  const Eigen::Vector3d at = Eigen::Vector3d(1, 2, 3).normalized() * 10;
+  for (size_t f = 0; f < intact.faceCount(); ++f) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int k = 0; k < 3; ++k) c += intact.vertex(intact.triangles[3 * f + k]) / 3;
+    if ((c - at).norm() > 4) m.triangles.insert(m.triangles.end(), intact.triangles.begin() + 3 * f,
+                                                intact.triangles.begin() + 3 * f + 3);
+  }
+  PrepareOptions flatOptions;
+  flatOptions.closeSolid = true;
+  flatOptions.solidRepair.fair = false;
+  const PrepareMeshResult flat = prepareMesh(m, flatOptions);
+  const PrepareMeshResult faired = repaired(m);
+  expectSolid(flat);
+  expectSolid(faired);
+  EXPECT_EQ(faired.info.solidRepair.holesFaired, 1u);
+  EXPECT_EQ(flat.info.solidRepair.holesFaired, 0u);
+  EXPECT_GT(faired.info.solidRepair.filledFaces, flat.info.solidRepair.filledFaces);
+  // The sphere's own points are on it; the points the fairing added lie closer to it than the flat
+  // fill's middle (the cap's height over a rim of about 4 mm radius, 10 - sqrt(100 - 16) = 0.83 mm).
+  double worst = 0;
+  for (size_t v = 0; v < faired.mesh.vertexCount(); ++v) {
+    worst = std::max(worst, std::abs(faired.mesh.vertex(v).norm() - 10));
+  }
+  EXPECT_LT(worst, 0.6);
+  const double flatError = std::abs(flat.info.volumeMm3 - volume), fairedError = std::abs(faired.info.volumeMm3 - volume);
+  std::printf("[ repair ] hole of 4 mm radius in a 10 mm sphere: volume error flat %.3f mm3, faired %.3f mm3; "
+              "faired points off the sphere by at most %.3f mm\n", flatError, fairedError, worst);
+  EXPECT_LT(fairedError, 0.6 * flatError);
+  // A flat hole (a box side) is left flat.
+  Mesh box = makeBox(0, 0, 0, 10, 20, 30);
+  box.triangles.erase(box.triangles.begin() + 4 * 3, box.triangles.begin() + 6 * 3);
+  EXPECT_EQ(repaired(box).info.solidRepair.holesFaired, 0u);
+}
+
 // A loop too long to triangulate is capped by a fan from its centroid: still closed.
 TEST(RepairMesh, LongLoopIsCappedFromItsCentre) {
   const Mesh intact = test::makeUvSphere(10, 48, 24);
