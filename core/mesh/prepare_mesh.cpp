@@ -1,10 +1,9 @@
 // SPDX-License-Identifier: MIT
 // prepareMesh: validation, safe repair and the MeshInfo report. The steps live in their own
-// files (weld_vertices, mesh_topology, orient_mesh, openmesh_adapter, cgal/self_intersections);
+// files (weld_vertices, mesh_topology, orient_mesh, openmesh_adapter, cgal/self_intersections,
+// repair_mesh);
 // this file orders them, reports progress and words the findings.
 #include "mesh/prepare_mesh.h"
-
-#include "mesh/repair_mesh.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>

@@ -9,6 +9,7 @@
 
 #include "cgal/hole_triangulation.h"
 #include "common/disjoint_sets.h"
+#include "common/math_constants.h"
 #include "mesh/fair_patch.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/orient_mesh.h"
@@ -17,7 +18,6 @@ namespace omnislice {
 namespace {
 
 constexpr const char* kStage = "repair";
-constexpr double kTwoPi = 6.283185307179586;
 // Hole triangles of less area than this times the squared diagonal are not made (prepareMesh drops
 // faces below 1e-12).
 constexpr double kSliverArea = 1e-10;
@@ -95,7 +95,7 @@ std::vector<std::pair<uint32_t, uint32_t>> pairHalfedges(const Mesh& m, const Me
         const Around& b = around[(o + i + 1) % k];
         if (a.forward == b.forward) continue;
         double span = b.angle - a.angle;
-        if (span < 0) span += kTwoPi;
+        if (span < 0) span += 2 * kPi;
         const double mid = a.angle + span / 2;
         const Eigen::Vector3d w = std::cos(mid) * e1 + std::sin(mid) * e2;
         s += 1 + (a.normal.dot(w) < 0 && b.normal.dot(w) < 0 ? 1 : 0);
@@ -198,7 +198,7 @@ bool smoothAround(const Mesh& m, const MeshEdges& edges, const std::vector<uint3
     normals.push_back((m.vertex(t[1]) - m.vertex(t[0])).cross(m.vertex(t[2]) - m.vertex(t[0])).normalized());
   }
   for (size_t i = 0; i < n; ++i) {
-    if (normals[i].dot(normals[(i + 1) % n]) < std::cos(30 * kTwoPi / 360)) return false;
+    if (normals[i].dot(normals[(i + 1) % n]) < std::cos(30 * kPi / 180)) return false;
   }
   if (planeNormal.norm() == 0) return false;
   planeNormal.normalize();
@@ -343,10 +343,10 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     for (const auto& t : loop.triangles) {
       bool clash = false;
       for (int k = 0; k < 3 && !clash; ++k) {
-        const uint32_t i = t[k], j = t[(k + 1) % 3];
-        const uint32_t gap = j > i ? j - i : i - j;
+        const uint32_t u = t[k], w = t[(k + 1) % 3];
+        const uint32_t gap = w > u ? w - u : u - w;
         if (gap == 1 || gap + 1 == points.size()) continue;  // a side of the loop
-        const uint32_t a = loop.vertices[i], b = loop.vertices[j];
+        const uint32_t a = loop.vertices[u], b = loop.vertices[w];
         const uint64_t key = (uint64_t(std::min(a, b)) << 32) | std::max(a, b);
         clash = std::binary_search(edges.keys.begin(), edges.keys.end(), key);
       }
@@ -381,7 +381,7 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
   std::vector<uint8_t> sheet(pieces.count, 0);
   for (size_t p = 0; p < pieces.count; ++p) {
     const double area = capArea[p] + pieceArea[p];
-    const double quotient = area > 0 ? 36 * 3.141592653589793 * pieceVolume[p] * pieceVolume[p] / (area * area * area) : 0;
+    const double quotient = area > 0 ? 36 * kPi * pieceVolume[p] * pieceVolume[p] / (area * area * area) : 0;
     if (capArea[p] > options.maxCapAreaShare * area && quotient < options.sheetQuotient) {
       sheet[p] = 1;
       ++stats.sheets;
