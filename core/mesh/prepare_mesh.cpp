@@ -14,6 +14,7 @@
 #include <string>
 
 #include "cgal/self_intersections.h"
+#include "common/plural.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/openmesh_adapter.h"
 #include "mesh/orient_mesh.h"
@@ -28,10 +29,6 @@ constexpr const char* kStage = "validate";
 // Zero-area threshold relative to the squared bounding-box diagonal: far below any printable
 // feature, far above the rounding noise of a cross product of collinear edges.
 constexpr double kDegenerateAreaRatio = 1e-12;
-
-std::string plural(size_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
 
 std::string shortNumber(double v) {
   std::ostringstream out;

@@ -10,6 +10,7 @@
 #include "cgal/hole_triangulation.h"
 #include "common/disjoint_sets.h"
 #include "common/math_constants.h"
+#include "common/plural.h"
 #include "mesh/fair_patch.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/orient_mesh.h"
@@ -22,10 +23,6 @@ constexpr const char* kStage = "repair";
 // faces below 1e-12).
 constexpr double kSliverArea = 1e-10;
 
-
-std::string plural(size_t n, const char* one, const char* many) {
-  return std::to_string(n) + " " + (n == 1 ? one : many);
-}
 
 std::string mm(double v) {
   char buf[32];

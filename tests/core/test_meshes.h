@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <random>
 #include <limits>
 #include <map>
 #include <tuple>
@@ -306,6 +307,31 @@ inline Mesh append(Mesh a, const Mesh& b) {
   a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
   for (uint32_t v : b.triangles) a.triangles.push_back(base + v);
   return a;
+}
+
+// m without the faces whose centroid `cut` selects (holes cut into a model); vertices are kept.
+inline Mesh withoutFaces(const Mesh& m, const std::function<bool(const Eigen::Vector3d&)>& cut) {
+  Mesh out = m;
+  out.triangles.clear();
+  for (size_t f = 0; f < m.faceCount(); ++f) {
+    const Eigen::Vector3d c =
+        (m.vertex(m.triangles[3 * f]) + m.vertex(m.triangles[3 * f + 1]) + m.vertex(m.triangles[3 * f + 2])) / 3;
+    if (!cut(c)) out.triangles.insert(out.triangles.end(), m.triangles.begin() + 3 * f, m.triangles.begin() + 3 * f + 3);
+  }
+  return out;
+}
+
+// m without the faces whose centroid lies within radius of one of `holes` random vertices.
+inline Mesh withHolesCut(const Mesh& m, int holes, double radius, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<Eigen::Vector3d> centres;
+  for (int h = 0; h < holes; ++h) centres.push_back(m.vertex(rng() % m.vertexCount()));
+  return withoutFaces(m, [&](const Eigen::Vector3d& c) {
+    for (const Eigen::Vector3d& q : centres) {
+      if ((c - q).norm() < radius) return true;
+    }
+    return false;
+  });
 }
 
 // Every face reversed (outward <-> inward).

@@ -18,23 +18,6 @@
 namespace omnislice {
 namespace {
 
-// mesh without the faces whose centroid lies within radius of one of `holes` random vertices.
-Mesh cutHoles(const Mesh& m, int holes, double radius, unsigned seed) {
-  std::mt19937 rng(seed);
-  std::vector<Eigen::Vector3d> centres;
-  for (int h = 0; h < holes; ++h) centres.push_back(m.vertex(rng() % m.vertexCount()));
-  Mesh out = m;
-  out.triangles.clear();
-  for (size_t f = 0; f < m.faceCount(); ++f) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) c += m.vertex(m.triangles[3 * f + k]) / 3;
-    bool hit = false;
-    for (const Eigen::Vector3d& q : centres) hit = hit || (c - q).norm() < radius;
-    if (!hit) out.triangles.insert(out.triangles.end(), m.triangles.begin() + 3 * f, m.triangles.begin() + 3 * f + 3);
-  }
-  return out;
-}
-
 void expectPrintsRepaired(const std::vector<uint8_t>& bytes, const std::string& name, const char* method,
                           const char* machine, bool kittenPlacement = false) {
   Settings s;
@@ -66,7 +49,7 @@ void expectPrintsRepaired(const std::vector<uint8_t>& bytes, const std::string& 
 
 TEST(RepairPipeline, SphereWithHolesPrintsPlanarAndMultidir) {
   const Mesh sphere = test::onPlatform(test::makeUvSphere(10, 48, 24));
-  const std::vector<uint8_t> bytes = test::binaryStl(cutHoles(sphere, 8, 1.5, 3));
+  const std::vector<uint8_t> bytes = test::binaryStl(test::withHolesCut(sphere, 8, 1.5, 3));
   expectPrintsRepaired(bytes, "sphere-holes.stl", "planar", "cartesian3");
   expectPrintsRepaired(bytes, "sphere-holes.stl", "multidir", "table5");
 }
@@ -82,7 +65,7 @@ TEST(RepairPipeline, KittenWithHolesPrintsMultidir) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const Mesh kitten = test::loadModel("pymdp_kitten.off");
   const BoundingBox box = boundingBox(kitten);
-  const std::vector<uint8_t> bytes = test::binaryStl(cutHoles(kitten, 12, 0.02 * (box.max - box.min).norm(), 7));
+  const std::vector<uint8_t> bytes = test::binaryStl(test::withHolesCut(kitten, 12, 0.02 * (box.max - box.min).norm(), 7));
   expectPrintsRepaired(bytes, "kitten-holes.stl", "multidir", "table5", true);
 }
 
