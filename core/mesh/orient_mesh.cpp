@@ -124,7 +124,9 @@ OrientResult orientMesh(const Mesh& mesh, const MeshEdges& edges, const OrientOp
   std::vector<uint32_t> closedIds;
   for (uint32_t id = 0; id < comps.size(); ++id) {
     Component& c = comps[id];
-    if (!c.closed || !c.orientable) continue;
+    // Fewer than four faces bound no volume (single faces between non-manifold edges count as
+    // closed): their sign means nothing, and thousands of them made the nesting test quadratic.
+    if (!c.closed || !c.orientable || c.faces.size() < 4) continue;
     closedIds.push_back(id);
     c.min = Eigen::Vector3d::Constant(INFINITY);
     c.max = -c.min;
