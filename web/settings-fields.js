@@ -217,6 +217,8 @@ export const PAGE_FIELDS = [
   { group: 'Speed', key: 'print_speed', label: 'print speed (mm/s)', step: 1 },
   { group: 'Speed', key: 'travel_speed', label: 'travel speed (mm/s)', step: 1 },
   { group: 'Speed', key: 'retract_length', label: 'retract (mm)', step: 0.1 },
+  { group: 'Placement', key: 'repair', label: 'repair the mesh', type: 'select', testid: 'repair',
+    labels: { auto: 'auto (close holes, split non-manifold spots)', none: 'none (refuse such files)' } },
   { group: 'Placement', key: 'fit_mm', label: 'fit largest side (mm, 0 = off)', step: 1 },
   { group: 'Placement', key: 'scale', label: 'scale', step: 0.1 },
   { group: 'Placement', key: 'up', label: 'up axis of the file', type: 'select',

@@ -379,6 +379,14 @@ test('a file with a hole loads repaired: the panel lists the repair, the filled 
   await sliceWithLongTaskCheck(t, 'holed part');
   const report = await page.evaluate(() => window.omnislice.report);
   assert.equal(report.mesh.repair.holes_filled, 1);
+  // repair = none: the model panel says the mesh is open, a slice is refused with open_mesh.
+  await page.selectOption(tid('repair'), 'none');
+  await page.waitForFunction(() => document.querySelector('[data-testid="info-closed"]').textContent === 'no');
+  await page.click(tid('slice-button'));
+  await waitState('error');
+  assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'open_mesh');
+  await page.selectOption(tid('repair'), 'auto');
+  await page.waitForFunction(() => document.querySelector('[data-testid="info-closed"]').textContent === 'yes');
 });
 
 test('cancelling a long slice returns control quickly, and slicing works again', async (t) => {
