@@ -142,11 +142,14 @@ function best(run, reps = REPS) {
 const models = generateBenchModels(path.join(ROOT, 'build/bench'));
 // Issue 26: read + validate + repair (repair = auto) of a 1M-triangle sphere with 1,000 holes.
 const REPAIR_1M = 'sphere-1m 1000 holes read+repair';
+const UNION_100K = 'spheres 2x50k overlapping read+unite';
 const repairCounts = {};
 const cases = [
   { case: 'torus-100k slice 0.2mm', mode: 'slice', file: models['torus-100k.stl'], settings: { layer_height: 0.2 } },
   { case: 'sphere-1m read+validate', mode: 'info', file: models['sphere-1m.stl'], settings: {} },
   { case: REPAIR_1M, mode: 'info', file: models['sphere-1m-holes.stl'], settings: {} },
+  // Issue 26: two overlapping 50k-triangle spheres united (CGAL corefinement) in validate.
+  { case: UNION_100K, mode: 'info', file: models['spheres-2x50k-overlap.stl'], settings: {} },
 ];
 if (process.env.BENCH_SLICE_1M === '1') {
   cases.push({ case: 'sphere-1m slice 0.2mm', mode: 'slice', file: models['sphere-1m.stl'], settings: { layer_height: 0.2 } });

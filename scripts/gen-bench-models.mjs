@@ -3,7 +3,9 @@
 // Benchmark meshes (binary STL, generated, cached): build/bench/torus-100k.stl (100,000 triangles,
 // genus 1, 80 x 80 x 20 mm), build/bench/sphere-1m.stl (1,000,000 triangles, 100 mm) and
 // build/bench/sphere-1m-holes.stl: the same sphere with 1,000 holes (two neighbouring quads, four
-// triangles, every 994 triangles: apart from each other, a six-point loop each) for the repair.
+// triangles, every 994 triangles: apart from each other, a six-point loop each) for the repair;
+// build/bench/spheres-2x50k-overlap.stl: two 50,000-triangle spheres (50 and 40 mm) overlapping
+// as separate shells, for the union of overlapping shells.
 // Usage: node scripts/gen-bench-models.mjs [OUT_DIR=build/bench]
 import fs from 'node:fs';
 import path from 'node:path';
@@ -16,7 +18,29 @@ export const BENCH_MODELS = [
   { name: 'torus-100k.stl', triangles: 100000, make: () => torusStl(30, 10, 400, 125) },
   { name: 'sphere-1m.stl', triangles: 1000000, make: () => sphereStl(50, 1000, 501) },
   { name: 'sphere-1m-holes.stl', triangles: 996000, make: () => withHoles(sphereStl(50, 1000, 501), 1000, 994, 4) },
+  { name: 'spheres-2x50k-overlap.stl', triangles: 100000,
+    make: () => joinStl(sphereStl(25, 250, 101), sphereStl(20, 250, 101), [25, 7, 5]) },
 ];
+
+/** Binary STL bytes of a's triangles and b's moved by offset (two shells in one file). */
+function joinStl(a, b, offset) {
+  const src = [new Uint8Array(a), new Uint8Array(b)];
+  const counts = src.map((s) => new DataView(s.buffer, s.byteOffset).getUint32(80, true));
+  const out = new Uint8Array(84 + 50 * (counts[0] + counts[1]));
+  new DataView(out.buffer).setUint32(80, counts[0] + counts[1], true);
+  out.set(src[0].subarray(84), 84);
+  out.set(src[1].subarray(84), 84 + 50 * counts[0]);
+  const view = new DataView(out.buffer);
+  for (let t = counts[0]; t < counts[0] + counts[1]; ++t) {
+    for (let v = 0; v < 3; ++v) {
+      for (let k = 0; k < 3; ++k) {
+        const at = 84 + 50 * t + 12 + 12 * v + 4 * k;
+        view.setFloat32(at, view.getFloat32(at, true) + offset[k], true);
+      }
+    }
+  }
+  return out.buffer;
+}
 
 /** Binary STL bytes without `size` triangles at 500 + k * every, k < holes (an aligned quad pair). */
 function withHoles(stl, holes, every, size) {

@@ -14,6 +14,7 @@
 #include <string>
 
 #include "cgal/self_intersections.h"
+#include "cgal/shell_union.h"
 #include "common/plural.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/openmesh_adapter.h"
@@ -162,6 +163,12 @@ size_t trailingFilledFaces(const Mesh& before, size_t first, const Mesh& after) 
     if (std::binary_search(filled.begin(), filled.end(), key(after, f))) return after.faceCount();
   }
   return start;
+}
+
+std::string shellsLeftWarning(size_t shells) {
+  return "shells: " + plural(shells, "overlapping shell was", "overlapping shells were") +
+         " not united with the others (it intersects itself, or the group is too large); slicing "
+         "uses the union of the sections";
 }
 
 // Drop vertices no face references; keeps the order of the others.
@@ -488,6 +495,44 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       }
     }
   }
+
+  // Overlapping or nested closed shells of a solid: replace them by their union and validate
+  // that again (its report replaces this one, with this pass's repairs first).
+  if (options.uniteShells && options.repair && result.solid.ok() && info.shells > 1 &&
+      (info.selfIntersections > 0 || orient.nestedSameOrientation > 0)) {
+    ShellUnionResult united = uniteOverlappingShells(mesh, {}, progress, 1.0, 1.0);
+    if (united.status == Status::Cancelled) return cancelled();
+    if (united.ok() && united.groups > 0) {
+      // Corefinement with inexact constructions rounds the points where surfaces cross: two can
+      // fall on one position (welding collapses the triangle between them) and a sliver can lose
+      // its area (dropped as degenerate, leaving a tiny hole), and a vertex where the united
+      // surfaces touch at a point is split by CGAL into two at one position. The solid repair
+      // mends those (it fills the slivers' holes flat and splits the point again).
+      PrepareOptions again = options;
+      again.closeSolid = true;
+      again.uniteShells = false;
+      const ProgressFn quiet = [&progress](const char*, double) { return reportProgress(progress, kStage, 1); };
+      PrepareMeshResult third = prepareMesh(united.mesh, again, quiet);
+      if (!third.ok()) return third;
+      if (third.solid.ok()) {
+        std::vector<std::string> repairs = std::move(info.repairs);
+        repairs.push_back("united " + plural(united.shellsUnited, "overlapping shell", "overlapping shells") +
+                          " into " + plural(united.groups, "solid", "solids") + " (" +
+                          shortNumber(united.removedAreaMm2) + " mm2 of surface inside the part removed)");
+        repairs.insert(repairs.end(), third.info.repairs.begin(), third.info.repairs.end());
+        third.info.repairs = std::move(repairs);
+        third.info.shellsUnited = united.shellsUnited;
+        third.info.shellUnions = united.groups;
+        third.info.unitedInnerAreaMm2 = united.removedAreaMm2;
+        if (united.shellsLeft > 0) third.info.warnings.push_back(shellsLeftWarning(united.shellsLeft));
+        return third;
+      }
+      info.warnings.push_back("shells: the union of the overlapping shells is not a closed solid (" +
+                              third.solid.message + "); slicing uses the union");
+    } else if (united.ok() && united.shellsLeft > 0) {
+      info.warnings.push_back(shellsLeftWarning(united.shellsLeft));
+    }
+  }
   if (!reportProgress(progress, kStage, 1)) return cancelled();
   result.mesh = std::move(mesh);
   return result;
@@ -528,6 +573,11 @@ std::string meshInfoJson(const MeshInfo& info) {
                    {"sheets_dropped", r.sheetsDropped},
                    {"debris_pieces", r.debrisPieces},
                    {"debris_faces", r.debrisFaces}};
+  }
+  if (info.shellsUnited > 0) {
+    j["shells_united"] = {{"shells", info.shellsUnited},
+                          {"unions", info.shellUnions},
+                          {"inner_area_mm2", number(info.unitedInnerAreaMm2)}};
   }
   j["self_intersections"] = info.selfIntersections;
   j["self_intersections_capped"] = info.selfIntersectionsCapped;

@@ -35,6 +35,9 @@ struct MeshInfo {
   SolidRepairStats solidRepair;
   size_t firstFilledFace = 0;        // solidRepaired: the faces from this one on close holes (the
                                      // mesh's last faces; = faces when they cannot be told apart)
+  size_t shellsUnited = 0;           // uniteShells: overlapping closed shells replaced by their union
+  size_t shellUnions = 0;            // ... the unions they became
+  double unitedInnerAreaMm2 = 0;     // ... surface of theirs that lay inside another, removed
   std::vector<std::string> errors;   // each "code: message", e.g. "open_mesh: 147 boundary edges ..."
   std::vector<std::string> warnings; // e.g. "self_intersecting: 12 face pairs intersect (sliced as union)"
 };
@@ -54,6 +57,11 @@ struct PrepareOptions {
   // pair on the same vertices running opposite ways (an internal wall) instead of one.
   bool closeSolid = false;
   SolidRepairOptions solidRepair;
+  // With repair, for a method that slices a solid (set with closeSolid): closed outward shells
+  // that intersect or lie inside one another are replaced by the surface of their union
+  // (cgal/shell_union.h), so that no face lies inside the solid. Only when the self-intersection
+  // test found intersecting faces or a shell was found nested in one of the same orientation.
+  bool uniteShells = false;
 };
 
 struct PrepareMeshResult : Outcome {
@@ -85,6 +93,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options,
 // non_manifold_edges, non_manifold_vertices, self_intersections, self_intersections_capped,
 // non_finite_vertices, repairs, errors, warnings; with solidRepaired also repair {holes_filled,
 // holes_capped, holes_left, largest_hole_mm, filled_area_mm2, filled_faces, first_filled_face, edges_split,
-// vertices_split, sheets, debris_pieces, debris_faces}). Non-finite numbers are written as null.
+// vertices_split, sheets, debris_pieces, debris_faces}; with shellsUnited also shells_united
+// {shells, unions, inner_area_mm2}). Non-finite numbers are written as null.
 std::string meshInfoJson(const MeshInfo& info);
 }  // namespace omnislice

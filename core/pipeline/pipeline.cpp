@@ -99,6 +99,7 @@ PreparedInput prepareInput(const uint8_t* data, size_t size, const std::string& 
 
   PrepareOptions prepareOptions;
   prepareOptions.closeSolid = closeSolid;
+  prepareOptions.uniteShells = closeSolid;
   in.prepared = prepareMesh(read.mesh, prepareOptions, progress);
   if (!in.prepared.ok()) return failed<PreparedInput>(in.prepared);
   clock.done("validate");
@@ -523,6 +524,7 @@ VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, 
     // what auto would repair, so no program was made from such a mesh that way).
     PrepareOptions prepareOptions;
     prepareOptions.closeSolid = program.method != methodName(Method::Surface);
+    prepareOptions.uniteShells = prepareOptions.closeSolid;
     PrepareMeshResult prepared = prepareMesh(read.mesh, prepareOptions, progress);
     if (!prepared.ok()) return failed<VerifyOutput>(prepared);
     Mesh part;

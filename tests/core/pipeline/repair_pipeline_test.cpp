@@ -61,6 +61,33 @@ TEST(RepairPipeline, BoxesSharingAnEdgePrint) {
   expectPrintsRepaired(bytes, "boxes.stl", "multidir", "table5");
 }
 
+// Three overlapping boxes as separate shells (a CAD export of a cross on a post): the report
+// says they were united, and the programs at default settings verify (inside, surface reached,
+// supported >= 0.99, no collision). Before the union the
+// boxes' faces inside one another counted as surface no bead reached (2.6 % of it: unsound).
+TEST(RepairPipeline, OverlappingShellsPrintAsOneSolid) {
+  const Mesh boxes = test::append(test::append(test::makeBox(0, 10, 0, 40, 20, 10), test::makeBox(15, 0, 0, 25, 30, 10)),
+                                  test::makeBox(15, 10, 0, 25, 20, 30));
+  const std::vector<uint8_t> bytes = test::binaryStl(boxes);
+  for (const auto& [method, machine] : {std::pair{"planar", "cartesian3"}, std::pair{"multidir", "table5"}}) {
+    SCOPED_TRACE(method);
+    Settings s;
+    ASSERT_TRUE(setSetting(s, "method", method).ok());
+    ASSERT_TRUE(setSetting(s, "machine", machine).ok());
+    const test::Sliced r = test::sliceAndVerify(bytes, "cross.stl", s);
+    ASSERT_TRUE(r.out.ok());
+    const nlohmann::json& mesh = r.report["mesh"];
+    ASSERT_TRUE(mesh.contains("shells_united")) << mesh.dump();
+    EXPECT_EQ(mesh["shells_united"]["shells"].get<int>(), 3);
+    EXPECT_EQ(mesh["shells"].get<int>(), 1);
+    EXPECT_NEAR(mesh["volume_mm3"].get<double>(), 8000, 1e-6);  // 4000 + 3000 + 3000 - 2 x 1000
+    EXPECT_GE(r.verify["inside"].get<double>(), 0.99);
+    EXPECT_GE(r.verify["surface_reached"].get<double>(), 0.99);
+    EXPECT_GE(r.verify["supported"].get<double>(), 0.99);
+    EXPECT_EQ(r.verify["collisions"].get<int>(), 0);
+  }
+}
+
 TEST(RepairPipeline, KittenWithHolesPrintsMultidir) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const Mesh kitten = test::loadModel("pymdp_kitten.off");
