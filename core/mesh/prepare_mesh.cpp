@@ -10,11 +10,13 @@
 #include <array>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <string>
 
 #include "cgal/self_intersections.h"
 #include "cgal/shell_union.h"
+#include "mesh/rebuild_solid.h"
 #include "common/plural.h"
 #include "mesh/mesh_topology.h"
 #include "mesh/openmesh_adapter.h"
@@ -30,6 +32,12 @@ constexpr const char* kStage = "validate";
 // Zero-area threshold relative to the squared bounding-box diagonal: far below any printable
 // feature, far above the rounding noise of a cross product of collinear edges.
 constexpr double kDegenerateAreaRatio = 1e-12;
+
+// repairSolid filled or dropped more than this share of the surface: check it against the rebuild.
+constexpr double kLargeRepairShare = 0.02;
+// ... and take the rebuild when their volumes differ by more than this share (a rebuilt box on a
+// 160-cell grid is within 0.04 % of its volume).
+constexpr double kRebuildVolumeGap = 0.05;
 
 std::string shortNumber(double v) {
   std::ostringstream out;
@@ -442,7 +450,51 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     const ProgressFn quiet = [&progress](const char*, double) { return reportProgress(progress, kStage, 1); };
     PrepareMeshResult second = prepareMesh(fixed.mesh, again, quiet);
     if (!second.ok()) return second;
+
+    // The last resort: a surface rebuilt from inside/outside samples of the faces as read (so
+    // that walls present twice still cancel), validated and repaired once more (the net's
+    // non-manifold spots are split); its result when that is a solid.
+    RebuildResult rebuilt;
+    auto rebuiltSolid = [&](const std::string& why) -> std::optional<PrepareMeshResult> {
+      rebuilt = rebuildSolid(raw, {}, progress, 1.0, 1.0);
+      if (!rebuilt.ok() || !rebuilt.accepted) return std::nullopt;
+      PrepareOptions last = options;
+      last.rebuild = false;
+      last.uniteShells = false;
+      PrepareMeshResult third = prepareMesh(rebuilt.mesh, last, quiet);
+      if (!third.ok() || !third.solid.ok()) return std::nullopt;
+      std::vector<std::string> repairs = info.repairs;
+      repairs.push_back("rebuilt the surface from inside/outside samples on a " + shortNumber(rebuilt.pitchMm) +
+                        " mm grid: " + why);
+      repairs.insert(repairs.end(), third.info.repairs.begin(), third.info.repairs.end());
+      third.info.repairs = std::move(repairs);
+      third.info.warnings.push_back("rebuilt: the surface was rebuilt on a " + shortNumber(rebuilt.pitchMm) +
+                                    " mm grid; edges and details finer than that are rounded");
+      third.info.solidRepaired = true;
+      third.info.solidRepair = SolidRepairStats{};
+      third.info.solidRepair.rebuiltPitchMm = rebuilt.pitchMm;
+      third.info.firstFilledFace = 0;  // every face is new
+      return third;
+    };
+
     if (second.solid.ok()) {
+      // A repair that filled or dropped much of the surface may have changed the shape (faces
+      // tessellated apart with T-junctions between them read as holes and loose sheets): when
+      // the rebuilt surface encloses a clearly different volume, the rebuild is what the file
+      // meant.
+      const double area = std::max(second.info.areaMm2, 1e-300);
+      if (options.rebuild && (fixed.stats.filledAreaMm2 > kLargeRepairShare * area ||
+                              fixed.stats.sheetAreaDroppedMm2 > kLargeRepairShare * area)) {
+        std::optional<PrepareMeshResult> other = rebuiltSolid("");
+        if (rebuilt.status == Status::Cancelled) return cancelled();
+        const double v = second.info.volumeMm3;
+        if (other && std::abs(other->info.volumeMm3 - v) > kRebuildVolumeGap * other->info.volumeMm3) {
+          other->info.repairs[info.repairs.size()] +=
+              "closed face by face it would enclose " + shortNumber(v) + " mm3, its faces enclose " +
+              shortNumber(other->info.volumeMm3) + " mm3 (by ray parity)";
+          return *other;
+        }
+      }
       std::vector<std::string> repairs = std::move(info.repairs);
       repairs.insert(repairs.end(), fixed.repairs.begin(), fixed.repairs.end());
       repairs.insert(repairs.end(), second.info.repairs.begin(), second.info.repairs.end());
@@ -451,6 +503,32 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       second.info.solidRepaired = true;
       second.info.firstFilledFace = trailingFilledFaces(fixed.mesh, fixed.firstFilledFace, second.mesh);
       return second;
+    }
+    // Not repairable face by face: rebuild it, when the samples bound a solid.
+    std::string rebuildVerdict;
+    if (options.rebuild) {
+      std::optional<PrepareMeshResult> other =
+          rebuiltSolid("it could not be closed face by face (" + second.solid.message + ")");
+      if (rebuilt.status == Status::Cancelled) return cancelled();
+      if (other) return *other;
+      if (rebuilt.ok() && !rebuilt.accepted && rebuilt.insideSamples > 0) {
+        const RebuildOptions limits;
+        auto percent = [](size_t part, size_t whole) {
+          return shortNumber(std::round(1000.0 * double(part) / double(std::max<size_t>(whole, 1))) / 10) + " %";
+        };
+        std::string why;
+        if (rebuilt.touchesBorder) {
+          why = "rays through it leave the model on one side only";
+        } else if (double(rebuilt.disagreeing) > limits.maxDisagreement * double(rebuilt.insideSamples)) {
+          why = percent(rebuilt.disagreeing, rebuilt.touchedSamples) +
+                " of the points inside by some ray direction are outside by another";
+        } else {
+          why = percent(rebuilt.inventedVertices, rebuilt.netVertices) +
+                " of the rebuilt surface would close openings where the file has no faces";
+        }
+        rebuildVerdict = "; nor can it be rebuilt from inside/outside samples: " + why +
+                         " (open sheets, or faces inside the part)";
+      }
     }
     // Not repairable: this pass's mesh and findings stand, with the reason.
     info.solidRepair = fixed.stats;
@@ -462,11 +540,11 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
           "the surface is open and cannot bound a solid: closing its " +
           plural(fixed.stats.holesLeft, "hole", "holes") + " would make up more than " +
           std::to_string(int(std::lround(100 * options.solidRepair.maxCapAreaShare))) +
-          " % of its area and enclose almost no volume (a sheet, not a solid with holes); print an open "
-          "height field with method surface, or close it in a modelling tool";
+          " % of its area and enclose almost no volume (a sheet, not a solid with holes)" + rebuildVerdict +
+          "; print an open height field with method surface, or close it in a modelling tool";
       info.errors.insert(info.errors.begin(), "open_mesh: " + result.solid.message);
     } else {
-      info.warnings.push_back("repair: could not make a closed solid of it: " + second.solid.message);
+      info.warnings.push_back("repair: could not make a closed solid of it: " + second.solid.message + rebuildVerdict);
     }
   }
 
@@ -516,8 +594,8 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       if (!third.ok()) return third;
       if (third.solid.ok()) {
         std::vector<std::string> repairs = std::move(info.repairs);
-        repairs.push_back("united " + plural(united.shellsUnited, "overlapping shell", "overlapping shells") +
-                          " into " + plural(united.groups, "solid", "solids") + " (" +
+        repairs.push_back("united " + std::to_string(united.shellsUnited) +
+                          " overlapping or nested shells: the surface of their union replaces them (" +
                           shortNumber(united.removedAreaMm2) + " mm2 of surface inside the part removed)");
         repairs.insert(repairs.end(), third.info.repairs.begin(), third.info.repairs.end());
         third.info.repairs = std::move(repairs);
@@ -572,7 +650,8 @@ std::string meshInfoJson(const MeshInfo& info) {
                    {"sheets", r.sheets},
                    {"sheets_dropped", r.sheetsDropped},
                    {"debris_pieces", r.debrisPieces},
-                   {"debris_faces", r.debrisFaces}};
+                   {"debris_faces", r.debrisFaces},
+                   {"rebuilt_mm", number(r.rebuiltPitchMm)}};
   }
   if (info.shellsUnited > 0) {
     j["shells_united"] = {{"shells", info.shellsUnited},

@@ -62,6 +62,9 @@ struct PrepareOptions {
   // (cgal/shell_union.h), so that no face lies inside the solid. Only when the self-intersection
   // test found intersecting faces or a shell was found nested in one of the same orientation.
   bool uniteShells = false;
+  // With closeSolid: when repairSolid cannot close the mesh, rebuild its surface from
+  // inside/outside samples of the faces as given (mesh/rebuild_solid.h) where those bound a solid.
+  bool rebuild = true;
 };
 
 struct PrepareMeshResult : Outcome {
@@ -93,7 +96,8 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options,
 // non_manifold_edges, non_manifold_vertices, self_intersections, self_intersections_capped,
 // non_finite_vertices, repairs, errors, warnings; with solidRepaired also repair {holes_filled,
 // holes_capped, holes_left, largest_hole_mm, filled_area_mm2, filled_faces, first_filled_face, edges_split,
-// vertices_split, sheets, debris_pieces, debris_faces}; with shellsUnited also shells_united
+// vertices_split, sheets, debris_pieces, debris_faces, rebuilt_mm (grid pitch of a rebuilt
+// surface, 0 when not rebuilt)}; with shellsUnited also shells_united
 // {shells, unions, inner_area_mm2}). Non-finite numbers are written as null.
 std::string meshInfoJson(const MeshInfo& info);
 }  // namespace omnislice

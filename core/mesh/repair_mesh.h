@@ -58,6 +58,8 @@ struct SolidRepairStats {
   double sheetAreaDroppedMm2 = 0;
   size_t debrisPieces = 0;        // pieces dropped as debris
   size_t debrisFaces = 0;
+  double rebuiltPitchMm = 0;      // prepareMesh rebuilt the surface on a grid of this pitch instead
+                                  // (mesh/rebuild_solid.h); the other counts are then 0
 };
 
 struct SolidRepairResult : Outcome {
