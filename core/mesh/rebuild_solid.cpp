@@ -32,13 +32,21 @@ struct Grid {
   double coordinate(int axis, int index) const { return origin[axis] + pitch * index; }
 };
 
+// Where a line along +d crosses a triangle: the coordinate along d, and +1 when the triangle
+// faces against the line (the line enters what it bounds), -1 when it faces along it.
+struct Crossing {
+  double t;
+  int enter;
+  bool operator<(const Crossing& o) const { return t < o.t; }
+};
+
 // The crossings of the soup with the lines along axis d through the grid points: lines are
 // indexed by the point's two other coordinates (a = d+1, b = d+2, cyclic), a fastest.
 struct Lines {
   int d = 0, a = 1, b = 2;
   int na = 0, nb = 0;
-  std::vector<std::vector<double>> crossings;  // sorted coordinates along d
-  const std::vector<double>& at(int ia, int ib) const { return crossings[size_t(ib) * size_t(na) + size_t(ia)]; }
+  std::vector<std::vector<Crossing>> crossings;  // sorted along d
+  const std::vector<Crossing>& at(int ia, int ib) const { return crossings[size_t(ib) * size_t(na) + size_t(ia)]; }
 };
 
 Lines castLines(const Mesh& soup, const Grid& g, int d) {
@@ -70,8 +78,9 @@ Lines castLines(const Mesh& soup, const Grid& g, int d) {
         const double w2 = (p0[a] - x) * (p1[b] - y) - (p1[a] - x) * (p0[b] - y);
         const bool inside = (w0 > 0 && w1 > 0 && w2 > 0) || (w0 < 0 && w1 < 0 && w2 < 0);
         if (!inside) continue;
-        const double t = (w0 * p0[d] + w1 * p1[d] + w2 * p2[d]) / (w0 + w1 + w2);
-        L.crossings[size_t(ib) * size_t(L.na) + size_t(ia)].push_back(t);
+        const double sum = w0 + w1 + w2;  // twice the signed area in (a, b): the normal's d part
+        const double t = (w0 * p0[d] + w1 * p1[d] + w2 * p2[d]) / sum;
+        L.crossings[size_t(ib) * size_t(L.na) + size_t(ia)].push_back({t, sum < 0 ? 1 : -1});
       }
     }
   }
@@ -112,32 +121,45 @@ RebuildResult rebuildSolid(const Mesh& soup, const RebuildOptions& options, cons
   for (int k = 0; k < 3; ++k) g.n[k] = int(std::ceil((hi[k] - g.origin[k]) / g.pitch + 1.5));
   r.pitchMm = g.pitch;
 
-  // Parity votes per point.
+  // Votes per point and direction, by two rules: parity (an odd number of crossings before the
+  // point) and winding (entries minus exits before it, non-zero). Parity needs no orientation and
+  // cancels walls present twice; winding also fills where bodies overlap (parity empties them)
+  // but needs the faces turned consistently. The rule whose directions disagree less decides
+  // (winding on a tie: an oriented file means what its winding says).
   std::array<Lines, 3> lines;
-  std::vector<uint8_t> votes(g.pointCount(), 0);
+  std::vector<uint8_t> parityVotes(g.pointCount(), 0), windingVotes(g.pointCount(), 0);
   for (int d = 0; d < 3; ++d) {
     lines[d] = castLines(soup, g, d);
     const Lines& L = lines[d];
     for (int ib = 0; ib < L.nb; ++ib) {
       for (int ia = 0; ia < L.na; ++ia) {
-        const std::vector<double>& c = L.at(ia, ib);
+        const std::vector<Crossing>& c = L.at(ia, ib);
         if (c.empty()) continue;
         size_t passed = 0;
+        int winding = 0;
         for (int id = 0; id <= g.n[d]; ++id) {
           const double x = g.coordinate(d, id);
-          while (passed < c.size() && c[passed] < x) ++passed;
-          if (passed % 2 == 1) {
-            std::array<int, 3> p{};
-            p[d] = id;
-            p[L.a] = ia;
-            p[L.b] = ib;
-            ++votes[g.pointIndex(p[0], p[1], p[2])];
-          }
+          while (passed < c.size() && c[passed].t < x) winding += c[passed++].enter;
+          if (passed % 2 == 0 && winding == 0) continue;
+          std::array<int, 3> p{};
+          p[d] = id;
+          p[L.a] = ia;
+          p[L.b] = ib;
+          const size_t at = g.pointIndex(p[0], p[1], p[2]);
+          parityVotes[at] += passed % 2;
+          windingVotes[at] += winding != 0 ? 1 : 0;
         }
       }
     }
     if (!report(0.2 * (d + 1))) return cancelled();
   }
+  size_t parityDisagreeing = 0, windingDisagreeing = 0;
+  for (size_t i = 0; i < parityVotes.size(); ++i) {
+    parityDisagreeing += parityVotes[i] == 1 || parityVotes[i] == 2;
+    windingDisagreeing += windingVotes[i] == 1 || windingVotes[i] == 2;
+  }
+  r.winding = windingDisagreeing <= parityDisagreeing;
+  const std::vector<uint8_t>& votes = r.winding ? windingVotes : parityVotes;
   std::vector<uint8_t> inside(votes.size(), 0);
   for (int k = 0; k <= g.n[2]; ++k) {
     for (int j = 0; j <= g.n[1]; ++j) {
@@ -160,14 +182,14 @@ RebuildResult rebuildSolid(const Mesh& soup, const RebuildOptions& options, cons
   // The crossing on the edge from point p along axis d: the one of its line nearest the middle.
   auto crossing = [&](const std::array<int, 3>& p, int d, bool& found) {
     const Lines& L = lines[d];
-    const std::vector<double>& c = L.at(p[L.a], p[L.b]);
+    const std::vector<Crossing>& c = L.at(p[L.a], p[L.b]);
     const double x0 = g.coordinate(d, p[d]), mid = x0 + 0.5 * g.pitch;
     double best = mid, bestGap = INFINITY;
-    auto it = std::lower_bound(c.begin(), c.end(), x0);
-    for (; it != c.end() && *it <= x0 + g.pitch; ++it) {
-      if (std::abs(*it - mid) < bestGap) {
-        bestGap = std::abs(*it - mid);
-        best = *it;
+    auto it = std::lower_bound(c.begin(), c.end(), Crossing{x0, 0});
+    for (; it != c.end() && it->t <= x0 + g.pitch; ++it) {
+      if (std::abs(it->t - mid) < bestGap) {
+        bestGap = std::abs(it->t - mid);
+        best = it->t;
         found = true;
       }
     }

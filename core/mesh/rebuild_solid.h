@@ -32,14 +32,18 @@ struct RebuildResult : Outcome {
   size_t netVertices = 0;
   size_t inventedVertices = 0;  // net vertices placed where no face of the soup crosses its edges
   bool touchesBorder = false; // a sample judged inside lies on the grid's outer layer (unbounded)
+  bool winding = false;       // the winding rule decided (else parity), see rebuildSolid
 };
 
-// Inside/outside by ray parity, as Nooruddin and Turk's volumetric repair (2003) does: along
-// lines parallel to x, y and z through the points of a regular grid (pitch = longest side /
-// cells, offset off round coordinates), a point is inside for a direction when an odd number of
-// the soup's triangles cross the line before it; inside overall when at least two directions say
-// so. Parity needs no orientation, and faces present twice (inner walls of a cell-by-cell export,
-// in any triangulation) cancel. The surface between inside and outside samples is a naive
+// Inside/outside by rays, as Nooruddin and Turk's volumetric repair (2003) does: along lines
+// parallel to x, y and z through the points of a regular grid (pitch = longest side / cells,
+// offset off round coordinates), a point is inside for a direction when an odd number of the
+// soup's triangles cross the line before it (parity), or when the entries minus the exits before
+// it are not zero (winding); inside overall when at least two directions say so. Parity needs no
+// orientation, and faces present twice (inner walls of a cell-by-cell export, in any
+// triangulation) cancel; winding also fills where bodies overlap (parity would empty them) but
+// needs consistent orientation. The rule whose directions disagree on fewer points is used
+// (winding on a tie). The surface between inside and outside samples is a naive
 // surface net: one vertex per grid cell that changes sign, at the mean of the exact crossings on
 // its sign-changing edges (the crossing of the edge's own line nearest the edge's middle, or the
 // middle when that line has none), one quad per sign-changing edge, oriented outward. Sharp edges

@@ -37,17 +37,18 @@ void addPatch(Mesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& u, const
   }
 }
 
-// A 30 x 20 x 10 box whose six faces are gridded independently (3x5, 7x4, ...): no two faces
-// share a vertex along their common edge but the corners, so every edge is a crack of T-junctions.
-Mesh tJunctionBox() {
+// A box [x0, x1] x [y0, y1] x [z0, z1] whose six faces are gridded independently (3x5, 7x4, ...):
+// no two faces share a vertex along their common edge but the corners, so every edge is a crack
+// of T-junctions. Faces outward.
+Mesh tJunctionBox(double x0 = 0, double y0 = 0, double z0 = 0, double x1 = 30, double y1 = 20, double z1 = 10) {
   Mesh m;
-  const double X = 30, Y = 20, Z = 10;
-  addPatch(m, {0, 0, 0}, {0, Y, 0}, {X, 0, 0}, 3, 5);  // bottom, normal -z
-  addPatch(m, {0, 0, Z}, {X, 0, 0}, {0, Y, 0}, 7, 4);  // top
-  addPatch(m, {0, 0, 0}, {X, 0, 0}, {0, 0, Z}, 6, 2);  // y = 0, normal -y
-  addPatch(m, {0, Y, 0}, {0, 0, Z}, {X, 0, 0}, 2, 5);  // y = Y
-  addPatch(m, {0, 0, 0}, {0, 0, Z}, {0, Y, 0}, 3, 3);  // x = 0, normal -x
-  addPatch(m, {X, 0, 0}, {0, Y, 0}, {0, 0, Z}, 5, 2);  // x = X
+  const double X = x1 - x0, Y = y1 - y0, Z = z1 - z0;
+  addPatch(m, {x0, y0, z0}, {0, Y, 0}, {X, 0, 0}, 3, 5);  // bottom, normal -z
+  addPatch(m, {x0, y0, z1}, {X, 0, 0}, {0, Y, 0}, 7, 4);  // top
+  addPatch(m, {x0, y0, z0}, {X, 0, 0}, {0, 0, Z}, 6, 2);  // y = y0, normal -y
+  addPatch(m, {x0, y1, z0}, {0, 0, Z}, {X, 0, 0}, 2, 5);  // y = y1
+  addPatch(m, {x0, y0, z0}, {0, 0, Z}, {0, Y, 0}, 3, 3);  // x = x0, normal -x
+  addPatch(m, {x1, y0, z0}, {0, Y, 0}, {0, 0, Z}, 5, 2);  // x = x1
   return m;
 }
 
@@ -81,6 +82,24 @@ TEST(RebuildSolid, TJunctionBoxIsRebuiltWithItsVolumeNotClosedIntoAnotherShape) 
   const PrepareMeshResult faceByFace = prepareMesh(box, o);
   ASSERT_TRUE(faceByFace.solid.ok());
   EXPECT_GT(std::abs(faceByFace.info.volumeMm3 - 6000), 0.05 * 6000);
+}
+
+// Two such boxes overlapping (an L of two bodies exported face by face): the winding rule fills
+// their overlap, where parity would leave it empty.
+TEST(RebuildSolid, OverlappingTJunctionBodiesAreRebuiltAsTheirUnion) {
+  const Mesh m = test::append(tJunctionBox(0, 0, 0, 30, 10, 10), tJunctionBox(20, 0, 0, 30, 10, 40));
+  const RebuildResult r = rebuildSolid(m);
+  ASSERT_TRUE(r.ok() && r.accepted);
+  EXPECT_TRUE(r.winding);
+  const double union_ = 3000 + 4000 - 1000;
+  EXPECT_NEAR(netVolume(r.mesh), union_, 0.01 * union_);
+  PrepareOptions o;
+  o.closeSolid = true;
+  o.uniteShells = true;
+  const PrepareMeshResult p = prepareMesh(m, o);
+  ASSERT_TRUE(p.ok() && p.solid.ok()) << p.solid.message;
+  EXPECT_GT(p.info.solidRepair.rebuiltPitchMm, 0);
+  EXPECT_NEAR(p.info.volumeMm3, union_, 0.01 * union_);
 }
 
 // Every cell of a 4 x 4 x 4 grid exported with its own six faces, each quad split along the
@@ -144,6 +163,7 @@ TEST(RebuildSolid, ScrambledSphereIsRebuiltAndHolesBulgeLocally) {
     EXPECT_NEAR(netVolume(r.mesh), ball, (holes == 0 ? 0.01 : 0.03) * ball);
     size_t near = 0;
     for (size_t v = 0; v < r.mesh.vertexCount(); ++v) near += std::abs(r.mesh.vertex(v).norm() - 10) <= 2 * r.pitchMm;
+    EXPECT_FALSE(r.winding);  // the faces' orientation means nothing here
     if (holes == 0) {
       EXPECT_EQ(r.disagreeing, 0u);
       EXPECT_EQ(r.inventedVertices, 0u);
