@@ -491,7 +491,8 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
         if (other && std::abs(other->info.volumeMm3 - v) > kRebuildVolumeGap * other->info.volumeMm3) {
           other->info.repairs[info.repairs.size()] +=
               "closed face by face it would enclose " + shortNumber(v) + " mm3, its faces enclose " +
-              shortNumber(other->info.volumeMm3) + " mm3 (by ray parity)";
+              shortNumber(other->info.volumeMm3) + " mm3 (by " + (rebuilt.winding ? "winding" : "parity") +
+              " along rays)";
           return *other;
         }
       }
