@@ -5,12 +5,14 @@
 // build/bench/sphere-1m-holes.stl: the same sphere with 1,000 holes (two neighbouring quads, four
 // triangles, every 994 triangles: apart from each other, a six-point loop each) for the repair;
 // build/bench/spheres-2x50k-overlap.stl: two 50,000-triangle spheres (50 and 40 mm) overlapping
-// as separate shells, for the union of overlapping shells.
+// as separate shells, for the union of overlapping shells; build/bench/box-100k-tjunctions.stl: an
+// 80 x 60 x 40 mm box whose six faces are gridded independently (T-junctions on every edge), which
+// the repair rebuilds from inside/outside samples.
 // Usage: node scripts/gen-bench-models.mjs [OUT_DIR=build/bench]
 import fs from 'node:fs';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
-import { sphereStl, torusStl } from '../tests/js/fixtures/meshes.js';
+import { sphereStl, torusStl, writeBinaryStl } from '../tests/js/fixtures/meshes.js';
 
 const ROOT = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '..');
 
@@ -20,7 +22,36 @@ export const BENCH_MODELS = [
   { name: 'sphere-1m-holes.stl', triangles: 996000, make: () => withHoles(sphereStl(50, 1000, 501), 1000, 994, 4) },
   { name: 'spheres-2x50k-overlap.stl', triangles: 100000,
     make: () => joinStl(sphereStl(25, 250, 101), sphereStl(20, 250, 101), [25, 7, 5]) },
+  { name: 'box-100k-tjunctions.stl', triangles: 100100, make: () => tJunctionBoxStl() },
 ];
+
+/** The 80 x 60 x 40 box, each face an independent grid of quads (two triangles each), outward. */
+function tJunctionBoxStl() {
+  const v = [];
+  const t = [];
+  const patch = (o, u, w, nu, nw) => {
+    const base = v.length / 3;
+    for (let i = 0; i <= nu; ++i) {
+      for (let j = 0; j <= nw; ++j) {
+        for (let k = 0; k < 3; ++k) v.push(o[k] + (u[k] * i) / nu + (w[k] * j) / nw);
+      }
+    }
+    for (let i = 0; i < nu; ++i) {
+      for (let j = 0; j < nw; ++j) {
+        const a = base + i * (nw + 1) + j, b = a + nw + 1;
+        t.push(a, b, b + 1, a, b + 1, a + 1);
+      }
+    }
+  };
+  const [X, Y, Z] = [80, 60, 40];
+  patch([0, 0, 0], [0, Y, 0], [X, 0, 0], 89, 101);  // bottom, normal -z
+  patch([0, 0, Z], [X, 0, 0], [0, Y, 0], 103, 87);  // top
+  patch([0, 0, 0], [X, 0, 0], [0, 0, Z], 113, 71);  // y = 0
+  patch([0, Y, 0], [0, 0, Z], [X, 0, 0], 67, 127);  // y = Y
+  patch([0, 0, 0], [0, 0, Z], [0, Y, 0], 79, 97);   // x = 0
+  patch([X, 0, 0], [0, Y, 0], [0, 0, Z], 93, 85);   // x = X
+  return writeBinaryStl(new Float32Array(v), t);
+}
 
 /** Binary STL bytes of a's triangles and b's moved by offset (two shells in one file). */
 function joinStl(a, b, offset) {
