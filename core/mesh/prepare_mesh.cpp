@@ -643,7 +643,8 @@ std::string meshInfoJson(const MeshInfo& info) {
   j["non_manifold_vertices"] = info.nonManifoldVertices;
   if (info.solidRepaired) {
     const SolidRepairStats& r = info.solidRepair;
-    j["repair"] = {{"holes_filled", r.holesFilled},
+    j["repair"] = {{"t_junctions", r.tJunctionsZipped},
+                   {"holes_filled", r.holesFilled},
                    {"holes_faired", r.holesFaired},
                    {"holes_capped", r.holesCapped},
                    {"holes_left", r.holesLeft},

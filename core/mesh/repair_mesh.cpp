@@ -30,6 +30,128 @@ std::string mm(double v) {
   return buf;
 }
 
+// T-junctions: a boundary vertex lying on another boundary edge (within tolerance of the
+// segment, strictly between its ends) whose own boundary runs along that edge (two of its
+// boundary neighbours lie on the edge's line), as where two faces of a CAD export were tessellated apart
+// and one side of their common edge has vertices the other lacks. The face of that edge is split
+// by a fan from its opposite corner through those vertices, so both sides then share the same
+// edges and the crack closes without new geometry. A face with T-vertices on several edges is
+// split one edge per pass (the fan keeps its other two edges). Returns the vertices inserted.
+size_t zipTJunctions(Mesh& m) {
+  size_t inserted = 0;
+  for (int pass = 0; pass < 4; ++pass) {
+    const MeshEdges edges = buildEdges(m);
+    std::vector<uint32_t> open;  // boundary edges
+    double length = 0;
+    for (size_t e = 0; e < edges.edgeCount(); ++e) {
+      if (edges.faceCount[e] != 1) continue;
+      open.push_back(uint32_t(e));
+      length += (m.vertex(uint32_t(edges.keys[e] >> 32)) - m.vertex(uint32_t(edges.keys[e]))).norm();
+    }
+    if (open.empty()) return inserted;
+    const double cell = length / double(open.size());
+    if (!(cell > 0)) return inserted;
+    const BoundingBox box = boundingBox(m);
+    const double tolerance = 1e-6 * (box.max - box.min).norm();
+    // Boundary vertices hashed by cell.
+    std::vector<uint8_t> isOpen(m.vertexCount(), 0);
+    std::vector<std::pair<uint32_t, uint32_t>> links;  // (vertex, boundary neighbour), sorted
+    for (uint32_t e : open) {
+      const uint32_t u = uint32_t(edges.keys[e] >> 32), w = uint32_t(edges.keys[e] & 0xFFFFFFFFu);
+      isOpen[u] = isOpen[w] = 1;
+      links.emplace_back(u, w);
+      links.emplace_back(w, u);
+    }
+    std::sort(links.begin(), links.end());
+    auto cellOf = [&](const Eigen::Vector3d& p) {
+      return Eigen::Vector3i(int(std::floor((p.x() - box.min.x()) / cell)), int(std::floor((p.y() - box.min.y()) / cell)),
+                             int(std::floor((p.z() - box.min.z()) / cell)));
+    };
+    auto hash = [](const Eigen::Vector3i& c) {
+      return (uint64_t(uint32_t(c.x())) * 73856093u) ^ (uint64_t(uint32_t(c.y())) * 19349663u) ^
+             (uint64_t(uint32_t(c.z())) * 83492791u);
+    };
+    std::vector<std::pair<uint64_t, uint32_t>> buckets;  // (hash, vertex), sorted
+    for (uint32_t v = 0; v < m.vertexCount(); ++v) {
+      if (isOpen[v]) buckets.emplace_back(hash(cellOf(m.vertex(v))), v);
+    }
+    std::sort(buckets.begin(), buckets.end());
+    // Per face: the T-vertices on one of its edges (its corner k to k+1), sorted along it.
+    std::vector<std::pair<uint32_t, std::vector<std::pair<double, uint32_t>>>> splits;  // (half-edge, ...)
+    std::vector<uint8_t> faceTaken(m.faceCount(), 0);
+    std::vector<uint32_t> seen;
+    for (uint32_t e : open) {
+      const uint32_t h = edges.firstHalfedge[e], f = h / 3;
+      if (faceTaken[f]) continue;
+      const uint32_t a = m.triangles[h], b = m.triangles[3 * f + (h % 3 + 1) % 3];
+      const Eigen::Vector3d pa = m.vertex(a), pb = m.vertex(b), ab = pb - pa;
+      const double len2 = ab.squaredNorm();
+      if (!(len2 > 0)) continue;
+      std::vector<std::pair<double, uint32_t>> on;
+      seen.clear();
+      const int steps = int(std::ceil(std::sqrt(len2) / (0.5 * cell)));
+      for (int s = 0; s <= steps; ++s) {
+        const Eigen::Vector3i c = cellOf(pa + ab * (double(s) / steps));
+        for (int dx = -1; dx <= 1; ++dx) {
+          for (int dy = -1; dy <= 1; ++dy) {
+            for (int dz = -1; dz <= 1; ++dz) {
+              const uint64_t key = hash(c + Eigen::Vector3i(dx, dy, dz));
+              auto it = std::lower_bound(buckets.begin(), buckets.end(), std::make_pair(key, uint32_t(0)));
+              for (; it != buckets.end() && it->first == key; ++it) {
+                const uint32_t v = it->second;
+                if (v == a || v == b || std::find(seen.begin(), seen.end(), v) != seen.end()) continue;
+                seen.push_back(v);
+                const Eigen::Vector3d pv = m.vertex(v);
+                const double t = (pv - pa).dot(ab) / len2;
+                if (!(t > 0 && t < 1)) continue;
+                if ((pa + t * ab - pv).norm() > tolerance) continue;
+                if ((pv - pa).norm() <= tolerance || (pv - pb).norm() <= tolerance) continue;
+                // A crack: v's boundary runs along the edge (two of its boundary neighbours lie on
+                // its line), not a boundary passing by it.
+                int along = 0;
+                for (auto l = std::lower_bound(links.begin(), links.end(), std::make_pair(v, uint32_t(0)));
+                     l != links.end() && l->first == v; ++l) {
+                  const uint32_t w = l->second;
+                  const Eigen::Vector3d pw = m.vertex(w);
+                  const double tw = (pw - pa).dot(ab) / len2;
+                  along += w == a || w == b || (pa + tw * ab - pw).norm() <= tolerance;
+                }
+                if (along < 2) continue;
+                on.emplace_back(t, v);
+              }
+            }
+          }
+        }
+      }
+      if (on.empty()) continue;
+      std::sort(on.begin(), on.end());
+      faceTaken[f] = 1;
+      splits.emplace_back(h, std::move(on));
+    }
+    if (splits.empty()) return inserted;
+    for (const auto& [h, on] : splits) {
+      const uint32_t f = h / 3, k = h % 3;
+      const uint32_t a = m.triangles[3 * f + k], b = m.triangles[3 * f + (k + 1) % 3],
+                     c = m.triangles[3 * f + (k + 2) % 3];
+      // a, v1, ..., vn, b seen from c: triangles (prev, next, c), the first replacing face f.
+      uint32_t prev = a;
+      for (size_t i = 0; i <= on.size(); ++i) {
+        const uint32_t next = i < on.size() ? on[i].second : b;
+        if (i == 0) {
+          m.triangles[3 * f] = prev;
+          m.triangles[3 * f + 1] = next;
+          m.triangles[3 * f + 2] = c;
+        } else {
+          m.triangles.insert(m.triangles.end(), {prev, next, c});
+        }
+        prev = next;
+      }
+      inserted += on.size();
+    }
+  }
+  return inserted;
+}
+
 // Corner of face f at vertex v (f has v).
 uint32_t cornerAt(const Mesh& m, uint32_t f, uint32_t v) {
   for (uint32_t k = 0; k < 3; ++k) {
@@ -221,8 +343,10 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
   };
   if (!reportProgress(progress, kStage, 0)) return cancelled();
 
-  // (1) Non-manifold edges and vertices.
-  Mesh mesh = splitFans(input, stats);
+  // (0) T-junctions zipped; (1) non-manifold edges and vertices.
+  Mesh zipped = input;
+  if (options.zipTJunctions) stats.tJunctionsZipped = zipTJunctions(zipped);
+  Mesh mesh = splitFans(zipped, stats);
   if (!reportProgress(progress, kStage, 0.3)) return cancelled();
 
   // (2) Consistent orientation per piece.
@@ -545,6 +669,10 @@ SolidRepairResult repairSolid(const Mesh& input, const SolidRepairOptions& optio
     }
   }
 
+  if (stats.tJunctionsZipped > 0) {
+    result.repairs.push_back("closed cracks at " + plural(stats.tJunctionsZipped, "T-junction", "T-junctions") +
+                             " (vertices of one face lying on another's edge: that face split there)");
+  }
   if (stats.edgesUnpaired > 0) {
     result.repairs.push_back("split " + plural(stats.edgesUnpaired, "edge", "edges") +
                              " shared by more than two faces into pairs of faces");

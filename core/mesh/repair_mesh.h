@@ -14,6 +14,7 @@
 namespace omnislice {
 
 struct SolidRepairOptions {
+  bool zipTJunctions = true;  // step (0) below
   // Loops of more points are capped by a fan from their centroid instead of the dihedral-angle
   // triangulation (its cost grows with n^2-n^3).
   size_t maxTriangulatedLoop = 400;
@@ -41,6 +42,7 @@ struct SolidRepairOptions {
 };
 
 struct SolidRepairStats {
+  size_t tJunctionsZipped = 0;    // boundary vertices on another boundary edge: that face split there
   size_t edgesUnpaired = 0;       // edges of more than two faces split into pairs of faces
   size_t facesLeftOver = 0;       // faces left unpaired at an edge of an odd number of faces, dropped
   size_t verticesSplit = 0;       // vertex copies made so every vertex is one fan
@@ -70,7 +72,9 @@ struct SolidRepairResult : Outcome {
 };
 
 // Repair `mesh` (welded, without degenerate or duplicate faces: prepareMesh's first repairs) toward
-// a closed manifold. Steps: (1) at an edge of more than two faces, the faces are sorted by angle
+// a closed manifold. Steps: (0) T-junctions: a boundary vertex within 1e-6 of the diagonal of
+// another boundary edge, strictly inside it, splits that edge's face by a fan from its opposite
+// corner (cracks between faces tessellated apart close exactly); (1) at an edge of more than two faces, the faces are sorted by angle
 // about the edge and paired with a neighbour running the edge the other way so that each pair
 // encloses material; then every vertex is split into one copy per fan of faces linked through
 // manifold or paired edges (non-manifold edges and vertices gone); (2) faces are oriented

@@ -39,16 +39,27 @@ void addPatch(Mesh& m, const Eigen::Vector3d& o, const Eigen::Vector3d& u, const
 
 // A box [x0, x1] x [y0, y1] x [z0, z1] whose six faces are gridded independently (3x5, 7x4, ...):
 // no two faces share a vertex along their common edge but the corners, so every edge is a crack
-// of T-junctions. Faces outward.
-Mesh tJunctionBox(double x0 = 0, double y0 = 0, double z0 = 0, double x1 = 30, double y1 = 20, double z1 = 10) {
+// of T-junctions. Faces outward. With shrink > 0 each face is scaled about its centre by
+// 1 - shrink: the cracks open (no vertex lies on another face's edge any more).
+Mesh tJunctionBox(double x0 = 0, double y0 = 0, double z0 = 0, double x1 = 30, double y1 = 20, double z1 = 10,
+                  double shrink = 0) {
   Mesh m;
   const double X = x1 - x0, Y = y1 - y0, Z = z1 - z0;
-  addPatch(m, {x0, y0, z0}, {0, Y, 0}, {X, 0, 0}, 3, 5);  // bottom, normal -z
-  addPatch(m, {x0, y0, z1}, {X, 0, 0}, {0, Y, 0}, 7, 4);  // top
-  addPatch(m, {x0, y0, z0}, {X, 0, 0}, {0, 0, Z}, 6, 2);  // y = y0, normal -y
-  addPatch(m, {x0, y1, z0}, {0, 0, Z}, {X, 0, 0}, 2, 5);  // y = y1
-  addPatch(m, {x0, y0, z0}, {0, 0, Z}, {0, Y, 0}, 3, 3);  // x = x0, normal -x
-  addPatch(m, {x1, y0, z0}, {0, Y, 0}, {0, 0, Z}, 5, 2);  // x = x1
+  auto face = [&](const Eigen::Vector3d& o, const Eigen::Vector3d& u, const Eigen::Vector3d& v, int nu, int nv) {
+    const size_t first = m.vertexCount();
+    addPatch(m, o, u, v, nu, nv);
+    const Eigen::Vector3d c = o + 0.5 * (u + v);
+    for (size_t i = first; i < m.vertexCount(); ++i) {
+      const Eigen::Vector3d p = c + (1 - shrink) * (m.vertex(i) - c);
+      for (int k = 0; k < 3; ++k) m.positions[3 * i + k] = p[k];
+    }
+  };
+  face({x0, y0, z0}, {0, Y, 0}, {X, 0, 0}, 3, 5);  // bottom, normal -z
+  face({x0, y0, z1}, {X, 0, 0}, {0, Y, 0}, 7, 4);  // top
+  face({x0, y0, z0}, {X, 0, 0}, {0, 0, Z}, 6, 2);  // y = y0, normal -y
+  face({x0, y1, z0}, {0, 0, Z}, {X, 0, 0}, 2, 5);  // y = y1
+  face({x0, y0, z0}, {0, 0, Z}, {0, Y, 0}, 3, 3);  // x = x0, normal -x
+  face({x1, y0, z0}, {0, Y, 0}, {0, 0, Z}, 5, 2);  // x = x1
   return m;
 }
 
@@ -60,12 +71,38 @@ double netVolume(const Mesh& m) {
   return v;
 }
 
-TEST(RebuildSolid, TJunctionBoxIsRebuiltWithItsVolumeNotClosedIntoAnotherShape) {
-  const Mesh box = tJunctionBox();
+PrepareMeshResult prepareSolid(const Mesh& m, bool zip = true, bool rebuild = true) {
   PrepareOptions o;
   o.closeSolid = true;
   o.uniteShells = true;
-  PrepareMeshResult r = prepareMesh(box, o);
+  o.rebuild = rebuild;
+  o.solidRepair.zipTJunctions = zip;
+  return prepareMesh(m, o);
+}
+
+// T-junctions are zipped: the box closes exactly, sharp, with no face added beyond the splits.
+TEST(RebuildSolid, TJunctionBoxIsZippedExactly) {
+  const PrepareMeshResult r = prepareSolid(tJunctionBox());
+  ASSERT_TRUE(r.ok() && r.solid.ok()) << r.solid.message;
+  EXPECT_TRUE(r.info.closed && r.info.manifold && r.info.oriented);
+  EXPECT_NEAR(r.info.volumeMm3, 6000, 1e-9);
+  EXPECT_NEAR(r.info.areaMm2, 2200, 1e-9);
+  EXPECT_EQ(r.info.solidRepair.rebuiltPitchMm, 0);
+  EXPECT_EQ(r.info.solidRepair.holesFilled, 0u);
+  // Every vertex on a face's edge but the 8 corners is a T-vertex on the other side: 54 here.
+  EXPECT_EQ(r.info.solidRepair.tJunctionsZipped, 54u);
+  EXPECT_EQ(r.info.selfIntersections, 0u);
+}
+
+// Without the zipping, the face-by-face repair "closes" the same box into another solid (loose
+// faces dropped as sheets, a hole capped across the box): the volume check against the rebuild
+// catches it and the rebuilt surface is taken instead.
+TEST(RebuildSolid, RepairThatChangesTheVolumeGivesWayToTheRebuild) {
+  const Mesh box = tJunctionBox();
+  const PrepareMeshResult faceByFace = prepareSolid(box, false, false);
+  ASSERT_TRUE(faceByFace.solid.ok());
+  EXPECT_GT(std::abs(faceByFace.info.volumeMm3 - 6000), 0.05 * 6000);
+  const PrepareMeshResult r = prepareSolid(box, false, true);
   ASSERT_TRUE(r.ok() && r.solid.ok()) << r.solid.message;
   EXPECT_GT(r.info.solidRepair.rebuiltPitchMm, 0);
   EXPECT_TRUE(r.info.closed && r.info.manifold && r.info.oriented);
@@ -76,12 +113,15 @@ TEST(RebuildSolid, TJunctionBoxIsRebuiltWithItsVolumeNotClosedIntoAnotherShape) 
   EXPECT_NEAR(r.info.bbox.max.y(), 20, h);
   EXPECT_NEAR(r.info.bbox.max.z(), 10, h);
   EXPECT_EQ(r.info.firstFilledFace, 0u);
-  // Without the rebuild the face-by-face repair "closes" it into a different solid: that is what
-  // the volume comparison guards against.
-  o.rebuild = false;
-  const PrepareMeshResult faceByFace = prepareMesh(box, o);
-  ASSERT_TRUE(faceByFace.solid.ok());
-  EXPECT_GT(std::abs(faceByFace.info.volumeMm3 - 6000), 0.05 * 6000);
+}
+
+// Opened cracks (each face shrunk by 1e-4 about its centre: gaps of ~1 um, wider than the zip
+// tolerance) cannot be closed face by face: the box is rebuilt.
+TEST(RebuildSolid, CrackedBoxIsRebuilt) {
+  const PrepareMeshResult r = prepareSolid(tJunctionBox(0, 0, 0, 30, 20, 10, 1e-4));
+  ASSERT_TRUE(r.ok() && r.solid.ok()) << r.solid.message;
+  EXPECT_GT(r.info.solidRepair.rebuiltPitchMm, 0);
+  EXPECT_NEAR(r.info.volumeMm3, 6000, 0.005 * 6000);
 }
 
 // Two such boxes overlapping (an L of two bodies exported face by face): the winding rule fills
@@ -93,10 +133,7 @@ TEST(RebuildSolid, OverlappingTJunctionBodiesAreRebuiltAsTheirUnion) {
   EXPECT_TRUE(r.winding);
   const double union_ = 3000 + 4000 - 1000;
   EXPECT_NEAR(netVolume(r.mesh), union_, 0.01 * union_);
-  PrepareOptions o;
-  o.closeSolid = true;
-  o.uniteShells = true;
-  const PrepareMeshResult p = prepareMesh(m, o);
+  const PrepareMeshResult p = prepareSolid(m);
   ASSERT_TRUE(p.ok() && p.solid.ok()) << p.solid.message;
   EXPECT_GT(p.info.solidRepair.rebuiltPitchMm, 0);
   EXPECT_NEAR(p.info.volumeMm3, union_, 0.01 * union_);
@@ -189,22 +226,30 @@ TEST(RebuildSolid, SheetsAreNotRebuilt) {
   EXPECT_EQ(rebuildSolid(Mesh{}).status, Status::EmptyInput);
 }
 
-// The rebuilt box prints: planar and multidir programs verify against it.
-TEST(RebuildSolid, RebuiltBoxPrints) {
-  const std::vector<uint8_t> bytes = test::binaryStl(tJunctionBox());
-  for (const auto& [method, machine] : {std::pair{"planar", "cartesian3"}, std::pair{"multidir", "table5"}}) {
-    SCOPED_TRACE(method);
-    Settings s;
-    ASSERT_TRUE(setSetting(s, "method", method).ok());
-    ASSERT_TRUE(setSetting(s, "machine", machine).ok());
-    ASSERT_TRUE(setSetting(s, "infill", "100").ok());
-    const test::Sliced r = test::sliceAndVerify(bytes, "tbox.stl", s);
-    ASSERT_TRUE(r.out.ok());
-    EXPECT_GT(r.report["mesh"]["repair"]["rebuilt_mm"].get<double>(), 0);
-    EXPECT_GE(r.verify["inside"].get<double>(), 0.99);
-    EXPECT_GE(r.verify["coverage"].get<double>(), 0.95);
-    EXPECT_GE(r.verify["surface_reached"].get<double>(), 0.99);
-    EXPECT_EQ(r.verify["collisions"].get<int>(), 0);
+// The zipped box and the rebuilt (cracked) box print: planar and multidir programs verify
+// against them.
+TEST(RebuildSolid, ZippedAndRebuiltBoxesPrint) {
+  for (double shrink : {0.0, 1e-4}) {
+    const std::vector<uint8_t> bytes = test::binaryStl(tJunctionBox(0, 0, 0, 30, 20, 10, shrink));
+    for (const auto& [method, machine] : {std::pair{"planar", "cartesian3"}, std::pair{"multidir", "table5"}}) {
+      SCOPED_TRACE(std::string(method) + (shrink > 0 ? " cracked" : " zipped"));
+      Settings s;
+      ASSERT_TRUE(setSetting(s, "method", method).ok());
+      ASSERT_TRUE(setSetting(s, "machine", machine).ok());
+      ASSERT_TRUE(setSetting(s, "infill", "100").ok());
+      const test::Sliced r = test::sliceAndVerify(bytes, "tbox.stl", s);
+      ASSERT_TRUE(r.out.ok());
+      const nlohmann::json& repair = r.report["mesh"]["repair"];
+      if (shrink > 0) {
+        EXPECT_GT(repair["rebuilt_mm"].get<double>(), 0);
+      } else {
+        EXPECT_EQ(repair["t_junctions"].get<int>(), 54);
+      }
+      EXPECT_GE(r.verify["inside"].get<double>(), 0.99);
+      EXPECT_GE(r.verify["coverage"].get<double>(), 0.95);
+      EXPECT_GE(r.verify["surface_reached"].get<double>(), 0.99);
+      EXPECT_EQ(r.verify["collisions"].get<int>(), 0);
+    }
   }
 }
 
