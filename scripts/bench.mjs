@@ -150,8 +150,10 @@ const cases = [
   { case: REPAIR_1M, mode: 'info', file: models['sphere-1m-holes.stl'], settings: {} },
   // Issue 26: two overlapping 50k-triangle spheres united (CGAL corefinement) in validate.
   { case: UNION_100K, mode: 'info', file: models['spheres-2x50k-overlap.stl'], settings: {} },
-  // Issue 26: a 100k-triangle box tessellated face by face, rebuilt from inside/outside samples.
-  { case: 'box 100k T-junctions read+rebuild', mode: 'info', file: models['box-100k-tjunctions.stl'], settings: {} },
+  // Issue 26: a 100k-triangle box tessellated face by face: T-junctions zipped; with the cracks
+  // opened, rebuilt from inside/outside samples.
+  { case: 'box 100k T-junctions read+zip', mode: 'info', file: models['box-100k-tjunctions.stl'], settings: {} },
+  { case: 'box 100k cracks read+rebuild', mode: 'info', file: models['box-100k-cracks.stl'], settings: {} },
 ];
 if (process.env.BENCH_SLICE_1M === '1') {
   cases.push({ case: 'sphere-1m slice 0.2mm', mode: 'slice', file: models['sphere-1m.stl'], settings: { layer_height: 0.2 } });

@@ -7,7 +7,8 @@
 // build/bench/spheres-2x50k-overlap.stl: two 50,000-triangle spheres (50 and 40 mm) overlapping
 // as separate shells, for the union of overlapping shells; build/bench/box-100k-tjunctions.stl: an
 // 80 x 60 x 40 mm box whose six faces are gridded independently (T-junctions on every edge), which
-// the repair rebuilds from inside/outside samples.
+// the repair zips; build/bench/box-100k-cracks.stl: the same with each face shrunk by 1e-4 about
+// its centre (the cracks open), which the repair rebuilds from inside/outside samples.
 // Usage: node scripts/gen-bench-models.mjs [OUT_DIR=build/bench]
 import fs from 'node:fs';
 import path from 'node:path';
@@ -22,18 +23,25 @@ export const BENCH_MODELS = [
   { name: 'sphere-1m-holes.stl', triangles: 996000, make: () => withHoles(sphereStl(50, 1000, 501), 1000, 994, 4) },
   { name: 'spheres-2x50k-overlap.stl', triangles: 100000,
     make: () => joinStl(sphereStl(25, 250, 101), sphereStl(20, 250, 101), [25, 7, 5]) },
-  { name: 'box-100k-tjunctions.stl', triangles: 100100, make: () => tJunctionBoxStl() },
+  { name: 'box-100k-tjunctions.stl', triangles: 100100, make: () => tJunctionBoxStl(0) },
+  { name: 'box-100k-cracks.stl', triangles: 100100, make: () => tJunctionBoxStl(1e-4) },
 ];
 
-/** The 80 x 60 x 40 box, each face an independent grid of quads (two triangles each), outward. */
-function tJunctionBoxStl() {
+/**
+ * The 80 x 60 x 40 box, each face an independent grid of quads (two triangles each), outward; each
+ * face scaled about its centre by 1 - shrink (shrink > 0 opens the T-junctions into cracks).
+ */
+function tJunctionBoxStl(shrink) {
   const v = [];
   const t = [];
   const patch = (o, u, w, nu, nw) => {
     const base = v.length / 3;
     for (let i = 0; i <= nu; ++i) {
       for (let j = 0; j <= nw; ++j) {
-        for (let k = 0; k < 3; ++k) v.push(o[k] + (u[k] * i) / nu + (w[k] * j) / nw);
+        for (let k = 0; k < 3; ++k) {
+          const c = o[k] + (u[k] + w[k]) / 2;
+          v.push(c + (o[k] + (u[k] * i) / nu + (w[k] * j) / nw - c) * (1 - shrink));
+        }
       }
     }
     for (let i = 0; i < nu; ++i) {

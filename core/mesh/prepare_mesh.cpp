@@ -446,6 +446,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     PrepareOptions again = options;
     again.closeSolid = false;
     again.weld = false;  // the split vertices share positions with their originals
+    again.selfIntersectionsOfSolidsOnly = true;  // an unrepaired result is rebuilt or refused
     // The second pass reports only cancellation: "validate" already ran once.
     const ProgressFn quiet = [&progress](const char*, double) { return reportProgress(progress, kStage, 1); };
     PrepareMeshResult second = prepareMesh(fixed.mesh, again, quiet);
@@ -555,7 +556,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
   }
 
   // Self-intersections: a warning, the slicer unions sections with the non-zero rule.
-  if (options.checkSelfIntersections) {
+  if (options.checkSelfIntersections && (result.solid.ok() || !options.selfIntersectionsOfSolidsOnly)) {
     if (options.selfIntersectionMaxFaces > 0 && info.faces > options.selfIntersectionMaxFaces) {
       info.warnings.push_back("self_intersections not checked above " +
                               std::to_string(options.selfIntersectionMaxFaces) + " faces (" +

@@ -46,6 +46,8 @@ struct PrepareOptions {
   bool repair = true;               // apply safe repairs (merge, drop degenerate, orient, outward)
   bool checkSelfIntersections = true;  // CGAL box-intersection test (costly on huge meshes)
   size_t selfIntersectionCap = 1000;   // stop counting after this many pairs (0 = no cap)
+  bool selfIntersectionsOfSolidsOnly = false;  // skip the test when the mesh is not a solid (the
+                                               // repair's second pass: it is rebuilt or refused)
   size_t selfIntersectionMaxFaces = 500000;  // skip the test above this many faces, with a
                                              // warning (0 = no limit): it costs ~0.9 s per 1M
                                              // faces natively, the rest of validation ~0.25 s
