@@ -50,13 +50,60 @@ int commonAxis(const std::array<const Point*, N>& p) {
   return -1;
 }
 
-// Sign of the 2D orientation of (p, q, r) in the plane of axes (i, j): +1, -1, or 0 when the
-// static error bound (Shewchuk's ccwerrboundA) cannot decide (the caller then asks CGAL).
+// a + b = x + y exactly, x the rounded sum (Knuth's two-sum).
+void twoSum(double a, double b, double& x, double& y) {
+  x = a + b;
+  const double bv = x - a, av = x - bv;
+  y = (a - av) + (b - bv);
+}
+
+// Exact sign of the 2D orientation det = (q_i - p_i)(r_j - p_j) - (q_j - p_j)(r_i - p_i), as
+// the sum of its six coordinate products, each split exactly by fma into a rounded product and
+// its error, summed into a nonoverlapping expansion (Shewchuk's grow-expansion): the sign of the
+// largest nonzero component is the sign of the sum.
+int exactOrient2(const Point& p, const Point& q, const Point& r, int i, int j) {
+  const double terms[6][2] = {{q[i], r[j]},  {-q[i], p[j]}, {-p[i], r[j]},
+                              {-q[j], r[i]}, {q[j], p[i]},  {p[j], r[i]}};
+  double e[24];
+  int n = 0;
+  auto grow = [&](double t) {
+    double h[24];
+    int m = 0;
+    double q0 = t;
+    for (int k = 0; k < n; ++k) {
+      double x, y;
+      twoSum(q0, e[k], x, y);
+      if (y != 0) h[m++] = y;
+      q0 = x;
+    }
+    if (q0 != 0) h[m++] = q0;
+    std::copy(h, h + m, e);
+    n = m;
+  };
+  for (const auto& t : terms) {
+    const double prod = t[0] * t[1];
+    grow(prod);
+    grow(std::fma(t[0], t[1], -prod));
+  }
+  return n == 0 ? 0 : (e[n - 1] > 0 ? 1 : -1);
+}
+
+// Sign of the 2D orientation of (p, q, r) in the plane of axes (i, j): +1, -1 or 0, exact (the
+// static error bound, Shewchuk's ccwerrboundA, decides most cases; the expansion the rest).
 int orient2(const Point& p, const Point& q, const Point& r, int i, int j) {
   const double l = (q[i] - p[i]) * (r[j] - p[j]), rr = (q[j] - p[j]) * (r[i] - p[i]);
   const double det = l - rr;
   const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(rr));
-  return det > bound ? 1 : det < -bound ? -1 : 0;
+  if (det > bound) return 1;
+  if (det < -bound) return -1;
+  return exactOrient2(p, q, r, i, j);
+}
+
+// For q, r on one line through p (orient2 == 0, q != p): whether r lies on the same side of p
+// as q, r == p counting as not. Exact: coordinate comparisons on an axis along which q moves.
+bool sameRay(const Point& p, const Point& q, const Point& r, int i, int j) {
+  const int a = q[i] != p[i] ? i : j;
+  return (q[a] > p[a] && r[a] > p[a]) || (q[a] < p[a] && r[a] < p[a]);
 }
 
 // Tri-state answers of the shortcuts: decided (true / false) or ask CGAL.
@@ -152,12 +199,17 @@ class PairTester {
       const Point* ra[2] = {p[(va + 1) % 3], p[(va + 2) % 3]};
       const Point* rb[2] = {p[3 + (vb + 1) % 3], p[3 + (vb + 2) % 3]};
       auto separates = [&](const Point* const (&own)[2], const Point* const (&other)[2]) {
-        // own[e]'s line separates when other's rays lie on the side away from own[1 - e].
+        // own[e]'s line separates when other's rays lie on the side away from own[1 - e], or on
+        // the line pointing away from own[e] (they then meet own only at v).
         for (int e = 0; e < 2; ++e) {
           const int inner = orient2(v, *own[e], *own[1 - e], i, j);
-          const int s0 = orient2(v, *own[e], *other[0], i, j), s1 = orient2(v, *own[e], *other[1], i, j);
-          if (inner == 0 || s0 == 0 || s1 == 0) return Answer::Unknown;
-          if (s0 == -inner && s1 == -inner) return Answer::Yes;
+          if (inner == 0) return Answer::Unknown;
+          bool apart = true;
+          for (int k = 0; k < 2 && apart; ++k) {
+            const int sk = orient2(v, *own[e], *other[k], i, j);
+            apart = sk == -inner || (sk == 0 && !sameRay(v, *own[e], *other[k], i, j));
+          }
+          if (apart) return Answer::Yes;
         }
         return Answer::No;
       };
@@ -167,27 +219,43 @@ class PairTester {
       if (sb == Answer::Unknown) return Answer::Unknown;
       return sa == Answer::Yes || sb == Answer::Yes ? Answer::No : Answer::Yes;
     }
-    // No common vertex: disjoint iff the line of some edge separates (convex polygons in 2D).
+    // No common vertex: disjoint iff the line of some edge strictly separates (convex polygons in
+    // 2D). When the other face lies on the far side or on the line, it meets the line only in
+    // its vertices there: they touch when those overlap the edge (exact 1D comparisons).
+    enum class Side { Separated, Touching, Open, Unknown };
     auto edgeSeparates = [&](int base, int other) {
       for (int e = 0; e < 3; ++e) {
         const Point& u = *p[base + e];
         const Point& w = *p[base + (e + 1) % 3];
         const int inner = orient2(u, w, *p[base + (e + 2) % 3], i, j);
-        if (inner == 0) return Answer::Unknown;
-        bool all = true;
-        for (int x = 0; x < 3; ++x) {
+        if (inner == 0) return Side::Unknown;
+        bool beyond = true;
+        const Point* on[3];
+        int onLine = 0;
+        for (int x = 0; x < 3 && beyond; ++x) {
           const int o = orient2(u, w, *p[other + x], i, j);
-          if (o == 0) return Answer::Unknown;
-          all = all && o == -inner;
+          if (o == 0) on[onLine++] = p[other + x];
+          else beyond = o == -inner;
         }
-        if (all) return Answer::Yes;
+        if (!beyond) continue;
+        if (onLine == 0) return Side::Separated;
+        const int a = u[i] != w[i] ? i : j;
+        const double lo = std::min(u[a], w[a]), hi = std::max(u[a], w[a]);
+        double bl = (*on[0])[a], bh = bl;
+        for (int x = 1; x < onLine; ++x) {
+          bl = std::min(bl, (*on[x])[a]);
+          bh = std::max(bh, (*on[x])[a]);
+        }
+        return std::max(lo, bl) <= std::min(hi, bh) ? Side::Touching : Side::Separated;
       }
-      return Answer::No;
+      return Side::Open;
     };
-    const Answer ea = edgeSeparates(0, 3);
-    if (ea != Answer::No) return ea == Answer::Yes ? Answer::No : Answer::Unknown;
-    const Answer eb = edgeSeparates(3, 0);
-    if (eb != Answer::No) return eb == Answer::Yes ? Answer::No : Answer::Unknown;
+    for (const auto& [base, other] : {std::pair{0, 3}, std::pair{3, 0}}) {
+      const Side side = edgeSeparates(base, other);
+      if (side == Side::Separated) return Answer::No;
+      if (side == Side::Touching) return Answer::Yes;
+      if (side == Side::Unknown) return Answer::Unknown;
+    }
     return Answer::Yes;
   }
 

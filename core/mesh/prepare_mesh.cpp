@@ -462,11 +462,6 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       PrepareOptions last = options;
       last.rebuild = false;
       last.uniteShells = false;
-      // Not checked for self-intersections: a net's faces keep to their cells (none crossed on
-      // the rebuilt boxes, L-brackets and spheres measured), and its flat stretches are exactly
-      // coplanar grids whose collinear points send CGAL's filtered predicates to exact
-      // arithmetic through exceptions (a rebuilt 166k-face box: 13 s in wasm, 0.1 s native).
-      last.checkSelfIntersections = false;
       PrepareMeshResult third = prepareMesh(rebuilt.mesh, last, quiet);
       if (!third.ok() || !third.solid.ok()) return std::nullopt;
       std::vector<std::string> repairs = info.repairs;

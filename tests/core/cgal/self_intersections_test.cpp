@@ -172,7 +172,9 @@ TEST(SelfIntersections, PlanarShortcutsAgreeWithCgal) {
   }
   EXPECT_GT(total, 200u);  // the cases do intersect, often
   std::printf("planar shortcuts decided %zu of %zu candidate pairs\n", decided, candidates);
-  EXPECT_GT(decided, candidates / 3);
+  // Exact orientations and the collinear cases (rays along one line, a face touching another's
+  // edge line) decide 23.4k of 32.2k here; the static filter alone decided 12.9k.
+  EXPECT_GT(decided, 2 * candidates / 3);
 }
 
 // The cap stops the search; progress can cancel it.
