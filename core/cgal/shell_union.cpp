@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 
 #include "common/disjoint_sets.h"
+#include "mesh/mesh_topology.h"
 
 namespace omnislice {
 namespace {
@@ -134,24 +135,13 @@ ShellUnionResult uniteOverlappingShells(const Mesh& mesh, const ShellUnionOption
   const size_t faceCount = mesh.faceCount();
   if (faceCount == 0) return r;
 
-  // Shells: faces joined through shared vertices.
-  DisjointSets sets(mesh.vertexCount());
-  for (size_t f = 0; f < faceCount; ++f) {
-    sets.unite(mesh.triangles[3 * f], mesh.triangles[3 * f + 1]);
-    sets.unite(mesh.triangles[3 * f], mesh.triangles[3 * f + 2]);
-  }
-  std::vector<int64_t> shellOfRoot(mesh.vertexCount(), -1);
-  std::vector<uint32_t> shellOfFace(faceCount);
-  std::vector<Shell> shells;
+  // Shells: the edge-connected components (a solid has no vertex where separate fans touch).
+  const FaceComponents components = edgeComponents(mesh, buildEdges(mesh));
+  const std::vector<uint32_t>& shellOfFace = components.label;
+  std::vector<Shell> shells(components.count);
   const Eigen::Vector3d centre = mesh.vertex(mesh.triangles[0]);
   for (size_t f = 0; f < faceCount; ++f) {
-    const uint32_t root = sets.find(mesh.triangles[3 * f]);
-    if (shellOfRoot[root] < 0) {
-      shellOfRoot[root] = int64_t(shells.size());
-      shells.emplace_back();
-    }
-    Shell& s = shells[size_t(shellOfRoot[root])];
-    shellOfFace[f] = uint32_t(shellOfRoot[root]);
+    Shell& s = shells[shellOfFace[f]];
     s.faces.push_back(uint32_t(f));
     const Eigen::Vector3d a = mesh.vertex(mesh.triangles[3 * f]);
     const Eigen::Vector3d b = mesh.vertex(mesh.triangles[3 * f + 1]);

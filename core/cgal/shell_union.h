@@ -26,7 +26,7 @@ struct ShellUnionResult : Outcome {
   double removedAreaMm2 = 0; // surface of the united shells that lay inside another (no longer there)
 };
 
-// Shells = vertex-connected components (the mesh is expected closed, manifold and outward, as
+// Shells = edge-connected components (the mesh is expected closed, manifold and outward, as
 // prepareMesh leaves a solid). Shells of positive volume whose surfaces intersect, or one of which
 // lies inside another, are grouped (union-find over pairs with overlapping boxes, tested by
 // Polygon_mesh_processing::do_intersect with the bounded-side test), and each group is replaced by

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
@@ -456,7 +457,8 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     // that walls present twice still cancel), validated and repaired once more (the net's
     // non-manifold spots are split); its result when that is a solid.
     RebuildResult rebuilt;
-    auto rebuiltSolid = [&](const std::string& why) -> std::optional<PrepareMeshResult> {
+    // why(volume of the rebuilt solid): the reason written in the repairs line.
+    auto rebuiltSolid = [&](const std::function<std::string(double)>& why) -> std::optional<PrepareMeshResult> {
       rebuilt = rebuildSolid(raw, {}, progress, 1.0, 1.0);
       if (!rebuilt.ok() || !rebuilt.accepted) return std::nullopt;
       PrepareOptions last = options;
@@ -466,7 +468,7 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       if (!third.ok() || !third.solid.ok()) return std::nullopt;
       std::vector<std::string> repairs = info.repairs;
       repairs.push_back("rebuilt the surface from inside/outside samples on a " + shortNumber(rebuilt.pitchMm) +
-                        " mm grid: " + why);
+                        " mm grid: " + why(third.info.volumeMm3));
       repairs.insert(repairs.end(), third.info.repairs.begin(), third.info.repairs.end());
       third.info.repairs = std::move(repairs);
       third.info.warnings.push_back("rebuilt: the surface was rebuilt on a " + shortNumber(rebuilt.pitchMm) +
@@ -486,14 +488,14 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
       const double area = std::max(second.info.areaMm2, 1e-300);
       if (options.rebuild && (fixed.stats.filledAreaMm2 > kLargeRepairShare * area ||
                               fixed.stats.sheetAreaDroppedMm2 > kLargeRepairShare * area)) {
-        std::optional<PrepareMeshResult> other = rebuiltSolid("");
-        if (rebuilt.status == Status::Cancelled) return cancelled();
         const double v = second.info.volumeMm3;
+        std::optional<PrepareMeshResult> other = rebuiltSolid([&](double rebuiltVolume) {
+          return "closed face by face it would enclose " + shortNumber(v) + " mm3, its faces enclose " +
+                 shortNumber(rebuiltVolume) + " mm3 (by " + (rebuilt.winding ? "winding" : "parity") +
+                 " along rays)";
+        });
+        if (rebuilt.status == Status::Cancelled) return cancelled();
         if (other && std::abs(other->info.volumeMm3 - v) > kRebuildVolumeGap * other->info.volumeMm3) {
-          other->info.repairs[info.repairs.size()] +=
-              "closed face by face it would enclose " + shortNumber(v) + " mm3, its faces enclose " +
-              shortNumber(other->info.volumeMm3) + " mm3 (by " + (rebuilt.winding ? "winding" : "parity") +
-              " along rays)";
           return *other;
         }
       }
@@ -509,8 +511,8 @@ PrepareMeshResult prepareMesh(const Mesh& raw, const PrepareOptions& options, co
     // Not repairable face by face: rebuild it, when the samples bound a solid.
     std::string rebuildVerdict;
     if (options.rebuild) {
-      std::optional<PrepareMeshResult> other =
-          rebuiltSolid("it could not be closed face by face (" + second.solid.message + ")");
+      std::optional<PrepareMeshResult> other = rebuiltSolid(
+          [&](double) { return "it could not be closed face by face (" + second.solid.message + ")"; });
       if (rebuilt.status == Status::Cancelled) return cancelled();
       if (other) return *other;
       if (rebuilt.ok() && !rebuilt.accepted && rebuilt.insideSamples > 0) {
