@@ -114,6 +114,7 @@ val previewToJs(const SlicePreview& p) {
   setArray(out, "layers", "Uint32Array", t.layers);
   setArray(out, "machine", "Float32Array", t.machine);
   setArray(out, "axes", "Float32Array", t.axes);
+  setArray(out, "poses", "Float32Array", t.poses);
   setArray(out, "curves", "Uint32Array", t.curves);
   const LayerSurfacePreview& s = p.method.surfaces;
   setArray(out, "surfacePositions", "Float32Array", s.positions);
@@ -209,36 +210,16 @@ val replayJs(const std::string& program) {
     ParsedProgram p = readProgram(program);
     val out = statusObject(p.status, p.message);
     if (!p.ok()) return out;
-    std::vector<float> positions, machine;
-    std::vector<uint8_t> features;
-    std::vector<uint32_t> layers;
-    for (const ProgramMove& m : p.moves) {
-      if ((m.to - m.from).squaredNorm() == 0) continue;  // retracts, pure rotations: no segment
-      for (const Eigen::Vector3d& q : {m.from, m.to}) {
-        for (int k = 0; k < 3; ++k) positions.push_back(static_cast<float>(q[k]));
-      }
-      // Feature code by marker name; extruding moves without a known marker count as wall-inner.
-      uint8_t code = 0;
-      if (m.filament > 0) {
-        code = static_cast<uint8_t>(Feature::WallInner);
-        for (uint8_t f = 1; f <= static_cast<uint8_t>(Feature::Bridge); ++f) {
-          if (m.feature == featureName(static_cast<Feature>(f))) code = f;
-        }
-      }
-      features.push_back(code);
-      layers.push_back(static_cast<uint32_t>(std::max(0, m.layer)));
-      for (size_t k = 0; k < 6; ++k) {
-        machine.push_back(k < m.axes.size() ? static_cast<float>(m.axes[k]) : 0.0f);
-      }
-    }
     out.set("machine", machineJson(p.machine));
     out.set("format", p.format);
     out.set("layers", p.layerCount);
+    const ToolpathPreview t = programPreview(p);
     val preview = val::object();
-    preview.set("positions", copyArray("Float32Array", positions.data(), positions.size()));
-    preview.set("features", copyArray("Uint8Array", features.data(), features.size()));
-    preview.set("layers", copyArray("Uint32Array", layers.data(), layers.size()));
-    preview.set("machine", copyArray("Float32Array", machine.data(), machine.size()));
+    setArray(preview, "positions", "Float32Array", t.positions);
+    setArray(preview, "features", "Uint8Array", t.features);
+    setArray(preview, "layers", "Uint32Array", t.layers);
+    setArray(preview, "machine", "Float32Array", t.machine);
+    setArray(preview, "poses", "Float32Array", t.poses);
     out.set("preview", preview);
     return out;
   });

@@ -41,6 +41,10 @@ export interface PreviewBuffers {
   machine: Float32Array;
   /** #S*3 part-frame nozzle axis (unit) at each segment's end (slice results). */
   axes?: Float32Array;
+  /** #S*7 platform pose at each segment's end (part frame -> machine frame; robot6: the robot
+   *  base frame): unit quaternion x y z w, then translation x y z (mm), as THREE.Matrix4.compose
+   *  takes them. Slice and replay results; empty for an unknown machine kind. */
+  poses?: Float32Array;
   /** Curved-layer methods: every layer's regions as one triangle soup, layer per triangle. */
   surfacePositions?: Float32Array;
   surfaceTriangles?: Uint32Array;

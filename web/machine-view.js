@@ -7,7 +7,9 @@
 //   robot6:     the six links drawn between the DH frame origins, the platform on the flange
 //               (flange_to_platform), the fixed nozzle.
 // The part mesh and the material deposited so far ride on the platform (their coordinates are part
-// frame; the platform's matrix is the forward map's platform transform of web/machine-kinematics.js).
+// frame; the platform's matrix is the core's pose of the move, preview.poses: quaternion and
+// translation per segment, built with GLM in core/pipeline/preview.cpp; for a preview without
+// poses, the forward map's platform transform of web/machine-kinematics.js).
 // setStep(s) poses everything for move s and measures the tip error in the scene itself: the
 // distance between the platform's world matrix applied to the move's part-frame end point and the
 // nozzle tip object's world position (0 when the nozzle sits on the deposition point).
@@ -19,6 +21,7 @@ import {
 } from './machine-kinematics.js';
 
 const UP = new THREE.Vector3(0, 1, 0);
+const ONE = new THREE.Vector3(1, 1, 1);
 
 /** THREE.Matrix4 from a row-major array of 16. */
 function matrixOf(m) {
@@ -32,8 +35,9 @@ function material(color, extra = {}) {
 export class MachineView {
   /**
    * @param {object} profile the machine JSON object (report.machine_profile)
-   * @param {{positions: Float32Array, features: Uint8Array, machine: Float32Array}} preview
-   *   #S*6 part-frame segment end points, #S feature codes, #S*6 machine values
+   * @param {{positions: Float32Array, features: Uint8Array, machine: Float32Array, poses?: Float32Array}} preview
+   *   #S*6 part-frame segment end points, #S feature codes, #S*6 machine values, #S*7 platform
+   *   poses (quaternion x y z w, translation; optional: the forward map gives them otherwise)
    * @param {{positions: Float32Array, indices: Uint32Array}} [mesh] the placed part (part frame)
    * @throws RangeError for an unknown kind or buffers that disagree
    */
@@ -47,6 +51,7 @@ export class MachineView {
     }
     this.profile = profile;
     this.preview = preview;
+    this.posesFromCore = !!preview.poses && preview.poses.length === 7 * S && S > 0;
     this.stepCount = S;
     this.step = -1;
     this.tipError = NaN;
@@ -313,7 +318,14 @@ export class MachineView {
     this.step = s;
     const values = this.valuesAt(s);
     const profile = this.profile;
-    this.platform.matrix.copy(matrixOf(platformTransform(profile, values)));
+    if (this.posesFromCore) {
+      const q = this.preview.poses;
+      const o = 7 * s;
+      this.platform.matrix.compose(new THREE.Vector3(q[o + 4], q[o + 5], q[o + 6]),
+        new THREE.Quaternion(q[o], q[o + 1], q[o + 2], q[o + 3]), ONE);
+    } else {
+      this.platform.matrix.copy(matrixOf(platformTransform(profile, values)));
+    }
     // Nozzle: tip at the machine-frame tip, local +Z along the machine-frame nozzle axis.
     const tip = new THREE.Vector3(...nozzleTip(profile, values));
     const axis = new THREE.Vector3(...nozzleAxisMachine(profile));

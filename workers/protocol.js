@@ -41,13 +41,14 @@ export const Request = Object.freeze({
    *  is applied first, settings override it). Reply: `progress`*, then `result` {program:
    *  ArrayBuffer (UTF-8 program: G-code, robot CSV or URScript), programExtension: 'gcode' |
    *  'csv' | 'script', report: object, info: object, layers: number, preview: {positions,
-   *  features, layers, machine, axes, surfacePositions, surfaceTriangles, surfaceLayers,
+   *  features, layers, machine, axes, poses, surfacePositions, surfaceTriangles, surfaceLayers,
    *  missedVoxels, supportVoxels, voxelWidth, curves, fieldPositions, fieldTriangles,
    *  fieldValues, nodePositions, nodeLayers, treeEdges, sequence, skippedSegments,
    *  skippedLayers, partPositions, partTriangles, partIds, riskyBefore, riskyAfter,
    *  unsupportedPoints, collisionPoints}
    *  (core/pipeline/preview.h SlicePreview, flattened; the curved-layer, voxel, geodesic and multidir
-   *  buffers are empty for other methods; curves: #S 1-based NL curve index per segment, 0 =
+   *  buffers are empty for other methods; poses: #S*7 platform pose per segment end, quaternion
+   *  x y z w and translation, part frame -> machine frame; curves: #S 1-based NL curve index per segment, 0 =
    *  none, empty unless the iso-planar fill ran; field*: the boundary surface with the geodesic
    *  distance per vertex; node* and treeEdges: the skeleton tree; sequence: node indices in print
    *  order; skippedSegments: #K*6 ends of the tool path left out where no nozzle axis clears the
@@ -62,8 +63,8 @@ export const Request = Object.freeze({
    *  `progress`*, then `result` {report: object}. */
   VERIFY: 'verify',
   /** payload {program: string}: replay a program through its declared machine. Reply: `result`
-   *  {profile: object, format, layers, preview: {positions, features, layers, machine}} (buffers
-   *  transferred). */
+   *  {profile: object, format, layers, preview: {positions, features, layers, machine, poses}}
+   *  (buffers transferred). */
   REPLAY: 'replay',
   /** payload {settings?: object}: the built-in machine profiles. Reply: `result` {machines:
    *  [{name, profile: object, json: string}...]} in display order. */

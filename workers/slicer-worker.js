@@ -131,7 +131,7 @@ const handlers = {
     const e = await engine();
     const r = e.replay(String(payload.program ?? ''));
     post({ id, type: Reply.RESULT, result: r },
-      transferList(r.preview.positions, r.preview.features, r.preview.layers, r.preview.machine));
+      transferList(r.preview.positions, r.preview.features, r.preview.layers, r.preview.machine, r.preview.poses));
   },
 
   async [Request.MACHINES](id, payload) {

@@ -51,6 +51,26 @@ Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineVa
   return armForward(machine.dh, q) * machine.flangeToPlatform;
 }
 
+bool platformTransform(const MachineProfile& machine, const MachineValues& v,
+                       Eigen::Matrix4d& transform) {
+  const int n = machineAxisCount(machine.kind);
+  if (n == 0) return false;
+  for (int i = 0; i < n; ++i) {
+    if (!std::isfinite(v[i])) return false;
+  }
+  if (n == 6) {
+    transform = robotPlatformPose(machine, v);
+    return true;
+  }
+  Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  if (n == 4) r = rotX(v[3]);
+  if (n == 5) r = rotY(v[3]) * rotZ(v[4]);
+  transform.setIdentity();
+  transform.topLeftCorner<3, 3>() = r;
+  transform.topRightCorner<3, 1>() = machine.pivot - r * machine.pivot;
+  return true;
+}
+
 bool forwardMap(const MachineProfile& machine, const MachineValues& v, Eigen::Vector3d& tip,
                 Eigen::Vector3d& axis) {
   const int n = machineAxisCount(machine.kind);

@@ -84,4 +84,12 @@ double robotFreeAngle(int k, int samples);
 // robot6: platform pose W in the robot base frame for joint values q (W = FK(q) T).
 Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineValues& q);
 
+// The platform transform of PROGRAM-FORMAT.md: the rigid map of part-frame points into the machine
+// frame (robot6: the robot base frame) for machine values, so that it maps forwardMap()'s tip onto
+// the nozzle tip (X Y Z for the G-code kinds, nozzleTip for robot6). cartesian3: identity; rotary4:
+// T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P); robot6: robotPlatformPose(). False for an
+// unknown kind or non-finite values.
+bool platformTransform(const MachineProfile& machine, const MachineValues& values,
+                       Eigen::Matrix4d& transform);
+
 }  // namespace omnislice

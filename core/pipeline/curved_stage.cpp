@@ -230,7 +230,7 @@ void appendLayerSurfaces(const std::vector<CurvedLayer>& layers, LayerSurfacePre
   for (size_t l = 0; l < layers.size(); ++l) {
     for (const LayerRegion& region : layers[l].regions) {
       const uint32_t base = static_cast<uint32_t>(p.positions.size() / 3);
-      for (double v : region.mesh.positions) p.positions.push_back(static_cast<float>(v));
+      appendFloats(p.positions, region.mesh.positions);
       for (uint32_t i : region.mesh.triangles) p.triangles.push_back(base + i);
       p.layers.insert(p.layers.end(), region.mesh.faceCount(), static_cast<uint32_t>(l));
     }

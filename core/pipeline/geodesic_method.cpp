@@ -80,22 +80,20 @@ GeodesicPreview geodesicPreview(const CurvedToolpathResult& tp, const Mesh& boun
                                 const std::vector<double>& distance, const SkeletonTree& tree,
                                 const std::vector<uint32_t>& sequence) {
   GeodesicPreview p;
-  for (const Eigen::Vector3d& e : tp.skippedEnds) {
-    for (int a = 0; a < 3; ++a) p.skippedSegments.push_back(static_cast<float>(e[a]));
-  }
+  for (const Eigen::Vector3d& e : tp.skippedEnds) appendPoint(p.skippedSegments, e);
   p.skippedLayers.assign(tp.skippedLayers.begin(), tp.skippedLayers.end());
   std::vector<uint32_t> remap(boundary.vertexCount(), UINT32_MAX);
   for (uint32_t v : boundary.triangles) {
     if (remap[v] == UINT32_MAX) {
       remap[v] = static_cast<uint32_t>(p.fieldValues.size());
-      for (int a = 0; a < 3; ++a) p.fieldPositions.push_back(static_cast<float>(boundary.positions[3 * size_t(v) + a]));
+      appendPoint(p.fieldPositions, boundary.vertex(v));
       p.fieldValues.push_back(static_cast<float>(distance[v]));
     }
     p.fieldTriangles.push_back(remap[v]);
   }
   for (uint32_t i = 0; i < tree.nodes.size(); ++i) {
     const SkeletonNode& n = tree.nodes[i];
-    for (int a = 0; a < 3; ++a) p.nodePositions.push_back(static_cast<float>(n.centroid[a]));
+    appendPoint(p.nodePositions, n.centroid);
     p.nodeLayers.push_back(n.layer);
     for (uint32_t u : n.upper) {
       p.treeEdges.push_back(i);

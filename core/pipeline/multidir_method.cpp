@@ -29,7 +29,7 @@ void mergeParts(const std::vector<ClipPart>& parts, MultidirPreview& p) {
   for (size_t i = 0; i < parts.size(); ++i) {
     const Mesh& m = parts[i].mesh;
     const uint32_t base = static_cast<uint32_t>(p.partPositions.size() / 3);
-    for (double x : m.positions) p.partPositions.push_back(static_cast<float>(x));
+    appendFloats(p.partPositions, m.positions);
     for (uint32_t v : m.triangles) p.partTriangles.push_back(base + v);
     p.partIds.insert(p.partIds.end(), m.faceCount(), static_cast<uint32_t>(i));
   }

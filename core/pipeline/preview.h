@@ -2,12 +2,16 @@
 // What viewers draw of a slice: the tool path as line segments (every method) and each method's
 // own section (curved layer surfaces, voxels, the geodesic field and skeleton tree, the multidir
 // parts and risky faces). Float32 and uint32 arrays as the page's three.js buffers take them; all
-// positions in the part frame, mm.
+// positions in the part frame, mm. The float32 buffers are made in preview.cpp, the one place
+// where the core's double-precision geometry becomes graphics data (with GLM, as WebGL and three.js
+// lay it out); the program never reads them.
 #pragma once
+#include <Eigen/Core>
 #include <cstdint>
 #include <vector>
 
 #include "motion/machine_path.h"
+#include "program/read_program.h"
 #include "toolpath/toolpath.h"
 
 namespace omnislice {
@@ -20,6 +24,12 @@ struct ToolpathPreview {
   std::vector<float> machine;     // #S*6: machine values at each segment's end (machine kinds'
                                   // units: mm, deg; robot6 rad), for the machine animation
   std::vector<float> axes;        // #S*3: part-frame nozzle axis (unit) at each segment's end
+  // #S*7: the platform transform at each segment's end (kinematics.h platformTransform: part
+  // frame -> machine frame, robot6: robot base frame) as a unit quaternion x y z w and a
+  // translation x y z (mm), the arguments of three.js Matrix4.compose(position, quaternion, 1).
+  // Consecutive quaternions lie in one hemisphere (dot >= 0), so slerp between them takes the
+  // short way. Empty when the machine kind is unknown.
+  std::vector<float> poses;
   // Iso-planar fill (paper 003): NL curve of each segment, 1-based in print order (0 = the
   // segment is not on an NL curve: travel, join, planar base), so viewers can tell adjacent curves
   // (side steps) apart.
@@ -91,7 +101,19 @@ struct SlicePreview {
 };
 
 // The tool-path preview of a planned machine path: the part-frame tip path of every move that
-// deposits or travels, with the machine values at each segment's end; curve tags from toolpath.
+// deposits or travels, with the machine values, nozzle axis and platform pose at each segment's
+// end; curve tags from toolpath.
 ToolpathPreview toolpathPreview(const MachinePath& path, const Toolpath& toolpath);
+
+// The tool-path preview of a program read back (replay): one segment per move whose tip moves,
+// feature codes from the feature markers (extruding moves without a known marker count as
+// wall-inner, moves without filament as travel), the machine values and platform pose of the
+// program's machine at each segment's end (axes and curves stay empty).
+ToolpathPreview programPreview(const ParsedProgram& program);
+
+// Float32 narrowing of part-frame geometry for the methods' preview sections: append a point (3
+// values) or every value of a flat array.
+void appendPoint(std::vector<float>& out, const Eigen::Vector3d& p);
+void appendFloats(std::vector<float>& out, const std::vector<double>& values);
 
 }  // namespace omnislice

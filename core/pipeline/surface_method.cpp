@@ -175,7 +175,7 @@ MethodResult runSurfaceMethod(const PlacedPart& placed, const MethodContext& con
 
   // Preview: the surface layer.
   LayerSurfacePreview& p = out.preview.surfaces;
-  for (double v : part.top.positions) p.positions.push_back(static_cast<float>(v));
+  appendFloats(p.positions, part.top.positions);
   p.triangles.assign(part.top.triangles.begin(), part.top.triangles.end());
   p.layers.assign(part.top.faceCount(), static_cast<uint32_t>(surfaceLayer));
 

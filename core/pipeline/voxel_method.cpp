@@ -22,12 +22,6 @@ namespace omnislice {
 
 namespace {
 
-void pushPoint(std::vector<float>& out, const Eigen::Vector3d& p) {
-  out.push_back(static_cast<float>(p.x()));
-  out.push_back(static_cast<float>(p.y()));
-  out.push_back(static_cast<float>(p.z()));
-}
-
 // How far the machine can lean the nozzle from the part's +Z: voxel.max_tilt_deg, else the
 // machine's (machineTiltLimitDegrees).
 double machineTiltDegrees(const Settings& settings, const MachineProfile& machine) {
@@ -174,9 +168,9 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
     if (grid.state[i] == static_cast<uint8_t>(VoxelState::Solid)) ++solid;
     if (grid.state[i] == static_cast<uint8_t>(VoxelState::Support)) {
       ++support;
-      pushPoint(p.support, centre(i));
+      appendPoint(p.support, centre(i));
     }
-    if (field.g[i] < 0) pushPoint(p.missed, centre(i));
+    if (field.g[i] < 0) appendPoint(p.missed, centre(i));
   }
   p.width = static_cast<float>(w);
 

@@ -9,7 +9,7 @@ import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import * as THREE from 'three';
 import { MachineView } from '../../web/machine-view.js';
-import { UR5_DH, dhFrames, forwardMap, origin4 } from '../../web/machine-kinematics.js';
+import { UR5_DH, dhFrames, forwardMap, origin4, platformTransform } from '../../web/machine-kinematics.js';
 
 function rng(seed) {
   let x = seed >>> 0;
@@ -88,6 +88,44 @@ for (const kind of Object.keys(PROFILES)) {
     off.dispose();
   });
 }
+
+// Poses as the core sends them (preview.poses: quaternion x y z w, translation, float32), here made
+// from the JS forward map's platform transform, shifted by `shift` (mm, machine frame).
+function posesOf(kind, preview, shift = [0, 0, 0]) {
+  const S = preview.features.length;
+  const poses = new Float32Array(7 * S);
+  const q = new THREE.Quaternion();
+  const t = new THREE.Vector3();
+  for (let s = 0; s < S; s++) {
+    const values = Array.from(preview.machine.subarray(6 * s, 6 * s + 6));
+    new THREE.Matrix4().set(...platformTransform(PROFILES[kind], values)).decompose(t, q, new THREE.Vector3());
+    poses.set([q.x, q.y, q.z, q.w, t.x + shift[0], t.y + shift[1], t.z + shift[2]], 7 * s);
+  }
+  return poses;
+}
+
+test('the core\'s poses, when the preview has them, place the platform (and a wrong pose shows)', () => {
+  for (const kind of Object.keys(PROFILES)) {
+    const p = syntheticPreview(kind, 60, 29);
+    const view = new MachineView(PROFILES[kind], { ...p, poses: posesOf(kind, p) }, mesh);
+    assert.equal(view.posesFromCore, true);
+    let worst = 0;
+    for (let s = 0; s < 60; s++) worst = Math.max(worst, view.setStep(s).tipError);
+    assert.ok(worst < 1e-3, `${kind}: worst tip error ${worst} mm with poses`);
+    view.dispose();
+    // Poses 1 mm off: the view follows them, not the machine values.
+    const off = new MachineView(PROFILES[kind], { ...p, poses: posesOf(kind, p, [0.6, 0, -0.8]) }, mesh);
+    for (let s = 0; s < 60; s += 9) {
+      const e = off.setStep(s).tipError;
+      assert.ok(Math.abs(e - 1) < 1e-3, `${kind}: poses shifted by 1 mm give ${e} mm`);
+    }
+    off.dispose();
+    // Poses of the wrong length are ignored (the forward map places the platform).
+    const short = new MachineView(PROFILES[kind], { ...p, poses: new Float32Array(7) }, mesh);
+    assert.equal(short.posesFromCore, false);
+    short.dispose();
+  }
+});
 
 test('the deposit shown at step s is exactly the extruding moves 0..s', () => {
   const p = syntheticPreview('rotary4', 200, 3);

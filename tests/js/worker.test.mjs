@@ -73,7 +73,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
         layerIdsLength: result.preview.layers.length,
         maxLayer: result.preview.layers.reduce((m, v) => Math.max(m, v), 0),
         // Typed arrays of the preview (positions, features, layers, machine; with the curved-layer
-        // builds also axes, surfacePositions, surfaceTriangles, surfaceLayers, missedVoxels,
+        // builds also axes, poses, surfacePositions, surfaceTriangles, surfaceLayers, missedVoxels,
         // supportVoxels, curves) and their lengths.
         previewArrays: Object.fromEntries(Object.entries(result.preview).filter(([, a]) => ArrayBuffer.isView(a)).map(([k, a]) => [k, a.length])),
         spy: await (async () => {
@@ -115,13 +115,14 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     const spy = r.spy.find((s) => s.replyType === 'result');
     assert.ok(spy, 'spy saw the slice result');
     const previewBuffers = Object.keys(r.previewArrays).length;
-    // 27: the tool path's, each method's section and the simulated program's failing points.
-    assert.ok(previewBuffers === 4 || previewBuffers === 27, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
+    // 28: the tool path's, each method's section and the simulated program's failing points.
+    assert.ok(previewBuffers === 4 || previewBuffers === 28, `preview arrays: ${JSON.stringify(r.previewArrays)}`);
     assert.equal(spy.before.length, 1 + previewBuffers + 2, `program + ${previewBuffers} preview + 2 mesh buffers in the transfer list`);
-    if (previewBuffers === 27) {
-      // A planar slice: nozzle axes per segment, no surfaces or voxel cells; NL curve indices
-      // (iso-planar fill) either none or one per segment.
+    if (previewBuffers === 28) {
+      // A planar slice: nozzle axes and platform poses per segment, no surfaces or voxel cells;
+      // NL curve indices (iso-planar fill) either none or one per segment.
       assert.equal(r.previewArrays.axes, 3 * r.segments);
+      assert.equal(r.previewArrays.poses, 7 * r.segments);
       for (const k of ['surfacePositions', 'surfaceTriangles', 'surfaceLayers', 'missedVoxels', 'supportVoxels', 'fieldPositions', 'fieldTriangles', 'fieldValues', 'nodePositions', 'nodeLayers', 'treeEdges', 'sequence', 'skippedSegments', 'skippedLayers', 'partPositions', 'partTriangles', 'partIds', 'riskyBefore', 'riskyAfter']) assert.equal(r.previewArrays[k], 0, k);
       assert.ok(r.previewArrays.curves === 0 || r.previewArrays.curves === r.segments, `curves: ${r.previewArrays.curves}`);
     }

@@ -80,6 +80,42 @@ TEST(KinematicsInverse, CartesianIsTheIdentityAndNeedsPlusZ) {
   EXPECT_EQ(outside.outOfLimits, 1);
 }
 
+// platformTransform() is the forward map's platform: for random values of every kind it is rigid
+// and takes forwardMap()'s part-frame tip onto the nozzle tip (X Y Z, robot6 the fixed nozzle tip)
+// and its axis onto the machine's nozzle axis; non-finite values and unknown kinds give false.
+TEST(KinematicsInverse, PlatformTransformIsTheForwardMapsPlatform) {
+  std::mt19937 rng(7);
+  for (const char* name : {"cartesian3", "rotary4", "table5", "robot6"}) {
+    const MachineProfile m = builtin(name);
+    const bool robot = m.kind == MachineKind::Robot6;
+    double worstTip = 0, worstAxis = 0, worstRigid = 0;
+    for (int i = 0; i < 1000; ++i) {
+      const MachineValues v = randomValues(m, rng);
+      Eigen::Vector3d tip, axis;
+      Eigen::Matrix4d t;
+      ASSERT_TRUE(forwardMap(m, v, tip, axis));
+      ASSERT_TRUE(platformTransform(m, v, t));
+      const Eigen::Matrix3d r = t.topLeftCorner<3, 3>();
+      worstRigid = std::max(worstRigid, (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() +
+                                            std::abs(r.determinant() - 1) + t.row(3).cwiseAbs().sum() - 1);
+      const Eigen::Vector3d nozzle = robot ? m.nozzleTip : Eigen::Vector3d(v[0], v[1], v[2]);
+      worstTip = std::max(worstTip, (r * tip + t.topRightCorner<3, 1>() - nozzle).norm());
+      worstAxis = std::max(worstAxis, (r * axis - (robot ? m.nozzleAxis : Eigen::Vector3d::UnitZ())).norm());
+    }
+    EXPECT_LT(worstRigid, 1e-9) << name;
+    EXPECT_LT(worstTip, 1e-9) << name;
+    EXPECT_LT(worstAxis, 1e-12) << name;
+    MachineValues bad{};
+    bad[m.kind == MachineKind::Cartesian3 ? 2 : 3] = std::nan("");
+    Eigen::Matrix4d t;
+    EXPECT_FALSE(platformTransform(m, bad, t)) << name;
+  }
+  MachineProfile unknown = builtin("table5");
+  unknown.kind = static_cast<MachineKind>(99);
+  Eigen::Matrix4d t;
+  EXPECT_FALSE(platformTransform(unknown, MachineValues{}, t));
+}
+
 TEST(KinematicsInverse, BadInputsGiveInvalidOption) {
   const MachineProfile m = builtin("table5");
   const double nan = std::nan("");

@@ -5,6 +5,7 @@
 // report carries the motion figures; bad machine input is a Status.
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -13,6 +14,8 @@
 #include "../test_support.h"
 #include "kinematics/kinematics.h"
 #include "pipeline/pipeline.h"
+#include "pipeline/preview.h"
+#include "program/read_program.h"
 #include "pipeline_fixtures.h"
 #include "machine/machine.h"
 #include "machine/machine_json.h"
@@ -40,6 +43,42 @@ Settings settingsFor(const Case& c) {
   EXPECT_TRUE(setSetting(s, "gcode_flavor", c.flavor).ok());
   EXPECT_TRUE(setSetting(s, "robot_format", c.robotFormat).ok());
   return s;
+}
+
+// The preview's platform poses (quaternion x y z w, translation) against the machine itself, apart
+// from platformTransform(): each pose takes the segment's part-frame end point onto the nozzle tip
+// (X Y Z of the segment's machine values for the G-code kinds, the fixed nozzle tip for robot6) and
+// the part-frame nozzle axis onto the machine's nozzle axis; quaternions are unit and consecutive
+// ones lie in one hemisphere. Returns the worst tip distance (mm).
+double checkPoses(const ToolpathPreview& p, const MachineProfile& machine, bool withAxes) {
+  const size_t segments = p.features.size();
+  EXPECT_EQ(p.poses.size(), 7 * segments);
+  if (p.poses.size() != 7 * segments) return INFINITY;
+  const bool robot = machine.kind == MachineKind::Robot6;
+  const Eigen::Vector3d machineAxis = robot ? machine.nozzleAxis : Eigen::Vector3d::UnitZ();
+  double worstTip = 0, worstAxis = 0, worstNorm = 0, worstDot = 1;
+  for (size_t i = 0; i < segments; ++i) {
+    const float* q = &p.poses[7 * i];
+    const Eigen::Quaterniond r(q[3], q[0], q[1], q[2]);  // Eigen takes w x y z
+    worstNorm = std::max(worstNorm, std::abs(r.norm() - 1));
+    if (i > 0) {
+      const float* b = &p.poses[7 * (i - 1)];
+      worstDot = std::min(worstDot, double(q[0] * b[0] + q[1] * b[1] + q[2] * b[2] + q[3] * b[3]));
+    }
+    const Eigen::Vector3d end(p.positions[6 * i + 3], p.positions[6 * i + 4], p.positions[6 * i + 5]);
+    const Eigen::Vector3d onMachine = r.normalized() * end + Eigen::Vector3d(q[4], q[5], q[6]);
+    const Eigen::Vector3d nozzle = robot ? machine.nozzleTip
+                                         : Eigen::Vector3d(p.machine[6 * i], p.machine[6 * i + 1], p.machine[6 * i + 2]);
+    worstTip = std::max(worstTip, (onMachine - nozzle).norm());
+    if (withAxes) {
+      const Eigen::Vector3d axis(p.axes[3 * i], p.axes[3 * i + 1], p.axes[3 * i + 2]);
+      worstAxis = std::max(worstAxis, (r.normalized() * axis - machineAxis).norm());
+    }
+  }
+  EXPECT_LT(worstNorm, 1e-6);
+  EXPECT_GE(worstDot, 0.0) << "consecutive quaternions in one hemisphere";
+  EXPECT_LT(worstAxis, 1e-5) << "the pose turns the part-frame nozzle axis onto the machine's";
+  return worstTip;
 }
 
 class MachinesPipeline : public ::testing::TestWithParam<Case> {};
@@ -89,6 +128,15 @@ TEST_P(MachinesPipeline, SlicesVerifiesAndReplays) {
   }
   // Float32 preview: joint angles in float lose ~1e-7 rad, ~1e-4 mm at the arm's reach.
   EXPECT_LT(worst, 5e-3) << "forward map of the preview's machine values vs its path";
+  // The platform poses the page moves the part with (float32 of the double pose: ~1e-5 mm at a
+  // few hundred mm from the origin).
+  EXPECT_LT(checkPoses(out.preview.toolpath, parsed.machine, true), 2e-3);
+  // The same of the program read back (the page's replay of a program file).
+  const ParsedProgram program = readProgram(out.program);
+  ASSERT_TRUE(program.ok()) << program.message;
+  const ToolpathPreview replay = programPreview(program);
+  EXPECT_GT(replay.features.size(), segments / 2);
+  EXPECT_LT(checkPoses(replay, program.machine, false), 5e-3);
 
   // Verification by simulation through the declared machine.
   VerifyOutput v = runVerify(out.program, bytes.data(), bytes.size(), "part.stl");
