@@ -324,6 +324,46 @@ const verifyCase = 'torus-100k fit 150 verify 0.2mm program';
   rows.push({ case: verifyCase, stage: 'verify', native_ms, wasm_ms, ratio: wasm_ms / native_ms, moves });
 }
 
+// Planar against CuraEngine (issue 27): the shared Kitten at 60 mm, both at Cura's defaults as
+// CuraEngine reads them (0.4 mm layers and lines, 2 walls, 2 top/bottom layers, 20 % grid; walls
+// and skin 30 mm/s, infill 60, travel 120; its time estimate plans at 9000 mm/s^2 with a 20 mm/s
+// jerk, which for a right angle is a junction deviation of 20^2 (1 - s) / (9000 s) = 0.0184 mm, s =
+// sin 45 deg). Slicing wall time of the native CLI against CuraEngine's (no supports); the
+// estimated print times side by side, and Omnislice's own at its defaults (1500 mm/s^2, 0.013 mm).
+const CURA_PLANAR = 'kitten-60 planar vs CuraEngine';
+const planarCura = { case: CURA_PLANAR, stage: 'cura', native_ms: null, wasm_ms: null, ratio: null };
+if (!process.env.BENCH_ONLY || CURA_PLANAR.includes(process.env.BENCH_ONLY)) {
+  const kitten = path.join(SHARED_MODELS, 'pymdp_kitten.off');
+  const cura = curaSkip ? { skipped: curaSkip } : fs.existsSync(kitten) ? compareWithCura(kitten, { up: 'y', fitMm: 60 })
+    : { skipped: `${kitten} missing` };
+  if (cura.skipped) {
+    planarCura.cura_planar = { skipped: cura.skipped };
+  } else {
+    const same = { up: 'y', fit_mm: 60, layer_height: 0.4, nozzle_diameter: 0.4, line_width: 0.4, walls: 2, infill: 20,
+      infill_pattern: 'grid', top_layers: 2, bottom_layers: 2, print_speed: 30, outer_wall_speed: 30, infill_speed: 60,
+      first_layer_speed: 30, travel_speed: 120, verify: 'off' };
+    let native_ms = Infinity;
+    for (let i = 0; i < REPS; ++i) {
+      const t0 = performance.now();
+      reportOf(kitten, { ...same, acceleration: 9000, junction_deviation: 0.0184 });
+      native_ms = Math.min(native_ms, performance.now() - t0);
+    }
+    const curaKin = reportOf(kitten, { ...same, acceleration: 9000, junction_deviation: 0.0184 });
+    const own = reportOf(kitten, same);
+    const fromRest = reportOf(kitten, { ...same, junction_deviation: 0 });
+    const w = cura.without_supports;
+    planarCura.native_ms = native_ms;
+    planarCura.cura_planar = {
+      cura_ms: w.ms, slice_ratio: native_ms / w.ms,
+      cura_estimate_s: w.print_time_s, cura_filament_mm: w.filament_mm,
+      estimate_at_cura_kinematics_s: curaKin?.estimated_time_s, estimate_s: own?.estimated_time_s,
+      estimate_every_move_from_rest_s: fromRest?.estimated_time_s, filament_mm: curaKin?.extrusion_mm,
+      path_mm: curaKin?.path_mm, travel_mm: curaKin?.travel_mm,
+    };
+  }
+  rows.push(planarCura);
+}
+
 const round = (v, d = 1) => (v === null || v === undefined ? null : Number(v.toFixed(d)));
 const out = rows.map((r) => ({ ...r, native_ms: round(r.native_ms), wasm_ms: round(r.wasm_ms), ratio: round(r.ratio, 2) }));
 fs.mkdirSync(path.join(ROOT, 'build'), { recursive: true });
@@ -430,6 +470,20 @@ for (const r of supportRows) {
     console.log(`    Omnislice at ${t.settings.layer_height} mm, ${t.settings.infill}% (Table I): fixed dir support ` +
       `${round(t.fixed_dir.support_volume_mm3)} mm^3, ${hms(t.fixed_dir.estimated_time_s)}; multi-dir support ` +
       `${round(t.multi_dir.support_volume_mm3)} mm^3, ${hms(t.multi_dir.estimated_time_s)} (${t.multi_dir.part_count} parts)`);
+  }
+}
+const pc = out.find((r) => r.case === CURA_PLANAR);
+if (pc && pc.cura_planar) {
+  const c = pc.cura_planar;
+  if (c.skipped) console.log(`\nplanar vs CuraEngine skipped (${c.skipped})`);
+  else {
+    console.log(`\nplanar vs CuraEngine (kitten 60 mm, Cura's defaults): slicing ${round(pc.native_ms)} ms vs ${round(c.cura_ms)} ms; ` +
+      `estimated ${round(c.estimate_at_cura_kinematics_s)} s at Cura's kinematics vs Cura's ${c.cura_estimate_s} s ` +
+      `(Omnislice defaults ${round(c.estimate_s)} s; every move from rest ${round(c.estimate_every_move_from_rest_s)} s); ` +
+      `filament ${round(c.filament_mm)} vs ${round(c.cura_filament_mm)} mm`);
+    checks.push(['planar slicing time / CuraEngine\'s (kitten 60 mm, native) < 1', round(c.slice_ratio, 2), c.slice_ratio < 1]);
+    const er = c.estimate_at_cura_kinematics_s / c.cura_estimate_s;
+    checks.push(['estimated time / CuraEngine\'s at its kinematics within 0.85..1.15', round(er, 3), er >= 0.85 && er <= 1.15]);
   }
 }
 console.log('\ntargets:');

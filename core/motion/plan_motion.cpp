@@ -16,6 +16,7 @@
 #include "geometry/segment.h"
 #include "kinematics/robot_arm.h"
 #include "motion/feed_limits.h"
+#include "toolpath/lookahead_time.h"
 #include "motion/orientation_smoothing.h"
 #include "motion/pose_continuity.h"
 #include "motion/track_poses.h"
@@ -45,14 +46,6 @@ struct Piece {
   size_t layer = 0;  // pose-graph layer (shared with the previous piece when it is the same pose)
 };
 
-// Time of a move of length L at speed v with acceleration a from rest to rest (as toolpathStats).
-double trapezoidTime(double length, double speed, double accel) {
-  if (length <= 0 || speed <= 0) return 0;
-  if (accel <= 0) return length / speed;
-  const double accelDist = speed * speed / accel;
-  if (length >= accelDist) return length / speed + speed / accel;
-  return 2.0 * std::sqrt(length / accel);
-}
 
 }  // namespace
 
@@ -832,6 +825,11 @@ void Planner::finishTimes() {
   double time = 0;
   double maxStep = 0;
   MachineValues prev = out_.start;
+  // G-code kinds: the firmware's look-ahead ramps the tip through its junctions (lookahead_time.h)
+  // at each move's feed-limited cruise; a move without tip motion is a stop.
+  std::vector<PlannedMove> planned(robot_ ? 0 : n);
+  Eigen::Vector3d before = tip;
+  forwardMap(m_, out_.start, before, axis);
   for (size_t k = 0; k < n; ++k) {
     MachineMove& mm = out_.moves[k];
     double t = fr.duration[k];
@@ -842,16 +840,18 @@ void Planner::finishTimes() {
     }
     mm.durationS = t;
     mm.tipSpeed = l > 0 && t > 0 ? l / t : speeds_[k];
-    time += t;
     if (!robot_ && l > 0 && t > 0) {
-      // Firmware accelerates each move from and to rest (the foundation's estimate).
-      time += trapezoidTime(l, mm.tipSpeed, o_.acceleration) - l / mm.tipSpeed;
+      planned[k] = {(mm.tip - before) / l, l, mm.tipSpeed};
+    } else {
+      time += t;
     }
+    before = mm.tip;
     for (int i = metric_.begin; i < metric_.end; ++i) {
       maxStep = std::max(maxStep, std::abs(mm.values[i] - prev[i]));
     }
     prev = mm.values;
   }
+  if (!robot_) time += lookaheadTime(planned, {o_.acceleration, o_.junctionDeviation});
   out_.stats.feedLimitedMoves = fr.limitedMoves;
   out_.stats.estimatedTimeS = time;
   out_.stats.maxJointStep = maxStep;

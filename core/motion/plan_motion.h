@@ -23,6 +23,8 @@ struct MotionOptions {
   double chordTolerance = 0.01;     // mm: the part-frame tip path of an interpolated move may leave
                                     // the straight move by at most this; longer moves are split
   double acceleration = 1500;       // mm/s^2 tip acceleration for the time estimate (0 = none)
+  double junctionDeviation = 0.013; // mm, the look-ahead's junction speeds in the time estimate
+                                    // (lookahead_time.h; 0 = every move from and to rest)
   double retractSpeed = 35;         // mm/s of filament, for the time of retract moves
   double safeLift = 10;             // mm above the part's highest machine Z for 3+2 rotations
   double rotationThresholdDegrees = 5;  // a travel whose rotary values change more than this is
@@ -72,8 +74,9 @@ struct MotionOptions {
 // (6) durations under the velocity / acceleration / jerk limits (feed_limits.h; robot6 joints
 // and rotary axes take all three, the linear axes X Y Z only their velocity because firmware
 // plans their junctions and ramps itself); the time
-// estimate adds, for G-code kinds, the trapezoidal term of `acceleration` per move as
-// toolpathStats() does, and retract time |filament| / speed (the move's speed, else retractSpeed).
+// estimate of the G-code kinds ramps the tip as firmware plans it (lookahead_time.h: trapezoids
+// at `acceleration`, junction speeds from `junctionDeviation`, a stop at every move without tip
+// motion), and adds retract time |filament| / speed (the move's speed, else retractSpeed).
 // Errors (Status, message naming the first bad move):
 // InvalidOption for an unknown kind, a non-finite or zero-length axis, or a point no candidate of
 // the inverse kinematics reaches within the limits ("move 123 at (x, y, z) axis (...) is out of

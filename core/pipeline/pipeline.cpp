@@ -218,6 +218,7 @@ MotionOptions motionOptions(const Settings& settings) {
   o.filterThresholdDegrees = settings.orientationFilterDegrees;
   o.chordTolerance = settings.chordTolerance;
   o.acceleration = settings.acceleration;
+  o.junctionDeviation = settings.junctionDeviation;
   o.retractSpeed = settings.retractSpeed;
   return o;
 }
@@ -234,6 +235,7 @@ ProgramInfo programInfo(const Settings& settings, const MachineProfile& machine,
   p.nozzleTemperature = settings.nozzleTemperature;
   p.bedTemperature = settings.bedTemperature;
   p.acceleration = settings.acceleration;
+  p.junctionDeviation = settings.junctionDeviation;
   p.settings = listSettings(settings);
   p.dialect = settings.gcodeFlavor;
   p.robotFormat = settings.robotFormat;

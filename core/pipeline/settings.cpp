@@ -144,6 +144,7 @@ PlanarOptions planarOptions(const Settings& s) {
   o.bottomLayers = s.bottomLayers;
   o.infillPercent = s.infillPercent;
   o.infillPattern = s.infillPattern;
+  o.seam = s.seam;
   o.infillAngleDegrees = s.infillAngleDegrees;
   o.infillOverlapPercent = s.infillOverlapPercent;
   o.allLinesAlongInfillAngle = s.fill == FillMode::Isoplanar;
@@ -155,6 +156,11 @@ PlanarOptions planarOptions(const Settings& s) {
   o.retractLength = s.retractLength;
   o.retractSpeed = s.retractSpeed;
   o.retractMinTravel = s.retractMinTravel;
+  o.travelInside = s.travelInside;
+  o.bridges = s.bridges;
+  o.bridgeSpeed = s.bridgeSpeed;
+  o.bridgeFlowPercent = s.bridgeFlowPercent;
+  o.retractInsideMaxTravel = s.retractInsideMaxTravel;
   return o;
 }
 

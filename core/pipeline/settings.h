@@ -219,6 +219,7 @@ struct Settings {
   int bottomLayers = 4;           // solid layers over a bottom surface
   double infillPercent = 20;      // sparse infill density, 0..100 (100 = solid)
   InfillPattern infillPattern = InfillPattern::Grid;
+  SeamPlacement seam = SeamPlacement::Aligned;  // where planar wall loops start
   double infillAngleDegrees = 45; // angle of infill lines in the layer plane
   double infillOverlapPercent = 15;  // infill overlap into innermost wall, % of line width
 
@@ -228,9 +229,15 @@ struct Settings {
   double firstLayerSpeed = 20;    // mm/s, all features on layer 0
   double travelSpeed = 150;       // mm/s
   double acceleration = 1500;     // mm/s^2, time estimate only (0 = ignore)
+  double junctionDeviation = 0.013;  // mm, time estimate only: junction speeds of the look-ahead
   double retractLength = 0.8;     // mm of filament, 0 = off
   double retractSpeed = 35;       // mm/s of filament
   double retractMinTravel = 1.5;  // mm, shorter travels do not retract
+  bool travelInside = true;        // planar travels keep inside the section (PlanarOptions)
+  bool bridges = true;             // planar bridges (PlanarOptions)
+  double bridgeSpeed = 20;         // mm/s
+  double bridgeFlowPercent = 80;   // % of a bead's filament
+  double retractInsideMaxTravel = 10;  // mm, inside travels retract only when longer
   double nozzleTemperature = 210; // deg C
   double bedTemperature = 60;     // deg C
   Eigen::Vector3d bedSize{220, 220, 250};  // mm, machine travel (limits for cartesian3)

@@ -214,9 +214,10 @@ Outcome checkMachinePath(const MachinePath& path, const ProgramInfo& info) {
   }
   if (!std::isfinite(info.nozzleTemperature) || !std::isfinite(info.bedTemperature) ||
       !std::isfinite(info.acceleration) || info.acceleration < 0 ||
+      !std::isfinite(info.junctionDeviation) || info.junctionDeviation < 0 ||
       !std::isfinite(info.extruderAnalogPerMmS) || info.extruderAnalogPerMmS <= 0) {
-    return fail("temperatures and acceleration must be finite (acceleration >= 0), the extruder "
-                "analog scale > 0");
+    return fail("temperatures, acceleration and junction deviation must be finite (acceleration and "
+                "junction deviation >= 0), the extruder analog scale > 0");
   }
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(path.start[i])) return fail("start values are not finite");
@@ -573,6 +574,7 @@ WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info)
   }
   MotionOptions options;
   options.acceleration = info.acceleration;
+  options.junctionDeviation = info.junctionDeviation;
   const MachinePath path = planMachineMotion(toolpath, info.machine, options);
   if (!path.ok()) {
     r.status = path.status;

@@ -38,6 +38,7 @@ struct ProgramInfo {
   double nozzleTemperature = 210;                    // deg C, 0 = no heating commands
   double bedTemperature = 60;                        // deg C, 0 = none
   double acceleration = 1500;                        // mm/s^2 for the cartesian3 time estimate
+  double junctionDeviation = 0.013;                  // mm, the estimate's look-ahead junctions
   GcodeDialect dialect = GcodeDialect::Marlin;       // G-code kinds
   RobotFormat robotFormat = RobotFormat::Csv;        // robot6
   double extruderAnalogPerMmS = 0.1;                 // URScript: analog output (V) per mm/s of

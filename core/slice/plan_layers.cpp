@@ -11,25 +11,33 @@
 //   sparse region    = F intersected with the sections of layers i-bottomLayers..i+topLayers (i
 //                      excluded; a layer beyond the part is empty) = what is covered above and below
 //   skin region      = F minus the sparse region (solid: lines spaced s, +45 / -45 deg by layer)
+//   bridge regions   = skin over air (not on layer i-1) whose lines, in some direction, land on
+//                      layer i-1 at both ends (PlanarOptions::bridges): lines spaced w across the
+//                      span, widened 2w onto the anchors, in the best anchored direction
 // Sparse infill: Lines pattern at infillAngle + 90 deg on odd layers, spacing w*100/percent; Grid:
 // both infillAngle and infillAngle + 90 on every layer, spacing twice that; 100 % = solid lines.
 //
 // Order: islands nearest-first from the nozzle; within an island inner walls first, then the outer
 // wall (the outer surface is laid against walls already in place), each wall level's loops nearest-
-// first, each loop starting at its vertex nearest the nozzle (seam follows the nozzle); then skin
-// lines, then sparse lines, each set nearest-first with either end allowed (zig-zag).
-// Travel: longer than retractMinTravel -> Retract, Travel, Unretract (never before the first
-// extrusion). Each layer begins with a travel to its first point at the layer top.
+// first, each loop starting at its seam (SeamPlacer below); then bridge lines, skin lines, sparse
+// lines, each set nearest-first with either end allowed (zig-zag). Travels within an island keep
+// inside it (comb.h).
+// Travel: longer than retractMinTravel -> Retract, Travel(s), Unretract (never before the first
+// extrusion); a travel routed inside its island (travelInside) retracts only when its route is
+// longer than retractInsideMaxTravel. Each layer begins with a travel to its first point at the
+// layer top.
 #include "slice/plan_layers.h"
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "common/math_constants.h"
 #include "slice/clipper_adapter.h"
+#include "slice/comb.h"
 #include "slice/infill.h"
 #include "slice/travel_order.h"
 #include "toolpath/bead.h"
@@ -58,6 +66,13 @@ std::vector<Vec2> toPoints(const Path& path) {
   return pts;
 }
 
+std::vector<std::vector<Vec2>> loopsOf(const Paths& paths) {
+  std::vector<std::vector<Vec2>> loops;
+  loops.reserve(paths.size());
+  for (const Path& path : paths) loops.push_back(toPoints(path));
+  return loops;
+}
+
 // Index of the vertex of `pts` nearest to `from` and its squared distance.
 std::pair<size_t, double> nearestVertex(const std::vector<Vec2>& pts, const Vec2& from) {
   size_t best = 0;
@@ -72,10 +87,128 @@ std::pair<size_t, double> nearestVertex(const std::vector<Vec2>& pts, const Vec2
   return {best, bestD};
 }
 
-// Orders runs nearest-first from `cur`: loops rotated to start at their nearest vertex, open runs
-// reversed when their far end is nearer. Updates cur to the end of the last run. A loop is picked
-// by its nearest probe (up to 32 evenly spaced vertices), then entered at its exact nearest vertex.
-std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
+// Seams (PlanarOptions::seam). A vertex's corner is its turn measured over a stretch of the loop
+// (the points kCornerReach line widths before and after it along the loop), so an offset's rounded
+// corner of many small turns counts as the corner it is; its sign says concave or convex (wall
+// loops keep material on their left: Clipper's outer contours run counter-clockwise, holes
+// clockwise). Only the turn beyond kCornerFloor counts (a tessellated cylinder has no corner).
+class SeamPlacer {
+ public:
+  SeamPlacer(SeamPlacement mode, double lineWidth) : mode_(mode), w_(lineWidth) {}
+
+  // The vertex of `loop` to start at, with the nozzle at `cur`; remembers the seam for the next
+  // layer's alignment.
+  size_t place(const std::vector<Vec2>& loop, const Vec2& cur) {
+    size_t v = 0;
+    switch (mode_) {
+      case SeamPlacement::Nearest: v = nearestVertex(loop, cur).first; break;
+      case SeamPlacement::Random: v = randomVertex(loop.size()); break;
+      case SeamPlacement::Aligned: v = cheapest(loop, 1.0, 3.0, 2.0); break;
+      case SeamPlacement::Sharpest: v = cheapest(loop, 0.02, 10.0, 0.02); break;
+    }
+    now_.push_back(loop[v]);
+    return v;
+  }
+
+  // Starts the next layer: this layer's seams become the ones to align with.
+  void nextLayer() {
+    below_.swap(now_);
+    now_.clear();
+    ++layer_;
+    loopInLayer_ = 0;
+  }
+
+ private:
+  static constexpr double kCornerReach = 1.5;  // line widths each side
+  static constexpr double kCornerFloor = 20 * kPi / 180;
+  static constexpr double kConvexShare = 0.6;  // a convex corner counts this much of a concave one
+  static constexpr double kAlignReach = 20;    // line widths: seams below farther are not aligned with
+
+  // Signed turn at every vertex (radians, > 0 convex).
+  std::vector<double> turns(const std::vector<Vec2>& loop) const {
+    const size_t n = loop.size();
+    std::vector<double> seg(n);
+    for (size_t i = 0; i < n; ++i) seg[i] = (loop[(i + 1) % n] - loop[i]).norm();
+    const double reach = kCornerReach * w_;
+    std::vector<double> out(n, 0.0);
+    for (size_t i = 0; i < n; ++i) {
+      size_t a = i, b = i;
+      double back = 0, ahead = 0;
+      for (size_t k = 0; k + 1 < n && back < reach; ++k) {
+        a = (a + n - 1) % n;
+        back += seg[a];
+      }
+      for (size_t k = 0; k + 1 < n && ahead < reach; ++k) {
+        ahead += seg[b];
+        b = (b + 1) % n;
+      }
+      const Vec2 in = loop[i] - loop[a], outDir = loop[b] - loop[i];
+      if (in.squaredNorm() == 0 || outDir.squaredNorm() == 0) continue;
+      out[i] = std::atan2(in.x() * outDir.y() - in.y() * outDir.x(), in.dot(outDir));
+    }
+    return out;
+  }
+
+  // The vertex of least cost: alignWeight x (distance to the nearest seam of the layer below) / w
+  // - cornerWeight x corner, where corner = the concave turn beyond the floor, or kConvexShare of
+  // the convex one; without seams below (within kAlignReach line widths of the loop's box), the
+  // distance term is the rear preference: rearWeight x how far the vertex is from the loop's rear
+  // edge, as a share of its depth.
+  size_t cheapest(const std::vector<Vec2>& loop, double alignWeight, double cornerWeight, double rearWeight) const {
+    const std::vector<double> turn = turns(loop);
+    Vec2 lo = loop[0], hi = loop[0];
+    for (const Vec2& p : loop) {
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+    const double yMin = lo.y(), yMax = hi.y();
+    const Vec2 margin = Vec2::Constant(kAlignReach * w_);
+    std::vector<Vec2> below;
+    for (const Vec2& q : below_) {
+      if ((q.array() >= (lo - margin).array()).all() && (q.array() <= (hi + margin).array()).all()) below.push_back(q);
+    }
+    size_t best = 0;
+    double bestCost = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < loop.size(); ++i) {
+      const double t = turn[i];
+      const double corner = t < 0 ? std::max(0.0, -t - kCornerFloor) : kConvexShare * std::max(0.0, t - kCornerFloor);
+      double place;
+      if (below.empty()) {
+        place = rearWeight * (yMax - loop[i].y()) / std::max(yMax - yMin, 1e-9);
+      } else {
+        double d2 = std::numeric_limits<double>::infinity();
+        for (const Vec2& q : below) d2 = std::min(d2, (q - loop[i]).squaredNorm());
+        place = alignWeight * std::sqrt(d2) / w_;
+      }
+      const double cost = place - cornerWeight * corner;
+      if (cost < bestCost - 1e-12) {
+        bestCost = cost;
+        best = i;
+      }
+    }
+    return best;
+  }
+
+  // splitmix64 of (layer, loop in layer): the same seams on every run.
+  size_t randomVertex(size_t n) {
+    uint64_t x = (static_cast<uint64_t>(layer_) << 32) ^ static_cast<uint64_t>(loopInLayer_++);
+    x += 0x9e3779b97f4a7c15ull;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+    return static_cast<size_t>(x % n);
+  }
+
+  SeamPlacement mode_;
+  double w_;
+  std::vector<Vec2> below_, now_;
+  size_t layer_ = 0, loopInLayer_ = 0;
+};
+
+// Orders runs nearest-first from `cur`: loops rotated to start at their seam (seams; without, the
+// nearest vertex), open runs reversed when their far end is nearer. Updates cur to the end of the
+// last run. A loop is picked by its nearest probe (up to 32 evenly spaced vertices).
+std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur, SeamPlacer* seams = nullptr) {
   std::vector<std::vector<Vec2>> probes(runs.size());
   for (size_t r = 0; r < runs.size(); ++r) {
     const std::vector<Vec2>& pts = runs[r].points;
@@ -95,7 +228,7 @@ std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
     index.take(hit.item);
     Run run = std::move(runs[hit.item]);
     if (run.closed) {
-      const size_t v = nearestVertex(run.points, cur).first;
+      const size_t v = seams ? seams->place(run.points, cur) : nearestVertex(run.points, cur).first;
       std::rotate(run.points.begin(), run.points.begin() + v, run.points.end());
       run.points.push_back(run.points.front());
     } else if (hit.probe == 1) {
@@ -105,6 +238,38 @@ std::vector<Run> orderRuns(std::vector<Run> runs, Vec2& cur) {
     out.push_back(std::move(run));
   }
   return out;
+}
+
+// Even-odd point-in-region over closed paths (contours and holes).
+bool insideRegion(const Paths& region, const Vec2& p) {
+  const ClipperLib::IntPoint q = clip::toPoint(p);
+  bool in = false;
+  for (const Path& path : region) {
+    if (ClipperLib::PointInPolygon(q, path) != 0) in = !in;
+  }
+  return in;
+}
+
+// A bridge over `air` (one connected region of skin not on the layer below): the line angle
+// (degrees, 0..175 in 5-degree steps) whose lines across `span` (air widened onto its anchors)
+// land on `below` at both ends for the largest share of their length; -1 when no angle anchors
+// at least half (the region hangs from one side: not a bridge).
+double bridgeAngle(const Paths& span, const Paths& below, double lineWidth) {
+  double best = -1, bestShare = 0.5;
+  for (int a = 0; a < 180; a += 5) {
+    double anchored = 0, total = 0;
+    for (const Path& line : fillLines(span, {double(a)}, 2 * lineWidth, 0.25 * lineWidth)) {
+      const Vec2 p = clip::toVec(line.front()), q = clip::toVec(line.back());
+      const double len = (q - p).norm();
+      total += len;
+      if (insideRegion(below, p) && insideRegion(below, q)) anchored += len;
+    }
+    if (total > 0 && anchored / total > bestShare + 1e-9) {
+      bestShare = anchored / total;
+      best = a;
+    }
+  }
+  return best;
 }
 
 // Closed paths with their bounding boxes, so a Boolean operation can skip far-away paths.
@@ -202,6 +367,13 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
       !std::isfinite(options.retractMinTravel) || options.retractMinTravel < 0) {
     return fail(Status::InvalidOption, "retract_length and retract_min_travel must be >= 0 mm");
   }
+  if (!std::isfinite(options.retractInsideMaxTravel) || options.retractInsideMaxTravel < 0) {
+    return fail(Status::InvalidOption, "retract_inside_max_travel must be >= 0 mm");
+  }
+  if (!positiveFinite(options.bridgeSpeed)) return fail(Status::InvalidOption, "bridge_speed must be > 0 mm/s");
+  if (!(options.bridgeFlowPercent > 0 && options.bridgeFlowPercent <= 200)) {
+    return fail(Status::InvalidOption, "bridge_flow must be in (0, 200] %");
+  }
   if (options.retractLength > 0 && !positiveFinite(options.retractSpeed)) {
     return fail(Status::InvalidOption, "retract_speed must be > 0 mm/s");
   }
@@ -212,6 +384,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
   result.toolpath.layerCount = static_cast<int32_t>(layerCount);
   result.skinAreaMm2.assign(layerCount, 0.0);
   result.infillAreaMm2.assign(layerCount, 0.0);
+  result.bridgeAreaMm2.assign(layerCount, 0.0);
   Toolpath& tp = result.toolpath;
 
   const int walls = options.walls;
@@ -219,6 +392,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
   const double minLine = 0.25 * w;
   const bool retractOn = options.retractLength > 0;
 
+  SeamPlacer seams(options.seam, w);
   Vec2 cur(0, 0);             // nozzle in the layer plane
   Eigen::Vector3d pos(0, 0, 0);
   bool started = false;       // first travel not yet emitted
@@ -284,7 +458,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
       const bool isoplanar = options.allLinesAlongInfillAngle;
       const double skinAngle = isoplanar ? options.infillAngleDegrees : (i % 2 == 0) ? 45.0 : -45.0;
       const double pct = options.infillPercent;
-      std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size());
+      std::vector<std::vector<Run>> skinRuns(islands.size()), infillRuns(islands.size()), bridgeRuns(islands.size());
       // Window of layers whose sections must all cover a point for it to be sparse (computed per
       // island with bbox-filtered sections, which keeps Clipper's scan lines short on layers with
       // many islands); a window reaching beyond the part leaves nothing sparse (all skin).
@@ -305,7 +479,31 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
             }
           }
         }
-        const Paths skin = sparse.empty() ? fill : clip::subtract(fill, sparse);
+        Paths skin = sparse.empty() ? fill : clip::subtract(fill, sparse);
+        // Bridges: skin over air (opened by half a line, so wall edges leave no slivers), each
+        // region widened by two lines onto what holds it and crossed in its best anchored angle.
+        if (options.bridges && i > 0 && !skin.empty()) {
+          const Paths below = nearby(sections[i - 1], boundsOf(skin));
+          Paths air = below.empty() ? skin : clip::subtract(skin, below);
+          air = clip::offset(clip::offset(air, -0.5 * w), 0.5 * w);
+          if (!air.empty()) {
+            ClipperLib::Clipper c;
+            c.AddPaths(air, ClipperLib::ptSubject, true);
+            ClipperLib::PolyTree tree;
+            c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+            for (const Paths& region : clip::islandPaths(tree)) {
+              const Paths span = clip::intersect(clip::offset(region, 2 * w), fill);
+              const double angle = below.empty() ? -1 : bridgeAngle(span, below, w);
+              if (angle < 0) continue;
+              for (const Path& line : fillLines(span, {angle}, w, minLine)) {
+                bridgeRuns[k].push_back(Run{toPoints(line), false, Feature::Bridge});
+              }
+              result.bridgeAreaMm2[i] += clip::areaMm2(span);
+              ++result.bridges;
+              skin = clip::subtract(skin, span);
+            }
+          }
+        }
         result.skinAreaMm2[i] += clip::areaMm2(skin);
         result.infillAreaMm2[i] += clip::areaMm2(sparse);
         for (const Path& line : fillLines(skin, {skinAngle}, spacing, minLine)) {
@@ -330,6 +528,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
       auto speedOf = [&](Feature f) {
         if (firstLayer) return options.firstLayerSpeed;
         if (f == Feature::WallOuter) return options.outerWallSpeed;
+        if (f == Feature::Bridge) return options.bridgeSpeed;
         if (f == Feature::Infill) return options.infillSpeed;
         return options.printSpeed;
       };
@@ -342,7 +541,12 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
         m.layer = static_cast<int32_t>(i);
         return m;
       };
-      auto travelTo = [&](const Eigen::Vector3d& target) {
+      // Travel to `target` (the layer point `target2` at height z): inside the island (comb) when
+      // the nozzle is in it and a route exists, retracting only when that route is longer than
+      // retractInsideMaxTravel; else straight, retracting over retractMinTravel.
+      const CombRegion* comb = nullptr;
+      std::vector<Vec2> route;
+      auto travelTo = [&](const Eigen::Vector3d& target, const Vec2& target2) {
         if (!started) {
           tp.start = target + kParkClearanceMm * frame.d;
           pos = tp.start;
@@ -350,12 +554,31 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
         }
         const double len = (target - pos).norm();
         if (len <= 1e-9) return;
-        const bool retract = retractOn && extruded && len > options.retractMinTravel;
+        route.clear();
+        bool inside = false;
+        double routeLen = len;
+        if (comb && std::abs((target - pos).dot(frame.d)) < 1e-9 && comb->route(cur, target2, route)) {
+          inside = true;
+          routeLen = 0;
+          Vec2 at = cur;
+          for (const Vec2& p : route) {
+            routeLen += (p - at).norm();
+            at = p;
+          }
+          route.pop_back();  // the last point is the target itself
+        }
+        const bool retract = retractOn && extruded && routeLen > options.retractMinTravel &&
+                             (!inside || routeLen > options.retractInsideMaxTravel);
         if (retract) {
           Move r = baseMove(pos, MoveKind::Retract);
           r.filament = -options.retractLength;
           r.speed = options.retractSpeed;
           tp.moves.push_back(r);
+        }
+        for (const Vec2& p : route) {
+          Move t = baseMove(frame.toPart(p, z), MoveKind::Travel);
+          t.speed = options.travelSpeed;
+          tp.moves.push_back(t);
         }
         Move t = baseMove(target, MoveKind::Travel);
         t.speed = options.travelSpeed;
@@ -369,7 +592,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
         pos = target;
       };
       auto emitRun = [&](const Run& run) {
-        travelTo(frame.toPart(run.points.front(), z));
+        travelTo(frame.toPart(run.points.front(), z), run.points.front());
         cur = run.points.front();
         const double speed = speedOf(run.feature);
         for (size_t p = 1; p < run.points.size(); ++p) {
@@ -380,6 +603,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
           m.width = w;
           m.height = thickness;
           m.filament = filamentForBead(w, thickness, len, options.filamentDiameter);
+          if (run.feature == Feature::Bridge) m.filament *= options.bridgeFlowPercent / 100.0;
           m.speed = speed;
           m.feature = run.feature;
           tp.moves.push_back(m);
@@ -406,15 +630,28 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
         islandIndex.take(hit.item);
         const size_t best = hit.item;
         IslandWork& iw = islands[best];
+        // The island's travel region: a quarter line inside its outline (every run's points lie
+        // half a line or more inside). The travel to its first run comes from elsewhere: straight.
+        std::optional<CombRegion> region;
+        if (options.travelInside) region.emplace(loopsOf(clip::offset(iw.outline, -0.25 * w)));
+        comb = nullptr;
+        auto emitInIsland = [&](const Run& run) {
+          emitRun(run);
+          if (region && !region->empty()) comb = &*region;
+        };
         for (size_t level = iw.walls.size(); level-- > 0;) {
           Vec2 probe = cur;
-          for (const Run& run : orderRuns(std::move(iw.walls[level]), probe)) emitRun(run);
+          for (const Run& run : orderRuns(std::move(iw.walls[level]), probe, &seams)) emitInIsland(run);
         }
         Vec2 probe = cur;
-        for (const Run& run : orderRuns(std::move(skinRuns[best]), probe)) emitRun(run);
+        for (const Run& run : orderRuns(std::move(bridgeRuns[best]), probe)) emitInIsland(run);
         probe = cur;
-        for (const Run& run : orderRuns(std::move(infillRuns[best]), probe)) emitRun(run);
+        for (const Run& run : orderRuns(std::move(skinRuns[best]), probe)) emitInIsland(run);
+        probe = cur;
+        for (const Run& run : orderRuns(std::move(infillRuns[best]), probe)) emitInIsland(run);
+        comb = nullptr;
       }
+      seams.nextLayer();
     }
   } catch (const std::exception& e) {
     return fail(Status::Internal, std::string("polygon clipping failed: ") + e.what());

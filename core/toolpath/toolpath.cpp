@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: MIT
 #include "toolpath/toolpath.h"
 
+#include "toolpath/lookahead_time.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -30,21 +32,11 @@ const char* moveKindName(MoveKind k) {
   return "travel";
 }
 
-namespace {
-// Time for a move of length L at cruise speed v starting and ending at rest with acceleration a
-// (trapezoid, or triangle when L is too short to reach v). Conservative: each move stops.
-double moveTime(double length, double speed, double accel) {
-  if (length <= 0 || speed <= 0) return 0;
-  if (accel <= 0) return length / speed;
-  const double accelDist = speed * speed / accel;  // accelerate + decelerate
-  if (length >= accelDist) return length / speed + speed / accel;
-  return 2.0 * std::sqrt(length / accel);
-}
-}  // namespace
-
-ToolpathStats toolpathStats(const Toolpath& path, double accelerationMmS2) {
+ToolpathStats toolpathStats(const Toolpath& path, double accelerationMmS2, double junctionDeviationMm) {
   ToolpathStats s;
   Eigen::Vector3d prev = path.start;
+  std::vector<PlannedMove> planned;
+  planned.reserve(path.moves.size());
   for (const Move& m : path.moves) {
     const double len = (m.position - prev).norm();
     switch (m.kind) {
@@ -62,13 +54,15 @@ ToolpathStats toolpathStats(const Toolpath& path, double accelerationMmS2) {
         break;
     }
     if (m.filament > 0) s.filamentMm += m.filament;
-    if (len > 0) {
-      s.estimatedTimeS += moveTime(len, m.speed, accelerationMmS2);
-    } else if (m.filament != 0 && m.speed > 0) {
-      s.estimatedTimeS += std::abs(m.filament) / m.speed;  // retract/unretract at filament speed
+    if (len > 0 && m.speed > 0) {
+      planned.push_back({(m.position - prev) / len, len, m.speed});
+    } else {
+      planned.push_back({});  // a stop
+      if (m.filament != 0 && m.speed > 0) s.estimatedTimeS += std::abs(m.filament) / m.speed;  // retract/unretract
     }
     prev = m.position;
   }
+  s.estimatedTimeS += lookaheadTime(planned, {accelerationMmS2, junctionDeviationMm});
   return s;
 }
 

@@ -38,8 +38,9 @@ struct Toolpath {
   int32_t layerCount = 0;
 };
 
-// Summary figures over a tool-path: extruding path length, filament, estimated time with
-// the given acceleration (mm/s^2, trapezoidal per move, 0 = constant speed) and retraction time.
+// Summary figures over a tool-path: extruding path length, filament, estimated time as a
+// firmware look-ahead runs the moves (lookahead_time.h: acceleration in mm/s^2, 0 = constant
+// speed; junction deviation in mm, 0 = every move from and to rest) and retraction time.
 struct ToolpathStats {
   double pathMm = 0;        // length of Print/Support moves
   double travelMm = 0;      // length of Travel moves
@@ -47,6 +48,6 @@ struct ToolpathStats {
   double estimatedTimeS = 0;
   int32_t retractions = 0;
 };
-ToolpathStats toolpathStats(const Toolpath& path, double accelerationMmS2);
+ToolpathStats toolpathStats(const Toolpath& path, double accelerationMmS2, double junctionDeviationMm = 0.013);
 
 }  // namespace omnislice

@@ -96,8 +96,10 @@ void checkToolpath(const SliceResult& slices, const PlanarOptions& s, const Plan
       EXPECT_DOUBLE_EQ(m.width, w);
       EXPECT_NEAR(m.height, layer.top - layer.bottom, 1e-12);
       const double len = (m.position - prev).norm();
-      EXPECT_NEAR(m.filament, filamentForBead(w, m.height, len, s.filamentDiameter), 1e-12);
-      expectedFilament += filamentForBead(w, m.height, len, s.filamentDiameter);
+      // Bridges take bridgeFlowPercent of a bead's filament.
+      const double flow = m.feature == Feature::Bridge ? s.bridgeFlowPercent / 100 : 1.0;
+      EXPECT_NEAR(m.filament, flow * filamentForBead(w, m.height, len, s.filamentDiameter), 1e-12);
+      expectedFilament += flow * filamentForBead(w, m.height, len, s.filamentDiameter);
       EXPECT_GT(m.speed, 0);
       EXPECT_NE(m.feature, Feature::None);
       for (const Eigen::Vector3d& p3 : {prev, m.position}) {
@@ -257,7 +259,10 @@ TEST(PlanLayers, TravelRetractionAndLayerStarts) {
   m = test::append(m, makeBox(30, 30, 0, 38, 38, 3));
   const SliceResult slices = sliceMesh(m, SliceOptions{});
   ASSERT_TRUE(slices.ok());
-  const PlanarOptions s = baseSettings();
+  // Straight travels, retracted over retractMinTravel (the rule of travels between islands; travels
+  // inside an island: travel_inside_test.cpp).
+  PlanarOptions s = baseSettings();
+  s.travelInside = false;
   const PlanLayersResult plan = planLayers(slices, s, 3);
   checkToolpath(slices, s, plan, "four columns");
   const auto& moves = plan.toolpath.moves;
