@@ -5,6 +5,8 @@
 // projected_supports + core/slice/support_regions), and planned with walls, skins and infill
 // (core/slice/plan_layers). fill = isoplanar lays every line along paper 003's drive direction
 // theta* (the nozzle stays vertical; f* comes from the machine's linear axes).
+#include <cstdio>
+
 #include "common/stopwatch.h"
 #include "pipeline/isoplanar_fill.h"
 #include "pipeline/method.h"
@@ -42,9 +44,31 @@ MethodResult runPlanarMethod(const PlacedPart& part, const MethodContext& contex
     out.timingsMs.emplace_back("isoplanar", msSince(t0));
     t0 = Clock::now();
   }
-  // Supports along the one direction (the projected-support generator with no plane).
+  // Supports along the one direction (the projected-support generator with no plane); with
+  // support = auto, when the overhanging share of the surface is above support.auto_share_pct.
   SupportRegionsResult regions;
-  const bool withSupports = stage::supportsWanted(settings);
+  bool withSupports = stage::supportsWanted(settings);
+  if (settings.support.mode == SupportMode::Auto) {
+    const stage::OverhangShare share =
+        stage::overhangShare(part.mesh, settings.support.angleDeg > 0 ? settings.support.angleDeg : 45,
+                             0.5 * settings.effectiveFirstLayerHeight());
+    MethodReport::SupportAuto a;
+    a.overhangPercent = share.percent;
+    a.overhangMm2 = share.overhangMm2;
+    a.thresholdPercent = settings.support.autoSharePercent;
+    a.supports = withSupports = share.percent > settings.support.autoSharePercent;
+    out.report.supportAuto = a;
+    if (a.supports) {
+      char text[300];
+      std::snprintf(text, sizeof text,
+                    "%.1f %% of the part's surface (%.0f mm^2) overhangs more than %.0f deg: support = auto prints "
+                    "projected supports under it (above %.1f %%, support.auto_share_pct); support = none prints "
+                    "without",
+                    share.percent, share.overhangMm2, settings.support.angleDeg > 0 ? settings.support.angleDeg : 45.0,
+                    settings.support.autoSharePercent);
+      out.warnings.push_back({"supports_added", text});
+    }
+  }
   std::optional<SupportResult> supports;
   SupportOptions supportOptions;
   double supportMs = 0;

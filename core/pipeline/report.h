@@ -272,6 +272,14 @@ struct MethodReport {
   std::optional<IsoplanarReport> isoplanar;
   std::optional<CurvedSparseReport> sparseFill;  // voxel, geodesic with infill < 100
   std::optional<SupportReport> support;  // planar supports
+  // support = auto with the planar method: the share of the part's surface that overhangs (Eq. 1
+  // along the slicing direction at the support angle, faces on the platform left out), the share
+  // above which auto prints supports, and what it chose.
+  struct SupportAuto {
+    double overhangPercent = 0, thresholdPercent = 0, overhangMm2 = 0;
+    bool supports = false;
+  };
+  std::optional<SupportAuto> supportAuto;
 };
 
 // "mesh": the input as read, validated and placed.

@@ -437,6 +437,12 @@ std::string sliceReportJson(const SliceReport& r) {
   if (s.isoplanar) j["isoplanar"] = isoplanarJson(*s.isoplanar);
   if (s.sparseFill) j["sparse_fill"] = sparseFillJson(*s.sparseFill);
   if (s.support) j["support"] = supportJson(*s.support);
+  if (s.supportAuto) {
+    j["support_auto"] = {{"overhang_percent", num(s.supportAuto->overhangPercent)},
+                         {"threshold_percent", num(s.supportAuto->thresholdPercent)},
+                         {"overhang_mm2", num(s.supportAuto->overhangMm2)},
+                         {"chosen", s.supportAuto->supports ? "projected" : "none"}};
+  }
   if (r.verify) j["verify"] = verifyJson(*r.verify);
   j["fill"] = r.fill;
   Json warnings = Json::array();

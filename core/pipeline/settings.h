@@ -177,6 +177,8 @@ struct SupportSettings {
   double mergeAngleDeg = 30;     // tree branches at most this far from the direction (0 = columns)
   double gapMm = 0;              // horizontal gap between support and the part, mm (0: the roof
                                  // meets the part's outer wall, which verify's 1.5 h reach needs)
+  double autoSharePercent = 1;   // support = auto, planar: supports when more of the surface
+                                 // than this overhangs, % of its area
 };
 
 struct Settings {

@@ -365,6 +365,8 @@ std::vector<SettingSpec> makeTable() {
       number("scale", [](S& s) -> double& { return s.placement.scale; }, 1e-6, 1e6, "factor", "uniform scale"),
       number("support.angle_deg", [](S& s) -> double& { return s.support.angleDeg; }, 0, 89, "deg",
              "overhangs steeper than this get support (0 = the method's)"),
+      number("support.auto_share_pct", [](S& s) -> double& { return s.support.autoSharePercent; }, 0, 100, "%",
+             "support = auto, planar: supports when more of the part's surface than this overhangs"),
       number("support.gap_mm", [](S& s) -> double& { return s.support.gapMm; }, 0, 5, "mm",
              "horizontal gap between support and the part"),
       number("support.lambda", [](S& s) -> double& { return s.support.lambda; }, 0, 1, "",
@@ -464,7 +466,7 @@ std::vector<SettingSpec> makeTable() {
       choice<SupportMode>("support", [](S& s) -> SupportMode& { return s.support.mode; },
                           {{"auto", SupportMode::Auto}, {"none", SupportMode::None},
                            {"projected", SupportMode::Projected}},
-                          "a support mode", "auto (multidir: projected, planar: none), none or projected"),
+                          "a support mode", "auto (multidir: projected; planar: projected when more of the surface than support.auto_share_pct overhangs, else none), none or projected"),
       // ---- method-specific choices (listed only with their method) ------------------------------
       onlyWith(Method::Voxel,
                choice<GrowthStrategy>("voxel.strategy", [](S& s) -> GrowthStrategy& { return s.voxel.strategy; },

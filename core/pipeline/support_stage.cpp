@@ -1,13 +1,34 @@
 // SPDX-License-Identifier: MIT
 #include "pipeline/support_stage.h"
 
+#include <Eigen/Geometry>
+#include <algorithm>
+
 #include "common/math_constants.h"
+#include "multidir/risky_faces.h"
 
 namespace omnislice::stage {
 
 bool supportsWanted(const Settings& s) {
   return s.support.mode == SupportMode::Projected ||
          (s.support.mode == SupportMode::Auto && s.method == Method::Multidir);
+}
+
+OverhangShare overhangShare(const Mesh& part, double alphaMaxDeg, double platformBandMm) {
+  OverhangShare s;
+  const double sinAlpha = sinAlphaMax(alphaMaxDeg);
+  for (size_t f = 0; f < part.faceCount(); ++f) {
+    const Eigen::Vector3d a = part.vertex(part.triangles[3 * f]), b = part.vertex(part.triangles[3 * f + 1]),
+                          c = part.vertex(part.triangles[3 * f + 2]);
+    const Eigen::Vector3d n = (b - a).cross(c - a);
+    const double area = 0.5 * n.norm();
+    s.surfaceMm2 += area;
+    if (!(area > 0)) continue;
+    if (std::max({a.z(), b.z(), c.z()}) <= platformBandMm) continue;  // on the platform
+    if (riskyAlong(n.normalized(), Eigen::Vector3d::UnitZ(), sinAlpha)) s.overhangMm2 += area;
+  }
+  s.percent = s.surfaceMm2 > 0 ? 100 * s.overhangMm2 / s.surfaceMm2 : 0;
+  return s;
 }
 
 SupportOptions supportOptionsFor(const Settings& s, double methodAlphaDeg) {

@@ -10,8 +10,16 @@
 
 namespace omnislice::stage {
 
-// support = projected, or auto with the multidir method.
+// support = projected, or auto with the multidir method (planar auto: overhangShare()).
 bool supportsWanted(const Settings& settings);
+
+// How much of a placed part's surface overhangs along +Z: the area of the faces risky by Eq. 1
+// at alphaMaxDeg (multidir/risky_faces.h), faces whose every corner lies within platformBandMm of
+// z = 0 left out (they rest on the platform), and its percentage of the whole surface.
+struct OverhangShare {
+  double overhangMm2 = 0, surfaceMm2 = 0, percent = 0;
+};
+OverhangShare overhangShare(const Mesh& part, double alphaMaxDeg, double platformBandMm);
 
 // Generator options from the settings; methodAlphaDeg is the overhang angle when support.angle_deg
 // is 0 (multidir: its alpha_max; planar: 45).

@@ -365,7 +365,12 @@ test('a planar slice afterwards hides the geodesic view and report', async (t) =
   assert.equal(await page.isHidden(tid('geo-report')), true);
   assert.equal(await page.evaluate(() => window.omnislice.geodesic), null);
   assert.equal(await page.isVisible(tid('show-missed')), false, 'no voxel bar either');
-  assert.equal(await page.$$eval(`${tid('report-warnings')} li`, (lis) => lis.length), 0, 'the earlier warning is gone');
+  // The geodesic warning is gone; what the planar slice says (auto supports under the tree's
+  // overhangs) is its own.
+  const notes = await page.$$eval(`${tid('report-warnings')} li`, (lis) => lis.map((li) => li.textContent));
+  const codes = (await page.evaluate(() => window.omnislice.report)).warnings.map((w) => w.code);
+  assert.ok(codes.every((c) => c === 'supports_added'), `planar warnings: ${codes}`);
+  assert.equal(notes.length, codes.length, `the earlier warning is gone: ${notes}`);
 });
 
 test('no uncaught page error', (t) => {

@@ -168,9 +168,10 @@ test('a planar slice afterwards hides the multidir view and report', async (t) =
   assert.equal(await page.isHidden(tid('md-bar')), true);
   assert.equal(await page.isHidden(tid('md-report')), true);
   assert.equal(await page.evaluate(() => window.omnislice.multidir), null);
-  // Planar supports default off (auto); projected: struts under the arm, drawn as support lines.
-  assert.equal(await page.textContent(tid('report-supports')), 'off');
-  assert.equal((await page.evaluate(() => window.omnislice.featureCounts)).support, 0);
+  // Planar supports by default (auto): the arm's underside is 9 % of the bracket's surface, above
+  // auto's 1 %; the page says why, and the struts under the arm are drawn as support lines.
+  assert.match(await page.textContent(tid('report-supports')), /^auto: \d+\.\d % of the surface overhangs, above 1 % — .*mm³ printed: \d+ struts/);
+  assert.ok((await page.evaluate(() => window.omnislice.featureCounts)).support > 0, 'auto supports in the preview');
   assert.equal(await page.isVisible(tid('support-roof')), true);
   await setSetting('support-mode', 'none');
   assert.equal(await page.isVisible(tid('support-roof')), false, 'no support settings without supports');

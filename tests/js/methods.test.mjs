@@ -94,6 +94,11 @@ test('planar: the report\'s general figures and warnings', () => {
   assert.equal(rows.took, '0.25 s in the engine');
   assert.equal(rows.machine, 'robot6-ur5 (robot6)');
   assert.equal(rows.program, 'csv');
+  // support = auto on planar layers says why.
+  const auto = (chosen, pct) => Object.fromEntries(reportRows({ support_auto: { overhang_percent: pct, threshold_percent: 1,
+    overhang_mm2: 10, chosen } }).map(([key, , text]) => [key, text])).supports;
+  assert.equal(auto('none', 0.42), 'auto: 0.4 % of the surface overhangs, not above 1 % — off');
+  assert.match(auto('projected', 7.86), /^auto: 7\.9 % of the surface overhangs, above 1 % — /);
   assert.deepEqual(warningNotes({ warnings: [{ code: 'skipped_tool_path', message: '3 mm left out' }, 'plain'] }),
     [{ code: 'skipped_tool_path', text: '3 mm left out' }, { code: '', text: 'plain' }]);
 });

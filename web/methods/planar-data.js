@@ -35,12 +35,20 @@ export function reportRows(report) {
     ['time', 'print time', formatSeconds(r.estimated_time_s)],
     ['filament', 'filament', filament],
     ['path', 'path length', formatLength(r.path_mm)],
-    // Projected supports: the planar report's `support`, or the multidir report's `supports`.
-    ['supports', 'supports', supportText(r.support || (r.multidir && r.multidir.supports))],
+    // Projected supports: the planar report's `support`, or the multidir report's `supports`;
+    // with support = auto on planar layers, why auto chose them (report.support_auto).
+    ['supports', 'supports', autoSupportText(r.support_auto, supportText(r.support || (r.multidir && r.multidir.supports)))],
     ['took', 'slicing took', t ? `${(total / 1000).toFixed(2)} s in the engine` : '—'],
     ['machine', 'machine', r.machine ? `${r.machine}${r.machine_kind && r.machine_kind !== r.machine ? ` (${r.machine_kind})` : ''}` : '—'],
     ['program', 'program', r.program_format || r.program_extension || '—'],
   ];
+}
+
+/** support = auto (planar): the overhanging share and the threshold before what was chosen. */
+export function autoSupportText(auto, text) {
+  if (!auto || !Number.isFinite(auto.overhang_percent)) return text;
+  const chose = auto.chosen === 'projected' ? 'above' : 'not above';
+  return `auto: ${auto.overhang_percent.toFixed(1)} % of the surface overhangs, ${chose} ${auto.threshold_percent} % — ${text}`;
 }
 
 /** What the user should know about a result (e.g. tool path left out): [{code, text}]. */

@@ -102,8 +102,10 @@ void expectVerified(const Sliced& r) {
   EXPECT_GE(r.verify["coverage"].get<double>(), 0.98) << r.verify.dump();
 }
 
+// The planar print without supports (support = none: auto would add them under the overhang).
 double planarSupported(const std::vector<uint8_t>& bytes, const std::string& name, Settings s) {
   s.method = Method::Planar;
+  s.support.mode = SupportMode::None;
   const Sliced r = sliceAndVerify(bytes, name, s);
   return r.verify.is_null() ? 1.0 : r.verify["supported"].get<double>();
 }

@@ -128,6 +128,7 @@ TEST(Soundness, PlanarOnRequestNamesSupportsAsTheRemedy) {
   const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
   Settings s;
   s.verify = VerifyMode::Refuse;
+  s.support.mode = SupportMode::None;
   const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s);
   ASSERT_EQ(out.status, Status::UnsoundProgram) << out.message;
   EXPECT_NE(out.message.find("printed over air"), std::string::npos) << out.message;

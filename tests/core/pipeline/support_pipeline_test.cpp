@@ -78,6 +78,7 @@ TEST(SupportPipeline, PlanarSupportsHoldTheOverhang) {
   Settings s;
   s.machine = "cartesian3";
   s.layerHeight = 0.2;  // 1.5 h below the solid line spacing: a bridge shows as unsupported
+  s.support.mode = SupportMode::None;
   const Sliced none = sliceAndVerify(bytes, "l.stl", s);
   Settings with = s;
   ASSERT_TRUE(setSetting(with, "support", "projected").ok());
@@ -107,6 +108,50 @@ TEST(SupportPipeline, PlanarSupportsHoldTheOverhang) {
 
 // The paper's Kitten at 0.2 mm layers and 20 % infill on table5: with projected supports the
 // program reaches supported >= 0.99 and never loses to the same decomposition without them.
+// support = auto with the planar method decides by the share of the surface that overhangs: the
+// L-bracket's arm underside (20 x 10 mm, facing straight down) against the bracket's whole surface
+// summed here from its triangles; above support.auto_share_pct (1 %) it prints supports, and the
+// program then holds (supported >= 0.99); a box (its bottom on the platform) gets none; with the
+// threshold above the bracket's share, none either.
+TEST(SupportPipeline, PlanarAutoDecidesByTheOverhangShare) {
+  const Mesh l = test::makeLBracket(10);
+  double area = 0;
+  for (size_t f = 0; f < l.faceCount(); ++f) {
+    const Eigen::Vector3d a = l.vertex(l.triangles[3 * f]), b = l.vertex(l.triangles[3 * f + 1]),
+                          c = l.vertex(l.triangles[3 * f + 2]);
+    area += 0.5 * (b - a).cross(c - a).norm();
+  }
+  const std::vector<uint8_t> bytes = test::binaryStl(l);
+  Settings s;
+  s.layerHeight = 0.2;
+  const Sliced r = sliceAndVerify(bytes, "l.stl", s);
+  if (!r.out.ok()) return;
+  const Json& a = r.report["support_auto"];
+  EXPECT_NEAR(a["overhang_mm2"].get<double>(), 200, 1e-6);
+  EXPECT_NEAR(a["overhang_percent"].get<double>(), 100 * 200 / area, 1e-6);
+  EXPECT_EQ(a["chosen"], "projected");
+  EXPECT_TRUE(r.report.contains("support"));
+  EXPECT_GE(r.verify["supported"].get<double>(), 0.99);
+  bool said = false;
+  for (const Json& w : r.report["warnings"]) said |= w["code"] == "supports_added";
+  EXPECT_TRUE(said) << "the report says why supports were added";
+
+  Settings high = s;
+  ASSERT_TRUE(setSetting(high, "support.auto_share_pct", std::to_string(100 * 200 / area + 1)).ok());
+  const SliceOutput none = runSlice(bytes.data(), bytes.size(), "l.stl", high);
+  ASSERT_TRUE(none.ok());
+  const Json nr = Json::parse(none.reportJson);
+  EXPECT_EQ(nr["support_auto"]["chosen"], "none");
+  EXPECT_FALSE(nr.contains("support"));
+
+  const std::vector<uint8_t> box = test::binaryStl(test::makeBox(0, 0, 0, 20, 10, 5));
+  const SliceOutput b = runSlice(box.data(), box.size(), "box.stl", s);
+  ASSERT_TRUE(b.ok());
+  const Json br = Json::parse(b.reportJson);
+  EXPECT_EQ(br["support_auto"]["overhang_mm2"].get<double>(), 0);
+  EXPECT_EQ(br["support_auto"]["chosen"], "none");
+}
+
 TEST(SupportPipeline, KittenProjectedSupportsStayInTheirSubspaces) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / "pymdp_kitten.off");
