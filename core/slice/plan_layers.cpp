@@ -491,8 +491,11 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
             c.AddPaths(air, ClipperLib::ptSubject, true);
             ClipperLib::PolyTree tree;
             c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+            Paths bridged;  // spans taken by earlier regions: widened spans must not overlap
             for (const Paths& region : clip::islandPaths(tree)) {
-              const Paths span = clip::intersect(clip::offset(region, 2 * w), fill);
+              Paths span = clip::intersect(clip::offset(region, 2 * w), fill);
+              if (!bridged.empty()) span = clip::subtract(span, bridged);
+              if (span.empty()) continue;
               const double angle = below.empty() ? -1 : bridgeAngle(span, below, w);
               if (angle < 0) continue;
               for (const Path& line : fillLines(span, {angle}, w, minLine)) {
@@ -501,6 +504,7 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
               result.bridgeAreaMm2[i] += clip::areaMm2(span);
               ++result.bridges;
               skin = clip::subtract(skin, span);
+              bridged.insert(bridged.end(), span.begin(), span.end());
             }
           }
         }
