@@ -62,7 +62,8 @@ NearestIndex::Hit NearestIndex::nearest(const Eigen::Vector2d& from) const {
   const long cx = std::clamp(static_cast<long>(std::floor((from.x() - origin_.x()) / cell_)), 0L, nx_ - 1);
   const long cy = std::clamp(static_cast<long>(std::floor((from.y() - origin_.y()) / cell_)), 0L, ny_ - 1);
   double best = std::numeric_limits<double>::infinity();
-  const long maxRing = std::max(nx_, ny_);
+  // Rings beyond this lie wholly outside the grid.
+  const long maxRing = std::max({cx, nx_ - 1 - cx, cy, ny_ - 1 - cy});
   auto scanCell = [&](long x, long y) {
     if (x < 0 || y < 0 || x >= nx_ || y >= ny_) return;
     const size_t c = static_cast<size_t>(y * nx_ + x);
@@ -82,11 +83,14 @@ NearestIndex::Hit NearestIndex::nearest(const Eigen::Vector2d& from) const {
     if (r == 0) {
       scanCell(cx, cy);
     } else {
-      for (long x = cx - r; x <= cx + r; ++x) {
+      // Only the ring's cells inside the grid (a long thin grid has rings far wider than it).
+      const long x0 = std::max(cx - r, 0L), x1 = std::min(cx + r, nx_ - 1);
+      const long y0 = std::max(cy - r + 1, 0L), y1 = std::min(cy + r - 1, ny_ - 1);
+      for (long x = x0; x <= x1; ++x) {
         scanCell(x, cy - r);
         scanCell(x, cy + r);
       }
-      for (long y = cy - r + 1; y <= cy + r - 1; ++y) {
+      for (long y = y0; y <= y1; ++y) {
         scanCell(cx - r, y);
         scanCell(cx + r, y);
       }

@@ -396,6 +396,21 @@ TEST(PlanLayers, NearestIndexMatchesBruteForce) {
     taken[hit.item] = 1;
   }
   EXPECT_FALSE(index.nearest({0, 0}).found);
+  // Degenerate clouds (the seams of a layer: all on one vertical line, or all at one point), asked
+  // from far away: the grid is one cell wide (or one cell), its rings far wider than it.
+  for (const bool line : {true, false}) {
+    std::vector<std::vector<Eigen::Vector2d>> column(40);
+    for (size_t i = 0; i < column.size(); ++i) column[i] = {{3, line ? 0.25 * double(i) : 7.0}};
+    NearestIndex degenerate(column);
+    for (int q = 0; q < 50; ++q) {
+      const Eigen::Vector2d from(2 * u(rng), 2 * u(rng));
+      double best = 1e300;
+      for (const auto& list : column) best = std::min(best, (list[0] - from).squaredNorm());
+      const NearestIndex::Hit hit = degenerate.nearest(from);
+      ASSERT_TRUE(hit.found);
+      EXPECT_DOUBLE_EQ((column[hit.item][0] - from).squaredNorm(), best) << (line ? "line" : "point") << " query " << q;
+    }
+  }
 }
 
 TEST(PlanLayers, ManyIslandsOrderedQuickly) {
