@@ -828,8 +828,8 @@ void Planner::finishTimes() {
   // G-code kinds: the firmware's look-ahead ramps the tip through its junctions (lookahead_time.h)
   // at each move's feed-limited cruise; a move without tip motion is a stop.
   std::vector<PlannedMove> planned(robot_ ? 0 : n);
-  Eigen::Vector3d before = tip;
-  forwardMap(m_, out_.start, before, axis);
+  Eigen::Vector3d before = Eigen::Vector3d::Zero();  // the tip before move k (the first move's
+  forwardMap(m_, out_.start, before, axis);           // direction starts no junction)
   for (size_t k = 0; k < n; ++k) {
     MachineMove& mm = out_.moves[k];
     double t = fr.duration[k];
