@@ -109,6 +109,7 @@ export const PAGE_FIELDS = [
   { group: 'Slicing', key: 'seam', label: 'seam', type: 'select',
     labels: { aligned: 'aligned', nearest: 'nearest', sharpest: 'sharpest corner', random: 'random' },
     showIf: isPlanar },
+  { group: 'Slicing', key: 'gap_fill', label: 'gap fill', type: 'checkbox', showIf: isPlanar },
   { group: 'Slicing', key: 'direction', label: 'slicing direction', type: 'direction',
     showIf: (v) => isPlanar(v) && !isMultidir(v) },
   // The voxel method (paper 001): conservative voxels, growing field, curved layers.

@@ -158,6 +158,7 @@ PlanarOptions planarOptions(const Settings& s) {
   o.retractMinTravel = s.retractMinTravel;
   o.travelInside = s.travelInside;
   o.bridges = s.bridges;
+  o.gapFill = s.gapFill;
   o.bridgeSpeed = s.bridgeSpeed;
   o.bridgeFlowPercent = s.bridgeFlowPercent;
   o.retractInsideMaxTravel = s.retractInsideMaxTravel;

@@ -237,6 +237,7 @@ struct Settings {
   double retractMinTravel = 1.5;  // mm, shorter travels do not retract
   bool travelInside = true;        // planar travels keep inside the section (PlanarOptions)
   bool bridges = true;             // planar bridges (PlanarOptions)
+  bool gapFill = true;             // planar gap fill between walls (PlanarOptions)
   double bridgeSpeed = 20;         // mm/s
   double bridgeFlowPercent = 80;   // % of a bead's filament
   double retractInsideMaxTravel = 10;  // mm, inside travels retract only when longer

@@ -438,6 +438,9 @@ std::vector<SettingSpec> makeTable() {
                      {{"+z", UpAxis::PosZ}, {"+y", UpAxis::PosY}, {"+x", UpAxis::PosX}}, true),
       boolean("bridges", [](S& s) -> bool& { return s.bridges; },
               "planar skin over air anchored on both sides is printed as bridge lines across the span"),
+      boolean("gap_fill", [](S& s) -> bool& { return s.gapFill; },
+              "planar: strips between walls too narrow for another wall (0.3 to 1 line wide) are filled "
+              "with lines across them"),
       boolean("travel_inside", [](S& s) -> bool& { return s.travelInside; },
               "planar travels within a section keep inside it (round holes and notches) instead of "
               "crossing walls"),

@@ -5,12 +5,17 @@
 // spacing w - h (1 - pi/4): beads with a rounded-rectangle section (w - h) h + pi h^2 / 4 (the
 // extrusion model, filamentForBead) laid s apart fill exactly s h of section each, as in Slic3r's
 // flow model; laid w apart they would leave ~10 % voids at 0.45 x 0.2 mm):
-//   wall loop k      = island offset by -(w/2 + k s)       (k = 0: outer wall, touches the surface)
+//   wall loop k      = boundary of L_k: L_0 = island offset by -w/2 (outer wall, touches the
+//                      surface); L_k+1 = L_k offset by -s, opened by 0.3 s (where the level would
+//                      be narrower than 0.6 s, its loop doubling back, it is left to gap fill)
 //   fill region F    = island offset by -(w + (walls - 1) s - overlap) (overlap =
 //                      infillOverlapPercent % of w; with no walls: -w/2, so bead edges stay inside)
 //   sparse region    = F intersected with the sections of layers i-bottomLayers..i+topLayers (i
 //                      excluded; a layer beyond the part is empty) = what is covered above and below
 //   skin region      = F minus the sparse region (solid: lines spaced s, +45 / -45 deg by layer)
+//   gap fill         = per wall level k, L_k offset by -s/2 minus L_k+1 offset by s/2 (after the
+//                      last level: minus F), opened by 0.15 w: lines spaced s across each gap's
+//                      long axis (PlanarOptions::gapFill), printed as skin after the walls
 //   bridge regions   = skin over air (not on layer i-1) whose lines, in some direction, land on
 //                      layer i-1 at both ends (PlanarOptions::bridges): lines spaced w across the
 //                      span, widened 2w onto the anchors, in the best anchored direction
@@ -52,6 +57,9 @@ using ClipperLib::Paths;
 using Vec2 = Eigen::Vector2d;
 
 constexpr double kParkClearanceMm = 2.0;  // toolpath.start sits this far above the first point
+constexpr double kGapMinWidth = 0.3;      // line widths: narrower gaps between walls get no gap fill
+constexpr double kWallMinWidth = 0.6;     // bead spacings: an inner wall level's region narrower than
+                                          // this (its loop doubling back on itself) is left to gap fill
 
 struct Run {
   std::vector<Vec2> points;
@@ -328,7 +336,34 @@ struct IslandWork {
   std::vector<Vec2> probes;            // up to ~64 outline points, for nearest-island choice
   std::vector<std::vector<Run>> walls; // per level, 0 = outer
   Paths fill;                          // fill region F
+  std::vector<Run> gaps;               // gap fill lines
 };
+
+// Direction (degrees) of a region's long axis: the principal axis of its area's second moments
+// (contour CCW adds, holes CW subtract); 0 for a region too round to have one.
+double longAxisDegrees(const Paths& region) {
+  if (region.empty() || region[0].empty()) return 0;
+  const Vec2 ref = clip::toVec(region[0][0]);
+  double a = 0, cx = 0, cy = 0, ixx = 0, iyy = 0, ixy = 0;  // moments about ref
+  for (const Path& path : region) {
+    for (size_t j = 0, n = path.size(); j < n; ++j) {
+      const Vec2 p = clip::toVec(path[j]) - ref, q = clip::toVec(path[(j + 1) % n]) - ref;
+      const double c = p.x() * q.y() - q.x() * p.y();
+      a += c / 2;
+      cx += (p.x() + q.x()) * c / 6;
+      cy += (p.y() + q.y()) * c / 6;
+      ixx += (p.y() * p.y() + p.y() * q.y() + q.y() * q.y()) * c / 12;  // integral of y^2
+      iyy += (p.x() * p.x() + p.x() * q.x() + q.x() * q.x()) * c / 12;  // integral of x^2
+      ixy += (p.x() * q.y() + 2 * p.x() * p.y() + 2 * q.x() * q.y() + q.x() * p.y()) * c / 24;
+    }
+  }
+  if (!(std::abs(a) > 0)) return 0;
+  cx /= a;
+  cy /= a;
+  const double sxx = iyy / a - cx * cx, syy = ixx / a - cy * cy, sxy = ixy / a - cx * cy;  // covariance
+  if (std::abs(sxx - syy) < 1e-12 && std::abs(sxy) < 1e-12) return 0;
+  return 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / kPi;
+}
 
 PlanLayersResult fail(Status s, std::string message) { return failed<PlanLayersResult>(s, std::move(message)); }
 
@@ -425,11 +460,18 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
           const size_t step = std::max<size_t>(1, path.size() / 64);
           for (size_t p = 0; p < path.size(); p += step) iw.probes.push_back(clip::toVec(path[p]));
         }
+        // Wall level k's loops are the boundary of the region L_k: L_0 = the island offset by
+        // -w/2; L_k+1 = L_k offset by -s and opened by kWallMinWidth s / 2, so a level is left
+        // out where it would be narrower than kWallMinWidth beads (its loop would come back on
+        // itself, two beads on one line); that strip goes to gap fill.
+        std::vector<Paths> levels;
         for (int k = 0; k < walls; ++k) {
-          Paths loops = clip::offset(iw.outline, -(0.5 * w + k * spacing));
-          if (loops.empty()) break;
+          const double open = 0.5 * kWallMinWidth * spacing;
+          Paths region = k == 0 ? clip::offset(iw.outline, -0.5 * w)
+                                : clip::offset(clip::offset(levels.back(), -(spacing + open)), open);
+          if (region.empty()) break;
           std::vector<Run> level;
-          for (const Path& loop : loops) {
+          for (const Path& loop : region) {
             if (loop.size() < 3) continue;
             Run run;
             run.points = toPoints(loop);
@@ -439,8 +481,52 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
           }
           if (level.empty()) break;
           iw.walls.push_back(std::move(level));
+          levels.push_back(std::move(region));
         }
         iw.fill = clip::offset(iw.outline, -fillInset);
+        // Gap fill: the area inside level k's band (a bead covers s across: L_k offset by -s/2)
+        // that the next level's band (L_k+1 offset by s/2) does not reach, where level k+1 was
+        // left out or never fits. (After the last level the fill region reaches further than the
+        // band: no gap there.) Gaps narrower than kGapMinWidth lines are left (the beads' spread
+        // covers most of them); each is filled by lines across its long axis, spaced s, which
+        // lays a bead's section per s of its length whatever its width. A level whose region
+        // the next level's, grown by s, covers to within a quarter of a square line has no gap
+        // worth filling and costs one offset (a gap of the smallest area filled leaves at least
+        // twice that uncovered).
+        if (options.gapFill && !levels.empty()) {
+          Paths gaps;
+          for (size_t k = 0; k < levels.size() && static_cast<int>(k) + 1 < walls; ++k) {
+            const bool last = k + 1 == levels.size();
+            if (!last) {
+              const double uncovered =
+                  clip::areaMm2(levels[k]) - clip::areaMm2(clip::offset(levels[k + 1], spacing));
+              if (uncovered < 0.25 * w * w) continue;
+            }
+            const Paths inner = clip::offset(levels[k], -0.5 * spacing);
+            if (inner.empty()) continue;
+            const Paths gap = last ? inner : clip::subtract(inner, clip::offset(levels[k + 1], 0.5 * spacing));
+            gaps.insert(gaps.end(), gap.begin(), gap.end());
+          }
+          const double open = 0.5 * kGapMinWidth * w;
+          if (!gaps.empty()) gaps = clip::offset(clip::offset(clip::unite(gaps), -open), open);
+          if (!gaps.empty() && !iw.fill.empty()) gaps = clip::subtract(gaps, iw.fill);
+          if (!gaps.empty()) {
+            ClipperLib::Clipper c;
+            c.AddPaths(gaps, ClipperLib::ptSubject, true);
+            ClipperLib::PolyTree tree;
+            c.Execute(ClipperLib::ctUnion, tree, ClipperLib::pftNonZero, ClipperLib::pftNonZero);
+            for (const Paths& gap : clip::islandPaths(tree)) {
+              const double gapArea = clip::areaMm2(gap);
+              if (gapArea < 0.5 * w * w) continue;
+              bool any = false;
+              for (const Path& line : fillLines(gap, {longAxisDegrees(gap) + 90}, spacing, minLine)) {
+                iw.gaps.push_back(Run{toPoints(line), false, Feature::Skin});
+                any = true;
+              }
+              if (any) result.gapAreaMm2 += gapArea;
+            }
+          }
+        }
         const double area = clip::areaMm2(iw.outline);
         result.sectionAreaMm2 += area;
         if (iw.walls.empty() && iw.fill.empty()) {
@@ -648,6 +734,8 @@ PlanLayersResult planLayers(const SliceResult& slices, const PlanarOptions& opti
           for (const Run& run : orderRuns(std::move(iw.walls[level]), probe, &seams)) emitInIsland(run);
         }
         Vec2 probe = cur;
+        for (const Run& run : orderRuns(std::move(iw.gaps), probe)) emitInIsland(run);
+        probe = cur;
         for (const Run& run : orderRuns(std::move(bridgeRuns[best]), probe)) emitInIsland(run);
         probe = cur;
         for (const Run& run : orderRuns(std::move(skinRuns[best]), probe)) emitInIsland(run);

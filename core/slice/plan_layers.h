@@ -62,6 +62,11 @@ struct PlanarOptions {
   bool bridges = true;
   double bridgeSpeed = 20;           // mm/s, > 0
   double bridgeFlowPercent = 80;     // % of the bead's filament, (0, 200]
+  // Gap fill: where an island narrows so that the next wall level (or the fill region, after the
+  // last) cannot reach the area inside a wall's band (a rib 2.5 lines wide: two walls' beads and a
+  // strip between them), that strip, when at least 0.3 lines wide, is filled with lines spaced
+  // like skin across its long axis (Feature::Skin, printed after the walls). false: no gap fill.
+  bool gapFill = true;
 };
 
 struct PlanLayersResult : Outcome {
@@ -71,6 +76,7 @@ struct PlanLayersResult : Outcome {
   std::vector<double> infillAreaMm2;  // sparse-infill area per layer
   std::vector<double> bridgeAreaMm2;  // bridged area per layer (extended onto the anchors)
   size_t bridges = 0;                 // bridge regions printed
+  double gapAreaMm2 = 0;              // area filled by gap fill, over all layers
   // Islands too narrow for any wall or fill (every offset by half a line width or more is empty):
   // they get no path. Their area, the area of every island, and the first and last such layer.
   double thinAreaMm2 = 0, sectionAreaMm2 = 0;
