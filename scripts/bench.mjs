@@ -341,7 +341,7 @@ if (!process.env.BENCH_ONLY || CURA_PLANAR.includes(process.env.BENCH_ONLY)) {
   } else {
     const same = { up: 'y', fit_mm: 60, layer_height: 0.4, nozzle_diameter: 0.4, line_width: 0.4, walls: 2, infill: 20,
       infill_pattern: 'grid', top_layers: 2, bottom_layers: 2, print_speed: 30, outer_wall_speed: 30, infill_speed: 60,
-      first_layer_speed: 30, travel_speed: 120, verify: 'off' };
+      first_layer_speed: 30, travel_speed: 120, verify: 'off', support: 'none' };
     let native_ms = Infinity;
     for (let i = 0; i < REPS; ++i) {
       const t0 = performance.now();
