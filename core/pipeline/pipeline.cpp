@@ -234,6 +234,9 @@ ProgramInfo programInfo(const Settings& settings, const MachineProfile& machine,
   p.lineWidth = settings.effectiveLineWidth();
   p.nozzleTemperature = settings.nozzleTemperature;
   p.bedTemperature = settings.bedTemperature;
+  p.fanPercent = settings.fanPercent;
+  p.fanOffLayers = settings.fanOffLayers;
+  p.bridgeFanPercent = settings.bridgeFanPercent;
   p.acceleration = settings.acceleration;
   p.junctionDeviation = settings.junctionDeviation;
   p.settings = listSettings(settings);

@@ -243,6 +243,9 @@ struct Settings {
   double retractInsideMaxTravel = 10;  // mm, inside travels retract only when longer
   double nozzleTemperature = 210; // deg C
   double bedTemperature = 60;     // deg C
+  double fanPercent = 100;        // part cooling fan, % (G-code machines; ProgramInfo)
+  int fanOffLayers = 1;           // the first layers print with the fan off
+  double bridgeFanPercent = 100;  // fan while printing bridges, %
   Eigen::Vector3d bedSize{220, 220, 250};  // mm, machine travel (limits for cartesian3)
 
   // Resolved line width.

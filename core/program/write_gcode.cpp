@@ -2,7 +2,9 @@
 // G-code writer (cartesian3, rotary4, table5) and the parts shared with the robot writer.
 //
 // Dialects (PROGRAM-FORMAT.md leaves start code to the writer; the differences are kept small):
-//   marlin  : G21, G90, M82, M140/M104 then M190/M109, G28, G92 E0; feed semantics "xyz".
+//   marlin  : G21, G90, M82, M140/M104 then M190/M109, M107, G28, G92 E0; feed semantics "xyz".
+//             Part cooling fan: M106 S<0-255> / M107 before the extruding move that changes it
+//             (ProgramInfo fan fields), M107 at the end; all three dialects read M106 S0-255.
 //   reprap  : as marlin with T0 first (RepRapFirmware extrudes only with a selected tool);
 //             feed semantics "combined".
 //   klipper : as marlin without G21 (Klipper is always in millimetres and does not know G21);
@@ -219,6 +221,10 @@ Outcome checkMachinePath(const MachinePath& path, const ProgramInfo& info) {
     return fail("temperatures, acceleration and junction deviation must be finite (acceleration and "
                 "junction deviation >= 0), the extruder analog scale > 0");
   }
+  for (double pct : {info.fanPercent, info.bridgeFanPercent}) {
+    if (!(pct >= 0 && pct <= 100)) return fail("fan speeds must be in 0..100 %");
+  }
+  if (info.fanOffLayers < 0) return fail("fan_off_layers must be >= 0");
   for (int i = 0; i < n; ++i) {
     if (!std::isfinite(path.start[i])) return fail("start values are not finite");
   }
@@ -333,6 +339,7 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   if (info.nozzleTemperature > 0) line("M104 S" + formatNumber("%.0f", info.nozzleTemperature));
   if (info.bedTemperature > 0) line("M190 S" + formatNumber("%.0f", info.bedTemperature));
   if (info.nozzleTemperature > 0) line("M109 S" + formatNumber("%.0f", info.nozzleTemperature));
+  line("M107 ; part cooling fan off");
   line("G28 ; home");
   line("G92 E0");
 
@@ -418,6 +425,12 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   for (const MachineMove& m : path.moves) partDirection.emplace(m.part, m.axis.normalized());
 
   std::set<int> layersSeen;
+  // Part cooling fan: 0..255 as M106 writes it; off until fanOffLayers (part, layer) pairs with
+  // extrusion have begun.
+  auto fanValue = [](double pct) { return static_cast<int>(std::lround(pct * 255 / 100)); };
+  int fanNow = 0;                  // the start code switched it off
+  int layersBegun = 0;             // (part, layer) pairs with extrusion so far
+  std::pair<int32_t, int32_t> lastExtrudingLayer{INT32_MIN, INT32_MIN};
   int currentLayer = INT32_MIN;
   int currentPart = INT32_MIN;
   Feature currentFeature = Feature::None;
@@ -446,6 +459,18 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
       currentFeature = m.feature;
       line(std::string("; omnislice:feature ") + featureName(m.feature));
       line(std::string(";TYPE:") + typeName(m.feature));
+    }
+    if (extruding && m.filament > 0) {
+      if (std::make_pair(m.part, m.layer) != lastExtrudingLayer) {
+        lastExtrudingLayer = {m.part, m.layer};
+        ++layersBegun;
+      }
+      const int fan = layersBegun <= info.fanOffLayers ? 0
+                      : fanValue(m.feature == Feature::Bridge ? info.bridgeFanPercent : info.fanPercent);
+      if (fan != fanNow) {
+        line(fan > 0 ? "M106 S" + std::to_string(fan) : std::string("M107"));
+        fanNow = fan;
+      }
     }
     MachineValues next{};
     const std::string axisWords = words(m.values, next);
@@ -526,6 +551,7 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   lifted[2] = liftZ;
   MachineValues unused{};
   line("G0" + words(lifted, unused) + feedWord(10 * 60));
+  if (fanNow != 0) line("M107");
   line("M104 S0");
   line("M140 S0");
   line("M84");

@@ -37,6 +37,12 @@ struct ProgramInfo {
   double lineWidth = 0.45;                           // mm (header setting)
   double nozzleTemperature = 210;                    // deg C, 0 = no heating commands
   double bedTemperature = 60;                        // deg C, 0 = none
+  // Part cooling fan (G-code kinds; robot programs have no standard fan output): off (M107) for
+  // the first fanOffLayers layers printed, counted as (part, layer) pairs in print order, then
+  // M106 S<0-255> at fanPercent, and at bridgeFanPercent while printing Feature::Bridge.
+  double fanPercent = 100;                           // %, 0 = off
+  int fanOffLayers = 1;
+  double bridgeFanPercent = 100;                     // %
   double acceleration = 1500;                        // mm/s^2 for the cartesian3 time estimate
   double junctionDeviation = 0.013;                  // mm, the estimate's look-ahead junctions
   GcodeDialect dialect = GcodeDialect::Marlin;       // G-code kinds

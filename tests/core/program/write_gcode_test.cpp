@@ -188,6 +188,68 @@ TEST(WriteGcode, StartEndCodeMovesAndMarkers) {
   EXPECT_EQ(c.text.find("M190"), std::string::npos);
 }
 
+// Part cooling fan: off (M107) in the start code and for the first fanOffLayers layers, then M106
+// at fanPercent of 255, at bridgeFanPercent while bridges print, back after; M107 at the end.
+// Read back line by line, every extruding move carries the fan its layer and feature ask for.
+TEST(WriteGcode, FanOffOnTheFirstLayersThenOnAndFasterOverBridges) {
+  Toolpath tp = smallBox();
+  for (Move& m : tp.moves) {
+    if (m.layer == 3 && m.feature == Feature::Infill) m.feature = Feature::Bridge;
+  }
+  ProgramInfo info = testInfo();
+  info.fanPercent = 50;
+  info.bridgeFanPercent = 100;
+  info.fanOffLayers = 2;
+  const WriteProgramResult r = writeGcode(tp, info);
+  ASSERT_TRUE(r.ok()) << r.message;
+  const auto lines = splitLines(r.text);
+  int fan = -1, layer = -1, changes = 0;
+  std::string feature;
+  size_t extruding = 0;
+  bool sawBridge = false;
+  for (const std::string& l : lines) {
+    if (l == "M107" || l.rfind("M107 ", 0) == 0) {
+      fan = 0;
+      ++changes;
+    } else if (l.rfind("M106 S", 0) == 0) {
+      fan = std::stoi(l.substr(6));
+      ++changes;
+    } else if (l.rfind("; omnislice:layer ", 0) == 0) {
+      layer = std::stoi(l.substr(18));
+    } else if (l.rfind("; omnislice:feature ", 0) == 0) {
+      feature = l.substr(20);
+    } else if (l.rfind("G1 X", 0) == 0 && l.find(" E") != std::string::npos) {
+      ++extruding;
+      const int want = layer < 2 ? 0 : feature == "bridge" ? 255 : 128;
+      ASSERT_EQ(fan, want) << "layer " << layer << " " << feature << ": " << l;
+      sawBridge = sawBridge || feature == "bridge";
+    }
+  }
+  EXPECT_TRUE(sawBridge);
+  EXPECT_GT(extruding, 100u);
+  EXPECT_EQ(fan, 0);  // switched off at the end
+  // Start off, on at layer 2, bridge up and back down on layer 3, off at the end.
+  EXPECT_EQ(changes, 5);
+  // The fan lines change nothing a replay measures: same program without them.
+  ProgramInfo still = info;
+  still.fanPercent = 0;
+  still.bridgeFanPercent = 0;
+  const WriteProgramResult q = writeGcode(tp, still);
+  ASSERT_TRUE(q.ok());
+  EXPECT_EQ(q.text.find("M106"), std::string::npos);
+  std::string stripped;
+  for (const std::string& l : lines) {
+    if (l != "M107" && l.rfind("M106 ", 0) != 0) stripped += l + "\n";
+  }
+  EXPECT_EQ(stripped, q.text) << "only the fan lines differ";
+  ProgramInfo bad = testInfo();
+  bad.fanPercent = 150;
+  EXPECT_EQ(writeGcode(tp, bad).status, Status::InvalidOption);
+  bad = testInfo();
+  bad.fanOffLayers = -1;
+  EXPECT_EQ(writeGcode(tp, bad).status, Status::InvalidOption);
+}
+
 TEST(WriteGcode, RejectsWhatCartesian3CannotPrint) {
   Toolpath tp = smallBox();
   ProgramInfo info = testInfo();
