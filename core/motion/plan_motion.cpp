@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include "common/math_constants.h"
@@ -16,6 +17,7 @@
 #include "geometry/segment.h"
 #include "kinematics/robot_arm.h"
 #include "motion/feed_limits.h"
+#include "motion/material_height.h"
 #include "toolpath/lookahead_time.h"
 #include "motion/orientation_smoothing.h"
 #include "motion/pose_continuity.h"
@@ -156,6 +158,9 @@ class Planner {
                    const Eigen::Vector3d& axis, const Move& src, uint32_t source, bool retracted);
   void push(const MachineValues& v, const Move& src, uint32_t source, double filament,
             MoveKind kind);
+  // Safe Z of a rotation from `from` to `to` within a part: see planMachineMotion(); NaN when
+  // the part's top + safeLift applies.
+  double materialSafeZ(const MachineValues& from, const MachineValues& to) const;
   bool rotaryChanges(const MachineValues& a, const MachineValues& b, double degrees) const;
 
   const Toolpath& tp_;
@@ -175,6 +180,9 @@ class Planner {
   std::vector<MachineValues> layerValues_;
   std::vector<double> speeds_;      // requested speed of every output move
   double safeZ_ = 0;
+  std::optional<MaterialHeight> material_;  // G-code rotary kinds without a declared safe Z
+  double beadMargin_ = 0;                   // largest half width or height of a printed bead
+  double zMax_ = std::numeric_limits<double>::infinity();  // the Z limit
 };
 
 bool Planner::validate() {
@@ -646,6 +654,30 @@ bool Planner::refine(const MachineValues& qa, const Eigen::Vector3d& pa, const E
   return exact;
 }
 
+double Planner::materialSafeZ(const MachineValues& from, const MachineValues& to) const {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  if (!material_) return nan;
+  double turn = 0;
+  for (int k = 3; k < n_; ++k) turn = std::max(turn, std::abs(to[k] - from[k]));
+  const int steps = std::clamp(static_cast<int>(std::ceil(turn)), 1, 720);
+  const double cosMaxTilt = std::cos((90.0 - m_.nozzle.coneHalfAngleDegrees) * kPi / 180.0);
+  double top = -std::numeric_limits<double>::infinity();
+  MachineValues v = from;
+  Eigen::Vector3d tip, axis;
+  for (int s = 0; s <= steps; ++s) {
+    const double t = double(s) / steps;
+    for (int k = 3; k < n_; ++k) v[k] = from[k] + t * (to[k] - from[k]);
+    forwardMap(m_, v, tip, axis);
+    if (!(axis.z() >= cosMaxTilt)) return nan;
+    top = std::max(top, material_->bound(axis.normalized()));
+  }
+  if (material_->empty()) return -std::numeric_limits<double>::infinity();
+  // Between two samples the axis turns at most turn / steps degrees; the support function is
+  // radius-Lipschitz in the axis.
+  const double slack = material_->radius() * (turn / steps) * kPi / 180.0;
+  return m_.pivot.z() + top + slack + beadMargin_ + o_.safeClearance;
+}
+
 void Planner::reconfigure(const MachineValues& from, const MachineValues& to,
                           const Eigen::Vector3d& tip, const Eigen::Vector3d& axis, const Move& src,
                           uint32_t source, bool retracted) {
@@ -653,7 +685,8 @@ void Planner::reconfigure(const MachineValues& from, const MachineValues& to,
   if (ownRetract) push(from, src, source, -o_.safeRetract, MoveKind::Retract);
   if (gcodeRotary_) {
     // As a 3+2 safe rotation: lift to the safe height, turn, move over, lower.
-    const double zs = std::max({safeZ_, from[2], to[2]});
+    const double local = materialSafeZ(from, to);
+    const double zs = std::max({std::isnan(local) ? safeZ_ : std::min(local, zMax_), from[2], to[2]});
     MachineValues a = from;
     a[2] = zs;
     push(a, src, source, 0, MoveKind::Travel);
@@ -704,6 +737,8 @@ bool Planner::emit() {
     }
     auto z = m_.axisLimits.find("Z");
     if (z != m_.axisLimits.end()) safeZ_ = std::min(safeZ_, z->second.second);
+    if (!(m_.safeZ > 0)) material_.emplace(m_.pivot);
+    if (z != m_.axisLimits.end()) zMax_ = z->second.second;
   }
   out_.moves.reserve(pieces_.size() + pieces_.size() / 8);
   MachineValues prev = layerValues_[0];
@@ -727,7 +762,8 @@ bool Planner::emit() {
       // 3+2 safe rotation: retract, lift, rotate at safe height, move over, lower, unretract.
       const bool ownRetract = !retracted && o_.safeRetract > 0;
       if (ownRetract) push(prev, src, p.source, -o_.safeRetract, MoveKind::Retract);
-      const double zs = std::max({safeZ_, prev[2], v[2]});
+      const double local = newPart ? std::numeric_limits<double>::quiet_NaN() : materialSafeZ(prev, v);
+      const double zs = std::max({std::isnan(local) ? safeZ_ : std::min(local, zMax_), prev[2], v[2]});
       MachineValues a = prev;
       a[2] = zs;
       push(a, src, p.source, 0, MoveKind::Travel);
@@ -778,7 +814,15 @@ bool Planner::emit() {
     }
     if (src.kind == MoveKind::Retract) retracted = true;
     if (src.kind == MoveKind::Unretract || isExtruding(src.kind)) retracted = false;
-    if (isExtruding(src.kind)) lastPart = src.part;
+    if (isExtruding(src.kind)) {
+      lastPart = src.part;
+      // The bead's both ends (the support function of a segment is its ends' largest).
+      if (material_ && p.filament > 0) {
+        material_->add(prevPos);
+        material_->add(p.pos);
+        beadMargin_ = std::max({beadMargin_, 0.5 * src.width, src.height});
+      }
+    }
     prev = v;
     prevPos = p.pos;
     prevAxis = p.axis;

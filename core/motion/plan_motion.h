@@ -29,6 +29,10 @@ struct MotionOptions {
   double safeLift = 10;             // mm above the part's highest machine Z for 3+2 rotations
   double rotationThresholdDegrees = 5;  // a travel whose rotary values change more than this is
                                         // done as a safe rotation (retract, lift, rotate, lower)
+  double safeClearance = 2;         // mm: a safe rotation within a part (curved layers) lifts the
+                                    // nozzle only this far above the highest point the material
+                                    // printed so far reaches while the platform turns
+                                    // (MaterialHeight), not to the part's top + safeLift
   double safeRetract = 1.0;         // mm of filament retracted for a safe rotation when the
                                     // tool-path has not just retracted (unretracted after lowering)
   double singularityThreshold = 0.02;  // robot6: poses with singularityMeasure() below this pay
@@ -69,7 +73,12 @@ struct MotionOptions {
 // kinematics lazily itself), unwrapped within the limits; robot6 candidates whose arm frame
 // origins enter the extruder cylinder or go below the base plane are excluded. (4) G-code
 // kinds: travels whose rotary values change by more than rotationThresholdDegrees become
-// retract, lift to safe Z, rotate, move over, lower, unretract. (5) moves split at part-frame
+// retract, lift to safe Z, rotate, move over, lower, unretract. Between parts (3+2) safe Z is
+// machine.safeZ, else the part's highest machine Z + safeLift; within a part, without a declared
+// machine.safeZ, it is the highest machine Z the material printed so far reaches during the turn
+// (bead included) + safeClearance, as long as the nozzle axis stays within 90 deg - the cone's
+// half-angle of the platform's normal (a platform tilted less than that cannot rise into a nozzle
+// above it); beyond, the part's top + safeLift again. (5) moves split at part-frame
 // midpoints until the tip of the interpolated machine motion stays within chordTolerance.
 // (6) durations under the velocity / acceleration / jerk limits (feed_limits.h; robot6 joints
 // and rotary axes take all three, the linear axes X Y Z only their velocity because firmware

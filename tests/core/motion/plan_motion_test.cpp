@@ -289,6 +289,105 @@ TEST(PlanMotion, Rotary4SmallTurnBetweenPartsIsStillSafe) {
   checkSafeRotation(twoPartRotaryPath(false, 0.3), 0.3);
 }
 
+// Rings of a tapering wall (radius 10 mm down to 6 mm over 20 layers) whose nozzle axis leans
+// outwards 20 deg on even layers and 32 deg on odd ones, on table5: every ring-to-ring travel
+// turns B by 12 deg (and C back by a turn), so it is a safe rotation within the part. Checked
+// against every printed bead end, mapped by the platform transform at poses sampled along the
+// turn: the nozzle tip stays at least safeClearance above the material while the platform
+// turns and while it moves over, and the lifts are lower than those to the part's top + safeLift
+// (what a declared machine.safeZ at that height gives).
+Toolpath taperingRings() {
+  Toolpath tp;
+  tp.start = {10, 0, 3};
+  for (int l = 0; l < 20; ++l) {
+    const double z = 0.5 * (l + 1), r = 10 - 0.2 * l, tilt = (l % 2 ? 32.0 : 20.0) * test::kMotionPi / 180;
+    const int n = 64;
+    for (int k = 0; k <= n; ++k) {
+      const double th = 2 * test::kMotionPi * k / n;
+      const Eigen::Vector3d p(r * std::cos(th), r * std::sin(th), z);
+      const Eigen::Vector3d u(std::sin(tilt) * std::cos(th), std::sin(tilt) * std::sin(th), std::cos(tilt));
+      if (k == 0) {
+        Move t = test::printMove(p, u, 0, l);
+        t.kind = MoveKind::Travel;
+        t.speed = 150;
+        t.feature = Feature::None;
+        tp.moves.push_back(t);
+      } else {
+        tp.moves.push_back(test::printMove(p, u, 0.03, l));
+      }
+    }
+  }
+  tp.layerCount = 20;
+  return tp;
+}
+
+TEST(PlanMotion, RotationsWithinAPartLiftOnlyAboveThePrintedMaterial) {
+  const Toolpath tp = taperingRings();
+  MachineProfile m = table5TestProfile();
+  MotionOptions o;
+  const MachinePath mp = planMachineMotion(tp, m, o);
+  ASSERT_TRUE(mp.ok()) << mp.message;
+  EXPECT_GE(mp.stats.safeRotations, 19u);
+  std::vector<Eigen::Vector3d> printed;
+  MachineValues prev = mp.start;
+  Eigen::Vector3d prevTip;
+  Eigen::Vector3d axis;
+  forwardMap(m, mp.start, prevTip, axis);
+  bool afterTurn = false;  // the move over at the safe height follows the turn
+  size_t turns = 0;
+  auto materialTop = [&](const MachineValues& v) {
+    Eigen::Matrix4d T;
+    EXPECT_TRUE(platformTransform(m, v, T));
+    double top = -1e300;
+    for (const Eigen::Vector3d& q : printed) top = std::max(top, (T.topLeftCorner<3, 3>() * q + T.topRightCorner<3, 1>()).z());
+    return top;
+  };
+  for (const MachineMove& mv : mp.moves) {
+    double turn = 0;
+    for (int k = 3; k < 5; ++k) turn = std::max(turn, std::abs(mv.values[k] - prev[k]));
+    if (mv.kind == MoveKind::Travel && turn > o.rotationThresholdDegrees && !printed.empty()) {
+      ++turns;
+      const int steps = static_cast<int>(std::ceil(turn / 0.5));
+      for (int s = 0; s <= steps; ++s) {
+        MachineValues v = prev;
+        for (int k = 0; k < 5; ++k) v[k] = prev[k] + (mv.values[k] - prev[k]) * s / steps;
+        ASSERT_GE(v[2], materialTop(v) + o.safeClearance - 1e-6) << "turn " << turns << " at " << s << "/" << steps;
+      }
+      afterTurn = true;
+    } else if (afterTurn && mv.kind == MoveKind::Travel) {
+      // The move over, at the safe height in the new pose.
+      EXPECT_GE(std::min(prev[2], mv.values[2]), materialTop(mv.values) + o.safeClearance - 1e-6);
+      afterTurn = false;
+    }
+    if (mv.kind == MoveKind::Print && mv.filament > 0) {
+      printed.push_back(prevTip);
+      printed.push_back(mv.tip);
+    }
+    prev = mv.values;
+    prevTip = mv.tip;
+  }
+  EXPECT_EQ(turns, mp.stats.safeRotations);
+  // The same path with the part's top + safeLift declared as the safe height.
+  double top = -1e300;
+  for (const MachineMove& mv : mp.moves) {
+    if (mv.kind == MoveKind::Print) top = std::max(top, mv.values[2]);
+  }
+  auto zTravel = [](const MachinePath& path) {
+    double sum = 0;
+    MachineValues p = path.start;
+    for (const MachineMove& mv : path.moves) {
+      if (mv.kind == MoveKind::Travel) sum += std::abs(mv.values[2] - p[2]);
+      p = mv.values;
+    }
+    return sum;
+  };
+  m.safeZ = top + o.safeLift;
+  const MachinePath global = planMachineMotion(tp, m, o);
+  ASSERT_TRUE(global.ok()) << global.message;
+  EXPECT_EQ(global.stats.safeRotations, mp.stats.safeRotations);
+  EXPECT_LT(zTravel(mp), 0.5 * zTravel(global)) << zTravel(mp) << " vs " << zTravel(global);
+}
+
 TEST(PlanMotion, Errors) {
   const Toolpath tp = test::crestToolpath(5, 10, 1.0);
   Toolpath zero = tp;
