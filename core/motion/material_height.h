@@ -6,8 +6,9 @@
 // MaterialHeight keeps an upper bound of h: the largest (q - P) . d over a fixed set of unit
 // directions d (a Fibonacci sphere) and the largest |q - P|, R; for a unit u and a direction d at
 // angle t < 90 deg, (q - P) . u <= cos t max((q - P) . d) + sin t R, so the least such value over
-// the directions bounds h(u) (about R sin 2.3 deg above it with 2048 directions). Points are taken
-// once per cell of a grid; the bound adds the cell's diagonal.
+// the directions bounds h(u) (at most 2 R sin 3.1 deg above it with 2048 directions, every axis
+// lying within 3.05 deg of one). Points are taken once per cell of a grid; the bound adds the
+// cell's diagonal.
 #pragma once
 #include <Eigen/Core>
 
