@@ -218,6 +218,18 @@ if (fs.existsSync(kitten) && process.env.BENCH_MULTIDIR !== '0') {
   cases.push({ case: MD_4DOF, mode: 'slice', file: kitten, settings: { ...md, machine: 'rotary4', 'multidir.axis_search': 180 }, reps: 1 });
 }
 
+// Issue 28 item 1: method = auto on the Kitten at 60 mm on table5 against each method alone (the
+// target: auto <= 1.3 x the slowest single method, in wasm).
+const AUTO_CASE = 'kitten-60 table5 auto';
+const AUTO_SINGLES = ['planar', 'multidir', 'geodesic', 'voxel'].map((m) => [m, `kitten-60 table5 ${m} alone`]);
+if (fs.existsSync(kitten) && process.env.BENCH_AUTO !== '0') {
+  const k60 = { up: 'y', fit_mm: 60, machine: 'table5' };
+  cases.push({ case: AUTO_CASE, mode: 'slice', file: kitten, settings: { ...k60, method: 'auto' }, reps: 1 });
+  for (const [m, name] of AUTO_SINGLES) {
+    cases.push({ case: name, mode: 'slice', file: kitten, settings: { ...k60, method: m, verify: 'warn' }, reps: 1 });
+  }
+}
+
 if (process.env.BENCH_ONLY) {
   const keep = cases.filter((c) => c.case.includes(process.env.BENCH_ONLY));
   cases.length = 0;
@@ -441,6 +453,16 @@ for (const label of [GEO_BUNNY, GEO_YOGA]) {
   }
   const total = get(label, 'total');
   if (total) checks.push([`${what}: mesh file to program in wasm (native ${total.native_ms} ms) <= 8000 ms`, total.wasm_ms, total.wasm_ms <= 8000]);
+}
+{
+  const autoRow = get(AUTO_CASE, 'wall');
+  const singles = AUTO_SINGLES.map(([, name]) => get(name, 'wall')).filter(Boolean);
+  if (autoRow && singles.length === AUTO_SINGLES.length) {
+    const slowest = (k) => Math.max(...singles.map((r) => r[k]));
+    const ratio = autoRow.wasm_ms / slowest('wasm_ms');
+    checks.push([`method = auto, kitten 60 mm on table5, in wasm ${round(autoRow.wasm_ms)} ms (native ${round(autoRow.native_ms)}) ` +
+      `<= 1.3 x the slowest method alone (${round(slowest('wasm_ms'))} ms; native ${round(slowest('native_ms'))})`, round(ratio, 2), ratio <= 1.3]);
+  }
 }
 for (const [label, limit] of [[MD_5DOF, 1000], [MD_4DOF, 5000]]) {
   const m = multidirCounts[label];

@@ -78,7 +78,9 @@ export const PAGE_FIELDS = [
   { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', hidden: true },
   { group: 'Slicing', key: 'method', label: 'method', type: 'select',
     labels: { planar: 'planar layers', voxel: 'voxel (curved layers)', surface: 'surface (open surface, one layer on a base)',
-      geodesic: 'geodesic (curved layers of a tet mesh)', multidir: 'multi-directional (3+2-axis parts by planar clipping)' } },
+      geodesic: 'geodesic (curved layers of a tet mesh)', multidir: 'multi-directional (3+2-axis parts by planar clipping)' },
+    // method = auto runs in the CLI and the API; the page has no view of its candidates yet.
+    omit: ['auto'] },
   { group: 'Slicing', key: 'fill', label: 'fill', type: 'select', testid: 'setting-fill',
     labels: { auto: 'auto', isoplanar: 'iso-planar (paper 003)', spiral: 'spiral' } },
   // The program is simulated before it is written (core/pipeline/soundness.h): an unsound one is
@@ -261,14 +263,15 @@ const CORE_TYPES = {
  * table says of it (coreSchema: slicer.settingsSchema(), [{key, type, default (text), min, max,
  * unit, help, choices}]). A field gets value (the core's default: a number, a boolean or text),
  * min and max (numbers), options [{label, value}] (selects: the core's choices in the order of the
- * page's labels, then any the page has no label for, labelled by their value), help and unit.
+ * page's labels, then any the page has no label for, labelled by their value, less the page
+ * field's `omit` list), help and unit.
  * Throws an Error naming the key when a page field is not in the core's table or does not fit it
  * (type, a labelled choice the core does not accept, a default the input cannot hold): the page
  * and the core have drifted apart.
  */
 export function settingsFields(coreSchema) {
   const table = new Map(coreSchema.map((s) => [s.key, s]));
-  return PAGE_FIELDS.map(({ core: coreKey = null, labels = null, ...page }) => {
+  return PAGE_FIELDS.map(({ core: coreKey = null, labels = null, omit = [], ...page }) => {
     const fail = (why) => { throw new Error(`settings field '${page.key}': ${why}`); };
     const core = table.get(coreKey || page.key);
     if (!core) fail(`${coreKey ? `its core key '${coreKey}' is` : 'it is'} not in the core's settings table`);
@@ -288,7 +291,8 @@ export function settingsFields(coreSchema) {
       const choices = core.choices || [];
       const order = Object.keys(labels || {});
       for (const value of order) if (!choices.includes(value)) fail(`the core does not accept the labelled choice '${value}'`);
-      field.options = [...order, ...choices.filter((c) => !order.includes(c))].map((value) => ({ label: labels?.[value] ?? value, value }));
+      const offered = choices.filter((c) => !omit.includes(c));
+      field.options = [...order, ...offered.filter((c) => !order.includes(c))].map((value) => ({ label: labels?.[value] ?? value, value }));
       field.value = core.default;
     } else if (type === 'checkbox') {
       field.value = core.default === 'true';

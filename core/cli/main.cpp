@@ -33,7 +33,7 @@ const char* kUsage =
     "usage:\n"
     "  omnislice info MESH [--scale S] [--fit-mm MM] [--up AXIS] [--set KEY=VALUE ...]\n"
     "                 [--export-stl OUT.stl]   (also write the placed, repaired mesh)\n"
-    "  omnislice slice MESH -o OUT [--method planar|voxel|surface|geodesic|multidir]\n"
+    "  omnislice slice MESH -o OUT [--method planar|voxel|surface|geodesic|multidir|auto]\n"
     "                 [--fill auto|isoplanar|spiral]\n"
     "                 [--machine NAME] [--machine-file JSON]\n"
     "                 [--gcode-flavor marlin|reprap|klipper] [--robot-format csv|urscript]\n"

@@ -27,9 +27,11 @@ enum class Method {
   Voxel,     // paper 001: curved layers of a voxel growing field
   Geodesic,  // paper 002: curved layers of the heat-method geodesic field on tets
   Surface,   // paper 003's experiments: an open surface printed as one layer on a planar base
+  Auto,      // not a method: every method that applies to the machine runs, each program is
+             // verified, and the best is delivered (pipeline.cpp; not in the registry)
 };
 
-// "planar", "multidir", "voxel", "geodesic", "surface".
+// "planar", "multidir", "voxel", "geodesic", "surface", "auto".
 const char* methodName(Method method);
 
 // The method of a name as methodName() writes it; false for any other text.

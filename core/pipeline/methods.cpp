@@ -18,11 +18,16 @@ const char* methodName(Method method) {
     case Method::Voxel: return "voxel";
     case Method::Geodesic: return "geodesic";
     case Method::Surface: return "surface";
+    case Method::Auto: return "auto";
   }
   return "planar";
 }
 
 bool parseMethod(const std::string& name, Method& method) {
+  if (name == methodName(Method::Auto)) {
+    method = Method::Auto;
+    return true;
+  }
   for (const MethodEntry& e : methodRegistry()) {
     if (name == methodName(e.method)) {
       method = e.method;

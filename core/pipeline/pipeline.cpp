@@ -9,6 +9,7 @@
 #include <exception>
 #include <new>
 
+#include "common/math_constants.h"
 #include "common/stopwatch.h"
 #include "machine/machine.h"
 #include "machine/machine_json.h"
@@ -245,6 +246,15 @@ ProgramInfo programInfo(const Settings& settings, const MachineProfile& machine,
   return p;
 }
 
+// Support the program prints: the filament of its support moves as volume (mm^3).
+double supportVolume(const MachinePath& motion, double filamentDiameterMm) {
+  double filament = 0;
+  for (const MachineMove& m : motion.moves) {
+    if (m.kind == MoveKind::Support && m.filament > 0) filament += m.filament;
+  }
+  return filament * kPi / 4 * filamentDiameterMm * filamentDiameterMm;
+}
+
 MotionReport motionReport(const MachinePath& motion) {
   const MotionStats& ms = motion.stats;
   MotionReport r;
@@ -278,6 +288,7 @@ SliceReport sliceReport(const Settings& settings, const MachineProfile& machine,
   r.slicedLayers = result.slicedLayers;
   r.layerHeightMm = result.layerHeight;
   r.pathMm = stats.pathMm;
+  r.supportVolumeMm3 = supportVolume(motion, settings.filamentDiameter);
   // What the program extrudes (unretracts of the motion planner's safe rotations included), the
   // figure `verify` measures.
   for (const MachineMove& m : motion.moves) r.extrusionMm += std::max(0.0, m.filament);
@@ -297,9 +308,28 @@ SliceReport sliceReport(const Settings& settings, const MachineProfile& machine,
   return r;
 }
 
+// method = auto: the best candidate so far, as far as a later one's check could not change the
+// order (pipeline.cpp runAuto: sound first, then support volume, then time).
+struct AutoBound {
+  bool sound = false;
+  double supportVolumeMm3 = 0;
+  double timeS = 0;
+  std::string method;
+  double supportTieMm3 = 1;  // supportTie() of it
+};
+
+// Support volumes closer than this tie in the ranking: 1 % of the material the program lays
+// (a few struts under a 40 mm part do not outweigh hours of print time), at least 1 mm^3.
+double supportTie(const SliceReport& r, const Settings& settings) {
+  const double laid = r.extrusionMm * kPi / 4 * settings.filamentDiameter * settings.filamentDiameter;
+  return std::max(1.0, 0.01 * laid);
+}
+
 // One program made and checked: the method with these settings, the motion, the program and,
 // unless verify is off, the check (soundness.h).
 struct Attempt : Outcome {
+  bool dominated = false;  // stopped before the check: a sound candidate with less support, or as
+                           // little and less time, was made already (AutoBound)
   Settings settings;
   MethodResult result;
   Mesh printed;                                        // the part as printed (part frame)
@@ -313,7 +343,8 @@ struct Attempt : Outcome {
 };
 
 Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const MachineProfile& machine,
-                    const MethodEntry& method, VerifyMode mode, const ProgressFn& progress) {
+                    const MethodEntry& method, VerifyMode mode, const ProgressFn& progress,
+                    const AutoBound* bound = nullptr) {
   const Clock::time_point start = Clock::now();
   Attempt a;
   a.settings = settings;
@@ -342,6 +373,17 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
   if (!a.written.ok()) return failed<Attempt>(a.written);
   clock.done("program");
   if (!reportProgress(progress, "program", 1)) return failed<Attempt>(Status::Cancelled, "cancelled");
+  if (bound && bound->sound) {
+    // Its check could make it sound at best: it loses on support, or on time at equal support.
+    const double support = supportVolume(a.motion, settings.filamentDiameter);
+    if (support > bound->supportVolumeMm3 + bound->supportTieMm3 ||
+        (support >= bound->supportVolumeMm3 - bound->supportTieMm3 && a.written.estimatedTimeS >= bound->timeS)) {
+      a.dominated = true;
+      a.timingsMs = std::move(clock.timings);
+      a.ms = msSince(start);
+      return a;
+    }
+  }
 
   // Simulate what was made (pipeline/soundness.h) before anything is written.
   if (mode != VerifyMode::Off) {
@@ -367,8 +409,10 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
 
 }  // namespace
 
-SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
-                     const Settings& settings, const ProgressFn& progress) {
+// runSlice for one method (not auto). With a bound (auto), a program that cannot beat it is not
+// checked: *dominated is set and the output is a failure naming the candidate it lost to.
+static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
+                         const ProgressFn& progress, const AutoBound* bound, bool* dominated) {
   try {
     const Clock::time_point start = Clock::now();
     if (Outcome v = validateSettings(settings); !v.ok()) return failed<SliceOutput>(v);
@@ -409,8 +453,22 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     // are tried, up to verify_attempts programs in all, and the first sound one is delivered;
     // when none is, the one made with the user's settings, its statement naming what was tried.
     const VerifyMode mode = effectiveVerifyMode(settings);
-    Attempt made = makeAttempt(part, settings, machine, method, mode, progress);
+    Attempt made = makeAttempt(part, settings, machine, method, mode, progress, bound);
     if (!made.ok()) return failed<SliceOutput>(made);
+    if (made.dominated) {
+      if (dominated) *dominated = true;
+      char text[300];
+      const double support = supportVolume(made.motion, settings.filamentDiameter);
+      std::snprintf(text, sizeof text,
+                    "stopped before its check: %.0f mm^3 of support and %.2f h, against %s's sound program with "
+                    "%.0f mm^3 and %.2f h",
+                    support, made.written.estimatedTimeS / 3600, bound->method.c_str(), bound->supportVolumeMm3,
+                    bound->timeS / 3600);
+      SliceOutput out = failed<SliceOutput>(Status::Cancelled, text);
+      out.report.supportVolumeMm3 = support;
+      out.report.estimatedTimeS = made.written.estimatedTimeS;
+      return out;
+    }
     std::vector<AttemptSection> tried;
     double retryMs = 0;  // attempts not delivered
     if (made.check && !made.check->section.sound) {
@@ -498,6 +556,150 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
   } catch (const std::exception& e) {
     return failed<SliceOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
   }
+}
+
+namespace {
+
+// method = auto: the order of two candidates' outputs. A program beats none; a sound one an
+// unsound one; among unsound ones, one without collisions, left-out path or limit violations
+// beats one with; then the higher supported share up to the soundness bound (above it they tie);
+// then less support; then less estimated time.
+bool betterCandidate(const SliceOutput& a, const SliceOutput& b, double supportTieMm3) {
+  if (a.ok() != b.ok()) return a.ok();
+  if (!a.ok()) return false;
+  const VerifySection& va = *a.report.verify;
+  const VerifySection& vb = *b.report.verify;
+  if (va.sound != vb.sound) return va.sound;
+  auto hardOk = [](const VerifySection& v) { return v.collisions == 0 && v.limits == 0 && !(v.leftOutMm > 0); };
+  if (hardOk(va) != hardOk(vb)) return hardOk(va);
+  const double sa = std::min(va.supported, va.minSupported), sb = std::min(vb.supported, vb.minSupported);
+  if (std::abs(sa - sb) > 1e-9) return sa > sb;
+  const double da = a.report.supportVolumeMm3 - b.report.supportVolumeMm3;
+  if (std::abs(da) > supportTieMm3) return da < 0;
+  return a.report.estimatedTimeS < b.report.estimatedTimeS;
+}
+
+// Why `chosen` was delivered over `other`, in a few words.
+std::string whyNot(const AutoCandidate& other, const SliceOutput& chosen, double supportTieMm3) {
+  char text[200];
+  if (other.status != "ok") return other.method + " (" + other.message + ")";
+  const VerifySection& v = *other.verify;
+  if (!v.sound) return other.method + " (unsound: " + (v.failures.empty() ? std::string("see its check") : v.failures.front()) + ")";
+  if (other.supportVolumeMm3 > chosen.report.supportVolumeMm3 + supportTieMm3) {
+    std::snprintf(text, sizeof text, "%s (%.0f mm^3 of support)", other.method.c_str(), other.supportVolumeMm3);
+  } else {
+    std::snprintf(text, sizeof text, "%s (%.2f h)", other.method.c_str(), other.estimatedTimeS / 3600);
+  }
+  return text;
+}
+
+}  // namespace
+
+// method = auto: every method the machine takes (surface only for an input that is not a closed
+// solid), cheapest first, each verified (verify = warn for the candidates), the best delivered
+// (betterCandidate) with the report's `auto` section; a candidate that a sound one already beats
+// on support and time stops before its check. With verify = refuse an unsound best is refused.
+static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
+                           const ProgressFn& progress) {
+  MachineProfileResult resolved = resolveMachine(settings);
+  if (!resolved.ok()) return failed<SliceOutput>(resolved);
+  const MachineKind kind = resolved.machine.kind;
+  bool closed = true;
+  {
+    StageClock clock;
+    const PreparedInput in = prepareInput(data, size, fileName, settings.placement, Eigen::Matrix3d::Identity(),
+                                          false, {}, clock);
+    if (!in.ok()) return failed<SliceOutput>(in);
+    closed = in.prepared.solid.ok();
+  }
+  std::vector<Method> order;
+  for (Method m : {Method::Planar, Method::Multidir, Method::Surface, Method::Geodesic, Method::Voxel}) {
+    const MethodEntry& e = methodEntry(m);
+    if (std::find(e.machines.begin(), e.machines.end(), kind) == e.machines.end()) continue;
+    if (m == Method::Surface && closed) continue;
+    order.push_back(m);
+  }
+  const Clock::time_point start = Clock::now();
+  AutoSection section;
+  SliceOutput best = failed<SliceOutput>(Status::InvalidOption, "no method prints on this machine");
+  std::optional<AutoBound> bound;
+  for (size_t k = 0; k < order.size(); ++k) {
+    if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
+      return failed<SliceOutput>(Status::Cancelled, "cancelled");
+    }
+    Settings s = settings;
+    s.method = order[k];
+    s.verify = VerifyMode::Warn;
+    AutoCandidate c;
+    c.method = methodName(order[k]);
+    const Clock::time_point t0 = Clock::now();
+    bool dominated = false;
+    SliceOutput out = runOneMethod(data, size, fileName, s, progress, bound ? &*bound : nullptr, &dominated);
+    c.totalMs = msSince(t0);
+    if (out.status == Status::Cancelled && !dominated) return out;
+    c.supportVolumeMm3 = out.report.supportVolumeMm3;
+    c.estimatedTimeS = out.report.estimatedTimeS;
+    if (!out.ok()) {
+      c.status = dominated ? "dominated" : statusCode(out.status);
+      c.message = out.message;
+      c.stoppedEarly = dominated;
+    } else {
+      c.verify = out.report.verify;
+      c.verify->attempts.clear();
+    }
+    section.candidates.push_back(c);
+    const double tie = out.ok() && best.ok() ? std::min(supportTie(out.report, s), supportTie(best.report, s)) : 1.0;
+    if (out.ok() && (!best.ok() || betterCandidate(out, best, tie))) {
+      best = std::move(out);
+      bound = AutoBound{best.report.verify->sound, best.report.supportVolumeMm3, best.report.estimatedTimeS,
+                        best.report.method, supportTie(best.report, s)};
+    } else if (!best.ok() && !out.ok() && section.candidates.size() == 1) {
+      best = std::move(out);  // the first failure stands for all when nothing prints
+    }
+  }
+  if (!reportProgress(progress, "auto", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+  if (!best.ok()) {
+    std::string why;
+    for (const AutoCandidate& c : section.candidates) why += (why.empty() ? "" : "; ") + c.method + ": " + c.message;
+    return failed<SliceOutput>(best.status, "no method made a program: " + why);
+  }
+  SliceReport& r = best.report;
+  section.chosen = r.method;
+  const VerifySection& v = *r.verify;
+  char head[300];
+  std::snprintf(head, sizeof head, "%s: %s, supported %.3f, %.0f mm^3 of support, %.2f h", r.method.c_str(),
+                v.sound ? "sound" : "the best of unsound programs", v.supported, r.supportVolumeMm3,
+                r.estimatedTimeS / 3600);
+  section.reason = head;
+  std::string others;
+  for (const AutoCandidate& c : section.candidates) {
+    if (c.method == r.method) continue;
+    others += (others.empty() ? "" : ", ") + whyNot(c, best, supportTie(r, settings));
+  }
+  if (!others.empty()) section.reason += "; over " + others;
+  r.autoChoice = std::move(section);
+  r.timingsMs.emplace_back("auto", msSince(start));
+  best.reportJson = sliceReportJson(r);
+  if (settings.verify == VerifyMode::Refuse && !v.sound) {
+    best.status = Status::UnsoundProgram;
+    best.message = v.statement;
+    best.program.clear();
+  }
+  return best;
+}
+
+SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
+                     const ProgressFn& progress) {
+  if (settings.method == Method::Auto) {
+    try {
+      return runAuto(data, size, fileName, settings, progress);
+    } catch (const std::bad_alloc&) {
+      return failed<SliceOutput>(Status::Internal, "out of memory while slicing");
+    } catch (const std::exception& e) {
+      return failed<SliceOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
+    }
+  }
+  return runOneMethod(data, size, fileName, settings, progress, nullptr, nullptr);
 }
 
 InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,

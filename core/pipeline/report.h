@@ -292,6 +292,23 @@ struct InputReport {
 };
 
 // The whole report of one slice.
+// method = auto: one candidate method's outcome.
+struct AutoCandidate {
+  std::string method;
+  std::string status = "ok";          // "ok", or the error code that stopped it
+  std::string message;                // the error, or why it stopped early
+  bool stoppedEarly = false;          // dominated before its check: it could not win
+  std::optional<VerifySection> verify;  // its check (figures only)
+  double supportVolumeMm3 = 0, estimatedTimeS = 0, totalMs = 0;
+};
+
+// method = auto: every candidate in the order they ran, the one delivered and why.
+struct AutoSection {
+  std::vector<AutoCandidate> candidates;
+  std::string chosen;   // a method name; "" when none made a program
+  std::string reason;   // in words
+};
+
 struct SliceReport {
   std::string method, machine;
   MachineKind machineKind = MachineKind::Cartesian3;
@@ -309,6 +326,8 @@ struct SliceReport {
   size_t openChains = 0;
   MethodReport sections;
   std::optional<VerifySection> verify;  // absent with verify = off
+  double supportVolumeMm3 = 0;          // support the program prints (filament of its support moves)
+  std::optional<AutoSection> autoChoice;  // method = auto
   std::string fill;
   std::vector<Warning> warnings;
   Timings timingsMs;

@@ -205,7 +205,7 @@ SettingSpec onlyWith(Method method, SettingSpec s) {
 
 std::vector<std::pair<std::string, Method>> methodChoices() {
   std::vector<std::pair<std::string, Method>> out;
-  for (Method m : {Method::Planar, Method::Voxel, Method::Surface, Method::Geodesic, Method::Multidir}) {
+  for (Method m : {Method::Planar, Method::Voxel, Method::Surface, Method::Geodesic, Method::Multidir, Method::Auto}) {
     out.emplace_back(methodName(m), m);
   }
   return out;
@@ -266,7 +266,9 @@ std::vector<SettingSpec> makeTable() {
   std::vector<SettingSpec> t = {
       // ---- general choices -----------------------------------------------------------------
       choice<Method>("method", [](S& s) -> Method& { return s.method; }, methodChoices(), "a method",
-                     "slicing method: planar layers, or a multi-axis method of the papers"),
+                     "slicing method: planar layers, or a multi-axis method of the papers; auto runs every method "
+                     "the machine takes, verifies each program and delivers the best (sound first, then "
+                     "supported, less support, less time)"),
       machineSpec(),
       vector3("direction", [](S& s) -> Eigen::Vector3d& { return s.direction; }, "",
               "planar: slicing direction d in the part frame (normalised); on cartesian3 the part is "

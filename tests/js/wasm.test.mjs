@@ -171,6 +171,26 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.ok(p.voxelWidth > 0.6 && p.voxelWidth < 0.7, `voxel width ${p.voxelWidth}`);
   });
 
+  // Issue 28 item 1: method = auto runs every method table5 takes and delivers the same choice as
+  // the native CLI, with the chosen method's program.
+  test('method = auto on table5: the native CLI\'s candidates and choice', { skip: nativeWhy || false }, () => {
+    const s = { method: 'auto', machine: 'table5', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.9 };
+    const bytes = new Uint8Array(lBracketStl());
+    const file = path.join(tmp, 'auto-l.stl');
+    fs.writeFileSync(file, bytes);
+    const native = nativeSlice(file, s);
+    const stages = [];
+    const wasm = m.slice(bytes, 'auto-l.stl', s, { onProgress: (p) => { stages.push(p.stage); } });
+    const names = (r) => r.auto.candidates.map((c) => `${c.method}:${c.status}`);
+    assert.deepEqual(names(wasm.report), names(native.report));
+    assert.deepEqual(wasm.report.auto.candidates.map((c) => c.method), ['planar', 'multidir', 'geodesic', 'voxel']);
+    assert.equal(wasm.report.auto.chosen, native.report.auto.chosen);
+    assert.equal(wasm.report.method, wasm.report.auto.chosen);
+    assert.ok(wasm.report.verify.sound, wasm.report.auto.reason);
+    assert.ok(stages.includes('auto'));
+    assert.ok(wasm.program.includes(`; omnislice:setting method = ${wasm.report.auto.chosen}`), 'the chosen method\'s program');
+  });
+
   // Issue 7: the multidir method (paper 000) finds the same planes, parts and projected supports in
   // wasm and natively (the search is deterministic; the slicer works on integers).
   test('same multidir report as the native CLI: the Kitten on table5 with projected supports', { skip: nativeWhy || false }, (t) => {

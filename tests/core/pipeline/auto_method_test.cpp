@@ -1,0 +1,114 @@
+// SPDX-License-Identifier: MIT
+// method = auto (issue 28 item 1), through the pipeline:
+//   - every method the machine takes runs, cheapest first (cartesian3: planar alone; table5:
+//     planar, multidir, geodesic, voxel), each reported with its figures;
+//   - the program delivered is byte for byte the chosen method's own (run alone with verify =
+//     warn), apart from the date line;
+//   - no other candidate beats it by the stated order (sound, then support within a tie of 1 % of
+//     the laid material, then time), and one stopped before its check could not have;
+//   - cancelling stops it.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "../test_meshes.h"
+#include "pipeline/pipeline.h"
+#include "pipeline_fixtures.h"
+
+namespace omnislice {
+namespace {
+
+using Json = nlohmann::json;
+
+// The program without its first line (the date it was made).
+std::string undated(const std::string& program) { return program.substr(program.find('\n') + 1); }
+
+SliceOutput alone(const std::vector<uint8_t>& bytes, Settings s, const std::string& method) {
+  EXPECT_TRUE(setSetting(s, "method", method).ok());
+  s.verify = VerifyMode::Warn;
+  return runSlice(bytes.data(), bytes.size(), "l.stl", s);
+}
+
+TEST(AutoMethod, Cartesian3HasOnePlanarCandidate) {
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s;
+  s.method = Method::Auto;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json r = Json::parse(out.reportJson);
+  EXPECT_EQ(r["method"], "planar");
+  ASSERT_EQ(r["auto"]["candidates"].size(), 1u);
+  EXPECT_EQ(r["auto"]["candidates"][0]["method"], "planar");
+  EXPECT_EQ(r["auto"]["chosen"], "planar");
+  const SliceOutput planar = alone(bytes, s, "planar");
+  ASSERT_TRUE(planar.ok());
+  EXPECT_EQ(undated(out.program), undated(planar.program));
+}
+
+TEST(AutoMethod, Table5DeliversTheBestVerifiedProgram) {
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s = test::coarseCurvedSettings(Method::Auto);
+  s.verify = VerifyMode::Auto;
+  std::vector<std::string> stages;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s, [&](const std::string& st, double) {
+    if (stages.empty() || stages.back() != st) stages.push_back(st);
+    return true;
+  });
+  ASSERT_TRUE(out.ok()) << out.message;
+  const Json r = Json::parse(out.reportJson);
+  const Json& a = r["auto"];
+  std::vector<std::string> methods;
+  for (const Json& c : a["candidates"]) methods.push_back(c["method"]);
+  EXPECT_EQ(methods, (std::vector<std::string>{"planar", "multidir", "geodesic", "voxel"}));
+  const std::string chosen = a["chosen"];
+  EXPECT_EQ(r["method"], chosen);
+  EXPECT_EQ(a["reason"].get<std::string>().rfind(chosen + ":", 0), 0u) << a["reason"];
+  EXPECT_TRUE(r["verify"]["sound"].get<bool>()) << a["reason"];
+  std::printf("auto on the L bracket: %s\n", a["reason"].get<std::string>().c_str());
+  EXPECT_NE(std::find(stages.begin(), stages.end(), "auto"), stages.end());
+
+  // The chosen method alone makes the same program.
+  const SliceOutput own = alone(bytes, s, chosen);
+  ASSERT_TRUE(own.ok()) << own.message;
+  EXPECT_EQ(undated(out.program), undated(own.program));
+
+  // Nothing beats it by the stated order.
+  const double support = r["support_volume_mm3"], time = r["estimated_time_s"];
+  const double laid = r["extrusion_mm"].get<double>() * 3.14159265358979 / 4 * s.filamentDiameter * s.filamentDiameter;
+  const double tie = std::max(1.0, 0.01 * laid);
+  for (const Json& c : a["candidates"]) {
+    if (c["method"] == chosen) continue;
+    SCOPED_TRACE(c.dump());
+    const double cs = c["support_volume_mm3"], ct = c["estimated_time_s"];
+    if (c["stopped_early"].get<bool>()) {
+      // It could have been sound at best: then it loses on support, or on time at equal support.
+      EXPECT_TRUE(cs > support + tie || (cs >= support - tie && ct >= time));
+      EXPECT_TRUE(c["verify"].is_null());
+      continue;
+    }
+    if (c["status"] != "ok") continue;
+    if (!c["verify"]["sound"].get<bool>()) continue;
+    EXPECT_FALSE(cs < support - tie) << "a sound candidate with less support";
+    if (std::abs(cs - support) <= tie) EXPECT_GE(ct, time) << "as little support, and faster";
+  }
+}
+
+TEST(AutoMethod, Cancels) {
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s = test::coarseCurvedSettings(Method::Auto);
+  // Cancelled while the second candidate runs: no program, whatever the first made.
+  bool second = false;
+  const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s, [&](const std::string& stage, double f) {
+    if (stage == "auto" && f > 0) second = true;
+    return !(second && stage == "toolpath");
+  });
+  EXPECT_TRUE(second);
+  EXPECT_EQ(out.status, Status::Cancelled);
+  EXPECT_TRUE(out.program.empty());
+}
+
+}  // namespace
+}  // namespace omnislice
