@@ -78,9 +78,8 @@ export const PAGE_FIELDS = [
   { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', hidden: true },
   { group: 'Slicing', key: 'method', label: 'method', type: 'select',
     labels: { planar: 'planar layers', voxel: 'voxel (curved layers)', surface: 'surface (open surface, one layer on a base)',
-      geodesic: 'geodesic (curved layers of a tet mesh)', multidir: 'multi-directional (3+2-axis parts by planar clipping)' },
-    // method = auto runs in the CLI and the API; the page has no view of its candidates yet.
-    omit: ['auto'] },
+      geodesic: 'geodesic (curved layers of a tet mesh)', multidir: 'multi-directional (3+2-axis parts by planar clipping)',
+      auto: 'auto (every method the machine takes, checked; the best)' } },
   { group: 'Slicing', key: 'fill', label: 'fill', type: 'select', testid: 'setting-fill',
     labels: { auto: 'auto', isoplanar: 'iso-planar (paper 003)', spiral: 'spiral' } },
   // The program is simulated before it is written (core/pipeline/soundness.h): an unsound one is

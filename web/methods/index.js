@@ -16,6 +16,7 @@
 // shape without a method's own data (stage weights, settings group, machine hint): the check
 // before writing (check.js). The page's loops over report groups, panels and views run over both
 // (SHOWN); what belongs to a method (its stages, hints, settings) only over METHODS.
+import { auto } from './auto.js';
 import { check } from './check.js';
 import { geodesic } from './geodesic.js';
 import { multidir } from './multidir.js';
@@ -56,7 +57,7 @@ import { voxel } from './voxel.js';
  */
 
 /** The methods in the page's drawing order (the tool paths first; views are added in this order). */
-export const METHODS = Object.freeze([planar, voxel, surface, geodesic, multidir]);
+export const METHODS = Object.freeze([planar, voxel, surface, geodesic, multidir, auto]);
 
 /** What every result shows besides its method's parts (check.js), drawn after the methods' views. */
 export const EXTRAS = Object.freeze([check]);
@@ -64,7 +65,7 @@ export const EXTRAS = Object.freeze([check]);
 /** The modules whose report groups, panels and views the page shows, in drawing order. */
 const SHOWN = Object.freeze([...METHODS, ...EXTRAS]);
 
-export { check, geodesic, multidir, planar, surface, voxel };
+export { auto, check, geodesic, multidir, planar, surface, voxel };
 
 /** The module of a method name; planar for a name it does not know. */
 export function methodNamed(name) {
@@ -95,7 +96,10 @@ export function progressDetail(search) {
  */
 export function doneSummary(report) {
   const parts = [];
-  const method = METHODS.map((m) => m.data.doneSummary(m.data.section(report))).find((text) => text);
+  // method = auto says which it chose first; then the chosen method's own line.
+  const choice = auto.data.doneSummary(auto.data.section(report));
+  if (choice) parts.push(choice);
+  const method = METHODS.filter((m) => m !== auto).map((m) => m.data.doneSummary(m.data.section(report))).find((text) => text);
   if (method) parts.push(method);
   for (const m of EXTRAS) {
     const text = m.data.doneSummary(m.data.section(report));

@@ -1,0 +1,35 @@
+// SPDX-License-Identifier: MIT
+// method = auto on the page (issue 28 item 1), in headless Chromium against the real worker and
+// wasm module, on the demo model on rotary4 (planar and multidir take it): the candidates show
+// side by side in the order they ran, the chosen one marked and the same as the report's method,
+// whose own sections show as when chosen by hand; the done line says what auto chose; the
+// program downloads.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { appPage, tid } from './page-controls.mjs';
+
+const { page, skip, pageErrors, setSetting, sliceAndWait, downloadProgram } = appPage('auto');
+
+test('auto runs planar and multidir on rotary4 and shows them side by side, the best chosen', async (t) => {
+  if (skip(t)) return;
+  await setSetting('machine', 'rotary4');
+  await setSetting('setting-method', 'auto');
+  assert.equal(await sliceAndWait(), null);
+  const report = await page.evaluate(() => window.omnislice.report);
+  assert.deepEqual(report.auto.candidates.map((c) => c.method), ['planar', 'multidir']);
+  assert.equal(report.method, report.auto.chosen);
+  assert.equal(await page.isVisible(tid('auto-report')), true);
+  const rows = await page.$$eval(`${tid('auto-candidates')} tr`, (trs) => trs.map((tr) => ({
+    method: tr.cells[0].textContent, state: tr.dataset.state, check: tr.cells[1].textContent,
+  })));
+  assert.deepEqual(rows.map((r) => r.method), ['planar', 'multidir']);
+  assert.deepEqual(rows.filter((r) => r.state === 'chosen').map((r) => r.method), [report.auto.chosen]);
+  assert.equal(await page.textContent(tid('auto-chosen')), report.auto.chosen);
+  assert.equal(await page.textContent(tid('auto-reason')), report.auto.reason);
+  assert.match(await page.textContent(tid('progress-text')), new RegExp(`^done in [\\d.]+ s: auto chose ${report.auto.chosen} of 2`));
+  if (report.auto.chosen === 'multidir') assert.equal(await page.isVisible(tid('md-report')), true);
+  const { name, text } = await downloadProgram();
+  assert.match(name, /\.gcode$/);
+  assert.ok(text.includes(`; omnislice:setting method = ${report.auto.chosen}`));
+  assert.deepEqual(pageErrors(), []);
+});
