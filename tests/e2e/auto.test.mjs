@@ -3,7 +3,7 @@
 // wasm module, on the demo model on rotary4 (planar and multidir take it): the candidates show
 // side by side in the order they ran, the chosen one marked and the same as the report's method,
 // whose own sections show as when chosen by hand; the done line says what auto chose; the
-// program downloads.
+// program downloads; "use" on the other candidate slices again with its method.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { appPage, tid } from './page-controls.mjs';
@@ -31,5 +31,13 @@ test('auto runs planar and multidir on rotary4 and shows them side by side, the 
   const { name, text } = await downloadProgram();
   assert.match(name, /\.gcode$/);
   assert.ok(text.includes(`; omnislice:setting method = ${report.auto.chosen}`));
+  // Another candidate is one click away: its own program, the method setting undoable.
+  const other = report.auto.candidates.find((c) => c.method !== report.auto.chosen && c.status === 'ok');
+  if (other) {
+    await page.click(tid(`auto-use-${other.method}`));
+    await page.waitForFunction((m) => window.omnislice.report && window.omnislice.report.method === m && !window.omnislice.report.auto, other.method, { timeout: 300_000 });
+    assert.equal(await page.evaluate(() => window.omnislice.settings.method), other.method);
+    assert.equal(await page.isHidden(tid('auto-report')), true);
+  }
   assert.deepEqual(pageErrors(), []);
 });

@@ -2,11 +2,20 @@
 // method = auto in the registry (index.js): not a method of its own but the choice among them.
 // The result is the chosen method's (its sections and views show as usual); the group
 // 'auto-report' adds the candidates side by side (auto-data.js): verdict, supported, collisions,
-// support, time, how long each took, the chosen one marked.
+// support, time, how long each took, the chosen one marked; "use" slices again with another
+// candidate's method (an undoable settings edit).
 import { byTestId as $, fillFigureList } from '../panel-dom.js';
+import { SetSettingCommand } from '../settings-panel.js';
 import { AUTO_STAGE_WEIGHTS, autoDoneSummary, autoSection, autoSummaryRows, candidateRows } from './auto-data.js';
 
-function fillCandidates(tbody, section) {
+/** Slice again with another candidate's method (an undoable settings edit): its own program. */
+async function useMethod(app, method) {
+  if (app.busy || !app.mesh) return;
+  app.history.execute(new SetSettingCommand(app.model, 'method', method));
+  await app.actions.slice();
+}
+
+function fillCandidates(app, tbody, section) {
   tbody.replaceChildren();
   for (const r of candidateRows(section)) {
     const tr = document.createElement('tr');
@@ -18,6 +27,20 @@ function fillCandidates(tbody, section) {
       td.textContent = text;
       tr.append(td);
     }
+    // Any other candidate that made a program (or would have: stopped early) is one click away.
+    const td = document.createElement('td');
+    if (r.state !== 'chosen' && r.state !== 'failed') {
+      const button = document.createElement('button');
+      button.type = 'button';
+      button.className = 'small';
+      button.textContent = 'use';
+      button.title = `slice again with method = ${r.method} (Ctrl+Z undoes the setting)`;
+      button.dataset.testid = `auto-use-${r.method}`;
+      button.disabled = !!app.busy;
+      button.addEventListener('click', () => useMethod(app, r.method));
+      td.append(button);
+    }
+    tr.append(td);
     tbody.append(tr);
   }
 }
@@ -37,9 +60,12 @@ export const auto = {
     show(app, section) {
       $('auto-report').hidden = !section;
       fillFigureList($('auto-figures'), autoSummaryRows(section), 'auto');
-      fillCandidates($('auto-candidates'), section);
+      fillCandidates(app, $('auto-candidates'), section);
     },
     wire() {},
+    enable(app) {
+      for (const b of $('auto-candidates').querySelectorAll('button')) b.disabled = !!app.busy;
+    },
   },
   view: {
     setup() {},
