@@ -13,9 +13,10 @@
 //   sparse region    = F intersected with the sections of layers i-bottomLayers..i+topLayers (i
 //                      excluded; a layer beyond the part is empty) = what is covered above and below
 //   skin region      = F minus the sparse region (solid: lines spaced s, +45 / -45 deg by layer)
-//   gap fill         = per wall level k, L_k offset by -s/2 minus L_k+1 offset by s/2 (after the
-//                      last level: minus F), opened by 0.15 w: lines spaced s across each gap's
-//                      long axis (PlanarOptions::gapFill), printed as skin after the walls
+//   gap fill         = per wall level k below the last, L_k offset by -s/2 minus L_k+1 offset by
+//                      s/2 (all of it where level k+1 was left out), minus F, opened by 0.15 w:
+//                      lines spaced s across each gap's long axis (PlanarOptions::gapFill),
+//                      printed as skin after the walls (F lies within the last level's band)
 //   bridge regions   = skin over air (not on layer i-1) whose lines, in some direction, land on
 //                      layer i-1 at both ends (PlanarOptions::bridges): lines spaced w across the
 //                      span, widened 2w onto the anchors, in the best anchored direction

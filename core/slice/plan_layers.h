@@ -62,10 +62,12 @@ struct PlanarOptions {
   bool bridges = true;
   double bridgeSpeed = 20;           // mm/s, > 0
   double bridgeFlowPercent = 80;     // % of the bead's filament, (0, 200]
-  // Gap fill: where an island narrows so that the next wall level (or the fill region, after the
-  // last) cannot reach the area inside a wall's band (a rib 2.5 lines wide: two walls' beads and a
-  // strip between them), that strip, when at least 0.3 lines wide, is filled with lines spaced
-  // like skin across its long axis (Feature::Skin, printed after the walls). false: no gap fill.
+  // Gap fill: where an island narrows so that the next wall level cannot reach the area inside a
+  // wall's band (a rib 2.5 lines wide: two walls' beads and a strip between them), that strip,
+  // when at least 0.3 lines wide, is filled with lines spaced like skin across its long axis
+  // (Feature::Skin, printed after the walls). An inner level narrower than 0.6 bead spacings (its
+  // loop would double back on itself) is left out for it. false: no gap fill (the inner levels
+  // are left out all the same).
   bool gapFill = true;
 };
 

@@ -194,7 +194,9 @@ TEST(AxisFreedom, ZeroLimitKeepsTheIdealAndBadInputIsLeftAlone) {
   o.freedomDegrees = 0;
   EXPECT_EQ(chooseAxesForMotion(linePoints(n), same, o), 0u);
   for (size_t i = 0; i < n; ++i) {
-    if (i != 20) EXPECT_EQ(same[i], ideal[i]);
+    if (i != 20) {
+      EXPECT_EQ(same[i], ideal[i]);
+    }
   }
 }
 

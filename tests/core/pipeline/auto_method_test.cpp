@@ -92,7 +92,9 @@ TEST(AutoMethod, Table5DeliversTheBestVerifiedProgram) {
     if (c["status"] != "ok") continue;
     if (!c["verify"]["sound"].get<bool>()) continue;
     EXPECT_FALSE(cs < support - tie) << "a sound candidate with less support";
-    if (std::abs(cs - support) <= tie) EXPECT_GE(ct, time) << "as little support, and faster";
+    if (std::abs(cs - support) <= tie) {
+      EXPECT_GE(ct, time) << "as little support, and faster";
+    }
   }
 }
 

@@ -47,7 +47,7 @@ TEST(LookaheadTime, NoJunctionDeviationStopsAtEveryJunction) {
 TEST(LookaheadTime, RightAnglesSlowToTheirJunctionSpeed) {
   const double a = 1500, jd = 0.013, v = 100, side = 40;
   std::vector<PlannedMove> square;
-  for (const Eigen::Vector3d d : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(-1, 0, 0),
+  for (const Eigen::Vector3d& d : {Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0), Eigen::Vector3d(-1, 0, 0),
                                   Eigen::Vector3d(0, -1, 0)}) {
     square.push_back({d, side, v});
   }
