@@ -2,12 +2,15 @@
 #include "pipeline/pipeline.h"
 
 #include <algorithm>
+#include <atomic>
 
 #include <Eigen/Geometry>
 #include <cmath>
 #include <cstdio>
 #include <exception>
+#include <mutex>
 #include <new>
+#include <thread>
 
 #include "common/math_constants.h"
 #include "common/stopwatch.h"
@@ -318,6 +321,12 @@ struct AutoBound {
   double supportTieMm3 = 1;  // supportTie() of it
 };
 
+// A program with this support and time cannot beat the bound's, whatever its check finds.
+bool dominatedBy(const AutoBound& bound, double supportMm3, double timeS) {
+  return bound.sound && (supportMm3 > bound.supportVolumeMm3 + bound.supportTieMm3 ||
+                         (supportMm3 >= bound.supportVolumeMm3 - bound.supportTieMm3 && timeS >= bound.timeS));
+}
+
 // Support volumes closer than this tie in the ranking: 1 % of the material the program lays
 // (a few struts under a 40 mm part do not outweigh hours of print time), at least 1 mm^3.
 double supportTie(const SliceReport& r, const Settings& settings) {
@@ -375,9 +384,7 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
   if (!reportProgress(progress, "program", 1)) return failed<Attempt>(Status::Cancelled, "cancelled");
   if (bound && bound->sound) {
     // Its check could make it sound at best: it loses on support, or on time at equal support.
-    const double support = supportVolume(a.motion, settings.filamentDiameter);
-    if (support > bound->supportVolumeMm3 + bound->supportTieMm3 ||
-        (support >= bound->supportVolumeMm3 - bound->supportTieMm3 && a.written.estimatedTimeS >= bound->timeS)) {
+    if (dominatedBy(*bound, supportVolume(a.motion, settings.filamentDiameter), a.written.estimatedTimeS)) {
       a.dominated = true;
       a.timingsMs = std::move(clock.timings);
       a.ms = msSince(start);
@@ -595,10 +602,23 @@ std::string whyNot(const AutoCandidate& other, const SliceOutput& chosen, double
 
 }  // namespace
 
+// Threads for method = auto's candidates: the `threads` setting (0 = every core); one in a wasm
+// build without pthreads.
+static size_t autoThreads(const Settings& settings) {
+#if defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__)
+  (void)settings;
+  return 1;
+#else
+  if (settings.threads > 0) return size_t(settings.threads);
+  return std::max(1u, std::thread::hardware_concurrency());
+#endif
+}
+
 // method = auto: every method the machine takes (surface only for an input that is not a closed
 // solid), cheapest first, each verified (verify = warn for the candidates), the best delivered
-// (betterCandidate) with the report's `auto` section; a candidate that a sound one already beats
-// on support and time stops before its check. With verify = refuse an unsound best is refused.
+// (betterCandidate) with the report's `auto` section. One after another (threads = 1, or wasm), a
+// candidate that a sound one already beats on support and time stops before its check; in
+// threads every candidate is checked. With verify = refuse an unsound best is refused.
 static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
                            const ProgressFn& progress) {
   MachineProfileResult resolved = resolveMachine(settings);
@@ -620,23 +640,74 @@ static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& 
     order.push_back(m);
   }
   const Clock::time_point start = Clock::now();
+  // One candidate: its settings, its output, whether it stopped early, how long it took.
+  struct Ran {
+    SliceOutput out;
+    bool dominated = false;
+    double ms = 0;
+  };
+  std::vector<Ran> ran(order.size());
+  auto runCandidate = [&](size_t k, const ProgressFn& fn, const AutoBound* bound, int attempts) {
+    Settings s = settings;
+    s.method = order[k];
+    s.verify = VerifyMode::Warn;
+    s.verifyAttempts = attempts;
+    const Clock::time_point t0 = Clock::now();
+    ran[k].out = runOneMethod(data, size, fileName, s, fn, bound, &ran[k].dominated);
+    ran[k].ms = msSince(t0);
+  };
+  const size_t threads = std::min(order.size(), autoThreads(settings));
+  if (threads > 1) {
+    // In threads: no candidate stops early (which would depend on which finished first), so the
+    // report is the same on every run; each makes one program (no remedies yet: below, in order,
+    // for those that could still win); the progress is serialised and a cancel stops them all.
+    std::mutex progressLock;
+    std::atomic<bool> cancelled{false};
+    std::atomic<size_t> next{0}, done{0};
+    const ProgressFn shared = [&](const ProgressEvent& e) {
+      if (cancelled) return false;
+      std::lock_guard<std::mutex> lock(progressLock);
+      if (progress && !progress(e)) cancelled = true;
+      return !cancelled;
+    };
+    if (!reportProgress(shared, "auto", 0)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+    auto worker = [&] {
+      for (size_t k; (k = next++) < order.size() && !cancelled;) {
+        runCandidate(k, shared, nullptr, 1);
+        reportProgress(shared, "auto", double(++done) / double(order.size()));
+      }
+    };
+    std::vector<std::thread> pool;
+    for (size_t t = 1; t < threads; ++t) pool.emplace_back(worker);
+    worker();
+    for (std::thread& t : pool) t.join();
+    if (cancelled) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+  }
   AutoSection section;
   SliceOutput best = failed<SliceOutput>(Status::InvalidOption, "no method prints on this machine");
   std::optional<AutoBound> bound;
   for (size_t k = 0; k < order.size(); ++k) {
-    if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
-      return failed<SliceOutput>(Status::Cancelled, "cancelled");
+    if (threads <= 1) {
+      if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
+        return failed<SliceOutput>(Status::Cancelled, "cancelled");
+      }
+      runCandidate(k, progress, bound ? &*bound : nullptr, settings.verifyAttempts);
+    } else if (ran[k].out.ok() && !ran[k].out.report.verify->sound && settings.verifyAttempts > 1 &&
+               !(bound && dominatedBy(*bound, ran[k].out.report.supportVolumeMm3, ran[k].out.report.estimatedTimeS))) {
+      // As one after another would: an unsound program that could still win is made again with
+      // the remedies (its first program is the same, so the same candidates get them).
+      if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
+        return failed<SliceOutput>(Status::Cancelled, "cancelled");
+      }
+      runCandidate(k, progress, nullptr, settings.verifyAttempts);
     }
-    Settings s = settings;
-    s.method = order[k];
-    s.verify = VerifyMode::Warn;
+    SliceOutput& out = ran[k].out;
+    const bool dominated = ran[k].dominated;
+    const Settings& s = settings;
     AutoCandidate c;
     c.method = methodName(order[k]);
-    const Clock::time_point t0 = Clock::now();
-    bool dominated = false;
-    SliceOutput out = runOneMethod(data, size, fileName, s, progress, bound ? &*bound : nullptr, &dominated);
-    c.totalMs = msSince(t0);
-    if (out.status == Status::Cancelled && !dominated) return out;
+    c.totalMs = ran[k].ms;
+    if (out.status == Status::Cancelled && !dominated) return std::move(out);
     c.supportVolumeMm3 = out.report.supportVolumeMm3;
     c.estimatedTimeS = out.report.estimatedTimeS;
     if (!out.ok()) {
@@ -657,7 +728,7 @@ static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& 
       best = std::move(out);  // the first failure stands for all when nothing prints
     }
   }
-  if (!reportProgress(progress, "auto", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+  if (threads <= 1 && !reportProgress(progress, "auto", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
   if (!best.ok()) {
     std::string why;
     for (const AutoCandidate& c : section.candidates) why += (why.empty() ? "" : "; ") + c.method + ": " + c.message;

@@ -208,6 +208,9 @@ struct Settings {
   // applies itself (soundness.h automaticRemedies), the first sound one delivered; 1 = only the
   // program of these settings.
   int verifyAttempts = 3;
+  // method = auto: candidates run on this many threads (0 = every core; 1 = one after another);
+  // a wasm build without pthreads runs one.
+  int threads = 0;
   PlaceOptions placement;
   Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
 

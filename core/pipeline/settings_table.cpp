@@ -546,6 +546,11 @@ std::vector<SettingSpec> makeTable() {
                                   "simulate the program as `omnislice verify` does: refuse it when unsound, "
                                   "deliver it with a warning, or not simulate (auto: refuse for multi-axis "
                                   "methods, off for planar)")),
+      // Not listed: how the work is spread, not what the program holds.
+      unlisted(integer("threads", [](S& s) -> int& { return s.threads; }, 0, 256, "threads",
+                       "method = auto: run the candidates on this many threads (0 = every core; 1 = one "
+                       "after another, where a candidate that cannot win stops before its check; the "
+                       "wasm build runs one)")),
       // Not listed either: the delivered program's header lists the settings it was made with.
       unlisted(integer("verify_attempts", [](S& s) -> int& { return s.verifyAttempts; }, 1, 10, "programs",
                        "when the check finds a program unsound, make it again with the remedies the slicer "

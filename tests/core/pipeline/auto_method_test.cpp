@@ -52,6 +52,7 @@ TEST(AutoMethod, Table5DeliversTheBestVerifiedProgram) {
   const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
   Settings s = test::coarseCurvedSettings(Method::Auto);
   s.verify = VerifyMode::Auto;
+  s.threads = 1;  // one after another: candidates that cannot win stop early
   std::vector<std::string> stages;
   const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s, [&](const std::string& st, double) {
     if (stages.empty() || stages.back() != st) stages.push_back(st);
@@ -95,6 +96,33 @@ TEST(AutoMethod, Table5DeliversTheBestVerifiedProgram) {
     if (std::abs(cs - support) <= tie) {
       EXPECT_GE(ct, time) << "as little support, and faster";
     }
+  }
+}
+
+// In threads every candidate is checked (none stops early: that would depend on which finished
+// first) and the same program is delivered as one after another.
+TEST(AutoMethod, ThreadsDeliverTheSameProgram) {
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s = test::coarseCurvedSettings(Method::Auto);
+  s.threads = 1;
+  const SliceOutput one = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  s.threads = 3;
+  const SliceOutput three = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  ASSERT_TRUE(one.ok() && three.ok()) << one.message << three.message;
+  EXPECT_EQ(undated(one.program), undated(three.program));
+  const Json a1 = Json::parse(one.reportJson)["auto"], a3 = Json::parse(three.reportJson)["auto"];
+  EXPECT_EQ(a1["chosen"], a3["chosen"]);
+  ASSERT_EQ(a1["candidates"].size(), a3["candidates"].size());
+  for (size_t k = 0; k < a3["candidates"].size(); ++k) {
+    const Json& c1 = a1["candidates"][k];
+    const Json& c3 = a3["candidates"][k];
+    EXPECT_EQ(c1["method"], c3["method"]);
+    EXPECT_FALSE(c3["stopped_early"].get<bool>()) << c3.dump();
+    // A candidate that ran to the end in both gives the same figures.
+    if (!c1["stopped_early"].get<bool>()) {
+      EXPECT_EQ(c1["verify"], c3["verify"]) << c1["method"];
+    }
+    EXPECT_EQ(c1["estimated_time_s"], c3["estimated_time_s"]) << c1["method"];
   }
 }
 
