@@ -20,6 +20,7 @@
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
 #include "motion/plan_motion.h"
+#include "pipeline/auto_choice.h"
 #include "pipeline/method.h"
 #include "pipeline/soundness.h"
 #include "program/read_program.h"
@@ -311,29 +312,6 @@ SliceReport sliceReport(const Settings& settings, const MachineProfile& machine,
   return r;
 }
 
-// method = auto: the best candidate so far, as far as a later one's check could not change the
-// order (pipeline.cpp runAuto: sound first, then support volume, then time).
-struct AutoBound {
-  bool sound = false;
-  double supportVolumeMm3 = 0;
-  double timeS = 0;
-  std::string method;
-  double supportTieMm3 = 1;  // supportTie() of it
-};
-
-// A program with this support and time cannot beat the bound's, whatever its check finds.
-bool dominatedBy(const AutoBound& bound, double supportMm3, double timeS) {
-  return bound.sound && (supportMm3 > bound.supportVolumeMm3 + bound.supportTieMm3 ||
-                         (supportMm3 >= bound.supportVolumeMm3 - bound.supportTieMm3 && timeS >= bound.timeS));
-}
-
-// Support volumes closer than this tie in the ranking: 1 % of the material the program lays
-// (a few struts under a 40 mm part do not outweigh hours of print time), at least 1 mm^3.
-double supportTie(const SliceReport& r, const Settings& settings) {
-  const double laid = r.extrusionMm * kPi / 4 * settings.filamentDiameter * settings.filamentDiameter;
-  return std::max(1.0, 0.01 * laid);
-}
-
 // One program made and checked: the method with these settings, the motion, the program and,
 // unless verify is off, the check (soundness.h).
 struct Attempt : Outcome {
@@ -565,43 +543,6 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
   }
 }
 
-namespace {
-
-// method = auto: the order of two candidates' outputs. A program beats none; a sound one an
-// unsound one; among unsound ones, one without collisions, left-out path or limit violations
-// beats one with; then the higher supported share up to the soundness bound (above it they tie);
-// then less support; then less estimated time.
-bool betterCandidate(const SliceOutput& a, const SliceOutput& b, double supportTieMm3) {
-  if (a.ok() != b.ok()) return a.ok();
-  if (!a.ok()) return false;
-  const VerifySection& va = *a.report.verify;
-  const VerifySection& vb = *b.report.verify;
-  if (va.sound != vb.sound) return va.sound;
-  auto hardOk = [](const VerifySection& v) { return v.collisions == 0 && v.limits == 0 && !(v.leftOutMm > 0); };
-  if (hardOk(va) != hardOk(vb)) return hardOk(va);
-  const double sa = std::min(va.supported, va.minSupported), sb = std::min(vb.supported, vb.minSupported);
-  if (std::abs(sa - sb) > 1e-9) return sa > sb;
-  const double da = a.report.supportVolumeMm3 - b.report.supportVolumeMm3;
-  if (std::abs(da) > supportTieMm3) return da < 0;
-  return a.report.estimatedTimeS < b.report.estimatedTimeS;
-}
-
-// Why `chosen` was delivered over `other`, in a few words.
-std::string whyNot(const AutoCandidate& other, const SliceOutput& chosen, double supportTieMm3) {
-  char text[200];
-  if (other.status != "ok") return other.method + " (" + other.message + ")";
-  const VerifySection& v = *other.verify;
-  if (!v.sound) return other.method + " (unsound: " + (v.failures.empty() ? std::string("see its check") : v.failures.front()) + ")";
-  if (other.supportVolumeMm3 > chosen.report.supportVolumeMm3 + supportTieMm3) {
-    std::snprintf(text, sizeof text, "%s (%.0f mm^3 of support)", other.method.c_str(), other.supportVolumeMm3);
-  } else {
-    std::snprintf(text, sizeof text, "%s (%.2f h)", other.method.c_str(), other.estimatedTimeS / 3600);
-  }
-  return text;
-}
-
-}  // namespace
-
 // Threads for method = auto's candidates: the `threads` setting (0 = every core); one in a wasm
 // build without pthreads.
 static size_t autoThreads(const Settings& settings) {
@@ -614,53 +555,98 @@ static size_t autoThreads(const Settings& settings) {
 #endif
 }
 
-// method = auto: every method the machine takes (surface only for an input that is not a closed
-// solid), cheapest first, each verified (verify = warn for the candidates), the best delivered
-// (betterCandidate) with the report's `auto` section. One after another (threads = 1, or wasm), a
-// candidate that a sound one already beats on support and time stops before its check; in
-// threads every candidate is checked. With verify = refuse an unsound best is refused.
-static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
-                           const ProgressFn& progress) {
+// method = auto's candidates for this input and machine: every method the machine takes, cheapest
+// first (surface only for an input that is not a closed solid).
+static Outcome autoCandidates(const uint8_t* data, size_t size, const std::string& fileName,
+                              const Settings& settings, std::vector<Method>& order) {
   MachineProfileResult resolved = resolveMachine(settings);
-  if (!resolved.ok()) return failed<SliceOutput>(resolved);
+  if (!resolved.ok()) return resolved;
   const MachineKind kind = resolved.machine.kind;
   bool closed = true;
   {
     StageClock clock;
     const PreparedInput in = prepareInput(data, size, fileName, settings.placement, Eigen::Matrix3d::Identity(),
                                           false, {}, clock);
-    if (!in.ok()) return failed<SliceOutput>(in);
+    if (!in.ok()) return in;
     closed = in.prepared.solid.ok();
   }
-  std::vector<Method> order;
+  order.clear();
   for (Method m : {Method::Planar, Method::Multidir, Method::Surface, Method::Geodesic, Method::Voxel}) {
     const MethodEntry& e = methodEntry(m);
     if (std::find(e.machines.begin(), e.machines.end(), kind) == e.machines.end()) continue;
     if (m == Method::Surface && closed) continue;
     order.push_back(m);
   }
+  return {};
+}
+
+// A candidate's settings: the method, checked with verify = warn, with `attempts` programs at most.
+static Settings candidateSettings(const Settings& settings, Method m, int attempts) {
+  Settings s = settings;
+  s.method = m;
+  s.verify = VerifyMode::Warn;
+  s.verifyAttempts = attempts;
+  return s;
+}
+
+static AutoFigures figuresOf(Method m, const SliceOutput& out, bool dominated, bool full, double ms) {
+  AutoFigures f;
+  f.method = methodName(m);
+  f.ms = ms;
+  f.full = full;
+  f.supportVolumeMm3 = out.report.supportVolumeMm3;
+  f.estimatedTimeS = out.report.estimatedTimeS;
+  if (out.ok()) {
+    f.verify = out.report.verify;
+    f.extrusionMm = out.report.extrusionMm;
+  } else {
+    f.status = dominated ? "dominated" : statusCode(out.status);
+    f.message = out.message;
+  }
+  return f;
+}
+
+// The delivered output of method = auto: the chosen candidate's, with the `auto` section.
+static SliceOutput autoOutput(SliceOutput best, const AutoDecision& d, double ms) {
+  if (d.chosen < 0 || d.status == Status::Cancelled) return failed<SliceOutput>(d.status, d.message);
+  SliceReport& r = best.report;
+  r.autoChoice = d.section;
+  r.timingsMs.emplace_back("auto", ms);
+  best.reportJson = sliceReportJson(r);
+  if (d.status == Status::UnsoundProgram) {
+    best.status = d.status;
+    best.message = d.message;
+    best.program.clear();
+  }
+  return best;
+}
+
+// method = auto: every candidate (autoCandidates) verified (verify = warn for the candidates), the
+// best delivered (auto_choice.h decideAuto) with the report's `auto` section. One after another
+// (threads = 1, or wasm), a candidate that a sound one already beats on support and time stops
+// before its check; in threads every candidate is checked. With verify = refuse an unsound best
+// is refused.
+static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
+                           const ProgressFn& progress) {
+  std::vector<Method> order;
+  if (Outcome o = autoCandidates(data, size, fileName, settings, order); !o.ok()) return failed<SliceOutput>(o);
   const Clock::time_point start = Clock::now();
-  // One candidate: its settings, its output, whether it stopped early, how long it took.
-  struct Ran {
-    SliceOutput out;
-    bool dominated = false;
-    double ms = 0;
-  };
-  std::vector<Ran> ran(order.size());
+  std::vector<SliceOutput> outs(order.size());
+  std::vector<AutoFigures> figures(order.size());
   auto runCandidate = [&](size_t k, const ProgressFn& fn, const AutoBound* bound, int attempts) {
-    Settings s = settings;
-    s.method = order[k];
-    s.verify = VerifyMode::Warn;
-    s.verifyAttempts = attempts;
+    bool dominated = false;
     const Clock::time_point t0 = Clock::now();
-    ran[k].out = runOneMethod(data, size, fileName, s, fn, bound, &ran[k].dominated);
-    ran[k].ms = msSince(t0);
+    outs[k] = runOneMethod(data, size, fileName, candidateSettings(settings, order[k], attempts), fn, bound,
+                           &dominated);
+    figures[k] = figuresOf(order[k], outs[k], dominated, attempts == settings.verifyAttempts, msSince(t0));
   };
   const size_t threads = std::min(order.size(), autoThreads(settings));
+  AutoDecision d;
   if (threads > 1) {
     // In threads: no candidate stops early (which would depend on which finished first), so the
-    // report is the same on every run; each makes one program (no remedies yet: below, in order,
-    // for those that could still win); the progress is serialised and a cancel stops them all.
+    // report is the same on every run; each makes one program (no remedies yet: decideAuto asks,
+    // in order, for those that could still win); the progress is serialised and a cancel stops
+    // them all.
     std::mutex progressLock;
     std::atomic<bool> cancelled{false};
     std::atomic<size_t> next{0}, done{0};
@@ -682,81 +668,53 @@ static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& 
     worker();
     for (std::thread& t : pool) t.join();
     if (cancelled) return failed<SliceOutput>(Status::Cancelled, "cancelled");
-  }
-  AutoSection section;
-  SliceOutput best = failed<SliceOutput>(Status::InvalidOption, "no method prints on this machine");
-  std::optional<AutoBound> bound;
-  for (size_t k = 0; k < order.size(); ++k) {
-    if (threads <= 1) {
-      if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
-        return failed<SliceOutput>(Status::Cancelled, "cancelled");
-      }
-      runCandidate(k, progress, bound ? &*bound : nullptr, settings.verifyAttempts);
-    } else if (ran[k].out.ok() && !ran[k].out.report.verify->sound && settings.verifyAttempts > 1 &&
-               !(bound && dominatedBy(*bound, ran[k].out.report.supportVolumeMm3, ran[k].out.report.estimatedTimeS))) {
-      // As one after another would: an unsound program that could still win is made again with
-      // the remedies (its first program is the same, so the same candidates get them).
+    for (d = decideAuto(figures, settings); d.rerun >= 0; d = decideAuto(figures, settings)) {
+      const size_t k = size_t(d.rerun);
       if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
         return failed<SliceOutput>(Status::Cancelled, "cancelled");
       }
       runCandidate(k, progress, nullptr, settings.verifyAttempts);
+      figures[k].full = true;
     }
-    SliceOutput& out = ran[k].out;
-    const bool dominated = ran[k].dominated;
-    const Settings& s = settings;
-    AutoCandidate c;
-    c.method = methodName(order[k]);
-    c.totalMs = ran[k].ms;
-    if (out.status == Status::Cancelled && !dominated) return std::move(out);
-    c.supportVolumeMm3 = out.report.supportVolumeMm3;
-    c.estimatedTimeS = out.report.estimatedTimeS;
-    if (!out.ok()) {
-      c.status = dominated ? "dominated" : statusCode(out.status);
-      c.message = out.message;
-      c.stoppedEarly = dominated;
-    } else {
-      c.verify = out.report.verify;
-      c.verify->attempts.clear();
+  } else {
+    for (size_t k = 0; k < order.size(); ++k) {
+      if (!reportProgress(progress, "auto", double(k) / double(order.size()))) {
+        return failed<SliceOutput>(Status::Cancelled, "cancelled");
+      }
+      const AutoDecision sofar = decideAuto({figures.begin(), figures.begin() + k}, settings);
+      runCandidate(k, progress, sofar.bound ? &*sofar.bound : nullptr, settings.verifyAttempts);
+      figures[k].full = true;
+      if (figures[k].status == "cancelled") return std::move(outs[k]);
     }
-    section.candidates.push_back(c);
-    const double tie = out.ok() && best.ok() ? std::min(supportTie(out.report, s), supportTie(best.report, s)) : 1.0;
-    if (out.ok() && (!best.ok() || betterCandidate(out, best, tie))) {
-      best = std::move(out);
-      bound = AutoBound{best.report.verify->sound, best.report.supportVolumeMm3, best.report.estimatedTimeS,
-                        best.report.method, supportTie(best.report, s)};
-    } else if (!best.ok() && !out.ok() && section.candidates.size() == 1) {
-      best = std::move(out);  // the first failure stands for all when nothing prints
+    if (!reportProgress(progress, "auto", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
+    d = decideAuto(figures, settings);
+  }
+  if (d.chosen < 0) return failed<SliceOutput>(d.status, d.message);
+  return autoOutput(std::move(outs[size_t(d.chosen)]), d, msSince(start));
+}
+
+std::string planAuto(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
+                     Outcome* outcome) {
+  std::vector<Method> order;
+  *outcome = autoCandidates(data, size, fileName, settings, order);
+  if (!outcome->ok()) return {};
+  std::vector<std::pair<std::string, Settings>> candidates;
+  for (Method m : order) candidates.emplace_back(methodName(m), candidateSettings(settings, m, 1));
+  return autoPlanJson(candidates, settings);
+}
+
+std::string chooseAuto(const Settings& settings, const std::vector<std::string>& candidatesJson, Outcome* outcome) {
+  std::vector<AutoFigures> figures;
+  for (const std::string& c : candidatesJson) {
+    std::string error;
+    figures.push_back(autoFiguresFromJson(c, &error));
+    if (!error.empty()) {
+      *outcome = failed<Outcome>(Status::InvalidOption, error);
+      return {};
     }
   }
-  if (threads <= 1 && !reportProgress(progress, "auto", 1)) return failed<SliceOutput>(Status::Cancelled, "cancelled");
-  if (!best.ok()) {
-    std::string why;
-    for (const AutoCandidate& c : section.candidates) why += (why.empty() ? "" : "; ") + c.method + ": " + c.message;
-    return failed<SliceOutput>(best.status, "no method made a program: " + why);
-  }
-  SliceReport& r = best.report;
-  section.chosen = r.method;
-  const VerifySection& v = *r.verify;
-  char head[300];
-  std::snprintf(head, sizeof head, "%s: %s, supported %.3f, %.0f mm^3 of support, %.2f h", r.method.c_str(),
-                v.sound ? "sound" : "the best of unsound programs", v.supported, r.supportVolumeMm3,
-                r.estimatedTimeS / 3600);
-  section.reason = head;
-  std::string others;
-  for (const AutoCandidate& c : section.candidates) {
-    if (c.method == r.method) continue;
-    others += (others.empty() ? "" : ", ") + whyNot(c, best, supportTie(r, settings));
-  }
-  if (!others.empty()) section.reason += "; over " + others;
-  r.autoChoice = std::move(section);
-  r.timingsMs.emplace_back("auto", msSince(start));
-  best.reportJson = sliceReportJson(r);
-  if (settings.verify == VerifyMode::Refuse && !v.sound) {
-    best.status = Status::UnsoundProgram;
-    best.message = v.statement;
-    best.program.clear();
-  }
-  return best;
+  *outcome = {};
+  return autoDecisionJson(decideAuto(figures, settings));
 }
 
 SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,

@@ -33,6 +33,18 @@ struct SliceOutput : Outcome {
 SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileName,
                      const Settings& settings, const ProgressFn& progress = {});
 
+// method = auto in a pool of workers (the page, workers/auto-pool.js): the same choice as runSlice
+// makes in threads, with each candidate sliced on its own. planAuto: the candidates for this input
+// and machine, {"candidates": [{"method", "settings": {key: value}}], "rerun_settings": {...}}:
+// slice each with the user's settings changed by its `settings`. chooseAuto: given each
+// candidate's {"method", "status" ("ok" or the error code), "message", "ms", "full" (made with
+// rerun_settings), "report" (its report JSON, or null)}, in the plan's order, either {"rerun": k}
+// (slice candidate k again with rerun_settings, set its full, and ask again) or {"chosen": k
+// (-1: none made a program), "status", "message", "auto": the report's auto section}.
+std::string planAuto(const uint8_t* data, size_t size, const std::string& fileName, const Settings& settings,
+                     Outcome* outcome);
+std::string chooseAuto(const Settings& settings, const std::vector<std::string>& candidatesJson, Outcome* outcome);
+
 struct InfoOutput : Outcome {
   std::string infoJson;      // `omnislice info` JSON
   Mesh partMesh;             // placed mesh

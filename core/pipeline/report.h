@@ -338,6 +338,9 @@ struct SliceReport {
 // JSON of the report (README.md "slice"): keys as documented, non-finite numbers written as 0.
 std::string sliceReportJson(const SliceReport& report);
 
+// JSON of method = auto's section ("auto" in the report).
+std::string autoSectionJson(const AutoSection& section);
+
 // JSON of the input ("mesh" in the report; `omnislice info`), with extra timings when given.
 std::string inputReportJson(const InputReport& input, const Timings& timingsMs = {});
 

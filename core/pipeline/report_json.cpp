@@ -381,6 +381,30 @@ Json verifyJson(const VerifySection& v) {
           {"ms", num(v.ms)}};
 }
 
+Json autoJson(const AutoSection& section) {
+  Json candidates = Json::array();
+  for (const AutoCandidate& c : section.candidates) {
+    Json cj = {{"method", c.method},
+               {"status", c.status},
+               {"message", c.message},
+               {"stopped_early", c.stoppedEarly},
+               {"support_volume_mm3", num(c.supportVolumeMm3)},
+               {"estimated_time_s", num(c.estimatedTimeS)},
+               {"timings_ms", {{"total", num(c.totalMs)}}}};
+    if (c.verify) {
+      const VerifySection& v = *c.verify;
+      cj["verify"] = {{"sound", v.sound},         {"inside", num(v.inside)},
+                      {"coverage", num(v.coverage)}, {"supported", num(v.supported)},
+                      {"collisions", v.collisions}, {"limits", v.limits},
+                      {"left_out_mm", num(v.leftOutMm)}, {"failures", v.failures}};
+    } else {
+      cj["verify"] = nullptr;
+    }
+    candidates.push_back(cj);
+  }
+  return {{"candidates", candidates}, {"chosen", section.chosen}, {"reason", section.reason}};
+}
+
 Json inputJson(const InputReport& in) {
   Json info = Json::parse(meshInfoJson(in.info));
   info["format"] = in.format;
@@ -391,6 +415,8 @@ Json inputJson(const InputReport& in) {
 }
 
 }  // namespace
+
+std::string autoSectionJson(const AutoSection& section) { return autoJson(section).dump(); }
 
 std::string inputReportJson(const InputReport& input, const Timings& timingsMs) {
   Json info = inputJson(input);
@@ -445,29 +471,7 @@ std::string sliceReportJson(const SliceReport& r) {
   }
   if (r.verify) j["verify"] = verifyJson(*r.verify);
   j["support_volume_mm3"] = num(r.supportVolumeMm3);
-  if (r.autoChoice) {
-    Json candidates = Json::array();
-    for (const AutoCandidate& c : r.autoChoice->candidates) {
-      Json cj = {{"method", c.method},
-                 {"status", c.status},
-                 {"message", c.message},
-                 {"stopped_early", c.stoppedEarly},
-                 {"support_volume_mm3", num(c.supportVolumeMm3)},
-                 {"estimated_time_s", num(c.estimatedTimeS)},
-                 {"timings_ms", {{"total", num(c.totalMs)}}}};
-      if (c.verify) {
-        const VerifySection& v = *c.verify;
-        cj["verify"] = {{"sound", v.sound},         {"inside", num(v.inside)},
-                        {"coverage", num(v.coverage)}, {"supported", num(v.supported)},
-                        {"collisions", v.collisions}, {"limits", v.limits},
-                        {"left_out_mm", num(v.leftOutMm)}, {"failures", v.failures}};
-      } else {
-        cj["verify"] = nullptr;
-      }
-      candidates.push_back(cj);
-    }
-    j["auto"] = {{"candidates", candidates}, {"chosen", r.autoChoice->chosen}, {"reason", r.autoChoice->reason}};
-  }
+  if (r.autoChoice) j["auto"] = autoJson(*r.autoChoice);
   j["fill"] = r.fill;
   Json warnings = Json::array();
   for (const Warning& w : r.warnings) warnings.push_back({{"code", w.code}, {"message", w.message}});

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "../test_meshes.h"
+#include "pipeline/auto_choice.h"
 #include "pipeline/pipeline.h"
 #include "pipeline_fixtures.h"
 
@@ -138,6 +139,111 @@ TEST(AutoMethod, Cancels) {
   EXPECT_TRUE(second);
   EXPECT_EQ(out.status, Status::Cancelled);
   EXPECT_TRUE(out.program.empty());
+}
+
+// The page's pool (workers/auto-pool.js) slices each candidate of planAuto on its own and asks
+// chooseAuto: it delivers the program and the auto section that runAuto delivers in threads.
+TEST(AutoMethod, PoolPlanAndChoiceMatchThreads) {
+  const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
+  Settings s = test::coarseCurvedSettings(Method::Auto);
+  s.threads = 2;
+  const SliceOutput threads = runSlice(bytes.data(), bytes.size(), "l.stl", s);
+  ASSERT_TRUE(threads.ok()) << threads.message;
+
+  Outcome o;
+  const Json plan = Json::parse(planAuto(bytes.data(), bytes.size(), "l.stl", s, &o));
+  ASSERT_TRUE(o.ok()) << o.message;
+  std::vector<SliceOutput> outs;
+  std::vector<Json> cands;
+  auto slice = [&](size_t k, const Json& changes, bool full) {
+    Settings c = s;
+    for (const auto& [key, value] : changes.items()) EXPECT_TRUE(setSetting(c, key, value.get<std::string>()).ok());
+    outs[k] = runSlice(bytes.data(), bytes.size(), "l.stl", c);
+    cands[k] = {{"method", plan["candidates"][k]["method"]},
+                {"status", statusCode(outs[k].status)},
+                {"message", outs[k].message},
+                {"ms", 1.0},
+                {"full", full},
+                {"report", outs[k].ok() ? Json::parse(outs[k].reportJson) : Json()}};
+  };
+  outs.resize(plan["candidates"].size());
+  cands.resize(outs.size());
+  for (size_t k = 0; k < outs.size(); ++k) {
+    ASSERT_EQ(plan["candidates"][k]["settings"]["verify_attempts"], "1");
+    slice(k, plan["candidates"][k]["settings"], false);
+  }
+  Json d;
+  for (int rounds = 0;; ++rounds) {
+    ASSERT_LT(rounds, 10);
+    std::vector<std::string> texts;
+    for (const Json& c : cands) texts.push_back(c.dump());
+    d = Json::parse(chooseAuto(s, texts, &o));
+    ASSERT_TRUE(o.ok()) << o.message;
+    if (!d.contains("rerun")) break;
+    const size_t k = d["rerun"];
+    Json changes = plan["candidates"][k]["settings"];
+    changes.update(plan["rerun_settings"]);
+    slice(k, changes, true);
+  }
+  ASSERT_EQ(d["status"], "ok") << d.dump();
+  const size_t chosen = d["chosen"];
+  EXPECT_EQ(undated(outs[chosen].program), undated(threads.program));
+  Json a = d["auto"], at = Json::parse(threads.reportJson)["auto"];
+  for (Json* x : {&a, &at}) {
+    for (Json& c : (*x)["candidates"]) c.erase("timings_ms");
+  }
+  EXPECT_EQ(a, at);
+
+  // A candidate JSON that is not one is refused with a message.
+  chooseAuto(s, {"{\"method\": 3"}, &o);
+  EXPECT_EQ(o.status, Status::InvalidOption);
+  EXPECT_FALSE(o.message.empty());
+}
+
+// The choice on figures alone: an unsound candidate made with one attempt is made again only
+// while it could still win; a sound one with less support wins over a faster one with more.
+TEST(AutoMethod, DecisionOnFigures) {
+  Settings s;
+  s.verifyAttempts = 3;
+  auto fig = [](const char* m, bool sound, double support, double time, bool full) {
+    AutoFigures f;
+    f.method = m;
+    f.full = full;
+    VerifySection v;
+    v.sound = sound;
+    v.supported = sound ? 0.995 : 0.9;
+    v.minSupported = 0.99;
+    f.verify = v;
+    f.supportVolumeMm3 = support;
+    f.estimatedTimeS = time;
+    f.extrusionMm = 100;  // 240 mm^3 laid (1.75 mm filament): the tie is 2.4 mm^3
+    return f;
+  };
+  // planar sound with 500 mm^3 of support; multidir unsound with 0: it could win, make it again.
+  std::vector<AutoFigures> c = {fig("planar", true, 500, 1000, false), fig("multidir", false, 0, 2000, false)};
+  EXPECT_EQ(decideAuto(c, s).rerun, 1);
+  // Made again and still unsound: planar is chosen.
+  c[1].full = true;
+  AutoDecision d = decideAuto(c, s);
+  EXPECT_EQ(d.rerun, -1);
+  EXPECT_EQ(d.chosen, 0);
+  EXPECT_EQ(d.section.chosen, "planar");
+  // An unsound one that loses on support anyway is not made again.
+  c = {fig("planar", true, 500, 1000, false), fig("voxel", false, 600, 3000, false)};
+  EXPECT_EQ(decideAuto(c, s).rerun, -1);
+  // Sound ones: less support wins over less time; within the tie, less time wins.
+  c = {fig("planar", true, 500, 1000, true), fig("multidir", true, 0, 2000, true), fig("geodesic", true, 0.5, 1500, true)};
+  d = decideAuto(c, s);
+  EXPECT_EQ(d.section.chosen, "geodesic");
+  EXPECT_EQ(d.section.candidates.size(), 3u);
+  // None made a program: the first failure's code.
+  AutoFigures f1;
+  f1.method = "planar";
+  f1.status = "open_mesh";
+  f1.message = "open";
+  d = decideAuto({f1}, s);
+  EXPECT_EQ(d.chosen, -1);
+  EXPECT_EQ(d.status, Status::OpenMesh);
 }
 
 }  // namespace
