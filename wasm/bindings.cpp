@@ -9,6 +9,8 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   using namespace omnislice::wasm;
   emscripten::function("_slice", &sliceJs);
   emscripten::function("_info", &infoJs);
+  emscripten::function("_autoPlan", &autoPlanJs);
+  emscripten::function("_autoChoose", &autoChooseJs);
   emscripten::function("_verify", &verifyJs);
   emscripten::function("_parseMachine", &parseMachineJs);
   emscripten::function("_machines", &machinesJs);

@@ -168,6 +168,34 @@ val sliceJs(const val& bytes, const std::string& name, const std::string& settin
   });
 }
 
+val autoPlanJs(const val& bytes, const std::string& name, const std::string& settingsLines) {
+  return guarded([&] {
+    Settings settings;
+    Outcome applied = applySettingLines(settings, settingsLines);
+    if (!applied.ok()) return statusObject(applied.status, applied.message);
+    std::vector<uint8_t> data = bytesFromJs(bytes);
+    Outcome o;
+    const std::string plan = planAuto(data.data(), data.size(), name, settings, &o);
+    val out = statusObject(o.status, o.message);
+    out.set("plan", plan);
+    return out;
+  });
+}
+
+val autoChooseJs(const std::string& settingsLines, const val& candidates) {
+  return guarded([&] {
+    Settings settings;
+    Outcome applied = applySettingLines(settings, settingsLines);
+    if (!applied.ok()) return statusObject(applied.status, applied.message);
+    const std::vector<std::string> list = emscripten::vecFromJSArray<std::string>(candidates);
+    Outcome o;
+    const std::string decision = chooseAuto(settings, list, &o);
+    val out = statusObject(o.status, o.message);
+    out.set("decision", decision);
+    return out;
+  });
+}
+
 val infoJs(const val& bytes, const std::string& name, const std::string& placementLines,
            const val& progress) {
   return guarded([&] {

@@ -21,6 +21,13 @@ namespace omnislice::wasm {
 emscripten::val sliceJs(const emscripten::val& bytes, const std::string& name,
                         const std::string& settingsLines, const emscripten::val& progress);
 
+// method = auto in a pool of workers (pipeline.h planAuto): {status, message, plan (JSON string)}.
+emscripten::val autoPlanJs(const emscripten::val& bytes, const std::string& name, const std::string& settingsLines);
+
+// method = auto's choice (pipeline.h chooseAuto) over candidates' JSON strings (an Array):
+// {status, message, decision (JSON string)}.
+emscripten::val autoChooseJs(const std::string& settingsLines, const emscripten::val& candidates);
+
 // Read, validate and place. placementLines: "key=value" lines (placement keys of setSetting).
 // Returns {status, message, info (JSON string), mesh: {positions, indices}}.
 emscripten::val infoJs(const emscripten::val& bytes, const std::string& name,

@@ -137,6 +137,13 @@ export class Omnislice {
        options?: { onProgress?: (p: Progress) => boolean | void }): { info: Record<string, any>; mesh: MeshBuffers };
   verify(program: string, meshBytes: ArrayBuffer | Uint8Array, meshName: string,
          options?: { onProgress?: (p: Progress) => boolean | void }): Record<string, any>;
+  /** method = auto in a pool of workers: the candidates for this mesh and machine. */
+  autoPlan(bytes: ArrayBuffer | Uint8Array, name: string, settings?: Settings):
+    { candidates: { method: string; settings: Record<string, string> }[]; rerun_settings: Record<string, string> };
+  /** method = auto's choice over candidates sliced so far (in the plan's order). */
+  autoChoose(settings: Settings, candidates: { method: string; status: string; message?: string; ms?: number;
+                                               full?: boolean; report?: Record<string, any> | null }[]):
+    { rerun: number } | { chosen: number; status: string; message: string; auto: Record<string, any> };
   /** Replay a program through its declared machine: its profile and moves as preview buffers. */
   replay(program: string): { profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number;
                              preview: PreviewBuffers };

@@ -184,6 +184,32 @@ export class Omnislice {
   }
 
   /**
+   * method = auto in a pool of workers (workers/auto-pool.js): the candidates for this mesh and
+   * machine (core pipeline.h planAuto).
+   * @returns {{candidates: {method: string, settings: object}[], rerun_settings: object}} slice
+   *   candidate k with the settings changed by its `settings`
+   */
+  autoPlan(bytes, name, settings = {}) {
+    const data = toBytes(bytes, 'bytes');
+    const out = this.#call(() => this.raw._autoPlan(data, String(name ?? ''), settingsToLines(settings)));
+    return parseJson(out.plan, 'auto plan');
+  }
+
+  /**
+   * method = auto's choice over the candidates sliced so far (core pipeline.h chooseAuto).
+   * @param {object} settings the user's settings
+   * @param {{method: string, status: string, message?: string, ms?: number, full?: boolean,
+   *   report?: object|null}[]} candidates in the plan's order
+   * @returns {{rerun: number} | {chosen: number, status: string, message: string, auto: object}}
+   */
+  autoChoose(settings, candidates) {
+    if (!Array.isArray(candidates)) throw new OmnisliceError('invalid_option', 'candidates must be an array');
+    const texts = candidates.map((c) => JSON.stringify(c));
+    const out = this.#call(() => this.raw._autoChoose(settingsToLines(settings), texts));
+    return parseJson(out.decision, 'auto decision');
+  }
+
+  /**
    * Read, validate and place a mesh (placement keys only).
    * @returns {{info: object, mesh: {positions: Float32Array, indices: Uint32Array}}}
    */

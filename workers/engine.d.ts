@@ -10,6 +10,9 @@ export interface CreateSlicerOptions {
   workerUrl?: string | URL;
   /** URL of omnislice.mjs (default: /wasm/omnislice.mjs relative to the worker). */
   wasmUrl?: string | URL;
+  /** Workers method = auto runs its candidates in (default defaultPoolSize(); 1: one after
+   *  another in the slicer's own worker). The delivered program is the same either way. */
+  workers?: number;
 }
 
 /** Placement keys: scale, fit_mm, up, rotate_x_deg, rotate_y_deg, rotate_z_deg, center. */
@@ -20,8 +23,11 @@ export type MeshRef = string | { name: string; bytes: ArrayBuffer | ArrayBufferV
 export interface Slicer {
   loadMesh(name: string, arrayBuffer: ArrayBuffer | ArrayBufferView, placement?: Placement):
     Promise<{ meshId: string; info: Record<string, any>; mesh: MeshBuffers }>;
+  /** Workers method = auto runs its candidates in. */
+  readonly workers: number;
+  /** With method = auto, progress events carry `candidate` (a method) besides stage 'auto'. */
   slice(meshIdOrFile: MeshRef, settings?: Settings,
-        options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }):
+        options?: { onProgress?: (p: Progress & { candidate?: string }) => void; signal?: AbortSignal }):
     Promise<{ program: string; programBytes: Uint8Array; programExtension: 'gcode' | 'csv' | 'script';
               report: Record<string, any>; info: Record<string, any>;
               layers: number; preview: PreviewBuffers; mesh: MeshBuffers }>;
@@ -42,5 +48,8 @@ export interface Slicer {
   unloadMesh(meshId: string): Promise<void>;
   dispose(): void;
 }
+
+/** Cores less one for the page (at 3 or more), within the device's memory at 1 GiB a worker, at most 4. */
+export function defaultPoolSize(): number;
 
 export function createSlicer(options?: CreateSlicerOptions): Promise<Slicer>;

@@ -9,6 +9,7 @@
 //     { onProgress: ({ stage, fraction, search }) => {}, signal: abortController.signal });
 //   const verification = await slicer.verify(program, meshId);
 //   slicer.dispose();
+import { runAutoPool } from './auto-pool.js';
 import { OmnisliceError, Reply, Request } from './protocol.js';
 
 export { OmnisliceError };
@@ -38,11 +39,20 @@ class Slicer {
   #meshes = new Map();      // meshId -> {name, bytes: ArrayBuffer (private copy), placement}
   #loaded = new Map();      // meshId -> Promise of the load in the CURRENT worker
   #disposed = false;
+  #poolSize = 1;
+  #helpers = [];            // further slicers for method = auto's candidates (started on first use)
+  #helperMeshes = new Map();  // meshId -> [meshId in helper i (a Promise)]
 
-  constructor({ workerUrl, wasmUrl } = {}) {
+  constructor({ workerUrl, wasmUrl, workers } = {}) {
     this.#workerUrl = workerUrl ? new URL(workerUrl, globalThis.location?.href)
       : new URL('./slicer-worker.js', import.meta.url);
     this.#wasmUrl = wasmUrl ? new URL(wasmUrl, globalThis.location?.href).href : undefined;
+    this.#poolSize = workers === undefined ? defaultPoolSize() : Math.max(1, Math.floor(Number(workers) || 1));
+  }
+
+  /** Workers method = auto runs its candidates in (this slicer's own and helpers started on use). */
+  get workers() {
+    return this.#poolSize;
   }
 
   /** Start a worker and wait for `ready`. */
@@ -207,7 +217,12 @@ class Slicer {
     }
   }
 
-  async slice(meshIdOrFile, settings = {}, { onProgress, signal } = {}) {
+  async slice(meshIdOrFile, settings = {}, options = {}) {
+    if (settings && settings.method === 'auto' && this.#poolSize > 1) return this.#sliceAuto(meshIdOrFile, settings, options);
+    return this.#sliceOne(meshIdOrFile, settings, options);
+  }
+
+  async #sliceOne(meshIdOrFile, settings = {}, { onProgress, signal } = {}) {
     return this.#cancellable(signal, async () => {
       const { part, transfer } = await this.#target(meshIdOrFile);
       if (signal && signal.aborted) throw cancelledError();
@@ -226,6 +241,81 @@ class Slicer {
         report: r.report, info: r.info, layers: r.layers, preview: r.preview, mesh: r.mesh,
       };
     });
+  }
+
+  // The helper slicer of lane i (1 ..): started on first use, kept until dispose.
+  async #helper(i) {
+    if (!this.#helpers[i - 1]) {
+      const h = new Slicer({ workerUrl: this.#workerUrl, wasmUrl: this.#wasmUrl, workers: 1 });
+      const started = h.start().then(() => h);
+      started.catch(() => { if (this.#helpers[i - 1] === started) this.#helpers[i - 1] = undefined; h.dispose(); });
+      this.#helpers[i - 1] = started;
+    }
+    return this.#helpers[i - 1];
+  }
+
+  // meshId's id in the helper of lane i (loaded there once).
+  async #helperMesh(i, meshId) {
+    let ids = this.#helperMeshes.get(meshId);
+    if (!ids) this.#helperMeshes.set(meshId, ids = []);
+    if (!ids[i]) {
+      const mesh = this.#meshes.get(meshId);
+      if (!mesh) throw new OmnisliceError('invalid_option', `unknown meshId ${meshId}`);
+      const h = await this.#helper(i);
+      const p = h.loadMesh(mesh.name, mesh.bytes, mesh.placement).then((r) => r.meshId);
+      p.catch(() => { if (ids[i] === p) ids[i] = undefined; });
+      ids[i] = p;
+    }
+    return ids[i];
+  }
+
+  // method = auto with its candidates in a pool of workers (auto-pool.js): this slicer's worker
+  // plans and chooses (the core's rule) and runs candidates, as do the helpers.
+  async #sliceAuto(meshIdOrFile, settings, { onProgress, signal, _crashCandidate } = {}) {
+    if (signal && signal.aborted) throw cancelledError();
+    let meshId = meshIdOrFile;
+    let temporary = false;
+    if (typeof meshIdOrFile !== 'string') {
+      if (!meshIdOrFile || typeof meshIdOrFile !== 'object' || !('bytes' in meshIdOrFile)) {
+        throw new OmnisliceError('invalid_option', 'expected a meshId from loadMesh or a file {name, bytes}');
+      }
+      meshId = (await this.loadMesh(meshIdOrFile.name, meshIdOrFile.bytes)).meshId;
+      temporary = true;
+    }
+    try {
+      const { plan } = await this.#cancellable(signal, async () => {
+        await this.#ensureLoaded(meshId);
+        return this.#send(Request.AUTO_PLAN, { meshId, settings });
+      });
+      const run = async (lane, k, candidateSettings, progress) => {
+        const slicer = lane === 0 ? this : await this.#helper(lane);
+        if (_crashCandidate && plan.candidates[k].method === _crashCandidate) {
+          await slicer._debugCrash();  // test hook: this candidate's worker crashes
+        }
+        const id = lane === 0 ? meshId : await this.#helperMesh(lane, meshId);
+        return lane === 0 ? this.#sliceOne(id, candidateSettings, { onProgress: progress, signal })
+          : slicer.slice(id, candidateSettings, { onProgress: progress, signal });
+      };
+      const choose = async (candidates) => {
+        const r = await this.#cancellable(signal, () => this.#send(Request.AUTO_CHOOSE, { settings, candidates }));
+        return r.decision;
+      };
+      const { decision, result, ms } = await runAutoPool({
+        plan, settings, size: this.#poolSize, run, choose, onProgress, signal,
+      });
+      if (decision.chosen < 0) throw new OmnisliceError(decision.status, decision.message);
+      result.report.auto = decision.auto;
+      if (result.report.timings_ms) result.report.timings_ms.auto = ms;
+      if (decision.status !== 'ok') {
+        // verify = refuse and the best is unsound: no program; the report and preview say why.
+        const err = new OmnisliceError(decision.status, decision.message);
+        for (const key of ['report', 'info', 'preview', 'mesh']) err[key] = result[key];
+        throw err;
+      }
+      return result;
+    } finally {
+      if (temporary) this.unloadMesh(meshId).catch(() => {});
+    }
   }
 
   async info(meshIdOrFile, placement = {}, { signal } = {}) {
@@ -285,6 +375,11 @@ class Slicer {
   /** Forget a mesh (here and in the worker). */
   async unloadMesh(meshId) {
     this.#meshes.delete(meshId);
+    const ids = this.#helperMeshes.get(meshId) || [];
+    this.#helperMeshes.delete(meshId);
+    ids.forEach((p, i) => {
+      if (p) Promise.all([p, this.#helpers[i - 1]]).then(([id, h]) => h && h.unloadMesh(id)).catch(() => {});
+    });
     if (this.#loaded.delete(meshId)) await this.#send(Request.UNLOAD, { meshId });
   }
 
@@ -304,14 +399,36 @@ class Slicer {
     for (const p of pending) p.reject(new OmnisliceError('cancelled', 'slicer disposed'));
     this.#meshes.clear();
     this.#loaded = new Map();
+    for (const h of this.#helpers) if (h) h.then((x) => x.dispose(), () => {});
+    this.#helpers = [];
+    this.#helperMeshes.clear();
   }
+}
+
+// Memory one worker may need for a candidate (a wasm heap of a voxel or geodesic slice of a
+// model of a few hundred thousand triangles; measured in scripts/bench.mjs's auto rows).
+const WORKER_MEMORY_GIB = 1;
+
+/**
+ * Workers for method = auto's candidates: the cores (navigator.hardwareConcurrency) less one for
+ * the page, at most what the device's memory (navigator.deviceMemory, where the browser tells it)
+ * holds at WORKER_MEMORY_GIB each, at most 4 (there are at most 5 candidates, the first is short).
+ */
+export function defaultPoolSize() {
+  const nav = globalThis.navigator || {};
+  const cores = Number(nav.hardwareConcurrency) || 1;
+  let size = Math.min(4, Math.max(1, cores - (cores > 2 ? 1 : 0)));
+  if (Number(nav.deviceMemory) > 0) size = Math.min(size, Math.max(1, Math.floor(nav.deviceMemory / WORKER_MEMORY_GIB) - 1));
+  return size;
 }
 
 /**
  * Create a slicer backed by a module worker. Resolves after the worker answered `ready`.
- * @param {{workerUrl?: string|URL, wasmUrl?: string|URL}} [options]
+ * @param {{workerUrl?: string|URL, wasmUrl?: string|URL, workers?: number}} [options]
  *   workerUrl: slicer-worker.js (default: next to this file); wasmUrl: omnislice.mjs (default:
- *   /wasm/omnislice.mjs relative to the worker).
+ *   /wasm/omnislice.mjs relative to the worker); workers: how many workers method = auto runs
+ *   its candidates in (default defaultPoolSize(); 1: one after another in this slicer's worker,
+ *   as the core does in wasm). The delivered program is the same either way.
  */
 export async function createSlicer(options = {}) {
   const slicer = new Slicer(options);

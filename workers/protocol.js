@@ -59,6 +59,14 @@ export const Request = Object.freeze({
    *  {positions, indices}}
    *  (all buffers transferred). */
   SLICE: 'slice',
+  /** payload {meshId | file: {name, bytes}, settings: object}: method = auto's candidates for
+   *  this mesh and machine (wasm/omnislice.js autoPlan), for a pool of workers (auto-pool.js).
+   *  Reply: `result` {plan: {candidates: [{method, settings}], rerun_settings}}. */
+  AUTO_PLAN: 'auto-plan',
+  /** payload {settings: object, candidates: [{method, status, message, ms, full, report}]}:
+   *  method = auto's choice over them (wasm/omnislice.js autoChoose). Reply: `result`
+   *  {decision: {rerun} | {chosen, status, message, auto}}. */
+  AUTO_CHOOSE: 'auto-choose',
   /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */
   VERIFY: 'verify',

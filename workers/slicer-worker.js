@@ -119,6 +119,19 @@ const handlers = {
       transferList(r.program, ...Object.values(r.preview), r.mesh.positions, r.mesh.indices));
   },
 
+  async [Request.AUTO_PLAN](id, payload) {
+    const e = await engine();
+    const m = meshOf(payload);
+    const plan = e.autoPlan(m.bytes, m.name, { ...m.placement, ...(payload.settings || {}) });
+    post({ id, type: Reply.RESULT, result: { plan } });
+  },
+
+  async [Request.AUTO_CHOOSE](id, payload) {
+    const e = await engine();
+    const decision = e.autoChoose(payload.settings || {}, payload.candidates || []);
+    post({ id, type: Reply.RESULT, result: { decision } });
+  },
+
   async [Request.VERIFY](id, payload) {
     const e = await engine();
     const m = meshOf(payload);

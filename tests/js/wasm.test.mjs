@@ -192,6 +192,73 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.ok(wasm.program.includes(`; omnislice:setting method = ${wasm.report.auto.chosen}`), 'the chosen method\'s program');
   });
 
+  // Issue 28 item 2: the page's pool (workers/auto-pool.js) over the core's plan and choice, with
+  // candidates run "in" 1 and 3 lanes, finishing in any order, one of them lost: the delivered
+  // program is the one the core's own method = auto delivers, the auto section the same.
+  test('method = auto in a pool: the core\'s plan and choice deliver the same program as in one call', async () => {
+    const { runAutoPool } = await import('../../workers/auto-pool.js');
+    const s = { method: 'auto', machine: 'table5', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.9 };
+    const bytes = new Uint8Array(lBracketStl());
+    const whole = m.slice(bytes, 'auto-l.stl', s);
+    const plan = m.autoPlan(bytes, 'auto-l.stl', s);
+    assert.deepEqual(plan.candidates.map((c) => c.method), ['planar', 'multidir', 'geodesic', 'voxel']);
+    const sliced = plan.candidates.map((c) => m.slice(bytes, 'auto-l.stl', { ...s, ...c.settings }));
+    // In one call (one after another) a candidate that cannot win stops before its check; in the
+    // pool every one is checked. Those checked in both have the same figures.
+    const same = (a, b) => {
+      assert.equal(a.chosen, b.chosen);
+      a.candidates.forEach((c, i) => {
+        assert.equal(c.method, b.candidates[i].method);
+        if (c.stopped_early || b.candidates[i].stopped_early) return;
+        const { timings_ms: _a, ...x } = c;
+        const { timings_ms: _b, ...y } = b.candidates[i];
+        assert.deepEqual(x, y);
+      });
+    };
+    for (const size of [1, 3]) {
+      const lanes = new Set();
+      const events = [];
+      const r = await runAutoPool({
+        plan, settings: s, size,
+        // Each candidate finishes after a delay of its own, in reverse of the plan's order.
+        run: (lane, k, settings) => {
+          lanes.add(lane);
+          assert.deepEqual(settings, { ...s, ...plan.candidates[k].settings });
+          return new Promise((resolve) => setTimeout(() => resolve(sliced[k]), 5 * (4 - k)));
+        },
+        choose: async (candidates) => m.autoChoose(s, candidates),
+        onProgress: (p) => events.push(p),
+      });
+      assert.ok(lanes.size <= size && lanes.size >= 1);
+      assert.equal(r.decision.status, 'ok');
+      assert.equal(r.result.program.slice(r.result.program.indexOf('\n')), whole.program.slice(whole.program.indexOf('\n')));
+      same(r.decision.auto, whole.report.auto);
+      assert.ok(r.decision.auto.candidates.every((c) => !c.stopped_early && c.status === 'ok'));
+      assert.deepEqual(events.filter((e) => e.stage === 'auto').map((e) => e.fraction), [0, 0.25, 0.5, 0.75, 1]);
+    }
+    // A candidate whose worker is lost is reported as such; the others still decide.
+    const lost = await runAutoPool({
+      plan, settings: s, size: 2,
+      run: async (lane, k) => {
+        if (plan.candidates[k].method === whole.report.auto.chosen) throw Object.assign(new Error('slicer worker crashed'), { code: 'worker_failed' });
+        return sliced[k];
+      },
+      choose: async (candidates) => m.autoChoose(s, candidates),
+    });
+    const gone = lost.decision.auto.candidates.find((c) => c.method === whole.report.auto.chosen);
+    assert.equal(gone.status, 'worker_failed');
+    assert.equal(gone.verify, null);
+    assert.notEqual(lost.decision.auto.chosen, whole.report.auto.chosen);
+    assert.equal(lost.result.report.method, lost.decision.auto.chosen);
+    // Cancelled: the pool passes the cancel on.
+    await assert.rejects(runAutoPool({
+      plan, settings: s, size: 2,
+      run: async () => { throw Object.assign(new Error('cancelled'), { code: 'cancelled' }); },
+      choose: async (candidates) => m.autoChoose(s, candidates),
+    }), (e) => e.code === 'cancelled');
+    assert.throws(() => m.autoChoose(s, [{ method: 'planar', status: 'ok', report: {} }]), (e) => e.code === 'invalid_option');
+  });
+
   // Issue 7: the multidir method (paper 000) finds the same planes, parts and projected supports in
   // wasm and natively (the search is deterministic; the slicer works on integers).
   test('same multidir report as the native CLI: the Kitten on table5 with projected supports', { skip: nativeWhy || false }, (t) => {

@@ -322,4 +322,65 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.ok(r.ticks >= r.sliceMs / 100, `timers kept running (${r.ticks} ticks in ${r.sliceMs.toFixed(0)} ms, longest gap ${r.maxGap.toFixed(0)} ms)`);
     assert.equal(r.layers, Math.round(20 / 0.2));
   });
+
+  // Issue 28 item 2: method = auto's candidates in a pool of workers (workers/auto-pool.js): the
+  // program is the one a single worker delivers; no main-thread task over 50 ms meanwhile; the
+  // progress names each candidate; a crashed candidate is reported and the others still decide; a
+  // cancel stops every worker and the pool works again.
+  test('method = auto in a pool of 2 workers: the same program as one worker; survives a crash and a cancel', async (t) => {
+    const r = await page.evaluate(async () => {
+      const s = { method: 'auto', machine: 'table5', nozzle_diameter: 0.8, layer_height: 0.6, line_width: 0.9 };
+      const bytes = window.meshes.lBracketStl(10);
+      const one = await window.engine.createSlicer({ workers: 1 });
+      const pool = await window.engine.createSlicer({ workers: 2 });
+      const undated = (p) => p.slice(p.indexOf('\n'));
+      try {
+        const a = await one.slice({ name: 'l.stl', bytes }, s);
+        const { meshId } = await pool.loadMesh('l.stl', bytes);
+        const longTasks = [];
+        const observer = new PerformanceObserver((list) => {
+          for (const e of list.getEntries()) longTasks.push(e.duration);
+        });
+        observer.observe({ type: 'longtask' });
+        const candidates = new Set();
+        const t0 = performance.now();
+        const b = await pool.slice(meshId, s, { onProgress: (p) => { if (p.candidate) candidates.add(p.candidate); } });
+        const poolMs = performance.now() - t0;
+        await new Promise((res) => setTimeout(res, 50));
+        observer.disconnect();
+        const crashed = await pool.slice(meshId, s, { _crashCandidate: b.report.auto.chosen });
+        const controller = new AbortController();
+        const cancelled = pool.slice(meshId, s, {
+          signal: controller.signal,
+          onProgress: (p) => { if (p.candidate === 'voxel') controller.abort(); },
+        }).then(() => 'resolved', (e) => e.code);
+        const cancelCode = await cancelled;
+        const again = await pool.slice(meshId, s);
+        return {
+          same: undated(a.program) === undated(b.program), chosenOne: a.report.auto.chosen, chosenPool: b.report.auto.chosen,
+          poolCandidates: b.report.auto.candidates.map((c) => `${c.method}:${c.status}:${c.stopped_early}`),
+          auto: typeof b.report.timings_ms.auto, longTasks, progressOf: [...candidates].sort(), poolMs,
+          crashed: crashed.report.auto.candidates.map((c) => `${c.method}:${c.status}`), crashedChosen: crashed.report.auto.chosen,
+          crashedMethod: crashed.report.method, cancelCode, againSame: undated(again.program) === undated(b.program),
+          workers: pool.workers,
+        };
+      } finally {
+        one.dispose();
+        pool.dispose();
+      }
+    });
+    t.diagnostic(`auto in a pool of 2: ${r.poolMs.toFixed(0)} ms, chose ${r.chosenPool}`);
+    assert.equal(r.workers, 2);
+    assert.equal(r.chosenPool, r.chosenOne);
+    assert.ok(r.same, 'the same program as one worker');
+    assert.deepEqual(r.poolCandidates, ['planar:ok:false', 'multidir:ok:false', 'geodesic:ok:false', 'voxel:ok:false']);
+    assert.equal(r.auto, 'number');
+    assert.deepEqual(r.progressOf, ['geodesic', 'multidir', 'planar', 'voxel']);
+    assert.deepEqual(r.longTasks, [], 'main-thread tasks over 50 ms while the pool ran');
+    assert.ok(r.crashed.includes(`${r.chosenOne}:internal`), r.crashed.join(' '));
+    assert.notEqual(r.crashedChosen, r.chosenOne);
+    assert.equal(r.crashedMethod, r.crashedChosen);
+    assert.equal(r.cancelCode, 'cancelled');
+    assert.ok(r.againSame, 'after a cancel the pool delivers the same program');
+  });
 });
