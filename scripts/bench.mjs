@@ -25,6 +25,8 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
+import { Worker } from 'node:worker_threads';
+import { runAutoPool } from '../workers/auto-pool.js';
 import { compareWithCura } from './cura-compare.mjs';
 import { generateBenchModels } from './gen-bench-models.mjs';
 
@@ -128,6 +130,47 @@ function wasmRun(mode, bytes, name, settings, label) {
   return withTotals(timings, wall);
 }
 
+// method = auto with its candidates in a pool of `size` worker threads, each with its own wasm
+// instance (started and warmed up before the clock starts, as the page keeps its workers), the plan
+// and the choice from this thread's instance: wall time, and the largest wasm heap of a worker.
+let poolHeapBytes = null;
+async function wasmPoolRun(bytes, name, settings, size) {
+  const workers = [];
+  for (let i = 0; i < size; i++) {
+    const w = new Worker(new URL('./bench-pool-worker.mjs', import.meta.url), { workerData: { wasmDir: WASM_DIR } });
+    await new Promise((resolve, reject) => { w.once('message', resolve); w.once('error', reject); });
+    workers.push(w);
+  }
+  try {
+    const t0 = performance.now();
+    const s = timed(settings);
+    const plan = wasm.autoPlan(bytes, name, s);
+    let nextId = 1;
+    const run = (lane, k, candidateSettings) => new Promise((resolve, reject) => {
+      const id = nextId++;
+      const w = workers[lane];
+      const onMessage = (msg) => {
+        if (msg.id !== id) return;
+        w.off('message', onMessage);
+        poolHeapBytes = Math.max(poolHeapBytes || 0, msg.heapBytes || 0);
+        if (msg.error) reject(new wrapper.OmnisliceError(msg.error.code, msg.error.message));
+        else resolve({ report: msg.report });
+      };
+      w.on('message', onMessage);
+      w.postMessage({ id, bytes, name, settings: candidateSettings });
+    });
+    const { decision, result } = await runAutoPool({
+      plan, settings: s, size, run, choose: async (c) => wasm.autoChoose(s, c),
+    });
+    const wall = performance.now() - t0;
+    if (decision.chosen < 0) throw new Error(`auto in a pool: ${decision.message}`);
+    console.error(`[bench] auto in a pool of ${size}: ${decision.auto.reason}`);
+    return withTotals({ ...result.report.timings_ms, auto: wall }, wall);
+  } finally {
+    for (const w of workers) await w.terminate();
+  }
+}
+
 // Best (minimum) of REPS runs, per stage.
 function best(run, reps = REPS) {
   let out = null;
@@ -221,10 +264,14 @@ if (fs.existsSync(kitten) && process.env.BENCH_MULTIDIR !== '0') {
 // Issue 28 item 1: method = auto on the Kitten at 60 mm on table5 against each method alone (the
 // target: auto <= 1.3 x the slowest single method, in wasm).
 const AUTO_CASE = 'kitten-60 table5 auto';
+const AUTO_POOL_CASE = 'kitten-60 table5 auto, 2 threads / 2 workers';
 const AUTO_SINGLES = ['planar', 'multidir', 'geodesic', 'voxel'].map((m) => [m, `kitten-60 table5 ${m} alone`]);
 if (fs.existsSync(kitten) && process.env.BENCH_AUTO !== '0') {
   const k60 = { up: 'y', fit_mm: 60, machine: 'table5' };
   cases.push({ case: AUTO_CASE, mode: 'slice', file: kitten, settings: { ...k60, method: 'auto' }, reps: 1 });
+  // Issue 28 item 2: the candidates side by side, natively in threads (threads = 2) and in wasm in
+  // a pool of 2 worker threads with a wasm instance each (workers/auto-pool.js, as the page runs them).
+  cases.push({ case: AUTO_POOL_CASE, mode: 'auto-pool', file: kitten, settings: { ...k60, method: 'auto', threads: 2 }, reps: 1 });
   for (const [m, name] of AUTO_SINGLES) {
     cases.push({ case: name, mode: 'slice', file: kitten, settings: { ...k60, method: m, verify: 'warn' }, reps: 1 });
   }
@@ -240,10 +287,12 @@ let voxelMemoryBytes = null;
 for (const c of cases) {
   const bytes = fs.readFileSync(c.file);
   console.error(`[bench] ${c.case}: native...`);
-  const n = best(() => nativeRun(c.mode, c.file, c.settings), c.reps);
+  const n = best(() => nativeRun(c.mode === 'auto-pool' ? 'slice' : c.mode, c.file, c.settings), c.reps);
   console.error(`[bench] ${c.case}: wasm...`);
   let w;
-  if (c.freshModule) {
+  if (c.mode === 'auto-pool') {
+    w = await wasmPoolRun(bytes, path.basename(c.file), c.settings, 2);
+  } else if (c.freshModule) {
     // A fresh instance so its memory size is this case's peak (wasm memory never shrinks).
     const saved = wasm;
     wasm = await wrapper.loadOmnislice({
@@ -461,6 +510,17 @@ for (const label of [GEO_BUNNY, GEO_YOGA]) {
     const slowest = (k) => Math.max(...singles.map((r) => r[k]));
     const ratio = autoRow.wasm_ms / slowest('wasm_ms');
     checks.push([`method = auto, kitten 60 mm on table5, in wasm ${round(autoRow.wasm_ms)} ms (native ${round(autoRow.native_ms)}) ` +
+      `<= 1.3 x the slowest method alone (${round(slowest('wasm_ms'))} ms; native ${round(slowest('native_ms'))})`, round(ratio, 2), ratio <= 1.3]);
+  }
+}
+{
+  const poolRow = get(AUTO_POOL_CASE, 'wall');
+  const singles = AUTO_SINGLES.map(([, name]) => get(name, 'wall')).filter(Boolean);
+  if (poolRow && singles.length === AUTO_SINGLES.length) {
+    const slowest = (k) => Math.max(...singles.map((r) => r[k]));
+    const ratio = poolRow.wasm_ms / slowest('wasm_ms');
+    checks.push([`method = auto in a pool of 2 wasm workers, kitten 60 mm on table5, ${round(poolRow.wasm_ms)} ms (native in 2 threads ` +
+      `${round(poolRow.native_ms)}; largest worker heap ${poolHeapBytes ? round(poolHeapBytes / 2 ** 20) : '-'} MiB) ` +
       `<= 1.3 x the slowest method alone (${round(slowest('wasm_ms'))} ms; native ${round(slowest('native_ms'))})`, round(ratio, 2), ratio <= 1.3]);
   }
 }

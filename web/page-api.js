@@ -28,6 +28,8 @@ export function installPageApi(app) {
     get featureCounts() { return app.views.planar ? app.views.planar.featureCounts : null; },
     get drawnSegments() { return app.views.planar ? app.views.planar.drawnSegments() : [0, 0]; },
     get settings() { return app.model ? app.model.toSettings() : null; },
+    /** Workers method = auto runs its candidates in (the slicer's pool). */
+    get workers() { return app.slicer ? app.slicer.workers : 0; },
     get history() { return app.history.serialize(); },
     get programExtension() { return app.result ? app.result.programExtension : null; },
     /**

@@ -66,20 +66,23 @@ export function newProgress(weights) {
 }
 
 /**
- * Keep one progress event ({stage, fraction, search?}) in `p`: a new stage ends the previous
- * ones; a search level (progress.search) is kept and becomes its stage's detail text
+ * Keep one progress event ({stage, fraction, search?, candidate?}) in `p`: a new stage ends the
+ * previous ones (of its candidate, with method = auto in a pool of workers); a search level (progress.search) is kept and becomes its stage's detail text
  * (describeSearch(search)).
  */
-export function recordProgress(p, { stage, fraction, search }, { now = performance.now(), describeSearch = () => '' } = {}) {
-  p.stage = stage;
+export function recordProgress(p, { stage, fraction, search, candidate }, { now = performance.now(), describeSearch = () => '' } = {}) {
+  // method = auto's candidates run side by side in a pool of workers: each one's stages are its
+  // own entries ("voxel · growth"), and a new stage ends only the earlier ones of its candidate.
+  const key = candidate ? `${candidate} · ${stage}` : stage;
+  p.stage = key;
   p.fraction = Math.min(Math.max(Number(fraction) || 0, 0), 1);
   const overall = overallProgress(p.weights, stage, p.fraction);
   if (overall !== null) p.overall = Math.max(p.overall, overall);
-  let entry = p.stages.get(stage);
+  let entry = p.stages.get(key);
   if (!entry) {
-    for (const e of p.stages.values()) e.fraction = 1;
-    entry = { fraction: 0, start: now, end: now };
-    p.stages.set(stage, entry);
+    for (const e of p.stages.values()) if (e.candidate === candidate) e.fraction = 1;
+    entry = { fraction: 0, start: now, end: now, candidate };
+    p.stages.set(key, entry);
   }
   entry.fraction = Math.max(entry.fraction, p.fraction);
   entry.end = now;
@@ -101,7 +104,11 @@ export function progressText(p) {
  */
 export function stageTimes(p) {
   const list = [...p.stages];
-  return list.map(([stage, e], i) => [stage, e, (i + 1 < list.length ? list[i + 1][1].start : e.end) - e.start]);
+  return list.map(([stage, e], i) => {
+    // The next stage of the same candidate (method = auto in a pool: candidates run side by side).
+    const next = list.slice(i + 1).find(([, f]) => f.candidate === e.candidate);
+    return [stage, e, (next ? next[1].start : e.end) - e.start];
+  });
 }
 
 /** The stage list under the progress bar: name, percentage and time of every stage seen. */
@@ -110,7 +117,7 @@ export function showStages(p, { finished = false } = {}) {
   const items = times.map(([stage, e, dt], k) => {
     const li = document.createElement('li');
     li.dataset.stage = stage;
-    const done = finished || k < times.length - 1 || e.fraction >= 1;
+    const done = finished || e.fraction >= 1 || times.slice(k + 1).some(([, f]) => f.candidate === e.candidate);
     li.className = done ? 'done' : 'running';
     const name = document.createElement('span');
     name.textContent = stage;

@@ -28,6 +28,13 @@ test('auto runs planar and multidir on rotary4 and shows them side by side, the 
   assert.equal(await page.textContent(tid('auto-reason')), report.auto.reason);
   assert.match(await page.textContent(tid('progress-text')), new RegExp(`^done in [\\d.]+ s: auto chose ${report.auto.chosen} of 2`));
   if (report.auto.chosen === 'multidir') assert.equal(await page.isVisible(tid('md-report')), true);
+  // In a pool of workers (this machine has 2 cores) each candidate's stages are listed as its own.
+  const workers = await page.evaluate(() => window.omnislice.workers);
+  t.diagnostic(`auto ran in ${workers} worker(s)`);
+  if (workers > 1) {
+    const stages = await page.$$eval(`${tid('stage-list')} li`, (lis) => lis.map((li) => li.dataset.stage));
+    for (const m of ['planar', 'multidir']) assert.ok(stages.some((st) => st.startsWith(`${m} · `)), stages.join(', '));
+  }
   const { name, text } = await downloadProgram();
   assert.match(name, /\.gcode$/);
   assert.ok(text.includes(`; omnislice:setting method = ${report.auto.chosen}`));

@@ -9,7 +9,7 @@ import assert from 'node:assert/strict';
 import { METHODS, STAGE_WEIGHTS, doneSummary, machineHint, methodNamed, progressDetail } from '../../web/methods/index.js';
 import { reportRows, warningNotes } from '../../web/methods/planar-data.js';
 import { fieldsUnavailable, pageFields } from './page-settings.mjs';
-import { overallProgress } from '../../web/status-panel.js';
+import { newProgress, overallProgress, recordProgress, stageTimes } from '../../web/status-panel.js';
 
 test('every method module has the registry\'s shape', () => {
   for (const m of METHODS) {
@@ -101,4 +101,24 @@ test('planar: the report\'s general figures and warnings', () => {
   assert.match(auto('projected', 7.86), /^auto: 7\.9 % of the surface overhangs, above 1 % — /);
   assert.deepEqual(warningNotes({ warnings: [{ code: 'skipped_tool_path', message: '3 mm left out' }, 'plain'] }),
     [{ code: 'skipped_tool_path', text: '3 mm left out' }, { code: '', text: 'plain' }]);
+});
+
+test('progress of method = auto in a pool: each candidate\'s stages are its own, side by side', () => {
+  const p = newProgress({ auto: 1 });
+  const events = [
+    [0, { stage: 'auto', fraction: 0 }],
+    [10, { stage: 'voxelize', fraction: 0.5, candidate: 'voxel' }],
+    [20, { stage: 'field', fraction: 0.2, candidate: 'geodesic' }],
+    [30, { stage: 'growth', fraction: 0.1, candidate: 'voxel' }],
+    [40, { stage: 'field', fraction: 0.9, candidate: 'geodesic' }],
+    [50, { stage: 'auto', fraction: 0.5 }],
+  ];
+  for (const [now, e] of events) recordProgress(p, e, { now });
+  const times = new Map(stageTimes(p).map(([stage, e, ms]) => [stage, { fraction: e.fraction, ms }]));
+  assert.deepEqual([...times.keys()], ['auto', 'voxel · voxelize', 'geodesic · field', 'voxel · growth']);
+  // The voxel's first stage ended when its second began, not when the geodesic's began.
+  assert.deepEqual(times.get('voxel · voxelize'), { fraction: 1, ms: 20 });
+  assert.deepEqual(times.get('geodesic · field'), { fraction: 0.9, ms: 20 });
+  assert.equal(times.get('voxel · growth').fraction, 0.1);
+  assert.equal(p.overall, 0.5);
 });
