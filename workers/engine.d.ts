@@ -30,7 +30,10 @@ export interface Slicer {
         options?: { onProgress?: (p: Progress & { candidate?: string }) => void; signal?: AbortSignal }):
     Promise<{ program: string; programBytes: Uint8Array; programExtension: 'gcode' | 'csv' | 'script';
               report: Record<string, any>; info: Record<string, any>;
-              layers: number; preview: PreviewBuffers; mesh: MeshBuffers }>;
+              layers: number; preview: PreviewBuffers; mesh: MeshBuffers;
+              /** method = auto in a pool of workers: every candidate's result by method (each
+               *  made with verify = warn; its report without `auto`). */
+              candidates?: Record<string, any> }>;
   info(meshIdOrFile: MeshRef, placement?: Placement, options?: { signal?: AbortSignal }):
     Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;
   verify(program: string, meshIdOrFile: MeshRef,

@@ -300,11 +300,14 @@ class Slicer {
         const r = await this.#cancellable(signal, () => this.#send(Request.AUTO_CHOOSE, { settings, candidates }));
         return r.decision;
       };
-      const { decision, result, ms } = await runAutoPool({
+      const { decision, result, results, ms } = await runAutoPool({
         plan, settings, size: this.#poolSize, run, choose, onProgress, signal,
       });
       if (decision.chosen < 0) throw new OmnisliceError(decision.status, decision.message);
       result.report.auto = decision.auto;
+      // Every candidate's result by method (the page shows a sound one at once when chosen).
+      result.candidates = {};
+      results.forEach((r, k) => { if (r) result.candidates[plan.candidates[k].method] = r; });
       if (result.report.timings_ms) result.report.timings_ms.auto = ms;
       if (decision.status !== 'ok') {
         // verify = refuse and the best is unsound: no program; the report and preview say why.

@@ -2,16 +2,33 @@
 // method = auto in the registry (index.js): not a method of its own but the choice among them.
 // The result is the chosen method's (its sections and views show as usual); the group
 // 'auto-report' adds the candidates side by side (auto-data.js): verdict, supported, collisions,
-// support, time, how long each took, the chosen one marked; "use" slices again with another
-// candidate's method (an undoable settings edit).
+// support, time, how long each took, the chosen one marked; "use" shows another candidate's
+// program (held when sound and made in the pool of workers, else sliced again; an undoable
+// settings edit of the method).
 import { byTestId as $, fillFigureList } from '../panel-dom.js';
 import { SetSettingCommand } from '../settings-panel.js';
 import { AUTO_STAGE_WEIGHTS, autoDoneSummary, autoSection, autoSummaryRows, candidateRows } from './auto-data.js';
 
-/** Slice again with another candidate's method (an undoable settings edit): its own program. */
+/**
+ * Another candidate's program (an undoable settings edit of the method). A sound one made in the
+ * pool of workers is held by the result (result.candidates) and shown at once: it is the program
+ * that method alone makes (a sound first program is delivered as made). Others slice again.
+ */
 async function useMethod(app, method) {
   if (app.busy || !app.mesh) return;
+  const all = app.result && app.result.candidates;
+  const held = all && all[method];
   app.history.execute(new SetSettingCommand(app.model, 'method', method));
+  if (held && held.report && held.report.verify && held.report.verify.sound) {
+    held.candidates = all;
+    try {
+      await app.actions.showResult(held, performance.now());
+    } finally {
+      app.busy = null;
+      app.actions.updateButtons();
+    }
+    return;
+  }
   await app.actions.slice();
 }
 
