@@ -7,6 +7,7 @@
 
 #include <Eigen/Geometry>
 
+#include "common/parallel.h"
 #include "geometry/aabb_tree.h"
 #include "pipeline/isoplanar_fill.h"
 
@@ -70,98 +71,121 @@ CurvedFill fillCurvedLayers(const std::vector<CurvedLayer>& layers, const Settin
     sparse.interiorSpacingMm = sparse.infillPercent > 0 ? sopt.spacing * 100 / sparse.infillPercent : 0;
     interior.spacing = sparse.interiorSpacingMm;
   }
-  std::vector<uint8_t> shallow, deep;
-  std::vector<double> reach;
   IsoplanarFillOptions iso;
   iso.beadWidth = settings.nozzleDiameter;
   iso.layerHeight = isoLayerHeight;
   iso.maxFeed = settings.isoplanar.maxFeedMmS > 0 ? settings.isoplanar.maxFeedMmS : settings.printSpeed;
   iso.travelSpeed = settings.travelSpeed;
   IsoplanarTotals totals;
-  for (size_t l = 0; l < layers.size(); ++l) {
-    const CurvedLayer& layer = layers[l];
-    out.paths[l].resize(layer.regions.size());
-    for (size_t r = 0; r < layer.regions.size(); ++r) {
-      ++out.regions;
-      const LayerRegion& region = layer.regions[r];
-      if (isoplanar) {
-        IsoplanarFillResult fill = planIsoplanarFill(region.mesh, machine, settings.isoplanar, iso);
+  if (isoplanar) {
+    // One after another: each region's NL curves are numbered after the previous ones'.
+    for (size_t l = 0; l < layers.size(); ++l) {
+      const CurvedLayer& layer = layers[l];
+      out.paths[l].resize(layer.regions.size());
+      for (size_t r = 0; r < layer.regions.size(); ++r) {
+        ++out.regions;
+        IsoplanarFillResult fill = planIsoplanarFill(layer.regions[r].mesh, machine, settings.isoplanar, iso);
         if (fill.status == Status::Cancelled) return failed<CurvedFill>(fill);
         if (!fill.ok() || fill.paths.empty()) {
           ++out.unfilled;
           continue;
         }
         iso.firstCurve += fill.curves;
-        totals.add(uint32_t(l), uint32_t(r), region.area, fill);
+        totals.add(uint32_t(l), uint32_t(r), layer.regions[r].area, fill);
         out.pathCount += fill.paths.size();
         out.paths[l][r] = std::move(fill.paths);
-        continue;
       }
-      std::vector<SurfacePath>& filled = out.paths[l][r];
-      if (surface && !region.support) {
-        // Interior triangles: every corner deeper than the shell (no surface within it) by the
-        // longest edge at the corner x 0.6 more: depth changes at most as fast as position, so
-        // then every point of the triangle is (its farthest point from the corners is within 0.6
-        // x its longest edge of one of them). Measured on the shared kitten, geodesic table5,
-        // supported: corners alone 0.934 at 40 mm (the layer meshes' edges are ~1.5 mm: shell
-        // bands came out narrower than the shell, and the layer below a surface bead sparse);
-        // with the margin 0.994 at 40 mm and 0.995 at 50 mm, as the solid fill's 0.994 and 0.996.
-        const Mesh& m = region.mesh;
-        reach.assign(m.vertexCount(), 0.0);
-        for (size_t t = 0; t < m.faceCount(); ++t) {
-          const uint32_t* f = &m.triangles[3 * t];
-          const Eigen::Vector3d a = m.vertex(f[0]), b = m.vertex(f[1]), c = m.vertex(f[2]);
-          const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-          for (int k = 0; k < 3; ++k) reach[f[k]] = std::max(reach[f[k]], 0.6 * longest);
-        }
-        shallow.assign(m.vertexCount(), 0);
-        for (size_t v = 0; v < m.vertexCount(); ++v) {
-          shallow[v] = surface->anyWithin(m.vertex(v), sparse.shellMm + reach[v]);
-        }
-        deep.assign(m.faceCount(), 0);
-        size_t deepCount = 0;
-        double area = 0, interiorArea = 0;
-        for (size_t t = 0; t < m.faceCount(); ++t) {
-          const double a = triangleArea(m, t);
-          area += a;
-          if (shallow[m.triangles[3 * t]] || shallow[m.triangles[3 * t + 1]] || shallow[m.triangles[3 * t + 2]]) continue;
-          deep[t] = 1;
-          ++deepCount;
-          interiorArea += a;
-        }
-        sparse.areaMm2 += area;
-        if (deepCount > 0) {
-          SpiralResult inner;
-          if (interior.spacing > 0) inner = fermatSpiralPaths(trianglesOf(m, deep), interior);
-          for (uint8_t& d : deep) d = !d;
-          SpiralResult outer;
-          if (deepCount < m.faceCount()) outer = fermatSpiralPaths(trianglesOf(m, deep), sopt);
-          // The shell first (walls and skins), then the interior; where either spiral fails, the
-          // whole region solid below (nothing of the shell may go missing).
-          if (outer.ok() && inner.ok()) {
-            ++sparse.sparseRegions;
-            sparse.interiorAreaMm2 += interiorArea;
-            filled = std::move(outer.paths);
-            filled.insert(filled.end(), inner.paths.begin(), inner.paths.end());
-            if (filled.empty()) ++out.unfilled;
-            out.pathCount += filled.size();
-            continue;
-          }
-        }
+      if (!reportProgress(progress, stage, progressScale * double(l + 1) / double(layers.size()))) {
+        return failed<CurvedFill>(Status::Cancelled, "cancelled");
       }
-      SpiralResult spiral = fermatSpiralPaths(region.mesh, sopt);
-      if (!spiral.ok() || spiral.paths.empty()) {
-        ++out.unfilled;
-        continue;
-      }
-      out.pathCount += spiral.paths.size();
-      filled = std::move(spiral.paths);
     }
-    if (!reportProgress(progress, stage, progressScale * double(l + 1) / double(layers.size()))) {
-      return failed<CurvedFill>(Status::Cancelled, "cancelled");
+    out.isoplanar = totals.report();
+    return out;
+  }
+
+  // Fermat spirals: every region on its own, on the `threads` threads; the figures are summed
+  // afterwards in layer and region order (the same on any number of threads).
+  struct RegionFill {
+    size_t layer = 0, region = 0;
+    bool filled = false, sparseMade = false, surfaceChecked = false;
+    double area = 0, interiorArea = 0;
+  };
+  std::vector<RegionFill> regions;
+  for (size_t l = 0; l < layers.size(); ++l) {
+    out.paths[l].resize(layers[l].regions.size());
+    for (size_t r = 0; r < layers[l].regions.size(); ++r) regions.push_back({l, r});
+  }
+  auto fillRegion = [&](size_t k, size_t) {
+    RegionFill& f = regions[k];
+    const LayerRegion& region = layers[f.layer].regions[f.region];
+    std::vector<SurfacePath>& filled = out.paths[f.layer][f.region];
+    if (surface && !region.support) {
+      // Interior triangles: every corner deeper than the shell (no surface within it) by the
+      // longest edge at the corner x 0.6 more: depth changes at most as fast as position, so
+      // then every point of the triangle is (its farthest point from the corners is within 0.6
+      // x its longest edge of one of them). Measured on the shared kitten, geodesic table5,
+      // supported: corners alone 0.934 at 40 mm (the layer meshes' edges are ~1.5 mm: shell
+      // bands came out narrower than the shell, and the layer below a surface bead sparse);
+      // with the margin 0.994 at 40 mm and 0.995 at 50 mm, as the solid fill's 0.994 and 0.996.
+      const Mesh& m = region.mesh;
+      std::vector<double> reach(m.vertexCount(), 0.0);
+      for (size_t t = 0; t < m.faceCount(); ++t) {
+        const uint32_t* tri = &m.triangles[3 * t];
+        const Eigen::Vector3d a = m.vertex(tri[0]), b = m.vertex(tri[1]), c = m.vertex(tri[2]);
+        const double longest = std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
+        for (int j = 0; j < 3; ++j) reach[tri[j]] = std::max(reach[tri[j]], 0.6 * longest);
+      }
+      std::vector<uint8_t> shallow(m.vertexCount(), 0);
+      for (size_t v = 0; v < m.vertexCount(); ++v) {
+        shallow[v] = surface->anyWithin(m.vertex(v), sparse.shellMm + reach[v]);
+      }
+      std::vector<uint8_t> deep(m.faceCount(), 0);
+      size_t deepCount = 0;
+      f.surfaceChecked = true;
+      for (size_t t = 0; t < m.faceCount(); ++t) {
+        const double a = triangleArea(m, t);
+        f.area += a;
+        if (shallow[m.triangles[3 * t]] || shallow[m.triangles[3 * t + 1]] || shallow[m.triangles[3 * t + 2]]) continue;
+        deep[t] = 1;
+        ++deepCount;
+        f.interiorArea += a;
+      }
+      if (deepCount > 0) {
+        SpiralResult inner;
+        if (interior.spacing > 0) inner = fermatSpiralPaths(trianglesOf(m, deep), interior);
+        for (uint8_t& d : deep) d = !d;
+        SpiralResult outer;
+        if (deepCount < m.faceCount()) outer = fermatSpiralPaths(trianglesOf(m, deep), sopt);
+        // The shell first (walls and skins), then the interior; where either spiral fails, the
+        // whole region solid below (nothing of the shell may go missing).
+        if (outer.ok() && inner.ok()) {
+          f.sparseMade = true;
+          filled = std::move(outer.paths);
+          filled.insert(filled.end(), inner.paths.begin(), inner.paths.end());
+          f.filled = !filled.empty();
+          return;
+        }
+      }
+    }
+    SpiralResult spiral = fermatSpiralPaths(region.mesh, sopt);
+    if (!spiral.ok() || spiral.paths.empty()) return;
+    f.filled = true;
+    filled = std::move(spiral.paths);
+  };
+  const bool finished = parallelFor(regions.size(), threadCount(settings.threads), fillRegion, [&](size_t done) {
+    return reportProgress(progress, stage, progressScale * double(done) / double(regions.size()));
+  });
+  if (!finished) return failed<CurvedFill>(Status::Cancelled, "cancelled");
+  for (const RegionFill& f : regions) {
+    ++out.regions;
+    if (!f.filled) ++out.unfilled;
+    out.pathCount += out.paths[f.layer][f.region].size();
+    if (f.surfaceChecked) sparse.areaMm2 += f.area;
+    if (f.sparseMade) {
+      ++sparse.sparseRegions;
+      sparse.interiorAreaMm2 += f.interiorArea;
     }
   }
-  if (isoplanar) out.isoplanar = totals.report();
   if (surface) out.sparse = sparse;
   return out;
 }

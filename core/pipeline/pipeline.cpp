@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "common/math_constants.h"
+#include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "machine/machine.h"
 #include "machine/machine_json.h"
@@ -543,17 +544,8 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
   }
 }
 
-// Threads for method = auto's candidates: the `threads` setting (0 = every core); one in a wasm
-// build without pthreads.
-static size_t autoThreads(const Settings& settings) {
-#if defined(__EMSCRIPTEN__) && !defined(__EMSCRIPTEN_PTHREADS__)
-  (void)settings;
-  return 1;
-#else
-  if (settings.threads > 0) return size_t(settings.threads);
-  return std::max(1u, std::thread::hardware_concurrency());
-#endif
-}
+// Threads for method = auto's candidates: the `threads` setting (common/parallel.h threadCount).
+static size_t autoThreads(const Settings& settings) { return threadCount(settings.threads); }
 
 // method = auto's candidates for this input and machine: every method the machine takes, cheapest
 // first (surface only for an input that is not a closed solid).
@@ -633,14 +625,15 @@ static SliceOutput runAuto(const uint8_t* data, size_t size, const std::string& 
   const Clock::time_point start = Clock::now();
   std::vector<SliceOutput> outs(order.size());
   std::vector<AutoFigures> figures(order.size());
+  const size_t threads = std::min(order.size(), autoThreads(settings));
   auto runCandidate = [&](size_t k, const ProgressFn& fn, const AutoBound* bound, int attempts) {
     bool dominated = false;
     const Clock::time_point t0 = Clock::now();
-    outs[k] = runOneMethod(data, size, fileName, candidateSettings(settings, order[k], attempts), fn, bound,
-                           &dominated);
+    Settings s = candidateSettings(settings, order[k], attempts);
+    if (threads > 1) s.threads = 1;  // the candidates side by side already use the cores
+    outs[k] = runOneMethod(data, size, fileName, s, fn, bound, &dominated);
     figures[k] = figuresOf(order[k], outs[k], dominated, attempts == settings.verifyAttempts, msSince(t0));
   };
-  const size_t threads = std::min(order.size(), autoThreads(settings));
   AutoDecision d;
   if (threads > 1) {
     // In threads: no candidate stops early (which would depend on which finished first), so the

@@ -548,9 +548,10 @@ std::vector<SettingSpec> makeTable() {
                                   "methods, off for planar)")),
       // Not listed: how the work is spread, not what the program holds.
       unlisted(integer("threads", [](S& s) -> int& { return s.threads; }, 0, 256, "threads",
-                       "method = auto: run the candidates on this many threads (0 = every core; 1 = one "
-                       "after another, where a candidate that cannot win stops before its check; the "
-                       "wasm build runs one)")),
+                       "threads for the loops that run side by side: method = auto's candidates (1 = "
+                       "one after another, where a candidate that cannot win stops before its check), "
+                       "the curved layers' spirals (0 = every core; the wasm build runs one; the "
+                       "program is the same on any number)")),
       // Not listed either: the delivered program's header lists the settings it was made with.
       unlisted(integer("verify_attempts", [](S& s) -> int& { return s.verifyAttempts; }, 1, 10, "programs",
                        "when the check finds a program unsound, make it again with the remedies the slicer "

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "pipeline/curved_stage.h"
 #include "pipeline/method.h"
@@ -111,6 +112,7 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
                                             : std::max(1, fieldMax);  // one layer, at the cells' centres
   lopt.nozzleDiameter = nozzle;
   lopt.maxThickness = settings.voxel.maxThicknessRatio * targetLayer;
+  lopt.threads = threadCount(settings.threads);
   CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
   if (!layers.ok()) return failure(layers);
   // The gradient estimate can miss on fields of a few voxels: when the measured mean thickness is

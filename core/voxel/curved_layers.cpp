@@ -21,6 +21,7 @@
 #include <numeric>
 #include <string>
 
+#include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "geometry/aabb_tree.h"
 
@@ -1062,28 +1063,36 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
 
   const auto t1 = Clock::now();
   const AabbTree tree(solid);
-  InsideTest inside(grid, tree, solid);
+  // Scratch space of one thread: the inside test (its caches), the iso-surface workspaces.
+  struct Scratch {
+    std::unique_ptr<InsideTest> inside;
+    KeyMap edgeMap;
+    LayerSurface raw, trimmed;
+    std::vector<std::vector<uint32_t>> vertexTriangles;  // collapse workspace
+    double extractionMs = 0, trimmingMs = 0;
+  };
+  const size_t threads = std::min<size_t>(std::max<size_t>(1, options.threads), size_t(layerCount));
+  std::vector<Scratch> scratch(threads);
+  scratch[0].inside = std::make_unique<InsideTest>(grid, tree, solid);
   result.trimmingMs += msSince(t1);
 
-  KeyMap edgeMap;
-  LayerSurface raw, trimmed;
-  std::vector<std::vector<uint32_t>> vertexTriangles;  // collapse workspace
   // The iso-surface at `iso` (between g_(i-1) and g_i), trimmed and split into regions.
-  auto surfaceAt = [&](int i, double iso) {
+  auto surfaceWith = [&](Scratch& w, int i, double iso) {
     CurvedLayer layer;
     layer.isoValue = iso;
     const auto te = Clock::now();
     extractIsoSurface(grid, field, bucket.data() + bucketStart[i], bucketStart[i + 1] - bucketStart[i],
-                      iso, edgeMap, raw);
-    result.extractionMs += msSince(te);
-    if (raw.triangles.empty()) return layer;
+                      iso, w.edgeMap, w.raw);
+    w.extractionMs += msSince(te);
+    if (w.raw.triangles.empty()) return layer;
     const auto tt = Clock::now();
-    trimSurface(raw, inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
-                edgeMap, trimmed);
-    collapseShortEdges(trimmed, options.collapseRatio * grid.width, options.trimTolerance,
-                       vertexTriangles);
-    splitRegions(trimmed, inside, options.minRegionArea, layer);
-    result.trimmingMs += msSince(tt);
+    if (!w.inside) w.inside = std::make_unique<InsideTest>(grid, tree, solid);
+    trimSurface(w.raw, *w.inside, tree, solid, options.trimTolerance, std::sqrt(3.0) * grid.width,
+                w.edgeMap, w.trimmed);
+    collapseShortEdges(w.trimmed, options.collapseRatio * grid.width, options.trimTolerance,
+                       w.vertexTriangles);
+    splitRegions(w.trimmed, *w.inside, options.minRegionArea, layer);
+    w.trimmingMs += msSince(tt);
     return layer;
   };
   auto keep = [&](CurvedLayer&& layer) {
@@ -1092,29 +1101,66 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     result.partialLayers += layer.partial ? 1 : 0;
     result.layers.push_back(std::move(layer));
   };
-  // Bounded thickness: the previous full layer (index, surface tree) while it is g_(i-1).
-  std::unique_ptr<AabbTree> previousTree;
-  int previousIndex = -1;
-  for (int i = 1; i <= layerCount; ++i) {
-    if (!reportProgress(progress, "layers", static_cast<double>(i - 1) / layerCount)) {
-      return fail(Status::Cancelled, "curved layers: cancelled");
-    }
-    CurvedLayer layer = surfaceAt(i, isoValue(i));
-    if (layer.regions.empty()) continue;
-    if (options.maxThickness > 0) {
-      const auto tp = Clock::now();
-      auto currentTree = std::make_unique<AabbTree>(layerMesh(layer));
-      if (previousIndex == i - 1) {
-        for (CurvedLayer& partial : partialLayersBetween(i, layer, *previousTree, *currentTree, surfaceAt,
-                                                         isoValue(i - 1), isoValue(i), options.maxThickness,
-                                                         options.minRegionArea))
-          keep(std::move(partial));
+  // Every full layer on its own, on the threads (the same surfaces on any number of them).
+  std::vector<CurvedLayer> full(static_cast<size_t>(layerCount) + 1);
+  const bool extracted = parallelFor(
+      size_t(layerCount), threads,
+      [&](size_t k, size_t worker) {
+        const int i = int(k) + 1;
+        full[size_t(i)] = surfaceWith(scratch[worker], i, isoValue(i));
+      },
+      [&](size_t done) { return reportProgress(progress, "layers", 0.5 * double(done) / layerCount); });
+  if (!extracted) return fail(Status::Cancelled, "curved layers: cancelled");
+  // Bounded thickness: the partial layers between consecutive full layers g_(i-1) and g_i (both
+  // with regions), printed before g_i. One thread builds each layer's surface tree once, in order;
+  // several build both trees of a pair in each iteration (the same trees: the same layers).
+  std::vector<std::vector<CurvedLayer>> partials(static_cast<size_t>(layerCount) + 1);
+  if (options.maxThickness > 0) {
+    const auto tp = Clock::now();
+    auto between = [&](int i, const AabbTree& previous, const AabbTree& current, Scratch& w) {
+      partials[size_t(i)] = partialLayersBetween(
+          i, full[size_t(i)], previous, current, [&](int j, double iso) { return surfaceWith(w, j, iso); },
+          isoValue(i - 1), isoValue(i), options.maxThickness, options.minRegionArea);
+    };
+    auto paired = [&](int i) { return i >= 2 && !full[size_t(i)].regions.empty() && !full[size_t(i - 1)].regions.empty(); };
+    auto tick = [&](size_t done) {
+      return reportProgress(progress, "layers", 0.5 + 0.5 * double(done) / layerCount);
+    };
+    bool finished = true;
+    if (threads == 1) {
+      std::unique_ptr<AabbTree> previousTree;
+      for (int i = 1; i <= layerCount && finished; ++i) {
+        finished = tick(size_t(i - 1));
+        if (full[size_t(i)].regions.empty()) {
+          previousTree.reset();
+          continue;
+        }
+        auto currentTree = std::make_unique<AabbTree>(layerMesh(full[size_t(i)]));
+        if (paired(i)) between(i, *previousTree, *currentTree, scratch[0]);
+        previousTree = std::move(currentTree);
       }
-      previousTree = std::move(currentTree);
-      previousIndex = i;
-      result.partialMs += msSince(tp);
+    } else {
+      finished = parallelFor(
+          size_t(layerCount), threads,
+          [&](size_t k, size_t worker) {
+            const int i = int(k) + 1;
+            if (!paired(i)) return;
+            const AabbTree previous(layerMesh(full[size_t(i - 1)])), current(layerMesh(full[size_t(i)]));
+            between(i, previous, current, scratch[worker]);
+          },
+          tick);
     }
-    keep(std::move(layer));
+    if (!finished) return fail(Status::Cancelled, "curved layers: cancelled");
+    result.partialMs += msSince(tp);
+  }
+  for (int i = 1; i <= layerCount; ++i) {
+    if (full[size_t(i)].regions.empty()) continue;
+    for (CurvedLayer& partial : partials[size_t(i)]) keep(std::move(partial));
+    keep(std::move(full[size_t(i)]));
+  }
+  for (const Scratch& w : scratch) {
+    result.extractionMs += w.extractionMs;
+    result.trimmingMs += w.trimmingMs;
   }
   if (!reportProgress(progress, "layers", 1.0)) return fail(Status::Cancelled, "curved layers: cancelled");
 

@@ -31,6 +31,9 @@ struct CurvedLayersOptions {
   // apart than 0.95 x maxThickness x 2^(level - 1) (level 1 the half, 2 the quarters, 3 the
   // eighths), so the pieces measure at most maxThickness and at least about half of it.
   double maxThickness = 0;
+  // Threads extracting the full layers side by side (common/parallel.h; the layers are the same on
+  // any number).
+  size_t threads = 1;
 };
 
 struct CurvedLayersResult : Outcome {

@@ -437,6 +437,50 @@ TEST(CurvedLayers, PartialLayersBoundTheThicknessOfFannedLayers) {
   EXPECT_LT(res.partialLayers, res.layers.size() - res.partialLayers);
 }
 
+// The layers side by side (CurvedLayersOptions::threads): the full layers, then the partial layers
+// between each pair (their surface trees built per pair), are the same as one after another.
+TEST(CurvedLayers, PartialLayersAreTheSameOnAnyThreads) {
+  const double w = 0.4;
+  const Mesh box = makeBox(0, 0, 0, 10, 3, 6);
+  const VoxelGrid grid = voxelGridOf(box, w);
+  int iMin = grid.dims.x(), iMax = 0;
+  for (size_t c = 0; c < grid.cellCount(); ++c)
+    if (grid.printable(c)) {
+      iMin = std::min(iMin, grid.cell(c).x());
+      iMax = std::max(iMax, grid.cell(c).x());
+    }
+  std::vector<int32_t> g(grid.cellCount(), 0);
+  for (size_t c = 0; c < g.size(); ++c)
+    if (grid.printable(c)) {
+      const Eigen::Vector3i v = grid.cell(c);
+      g[c] = (v.z() - grid.platformK) * (8 + 16 * (v.x() - iMin) / (iMax - iMin));
+    }
+  CurvedLayersOptions opt;
+  opt.isoStep = 16;
+  opt.maxThickness = 1.3 * w;
+  const CurvedLayersResult one = extractCurvedLayers(grid, g, box, opt);
+  ASSERT_TRUE(one.ok()) << one.message;
+  ASSERT_GT(one.partialLayers, 3u);
+  for (size_t threads : {2u, 3u}) {
+    opt.threads = threads;
+    const CurvedLayersResult many = extractCurvedLayers(grid, g, box, opt);
+    ASSERT_TRUE(many.ok()) << many.message;
+    EXPECT_EQ(many.partialLayers, one.partialLayers);
+    ASSERT_EQ(many.layers.size(), one.layers.size());
+    for (size_t l = 0; l < one.layers.size(); ++l) {
+      const CurvedLayer &a = one.layers[l], &b = many.layers[l];
+      EXPECT_EQ(a.isoValue, b.isoValue);
+      EXPECT_EQ(a.partial, b.partial);
+      ASSERT_EQ(a.regions.size(), b.regions.size()) << "layer " << l;
+      for (size_t r = 0; r < a.regions.size(); ++r) {
+        EXPECT_EQ(a.regions[r].mesh.positions, b.regions[r].mesh.positions) << "layer " << l;
+        EXPECT_EQ(a.regions[r].mesh.triangles, b.regions[r].mesh.triangles) << "layer " << l;
+        EXPECT_EQ(a.regions[r].boundaryVertex, b.regions[r].boundaryVertex) << "layer " << l;
+      }
+    }
+  }
+}
+
 // Large slanted triangles (a rotated 14 mm cube, 12 triangles, each over thousands of cells):
 // trimmed outlines on the faces, every layer one convex polygon of the exact section's area.
 TEST(CurvedLayers, RotatedCubeLargeTrianglesTrimExactly) {

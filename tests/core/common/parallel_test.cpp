@@ -1,0 +1,67 @@
+// SPDX-License-Identifier: MIT
+// parallelFor (common/parallel.h): every iteration once, on workers below the thread count; the
+// caller's tick alone, stopping the loop; an exception rethrown after the threads stopped.
+#include "common/parallel.h"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+namespace omnislice {
+namespace {
+
+TEST(ParallelFor, EveryIterationOnceOnItsWorkers) {
+  for (size_t threads : {1u, 2u, 4u}) {
+    std::vector<std::atomic<int>> runs(1000);
+    std::vector<size_t> worker(1000);
+    const std::thread::id caller = std::this_thread::get_id();
+    std::atomic<bool> callerTicksOnly{true};
+    const bool ok = parallelFor(
+        runs.size(), threads,
+        [&](size_t i, size_t w) {
+          ++runs[i];
+          worker[i] = w;
+        },
+        [&](size_t done) {
+          if (std::this_thread::get_id() != caller) callerTicksOnly = false;
+          return done <= runs.size();
+        });
+    EXPECT_TRUE(ok);
+    EXPECT_TRUE(callerTicksOnly);
+    for (size_t i = 0; i < runs.size(); ++i) {
+      EXPECT_EQ(runs[i].load(), 1) << i;
+      EXPECT_LT(worker[i], threads);
+    }
+  }
+  parallelFor(0, 4, [](size_t, size_t) { ADD_FAILURE() << "no iteration"; });
+}
+
+TEST(ParallelFor, TickStopsTheLoop) {
+  std::atomic<size_t> ran{0};
+  const bool ok = parallelFor(
+      100000, 2, [&](size_t, size_t) { ++ran; }, [](size_t done) { return done < 10; });
+  EXPECT_FALSE(ok);
+  EXPECT_LT(ran.load(), size_t(100000));
+}
+
+TEST(ParallelFor, ExceptionsReachTheCaller) {
+  std::atomic<size_t> ran{0};
+  EXPECT_THROW(parallelFor(10000, 3,
+                           [&](size_t i, size_t) {
+                             ++ran;
+                             if (i == 17) throw std::runtime_error("iteration 17");
+                           }),
+               std::runtime_error);
+  EXPECT_LT(ran.load(), size_t(10000));
+}
+
+TEST(ParallelFor, ThreadCount) {
+  EXPECT_EQ(threadCount(3), 3u);
+  EXPECT_GE(threadCount(0), 1u);
+}
+
+}  // namespace
+}  // namespace omnislice
