@@ -113,16 +113,22 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
   lopt.nozzleDiameter = nozzle;
   lopt.maxThickness = settings.voxel.maxThicknessRatio * targetLayer;
   lopt.threads = threadCount(settings.threads);
+  const Clock::time_point tx = Clock::now();
   CurvedLayersResult layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
   if (!layers.ok()) return failure(layers);
+  // The layers' surfaces, full and partial: the loops that run on the threads (their thickness
+  // statistics, one after another, left out).
+  double surfacesMs = msSince(tx) - layers.thicknessMs;
   // The gradient estimate can miss on fields of a few voxels: when the measured mean thickness is
   // off the target by more than half, extract once more with the step scaled by their ratio.
   const double measured = layers.thickness.samples > 0 ? layers.thickness.fullMean() : 0;
   if (settings.voxel.isoStep <= 0 && measured > 0 &&
       (measured < 0.5 * targetLayer || measured > 1.5 * targetLayer)) {
     lopt.isoStep *= targetLayer / measured;
+    const Clock::time_point ty = Clock::now();
     layers = extractCurvedLayers(grid, layerField, part, lopt, progress);
     if (!layers.ok()) return failure(layers);
+    surfacesMs += msSince(ty) - layers.thicknessMs;
   }
   out.timingsMs.emplace_back("layers", msSince(t0));
 
@@ -216,6 +222,7 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
                  {"shadow", shadowMs},
                  {"growth", std::max(0.0, fieldMs - peelingMs)},
                  {"extraction", out.timingsMs[3].second},
+                 {"surfaces", surfacesMs},
                  {"spirals", spiralMs},
                  {"toolpaths", out.timingsMs[4].second}};
   r.shadowChecks = field.shadowChecks;

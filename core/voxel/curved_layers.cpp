@@ -1126,31 +1126,33 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
     auto tick = [&](size_t done) {
       return reportProgress(progress, "layers", 0.5 + 0.5 * double(done) / layerCount);
     };
-    bool finished = true;
-    if (threads == 1) {
-      std::unique_ptr<AabbTree> previousTree;
-      for (int i = 1; i <= layerCount && finished; ++i) {
-        finished = tick(size_t(i - 1));
-        if (full[size_t(i)].regions.empty()) {
-          previousTree.reset();
-          continue;
-        }
-        auto currentTree = std::make_unique<AabbTree>(layerMesh(full[size_t(i)]));
-        if (paired(i)) between(i, *previousTree, *currentTree, scratch[0]);
-        previousTree = std::move(currentTree);
-      }
-    } else {
-      finished = parallelFor(
-          size_t(layerCount), threads,
-          [&](size_t k, size_t worker) {
-            const int i = int(k) + 1;
-            if (!paired(i)) return;
-            const AabbTree previous(layerMesh(full[size_t(i - 1)])), current(layerMesh(full[size_t(i)]));
-            between(i, previous, current, scratch[worker]);
-          },
-          tick);
-    }
-    if (!finished) return fail(Status::Cancelled, "curved layers: cancelled");
+    // Blocks of consecutive layers, each on one thread, building each layer's tree once (and the
+    // one below the block's first): one block when one thread runs them all.
+    const int block = threads == 1 ? layerCount : 8;
+    const size_t blocks = size_t((layerCount + block - 1) / block);
+    bool cancelled = false;  // one thread: its progress, layer by layer
+    const bool finished = parallelFor(
+        blocks, threads,
+        [&](size_t b, size_t worker) {
+          const int first = int(b) * block + 1, last = std::min(layerCount, first + block - 1);
+          std::unique_ptr<AabbTree> previousTree;
+          if (paired(first)) previousTree = std::make_unique<AabbTree>(layerMesh(full[size_t(first - 1)]));
+          for (int i = first; i <= last; ++i) {
+            if (threads == 1 && !tick(size_t(i - 1))) {
+              cancelled = true;
+              return;
+            }
+            if (full[size_t(i)].regions.empty()) {
+              previousTree.reset();
+              continue;
+            }
+            auto currentTree = std::make_unique<AabbTree>(layerMesh(full[size_t(i)]));
+            if (paired(i)) between(i, *previousTree, *currentTree, scratch[worker]);
+            previousTree = std::move(currentTree);
+          }
+        },
+        [&](size_t done) { return tick(std::min(size_t(layerCount), done * size_t(block))); });
+    if (!finished || cancelled) return fail(Status::Cancelled, "curved layers: cancelled");
     result.partialMs += msSince(tp);
   }
   for (int i = 1; i <= layerCount; ++i) {

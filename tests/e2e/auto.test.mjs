@@ -34,6 +34,11 @@ test('auto runs planar and multidir on rotary4 and shows them side by side, the 
   if (workers > 1) {
     const stages = await page.$$eval(`${tid('stage-list')} li`, (lis) => lis.map((li) => li.dataset.stage));
     for (const m of ['planar', 'multidir']) assert.ok(stages.some((st) => st.startsWith(`${m} · `)), stages.join(', '));
+    // Each candidate's program as a small picture in its row.
+    for (const m of ['planar', 'multidir']) {
+      const lines = await page.getAttribute(tid(`auto-thumb-${m}`), 'data-lines');
+      assert.ok(Number(lines) > 100, `${m}: ${lines} lines drawn`);
+    }
   }
   const { name, text } = await downloadProgram();
   assert.match(name, /\.gcode$/);

@@ -3,7 +3,7 @@
 // (README "--method auto"): each candidate's state and cells, the choice's rows, the done line.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { autoDoneSummary, autoSection, autoSummaryRows, candidateRows } from '../../web/methods/auto-data.js';
+import { autoDoneSummary, autoSection, autoSummaryRows, candidateRows, thumbnailLines } from '../../web/methods/auto-data.js';
 
 const verify = (sound, supported, collisions, failures = []) => ({ sound, inside: 1, coverage: 0.7, supported, collisions, limits: 0, left_out_mm: 0, failures });
 const report = {
@@ -43,4 +43,36 @@ test('the choice and the done line; nothing without an auto section', () => {
   assert.equal(autoSection({ method: 'planar' }), null);
   assert.deepEqual(candidateRows(null), []);
   assert.equal(autoDoneSummary(null), '');
+});
+
+test('thumbnail: printed segments projected into the picture, travel left out, every k-th beyond the cap', () => {
+  // A 10 x 10 x 10 mm cube's 12 edges printed (feature 1), one travel move far away, a collision
+  // at a corner.
+  const corners = [];
+  for (const x of [0, 10]) for (const y of [0, 10]) for (const z of [0, 10]) corners.push([x, y, z]);
+  const segs = [];
+  for (let i = 0; i < 8; i++) {
+    for (let j = i + 1; j < 8; j++) {
+      const d = corners[i].map((v, k) => Math.abs(v - corners[j][k])).filter((v) => v > 0).length;
+      if (d === 1) segs.push([...corners[i], ...corners[j]]);
+    }
+  }
+  assert.equal(segs.length, 12);
+  const positions = new Float32Array([...segs.flat(), 500, 500, 500, -500, -500, 0]);
+  const features = new Uint8Array([...segs.map(() => 1), 0]);
+  const collisionPoints = new Float32Array([10, 10, 10]);
+  const t = thumbnailLines({ positions, features, collisionPoints }, 80, 60);
+  assert.equal(t.features.length, 12);
+  for (let i = 0; i < t.lines.length; i += 2) {
+    assert.ok(t.lines[i] >= 1.999 && t.lines[i] <= 78.001, `x ${t.lines[i]}`);
+    assert.ok(t.lines[i + 1] >= 1.999 && t.lines[i + 1] <= 58.001, `y ${t.lines[i + 1]}`);
+  }
+  // The top corner (10, 10, 10) is the highest point: the smallest y; it is where the collision is.
+  const ys = [...t.lines].filter((_, i) => i % 2 === 1);
+  assert.ok(Math.abs(t.collisions[1] - Math.min(...ys)) < 1e-3);
+  assert.equal(t.unsupported.length, 0);
+  // The cap: every k-th printed segment.
+  assert.equal(thumbnailLines({ positions, features }, 80, 60, 4).features.length, 4);
+  assert.equal(thumbnailLines({ positions: new Float32Array(6), features: new Uint8Array(1) }, 80, 60), null);
+  assert.equal(thumbnailLines(null, 80, 60), null);
 });

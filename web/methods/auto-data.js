@@ -58,3 +58,63 @@ export function autoSummaryRows(section) {
 export function autoDoneSummary(section) {
   return section && section.chosen ? `auto chose ${section.chosen} of ${section.candidates.length}` : '';
 }
+
+/**
+ * A small picture of a candidate's program for the candidates table: its extruding segments
+ * (preview.positions, part frame; travel left out) seen from the front right and a little above,
+ * fitted into width x height pixels (y down, 2 px margin), at most maxSegments of them (every
+ * k-th); and where its check found it fails (preview.unsupportedPoints, collisionPoints), in the
+ * same projection. Returns {lines: Float32Array (x0 y0 x1 y1 per line), features: Uint8Array,
+ * unsupported: Float32Array (x y), collisions: Float32Array (x y)}, or null without segments.
+ */
+export function thumbnailLines(preview, width, height, maxSegments = 6000) {
+  const pos = preview && preview.positions;
+  const feat = preview && preview.features;
+  if (!pos || !feat || !(width > 4 && height > 4)) return null;
+  const n = Math.min(feat.length, Math.floor(pos.length / 6));
+  const c = Math.SQRT1_2;
+  const pu = (x, y) => (x - y) * c;
+  const pv = (x, y, z) => z + (x + y) * c * 0.5;
+  let uMin = Infinity, uMax = -Infinity, vMin = Infinity, vMax = -Infinity, printed = 0;
+  for (let s = 0; s < n; s++) {
+    if (feat[s] === 0) continue;
+    ++printed;
+    for (let e = 0; e < 2; e++) {
+      const o = 6 * s + 3 * e;
+      const u = pu(pos[o], pos[o + 1]), v = pv(pos[o], pos[o + 1], pos[o + 2]);
+      if (u < uMin) uMin = u;
+      if (u > uMax) uMax = u;
+      if (v < vMin) vMin = v;
+      if (v > vMax) vMax = v;
+    }
+  }
+  if (!printed) return null;
+  const scale = Math.min((width - 4) / Math.max(uMax - uMin, 1e-9), (height - 4) / Math.max(vMax - vMin, 1e-9));
+  const u0 = (width - scale * (uMax - uMin)) / 2, v0 = (height - scale * (vMax - vMin)) / 2;
+  const px = (x, y) => u0 + scale * (pu(x, y) - uMin);
+  const py = (x, y, z) => height - v0 - scale * (pv(x, y, z) - vMin);
+  const step = Math.max(1, Math.ceil(printed / maxSegments));
+  const lines = new Float32Array(4 * Math.ceil(printed / step));
+  const features = new Uint8Array(lines.length / 4);
+  let k = 0, seen = 0;
+  for (let s = 0; s < n; s++) {
+    if (feat[s] === 0 || seen++ % step !== 0) continue;
+    const o = 6 * s;
+    lines.set([px(pos[o], pos[o + 1]), py(pos[o], pos[o + 1], pos[o + 2]),
+      px(pos[o + 3], pos[o + 4]), py(pos[o + 3], pos[o + 4], pos[o + 5])], 4 * k);
+    features[k++] = feat[s];
+  }
+  const points = (xyz) => {
+    const m = xyz ? Math.floor(xyz.length / 3) : 0;
+    const out = new Float32Array(2 * m);
+    for (let i = 0; i < m; i++) {
+      out[2 * i] = px(xyz[3 * i], xyz[3 * i + 1]);
+      out[2 * i + 1] = py(xyz[3 * i], xyz[3 * i + 1], xyz[3 * i + 2]);
+    }
+    return out;
+  };
+  return {
+    lines: lines.subarray(0, 4 * k), features: features.subarray(0, k),
+    unsupported: points(preview.unsupportedPoints), collisions: points(preview.collisionPoints),
+  };
+}

@@ -7,7 +7,45 @@
 // settings edit of the method).
 import { byTestId as $, fillFigureList } from '../panel-dom.js';
 import { SetSettingCommand } from '../settings-panel.js';
-import { AUTO_STAGE_WEIGHTS, autoDoneSummary, autoSection, autoSummaryRows, candidateRows } from './auto-data.js';
+import { featureCss } from '../preview.js';
+import { AUTO_STAGE_WEIGHTS, autoDoneSummary, autoSection, autoSummaryRows, candidateRows, thumbnailLines } from './auto-data.js';
+
+const THUMB_W = 84, THUMB_H = 60;
+
+/**
+ * A small picture of a candidate's program (auto-data.js thumbnailLines) on a canvas: its beads by
+ * feature colour, where its check fails on top (orange unsupported, red collisions). Null when its
+ * result is not held (a candidate made one after another in a single worker).
+ */
+function thumbnail(result, method) {
+  const t = result && thumbnailLines(result.preview, THUMB_W, THUMB_H);
+  if (!t) return null;
+  const canvas = document.createElement('canvas');
+  canvas.width = THUMB_W;
+  canvas.height = THUMB_H;
+  canvas.className = 'auto-thumb';
+  canvas.dataset.testid = `auto-thumb-${method}`;
+  canvas.dataset.lines = String(t.features.length);
+  canvas.title = `${method}: its program seen from the front right; orange: unsupported, red: collisions`;
+  const g = canvas.getContext('2d');
+  if (!g) return canvas;
+  g.lineWidth = 0.6;
+  for (const code of new Set(t.features)) {
+    g.strokeStyle = featureCss(code);
+    g.beginPath();
+    for (let k = 0; k < t.features.length; k++) {
+      if (t.features[k] !== code) continue;
+      g.moveTo(t.lines[4 * k], t.lines[4 * k + 1]);
+      g.lineTo(t.lines[4 * k + 2], t.lines[4 * k + 3]);
+    }
+    g.stroke();
+  }
+  for (const [points, colour] of [[t.unsupported, '#ff9f1c'], [t.collisions, '#ff2d2d']]) {
+    g.fillStyle = colour;
+    for (let i = 0; i < points.length; i += 2) g.fillRect(points[i] - 1, points[i + 1] - 1, 2, 2);
+  }
+  return canvas;
+}
 
 /**
  * Another candidate's program (an undoable settings edit of the method). A sound one made in the
@@ -44,6 +82,8 @@ function fillCandidates(app, tbody, section) {
       td.textContent = text;
       tr.append(td);
     }
+    const picture = thumbnail(app.result && app.result.candidates && app.result.candidates[r.method], r.method);
+    if (picture) tr.cells[0].append(document.createElement('br'), picture);
     // Any other candidate that made a program (or would have: stopped early) is one click away.
     const td = document.createElement('td');
     if (r.state !== 'chosen' && r.state !== 'failed') {
