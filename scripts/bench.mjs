@@ -315,7 +315,13 @@ for (const c of cases) {
     n = best(() => nativeRun(c.mode === 'auto-pool' ? 'slice' : c.mode, c.file, c.settings), c.reps);
   } catch (e) {
     if (!c.mayFail) throw e;
-    const why = String(e.stderr || e.message).trim().split('\n').pop();
+    // The CLI's own line (`error: <code>: <message>`), run again to read it (stdio is ignored above).
+    let why = String(e.message).trim().split('\n')[0];
+    try {
+      execFileSync(CLI, ['slice', c.file, '-o', path.join(tmp, 'refused.gcode'), ...setArgs(timed(c.settings))], { stdio: ['ignore', 'ignore', 'pipe'] });
+    } catch (again) {
+      why = String(again.stderr || why).trim().split('\n').pop();
+    }
     console.error(`[bench] ${c.case}: ${why}`);
     failures.push([c.case, why]);
     continue;
@@ -626,7 +632,7 @@ if (pc && pc.cura_planar) {
     checks.push(['estimated time / CuraEngine\'s at its kinematics within 0.85..1.15', round(er, 3), er >= 0.85 && er <= 1.15]);
   }
 }
-for (const [name] of REAL_CASES) {
+for (const [, name] of REAL_CASES) {
   const row = get(name, 'wall');
   const failed = failures.find(([c]) => c === name);
   if (failed) console.log(`\n${name}: refused: ${failed[1]}${row ? ` (native ${round(row.native_ms)} ms)` : ''}`);

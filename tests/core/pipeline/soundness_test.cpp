@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "pipeline/pipeline.h"
@@ -267,6 +268,45 @@ TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
   EXPECT_EQ(b["verify"]["left_out_mm"].get<double>(), 0.0);
   EXPECT_TRUE(b["verify"]["sound"].get<bool>()) << b["verify"].dump();
   for (const Warning& w : twice.warnings) EXPECT_NE(w.code, "skipped_tool_path") << w.message;
+}
+
+// The same retry with the second attempt beside the first (threads = 2, natively): the same
+// program and report (timings aside) as one after another.
+TEST(Soundness, GeodesicRetryBesideTheFirstMakesTheSameProgram) {
+  OMNISLICE_REQUIRE_SHARED_MODELS();
+  const char* file = "voxelmaam_kitten.ply";
+  const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
+  Settings s = onTable5(Method::Geodesic, 20);
+  ASSERT_TRUE(setSetting(s, "verify", "warn").ok());
+  ASSERT_TRUE(setSetting(s, "infill", "100").ok());
+  auto timeless = [](Json j) {
+    std::function<void(Json&)> strip = [&](Json& x) {
+      if (x.is_object()) {
+        for (auto it = x.begin(); it != x.end();) {
+          const std::string& k = it.key();
+          if (k == "timings_ms" || k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0)) {
+            it = x.erase(it);
+          } else {
+            strip(*it);
+            ++it;
+          }
+        }
+      } else if (x.is_array()) {
+        for (Json& v : x) strip(v);
+      }
+    };
+    strip(j);
+    return j;
+  };
+  s.threads = 1;
+  const SliceOutput one = runSlice(bytes.data(), bytes.size(), file, s);
+  s.threads = 2;
+  const SliceOutput two = runSlice(bytes.data(), bytes.size(), file, s);
+  ASSERT_TRUE(one.ok() && two.ok()) << one.message << two.message;
+  const Json a = Json::parse(one.reportJson), b = Json::parse(two.reportJson);
+  EXPECT_TRUE(b["geodesic"]["align_retry"]["retried"].get<bool>());
+  EXPECT_EQ(one.program.substr(one.program.find('\n')), two.program.substr(two.program.find('\n')));
+  EXPECT_EQ(timeless(a), timeless(b));
 }
 
 // The kitten (ply) on robot6 at 20 mm, geodesic: the program of the default settings leaves
