@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -43,6 +44,24 @@ inline Settings coarseCurvedSettings(Method method) {
   s.verify = VerifyMode::Warn;
   s.verifyAttempts = 1;
   return s;
+}
+
+// A report's JSON without what depends on the clock (timings_ms, ms, *_ms), to compare runs.
+inline nlohmann::json timelessReport(const nlohmann::json& j) {
+  if (j.is_object()) {
+    nlohmann::json out = nlohmann::json::object();
+    for (const auto& [k, v] : j.items()) {
+      if (k == "timings_ms" || k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0)) continue;
+      out[k] = timelessReport(v);
+    }
+    return out;
+  }
+  if (j.is_array()) {
+    nlohmann::json out = nlohmann::json::array();
+    for (const nlohmann::json& v : j) out.push_back(timelessReport(v));
+    return out;
+  }
+  return j;
 }
 
 }  // namespace omnislice::test

@@ -8,7 +8,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
-#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "pipeline/pipeline.h"
@@ -279,25 +278,6 @@ TEST(Soundness, GeodesicRetryBesideTheFirstMakesTheSameProgram) {
   Settings s = onTable5(Method::Geodesic, 20);
   ASSERT_TRUE(setSetting(s, "verify", "warn").ok());
   ASSERT_TRUE(setSetting(s, "infill", "100").ok());
-  auto timeless = [](Json j) {
-    std::function<void(Json&)> strip = [&](Json& x) {
-      if (x.is_object()) {
-        for (auto it = x.begin(); it != x.end();) {
-          const std::string& k = it.key();
-          if (k == "timings_ms" || k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0)) {
-            it = x.erase(it);
-          } else {
-            strip(*it);
-            ++it;
-          }
-        }
-      } else if (x.is_array()) {
-        for (Json& v : x) strip(v);
-      }
-    };
-    strip(j);
-    return j;
-  };
   s.threads = 1;
   const SliceOutput one = runSlice(bytes.data(), bytes.size(), file, s);
   s.threads = 2;
@@ -306,7 +286,7 @@ TEST(Soundness, GeodesicRetryBesideTheFirstMakesTheSameProgram) {
   const Json a = Json::parse(one.reportJson), b = Json::parse(two.reportJson);
   EXPECT_TRUE(b["geodesic"]["align_retry"]["retried"].get<bool>());
   EXPECT_EQ(one.program.substr(one.program.find('\n')), two.program.substr(two.program.find('\n')));
-  EXPECT_EQ(timeless(a), timeless(b));
+  EXPECT_EQ(test::timelessReport(a), test::timelessReport(b));
 }
 
 // The kitten (ply) on robot6 at 20 mm, geodesic: the program of the default settings leaves

@@ -17,22 +17,6 @@ namespace {
 
 using Json = nlohmann::json;
 
-// The report without what depends on the clock.
-Json timeless(Json j) {
-  if (j.is_object()) {
-    Json out = Json::object();
-    for (auto& [k, v] : j.items()) {
-      if (k == "timings_ms" || k == "ms" || (k.size() > 3 && k.compare(k.size() - 3, 3, "_ms") == 0)) continue;
-      out[k] = timeless(v);
-    }
-    return out;
-  }
-  if (j.is_array()) {
-    for (Json& v : j) v = timeless(v);
-  }
-  return j;
-}
-
 void expectSameOnAnyThreads(Method method, double infill) {
   const std::vector<uint8_t> bytes = test::binaryStl(test::makeLBracket(10));
   Settings s = test::coarseCurvedSettings(method);
@@ -44,7 +28,7 @@ void expectSameOnAnyThreads(Method method, double infill) {
     const SliceOutput out = runSlice(bytes.data(), bytes.size(), "l.stl", s);
     ASSERT_TRUE(out.ok()) << out.message;
     const std::string undated = out.program.substr(out.program.find('\n') + 1);
-    const Json r = timeless(Json::parse(out.reportJson));
+    const Json r = test::timelessReport(Json::parse(out.reportJson));
     if (threads == 1) {
       program = undated;
       report = r;

@@ -375,29 +375,40 @@ TEST(CurvedLayers, DiagonalLinearFieldGivesTiltedPlanes) {
   EXPECT_GT(*mode, t.samples / 2);
 }
 
+// A 10 x 3 x 6 mm box in cells of w = 0.4 mm with a fanned field: G = (k - platformK) x (8 + 16
+// (i - iMin) / (iMax - iMin)), so 16 units of G are 2 w at iMin and 2/3 w at iMax.
+struct FannedBox {
+  double w = 0.4;
+  Mesh box = makeBox(0, 0, 0, 10, 3, 6);
+  VoxelGrid grid = voxelGridOf(box, w);
+  std::vector<int32_t> g;
+  FannedBox() {
+    int iMin = grid.dims.x(), iMax = 0;
+    for (size_t c = 0; c < grid.cellCount(); ++c)
+      if (grid.printable(c)) {
+        iMin = std::min(iMin, grid.cell(c).x());
+        iMax = std::max(iMax, grid.cell(c).x());
+      }
+    g.assign(grid.cellCount(), 0);
+    for (size_t c = 0; c < g.size(); ++c)
+      if (grid.printable(c)) {
+        const Eigen::Vector3i v = grid.cell(c);
+        g[c] = (v.z() - grid.platformK) * (8 + 16 * (v.x() - iMin) / (iMax - iMin));
+      }
+  }
+};
+
 // A fanned field (layers 2 w thick at x = 0, 2/3 w at the far side of a 10 mm box): with
 // maxThickness = 1.3 w, partial layers over the thick side bound every layer's distance to the
 // layers below by maxThickness (up to the sampling and the linear interpolation of the clip);
 // without them the thick side measures about 2 w. Partial layers lie only where the full layers
 // around them are more than 0.95 maxThickness apart, and are manifold with their cut edges flagged.
 TEST(CurvedLayers, PartialLayersBoundTheThicknessOfFannedLayers) {
-  const double w = 0.4;
-  const Mesh box = makeBox(0, 0, 0, 10, 3, 6);
-  const VoxelGrid grid = voxelGridOf(box, w);
-  int iMin = grid.dims.x(), iMax = 0;
-  for (size_t c = 0; c < grid.cellCount(); ++c)
-    if (grid.printable(c)) {
-      iMin = std::min(iMin, grid.cell(c).x());
-      iMax = std::max(iMax, grid.cell(c).x());
-    }
-  // G = (k - platformK) x (8 + 16 (i - iMin) / (iMax - iMin)): 16 units of G are 2 w at iMin and
-  // 2/3 w at iMax.
-  std::vector<int32_t> g(grid.cellCount(), 0);
-  for (size_t c = 0; c < g.size(); ++c)
-    if (grid.printable(c)) {
-      const Eigen::Vector3i v = grid.cell(c);
-      g[c] = (v.z() - grid.platformK) * (8 + 16 * (v.x() - iMin) / (iMax - iMin));
-    }
+  const FannedBox f;
+  const double w = f.w;
+  const Mesh& box = f.box;
+  const VoxelGrid& grid = f.grid;
+  const std::vector<int32_t>& g = f.g;
   CurvedLayersOptions opt;
   opt.isoStep = 16;
   const CurvedLayersResult plain = extractCurvedLayers(grid, g, box, opt);
@@ -440,21 +451,11 @@ TEST(CurvedLayers, PartialLayersBoundTheThicknessOfFannedLayers) {
 // The layers side by side (CurvedLayersOptions::threads): the full layers, then the partial layers
 // between each pair (their surface trees built per pair), are the same as one after another.
 TEST(CurvedLayers, PartialLayersAreTheSameOnAnyThreads) {
-  const double w = 0.4;
-  const Mesh box = makeBox(0, 0, 0, 10, 3, 6);
-  const VoxelGrid grid = voxelGridOf(box, w);
-  int iMin = grid.dims.x(), iMax = 0;
-  for (size_t c = 0; c < grid.cellCount(); ++c)
-    if (grid.printable(c)) {
-      iMin = std::min(iMin, grid.cell(c).x());
-      iMax = std::max(iMax, grid.cell(c).x());
-    }
-  std::vector<int32_t> g(grid.cellCount(), 0);
-  for (size_t c = 0; c < g.size(); ++c)
-    if (grid.printable(c)) {
-      const Eigen::Vector3i v = grid.cell(c);
-      g[c] = (v.z() - grid.platformK) * (8 + 16 * (v.x() - iMin) / (iMax - iMin));
-    }
+  const FannedBox f;
+  const double w = f.w;
+  const Mesh& box = f.box;
+  const VoxelGrid& grid = f.grid;
+  const std::vector<int32_t>& g = f.g;
   CurvedLayersOptions opt;
   opt.isoStep = 16;
   opt.maxThickness = 1.3 * w;
