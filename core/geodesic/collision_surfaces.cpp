@@ -15,6 +15,7 @@
 
 #include "common/det_math.h"
 #include "common/math_constants.h"
+#include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "geodesic/print_order_detail.h"
 
@@ -605,9 +606,8 @@ CollisionModel potentialCollisionSurfaces(const std::vector<CurvedLayer>& layers
     out.foldedFaces += shapes[i].folded;
   }
   out.pcs.assign(n, {});
-  for (size_t i = 0; i < n; ++i) {
-    if (!reportProgress(progress, "collision", 0.1 + 0.9 * double(i) / double(n)))
-      return fail(Status::Cancelled, "collision: cancelled");
+  std::vector<size_t> tested(n, 0);  // pairs tested per node, summed in order below
+  auto testNode = [&](size_t i, size_t) {
     const NodeShape& si = shapes[i];
     auto inFace = [&](const Vec3& q, uint32_t f) { return insideFace(q, si, f, k); };
     auto inRing = [&](const Vec3& q, uint32_t e) { return insideRing(q, si, e, k); };
@@ -619,12 +619,17 @@ CollisionModel potentialCollisionSurfaces(const std::vector<CurvedLayer>& layers
       const bool meetR =
           !si.ringBvh.empty() && mayMeet(si.ringBvh[0], sj.ptBvh[0], ringReach, k.clearance);
       if (!meetF && !meetR) continue;
-      ++out.pairsTested;
+      ++tested[i];
       if ((meetF && dualHit(si.faceBvh, si.faceOrder, sj, k.length, k.clearance, inFace)) ||
           (meetR && dualHit(si.ringBvh, si.ringOrder, sj, ringReach, k.clearance, inRing)))
         out.pcs[i].push_back(uint32_t(j));
     }
-  }
+  };
+  const bool finished = parallelFor(n, std::max<size_t>(1, options.threads), testNode, [&](size_t done) {
+    return reportProgress(progress, "collision", 0.1 + 0.9 * double(done) / double(n));
+  });
+  if (!finished) return fail(Status::Cancelled, "collision: cancelled");
+  for (size_t t : tested) out.pairsTested += t;
   reportProgress(progress, "collision", 1.0);
   out.ms = msSince(t0);
   return out;

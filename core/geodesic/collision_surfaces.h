@@ -24,6 +24,7 @@ struct CollisionConeOptions {
   double sampleSpacing = 1.0; // mm, > 0: points tested on each IGDS (vertices, open-boundary
                               // samples, and a grid on triangles longer than 2 sampleSpacing;
                               // at most 64 samples per edge, 16 per triangle side)
+  size_t threads = 1;         // nodes tested side by side (common/parallel.h; the same model on any)
 };
 
 struct CollisionModel : Outcome {

@@ -223,6 +223,7 @@ GeodesicAttempt geodesicAttempt(const TetMesh& tets, const Mesh& boundary, const
   copt.angleDegrees = gs.nozzleAngleDeg > 0 ? gs.nozzleAngleDeg : machine.nozzle.coneHalfAngleDegrees;
   copt.length = machine.nozzle.coneLength;
   copt.clearance = interval;
+  copt.threads = threadCount(settings.threads);
   a.collisions = potentialCollisionSurfaces(a.igds.layers, a.tree, copt, progress);
   if (!a.collisions.ok()) return fail(a.collisions);
   const TraversalKind kinds[3] = {TraversalKind::LPT, TraversalKind::DPT, TraversalKind::A3};

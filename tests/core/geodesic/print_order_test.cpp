@@ -787,6 +787,13 @@ TEST(PrintOrderCollision, MatchesBruteForceOnTreeLayers) {
     o.sampleSpacing = 1e6;
     const CollisionModel cm = potentialCollisionSurfaces(band, tree, o);
     ASSERT_TRUE(cm.ok()) << cm.message;
+    // Nodes tested side by side give the same model.
+    o.threads = 3;
+    const CollisionModel side = potentialCollisionSurfaces(band, tree, o);
+    ASSERT_TRUE(side.ok()) << side.message;
+    EXPECT_EQ(side.pcs, cm.pcs);
+    EXPECT_EQ(side.pairsTested, cm.pairsTested);
+    o.threads = 1;
     const auto exact = brutePcs(regs, o, true);
     const auto vertexCones = brutePcs(regs, o, false);
     size_t pairs = 0, vertexConePairs = 0, common = 0;
