@@ -1112,8 +1112,7 @@ CurvedLayersResult extractCurvedLayers(const VoxelGrid& grid, const std::vector<
       [&](size_t done) { return reportProgress(progress, "layers", 0.5 * double(done) / layerCount); });
   if (!extracted) return fail(Status::Cancelled, "curved layers: cancelled");
   // Bounded thickness: the partial layers between consecutive full layers g_(i-1) and g_i (both
-  // with regions), printed before g_i. One thread builds each layer's surface tree once, in order;
-  // several build both trees of a pair in each iteration (the same trees: the same layers).
+  // with regions), printed before g_i, found from the two layers' surface trees.
   std::vector<std::vector<CurvedLayer>> partials(static_cast<size_t>(layerCount) + 1);
   if (options.maxThickness > 0) {
     const auto tp = Clock::now();
