@@ -449,22 +449,19 @@ TEST(CurvedLayers, PartialLayersBoundTheThicknessOfFannedLayers) {
 }
 
 // The layers side by side (CurvedLayersOptions::threads): the full layers, then the partial layers
-// between each pair (their surface trees built per pair), are the same as one after another.
+// between each pair (their surface trees built in blocks of layers), are the same as one after
+// another.
 TEST(CurvedLayers, PartialLayersAreTheSameOnAnyThreads) {
   const FannedBox f;
-  const double w = f.w;
-  const Mesh& box = f.box;
-  const VoxelGrid& grid = f.grid;
-  const std::vector<int32_t>& g = f.g;
   CurvedLayersOptions opt;
   opt.isoStep = 16;
-  opt.maxThickness = 1.3 * w;
-  const CurvedLayersResult one = extractCurvedLayers(grid, g, box, opt);
+  opt.maxThickness = 1.3 * f.w;
+  const CurvedLayersResult one = extractCurvedLayers(f.grid, f.g, f.box, opt);
   ASSERT_TRUE(one.ok()) << one.message;
   ASSERT_GT(one.partialLayers, 3u);
   for (size_t threads : {2u, 3u}) {
     opt.threads = threads;
-    const CurvedLayersResult many = extractCurvedLayers(grid, g, box, opt);
+    const CurvedLayersResult many = extractCurvedLayers(f.grid, f.g, f.box, opt);
     ASSERT_TRUE(many.ok()) << many.message;
     EXPECT_EQ(many.partialLayers, one.partialLayers);
     ASSERT_EQ(many.layers.size(), one.layers.size());
