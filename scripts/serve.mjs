@@ -5,9 +5,13 @@
 //                                 /vendor/three/ -> node_modules/three/   / -> web/
 // Only GET and HEAD. Paths that escape their folder (.., encoded slashes, NUL, symlinks pointing
 // outside) are refused with 403; anything not found is 404. Nothing is ever served from ../shared.
+// Every response carries a Content-Security-Policy (contentSecurityPolicy below): scripts, styles,
+// workers, wasm and data only from this origin, no inline script but the page's import map (by its
+// hash), no eval (WebAssembly compiles under 'wasm-unsafe-eval'), no plugins.
 //
 // CLI:  node scripts/serve.mjs            (PORT env, default 8080; HOST env, default 127.0.0.1)
 // API:  const { url, close } = await startServer({ port: 0, root });
+import crypto from 'node:crypto';
 import http from 'node:http';
 import fs from 'node:fs';
 import path from 'node:path';
@@ -72,6 +76,45 @@ export function resolveRequestPath(urlPath, root, routes = ROUTES) {
   const file = path.resolve(base, rest);
   if (file !== base && !file.startsWith(base + path.sep)) return { status: 403 };
   return { file, base };
+}
+
+/**
+ * The hashes ('sha256-...') of the inline <script> elements of an HTML text: the page's only inline
+ * script is its import map (an import map cannot be an external file in Chromium), allowed by its
+ * hash, so a script injected into the page does not run.
+ */
+export function inlineScriptHashes(html) {
+  const hashes = [];
+  for (const m of html.matchAll(/<script\b([^>]*)>([\s\S]*?)<\/script>/gi)) {
+    if (/\bsrc\s*=/.test(m[1])) continue;
+    hashes.push(`'sha256-${crypto.createHash('sha256').update(m[2], 'utf8').digest('base64')}'`);
+  }
+  return hashes;
+}
+
+/**
+ * The policy every response of the app's server carries, for the app page at root/web/index.html.
+ * img-src data: and blob: (the page's empty favicon, thumbnails), no frame-ancestors (portals
+ * frame the page), object-src none, base-uri none, form-action none.
+ */
+export function contentSecurityPolicy(root = REPO_ROOT) {
+  let hashes = [];
+  try {
+    hashes = inlineScriptHashes(fs.readFileSync(path.join(root, 'web', 'index.html'), 'utf8'));
+  } catch {
+    // no page (a server for other files): no inline script at all
+  }
+  return [
+    "default-src 'self'",
+    `script-src 'self' 'wasm-unsafe-eval'${hashes.length ? ' ' + hashes.join(' ') : ''}`,
+    "style-src 'self'",
+    "img-src 'self' data: blob:",
+    "connect-src 'self'",
+    "worker-src 'self'",
+    "object-src 'none'",
+    "base-uri 'none'",
+    "form-action 'none'",
+  ].join('; ');
 }
 
 function sendStatus(res, status) {
@@ -143,8 +186,10 @@ export function startServer({
   port = 8080, host = '127.0.0.1', root = REPO_ROOT, quiet = true, extraRoutes = [], onRequest,
 } = {}) {
   const routes = [...extraRoutes, ...ROUTES];
+  const csp = contentSecurityPolicy(root);
   const server = http.createServer((req, res) => {
     if (onRequest) onRequest((req.url || '/').split('?')[0]);
+    res.setHeader('Content-Security-Policy', csp);
     handle(req, res, root, routes).catch(() => {
       if (!res.headersSent) sendStatus(res, 500);
       else res.destroy();

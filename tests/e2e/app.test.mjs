@@ -16,6 +16,8 @@
 //     next slice works;
 //   - the embedding module (web/omnislice-embed.js) slices a file in one call;
 //   - no request leaves the page's origin (every request of the page and its worker is recorded);
+//   - the page runs under the server's Content-Security-Policy: no violation while it loads and
+//     slices, and a script injected into the page does not run;
 //   - long tasks attributable to slicing (see sliceWithLongTaskCheck): none while the worker slices, and
 //     every app step handling the result under 50 ms. The worker's wasm compile at start-up is not
 //     on the main thread and happens before any measured window.
@@ -44,6 +46,13 @@ const app = appPage('app', {
   waitForDemo: false,
   async beforeGoto(context, server) {
     const origin = new URL(server.url).origin;
+    // Every CSP violation the page reports (init scripts run outside the page's policy).
+    await context.addInitScript(() => {
+      window.__cspViolations = [];
+      document.addEventListener('securitypolicyviolation', (e) => {
+        window.__cspViolations.push(`${e.violatedDirective} ${e.blockedURI} ${e.sourceFile || ''}:${e.lineNumber || 0}`);
+      });
+    });
     context.on('request', (r) => requests.push(r.url()));
     await context.route(
       (url) => url.origin !== origin && url.protocol !== 'blob:' && url.protocol !== 'data:',
@@ -186,6 +195,26 @@ test('the demo model is loaded and sliced on page load', async () => {
   assert.ok(await page.evaluate(() => window.omnislice.previewSegments) > 1000);
   assert.equal(await page.isHidden(tid('error-message')), true);
   await page.screenshot({ path: path.join(OUT_DIR, 'demo.png') });
+});
+
+test('the page runs under its Content-Security-Policy: nothing it does is refused, injected script is', async () => {
+  await waitState('done', { minSlices: 1 });
+  const policy = await page.evaluate(async () => (await fetch('/')).headers.get('content-security-policy'));
+  assert.match(policy, /script-src 'self' 'wasm-unsafe-eval' 'sha256-/);
+  assert.doesNotMatch(policy, /unsafe-inline|'unsafe-eval'|\*/);
+  // The demo loaded, its worker compiled the wasm and sliced: no violation on the way.
+  assert.deepEqual(await page.evaluate(() => window.__cspViolations), []);
+  // A script element injected into the page (what an XSS would do) is refused and reported.
+  const ran = await page.evaluate(async () => {
+    const s = document.createElement('script');
+    s.textContent = 'window.__injected = true;';
+    document.head.append(s);
+    await new Promise((resolve) => setTimeout(resolve, 100));
+    return { injected: window.__injected === true, violations: window.__cspViolations.slice() };
+  });
+  assert.equal(ran.injected, false, 'an injected inline script ran');
+  assert.ok(ran.violations.some((v) => v.startsWith('script-src')), `violations: ${ran.violations.join(', ')}`);
+  await page.evaluate(() => { window.__cspViolations.length = 0; });
 });
 
 test('a shared model: load through the file input, slice with progress, download the G-code', async (t) => {
@@ -467,11 +496,12 @@ test('the embedding module slices a file in one call and reports errors with cod
   assert.equal(out.error.code, 'truncated_file');
 });
 
-test('no request left the page origin, and the page raised no uncaught error', () => {
+test('no request left the page origin, the page raised no uncaught error and broke no CSP rule', async () => {
   const origin = new URL(app.server.url).origin;
   assert.ok(requests.some((u) => u.endsWith('/wasm/omnislice.wasm')), 'the worker\'s wasm fetch was recorded');
   const foreign = requests.filter((u) => !u.startsWith(`${origin}/`) && !u.startsWith('blob:') && !u.startsWith('data:'));
   assert.deepEqual(foreign, []);
   assert.deepEqual(offOrigin, []);
   assert.deepEqual(pageErrors(), []);
+  assert.deepEqual(await page.evaluate(() => window.__cspViolations), []);
 });

@@ -6,7 +6,8 @@ import fs from 'node:fs';
 import os from 'node:os';
 import path from 'node:path';
 import net from 'node:net';
-import { startServer, resolveRequestPath, mimeType } from '../../scripts/serve.mjs';
+import crypto from 'node:crypto';
+import { startServer, resolveRequestPath, mimeType, inlineScriptHashes } from '../../scripts/serve.mjs';
 
 // A throw-away root with the four served folders and a secret file next to them.
 const root = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-serve-'));
@@ -14,7 +15,11 @@ const write = (rel, text) => {
   fs.mkdirSync(path.dirname(path.join(root, rel)), { recursive: true });
   fs.writeFileSync(path.join(root, rel), text);
 };
-write('web/index.html', '<!doctype html><title>t</title>');
+// The page's inline import map is allowed by its hash; the external script needs no hash.
+const IMPORT_MAP = '\n  {"imports": {"three": "/vendor/three/build/three.module.js"}}\n';
+const INDEX = `<!doctype html><title>t</title><script type="importmap">${IMPORT_MAP}</script>` +
+  '<script type="module" src="/app.js"></script>';
+write('web/index.html', INDEX);
 write('web/app.js', 'export const x = 1;');
 write('web/styles.css', 'body{}');
 write('web/models/part.stl', 'solid x\nendsolid x\n');
@@ -66,7 +71,7 @@ test('startServer on port 0 reports a loopback URL with the chosen port', () => 
 
 test('routes map to their folders with the right MIME types', async () => {
   const cases = [
-    ['/', 'text/html', '<!doctype html><title>t</title>'],
+    ['/', 'text/html', INDEX],
     ['/app.js', 'text/javascript', 'export const x = 1;'],
     ['/styles.css', 'text/css', 'body{}'],
     ['/models/part.stl', 'application/octet-stream', 'solid x\nendsolid x\n'],
@@ -108,6 +113,29 @@ test('unknown paths give 404, other methods 405, HEAD has headers and no body', 
   assert.equal(head.status, 200);
   assert.equal(head.body, '');
   assert.equal(head.headers['content-length'], '19');
+});
+
+test('every response carries the Content-Security-Policy; inline scripts only by the page\'s hashes', async () => {
+  const hash = `'sha256-${crypto.createHash('sha256').update(IMPORT_MAP).digest('base64')}'`;
+  for (const [p, status] of [['/', 200], ['/app.js', 200], ['/wasm/omnislice.wasm', 200], ['/missing', 404],
+    ['/..%2fsecret.txt', 403]]) {
+    const r = await raw(p);
+    assert.equal(r.status, status, p);
+    const csp = r.headers['content-security-policy'];
+    assert.ok(csp, `${p}: no policy`);
+    const directives = Object.fromEntries(csp.split(';').map((d) => d.trim().split(/\s+/)).map(([k, ...v]) => [k, v]));
+    assert.deepEqual(directives['default-src'], ["'self'"]);
+    assert.deepEqual(directives['script-src'], ["'self'", "'wasm-unsafe-eval'", hash], p);
+    assert.deepEqual(directives['style-src'], ["'self'"]);
+    assert.deepEqual(directives['object-src'], ["'none'"]);
+    assert.ok(!/unsafe-inline|'unsafe-eval'|\*/.test(csp), csp);
+  }
+  // The hashes are the inline scripts' own (another text, another hash); src scripts have none.
+  assert.deepEqual(inlineScriptHashes('<script src="/a.js"></script><p>x</p>'), []);
+  const two = inlineScriptHashes('<SCRIPT type="importmap">a</SCRIPT><script>b</script>');
+  assert.equal(two.length, 2);
+  assert.notEqual(two[0], two[1]);
+  assert.equal(two[0], `'sha256-${crypto.createHash('sha256').update('a').digest('base64')}'`);
 });
 
 test('resolveRequestPath and mimeType agree with the route table', () => {
