@@ -17,5 +17,6 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   emscripten::function("_replay", &replayJs);
   emscripten::function("_defaultSettings", &defaultSettingsJs);
   emscripten::function("_settingsSchema", &settingsSchemaJs);
+  emscripten::function("_heapStats", &heapStatsJs);
   emscripten::function("_abortForTest", &abortForTest);
 }

@@ -1,10 +1,13 @@
 // SPDX-License-Identifier: MIT
 #include "helpers.h"
 
+#include <emscripten/heap.h>
+
 #include <algorithm>
 #include <cstdint>
 #include <cstdlib>
 #include <exception>
+#include <malloc.h>
 #include <new>
 #include <vector>
 
@@ -286,6 +289,15 @@ val defaultSettingsJs() {
   result.set("values", out);
   result.set("keys", keys);
   return result;
+}
+
+emscripten::val heapStatsJs() {
+  const struct mallinfo mi = mallinfo();
+  emscripten::val out = emscripten::val::object();
+  out.set("heapBytes", static_cast<double>(emscripten_get_heap_size()));
+  out.set("usedBytes", static_cast<double>(mi.uordblks));
+  out.set("blocks", static_cast<double>(mi.ordblks));
+  return out;
 }
 
 void abortForTest() { std::abort(); }

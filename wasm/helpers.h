@@ -60,6 +60,11 @@ emscripten::val defaultSettingsJs();
 // help, choices, method}, ...] in listing order.
 std::string settingsSchemaJs();
 
+// The instance's memory: {heapBytes: the wasm linear memory (it only grows), usedBytes: bytes
+// malloc has handed out and not taken back (mallinfo's uordblks), blocks: mallinfo's ordblks
+// (free chunks)}. The soak (scripts/soak.mjs) watches usedBytes across jobs for leaks.
+emscripten::val heapStatsJs();
+
 // Test hook for the worker's crash path: aborts the wasm instance (std::abort).
 void abortForTest();
 

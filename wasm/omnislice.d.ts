@@ -154,6 +154,8 @@ export class Omnislice {
   /** The settings table in listing order: every key with its type, default, range, unit, help. */
   settingsSchema(): SettingSpec[];
   defaultSettings(): { values: Record<string, string>; keys: string[] };
+  /** The instance's memory: linear memory size, bytes malloc holds, free chunks. */
+  heapStats(): { heapBytes: number; usedBytes: number; blocks: number };
 }
 
 /** One setting of the core's table (core/pipeline/settings.h SettingSpec). */

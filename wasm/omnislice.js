@@ -280,6 +280,15 @@ export class Omnislice {
     return parseJson(out.schema, 'settings schema');
   }
 
+  /**
+   * The instance's memory: {heapBytes (the wasm linear memory; it only grows), usedBytes (what
+   * malloc holds: the figure a leak raises), blocks (free chunks)}.
+   */
+  heapStats() {
+    const { heapBytes, usedBytes, blocks } = this.#call(() => ({ status: 'ok', ...this.raw._heapStats() }));
+    return { heapBytes, usedBytes, blocks };
+  }
+
   /** Default settings: {values: {key: text}, keys: [...]} in the core's stable order. */
   defaultSettings() {
     const { values, keys } = this.#call(() => ({ status: 'ok', ...this.raw._defaultSettings() }));

@@ -47,6 +47,8 @@ export interface Slicer {
   settingsSchema(): Promise<SettingSpec[]>;
   /** Check a machine profile JSON with the core's parser; rejects with code 'parse_error'. */
   parseMachine(text: string): Promise<{ profile: MachineProfileJson; json: string }>;
+  /** The slicer's own worker's memory and work (helpers of method = auto's pool not counted). */
+  stats(): Promise<{ heapBytes: number; usedBytes: number; blocks: number; jobs: number; workersStarted: number }>;
   /** Forget a mesh (its kept bytes here and its copy in the worker). */
   unloadMesh(meshId: string): Promise<void>;
   dispose(): void;

@@ -40,6 +40,7 @@ class Slicer {
   #loaded = new Map();      // meshId -> Promise of the load in the CURRENT worker
   #disposed = false;
   #poolSize = 1;
+  #workersStarted = 0;     // this slicer's own worker: the first, and each one replacing it
   #helpers = [];            // further slicers for method = auto's candidates (started on first use)
   #helperMeshes = new Map();  // meshId -> [meshId in helper i (a Promise)]
 
@@ -58,6 +59,7 @@ class Slicer {
   /** Start a worker and wait for `ready`. */
   start() {
     const worker = new Worker(this.#workerUrl, { type: 'module' });
+    ++this.#workersStarted;
     this.#worker = worker;
     this.#loaded = new Map();
     worker.onmessage = (event) => this.#onMessage(worker, event.data);
@@ -384,6 +386,17 @@ class Slicer {
       if (p) Promise.all([p, this.#helpers[i - 1]]).then(([id, h]) => h && h.unloadMesh(id)).catch(() => {});
     });
     if (this.#loaded.delete(meshId)) await this.#send(Request.UNLOAD, { meshId });
+  }
+
+  /**
+   * The slicer's own worker's memory and work: {heapBytes (its wasm linear memory, which only
+   * grows), usedBytes (what the core's allocator holds: a leak raises it), blocks, jobs (requests
+   * that worker answered), workersStarted (1 + every replacement after a crash or a cancel)}.
+   * Helpers of method = auto's pool are not counted.
+   */
+  async stats() {
+    const r = await this.#send(Request.STATS, {});
+    return { ...r, workersStarted: this.#workersStarted };
   }
 
   /** Test hook: crash the wasm instance in the worker (rejects with code 'internal'). */

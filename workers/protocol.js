@@ -84,6 +84,10 @@ export const Request = Object.freeze({
    *  {profile: object, json: string (one line, for the machine_json setting)}, or `error`
    *  {code: 'parse_error', message}. */
   PARSE_MACHINE: 'parse-machine',
+  /** payload {}: the worker's memory and work so far. Reply: `result` {heapBytes (wasm linear
+   *  memory), usedBytes (held by malloc), blocks, jobs (requests this worker has answered, this
+   *  one and init not counted)} (wasm/omnislice.js heapStats). */
+  STATS: 'stats',
   /** Test hook, payload {}: aborts the wasm instance. Reply: `error` {code: 'internal', fatal}. */
   DEBUG_CRASH: 'debug-crash',
 });

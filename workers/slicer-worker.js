@@ -8,6 +8,7 @@ import {
 
 let enginePromise = null;  // Promise<Omnislice> once `init` arrived
 const meshes = new Map();  // meshId -> {name, bytes: Uint8Array, placement}
+let jobs = 0;              // requests answered (init and stats not counted)
 
 function post(message, transfer = []) {
   self.postMessage(message, transfer);
@@ -163,6 +164,11 @@ const handlers = {
     post({ id, type: Reply.RESULT, result: { profile, json } });
   },
 
+  async [Request.STATS](id) {
+    const e = await engine();
+    post({ id, type: Reply.RESULT, result: { ...e.heapStats(), jobs } });
+  },
+
   async [Request.DEBUG_CRASH]() {
     const e = await engine();
     e.raw._abortForTest();  // throws a RuntimeError (wasm abort); reported as fatal below
@@ -174,6 +180,7 @@ self.onmessage = async (event) => {
   const handler = handlers[type];
   try {
     if (!handler) throw new OmnisliceError('invalid_option', `unknown request type ${type}`);
+    if (type !== Request.INIT && type !== Request.STATS) ++jobs;
     await handler(id, payload || {});
   } catch (error) {
     let err = error;

@@ -280,6 +280,33 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.equal(r.badWorker, 'worker_failed');
   });
 
+  test('stats: jobs count the answered requests, memory is the instance\'s, a replacement worker starts at zero', async () => {
+    const r = await page.evaluate(async () => {
+      const s = await window.engine.createSlicer({ workers: 1 });
+      const out = { start: await s.stats() };
+      const { meshId } = await s.loadMesh('box.stl', window.meshes.boxStl(10, 10, 4));
+      await s.slice(meshId, { layer_height: 0.2 });
+      await s.slice(meshId, { layer_height: 0.1 });
+      out.after = await s.stats();
+      // A cancel replaces the worker: a new instance, no jobs yet.
+      const c = new AbortController();
+      const p = s.slice({ name: 't.stl', bytes: window.meshes.torusStl(30, 10, 400, 125) }, {}, { signal: c.signal });
+      setTimeout(() => c.abort(), 50);
+      out.cancelled = await p.then(() => 'resolved', (e) => e.code);
+      out.replaced = await s.stats();
+      s.dispose();
+      return out;
+    });
+    assert.equal(r.start.jobs, 0);
+    assert.equal(r.start.workersStarted, 1);
+    assert.ok(r.start.usedBytes > 0 && r.start.heapBytes >= r.start.usedBytes, JSON.stringify(r.start));
+    assert.equal(r.after.jobs, 3, 'load and two slices');
+    assert.ok(r.after.heapBytes >= r.start.heapBytes, 'linear memory never shrinks');
+    assert.equal(r.cancelled, 'cancelled');
+    assert.equal(r.replaced.workersStarted, 2);
+    assert.equal(r.replaced.jobs, 0);
+  });
+
   test('the main thread is not blocked while slicing', async (t) => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.torusStl(30, 10, 400, 125);  // 100,000 triangles
