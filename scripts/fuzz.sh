@@ -45,7 +45,7 @@ for t in "${targets[@]}"; do
   mkdir -p "$corpus"
   before=$(ls build/fuzz/crashes | grep -c "^$t-" || true)
   # -timeout: an input taking 10 s is a hang (kept as a crasher); -rss_limit_mb: 2 GiB.
-  build/fuzz/fuzz_"$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+  build/fuzz/fuzz/fuzz_"$t" -max_total_time="$seconds" -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
     -artifact_prefix=build/fuzz/crashes/"$t"- "$corpus" fuzz/corpus/"$t" > build/fuzz/logs/"$t".log 2>&1
   rc=$?
   runs=$(grep -o 'stat::number_of_executed_units: *[0-9]*' build/fuzz/logs/"$t".log | grep -o '[0-9]*$' | tail -1)

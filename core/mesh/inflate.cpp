@@ -210,7 +210,9 @@ class Inflater {
     if ((len ^ 0xFFFFu) != nlen) return fail(Status::ParseError, "DEFLATE: stored block length check failed");
     if (len > size_ - pos - 4) return truncated();
     if (!reserve(len)) return false;
-    std::memcpy(out_.data() + size_out_, data_ + pos + 4, len);
+    // An empty stored block copies nothing (out_ may still be empty: memcpy of a null pointer is
+    // undefined even for no bytes; found by npm run fuzz, fuzz/regressions/inflate).
+    if (len > 0) std::memcpy(out_.data() + size_out_, data_ + pos + 4, len);
     size_out_ += len;
     br_.resumeAt(pos + 4 + len);
     return true;

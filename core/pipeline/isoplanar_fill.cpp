@@ -153,7 +153,10 @@ IsoplanarFillResult planIsoplanarFill(const Mesh& surface, const MachineProfile&
   r.samples = search.samples;
   r.unreachable = search.unreachable;
   r.maxFeedMmS = options.maxFeed;
-  IsoplanarReport::Paths& rp = r.paths.emplace();
+  // Assigned, not emplace()d: clang with libstdc++ decides a nested struct with default member
+  // initializers is not default-constructible inside std::optional (the fuzz build is clang).
+  r.paths = IsoplanarReport::Paths{};
+  IsoplanarReport::Paths& rp = *r.paths;
   rp.bestSampledThetaDeg = search.thetaDegrees.empty() ? 0.0 : search.thetaDegrees[search.best];
   rp.pathMm = time.pathMm;
   rp.estimatedTimeS = time.totalS;
