@@ -7,7 +7,8 @@
 // Passes when: every method slices (no job fails, none is refused), the worker is never replaced,
 // each method gives the same program bytes on every run (its header's timestamp masked: no state
 // leaks from one job into the next), and the memory malloc holds after the last job is at most
-// 5 % above what it held after job 10 (the first jobs fill caches and grow the heap once). Prints one line per
+// 5 % above what it held after the first two rounds (12 jobs: the first jobs fill caches and grow
+// the heap once). Prints one line per
 // tenth of the run and a JSON summary (the heap curve: usedBytes and heapBytes after every
 // tenth); exits non-zero when any of the above fails.
 import { browserUnavailable, openPage } from '../tests/js/browser.mjs';
@@ -30,6 +31,9 @@ const JOBS = [
   { method: 'voxel', mesh: 'bracket', settings: { method: 'voxel', machine: 'table5', fit_mm: 16 } },
   { method: 'geodesic', mesh: 'bracket', settings: { method: 'geodesic', machine: 'robot6-ur5', fit_mm: 16 } },
   { method: 'surface', mesh: 'saddle', settings: { method: 'surface', machine: 'table5', layer_height: 0.3 } },
+  // A part of 100,000 triangles: its slices grow the heap past the initial 64 MiB, so the heap's
+  // own size is watched too.
+  { method: 'planar-100k', mesh: 'torus', settings: { method: 'planar', machine: 'cartesian3', layer_height: 0.3 } },
 ];
 
 const env = await openPage('/tests/js/fixtures/worker-harness.html');
@@ -45,6 +49,7 @@ try {
     const ids = {
       bracket: (await slicer.loadMesh('bracket.stl', meshes.lBracketStl(10))).meshId,
       saddle: (await slicer.loadMesh('saddle.obj', new TextEncoder().encode(meshes.saddleObj(20, 10, 24)))).meshId,
+      torus: (await slicer.loadMesh('torus.stl', meshes.torusStl(30, 10, 400, 125))).meshId,
     };
     const hex = (buf) => [...new Uint8Array(buf)].map((b) => b.toString(16).padStart(2, '0')).join('');
     const curve = [];
@@ -81,7 +86,7 @@ try {
   }, { jobs: JOBS, total });
 
   const at = (n) => run.curve[n - 1];
-  const base = at(JOBS.length * 2);  // after the 10th job (two rounds of the five methods)
+  const base = at(JOBS.length * 2);  // after two rounds of the methods (the 12th job)
   const last = run.curve.at(-1);
   const growth = last.usedBytes / base.usedBytes - 1;
   const tenth = Math.max(1, Math.round(run.curve.length / 10));
@@ -92,14 +97,15 @@ try {
     seconds: Math.round(run.seconds),
     outcomes: run.outcomes,
     median_ms: Object.fromEntries(Object.entries(run.ms).map(([m, a]) => [m, Math.round(median(a))])),
-    used_bytes_after_10: base.usedBytes,
+    baseline_job: base.job,
+    used_bytes_baseline: base.usedBytes,
     used_bytes_last: last.usedBytes,
     used_growth_pct: Number((100 * growth).toFixed(2)),
-    heap_bytes_after_10: base.heapBytes,
+    heap_bytes_baseline: base.heapBytes,
     heap_bytes_last: last.heapBytes,
     heap_growth_pct: Number((100 * (last.heapBytes / base.heapBytes - 1)).toFixed(2)),
     workers_started: last.workersStarted,
-    curve: run.curve.filter((c, i) => i === JOBS.length * 2 - 1 || (i + 1) % tenth === 0)
+    curve: run.curve.filter((c, i) => i === base.job - 1 || (i + 1) % tenth === 0)
       .map((c) => ({ job: c.job, used_mib: Number((c.usedBytes / 2 ** 20).toFixed(2)), heap_mib: c.heapBytes / 2 ** 20 })),
     failures: run.failures,
   };
@@ -111,9 +117,11 @@ try {
     if (Object.keys(o).length !== 1) problems.push(`${m}: ${Object.keys(o).length} different outcomes over its runs`);
     else if (!Object.keys(o)[0].startsWith('ok')) problems.push(`${m} did not slice (${Object.keys(o)[0]}): the soak does not exercise it`);
   }
-  if (growth > 0.05) problems.push(`malloc grew ${(100 * growth).toFixed(1)} % after job 10 (limit 5 %)`);
+  if (growth > 0.05) problems.push(`malloc grew ${(100 * growth).toFixed(1)} % after job ${base.job} (limit 5 %)`);
+  const heapGrowth = last.heapBytes / base.heapBytes - 1;
+  if (heapGrowth > 0.05) problems.push(`the wasm heap grew ${(100 * heapGrowth).toFixed(1)} % after job ${base.job} (limit 5 %)`);
   console.log(`soak: ${summary.jobs} jobs in ${summary.seconds} s, malloc ${summary.used_growth_pct >= 0 ? '+' : ''}` +
-    `${summary.used_growth_pct} % after job 10, heap ${summary.heap_growth_pct} %, ` +
+    `${summary.used_growth_pct} % after job ${base.job}, heap ${summary.heap_growth_pct} %, ` +
     `${problems.length ? `FAILED: ${problems.join('; ')}` : 'passed'}`);
   if (problems.length) status = 1;
 } catch (e) {
