@@ -44,29 +44,29 @@ if [ "${OMNISLICE_SANITIZE_PHASE:-all}" != ctest ]; then
   printf 'solid x\nfacet normal 0 0 1\nouter loop\nvertex nan 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid\n' > "$out/nan.stl"
   models+=(web/models/demo-overhang.stl web/models/demo-saddle.obj "$out/truncated.stl" "$out/nan.stl")
   runs=0
+  # Runs the CLI (stderr to ERR_FILE); 0 when it exited 0, 2 when it refused cleanly (exit 2, no
+  # report), 1 (and status=1, the report shown) on a sanitizer report or any other exit.
+  run_cli() {
+    local label=$1 err=$2
+    shift 2
+    "$cli" "$@" > /dev/null 2> "$err"
+    local rc=$?
+    runs=$((runs + 1))
+    if grep -q "Sanitizer\|runtime error" "$err" || { [ $rc -ne 0 ] && [ $rc -ne 2 ]; }; then
+      echo "sanitize: $label: exit $rc" >&2
+      grep -m 20 "ERROR\|runtime error\|SUMMARY\|#[0-9] " "$err" >&2
+      status=1
+      return 1
+    fi
+    return $rc
+  }
   for m in "${models[@]}"; do
     for mm in "planar cartesian3" "multidir table5" "voxel table5" "geodesic robot6-ur5" "surface table5"; do
       set -- $mm
       name=$(basename "$m"); name=${name%.*}-$1
-      "$cli" slice "$m" -o "$out/$name.prog" --method "$1" --machine "$2" --fit-mm 20 \
-        --set verify=warn --set verify_attempts=1 > /dev/null 2> "$out/$name.err"
-      rc=$?
-      runs=$((runs + 1))
-      if grep -q "Sanitizer\|runtime error" "$out/$name.err" || { [ $rc -ne 0 ] && [ $rc -ne 2 ]; }; then
-        echo "sanitize: $name: exit $rc" >&2
-        grep -m 20 "ERROR\|runtime error\|SUMMARY\|#[0-9] " "$out/$name.err" >&2
-        status=1
-        continue
-      fi
-      [ $rc -eq 0 ] || continue
-      "$cli" verify "$out/$name.prog" --mesh "$m" -o /dev/null > /dev/null 2> "$out/$name.verify.err"
-      rc=$?
-      runs=$((runs + 1))
-      if grep -q "Sanitizer\|runtime error" "$out/$name.verify.err" || { [ $rc -ne 0 ] && [ $rc -ne 2 ]; }; then
-        echo "sanitize: verify $name: exit $rc" >&2
-        grep -m 20 "ERROR\|runtime error\|SUMMARY\|#[0-9] " "$out/$name.verify.err" >&2
-        status=1
-      fi
+      run_cli "$name" "$out/$name.err" slice "$m" -o "$out/$name.prog" --method "$1" --machine "$2" \
+        --fit-mm 20 --set verify=warn --set verify_attempts=1 || continue
+      run_cli "verify $name" "$out/$name.verify.err" verify "$out/$name.prog" --mesh "$m" -o /dev/null
     done
   done
   echo "sanitize: CLI: ${#models[@]} files, $runs runs (slice and verify)"
