@@ -19,4 +19,5 @@ EMSCRIPTEN_BINDINGS(omnislice) {
   emscripten::function("_settingsSchema", &settingsSchemaJs);
   emscripten::function("_heapStats", &heapStatsJs);
   emscripten::function("_abortForTest", &abortForTest);
+  emscripten::function("_allocateForTest", &allocateForTest);
 }

@@ -11,6 +11,7 @@
 #include <new>
 #include <vector>
 
+#include "common/memory_budget.h"
 #include "common/status.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/settings.h"
@@ -96,7 +97,8 @@ val guarded(F&& body) {
   try {
     return body();
   } catch (const std::bad_alloc&) {
-    return statusObject(Status::Internal, "out of memory (the wasm heap is limited to 4 GB)");
+    const Outcome o = allocationFailed("running (the wasm heap ends at 4 GB)");
+    return statusObject(o.status, o.message);
   } catch (const std::exception& e) {
     return statusObject(Status::Internal, std::string("unexpected exception: ") + e.what());
   }
@@ -301,5 +303,16 @@ emscripten::val heapStatsJs() {
 }
 
 void abortForTest() { std::abort(); }
+
+val allocateForTest(double megabytes) {
+  return guarded([&] {
+    const double bytes = std::min(std::max(0.0, megabytes) * 1024 * 1024, double(SIZE_MAX));
+    // operator new throws std::bad_alloc when malloc cannot grow the heap (as every container does).
+    void* block = ::operator new(static_cast<size_t>(bytes));
+    static_cast<volatile uint8_t*>(block)[0] = 1;
+    ::operator delete(block);
+    return statusObject(Status::Ok, "");
+  });
+}
 
 }  // namespace omnislice::wasm

@@ -68,4 +68,9 @@ emscripten::val heapStatsJs();
 // Test hook for the worker's crash path: aborts the wasm instance (std::abort).
 void abortForTest();
 
+// Test hook for an allocation that fails: allocates `megabytes` MB (and frees them) under the same
+// guard as every call; beyond the 4 GB heap it is the out_of_memory status, and the instance
+// stays usable.
+emscripten::val allocateForTest(double megabytes);
+
 }  // namespace omnislice::wasm

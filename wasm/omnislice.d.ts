@@ -4,8 +4,8 @@
 export type StatusCode =
   | 'empty_input' | 'unsupported_format' | 'parse_error' | 'truncated_file'
   | 'non_finite_vertex' | 'degenerate_input' | 'open_mesh' | 'non_manifold'
-  | 'self_intersecting' | 'invalid_option' | 'io_error' | 'cancelled' | 'unsound_program' | 'internal'
-  | 'worker_failed';
+  | 'self_intersecting' | 'invalid_option' | 'io_error' | 'cancelled' | 'unsound_program'
+  | 'out_of_memory' | 'internal' | 'worker_failed';
 
 export const STATUS_CODES: readonly ('ok' | StatusCode)[];
 

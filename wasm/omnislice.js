@@ -7,7 +7,8 @@
 export const STATUS_CODES = Object.freeze([
   'ok', 'empty_input', 'unsupported_format', 'parse_error', 'truncated_file',
   'non_finite_vertex', 'degenerate_input', 'open_mesh', 'non_manifold', 'self_intersecting',
-  'invalid_option', 'io_error', 'cancelled', 'unsound_program', 'internal', 'worker_failed',
+  'invalid_option', 'io_error', 'cancelled', 'unsound_program', 'out_of_memory', 'internal',
+  'worker_failed',
 ]);
 
 /** The one error class of the JS side: `code` is one of STATUS_CODES (never 'ok'). */

@@ -117,6 +117,10 @@ class Slicer {
         if (msg.fatal) {
           // The wasm instance crashed: discard the worker; other requests fail with worker_failed.
           this.#restart(new OmnisliceError('worker_failed', `slicer worker crashed: ${msg.message}`), true);
+        } else if (msg.code === 'out_of_memory') {
+          // The instance is sound, but the heap it grew never shrinks: a fresh worker, so the
+          // next job (a smaller model, a coarser setting) starts from a small heap.
+          this.#restart(new OmnisliceError('worker_failed', `slicer worker replaced (out of memory): ${msg.message}`), true);
         }
         break;
       }

@@ -12,7 +12,9 @@
 //                                                               'decompose'; see SEARCH_LINES)
 //   result:   {id, type: 'result', result}                      ArrayBuffers inside are transferred
 //   error:    {id, type: 'error', code, message, fatal}         code: a STATUS_CODES string;
-//                                                               fatal: the worker must be discarded;
+//                                                               fatal: the worker must be discarded
+//                                                               (the facade also replaces it after
+//                                                               out_of_memory: its heap stays grown);
 //                                                               unsound_program also carries the
 //                                                               refused slice's report, info,
 //                                                               preview and mesh

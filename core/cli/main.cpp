@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "common/memory_budget.h"
 #include "common/status.h"
 #include "mesh/mesh.h"
 #include "pipeline/pipeline.h"
@@ -352,7 +353,8 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "error: %s: %s\n", statusCode(e.status), e.message.c_str());
     return 2;
   } catch (const std::bad_alloc&) {
-    std::fputs("error: internal: out of memory\n", stderr);
+    const Outcome o = allocationFailed("running");
+    std::fprintf(stderr, "error: %s: %s\n", statusCode(o.status), o.message.c_str());
     return 2;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "error: internal: %s\n", e.what());

@@ -19,6 +19,7 @@ const char* statusCode(Status s) {
     case Status::IoError: return "io_error";
     case Status::Cancelled: return "cancelled";
     case Status::UnsoundProgram: return "unsound_program";
+    case Status::OutOfMemory: return "out_of_memory";
     case Status::Internal: return "internal";
   }
   return "internal";

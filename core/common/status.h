@@ -24,6 +24,8 @@ enum class Status {
   UnsoundProgram,      // the program was made, but simulating it shows it cannot print soundly
                        // (nozzle collisions, tool path left out, unsupported surface, ...);
                        // refused before writing, with why and what would print it
+  OutOfMemory,         // a structure the job needs is larger than the memory budget (memory_mb),
+                       // refused before allocating it, or an allocation failed
   Internal,            // a bug: an invariant failed
 };
 

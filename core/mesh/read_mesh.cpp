@@ -10,6 +10,7 @@
 #include <new>
 #include <system_error>
 
+#include "common/memory_budget.h"
 #include "mesh/read_formats.h"
 #include "mesh/text_cursor.h"
 #include "tet/tet_mesh.h"
@@ -187,10 +188,8 @@ ReadMeshResult readMesh(const uint8_t* data, size_t size, const std::string& nam
   try {
     return readChecked(data, size, nameHint);
   } catch (const std::bad_alloc&) {
-    ReadMeshResult r;
-    r.status = Status::Internal;
-    r.message = "out of memory while reading " + (nameHint.empty() ? std::string("the mesh") : "'" + nameHint + "'");
-    return r;
+    return failed<ReadMeshResult>(
+        allocationFailed("reading " + (nameHint.empty() ? std::string("the mesh") : "'" + nameHint + "'")));
   } catch (...) {
     ReadMeshResult r;
     r.status = Status::Internal;
@@ -232,9 +231,7 @@ ReadMeshResult readMeshFile(const std::string& path) {
     }
     return readMesh(bytes.data(), bytes.size(), path);
   } catch (const std::bad_alloc&) {
-    r.status = Status::Internal;
-    r.message = "out of memory while reading '" + path + "'";
-    return r;
+    return failed<ReadMeshResult>(allocationFailed("reading '" + path + "'"));
   }
 }
 

@@ -15,11 +15,13 @@
 #include <exception>
 #include <thread>
 
+#include "common/memory_budget.h"
 #include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "geodesic/heat_geodesic.h"
 #include "geodesic/igds.h"
 #include "geodesic/print_order.h"
+#include "mesh/mesh_measures.h"
 #include "pipeline/curved_stage.h"
 #include "pipeline/method.h"
 #include "pipeline/settings.h"
@@ -163,6 +165,14 @@ struct GeodesicAttempt : Outcome {
   const PrintSequence& chosen() const { return sequences[chosenIndex]; }
 };
 
+// The tets, the heat method's matrices and the layers of `tets` tets within the memory budget.
+Outcome checkTetBudget(double tets, double budgetMb) {
+  char what[80];
+  std::snprintf(what, sizeof what, "the geodesic method (%.0f tets)", tets);
+  return checkMemoryBudget(tets * memory_cost::kTetBytes, budgetMb, what,
+                           "lower geodesic.target_tets, raise geodesic.tet_size_mm or raise memory_mb");
+}
+
 GeodesicAttempt geodesicAttempt(const TetMesh& tets, const Mesh& boundary, const std::vector<uint32_t>& sources,
                                 int alignPasses, double interval, const MethodContext& context) {
   const Settings& settings = context.settings;
@@ -286,6 +296,11 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
     TetMesherOptions mopt;
     mopt.cellSize = gs.tetSizeMm;
     mopt.targetTets = static_cast<size_t>(gs.targetTets);
+    // The tets the mesher will make: its target, or at cell size h about 6 per h^3 of the solid
+    // (a body-centred cubic lattice).
+    const double expected = mopt.cellSize > 0 ? 6.0 * std::abs(signedVolume(placed.mesh)) / std::pow(mopt.cellSize, 3)
+                                              : double(mopt.targetTets);
+    if (Outcome o = checkTetBudget(expected, settings.memoryMb); !o.ok()) return failure(o);
     TetMesherResult meshed = tetrahedralize(placed.mesh, mopt, progress);
     if (!meshed.ok()) return failure(meshed);
     report.mesher = GeodesicReport::Mesher{meshed.cellSize,          meshed.boundaryVertices,
@@ -294,6 +309,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
                                            meshed.stuffMs,           meshed.snapMs};
     tets = std::move(meshed.mesh);
   }
+  if (Outcome o = checkTetBudget(double(tets.tetCount()), settings.memoryMb); !o.ok()) return failure(o);
   const TetQuality quality = tetQuality(tets);
   out.timingsMs.emplace_back("tetmesh", msSince(t0));
   timings.emplace_back("tetmesh", out.timingsMs.back().second);

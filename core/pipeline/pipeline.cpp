@@ -13,6 +13,7 @@
 #include <thread>
 
 #include "common/math_constants.h"
+#include "common/memory_budget.h"
 #include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "machine/machine.h"
@@ -352,6 +353,14 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
   }
 
   // Motion and program.
+  if (Outcome o = checkMemoryBudget(double(a.result.toolpath.moves.size()) * memory_cost::kMoveBytes,
+                                    settings.memoryMb,
+                                    "the program (" + std::to_string(a.result.toolpath.moves.size()) +
+                                        " moves, with its machine motion)",
+                                    "raise layer_height, line_width or memory_mb, or scale the model down");
+      !o.ok()) {
+    return failed<Attempt>(o);
+  }
   a.motion = planMachineMotion(a.result.toolpath, machine, motionOptions(settings), progress);
   if (!a.motion.ok()) return failed<Attempt>(a.motion);
   clock.done("motion");
@@ -471,7 +480,7 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
         try {
           again = makeAttempt(part, changed, machine, method, mode, progress);
         } catch (const std::bad_alloc&) {
-          again = failed<Attempt>(Status::Internal, "out of memory while making the program again");
+          again = failed<Attempt>(allocationFailed("making the program again"));
         }
         if (again.status == Status::Cancelled) return failed<SliceOutput>(again);
         AttemptSection t;
@@ -538,7 +547,7 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
     out.program = std::move(written.text);
     return out;
   } catch (const std::bad_alloc&) {
-    return failed<SliceOutput>(Status::Internal, "out of memory while slicing");
+    return failed<SliceOutput>(allocationFailed("slicing"));
   } catch (const std::exception& e) {
     return failed<SliceOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
   }
@@ -716,7 +725,7 @@ SliceOutput runSlice(const uint8_t* data, size_t size, const std::string& fileNa
     try {
       return runAuto(data, size, fileName, settings, progress);
     } catch (const std::bad_alloc&) {
-      return failed<SliceOutput>(Status::Internal, "out of memory while slicing");
+      return failed<SliceOutput>(allocationFailed("slicing"));
     } catch (const std::exception& e) {
       return failed<SliceOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
     }
@@ -736,7 +745,7 @@ InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName
     out.partMesh = std::move(in.placed.mesh);
     return out;
   } catch (const std::bad_alloc&) {
-    return failed<InfoOutput>(Status::Internal, "out of memory while reading the mesh");
+    return failed<InfoOutput>(allocationFailed("reading the mesh"));
   } catch (const std::exception& e) {
     return failed<InfoOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
   }
@@ -773,7 +782,7 @@ VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, 
     out.verifyJson = verifyReportJson(report);
     return out;
   } catch (const std::bad_alloc&) {
-    return failed<VerifyOutput>(Status::Internal, "out of memory while verifying");
+    return failed<VerifyOutput>(allocationFailed("verifying"));
   } catch (const std::exception& e) {
     return failed<VerifyOutput>(Status::Internal, std::string("unexpected failure: ") + e.what());
   }

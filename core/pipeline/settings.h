@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "common/memory_budget.h"
 #include "common/status.h"
 #include "geodesic/print_order.h"
 #include "mesh/place_mesh.h"
@@ -211,6 +212,9 @@ struct Settings {
   // method = auto: candidates run on this many threads (0 = every core; 1 = one after another);
   // a wasm build without pthreads runs one.
   int threads = 0;
+  // The memory budget in MB (common/memory_budget.h): a big structure estimated larger than this is
+  // refused before it is allocated, with out_of_memory naming the figure and the setting.
+  double memoryMb = kDefaultMemoryBudgetMb;
   PlaceOptions placement;
   Eigen::Vector3d direction{0, 0, 1};  // slicing direction d (normalised by setSetting), part frame
 

@@ -552,6 +552,10 @@ std::vector<SettingSpec> makeTable() {
                        "one after another, where a candidate that cannot win stops before its check), "
                        "the curved layers' spirals (0 = every core; the wasm build runs one; the "
                        "program is the same on any number)")),
+      unlisted(number("memory_mb", [](S& s) -> double& { return s.memoryMb; }, 16, 1e7, "MB",
+                      "memory budget: a structure the job needs (voxel grid, tet mesh, machine motion, "
+                      "verify's samples) estimated larger than this is refused before it is allocated "
+                      "(out_of_memory); the wasm heap ends at 4096 MB")),
       // Not listed either: the delivered program's header lists the settings it was made with.
       unlisted(integer("verify_attempts", [](S& s) -> int& { return s.verifyAttempts; }, 1, 10, "programs",
                        "when the check finds a program unsound, make it again with the remedies the slicer "

@@ -143,6 +143,7 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
   }
   VerifyOptions vo;
   vo.keepPoints = kKeptPoints;
+  vo.memoryBudgetMb = settings.memoryMb;
   VerifyReport rep = verifyProgram(program, part, vo, progress);
   if (!rep.ok()) return failed<SoundnessCheck>(rep);
 

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/memory_budget.h"
 #include "common/parallel.h"
 #include "common/stopwatch.h"
 #include "pipeline/curved_stage.h"
@@ -52,6 +53,16 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
                   boxCells, w);
     return failure(Status::InvalidOption, msg);
   }
+  auto voxelLever = [&] {
+    char lever[120];
+    std::snprintf(lever, sizeof lever, "raise voxel.width_mm (now %.3g mm) or memory_mb", w);
+    return std::string(lever);
+  };
+  if (Outcome o = checkMemoryBudget(boxCells * memory_cost::kVoxelCellBytes, settings.memoryMb,
+                                    "the voxel grid", voxelLever());
+      !o.ok()) {
+    return failure(o);
+  }
 
   // 1. Voxelisation (Section 4.1).
   Clock::time_point t0 = Clock::now();
@@ -68,6 +79,14 @@ MethodResult runVoxelMethod(const PlacedPart& placed, const MethodContext& conte
                   "(%.0f); raise voxel.width_mm or voxel.max_voxels",
                   vox.solidCount, w, settings.voxel.maxVoxels);
     return failure(Status::InvalidOption, msg);
+  }
+  {
+    // What the growing field, the layers and the paths will hold (memory_budget.h).
+    char what[80];
+    std::snprintf(what, sizeof what, "the voxel method (%zu voxels)", vox.solidCount);
+    const double bytes = double(vox.grid.cellCount()) * memory_cost::kVoxelCellBytes +
+                         double(vox.solidCount) * memory_cost::kSolidVoxelBytes;
+    if (Outcome o = checkMemoryBudget(bytes, settings.memoryMb, what, voxelLever()); !o.ok()) return failure(o);
   }
   out.timingsMs.emplace_back("voxelize", msSince(t0));
   VoxelGrid grid = std::move(vox.grid);

@@ -43,6 +43,7 @@
 #include <nlohmann/json.hpp>
 
 #include "common/math_constants.h"
+#include "common/memory_budget.h"
 #include "geometry/aabb_tree.h"
 #include "geometry/segment.h"
 #include "kinematics/kinematics.h"
@@ -1071,6 +1072,21 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   if (segments.empty()) return fail(failed<Outcome>(Status::EmptyInput, "program has no extruding moves"));
   if (rep.pathMm / options.sampleSpacing + double(segments.size()) > double(options.maxSamples)) {
     return fail(failed<Outcome>(Status::InvalidOption, "program has more than maxSamples path samples"));
+  }
+  {
+    // The samples (with the parsed program's pieces) and the coverage grid within the budget.
+    const BoundingBox box = boundingBox(partMesh);
+    const Eigen::Vector3d counts = ((box.max - box.min) / g).array() + 1.0;
+    const double samplesNeeded = rep.pathMm / options.sampleSpacing + double(segments.size());
+    // (A grid past maxGridPoints is an absurd spacing, refused as such by coverageGrid.)
+    const double gridPoints = counts.prod() <= double(options.maxGridPoints) ? counts.prod() : 0.0;
+    const double bytes = samplesNeeded * memory_cost::kVerifySampleBytes +
+                         gridPoints * memory_cost::kVerifyGridPointBytes;
+    char what[120];
+    std::snprintf(what, sizeof what, "verifying the program (%.0f mm of path, %.0f samples)", rep.pathMm,
+                  samplesNeeded);
+    ok = checkMemoryBudget(bytes, options.memoryBudgetMb, what, "raise memory_mb, or verify a smaller program");
+    if (!ok.ok()) return fail(ok);
   }
   const std::vector<Sample> samples = pathSamples(segments, options.sampleSpacing);
   rep.samples = samples.size();

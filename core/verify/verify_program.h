@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "common/memory_budget.h"
 #include "common/progress.h"
 #include "common/status.h"
 #include "mesh/mesh.h"
@@ -17,6 +18,8 @@ struct VerifyOptions {
   double gridSpacing = 0;        // mm for coverage, 0 = min(nozzle diameter, layer height)
   size_t maxGridPoints = 200000000;  // refuse coverage grids larger than this (InvalidOption)
   size_t maxSamples = 50000000;      // refuse programs with more path samples (InvalidOption)
+  double memoryBudgetMb = kDefaultMemoryBudgetMb;  // samples and grid estimated larger: OutOfMemory
+                                                   // (common/memory_budget.h; <= 0: no budget)
   size_t keepPoints = 0;             // > 0: keep up to this many positions of the unsupported
                                      // and of the colliding samples (spread evenly over them), for
                                      // viewers to draw where a program fails

@@ -480,4 +480,27 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.throws(() => wrapper.settingsToLines({ a: 'x\ny' }), { code: 'invalid_option' });
     assert.throws(() => wrapper.settingsToLines({ a: Infinity }), { code: 'invalid_option' });
   });
+
+  test('out of memory: a budget refusal and a failed allocation are out_of_memory; the instance goes on', () => {
+    // The code list mirrors core/common/status.cpp.
+    const cpp = fs.readFileSync(new URL('../../core/common/status.cpp', import.meta.url), 'utf8');
+    const codes = [...cpp.matchAll(/return "([a-z_]+)";/g)].map((x) => x[1]);
+    assert.ok(codes.includes('out_of_memory'));
+    for (const c of codes) assert.ok(wrapper.STATUS_CODES.includes(c), `STATUS_CODES lacks ${c}`);
+    // A 40 mm cube in 0.32 mm voxels is over a 16 MB budget: refused before the grid exists.
+    const cube = new Uint8Array(boxStl(40, 40, 40));
+    assert.throws(() => m.slice(cube, 'cube.stl', { method: 'voxel', machine: 'table5', memory_mb: 16 }), (e) => {
+      assert.equal(e.code, 'out_of_memory');
+      assert.match(e.message, /needs about \d+ MB, more than the memory budget \(memory_mb = 16 MB\); raise voxel\.width_mm/);
+      return true;
+    });
+    // An allocation beyond the 4 GB heap: std::bad_alloc, caught, the same code.
+    const failed = m.raw._allocateForTest(4000);
+    assert.equal(failed.status, 'out_of_memory', failed.message);
+    assert.match(failed.message, /ran out of memory/);
+    assert.equal(m.raw._allocateForTest(1).status, 'ok');
+    assert.equal(m.aborted, false);
+    const after = m.slice(new Uint8Array(boxStl(10, 10, 5)), 'box.stl', {});
+    assert.ok(after.program.length > 0);
+  });
 });

@@ -307,6 +307,24 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
     assert.equal(r.replaced.jobs, 0);
   });
 
+  test('out_of_memory: the job rejects with it, the worker is replaced, the kept mesh slices again', async () => {
+    const r = await page.evaluate(async () => {
+      const s = await window.engine.createSlicer({ workers: 1 });
+      const { meshId } = await s.loadMesh('cube.stl', window.meshes.boxStl(40, 40, 40));
+      const out = { before: (await s.slice(meshId, { layer_height: 0.4 })).layers };
+      out.refused = await s.slice(meshId, { method: 'voxel', machine: 'table5', memory_mb: 16 })
+        .then(() => 'resolved', (e) => `${e.code}: ${e.message}`);
+      out.stats = await s.stats();
+      out.after = (await s.slice(meshId, { layer_height: 0.4 })).layers;
+      s.dispose();
+      return out;
+    });
+    assert.match(r.refused, /^out_of_memory: .*memory_mb = 16 MB/);
+    assert.equal(r.stats.workersStarted, 2, 'a fresh worker after out_of_memory');
+    assert.ok(r.before > 90, String(r.before));
+    assert.equal(r.after, r.before, 'the same slice in the fresh worker (the mesh sent again)');
+  });
+
   test('the main thread is not blocked while slicing', async (t) => {
     const r = await page.evaluate(async () => {
       const bytes = window.meshes.torusStl(30, 10, 400, 125);  // 100,000 triangles

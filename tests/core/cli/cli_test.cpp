@@ -191,6 +191,14 @@ TEST(Cli, BadInputNeverLeavesPartialFiles) {
   EXPECT_FALSE(fs::exists(out));
   // Output folder that does not exist: io_error, nothing written.
   expectError(runCli("slice " + good.string() + " -o /nonexistent-dir/out.gcode"), "io_error");
+  // A voxel grid larger than the memory budget: out_of_memory naming the setting, nothing written.
+  const auto big = writeTemp("cli_big.stl", test::binaryStl(test::makeBox(0, 0, 0, 40, 40, 40)));
+  CliRun oom = runCli("slice " + big.string() + " -o " + out.string() +
+                      " --method voxel --machine table5 --set memory_mb=16");
+  expectError(oom, "out_of_memory");
+  EXPECT_NE(oom.err.find("memory_mb = 16 MB"), std::string::npos) << oom.err;
+  EXPECT_NE(oom.err.find("voxel.width_mm"), std::string::npos) << oom.err;
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(Cli, SharedModelsInfo) {

@@ -16,6 +16,7 @@ TEST(Status, CodesAreDistinct) {
   }
   EXPECT_EQ(codes.size(), static_cast<size_t>(Status::Internal) + 1);
   EXPECT_STREQ(statusCode(Status::OpenMesh), "open_mesh");
+  EXPECT_STREQ(statusCode(Status::OutOfMemory), "out_of_memory");
 }
 
 }  // namespace omnislice

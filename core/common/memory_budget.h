@@ -1,0 +1,47 @@
+// SPDX-License-Identifier: MIT
+// The memory budget (setting memory_mb): before a big structure is allocated (the voxel grid and
+// its fields, the tet mesh with the heat method's matrices, the machine motion with the program
+// text, verify's path samples), its size is estimated from counts known beforehand and the job is
+// refused with Status::OutOfMemory, naming the figure and the settings that change it, when the
+// estimate exceeds the budget. Each structure is checked on its own against the whole budget: a
+// guard against settings or models that cannot fit (a wasm heap ends at 4 GB, a browser tab often
+// earlier), not an accounting of the peak. The per-item figures below were measured (peak RSS of
+// the native CLI on the shared bunny at two sizes each, 2026-11-30) and rounded up.
+#pragma once
+#include <string>
+
+#include "common/status.h"
+
+namespace omnislice {
+
+// Default memory_mb: fits a 32-bit wasm heap (4 GB) with room for the browser's own copies.
+constexpr double kDefaultMemoryBudgetMb = 2048;
+
+namespace memory_cost {
+// Voxel method: dense per-cell arrays (state, growth field, layer field, masks) ...
+constexpr double kVoxelCellBytes = 16;
+// ... and, per solid voxel, the curved layers, their regions, paths and tool path (measured
+// 0.70 KB: 171 MB at 180k voxels, 604 MB at 803k).
+constexpr double kSolidVoxelBytes = 800;
+// Geodesic method: per tet, the tet mesh, the heat method's Laplacian and factorisations, the
+// field and its iso-surfaces (measured 1.1 KB: 321 MB at 61k tets, 525 MB at 242k).
+constexpr double kTetBytes = 1200;
+// Motion and program: per tool-path move, the machine path's poses and chords and the program
+// text (a 264k-line program: 18 MB of text, the motion about 10x that).
+constexpr double kMoveBytes = 400;
+// Verify: per path sample, the sample, its grid buckets, the pieces and the parsed program
+// (measured about 0.5 KB: 93 MB at 156k samples, 248 MB at 467k) ...
+constexpr double kVerifySampleBytes = 550;
+// ... and per coverage grid point.
+constexpr double kVerifyGridPointBytes = 16;
+}  // namespace memory_cost
+
+// Ok when `bytes` fits `budgetMb` (<= 0: no budget); otherwise OutOfMemory: "<what> needs about
+// N MB, more than the memory budget (memory_mb = B MB); <lever>".
+Outcome checkMemoryBudget(double bytes, double budgetMb, const std::string& what, const std::string& lever);
+
+// The message of an allocation that failed while `doing` (e.g. "slicing"): OutOfMemory, naming
+// the budget and what lowers the need.
+Outcome allocationFailed(const std::string& doing);
+
+}  // namespace omnislice
