@@ -218,11 +218,11 @@ val infoJs(const val& bytes, const std::string& name, const std::string& placeme
 }
 
 val verifyJs(const std::string& program, const val& meshBytes, const std::string& meshName,
-             const val& progress) {
+             const val& progress, double memoryMb) {
   return guarded([&] {
     std::vector<uint8_t> data = bytesFromJs(meshBytes);
     VerifyOutput r = runVerify(program, data.data(), data.size(), meshName,
-                               progressFromJs(progress));
+                               progressFromJs(progress), memoryMb);
     val out = statusObject(r.status, r.message);
     out.set("verify", r.verifyJson);
     return out;

@@ -33,10 +33,10 @@ emscripten::val autoChooseJs(const std::string& settingsLines, const emscripten:
 emscripten::val infoJs(const emscripten::val& bytes, const std::string& name,
                        const std::string& placementLines, const emscripten::val& progress);
 
-// Verify a program (G-code text) against the mesh bytes it was made from.
-// Returns {status, message, verify (JSON string)}.
+// Verify a program (G-code text) against the mesh bytes it was made from, within a memory budget
+// of memoryMb. Returns {status, message, verify (JSON string)}.
 emscripten::val verifyJs(const std::string& program, const emscripten::val& meshBytes,
-                         const std::string& meshName, const emscripten::val& progress);
+                         const std::string& meshName, const emscripten::val& progress, double memoryMb);
 
 // Parse a machine profile JSON (machineFromJson) and write it back in the program header's form
 // (machineJson). Returns {status, message, json (one line, when ok)}.

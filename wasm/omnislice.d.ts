@@ -8,6 +8,7 @@ export type StatusCode =
   | 'out_of_memory' | 'internal' | 'worker_failed';
 
 export const STATUS_CODES: readonly ('ok' | StatusCode)[];
+export const DEFAULT_MEMORY_MB: number;
 
 export class OmnisliceError extends Error {
   constructor(code: StatusCode | string, message: string);
@@ -135,8 +136,9 @@ export class Omnislice {
         options: { onProgress?: (p: Progress) => boolean | void; programAs: 'bytes' }): SliceResult<Uint8Array>;
   info(bytes: ArrayBuffer | Uint8Array, name: string, placement?: Settings,
        options?: { onProgress?: (p: Progress) => boolean | void }): { info: Record<string, any>; mesh: MeshBuffers };
+  /** memoryMb: the memory budget (setting memory_mb's meaning; default DEFAULT_MEMORY_MB). */
   verify(program: string, meshBytes: ArrayBuffer | Uint8Array, meshName: string,
-         options?: { onProgress?: (p: Progress) => boolean | void }): Record<string, any>;
+         options?: { onProgress?: (p: Progress) => boolean | void; memoryMb?: number }): Record<string, any>;
   /** method = auto in a pool of workers: the candidates for this mesh and machine. */
   autoPlan(bytes: ArrayBuffer | Uint8Array, name: string, settings?: Settings):
     { candidates: { method: string; settings: Record<string, string> }[]; rerun_settings: Record<string, string> };

@@ -11,6 +11,9 @@ export const STATUS_CODES = Object.freeze([
   'worker_failed',
 ]);
 
+/** The memory budget verify uses when none is given (setting memory_mb's default), MB. */
+export const DEFAULT_MEMORY_MB = 2048;
+
 /** The one error class of the JS side: `code` is one of STATUS_CODES (never 'ok'). */
 export class OmnisliceError extends Error {
   /** @param {string} code @param {string} message */
@@ -222,10 +225,13 @@ export class Omnislice {
   }
 
   /** Verify a program (G-code text) against its mesh; returns the verification report object. */
-  verify(program, meshBytes, meshName, { onProgress } = {}) {
+  verify(program, meshBytes, meshName, { onProgress, memoryMb = DEFAULT_MEMORY_MB } = {}) {
     if (typeof program !== 'string') throw new OmnisliceError('invalid_option', 'program must be a string');
+    if (!(Number.isFinite(memoryMb) && memoryMb >= 16)) {
+      throw new OmnisliceError('invalid_option', `memoryMb must be a number of MB >= 16, got ${memoryMb}`);
+    }
     const data = toBytes(meshBytes, 'meshBytes');
-    const out = this.#call(() => this.raw._verify(program, data, String(meshName ?? ''), progressAdapter(onProgress)));
+    const out = this.#call(() => this.raw._verify(program, data, String(meshName ?? ''), progressAdapter(onProgress), memoryMb));
     return parseJson(out.verify, 'verify report');
   }
 

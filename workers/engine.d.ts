@@ -37,7 +37,7 @@ export interface Slicer {
   info(meshIdOrFile: MeshRef, placement?: Placement, options?: { signal?: AbortSignal }):
     Promise<{ info: Record<string, any>; mesh: MeshBuffers }>;
   verify(program: string, meshIdOrFile: MeshRef,
-         options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal }): Promise<Record<string, any>>;
+         options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal; memoryMb?: number }): Promise<Record<string, any>>;
   /** Replay a program through its declared machine (for the machine animation). */
   replay(program: string, options?: { signal?: AbortSignal }):
     Promise<{ profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number; preview: PreviewBuffers }>;

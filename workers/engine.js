@@ -334,11 +334,12 @@ class Slicer {
     });
   }
 
-  async verify(program, meshIdOrFile, { onProgress, signal } = {}) {
+  async verify(program, meshIdOrFile, { onProgress, signal, memoryMb } = {}) {
     if (typeof program !== 'string') throw new OmnisliceError('invalid_option', 'program must be a string');
     return this.#cancellable(signal, async () => {
       const { part, transfer } = await this.#target(meshIdOrFile);
-      const r = await this.#send(Request.VERIFY, { ...part, program }, transfer, { onProgress });
+      const payload = { ...part, program, ...(memoryMb !== undefined ? { memoryMb } : {}) };
+      const r = await this.#send(Request.VERIFY, payload, transfer, { onProgress });
       return r.report;
     });
   }

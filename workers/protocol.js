@@ -69,7 +69,7 @@ export const Request = Object.freeze({
    *  method = auto's choice over them (wasm/omnislice.js autoChoose). Reply: `result`
    *  {decision: {rerun} | {chosen, status, message, auto}}. */
   AUTO_CHOOSE: 'auto-choose',
-  /** payload {program: string, meshId | file: {name, bytes}}: verify by simulation. Reply:
+  /** payload {program: string, meshId | file: {name, bytes}, memoryMb?}: verify by simulation. Reply:
    *  `progress`*, then `result` {report: object}. */
   VERIFY: 'verify',
   /** payload {program: string}: replay a program through its declared machine. Reply: `result`

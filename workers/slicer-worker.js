@@ -137,7 +137,7 @@ const handlers = {
     const e = await engine();
     const m = meshOf(payload);
     const report = e.verify(String(payload.program ?? ''), m.bytes, m.name,
-      { onProgress: progressPoster(id) });
+      { onProgress: progressPoster(id), ...(payload.memoryMb !== undefined ? { memoryMb: payload.memoryMb } : {}) });
     post({ id, type: Reply.RESULT, result: { report } });
   },
 

@@ -41,7 +41,7 @@ const char* kUsage =
     "                 [--layer-height MM] [--nozzle MM] [--walls N] [--infill PCT]\n"
     "                 [--direction X,Y,Z] [--scale S] [--fit-mm MM] [--up AXIS]\n"
     "                 [--set KEY=VALUE ...] [--report REPORT.json] [--progress]\n"
-    "  omnislice verify PROGRAM --mesh MESH [-o REPORT.json]\n"
+    "  omnislice verify PROGRAM --mesh MESH [-o REPORT.json] [--memory-mb MB]\n"
     "  omnislice settings            (every setting with its default, as JSON)\n"
     "  omnislice settings --help     (every setting: type, default, range or values, unit, help)\n"
     "  omnislice settings --schema   (the same as JSON, as the page reads it)\n"
@@ -257,14 +257,17 @@ int cmdSlice(int argc, char** argv) {
 }
 
 int cmdVerify(int argc, char** argv) {
-  Args a = parseArgs(argc, argv, 2, {"--mesh", "-o", "--output"}, {"--progress"});
+  Args a = parseArgs(argc, argv, 2, {"--mesh", "-o", "--output", "--memory-mb"}, {"--progress"});
   if (a.positional.size() != 1) fail(Status::InvalidOption, "verify takes one PROGRAM argument");
   if (!a.has("--mesh")) fail(Status::InvalidOption, "verify needs --mesh MESH");
   const std::vector<uint8_t> program = readFile(a.positional[0]);
   const std::vector<uint8_t> mesh = readFile(a.get("--mesh"));
   const bool progress = std::find(a.flags.begin(), a.flags.end(), "--progress") != a.flags.end();
+  // The memory budget, as setting memory_mb checks it.
+  Settings budget;
+  if (a.has("--memory-mb")) check(setSetting(budget, "memory_mb", a.get("--memory-mb")));
   VerifyOutput out = runVerify(std::string(program.begin(), program.end()), mesh.data(), mesh.size(),
-                               fileName(a.get("--mesh")), stderrProgress(progress));
+                               fileName(a.get("--mesh")), stderrProgress(progress), budget.memoryMb);
   check(out);
   const std::string outPath = a.has("-o") ? a.get("-o") : a.get("--output");
   if (!outPath.empty()) writeFileAtomic(outPath, out.verifyJson + "\n");

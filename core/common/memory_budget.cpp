@@ -16,6 +16,13 @@ Outcome checkMemoryBudget(double bytes, double budgetMb, const std::string& what
   return {Status::OutOfMemory, what + figures + lever};
 }
 
+Outcome checkProgramReadBudget(double textBytes, double budgetMb) {
+  char what[80];
+  std::snprintf(what, sizeof what, "reading the program (%.0f MB of text)", std::ceil(textBytes / (1024.0 * 1024.0)));
+  return checkMemoryBudget(textBytes * memory_cost::kProgramTextBytes, budgetMb, what,
+                           "raise memory_mb, or verify a smaller program");
+}
+
 Outcome allocationFailed(const std::string& doing) {
   return {Status::OutOfMemory,
           "ran out of memory while " + doing +

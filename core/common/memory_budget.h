@@ -29,16 +29,22 @@ constexpr double kTetBytes = 1200;
 // Motion and program: per tool-path move, the machine path's poses and chords and the program
 // text (a 264k-line program: 18 MB of text, the motion about 10x that).
 constexpr double kMoveBytes = 400;
-// Verify: per path sample, the sample, its grid buckets, the pieces and the parsed program
-// (measured about 0.5 KB: 93 MB at 156k samples, 248 MB at 467k) ...
-constexpr double kVerifySampleBytes = 550;
-// ... and per coverage grid point.
-constexpr double kVerifyGridPointBytes = 16;
+// Verify: per byte of program text, the parsed program (its moves cut into machine pieces;
+// measured 6-12x: 270 MB for a 43 MB robot CSV, 219 MB for an 18 MB G-code program) ...
+constexpr double kProgramTextBytes = 16;
+// ... then per path sample (the sample, its cell buckets, the pieces' grid) and per coverage grid
+// point (measured beyond the parsed program: 237 MB for 1.68M samples and 24.2M grid points,
+// 29 MB for 467k and 0.72M).
+constexpr double kVerifySampleBytes = 64;
+constexpr double kVerifyGridPointBytes = 8;
 }  // namespace memory_cost
 
 // Ok when `bytes` fits `budgetMb` (<= 0: no budget); otherwise OutOfMemory: "<what> needs about
 // N MB, more than the memory budget (memory_mb = B MB); <lever>".
 Outcome checkMemoryBudget(double bytes, double budgetMb, const std::string& what, const std::string& lever);
+
+// The parsed form of a program of `textBytes` bytes (read to be verified) within the budget.
+Outcome checkProgramReadBudget(double textBytes, double budgetMb);
 
 // The message of an allocation that failed while `doing` (e.g. "slicing"): OutOfMemory, naming
 // the budget and what lowers the need.

@@ -752,8 +752,11 @@ InfoOutput runInfo(const uint8_t* data, size_t size, const std::string& fileName
 }
 
 VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, size_t meshSize,
-                       const std::string& meshName, const ProgressFn& progress) {
+                       const std::string& meshName, const ProgressFn& progress, double memoryMb) {
   try {
+    if (Outcome o = checkProgramReadBudget(double(programText.size()), memoryMb); !o.ok()) {
+      return failed<VerifyOutput>(o);
+    }
     ParsedProgram program = readProgram(programText);
     if (!program.ok()) return failed<VerifyOutput>(program);
     ReadMeshResult read = readMesh(meshData, meshSize, meshName);
@@ -776,7 +779,9 @@ VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, 
       if (!prepared.solid.ok()) return failed<VerifyOutput>(prepared.solid);
       part = transformMesh(prepared.mesh, program.placement);
     }
-    VerifyReport report = verifyProgram(program, part, VerifyOptions{}, progress);
+    VerifyOptions options;
+    options.memoryBudgetMb = memoryMb;
+    VerifyReport report = verifyProgram(program, part, options, progress);
     if (!report.ok()) return failed<VerifyOutput>(report);
     VerifyOutput out;
     out.verifyJson = verifyReportJson(report);

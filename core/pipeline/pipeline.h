@@ -61,8 +61,9 @@ struct VerifyOutput : Outcome {
 };
 
 // Verify a program against the mesh it was made from (the header's placement is applied to the
-// mesh bytes).
+// mesh bytes), within a memory budget of memoryMb (setting memory_mb's meaning).
 VerifyOutput runVerify(const std::string& programText, const uint8_t* meshData, size_t meshSize,
-                       const std::string& meshName, const ProgressFn& progress = {});
+                       const std::string& meshName, const ProgressFn& progress = {},
+                       double memoryMb = kDefaultMemoryBudgetMb);
 
 }  // namespace omnislice

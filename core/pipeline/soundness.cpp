@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "common/memory_budget.h"
 #include "common/stopwatch.h"
 #include "pipeline/curved_stage.h"
 #include "program/read_program.h"
@@ -137,6 +138,9 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
                             const SoundnessCriteria& c, const ProgressFn& progress) {
   const Clock::time_point t0 = Clock::now();
   SoundnessCheck out;
+  if (Outcome o = checkProgramReadBudget(double(programText.size()), settings.memoryMb); !o.ok()) {
+    return failed<SoundnessCheck>(o);
+  }
   ParsedProgram program = readProgram(programText);
   if (!program.ok()) {
     return failed<SoundnessCheck>(Status::Internal, "the program just written does not read back: " + program.message);

@@ -494,6 +494,15 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
       assert.match(e.message, /needs about \d+ MB, more than the memory budget \(memory_mb = 16 MB\); raise voxel\.width_mm/);
       return true;
     });
+    // verify has the same budget (memoryMb): the cube's 217 m of path in 0.5 mm samples.
+    const planar = m.slice(cube, 'cube.stl', {}).program;
+    assert.throws(() => m.verify(planar, cube, 'cube.stl', { memoryMb: 16 }), (e) => {
+      assert.equal(e.code, 'out_of_memory');
+      assert.match(e.message, /^verifying the program \(\d+ mm of path, \d+ samples\) needs about \d+ MB, more than the memory budget \(memory_mb = 16 MB\)/);
+      return true;
+    });
+    assert.throws(() => m.verify(planar, cube, 'cube.stl', { memoryMb: NaN }), { code: 'invalid_option' });
+    assert.ok(m.verify(planar, cube, 'cube.stl').inside > 0.99);
     // An allocation beyond the 4 GB heap: std::bad_alloc, caught, the same code.
     const failed = m.raw._allocateForTest(4000);
     assert.equal(failed.status, 'out_of_memory', failed.message);

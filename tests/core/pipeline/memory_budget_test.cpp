@@ -108,6 +108,12 @@ TEST(MemoryBudget, VerifyChecksItsSamplesAgainstTheBudget) {
   ASSERT_GT(need, 1) << refused.message;
   o.memoryBudgetMb = need;
   EXPECT_TRUE(verifyProgram(program, sphere, o).ok());
+  // Before that, the parsed program is estimated from its text (runVerify, the CLI and wasm entry).
+  ASSERT_GT(out.program.size(), 100000u);
+  const VerifyOutput text = runVerify(out.program, bytes.data(), bytes.size(), "sphere.stl", {}, 1);
+  EXPECT_EQ(text.status, Status::OutOfMemory) << text.message;
+  EXPECT_EQ(text.message.rfind("reading the program (", 0), 0u) << text.message;
+  EXPECT_TRUE(runVerify(out.program, bytes.data(), bytes.size(), "sphere.stl").ok());
 }
 
 // Peak resident memory of this process, MB (Linux); -1 when unknown.
