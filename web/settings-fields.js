@@ -93,6 +93,9 @@ export const PAGE_FIELDS = [
   // verify.attempts); the first sound one is delivered with a `remedied` warning.
   { group: 'Slicing', key: 'verify_attempts', label: 'programs made at most when one is not sound (1 = no second attempt)',
     type: 'integer', step: 1, testid: 'setting-verify-attempts', showIf: (v) => v.verify !== 'off' },
+  // A structure estimated larger is refused with out_of_memory naming this setting (the slicer's
+  // worker is then replaced, so the page goes on).
+  { group: 'Slicing', key: 'memory_mb', label: 'memory budget (MB; a tab\'s wasm heap ends at 4096)', step: 64 },
   // The geodesic method's interval defaults to the layer height.
   { group: 'Slicing', key: 'layer_height', label: 'layer height (mm)', step: 0.01,
     showIf: (v) => !isVoxel(v) },

@@ -385,6 +385,25 @@ test('a truncated STL shows its error code; a good file loads and slices afterwa
   assert.equal((text.match(/^; omnislice:layer \d+/gm) || []).length, layers);
 });
 
+test('over the memory budget: out_of_memory with the figure and the setting; the page slices again', async (t) => {
+  const was = await page.evaluate(() => ({ ...window.omnislice.settings }));
+  await setSetting('memory_mb', 16);
+  await setSetting('layer_height', 0.05);
+  try {
+    await page.click(tid('slice-button'));
+    await waitState('error');
+    const message = await page.textContent(tid('error-message'));
+    assert.equal(await page.getAttribute(tid('error-message'), 'data-code'), 'out_of_memory');
+    assert.match(message, /^out_of_memory: the program \(\d+ moves, with its machine motion\) needs about \d+ MB, more than the memory budget \(memory_mb = 16 MB\); raise layer_height/, message);
+  } finally {
+    await setSetting('memory_mb', was.memory_mb ?? 2048);
+    await setSetting('layer_height', was.layer_height ?? 0.2);
+  }
+  await sliceWithLongTaskCheck(t, 'demo slice after out_of_memory');
+  assert.equal(await page.isHidden(tid('error-message')), true);
+  assert.ok((await page.evaluate(() => window.omnislice.report.layers)) > 0);
+});
+
 test('a file with a hole loads repaired: the panel lists the repair, the filled faces are drawn apart, it slices', async (t) => {
   const demo = fs.readFileSync(path.join(ROOT, 'web', 'models', 'demo-overhang.stl'));
   const n = demo.readUInt32LE(80);
