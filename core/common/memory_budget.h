@@ -6,7 +6,7 @@
 // estimate exceeds the budget. Each structure is checked on its own against the whole budget: a
 // guard against settings or models that cannot fit (a wasm heap ends at 4 GB, a browser tab often
 // earlier), not an accounting of the peak. The per-item figures below were measured (peak RSS of
-// the native CLI on the shared bunny at two sizes each, 2026-11-30) and rounded up.
+// the native CLI on shared models, 2026-11-30) and rounded up.
 #pragma once
 #include <string>
 
@@ -27,7 +27,8 @@ constexpr double kSolidVoxelBytes = 800;
 // field and its iso-surfaces (measured 1.1 KB: 321 MB at 61k tets, 525 MB at 242k).
 constexpr double kTetBytes = 1200;
 // Motion and program: per tool-path move, the machine path's poses and chords and the program
-// text (a 264k-line program: 18 MB of text, the motion about 10x that).
+// text (the planar bunny at 150 mm, 0.1 mm layers: 894k moves, 34 MB of text, 546 MB peak for the
+// whole slice, of which the slicing holds part).
 constexpr double kMoveBytes = 400;
 // Verify: per byte of program text, the parsed program (its moves cut into machine pieces;
 // measured 6-12x: 270 MB for a 43 MB robot CSV, 219 MB for an 18 MB G-code program) ...
