@@ -60,7 +60,8 @@ export const usesIsoplanar = (values) => isSurface(values) || values.fill === 'i
  * The page's part of each settings field, in the panel's order: group (a sub-heading), key (the
  * facade's setting key), label (units in it) and optionally: core (the core table's key when the
  * page uses an alias), type (select, checkbox, direction, json; integer where the page wants whole
- * numbers of a core number; else the core's number or integer), step, testid (instead of
+ * numbers of a core number; text for one line of free text; else the core's number or integer), step,
+ * placeholder (text), testid (instead of
  * setting-<key>), labels ({choice: display label}, in display order), showIf(values) (the row is
  * hidden when false), sendIf(values) (the value is left out of slice requests when false, e.g. the
  * voxel method's settings for a planar slice), hidden (never rendered; set by code, e.g. a loaded
@@ -75,6 +76,13 @@ export const PAGE_FIELDS = [
   { group: 'Machine', key: 'robot_format', label: 'robot program', type: 'select', testid: 'robot-format',
     labels: { csv: 'joint CSV (.csv)', urscript: 'URScript (.script)' },
     showIf: isRobot },
+  // The firmware's letters for the machine's axes (e.g. a Duet's rotary axes U and V); the core
+  // checks them against the machine and the program header records them (PROGRAM-FORMAT.md).
+  { group: 'Machine', key: 'axis_letters', label: 'firmware axis letters (empty = X Y Z A B C)', type: 'text',
+    placeholder: 'B=U,C=V', showIf: (v) => !isRobot(v) },
+  // PNG pictures of the part in the G-code, for printer hosts' file lists (PrusaSlicer's block).
+  { group: 'Machine', key: 'thumbnails', label: 'thumbnails for the printer host (e.g. 16x16,220x124)', type: 'text',
+    placeholder: '16x16,220x124', showIf: (v) => !isRobot(v) },
   { group: 'Machine', key: 'machine_json', label: 'machine profile (JSON)', type: 'json', hidden: true },
   { group: 'Slicing', key: 'method', label: 'method', type: 'select',
     labels: { planar: 'planar layers', voxel: 'voxel (curved layers)', surface: 'surface (open surface, one layer on a base)',
@@ -258,6 +266,7 @@ const CORE_TYPES = {
   checkbox: ['boolean'],
   direction: ['vector'],
   json: ['text'],
+  text: ['text'],
 };
 
 /**

@@ -22,6 +22,12 @@ export function normaliseValue(field, value) {
       return value;
     case 'checkbox':
       return !!value;
+    case 'text': {
+      // One line of text (it travels as one `key=value` setting line); the core checks it.
+      const text = value === null || value === undefined ? '' : String(value).trim();
+      if (/[\n\r]/.test(text)) throw new RangeError(`${field.label}: one line of text`);
+      return text;
+    }
     case 'json': {
       // '' (none) or one line of JSON object text (it travels as one `key=value` setting line).
       if (value === '' || value === null || value === undefined) return '';
@@ -236,6 +242,15 @@ export function createSettingsPanel(host, model, history, { groupHosts = {} } = 
       row.classList.add('check');
       row.append(box);
       inputs.set(field.key, { refresh: (v) => { box.checked = v; } });
+    } else if (field.type === 'text') {
+      const text = document.createElement('input');
+      text.type = 'text';
+      text.dataset.testid = testid;
+      text.spellcheck = false;
+      if (field.placeholder) text.placeholder = field.placeholder;
+      text.addEventListener('change', () => edit(text.value, text));
+      row.append(text);
+      inputs.set(field.key, { refresh: (v) => { text.value = v; } });
     } else if (field.type === 'direction') {
       const sel = document.createElement('select');
       sel.dataset.testid = `setting-${field.key}`;

@@ -171,6 +171,50 @@ std::vector<std::string> machineAxisLetters(MachineKind kind) {
   return {};
 }
 
+std::vector<std::string> gcodeAxisLetters(const MachineProfile& machine) {
+  std::vector<std::string> letters = machineAxisLetters(machine.kind);
+  for (std::string& l : letters) {
+    auto it = machine.axisLetters.find(l);
+    if (it != machine.axisLetters.end()) l = it->second;
+  }
+  return letters;
+}
+
+Outcome checkAxisLetters(MachineKind kind, const std::map<std::string, std::string>& letters) {
+  if (letters.empty()) return {};
+  const std::vector<std::string> axes = machineAxisLetters(kind);
+  if (axes.empty()) {
+    return {Status::InvalidOption, std::string("axis letters: a ") + machineKindName(kind) +
+                                       " program has joint values, no G-code axis letters"};
+  }
+  std::string names;
+  for (const std::string& a : axes) names += (names.empty() ? "" : " ") + a;
+  static const std::string kFirmwareLetters = "ABCDUVWXYZ";
+  for (const auto& [axis, letter] : letters) {
+    if (std::find(axes.begin(), axes.end(), axis) == axes.end()) {
+      return {Status::InvalidOption, "axis letters: '" + axis.substr(0, 20) + "' is not an axis of " +
+                                         machineKindName(kind) + " (" + names + ")"};
+    }
+    if (letter.size() != 1 || kFirmwareLetters.find(letter[0]) == std::string::npos) {
+      return {Status::InvalidOption, "axis letters: axis " + axis + " cannot be written as '" + letter.substr(0, 20) +
+                                         "' (one of A B C D U V W X Y Z; E and F are extrusion and feed)"};
+    }
+  }
+  MachineProfile m;
+  m.kind = kind;
+  m.axisLetters = letters;
+  const std::vector<std::string> written = gcodeAxisLetters(m);
+  for (size_t i = 0; i < written.size(); ++i) {
+    for (size_t j = i + 1; j < written.size(); ++j) {
+      if (written[i] == written[j]) {
+        return {Status::InvalidOption, "axis letters: axes " + axes[i] + " and " + axes[j] + " would both be written as " +
+                                           written[i]};
+      }
+    }
+  }
+  return {};
+}
+
 bool isAngularAxis(MachineKind kind, int index) {
   const int n = machineAxisCount(kind);
   if (kind == MachineKind::Robot6) return index >= 0 && index < 6;  // every joint

@@ -88,6 +88,10 @@ struct MachineProfile {
   double stepAngleDegrees = 0;  // rotary4: A must be a multiple of it (stepper platform); 0 = any
   double safeZ = 0;             // G-code kinds: machine Z the tip rises to before a 3+2 rotation;
                                 // 0 = derived from the part (its highest machine Z + 10 mm)
+  // G-code kinds: the firmware's letter for an axis (axis of the table -> letter written), e.g.
+  // {"B":"U","C":"V"}; axes not named keep their own letter. Limits and dynamics stay keyed by
+  // the table's axis names (checkAxisLetters).
+  std::map<std::string, std::string> axisLetters;
 
   // robot6 only (PROGRAM-FORMAT.md): standard DH table, joint limits (rad) and dynamics, the
   // flange-to-platform transform and the fixed nozzle (tip and axis) in the robot base frame.
@@ -118,6 +122,16 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
 
 // Names accepted by builtinMachine(), in display order.
 std::vector<std::string> builtinMachineNames();
+
+// The letters a profile's G-code writes and reads, in the order of machineAxisLetters(kind): each
+// axis's letter, or the firmware's letter for it from profile.axisLetters (e.g. B and C written as
+// U and V on a RepRapFirmware machine whose rotary axes have those letters). Empty for robot6.
+std::vector<std::string> gcodeAxisLetters(const MachineProfile& machine);
+
+// Checks an axis-letter map for a kind: keys are axes of the kind's G-code letters, values one of
+// the firmware axis letters A B C D U V W X Y Z, and the letters written (mapped or not) all
+// differ. InvalidOption naming the problem; robot6 takes no letters.
+Outcome checkAxisLetters(MachineKind kind, const std::map<std::string, std::string>& letters);
 
 // How far the machine can lean the nozzle axis from the part's +Z, degrees: a table5 its B range
 // (less half a degree of margin, at least 1; beyond it is out of reach), a robot 90 (beyond, the

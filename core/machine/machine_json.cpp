@@ -56,6 +56,14 @@ std::string machineJson(const MachineProfile& machine) {
   }
   if (machine.stepAngleDegrees != 0) j["step_angle_deg"] = machine.stepAngleDegrees;
   if (machine.safeZ != 0) j["safe_z"] = machine.safeZ;
+  if (!machine.axisLetters.empty()) {
+    OJson letters = OJson::object();
+    for (const std::string& axis : letterOrder(machine.kind, machine.axisLetters)) {
+      auto it = machine.axisLetters.find(axis);
+      if (it != machine.axisLetters.end()) letters[axis] = it->second;
+    }
+    j["axis_letters"] = letters;
+  }
   if (machine.kind == MachineKind::Robot6) {
     OJson dh = OJson::array();
     for (const DhRow& r : machine.dh) dh.push_back({r.thetaOffset, r.d, r.a, r.alpha});
@@ -177,6 +185,15 @@ struct Parser {
     if (auto it = j.find("safe_z"); it != j.end()) {
       if (!finiteNumber(*it)) return fail("\"safe_z\" must be a finite number");
       m.safeZ = it->get<double>();
+    }
+    if (auto it = j.find("axis_letters"); it != j.end()) {
+      if (!it->is_object()) return fail("\"axis_letters\" must be an object {axis: letter}");
+      for (auto a = it->begin(); a != it->end(); ++a) {
+        if (!a.value().is_string()) return fail("axis_letters: the letter of axis " + a.key().substr(0, 20) + " must be a string");
+        m.axisLetters[a.key()] = a.value().get<std::string>();
+      }
+      const Outcome ok = checkAxisLetters(m.kind, m.axisLetters);
+      if (!ok.ok()) return fail(ok.message);
     }
     parseRobot(j);
     if (failed) return;

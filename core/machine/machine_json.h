@@ -20,7 +20,8 @@ struct MachineParseResult : Outcome {
 
 // Parse a machine JSON object (inverse of machineJson(); also the user's profile files). ParseError
 // for malformed JSON, non-finite numbers, min > max, a non-positive nozzle size, a robot6 profile
-// without a 6-row dh table, a non-rigid flange_to_platform or a zero nozzle_axis;
+// without a 6-row dh table, a non-rigid flange_to_platform, a zero nozzle_axis or axis_letters
+// that checkAxisLetters() refuses;
 // UnsupportedFormat for a kind that is not one of the four (a newer build's machine). Missing
 // nozzle cone keeps the defaults (40 degrees, 25 mm).
 MachineParseResult machineFromJson(const std::string& json);

@@ -18,6 +18,8 @@
 #include "common/stopwatch.h"
 #include "machine/machine.h"
 #include "machine/machine_json.h"
+#include "program/png.h"
+#include "program/thumbnail.h"
 #include "mesh/place_mesh.h"
 #include "mesh/prepare_mesh.h"
 #include "mesh/read_mesh.h"
@@ -163,6 +165,11 @@ MachineProfileResult resolveMachine(const Settings& settings) {
     if (!r.ok()) return r;
   }
   r.machine.nozzle.diameter = settings.nozzleDiameter;
+  if (!settings.axisLetters.empty()) {
+    const Outcome letters = checkAxisLetters(r.machine.kind, settings.axisLetters);
+    if (!letters.ok()) return failed<MachineProfileResult>(Status::InvalidOption, "setting 'axis_letters': " + letters.message);
+    r.machine.axisLetters = settings.axisLetters;
+  }
   return r;
 }
 
@@ -366,6 +373,12 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
   clock.done("motion");
   if (!reportProgress(progress, "program", 0)) return failed<Attempt>(Status::Cancelled, "cancelled");
   a.pinfo = programInfo(settings, machine, a.placement, a.result.layerHeight);
+  if (machine.kind != MachineKind::Robot6) {
+    for (const auto& [w, h] : settings.thumbnails) {
+      const ThumbnailImage img = renderThumbnail(a.printed, w, h);
+      a.pinfo.thumbnails.push_back({img.width, img.height, encodePngRgba(img.rgba, img.width, img.height)});
+    }
+  }
   a.written = writeProgram(a.motion, a.pinfo);
   if (!a.written.ok()) return failed<Attempt>(a.written);
   clock.done("program");

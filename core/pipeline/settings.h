@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <functional>
 #include <optional>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -194,7 +195,12 @@ struct Settings {
   std::string machine = "cartesian3";  // built-in machine profile name (builtinMachineNames())
   std::string machineJson;             // a user's machine profile (docs/MACHINES.md); overrides
                                        // `machine` when not empty
+  // G-code kinds: the firmware's letter for an axis ("B=U,C=V"), over the profile's axis_letters
+  // (checked against the machine's kind when it is resolved).
+  std::map<std::string, std::string> axisLetters;
   GcodeDialect gcodeFlavor = GcodeDialect::Marlin;  // G-code kinds: marlin | reprap | klipper
+  // G-code kinds: PNG thumbnails of the part for printer hosts, width x height each (empty = none).
+  std::vector<std::pair<int, int>> thumbnails;
   RobotFormat robotFormat = RobotFormat::Csv;       // robot6: csv | urscript
   int freeRotationSamples = 30;        // robot6: samples of the rotation about the nozzle axis
   bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter

@@ -12,6 +12,7 @@
 #include "machine/machine.h"
 #include "machine/machine_json.h"
 #include "pipeline/settings.h"
+#include "program/thumbnail.h"
 
 namespace omnislice {
 
@@ -247,6 +248,66 @@ SettingSpec machineJsonSpec() {
     return {};
   };
   s.format = [](const Settings& st) { return st.machineJson; };
+  return s;
+}
+
+// "B=U,C=V" (also spaces or semicolons between pairs; letters in either case): the firmware's
+// letter for an axis. Empty = the profile's. Whether the axes are the machine's is checked when
+// the machine is resolved (checkAxisLetters).
+SettingSpec axisLettersSpec() {
+  SettingSpec s;
+  s.key = "axis_letters";
+  s.type = SettingType::Text;
+  s.help = "G-code machines: the letter the firmware uses for an axis, e.g. B=U,C=V (RepRapFirmware rotary axes); "
+           "empty = the profile's axis_letters";
+  s.listed = false;  // the program header's machine JSON carries them
+  s.parse = [](Settings& st, const std::string& value) -> Outcome {
+    std::string text = value;
+    for (char& c : text) {
+      if (c == ',' || c == ';') c = ' ';
+      c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+    }
+    std::istringstream in(text);
+    std::map<std::string, std::string> letters;
+    for (std::string pair; in >> pair;) {
+      const size_t eq = pair.find('=');
+      if (eq == std::string::npos || eq == 0 || eq + 1 == pair.size()) {
+        return invalid("axis_letters", "expected AXIS=LETTER pairs such as B=U,C=V, not '" + pair.substr(0, 20) + "'");
+      }
+      const std::string axis = pair.substr(0, eq);
+      if (letters.count(axis)) return invalid("axis_letters", "axis " + axis.substr(0, 20) + " named twice");
+      letters[axis] = pair.substr(eq + 1);
+    }
+    st.axisLetters = std::move(letters);
+    return {};
+  };
+  s.format = [](const Settings& st) {
+    std::string out;
+    for (const auto& [axis, letter] : st.axisLetters) out += (out.empty() ? "" : ",") + axis + "=" + letter;
+    return out;
+  };
+  return s;
+}
+
+// "16x16,220x124": PNG thumbnails in the G-code for printer hosts (program/thumbnail.h).
+SettingSpec thumbnailsSpec() {
+  SettingSpec s;
+  s.key = "thumbnails";
+  s.type = SettingType::Text;
+  s.help = "G-code machines: PNG thumbnails of the part for printer hosts (OctoPrint, Moonraker, Prusa), "
+           "WIDTHxHEIGHT each, e.g. 16x16,220x124 (PrusaSlicer's comment block); empty = none";
+  s.listed = false;  // the program carries the blocks themselves
+  s.parse = [](Settings& st, const std::string& value) -> Outcome {
+    ThumbnailSizes sizes = parseThumbnailSizes(value);
+    if (!sizes.ok()) return invalid("thumbnails", sizes.message);
+    st.thumbnails = std::move(sizes.sizes);
+    return {};
+  };
+  s.format = [](const Settings& st) {
+    std::string out;
+    for (const auto& [w, h] : st.thumbnails) out += (out.empty() ? "" : ",") + std::to_string(w) + "x" + std::to_string(h);
+    return out;
+  };
   return s;
 }
 
@@ -530,6 +591,8 @@ std::vector<SettingSpec> makeTable() {
       onlyWith(Method::Geodesic, boolean("geodesic.remesh", [](S& s) -> bool& { return s.geodesic.remesh; },
                                          "isotropic remeshing and smoothing of the layers")),
       machineJsonSpec(),
+      axisLettersSpec(),
+      thumbnailsSpec(),
       // Not listed: a program from a repaired mesh can only have been made with repair = auto
       // (none refuses the mesh), and the report lists the repairs.
       unlisted(choice<RepairMode>("repair", [](S& s) -> RepairMode& { return s.repair; },

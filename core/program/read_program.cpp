@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: MIT
 // Reader of every program kind of PROGRAM-FORMAT.md.
 // - G-code (first content line not starting with '#'): cartesian3, rotary4, table5 by the header's
-//   machine (cartesian3 without one); axis words from machineAxisLetters().
+//   machine (cartesian3 without one); axis words from gcodeAxisLetters() (the profile's axis_letters).
 // - Robot joint CSV and URScript (first content line starting with '#'): robot6; URScript is told
 //   apart by its `def` line. CSV rows are moves from the previous row's pose (the first row is the
 //   start pose). URScript: movej / servoj joint targets with `t=` seconds, the extruder rate from
@@ -232,7 +232,7 @@ bool Reader::setMachine(const std::string& json) {
   r_.machine = m.machine;
   n_ = n;
   for (int i = 0; i < 6; ++i) angular_[i] = isAngularAxis(m.machine.kind, i);
-  if (format_ == Format::Gcode) letters_ = machineAxisLetters(m.machine.kind);
+  if (format_ == Format::Gcode) letters_ = gcodeAxisLetters(m.machine);
   values_ = MachineValues{};
   haveMachine_ = true;
   return true;

@@ -35,6 +35,7 @@
 #include "motion/plan_motion.h"
 #include "machine/machine_json.h"
 #include "program/program_text.h"
+#include "program/thumbnail.h"
 
 namespace omnislice {
 
@@ -315,7 +316,7 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     return f;
   };
   const MachineProfile& machine = path.machine;
-  const std::vector<std::string> letters = machineAxisLetters(machine.kind);
+  const std::vector<std::string> letters = gcodeAxisLetters(machine);
   const int n = int(letters.size());
   const bool combined = info.dialect == GcodeDialect::RepRap;
   pathTotals(path, r.estimatedTimeS, r.filamentMm);
@@ -329,6 +330,7 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   out += programHeader(info, machine, "; ", "absolute", combined ? "combined" : "xyz",
                        r.estimatedTimeS, r.filamentMm);
   line(std::string("; omnislice:dialect ") + gcodeDialectName(info.dialect));
+  for (const ProgramThumbnail& t : info.thumbnails) out += thumbnailBlock(t.png, t.width, t.height, "; ");
 
   // ---- start code ----
   if (info.dialect != GcodeDialect::Klipper) line("G21 ; millimetres");

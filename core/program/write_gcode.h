@@ -5,6 +5,7 @@
 // settings, time and filament estimate), part / layer / feature markers, moves.
 #pragma once
 #include <Eigen/Core>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -25,6 +26,12 @@ bool parseGcodeDialect(const std::string& text, GcodeDialect& out);
 // "csv" | "urscript"
 const char* robotFormatName(RobotFormat f);
 bool parseRobotFormat(const std::string& text, RobotFormat& out);
+
+// A PNG thumbnail of the part for printer hosts (program/thumbnail.h).
+struct ProgramThumbnail {
+  int width = 0, height = 0;
+  std::vector<uint8_t> png;
+};
 
 struct ProgramInfo {
   std::string version = OMNISLICE_VERSION;
@@ -51,6 +58,8 @@ struct ProgramInfo {
                                                      // filament feed (set_analog_out, documented
                                                      // in the program header)
   std::vector<std::pair<std::string, std::string>> settings;  // every setting, as header lines
+  // G-code kinds: PrusaSlicer-style thumbnail blocks after the header (robot programs: none).
+  std::vector<ProgramThumbnail> thumbnails;
 };
 
 struct WriteProgramResult : Outcome {

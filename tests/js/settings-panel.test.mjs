@@ -57,6 +57,33 @@ test('machine_json: one-line JSON object text; undoable; it decides the machine 
   assert.equal(showIf('gcode_flavor'), false);
 });
 
+test('axis_letters and thumbnails: one line of text, sent when set, rows for G-code machines only', needsFields, () => {
+  const model = new SettingsModel(FIELDS);
+  for (const key of ['axis_letters', 'thumbnails']) {
+    assert.equal(model.field(key).type, 'text');
+    assert.equal(model.field(key).value, '', 'none by default');
+  }
+  const field = model.field('axis_letters');
+  assert.equal(field.type, 'text');
+  assert.equal(field.value, '', "the core's default: the profile's letters");
+  assert.equal(normaliseValue(field, '  B=U,C=V '), 'B=U,C=V');
+  assert.equal(normaliseValue(field, null), '');
+  assert.throws(() => normaliseValue(field, 'B=U\nC=V'), /one line/);
+  assert.equal('axis_letters' in model.toSliceSettings(), false);
+  const command = new SetSettingCommand(model, 'axis_letters', 'B=U,C=V');
+  command.execute();
+  assert.equal(model.toSliceSettings().axis_letters, 'B=U,C=V');
+  command.undo();
+  assert.equal('axis_letters' in model.toSliceSettings(), false);
+  const showIf = () => field.showIf(model.values);
+  model.set('machine', 'table5');
+  assert.equal(showIf(), true);
+  assert.equal(model.field('thumbnails').showIf(model.values), true);
+  model.set('machine', 'robot6-ur5');
+  assert.equal(showIf(), false, 'a robot program has joints, not letters');
+  assert.equal(model.field('thumbnails').showIf(model.values), false, 'robot programs have no printer host');
+});
+
 test('iso-planar settings: shown and sent only with the surface method or the iso-planar fill', needsFields, () => {
   const model = new SettingsModel(FIELDS);
   const showIf = (key) => FIELDS.find((f) => f.key === key).showIf(model.values);

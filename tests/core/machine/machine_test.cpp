@@ -203,6 +203,27 @@ TEST(MachineProfile, TipLengthWalkEqualsTheInterpolatedLength) {
   EXPECT_GT(multiPiece, 300u);  // most moves were bisected
 }
 
+// axis_letters (PROGRAM-FORMAT.md): written in the kind's axis order, read back to the same map,
+// and the letters G-code uses follow it.
+TEST(MachineProfile, AxisLettersRoundTripAndRenameTheWrittenAxes) {
+  MachineProfile m = builtinMachine("table5", kBed, 0.4).machine;
+  EXPECT_EQ(gcodeAxisLetters(m), (std::vector<std::string>{"X", "Y", "Z", "B", "C"}));
+  EXPECT_EQ(machineJson(m).find("axis_letters"), std::string::npos) << "written only when set";
+  m.axisLetters = {{"C", "V"}, {"B", "U"}};
+  const std::string json = machineJson(m);
+  EXPECT_NE(json.find("\"axis_letters\":{\"B\":\"U\",\"C\":\"V\"}"), std::string::npos) << json;
+  const MachineParseResult back = machineFromJson(json);
+  ASSERT_TRUE(back.ok()) << back.message;
+  EXPECT_EQ(back.machine.axisLetters, m.axisLetters);
+  EXPECT_EQ(machineJson(back.machine), json);
+  EXPECT_EQ(gcodeAxisLetters(back.machine), (std::vector<std::string>{"X", "Y", "Z", "U", "V"}));
+  // A robot has joints, not letters.
+  MachineProfile ur = builtinMachine("robot6-ur5", kBed, 0.4).machine;
+  EXPECT_TRUE(gcodeAxisLetters(ur).empty());
+  EXPECT_EQ(checkAxisLetters(MachineKind::Robot6, {{"B", "U"}}).status, Status::InvalidOption);
+  EXPECT_TRUE(checkAxisLetters(MachineKind::Rotary4, {{"A", "W"}, {"X", "D"}}).ok());
+}
+
 TEST(MachineProfile, MalformedJsonGivesParseError) {
   const std::string ur = machineJson(builtinMachine("robot6-ur5", kBed, 0.4).machine);
   const std::vector<std::string> bad{
@@ -225,6 +246,12 @@ TEST(MachineProfile, MalformedJsonGivesParseError) {
       "{\"kind\":\"cartesian3\",\"name\":7}",
       "{\"kind\":\"robot6\"}",
       "{\"kind\":\"robot6\",\"dh\":[[0,1,2,3]]}",
+      "{\"kind\":\"table5\",\"axis_letters\":[\"U\"]}",
+      "{\"kind\":\"table5\",\"axis_letters\":{\"B\":7}}",
+      "{\"kind\":\"table5\",\"axis_letters\":{\"B\":\"E\"}}",
+      "{\"kind\":\"table5\",\"axis_letters\":{\"B\":\"C\"}}",
+      "{\"kind\":\"table5\",\"axis_letters\":{\"A\":\"U\"}}",
+      "{\"kind\":\"cartesian3\",\"axis_letters\":{\"X\":\"x\"}}",
       "{\"kind\":\"robot6\",\"dh\":[[0,1,2,3],[0,1,2,3],[0,1,2,3],[0,1,2,3],[0,1,2,3],[0,1,2]]}",
   };
   for (const std::string& s : bad) {

@@ -8,6 +8,9 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <nlohmann/json.hpp>
+#include <cstdlib>
+#include <cstring>
+#include <sstream>
 #include <string>
 
 #include "../test_meshes.h"
@@ -234,6 +237,131 @@ TEST(MachinesPipelineProfile, UserProfileIsUsedAndRecorded) {
   EXPECT_EQ(report["machine"], "my-rotary");
   EXPECT_EQ(report["machine_profile"]["axis_limits"]["A"][1].get<double>(), 30);
   EXPECT_NE(out.program.find("\"A\":[-30"), std::string::npos);
+}
+
+// Firmware axis letters (PROGRAM-FORMAT.md `axis_letters`, e.g. a Duet whose rotary axes are U and
+// V): the program with B and C written as U and V is the same print. Its moves are the default
+// program's with only those words renamed, the header says so, and the replay and the simulation
+// give the same values and figures as the default program's.
+TEST(MachinesPipelineAxisLetters, RenamedRotaryAxesReplayToTheSamePrint) {
+  const auto bytes = test::binaryStl(test::makeLBracket(10));
+  Settings plain;
+  for (const auto& [k, v] : {std::pair<const char*, const char*>{"machine", "table5"}, {"method", "multidir"},
+                             {"gcode_flavor", "reprap"}}) {
+    ASSERT_TRUE(setSetting(plain, k, v).ok()) << k;
+  }
+  Settings renamed = plain;
+  ASSERT_TRUE(setSetting(renamed, "axis_letters", "b=u, C=V").ok());
+  const SliceOutput a = runSlice(bytes.data(), bytes.size(), "bracket.stl", plain);
+  const SliceOutput b = runSlice(bytes.data(), bytes.size(), "bracket.stl", renamed);
+  ASSERT_TRUE(a.ok()) << a.message;
+  ASSERT_TRUE(b.ok()) << b.message;
+  EXPECT_EQ(Json::parse(b.reportJson)["machine_profile"]["axis_letters"], Json::parse(R"({"B":"U","C":"V"})"));
+
+  auto lines = [](const std::string& text) {
+    std::vector<std::string> out;
+    std::istringstream in(text);
+    for (std::string l; std::getline(in, l);) out.push_back(l);
+    return out;
+  };
+  const std::vector<std::string> la = lines(a.program), lb = lines(b.program);
+  ASSERT_EQ(la.size(), lb.size());
+  size_t moves = 0, tilted = 0, machineLines = 0;
+  for (size_t i = 0; i < la.size(); ++i) {
+    if (la[i].rfind("; omnislice:machine ", 0) == 0) {
+      ++machineLines;
+      EXPECT_NE(lb[i].find("\"axis_letters\":{\"B\":\"U\",\"C\":\"V\"}"), std::string::npos) << lb[i];
+      continue;
+    }
+    if (la[i].rfind("G0 ", 0) != 0 && la[i].rfind("G1 ", 0) != 0) {
+      EXPECT_EQ(la[i], lb[i]) << "line " << i + 1;
+      continue;
+    }
+    ++moves;
+    std::string expected = la[i];
+    for (auto& [from, to] : {std::pair<const char*, const char*>{" B", " U"}, {" C", " V"}}) {
+      for (size_t at = expected.find(from); at != std::string::npos; at = expected.find(from, at + 1)) expected.replace(at, 2, to);
+    }
+    EXPECT_EQ(lb[i], expected) << "line " << i + 1;
+    EXPECT_EQ(lb[i].find(" B"), std::string::npos) << lb[i];
+    EXPECT_EQ(lb[i].find(" C"), std::string::npos) << lb[i];
+    const size_t u = lb[i].find(" U");
+    if (u != std::string::npos && std::abs(std::atof(lb[i].c_str() + u + 2)) > 1) ++tilted;
+  }
+  EXPECT_EQ(machineLines, 1u);
+  EXPECT_GT(moves, 100u);
+  EXPECT_GT(tilted, 10u) << "the bracket's arm prints tilted: U (the B axis) moves";
+
+  // The reader takes the letters from the header: the same machine values move by move.
+  const ParsedProgram pa = readProgram(a.program), pb = readProgram(b.program);
+  ASSERT_TRUE(pa.ok()) << pa.message;
+  ASSERT_TRUE(pb.ok()) << pb.message;
+  ASSERT_EQ(pa.moves.size(), pb.moves.size());
+  for (size_t i = 0; i < pa.moves.size(); ++i) {
+    ASSERT_EQ(pa.moves[i].axes, pb.moves[i].axes) << "move " << i;
+    ASSERT_EQ(pa.moves[i].to, pb.moves[i].to) << "move " << i;
+    ASSERT_EQ(pa.moves[i].axis, pb.moves[i].axis) << "move " << i;
+    ASSERT_EQ(pa.moves[i].filament, pb.moves[i].filament) << "move " << i;
+  }
+  // Without the header's letters, U and V are words of no axis: B and C would stay 0.
+  std::string stripped = b.program;
+  const size_t at = stripped.find(",\"axis_letters\":{\"B\":\"U\",\"C\":\"V\"}");
+  ASSERT_NE(at, std::string::npos);
+  stripped.erase(at, std::strlen(",\"axis_letters\":{\"B\":\"U\",\"C\":\"V\"}"));
+  const ParsedProgram ps = readProgram(stripped);
+  ASSERT_TRUE(ps.ok()) << ps.message;
+  double maxB = 0, maxBRenamed = 0;
+  for (const auto& m : ps.moves) maxB = std::max(maxB, std::abs(m.axes.at(3)));
+  for (const auto& m : pb.moves) maxBRenamed = std::max(maxBRenamed, std::abs(m.axes.at(3)));
+  EXPECT_EQ(maxB, 0.0);
+  EXPECT_GT(maxBRenamed, 1.0);
+
+  // The simulation through the declared machine: the same figures.
+  const VerifyOutput va = runVerify(a.program, bytes.data(), bytes.size(), "bracket.stl");
+  const VerifyOutput vb = runVerify(b.program, bytes.data(), bytes.size(), "bracket.stl");
+  ASSERT_TRUE(va.ok() && vb.ok()) << va.message << vb.message;
+  Json ja = Json::parse(va.verifyJson), jb = Json::parse(vb.verifyJson);
+  for (const char* key : {"inside", "coverage", "supported", "collisions", "limits", "extrusion_mm", "path_mm", "layers"}) {
+    EXPECT_EQ(ja[key], jb[key]) << key;
+  }
+}
+
+TEST(MachinesPipelineAxisLetters, LettersTheFirmwareCannotTakeAreRefused) {
+  const auto bytes = testPart();
+  Settings s;
+  // Syntax: refused when set.
+  for (const char* bad : {"BU", "B=", "=U", "B=U,B=V"}) {
+    const Outcome o = setSetting(s, "axis_letters", bad);
+    EXPECT_EQ(o.status, Status::InvalidOption) << bad;
+    EXPECT_NE(o.message.find("axis_letters"), std::string::npos) << o.message;
+  }
+  // Against the machine: refused when the machine is resolved, before any slicing.
+  const std::pair<const char*, const char*> cases[] = {
+      {"table5", "B=E"},       // extrusion's letter
+      {"table5", "B=F"},       // feed's
+      {"table5", "B=UV"},      // one letter
+      {"table5", "B=X"},       // X would be written twice
+      {"table5", "A=U"},       // not an axis of table5
+      {"rotary4", "C=V"},      // nor of rotary4
+      {"robot6-ur5", "B=U"},   // joints have no letters
+  };
+  for (const auto& [machine, letters] : cases) {
+    Settings t;
+    ASSERT_TRUE(setSetting(t, "machine", machine).ok());
+    ASSERT_TRUE(setSetting(t, "axis_letters", letters).ok()) << letters;
+    const SliceOutput out = runSlice(bytes.data(), bytes.size(), "part.stl", t);
+    EXPECT_EQ(out.status, Status::InvalidOption) << machine << " " << letters;
+    EXPECT_NE(out.message.find("axis letters"), std::string::npos) << out.message;
+    EXPECT_TRUE(out.program.empty());
+  }
+  // Swapping two letters is allowed (each written once): X and Y exchanged on a cartesian3.
+  Settings swap;
+  ASSERT_TRUE(setSetting(swap, "axis_letters", "X=Y,Y=X").ok());
+  const SliceOutput ok = runSlice(bytes.data(), bytes.size(), "part.stl", swap);
+  ASSERT_TRUE(ok.ok()) << ok.message;
+  const VerifyOutput v = runVerify(ok.program, bytes.data(), bytes.size(), "part.stl");
+  ASSERT_TRUE(v.ok()) << v.message;
+  EXPECT_GE(Json::parse(v.verifyJson)["inside"].get<double>(), 0.99);
 }
 
 }  // namespace
