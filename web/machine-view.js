@@ -223,6 +223,13 @@ export class MachineView {
         this.object.add(bearing);
       }
     }
+    if (this.kind === 'head5') {
+      // The head's arm from the carriage point (where B and C turn) to the top of the nozzle cone.
+      this.unitCylinder = this.unitCylinder || this.#geometry(new THREE.CylinderGeometry(1, 1, 1, 20));
+      this.headArm = new THREE.Mesh(this.unitCylinder, this.#material(material(0x6b5b95)));
+      this.headArm.name = 'machine-head-arm';
+      this.object.add(this.headArm);
+    }
     if (this.kind === 'table5') {
       // The trunnion (B, about Y through the pivot): a cradle under the platform with two cheeks
       // at the ends of the tilt axis; it carries the C platform.
@@ -328,15 +335,22 @@ export class MachineView {
     }
     // Nozzle: tip at the machine-frame tip, local +Z along the machine-frame nozzle axis.
     const tip = new THREE.Vector3(...nozzleTip(profile, values));
-    const axis = new THREE.Vector3(...nozzleAxisMachine(profile));
+    const axis = new THREE.Vector3(...nozzleAxisMachine(profile, values));
     this.nozzle.matrix.compose(tip, new THREE.Quaternion().setFromUnitVectors(new THREE.Vector3(0, 0, 1), axis), new THREE.Vector3(1, 1, 1));
     if (this.kind === 'robot6') this.#poseRobot(values);
     else {
       if (this.trunnion) this.trunnion.matrix.copy(matrixOf(trunnionTransform(profile, values)));
-      // The X rail carries the carriage: at the nozzle's Y, at the carriage's height.
+      // The X rail carries the carriage: at the nozzle's Y, at the carriage's height (head5: the
+      // carriage point, where B and C turn the head, with an arm down to the tilted nozzle).
       const [x0, x1] = this.xRange;
       this.rail.scale.x = x1 - x0;
-      this.rail.position.set((x0 + x1) / 2, tip.y, tip.z + this.nozzleLength + this.carriage[2] / 2);
+      if (this.kind === 'head5') {
+        const carriage = new THREE.Vector3(values[0], values[1], values[2]);
+        this.rail.position.set((x0 + x1) / 2, carriage.y, carriage.z + this.carriage[2] / 2);
+        this.#cylinder(this.headArm, carriage, tip.clone().addScaledVector(axis, this.nozzleLength), 4);
+      } else {
+        this.rail.position.set((x0 + x1) / 2, tip.y, tip.z + this.nozzleLength + this.carriage[2] / 2);
+      }
     }
     this.deposit.geometry.setDrawRange(0, 2 * this.depositedBefore[s + 1]);
     const p = this.pointAt(s);

@@ -561,7 +561,7 @@ FeedField buildFeedField(const std::vector<SurfaceSample>& samples, const Machin
 
   const StencilPattern& pat = stencilPattern();
   const double r = options.stencilRadius;
-  const bool table = machine.kind == MachineKind::Table5;
+  const bool table = machine.kind == MachineKind::Table5 || machine.kind == MachineKind::Head5;  // a C singularity
   auto finite = [](const SurfaceSample& s) {
     return s.position.allFinite() && s.normal.allFinite() && s.tangentU.allFinite() &&
            s.tangentV.allFinite() && s.shape.allFinite() && std::abs(s.normal.norm() - 1) < 1e-6;

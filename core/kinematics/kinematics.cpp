@@ -63,6 +63,10 @@ bool platformTransform(const MachineProfile& machine, const MachineValues& v,
     return true;
   }
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
+  if (machine.kind == MachineKind::Head5) {  // the part stays on the fixed bed
+    transform.setIdentity();
+    return true;
+  }
   if (n == 4) r = rotX(v[3]);
   if (n == 5) r = rotY(v[3]) * rotZ(v[4]);
   transform.setIdentity();
@@ -88,6 +92,11 @@ bool forwardMap(const MachineProfile& machine, const MachineValues& v, Eigen::Ve
     const Eigen::Matrix3d r = rotX(v[3]);
     tip = p + r.transpose() * (m - p);
     axis = r.transpose() * Eigen::Vector3d::UnitZ();
+  } else if (machine.kind == MachineKind::Head5) {
+    // The part frame is the machine frame: q = (X,Y,Z) + Rz(C) Ry(B) o, u = Rz(C) Ry(B) z.
+    const Eigen::Matrix3d r = rotZ(v[4]) * rotY(v[3]);
+    tip = m + r * machine.tipOffset;
+    axis = r * Eigen::Vector3d::UnitZ();
   } else if (n == 5) {  // table5
     // m = P + Ry(B) Rz(C)(q - P).
     const Eigen::Matrix3d r = rotY(v[3]) * rotZ(v[4]);

@@ -86,8 +86,9 @@ Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineVa
 
 // The platform transform of PROGRAM-FORMAT.md: the rigid map of part-frame points into the machine
 // frame (robot6: the robot base frame) for machine values, so that it maps forwardMap()'s tip onto
-// the nozzle tip (X Y Z for the G-code kinds, nozzleTip for robot6). cartesian3: identity; rotary4:
-// T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P); robot6: robotPlatformPose(). False for an
+// the nozzle tip (X Y Z for the G-code kinds whose bed moves, nozzleTip for robot6). cartesian3:
+// identity; rotary4: T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P); head5: identity (the bed is
+// fixed; the tip is X Y Z + Rz(C) Ry(B) tip_offset); robot6: robotPlatformPose(). False for an
 // unknown kind or non-finite values.
 bool platformTransform(const MachineProfile& machine, const MachineValues& values,
                        Eigen::Matrix4d& transform);

@@ -195,6 +195,56 @@ IkResult inverseTable(const MachineProfile& machine, const Eigen::Vector3d& tip,
   return r;
 }
 
+// head5: u = Rz(C) Ry(B) z = (sin B cos C, sin B sin C, cos B); branches (B, C) and (-B, C + 180),
+// C free (the reference's) within 1e-4 rad of the vertical as on table5; the carriage point is the
+// tip less the turned tip offset.
+IkResult inverseHead(const MachineProfile& machine, const Eigen::Vector3d& tip, const Eigen::Vector3d& u,
+                     const IkOptions& options) {
+  IkResult r;
+  const double sinB = std::hypot(u.x(), u.y());
+  const double bAbs = std::atan2(sinB, u.z()) / kDeg;
+  const auto limits = machineLimits(machine);
+  const double refC = options.reference ? (*options.reference)[4] : 0.0;
+  double branches[2][2];
+  int nb = 0;
+  if (sinB <= 1e-4) {
+    const double b = u.z() > 0 ? 0.0 : 180.0;
+    branches[nb][0] = b;
+    branches[nb++][1] = refC;
+    if (b != 0) {
+      branches[nb][0] = -b;
+      branches[nb++][1] = refC;
+    }
+  } else {
+    const double c = std::atan2(u.y(), u.x()) / kDeg;
+    branches[nb][0] = bAbs;
+    branches[nb++][1] = c;
+    branches[nb][0] = -bAbs;
+    branches[nb++][1] = c + 180.0;
+  }
+  bool anyOrientation = false;
+  for (int i = 0; i < nb; ++i) {
+    const double b = branches[i][0];
+    double cv = 0;
+    if (!inside(b, limits[3]) || !nearestAlias(branches[i][1], 360.0, refC, limits[4], cv)) {
+      ++r.outOfLimits;
+      continue;
+    }
+    anyOrientation = true;
+    const Eigen::Vector3d m = tip - rotZ(cv) * rotY(b) * machine.tipOffset;
+    if (!linearInside(limits, m)) {
+      ++r.outOfLimits;
+      continue;
+    }
+    IkCandidate cand;
+    cand.values = {m.x(), m.y(), m.z(), b, cv, 0};
+    cand.branch = i;
+    r.candidates.push_back(cand);
+  }
+  r.orientationFeasible = anyOrientation;
+  return r;
+}
+
 // Rotation taking unit vector `from` onto unit vector `to` about from x to (Rodrigues); a half
 // turn about an axis normal to `from` when they are opposite.
 Eigen::Matrix3d rotationBetween(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
@@ -312,6 +362,7 @@ IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
     case MachineKind::Cartesian3: return inverseCartesian(machine, tip, u, options);
     case MachineKind::Rotary4: return inverseRotary(machine, tip, u, options);
     case MachineKind::Table5: return inverseTable(machine, tip, u, options);
+    case MachineKind::Head5: return inverseHead(machine, tip, u, options);
     case MachineKind::Robot6: break;
   }
   return inverseRobot(machine, tip, u, options);

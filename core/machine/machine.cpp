@@ -54,6 +54,7 @@ DhTable ur5DhTable() {
 // test KinematicsInverse.Robot6Ur5ReachesTheBuildVolume checks it.
 namespace {
 const double kUr5PlateOffset = 50;  // mm
+const double kHead5TipDrop = 60;    // mm, the built-in head5's nozzle tip below its B/C axes
 const Eigen::Vector3d kUr5NozzleTip{-500, 150, 300};  // mm, robot base frame
 
 // rated = false: paper 003's Table 1 joint limits (pi/6 rad/s, pi/2 rad/s^2, pi rad/s^3), so time
@@ -106,6 +107,22 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
     gcodeDynamics(m);
     m.axisDynamics["B"] = {90, 900, 9000};
     m.axisDynamics["C"] = {90, 900, 9000};
+  } else if (name == "head5") {
+    // A 5-axis head over a fixed bed (PAX-style): the nozzle tip 60 mm below the point where the
+    // B and C axes meet; the carriage reaches 60 mm beyond the bed on every side so the tilted tip
+    // covers the whole bed. B and C ranges and speeds as table5's.
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    m.kind = MachineKind::Head5;
+    m.name = "head5";
+    m.tipOffset = {0, 0, -kHead5TipDrop};
+    m.axisLimits["X"] = {-0.5 * bedSize.x() - kHead5TipDrop, 0.5 * bedSize.x() + kHead5TipDrop};
+    m.axisLimits["Y"] = {-0.5 * bedSize.y() - kHead5TipDrop, 0.5 * bedSize.y() + kHead5TipDrop};
+    m.axisLimits["Z"] = {0.0, bedSize.z() + kHead5TipDrop};
+    m.axisLimits["B"] = {-90, 90};
+    m.axisLimits["C"] = {-3600, 3600};
+    gcodeDynamics(m);
+    m.axisDynamics["B"] = {90, 900, 9000};
+    m.axisDynamics["C"] = {90, 900, 9000};
   } else if (name == "robot6-ur5" || name == "robot6" || name == "robot6-ur5-rated") {
     m = ur5Profile(nozzleDiameter, name == "robot6-ur5-rated");
   } else {
@@ -123,7 +140,7 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
 }
 
 std::vector<std::string> builtinMachineNames() {
-  return {"cartesian3", "rotary4", "table5", "robot6-ur5", "robot6-ur5-rated"};
+  return {"cartesian3", "rotary4", "table5", "head5", "robot6-ur5", "robot6-ur5-rated"};
 }
 
 const char* machineKindName(MachineKind kind) {
@@ -132,12 +149,14 @@ const char* machineKindName(MachineKind kind) {
     case MachineKind::Rotary4: return "rotary4";
     case MachineKind::Table5: return "table5";
     case MachineKind::Robot6: return "robot6";
+    case MachineKind::Head5: return "head5";
   }
   return "cartesian3";
 }
 
 bool parseMachineKind(const std::string& name, MachineKind& kind) {
-  for (MachineKind k : {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Robot6}) {
+  for (MachineKind k : {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Robot6,
+                        MachineKind::Head5}) {
     if (name == machineKindName(k)) {
       kind = k;
       return true;
@@ -152,6 +171,7 @@ int machineAxisCount(MachineKind kind) {
     case MachineKind::Rotary4: return 4;
     case MachineKind::Table5: return 5;
     case MachineKind::Robot6: return 6;
+    case MachineKind::Head5: return 5;
   }
   return 0;
 }
@@ -165,7 +185,8 @@ std::vector<std::string> machineAxisLetters(MachineKind kind) {
   switch (kind) {
     case MachineKind::Cartesian3: return {"X", "Y", "Z"};
     case MachineKind::Rotary4: return {"X", "Y", "Z", "A"};
-    case MachineKind::Table5: return {"X", "Y", "Z", "B", "C"};
+    case MachineKind::Table5:
+    case MachineKind::Head5: return {"X", "Y", "Z", "B", "C"};
     case MachineKind::Robot6: return {};
   }
   return {};
@@ -222,7 +243,7 @@ bool isAngularAxis(MachineKind kind, int index) {
 }
 
 double machineTiltLimitDegrees(const MachineProfile& machine) {
-  if (machine.kind == MachineKind::Table5) {
+  if (machine.kind == MachineKind::Table5 || machine.kind == MachineKind::Head5) {
     auto it = machine.axisLimits.find("B");
     if (it != machine.axisLimits.end()) {
       return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
-// The machine layer: the four machine kinds of ../shared/PROGRAM-FORMAT.md (cartesian3, rotary4,
-// table5, robot6), their axes, and machine profiles (limits, dynamics, nozzle geometry) with the
+// The machine layer: the machine kinds of ../shared/PROGRAM-FORMAT.md (cartesian3, rotary4,
+// table5, head5, robot6), their axes, and machine profiles (limits, dynamics, nozzle geometry) with the
 // built-in ones. Plain data read from below by kinematics, motion, program and verify; the JSON
 // form is machine_json.h (schema in docs/MACHINES.md), the forward and inverse maps are in
 // core/kinematics.
@@ -22,9 +22,10 @@ enum class MachineKind {
   Rotary4,     // X Y Z A, the platform turns about X
   Table5,      // X Y Z B C, a tilting (B) and turning (C) table
   Robot6,      // q1..q6, a six-joint arm holding the platform under a fixed nozzle
+  Head5,       // X Y Z B C, bed fixed: the head tilts the nozzle (B about Y, then C about Z)
 };
 
-// "cartesian3", "rotary4", "table5", "robot6".
+// "cartesian3", "rotary4", "table5", "robot6", "head5".
 const char* machineKindName(MachineKind kind);
 
 // The kind of a name as machineKindName() writes it; false for any other text.
@@ -86,6 +87,9 @@ struct MachineProfile {
   std::map<std::string, std::pair<double, double>> axisLimits;  // axis letter -> [min, max] (mm, deg)
   std::map<std::string, AxisDynamics> axisDynamics;             // axis letter -> limits
   double stepAngleDegrees = 0;  // rotary4: A must be a multiple of it (stepper platform); 0 = any
+  // head5: the nozzle tip relative to the carriage point (X Y Z, where B and C's axes meet) at
+  // B = C = 0, mm; the tip is (X,Y,Z) + Rz(C) Ry(B) tipOffset (PROGRAM-FORMAT.md).
+  Eigen::Vector3d tipOffset{0, 0, 0};
   double safeZ = 0;             // G-code kinds: machine Z the tip rises to before a 3+2 rotation;
                                 // 0 = derived from the part (its highest machine Z + 10 mm)
   // G-code kinds: the firmware's letter for an axis (axis of the table -> letter written), e.g.

@@ -54,6 +54,9 @@ std::string machineJson(const MachineProfile& machine) {
     }
     j["dynamics"] = dyn;
   }
+  if (machine.kind == MachineKind::Head5 || !machine.tipOffset.isZero(0)) {
+    j["tip_offset"] = {machine.tipOffset.x(), machine.tipOffset.y(), machine.tipOffset.z()};
+  }
   if (machine.stepAngleDegrees != 0) j["step_angle_deg"] = machine.stepAngleDegrees;
   if (machine.safeZ != 0) j["safe_z"] = machine.safeZ;
   if (!machine.axisLetters.empty()) {
@@ -140,7 +143,7 @@ struct Parser {
     const std::string kindName = kind->get<std::string>();
     if (!parseMachineKind(kindName, m.kind)) {
       fail("kind \"" + kindName.substr(0, 40) +
-           "\" is not one of cartesian3, rotary4, table5, robot6: this build cannot use or replay it");
+           "\" is not one of cartesian3, rotary4, table5, head5, robot6: this build cannot use or replay it");
       r.status = Status::UnsupportedFormat;
       return;
     }
@@ -175,6 +178,11 @@ struct Parser {
         }
         m.axisDynamics[a.key()] = d;
       }
+    }
+    if (auto it = j.find("tip_offset"); it != j.end()) {
+      double p[3];
+      if (!readNumbers(*it, 3, p)) return fail("\"tip_offset\" must be 3 finite numbers");
+      m.tipOffset = {p[0], p[1], p[2]};
     }
     if (auto it = j.find("step_angle_deg"); it != j.end()) {
       if (!finiteNumber(*it) || it->get<double>() < 0) {

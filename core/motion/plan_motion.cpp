@@ -170,6 +170,7 @@ class Planner {
   MachinePath out_;
   int n_ = 0;
   bool robot_ = false, gcodeRotary_ = false;
+  bool head_ = false;  // head5: the head turns about the carriage point over a fixed bed
   PoseMetric metric_;
   std::vector<std::pair<double, double>> limits_;
   double dhCos_[6] = {1, 1, 1, 1, 1, 1}, dhSin_[6] = {0, 0, 0, 0, 0, 0};  // of the DH twists
@@ -188,7 +189,8 @@ class Planner {
 bool Planner::validate() {
   n_ = machineAxisCount(m_.kind);
   robot_ = m_.kind == MachineKind::Robot6;
-  gcodeRotary_ = m_.kind == MachineKind::Rotary4 || m_.kind == MachineKind::Table5;
+  gcodeRotary_ = m_.kind == MachineKind::Rotary4 || m_.kind == MachineKind::Table5 || m_.kind == MachineKind::Head5;
+  head_ = m_.kind == MachineKind::Head5;
   auto bad = [](double v) { return !std::isfinite(v); };
   if (o_.maxKeptPoses < 0 || o_.trackMaxAlive < 0) {
     return fail(Status::InvalidOption, "maxKeptPoses and trackMaxAlive must be >= 0");
@@ -730,6 +732,12 @@ bool Planner::emit() {
   if (gcodeRotary_) {
     if (m_.safeZ > 0) {
       safeZ_ = m_.safeZ;
+    } else if (head_) {
+      // Turning about the carriage point keeps the tip within |tip_offset| of it: the carriage
+      // that high above the part's top keeps the tip at least safeLift above the part.
+      double top = -std::numeric_limits<double>::infinity();
+      for (const Eigen::Vector3d& p : layerPos_) top = std::max(top, p.z());
+      safeZ_ = top + m_.tipOffset.norm() + o_.safeLift;
     } else {
       double top = -std::numeric_limits<double>::infinity();
       for (const MachineValues& v : layerValues_) top = std::max(top, v[2]);
@@ -737,7 +745,8 @@ bool Planner::emit() {
     }
     auto z = m_.axisLimits.find("Z");
     if (z != m_.axisLimits.end()) safeZ_ = std::min(safeZ_, z->second.second);
-    if (!(m_.safeZ > 0)) material_.emplace(m_.pivot);
+    // The material's height over the turning platform (motion/material_height): tables only.
+    if (!(m_.safeZ > 0) && !head_) material_.emplace(m_.pivot);
     if (z != m_.axisLimits.end()) zMax_ = z->second.second;
   }
   out_.moves.reserve(pieces_.size() + pieces_.size() / 8);

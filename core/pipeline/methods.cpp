@@ -6,8 +6,8 @@ namespace omnislice {
 
 namespace {
 
-// Curved-layer methods tilt the nozzle: two rotary axes or a robot.
-const std::vector<MachineKind> kTilting = {MachineKind::Table5, MachineKind::Robot6};
+// Curved-layer methods tilt the nozzle: two rotary axes (a tilting table or head) or a robot.
+const std::vector<MachineKind> kTilting = {MachineKind::Table5, MachineKind::Head5, MachineKind::Robot6};
 
 }  // namespace
 
@@ -41,20 +41,22 @@ const std::vector<MethodEntry>& methodRegistry() {
   static const std::vector<MethodEntry> registry = {
       {Method::Planar, /*needsSolid=*/true, /*slicesAlongDirection=*/true, /*usesInputTets=*/false,
        /*boundsLayerCount=*/true,
-       {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Robot6}, "",
+       {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Head5, MachineKind::Robot6}, "",
        runPlanarMethod},
-      {Method::Multidir, true, false, false, true, {MachineKind::Rotary4, MachineKind::Table5, MachineKind::Robot6},
-       "turns the part between parts: choose a machine with a rotary axis or a robot (rotary4, table5, robot6)",
+      {Method::Multidir, true, false, false, true,
+       {MachineKind::Rotary4, MachineKind::Table5, MachineKind::Head5, MachineKind::Robot6},
+       "turns the part (or the nozzle) between parts: choose a machine with a rotary axis or a robot (rotary4, "
+       "table5, head5, robot6)",
        runMultidirMethod},
       {Method::Voxel, true, false, false, false, kTilting,
-       "tilts the nozzle along curved layers: choose a machine with two rotary axes or a robot (table5, robot6)",
+       "tilts the nozzle along curved layers: choose a machine with two rotary axes or a robot (table5, head5, robot6)",
        runVoxelMethod},
       {Method::Geodesic, true, false, true, true, kTilting,
-       "tilts the nozzle along curved layers: choose a machine with two rotary axes or a robot (table5, robot6)",
+       "tilts the nozzle along curved layers: choose a machine with two rotary axes or a robot (table5, head5, robot6)",
        runGeodesicMethod},
       {Method::Surface, false, false, false, true, kTilting,
        "keeps the nozzle along the surface normal: choose a machine with two rotary axes or a robot (table5, "
-       "robot6)",
+       "head5, robot6)",
        runSurfaceMethod},
   };
   return registry;

@@ -110,7 +110,7 @@ std::vector<std::string> remedies(const VerifySection& v, const SoundnessCriteri
   }
   if (blocked) {
     if (curved && !unsupported) addOnce(out, "--method multidir (planar parts: the nozzle stays above each part's layers)");
-    if (machine.kind == MachineKind::Table5 && tiltClamped(result) > 0) {
+    if ((machine.kind == MachineKind::Table5 || machine.kind == MachineKind::Head5) && tiltClamped(result) > 0) {
       addOnce(out, "a machine that tilts the nozzle further (robot6-ur5)");
     }
     addOnce(out, "a slimmer nozzle cone (nozzle.cone_half_angle_deg in the machine profile)");

@@ -65,7 +65,7 @@ async function sweepMachine(label) {
 
 test('the machine panel lists the built-in machines; flavour for G-code, format for the robot', async () => {
   const options = await page.$$eval(`${tid('machine')} option`, (os) => os.map((o) => o.value));
-  assert.deepEqual(options, ['cartesian3', 'rotary4', 'table5', 'robot6-ur5', 'robot6-ur5-rated']);
+  assert.deepEqual(options, ['cartesian3', 'rotary4', 'table5', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
   assert.equal(await page.isVisible(tid('gcode-flavor')), true);
   assert.equal(await page.isVisible(tid('robot-format')), false);
   await page.selectOption(tid('machine'), 'robot6-ur5');
@@ -179,6 +179,36 @@ test('table5 with the Klipper flavour: B and C axis words; the animation keeps t
   await page.screenshot({ path: path.join(OUT_DIR, 'machine-table5.png') });
   await page.uncheck(tid('machine-toggle'));
   await page.selectOption(tid('gcode-flavor'), 'marlin');
+});
+
+test('head5 with firmware axis letters and thumbnails: U and V words, PNG blocks; the animated head keeps the tip on the point', async (t) => {
+  await page.selectOption(tid('machine'), 'head5');
+  await page.selectOption(tid('setting-method'), 'multidir');  // parts printed with the head tilted
+  await page.selectOption(tid('gcode-flavor'), 'reprap');
+  await page.fill(tid('setting-axis_letters'), 'B=U,C=V');
+  await page.dispatchEvent(tid('setting-axis_letters'), 'change');
+  await page.fill(tid('setting-thumbnails'), '32x32');
+  await page.dispatchEvent(tid('setting-thumbnails'), 'change');
+  const report = await slice();
+  assert.equal(report.machine_kind, 'head5');
+  assert.deepEqual(report.machine_profile.axis_letters, { B: 'U', C: 'V' });
+  const g = await download();
+  assert.match(g.text, /^G[01] .* U-?[\d.]+ V-?[\d.]+/m);
+  assert.doesNotMatch(g.text, /^G[01] [^;]* [BC]-?[\d.]+/m);
+  assert.match(g.text, /^; thumbnail begin 32x32 \d+$/m);
+  assert.match(g.text, /^G[01] .* U-?[1-9][\d.]*/m, 'the head tilts (U is B)');
+  const { steps, worst } = await sweepMachine('head5');
+  t.diagnostic(`head5: ${steps} steps, worst tip error ${worst.toExponential(2)} mm`);
+  await page.waitForTimeout(400);
+  await page.screenshot({ path: path.join(OUT_DIR, 'machine-head5.png') });
+  await page.uncheck(tid('machine-toggle'));
+  for (const key of ['axis_letters', 'thumbnails']) {
+    await page.fill(tid(`setting-${key}`), '');
+    await page.dispatchEvent(tid(`setting-${key}`), 'change');
+  }
+  await page.selectOption(tid('gcode-flavor'), 'marlin');
+  await page.selectOption(tid('setting-method'), 'planar');
+  await page.selectOption(tid('machine'), 'table5');  // as the table5 test left it
 });
 
 test('machine profile files: a broken one shows parse_error; a rotary4 one is used until "use built-in"', async () => {

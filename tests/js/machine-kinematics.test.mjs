@@ -46,11 +46,11 @@ const ur5 = {
 };
 
 test('kind names and axis counts', () => {
-  assert.deepEqual(MACHINE_KINDS, ['cartesian3', 'rotary4', 'table5', 'robot6']);
+  assert.deepEqual(MACHINE_KINDS, ['cartesian3', 'rotary4', 'table5', 'head5', 'robot6']);
   assert.equal(machineKind('robot6-ur5'), 'robot6');
   assert.equal(machineKind({ kind: 'table5' }), 'table5');
   assert.equal(machineKind('delta'), null);
-  assert.deepEqual(MACHINE_KINDS.map(machineAxisCount), [3, 4, 5, 6]);
+  assert.deepEqual(MACHINE_KINDS.map(machineAxisCount), [3, 4, 5, 5, 6]);
   assert.throws(() => platformTransform({ kind: 'delta' }, [0, 0, 0]), /unknown machine kind/);
 });
 
@@ -115,6 +115,29 @@ test('rotary4 and table5 at random values: the formulas of PROGRAM-FORMAT.md wri
     near(f5.tip, q, 1e-9, `table5 #${i}`);
     // (Ry(B) Rz(C))^T Z = Rz(-C) (Ry(B)^T Z) = Rz(-C) (-sin B, 0, cos B).
     near(f5.axis, [-sb * cc, sb * sc, cb], 1e-12, `table5 axis #${i}`);
+  }
+});
+
+test('head5: the tip hangs tip_offset from the carriage point, turned by B then C (by hand)', () => {
+  const head5 = { kind: 'head5', tip_offset: [0, 0, -60] };
+  // Untilted: the tip 60 mm below the carriage point, the axis +Z; the bed stays put.
+  near(forwardMap(head5, [10, 20, 100, 0, 77]).tip, [10, 20, 40], 1e-12, 'vertical');
+  near(forwardMap(head5, [10, 20, 100, 0, 77]).axis, [0, 0, 1], 1e-12, 'vertical axis');
+  near(platformTransform(head5, [10, 20, 100, 30, 40]), [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], 0, 'bed fixed');
+  // B = 90: Ry(90) (0, 0, -60) = (-60, 0, 0), axis Ry(90) Z = X; then C = 90 turns X onto Y.
+  near(forwardMap(head5, [0, 0, 100, 90, 0]).tip, [-60, 0, 100], 1e-12, 'B 90');
+  near(forwardMap(head5, [0, 0, 100, 90, 0]).axis, [1, 0, 0], 1e-12, 'B 90 axis');
+  near(forwardMap(head5, [0, 0, 100, 90, 90]).tip, [0, -60, 100], 1e-12, 'B 90 C 90');
+  near(forwardMap(head5, [0, 0, 100, 90, 90]).axis, [0, 1, 0], 1e-12, 'B 90 C 90 axis');
+  // Random values: u = (sin B cos C, sin B sin C, cos B) and tip = carriage - 60 u.
+  const r = rng(5);
+  for (let i = 0; i < 200; i++) {
+    const v = [r(-100, 100), r(-100, 100), r(0, 200), r(-90, 90), r(-360, 360), 0];
+    const [sb, cb, sc, cc] = [Math.sin(v[3] * DEG), Math.cos(v[3] * DEG), Math.sin(v[4] * DEG), Math.cos(v[4] * DEG)];
+    const u = [sb * cc, sb * sc, cb];
+    const f = forwardMap(head5, v);
+    near(f.axis, u, 1e-12, `head5 axis #${i}`);
+    near(f.tip, [v[0] - 60 * u[0], v[1] - 60 * u[1], v[2] - 60 * u[2]], 1e-9, `head5 tip #${i}`);
   }
 });
 
@@ -194,6 +217,7 @@ test('every kind, random values: platform transform * part-frame tip = nozzle ti
       { kind: 'cartesian3' },
       { kind: 'rotary4', pivot },
       { kind: 'table5', pivot },
+      { kind: 'head5', tip_offset: [r(-20, 20), r(-20, 20), r(-80, 0)] },
       { ...ur5, flange_to_platform: randomRigid(r), nozzle_tip: [r(-600, 600), r(-600, 600), r(-200, 700)],
         nozzle_axis: [r(-1, 1), r(-1, 1), r(0.2, 1)] },
     ];
@@ -207,7 +231,7 @@ test('every kind, random values: platform transform * part-frame tip = nozzle ti
       assert.ok(tipError(profile, values, tip) < 1e-9);
       // A point 1 mm off the tip is 1 mm off.
       assert.ok(Math.abs(tipError(profile, values, [tip[0] + 1, tip[1], tip[2]]) - 1) < 1e-9);
-      near(transformDirection4(W, axis), nozzleAxisMachine(profile), 1e-12, `${profile.kind} #${i} axis`);
+      near(transformDirection4(W, axis), nozzleAxisMachine(profile, values), 1e-12, `${profile.kind} #${i} axis`);
       // Rigid: W^-1 W = I.
       near(multiply4(invertRigid4(W), W), [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1], 1e-9, 'rigid inverse');
       if (profile.kind === 'robot6') {

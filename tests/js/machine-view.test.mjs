@@ -23,6 +23,7 @@ const PROFILES = {
   cartesian3: { kind: 'cartesian3', axis_limits: { X: [-110, 110], Y: [-110, 110], Z: [0, 250] } },
   rotary4: { kind: 'rotary4', pivot: [0, 0, 15], axis_limits: { A: [-60, 60] } },
   table5: { kind: 'table5', pivot: [3, -2, 10], axis_limits: { B: [-90, 90], C: [-360, 360] } },
+  head5: { kind: 'head5', tip_offset: [0, 0, -60], axis_limits: { B: [-90, 90], C: [-360, 360] } },
   robot6: {
     kind: 'robot6',
     dh: UR5_DH.map((r) => [...r]),
@@ -43,7 +44,7 @@ function syntheticPreview(kind, S, seed, offset = [0, 0, 0]) {
   for (let s = 0; s < S; s++) {
     const v = kind === 'robot6'
       ? [r(-3, 3), r(-2.5, -0.5), r(-2, 2), r(-3, 3), r(-3, 3), r(-3, 3)]
-      : [r(-80, 80), r(-80, 80), r(0, 100), r(-60, 60), kind === 'table5' ? r(-300, 300) : 0, 0];
+      : [r(-80, 80), r(-80, 80), r(0, 100), r(-60, 60), kind === 'table5' || kind === 'head5' ? r(-300, 300) : 0, 0];
     machine.set(v, 6 * s);
     const stored = Array.from(machine.subarray(6 * s, 6 * s + 6));
     const { tip } = forwardMap(PROFILES[kind], stored);
@@ -69,7 +70,7 @@ for (const kind of Object.keys(PROFILES)) {
     for (let s = 0; s < S; s++) {
       const { tipError, step, values } = view.setStep(s);
       assert.equal(step, s);
-      assert.equal(values.length, { cartesian3: 3, rotary4: 4, table5: 5, robot6: 6 }[kind]);
+      assert.equal(values.length, { cartesian3: 3, rotary4: 4, table5: 5, head5: 5, robot6: 6 }[kind]);
       worst = Math.max(worst, tipError);
     }
     // Float32 storage of values and points: well under 1e-3 mm.

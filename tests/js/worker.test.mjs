@@ -242,10 +242,12 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
       const machines = await window.slicer.machines({ bed_size: '200,180,150' });
       return { good, fails, machines };
     });
-    assert.deepEqual(r.machines.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'robot6-ur5', 'robot6-ur5-rated']);
+    assert.deepEqual(r.machines.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
     assert.deepEqual(r.machines[0].profile.axis_limits.Y, [-90, 90], 'sized by bed_size');
-    assert.equal(r.machines[3].profile.kind, 'robot6');
-    assert.equal(JSON.parse(r.machines[3].json).dh.length, 6);
+    assert.equal(r.machines[3].profile.kind, 'head5');
+    assert.deepEqual(r.machines[3].profile.tip_offset, [0, 0, -60]);
+    assert.equal(r.machines[4].profile.kind, 'robot6');
+    assert.equal(JSON.parse(r.machines[4].json).dh.length, 6);
     assert.equal(r.good.profile.kind, 'rotary4');
     assert.deepEqual(r.good.profile.pivot, [0, 5, 12]);
     assert.deepEqual(r.good.profile.axis_limits.A, [-60, 60]);

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <ctime>
 #include <cmath>
 #include <cstdio>
@@ -85,9 +86,10 @@ TEST(KinematicsInverse, CartesianIsTheIdentityAndNeedsPlusZ) {
 // and its axis onto the machine's nozzle axis; non-finite values and unknown kinds give false.
 TEST(KinematicsInverse, PlatformTransformIsTheForwardMapsPlatform) {
   std::mt19937 rng(7);
-  for (const char* name : {"cartesian3", "rotary4", "table5", "robot6"}) {
+  for (const char* name : {"cartesian3", "rotary4", "table5", "head5", "robot6"}) {
     const MachineProfile m = builtin(name);
     const bool robot = m.kind == MachineKind::Robot6;
+    const bool head = m.kind == MachineKind::Head5;  // the bed stays: identity, the head turns
     double worstTip = 0, worstAxis = 0, worstRigid = 0;
     for (int i = 0; i < 1000; ++i) {
       const MachineValues v = randomValues(m, rng);
@@ -98,9 +100,15 @@ TEST(KinematicsInverse, PlatformTransformIsTheForwardMapsPlatform) {
       const Eigen::Matrix3d r = t.topLeftCorner<3, 3>();
       worstRigid = std::max(worstRigid, (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() +
                                             std::abs(r.determinant() - 1) + t.row(3).cwiseAbs().sum() - 1);
-      const Eigen::Vector3d nozzle = robot ? m.nozzleTip : Eigen::Vector3d(v[0], v[1], v[2]);
+      // head5: the nozzle tip is the carriage point plus the turned tip offset, the axis the head's.
+      const Eigen::Matrix3d headTurn = Eigen::AngleAxisd(v[4] * kPi / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+                                       Eigen::AngleAxisd(v[3] * kPi / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      const Eigen::Vector3d nozzle = robot  ? m.nozzleTip
+                                     : head ? Eigen::Vector3d(Eigen::Vector3d(v[0], v[1], v[2]) + headTurn * m.tipOffset)
+                                            : Eigen::Vector3d(v[0], v[1], v[2]);
+      const Eigen::Vector3d nozzleAxis = robot ? m.nozzleAxis : head ? Eigen::Vector3d(headTurn.col(2)) : Eigen::Vector3d::UnitZ();
       worstTip = std::max(worstTip, (r * tip + t.topRightCorner<3, 1>() - nozzle).norm());
-      worstAxis = std::max(worstAxis, (r * axis - (robot ? m.nozzleAxis : Eigen::Vector3d::UnitZ())).norm());
+      worstAxis = std::max(worstAxis, (r * axis - nozzleAxis).norm());
     }
     EXPECT_LT(worstRigid, 1e-9) << name;
     EXPECT_LT(worstTip, 1e-9) << name;
@@ -228,6 +236,55 @@ TEST(KinematicsInverse, Table5EveryBranchRoundTripsAndRecoversTheOriginal) {
     EXPECT_TRUE(found) << "B " << v[3] << " C " << v[4];
   }
   EXPECT_GT(twoBranches, 1000);
+}
+
+// head5 (PROGRAM-FORMAT.md): both branches map back, the original values are among them, and the
+// carriage point sits the tip offset (60 mm, turned with the head) from the tip.
+TEST(KinematicsInverse, Head5EveryBranchRoundTripsAndRecoversTheOriginal) {
+  const MachineProfile m = builtin("head5");
+  ASSERT_NEAR(m.tipOffset.norm(), 60, 1e-12);
+  std::mt19937 rng(5);
+  int twoBranches = 0;
+  for (int i = 0; i < 5000; ++i) {
+    const MachineValues v = randomValues(m, rng);
+    Eigen::Vector3d tip, axis;
+    ASSERT_TRUE(forwardMap(m, v, tip, axis));
+    EXPECT_NEAR((tip - Eigen::Vector3d(v[0], v[1], v[2])).norm(), 60, 1e-9);
+    EXPECT_NEAR(std::acos(std::clamp(axis.z(), -1.0, 1.0)) * 180 / kPi, std::abs(v[3]), 1e-7) << "the tilt is |B|";
+    const bool withReference = i % 2 == 0;
+    IkOptions o;
+    o.reference = withReference ? &v : nullptr;
+    const IkResult ik = inverseMap(m, tip, axis, o);
+    ASSERT_TRUE(ik.ok()) << ik.message;
+    ASSERT_TRUE(ik.orientationFeasible);
+    ASSERT_FALSE(ik.candidates.empty());
+    EXPECT_LE(ik.candidates.size(), 2u);
+    expectCandidatesMapBack(m, ik, tip, axis);
+    twoBranches += ik.candidates.size() == 2;
+    bool found = false;
+    for (const IkCandidate& c : ik.candidates) {
+      const bool sameB = std::abs(c.values[3] - v[3]) < 1e-7;
+      const bool sameC = withReference ? std::abs(c.values[4] - v[4]) < 1e-7 : wrappedDiff(c.values[4], v[4], 360) < 1e-7;
+      found = found || (sameB && sameC);
+    }
+    EXPECT_TRUE(found) << "B " << v[3] << " C " << v[4];
+  }
+  EXPECT_GT(twoBranches, 1000);
+  // Beyond the B range: no orientation.
+  MachineProfile narrow = m;
+  narrow.axisLimits["B"] = {-30, 30};
+  const Eigen::Vector3d lean = Eigen::Vector3d(std::sin(0.7), 0, std::cos(0.7));  // 40 degrees
+  const IkResult far = inverseMap(narrow, {0, 0, 10}, lean);
+  EXPECT_FALSE(far.orientationFeasible);
+  EXPECT_TRUE(far.candidates.empty());
+  // Vertical: C stays at the reference (no spin through the singularity).
+  MachineValues ref{0, 0, 0, 10, 123, 0};
+  IkOptions o;
+  o.reference = &ref;
+  const IkResult up = inverseMap(m, {5, 5, 5}, Eigen::Vector3d::UnitZ(), o);
+  ASSERT_FALSE(up.candidates.empty());
+  EXPECT_EQ(up.candidates[0].values[4], 123);
+  EXPECT_NEAR(up.candidates[0].values[2], 65, 1e-9) << "the carriage 60 mm above the tip";
 }
 
 TEST(KinematicsInverse, Table5KeepsTheReferenceCAtBZeroAndAcrossTheWrap) {

@@ -56,7 +56,7 @@ void expectSameProfile(const MachineProfile& a, const MachineProfile& b) {
 
 TEST(MachineProfile, BuiltinNamesAndValues) {
   const std::vector<std::string> names = builtinMachineNames();
-  ASSERT_EQ(names, (std::vector<std::string>{"cartesian3", "rotary4", "table5", "robot6-ur5",
+  ASSERT_EQ(names, (std::vector<std::string>{"cartesian3", "rotary4", "table5", "head5", "robot6-ur5",
                                                           "robot6-ur5-rated"}));
   for (const std::string& n : names) {
     const MachineProfileResult r = builtinMachine(n, kBed, 0.6);
@@ -349,7 +349,8 @@ TEST(MachineProfile, FuzzedJsonNeverCrashes) {
         EXPECT_EQ(machineJson(r2.machine), again);
       } else {
         ++rejected;
-        EXPECT_EQ(r.status, Status::ParseError);
+        // A kind the edits turned into an unknown name (e.g. "head") is a newer build's machine.
+        EXPECT_TRUE(r.status == Status::ParseError || r.status == Status::UnsupportedFormat) << s;
         EXPECT_FALSE(r.message.empty());
       }
     }

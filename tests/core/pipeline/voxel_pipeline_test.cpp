@@ -190,7 +190,7 @@ TEST_P(VoxelPipeline, MushroomPrintsWithCurvedLayersAndVerifies) {
   expectVerified(out, bytes, "mushroom.stl");
 }
 
-INSTANTIATE_TEST_SUITE_P(Machines, VoxelPipeline, ::testing::Values("table5", "robot6-ur5"),
+INSTANTIATE_TEST_SUITE_P(Machines, VoxelPipeline, ::testing::Values("table5", "head5", "robot6-ur5"),
                          [](const ::testing::TestParamInfo<const char*>& i) {
                            std::string n = i.param;
                            for (char& ch : n) {
