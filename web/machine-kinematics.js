@@ -13,11 +13,12 @@
 //   - The platform transform maps part-frame points into the machine frame (robot6: the robot base
 //     frame). With it, every kind has the same tip property: platform(values) * tip_part =
 //     nozzleTip(values), where nozzleTip is (X, Y, Z) for G-code kinds whose bed moves, (X, Y, Z) +
-//     Rz(C) Ry(B) tip_offset for head5 (the bed is fixed, the head turns) and the fixed nozzle_tip
+//     Rz(C) Ry(B) tip_offset for head5, Rz(C) Ry(tilt_deg) tip_offset for head4 (the bed is fixed,
+//     the head turns) and the fixed nozzle_tip
 //     for robot6.
 
 /** Machine kinds (profile.kind values). Built-in profile names may differ (robot6-ur5). */
-export const MACHINE_KINDS = Object.freeze(['cartesian3', 'rotary4', 'table5', 'head5', 'robot6']);
+export const MACHINE_KINDS = Object.freeze(['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6']);
 
 const DEG = Math.PI / 180;
 
@@ -32,7 +33,7 @@ export function machineKind(profileOrName) {
 
 /** Number of machine values a kind uses (3, 4, 5, 6; 0 when unknown). */
 export function machineAxisCount(kind) {
-  return { cartesian3: 3, rotary4: 4, table5: 5, head5: 5, robot6: 6 }[machineKind(kind)] || 0;
+  return { cartesian3: 3, rotary4: 4, table5: 5, head4: 4, head5: 5, robot6: 6 }[machineKind(kind)] || 0;
 }
 
 /** Axis names of a kind in value order. */
@@ -42,6 +43,7 @@ export function machineAxisNames(kind) {
     case 'rotary4': return ['X', 'Y', 'Z', 'A'];
     case 'table5':
     case 'head5': return ['X', 'Y', 'Z', 'B', 'C'];
+    case 'head4': return ['X', 'Y', 'Z', 'C'];
     case 'robot6': return ['q1', 'q2', 'q3', 'q4', 'q5', 'q6'];
     default: return [];
   }
@@ -189,7 +191,7 @@ export function dhTable(profile) {
 
 /**
  * Platform transform: part frame -> machine frame (robot6: robot base frame).
- *   cartesian3 and head5 (the bed is fixed): identity; rotary4: T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P);
+ *   cartesian3, head4 and head5 (the bed is fixed): identity; rotary4: T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P);
  *   robot6: W = FK_DH(q) * flange_to_platform.
  */
 export function platformTransform(profile, values) {
@@ -198,6 +200,7 @@ export function platformTransform(profile, values) {
   const minusP = P.map((x) => -x);
   switch (kind) {
     case 'cartesian3':
+    case 'head4':
     case 'head5':
       return identity4();
     case 'rotary4':
@@ -217,10 +220,13 @@ export function trunnionTransform(profile, values) {
   return compose4(translation4(P), rotationY4(values[3] * DEG), translation4(P.map((x) => -x)));
 }
 
-/** head5: the head's turn Rz(C) Ry(B) (4x4, row-major). */
-export function headTurn(values) {
+/** The head's turn (4x4, row-major): head5 Rz(C) Ry(B); head4 Rz(C) Ry(tilt_deg), C = values[3]. */
+export function headTurn(profile, values) {
+  if (machineKind(profile) === 'head4') return multiply4(rotationZ4(values[3] * DEG), rotationY4(Number(profile.tilt_deg || 0) * DEG));
   return multiply4(rotationZ4(values[4] * DEG), rotationY4(values[3] * DEG));
 }
+
+const isHead = (profile) => machineKind(profile) === 'head4' || machineKind(profile) === 'head5';
 
 function tipOffset(profile) {
   const o = profile && profile.tip_offset;
@@ -229,7 +235,7 @@ function tipOffset(profile) {
 
 /**
  * Nozzle tip in the machine frame: (X, Y, Z) for G-code kinds whose bed moves, the carriage point
- * plus the turned tip offset for head5, the fixed nozzle_tip for robot6.
+ * plus the turned tip offset for head4 and head5, the fixed nozzle_tip for robot6.
  */
 export function nozzleTip(profile, values) {
   const kind = machineKind(profile);
@@ -237,8 +243,8 @@ export function nozzleTip(profile, values) {
     const n = profile.nozzle_tip;
     return Array.isArray(n) && n.length === 3 ? n.map(Number) : [0, 0, 0];
   }
-  if (kind === 'head5') {
-    const o = transformDirection4(headTurn(values), tipOffset(profile));
+  if (isHead(profile)) {
+    const o = transformDirection4(headTurn(profile, values), tipOffset(profile));
     return [values[0] + o[0], values[1] + o[1], values[2] + o[2]];
   }
   return [values[0], values[1], values[2]];
@@ -246,10 +252,10 @@ export function nozzleTip(profile, values) {
 
 /**
  * Nozzle axis (unit, tip -> hot end) in the machine frame: +Z, nozzle_axis for robot6, the head's
- * Rz(C) Ry(B) +Z for head5 (values needed only there).
+ * turn of +Z for head4 and head5 (values needed only there).
  */
 export function nozzleAxisMachine(profile, values) {
-  if (machineKind(profile) === 'head5') return transformDirection4(headTurn(values), [0, 0, 1]);
+  if (isHead(profile)) return transformDirection4(headTurn(profile, values), [0, 0, 1]);
   if (machineKind(profile) === 'robot6' && Array.isArray(profile.nozzle_axis)) {
     const u = profile.nozzle_axis.map(Number);
     const n = Math.hypot(...u);

@@ -223,7 +223,7 @@ export class MachineView {
         this.object.add(bearing);
       }
     }
-    if (this.kind === 'head5') {
+    if (this.kind === 'head5' || this.kind === 'head4') {
       // The head's arm from the carriage point (where B and C turn) to the top of the nozzle cone.
       this.unitCylinder = this.unitCylinder || this.#geometry(new THREE.CylinderGeometry(1, 1, 1, 20));
       this.headArm = new THREE.Mesh(this.unitCylinder, this.#material(material(0x6b5b95)));
@@ -344,7 +344,7 @@ export class MachineView {
       // carriage point, where B and C turn the head, with an arm down to the tilted nozzle).
       const [x0, x1] = this.xRange;
       this.rail.scale.x = x1 - x0;
-      if (this.kind === 'head5') {
+      if (this.kind === 'head5' || this.kind === 'head4') {
         const carriage = new THREE.Vector3(values[0], values[1], values[2]);
         this.rail.position.set((x0 + x1) / 2, carriage.y, carriage.z + this.carriage[2] / 2);
         this.#cylinder(this.headArm, carriage, tip.clone().addScaledVector(axis, this.nozzleLength), 4);

@@ -63,12 +63,12 @@ bool platformTransform(const MachineProfile& machine, const MachineValues& v,
     return true;
   }
   Eigen::Matrix3d r = Eigen::Matrix3d::Identity();
-  if (machine.kind == MachineKind::Head5) {  // the part stays on the fixed bed
+  if (machine.kind == MachineKind::Head5 || machine.kind == MachineKind::Head4) {  // the bed is fixed
     transform.setIdentity();
     return true;
   }
-  if (n == 4) r = rotX(v[3]);
-  if (n == 5) r = rotY(v[3]) * rotZ(v[4]);
+  if (machine.kind == MachineKind::Rotary4) r = rotX(v[3]);
+  if (machine.kind == MachineKind::Table5) r = rotY(v[3]) * rotZ(v[4]);
   transform.setIdentity();
   transform.topLeftCorner<3, 3>() = r;
   transform.topRightCorner<3, 1>() = machine.pivot - r * machine.pivot;
@@ -84,20 +84,25 @@ bool forwardMap(const MachineProfile& machine, const MachineValues& v, Eigen::Ve
   }
   const Eigen::Vector3d m(v[0], v[1], v[2]);
   const Eigen::Vector3d& p = machine.pivot;
-  if (n == 3) {  // cartesian3
+  if (machine.kind == MachineKind::Cartesian3) {
     tip = m;
     axis = Eigen::Vector3d::UnitZ();
-  } else if (n == 4) {  // rotary4
+  } else if (machine.kind == MachineKind::Rotary4) {
     // m = P + Rx(A)(q - P)  =>  q = P + Rx(A)^T (m - P); u = Rx(A)^T z.
     const Eigen::Matrix3d r = rotX(v[3]);
     tip = p + r.transpose() * (m - p);
     axis = r.transpose() * Eigen::Vector3d::UnitZ();
+  } else if (machine.kind == MachineKind::Head4) {
+    // As head5 with B fixed at the nozzle's tilt: q = (X,Y,Z) + Rz(C) Ry(tau) o.
+    const Eigen::Matrix3d r = rotZ(v[3]) * rotY(machine.tiltDegrees);
+    tip = m + r * machine.tipOffset;
+    axis = r * Eigen::Vector3d::UnitZ();
   } else if (machine.kind == MachineKind::Head5) {
     // The part frame is the machine frame: q = (X,Y,Z) + Rz(C) Ry(B) o, u = Rz(C) Ry(B) z.
     const Eigen::Matrix3d r = rotZ(v[4]) * rotY(v[3]);
     tip = m + r * machine.tipOffset;
     axis = r * Eigen::Vector3d::UnitZ();
-  } else if (n == 5) {  // table5
+  } else if (machine.kind == MachineKind::Table5) {
     // m = P + Ry(B) Rz(C)(q - P).
     const Eigen::Matrix3d r = rotY(v[3]) * rotZ(v[4]);
     tip = p + r.transpose() * (m - p);

@@ -245,6 +245,36 @@ IkResult inverseHead(const MachineProfile& machine, const Eigen::Vector3d& tip, 
   return r;
 }
 
+// head4: the nozzle leans tau from +Z and C turns it, so only the azimuth of u is the machine's to
+// choose: C = atan2(u.y, u.x) (tau < 0 turns the other way: C + 180), the reference's C where u is
+// within 1e-4 rad of vertical (a planar print keeps C still). The candidate's axis is the head's,
+// u turned onto the cone of half-angle tau within its vertical plane; the tip is exact.
+IkResult inverseHeadFixedTilt(const MachineProfile& machine, const Eigen::Vector3d& tip, const Eigen::Vector3d& u,
+                              const IkOptions& options) {
+  IkResult r;
+  const auto limits = machineLimits(machine);
+  const double refC = options.reference ? (*options.reference)[3] : 0.0;
+  double c = refC;
+  if (std::hypot(u.x(), u.y()) > 1e-4) {
+    c = std::atan2(u.y(), u.x()) / kDeg + (machine.tiltDegrees < 0 ? 180.0 : 0.0);
+  }
+  double cv = 0;
+  if (!nearestAlias(c, 360.0, refC, limits[3], cv)) {
+    r.orientationFeasible = false;
+    r.outOfLimits = 1;
+    return r;
+  }
+  const Eigen::Vector3d m = tip - rotZ(cv) * rotY(machine.tiltDegrees) * machine.tipOffset;
+  if (!linearInside(limits, m)) {
+    r.outOfLimits = 1;
+    return r;
+  }
+  IkCandidate cand;
+  cand.values = {m.x(), m.y(), m.z(), cv, 0, 0};
+  r.candidates.push_back(cand);
+  return r;
+}
+
 // Rotation taking unit vector `from` onto unit vector `to` about from x to (Rodrigues); a half
 // turn about an axis normal to `from` when they are opposite.
 Eigen::Matrix3d rotationBetween(const Eigen::Vector3d& from, const Eigen::Vector3d& to) {
@@ -363,6 +393,7 @@ IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
     case MachineKind::Rotary4: return inverseRotary(machine, tip, u, options);
     case MachineKind::Table5: return inverseTable(machine, tip, u, options);
     case MachineKind::Head5: return inverseHead(machine, tip, u, options);
+    case MachineKind::Head4: return inverseHeadFixedTilt(machine, tip, u, options);
     case MachineKind::Robot6: break;
   }
   return inverseRobot(machine, tip, u, options);

@@ -55,6 +55,7 @@ DhTable ur5DhTable() {
 namespace {
 const double kUr5PlateOffset = 50;  // mm
 const double kHead5TipDrop = 60;    // mm, the built-in head5's nozzle tip below its B/C axes
+const double kHead4TipDrop = 40;    // mm, the built-in head4's nozzle tip from its C axis
 const Eigen::Vector3d kUr5NozzleTip{-500, 150, 300};  // mm, robot base frame
 
 // rated = false: paper 003's Table 1 joint limits (pi/6 rad/s, pi/2 rad/s^2, pi rad/s^3), so time
@@ -123,6 +124,21 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
     gcodeDynamics(m);
     m.axisDynamics["B"] = {90, 900, 9000};
     m.axisDynamics["C"] = {90, 900, 9000};
+  } else if (name == "head4") {
+    // A rotating tilted nozzle (RotBot / RTN-style): the nozzle leans 45 degrees from vertical and
+    // C turns it about the vertical through the carriage point; the tip 40 mm below that point
+    // along the nozzle. C continuous (a slip ring), ten turns either way.
+    m = cartesian3Profile(bedSize, nozzleDiameter);
+    m.kind = MachineKind::Head4;
+    m.name = "head4";
+    m.tiltDegrees = 45;
+    m.tipOffset = {0, 0, -kHead4TipDrop};
+    m.axisLimits["X"] = {-0.5 * bedSize.x() - kHead4TipDrop, 0.5 * bedSize.x() + kHead4TipDrop};
+    m.axisLimits["Y"] = {-0.5 * bedSize.y() - kHead4TipDrop, 0.5 * bedSize.y() + kHead4TipDrop};
+    m.axisLimits["Z"] = {0.0, bedSize.z() + kHead4TipDrop};
+    m.axisLimits["C"] = {-3600, 3600};
+    gcodeDynamics(m);
+    m.axisDynamics["C"] = {90, 900, 9000};
   } else if (name == "robot6-ur5" || name == "robot6" || name == "robot6-ur5-rated") {
     m = ur5Profile(nozzleDiameter, name == "robot6-ur5-rated");
   } else {
@@ -140,7 +156,7 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
 }
 
 std::vector<std::string> builtinMachineNames() {
-  return {"cartesian3", "rotary4", "table5", "head5", "robot6-ur5", "robot6-ur5-rated"};
+  return {"cartesian3", "rotary4", "table5", "head4", "head5", "robot6-ur5", "robot6-ur5-rated"};
 }
 
 const char* machineKindName(MachineKind kind) {
@@ -150,13 +166,14 @@ const char* machineKindName(MachineKind kind) {
     case MachineKind::Table5: return "table5";
     case MachineKind::Robot6: return "robot6";
     case MachineKind::Head5: return "head5";
+    case MachineKind::Head4: return "head4";
   }
   return "cartesian3";
 }
 
 bool parseMachineKind(const std::string& name, MachineKind& kind) {
   for (MachineKind k : {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Robot6,
-                        MachineKind::Head5}) {
+                        MachineKind::Head5, MachineKind::Head4}) {
     if (name == machineKindName(k)) {
       kind = k;
       return true;
@@ -172,6 +189,7 @@ int machineAxisCount(MachineKind kind) {
     case MachineKind::Table5: return 5;
     case MachineKind::Robot6: return 6;
     case MachineKind::Head5: return 5;
+    case MachineKind::Head4: return 4;
   }
   return 0;
 }
@@ -187,6 +205,7 @@ std::vector<std::string> machineAxisLetters(MachineKind kind) {
     case MachineKind::Rotary4: return {"X", "Y", "Z", "A"};
     case MachineKind::Table5:
     case MachineKind::Head5: return {"X", "Y", "Z", "B", "C"};
+    case MachineKind::Head4: return {"X", "Y", "Z", "C"};
     case MachineKind::Robot6: return {};
   }
   return {};
@@ -249,6 +268,7 @@ double machineTiltLimitDegrees(const MachineProfile& machine) {
       return std::max(1.0, std::min(std::abs(it->second.first), std::abs(it->second.second)) - 0.5);
     }
   }
+  if (machine.kind == MachineKind::Head4) return std::clamp(std::abs(machine.tiltDegrees), 1.0, 90.0);
   return 90;
 }
 

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // The machine layer: the machine kinds of ../shared/PROGRAM-FORMAT.md (cartesian3, rotary4,
-// table5, head5, robot6), their axes, and machine profiles (limits, dynamics, nozzle geometry) with the
+// table5, head4, head5, robot6), their axes, and machine profiles (limits, dynamics, nozzle geometry) with the
 // built-in ones. Plain data read from below by kinematics, motion, program and verify; the JSON
 // form is machine_json.h (schema in docs/MACHINES.md), the forward and inverse maps are in
 // core/kinematics.
@@ -23,9 +23,10 @@ enum class MachineKind {
   Table5,      // X Y Z B C, a tilting (B) and turning (C) table
   Robot6,      // q1..q6, a six-joint arm holding the platform under a fixed nozzle
   Head5,       // X Y Z B C, bed fixed: the head tilts the nozzle (B about Y, then C about Z)
+  Head4,       // X Y Z C, bed fixed: a nozzle tilted by a fixed angle turns about Z (C)
 };
 
-// "cartesian3", "rotary4", "table5", "robot6", "head5".
+// "cartesian3", "rotary4", "table5", "robot6", "head5", "head4".
 const char* machineKindName(MachineKind kind);
 
 // The kind of a name as machineKindName() writes it; false for any other text.
@@ -90,6 +91,10 @@ struct MachineProfile {
   // head5: the nozzle tip relative to the carriage point (X Y Z, where B and C's axes meet) at
   // B = C = 0, mm; the tip is (X,Y,Z) + Rz(C) Ry(B) tipOffset (PROGRAM-FORMAT.md).
   Eigen::Vector3d tipOffset{0, 0, 0};
+  // head4: the nozzle's fixed tilt tau from +Z, degrees: the tip is (X,Y,Z) + Rz(C) Ry(tau)
+  // tipOffset and the axis Rz(C) Ry(tau) +Z, whatever axis a method asks for (only its azimuth
+  // is the machine's to choose).
+  double tiltDegrees = 0;
   double safeZ = 0;             // G-code kinds: machine Z the tip rises to before a 3+2 rotation;
                                 // 0 = derived from the part (its highest machine Z + 10 mm)
   // G-code kinds: the firmware's letter for an axis (axis of the table -> letter written), e.g.

@@ -54,7 +54,8 @@ std::string machineJson(const MachineProfile& machine) {
     }
     j["dynamics"] = dyn;
   }
-  if (machine.kind == MachineKind::Head5 || !machine.tipOffset.isZero(0)) {
+  if (machine.kind == MachineKind::Head4) j["tilt_deg"] = machine.tiltDegrees;
+  if (machine.kind == MachineKind::Head5 || machine.kind == MachineKind::Head4 || !machine.tipOffset.isZero(0)) {
     j["tip_offset"] = {machine.tipOffset.x(), machine.tipOffset.y(), machine.tipOffset.z()};
   }
   if (machine.stepAngleDegrees != 0) j["step_angle_deg"] = machine.stepAngleDegrees;
@@ -143,7 +144,7 @@ struct Parser {
     const std::string kindName = kind->get<std::string>();
     if (!parseMachineKind(kindName, m.kind)) {
       fail("kind \"" + kindName.substr(0, 40) +
-           "\" is not one of cartesian3, rotary4, table5, head5, robot6: this build cannot use or replay it");
+           "\" is not one of cartesian3, rotary4, table5, head4, head5, robot6: this build cannot use or replay it");
       r.status = Status::UnsupportedFormat;
       return;
     }
@@ -178,6 +179,12 @@ struct Parser {
         }
         m.axisDynamics[a.key()] = d;
       }
+    }
+    if (auto it = j.find("tilt_deg"); it != j.end()) {
+      if (!finiteNumber(*it) || std::abs(it->get<double>()) > 90) {
+        return fail("\"tilt_deg\" must be a number within [-90, 90] degrees");
+      }
+      m.tiltDegrees = it->get<double>();
     }
     if (auto it = j.find("tip_offset"); it != j.end()) {
       double p[3];

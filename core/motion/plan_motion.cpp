@@ -170,7 +170,7 @@ class Planner {
   MachinePath out_;
   int n_ = 0;
   bool robot_ = false, gcodeRotary_ = false;
-  bool head_ = false;  // head5: the head turns about the carriage point over a fixed bed
+  bool head_ = false;  // head4, head5: the head turns about the carriage point over a fixed bed
   PoseMetric metric_;
   std::vector<std::pair<double, double>> limits_;
   double dhCos_[6] = {1, 1, 1, 1, 1, 1}, dhSin_[6] = {0, 0, 0, 0, 0, 0};  // of the DH twists
@@ -189,8 +189,8 @@ class Planner {
 bool Planner::validate() {
   n_ = machineAxisCount(m_.kind);
   robot_ = m_.kind == MachineKind::Robot6;
-  gcodeRotary_ = m_.kind == MachineKind::Rotary4 || m_.kind == MachineKind::Table5 || m_.kind == MachineKind::Head5;
-  head_ = m_.kind == MachineKind::Head5;
+  head_ = m_.kind == MachineKind::Head5 || m_.kind == MachineKind::Head4;
+  gcodeRotary_ = m_.kind == MachineKind::Rotary4 || m_.kind == MachineKind::Table5 || head_;
   auto bad = [](double v) { return !std::isfinite(v); };
   if (o_.maxKeptPoses < 0 || o_.trackMaxAlive < 0) {
     return fail(Status::InvalidOption, "maxKeptPoses and trackMaxAlive must be >= 0");
@@ -271,8 +271,33 @@ void Planner::buildPieces() {
     }
     out_.stats.filteredOrientations = filterOrientations(axes_, run, o_.filterThresholdDegrees);
   }
+  // head4: the nozzle always leans its fixed tilt; only the azimuth (C) of an axis is the
+  // machine's to choose. Each axis becomes the head's at its azimuth (a vertical one keeps the
+  // previous azimuth: a planar print keeps C still), the azimuths unwrapped along the path, and
+  // steps turn C linearly, so every piece is an axis the head can take.
+  std::vector<double> azimuth;
+  const bool fixedTilt = m_.kind == MachineKind::Head4;
+  const double tau = m_.tiltDegrees * kPi / 180.0;
+  auto headAxis = [&](double c) {
+    return Eigen::Vector3d(std::sin(tau) * std::cos(c), std::sin(tau) * std::sin(c), std::cos(tau));
+  };
+  if (fixedTilt) {
+    azimuth.resize(axes_.size());
+    double prev = 0;
+    for (size_t i = 0; i < axes_.size(); ++i) {
+      const Eigen::Vector3d& u = axes_[i];
+      double c = prev;
+      if (std::hypot(u.x(), u.y()) > 1e-4) {
+        c = std::atan2(u.y(), u.x()) + (tau < 0 ? kPi : 0.0);
+        c += 2 * kPi * std::round((prev - c) / (2 * kPi));
+      }
+      azimuth[i] = prev = c;
+      axes_[i] = headAxis(c);
+    }
+  }
   Eigen::Vector3d prevPos = tp_.start;
   Eigen::Vector3d prevAxis = axes_.empty() ? Eigen::Vector3d::UnitZ() : axes_[0];
+  double prevAzimuth = azimuth.empty() ? 0.0 : azimuth[0];
   pieces_.reserve(tp_.moves.size());
   for (size_t i = 0; i < tp_.moves.size(); ++i) {
     const Move& mv = tp_.moves[i];
@@ -286,7 +311,9 @@ void Planner::buildPieces() {
       const double t = static_cast<double>(k) / static_cast<double>(sub);
       Piece p;
       p.pos = k == sub ? mv.position : Eigen::Vector3d(prevPos + t * (mv.position - prevPos));
-      p.axis = k == sub ? axes_[i] : slerpAxis(prevAxis, axes_[i], t);
+      p.axis = k == sub ? axes_[i]
+               : fixedTilt ? headAxis(prevAzimuth + t * (azimuth[i] - prevAzimuth))
+                           : slerpAxis(prevAxis, axes_[i], t);
       p.source = static_cast<uint32_t>(i);
       // Equal pieces of a straight move have equal lengths: equal shares keep the volume per
       // length; the last share takes the rounding so the sum is exact.
@@ -297,6 +324,7 @@ void Planner::buildPieces() {
     out_.stats.subdivisions += sub - 1;
     prevPos = mv.position;
     prevAxis = axes_[i];
+    if (fixedTilt) prevAzimuth = azimuth[i];
   }
 }
 

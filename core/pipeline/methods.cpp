@@ -7,7 +7,9 @@ namespace omnislice {
 namespace {
 
 // Curved-layer methods tilt the nozzle: two rotary axes (a tilting table or head) or a robot.
-const std::vector<MachineKind> kTilting = {MachineKind::Table5, MachineKind::Head5, MachineKind::Robot6};
+// head4's nozzle always leans its fixed tilt; its C chooses the azimuth (kinematics.h).
+const std::vector<MachineKind> kTilting = {MachineKind::Table5, MachineKind::Head4, MachineKind::Head5,
+                                           MachineKind::Robot6};
 
 }  // namespace
 
@@ -41,10 +43,12 @@ const std::vector<MethodEntry>& methodRegistry() {
   static const std::vector<MethodEntry> registry = {
       {Method::Planar, /*needsSolid=*/true, /*slicesAlongDirection=*/true, /*usesInputTets=*/false,
        /*boundsLayerCount=*/true,
-       {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Head5, MachineKind::Robot6}, "",
+       {MachineKind::Cartesian3, MachineKind::Rotary4, MachineKind::Table5, MachineKind::Head4, MachineKind::Head5,
+        MachineKind::Robot6},
+       "",
        runPlanarMethod},
       {Method::Multidir, true, false, false, true,
-       {MachineKind::Rotary4, MachineKind::Table5, MachineKind::Head5, MachineKind::Robot6},
+       {MachineKind::Rotary4, MachineKind::Table5, MachineKind::Head4, MachineKind::Head5, MachineKind::Robot6},
        "turns the part (or the nozzle) between parts: choose a machine with a rotary axis or a robot (rotary4, "
        "table5, head5, robot6)",
        runMultidirMethod},

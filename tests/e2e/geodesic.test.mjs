@@ -32,7 +32,7 @@ test('the method choice shows the geodesic settings and hides the planar-only on
   for (const id of ['setting-infill_pattern', 'setting-direction']) assert.equal(await visible(id), false, `${id} hidden`);
   for (const id of ['setting-infill', 'setting-walls']) assert.equal(await visible(id), true, `${id} shown (sparse curved layers)`);
   assert.equal(await visible('setting-layer_height'), true, 'the interval defaults to the layer height');
-  assert.match(await page.textContent(tid('method-hint')), /geodesic method tilts the nozzle: choose table5, head5 or a robot/);
+  assert.match(await page.textContent(tid('method-hint')), /geodesic method tilts the nozzle: choose table5, head4, head5 or a robot/);
   await setSetting('geodesic-tet-size', 1.5);
   assert.equal(await visible('geodesic-target-tets'), false, 'no target count with a tet size');
   await setSetting('geodesic-sequence', 'dpt');

@@ -39,7 +39,7 @@ test('method surface and fill isoplanar show the iso-planar settings', async (t)
   assert.equal(await visible('surface-base'), false);
   await setSetting('setting-fill', 'auto');
   await setSetting('setting-method', 'surface');
-  assert.match(await page.textContent(tid('method-hint')), /surface method .*choose table5, head5 or a robot/, 'cartesian3 cannot follow the normal');
+  assert.match(await page.textContent(tid('method-hint')), /surface method .*choose table5, head4, head5 or a robot/, 'cartesian3 cannot follow the normal');
   for (const id of [...iso, 'surface-base']) assert.equal(await visible(id), true, `${id} shown for surface`);
   await setSetting('iso-theta', 40);
   assert.equal((await page.evaluate(() => window.omnislice.settings))['isoplanar.theta_deg'], 40);

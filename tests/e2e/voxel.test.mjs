@@ -210,7 +210,7 @@ test('a real voxel slice of the demo at a coarse voxel width', async (t) => {
   if (skip(t)) return;
   await setSetting('setting-method', 'voxel');
   // A 3-axis machine cannot tilt the nozzle: the machine panel says so.
-  assert.match(await page.textContent(tid('method-hint')), /choose table5, head5 or a robot/);
+  assert.match(await page.textContent(tid('method-hint')), /choose table5, head4, head5 or a robot/);
   await setSetting('machine', 'table5');
   assert.equal(await page.isHidden(tid('method-hint')), true);
   await setSetting('voxel-width', 1.2);

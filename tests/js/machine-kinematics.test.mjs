@@ -46,11 +46,11 @@ const ur5 = {
 };
 
 test('kind names and axis counts', () => {
-  assert.deepEqual(MACHINE_KINDS, ['cartesian3', 'rotary4', 'table5', 'head5', 'robot6']);
+  assert.deepEqual(MACHINE_KINDS, ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6']);
   assert.equal(machineKind('robot6-ur5'), 'robot6');
   assert.equal(machineKind({ kind: 'table5' }), 'table5');
   assert.equal(machineKind('delta'), null);
-  assert.deepEqual(MACHINE_KINDS.map(machineAxisCount), [3, 4, 5, 5, 6]);
+  assert.deepEqual(MACHINE_KINDS.map(machineAxisCount), [3, 4, 5, 4, 5, 6]);
   assert.throws(() => platformTransform({ kind: 'delta' }, [0, 0, 0]), /unknown machine kind/);
 });
 
@@ -141,6 +141,15 @@ test('head5: the tip hangs tip_offset from the carriage point, turned by B then 
   }
 });
 
+test('head4: the nozzle leans tilt_deg, C turns it about Z (by hand)', () => {
+  const head4 = { kind: 'head4', tilt_deg: 45, tip_offset: [0, 0, -40] };
+  const s = Math.SQRT1_2;
+  near(forwardMap(head4, [0, 0, 100, 0]).axis, [s, 0, s], 1e-12, 'C 0 leans toward +X');
+  near(forwardMap(head4, [0, 0, 100, 0]).tip, [-40 * s, 0, 100 - 40 * s], 1e-12, 'C 0 tip');
+  near(forwardMap(head4, [0, 0, 100, 90]).axis, [0, s, s], 1e-12, 'C 90 leans toward +Y');
+  near(forwardMap(head4, [0, 0, 100, 90]).tip, [0, -40 * s, 100 - 40 * s], 1e-12, 'C 90 tip');
+});
+
 test('UR5 forward kinematics at the zero and upright poses (worked out link by link)', () => {
   // Zero pose: x = a2 + a3, y = -(d4 + d6), z = d1 - d5; flange axes x = X, y = Z, z = -Y.
   const F0 = dhForward(UR5_DH, [0, 0, 0, 0, 0, 0]);
@@ -218,6 +227,7 @@ test('every kind, random values: platform transform * part-frame tip = nozzle ti
       { kind: 'rotary4', pivot },
       { kind: 'table5', pivot },
       { kind: 'head5', tip_offset: [r(-20, 20), r(-20, 20), r(-80, 0)] },
+      { kind: 'head4', tilt_deg: r(-60, 60), tip_offset: [r(-20, 20), r(-20, 20), r(-80, 0)] },
       { ...ur5, flange_to_platform: randomRigid(r), nozzle_tip: [r(-600, 600), r(-600, 600), r(-200, 700)],
         nozzle_axis: [r(-1, 1), r(-1, 1), r(0.2, 1)] },
     ];

@@ -24,6 +24,7 @@ const PROFILES = {
   rotary4: { kind: 'rotary4', pivot: [0, 0, 15], axis_limits: { A: [-60, 60] } },
   table5: { kind: 'table5', pivot: [3, -2, 10], axis_limits: { B: [-90, 90], C: [-360, 360] } },
   head5: { kind: 'head5', tip_offset: [0, 0, -60], axis_limits: { B: [-90, 90], C: [-360, 360] } },
+  head4: { kind: 'head4', tilt_deg: 45, tip_offset: [0, 0, -40], axis_limits: { C: [-360, 360] } },
   robot6: {
     kind: 'robot6',
     dh: UR5_DH.map((r) => [...r]),
@@ -70,7 +71,7 @@ for (const kind of Object.keys(PROFILES)) {
     for (let s = 0; s < S; s++) {
       const { tipError, step, values } = view.setStep(s);
       assert.equal(step, s);
-      assert.equal(values.length, { cartesian3: 3, rotary4: 4, table5: 5, head5: 5, robot6: 6 }[kind]);
+      assert.equal(values.length, { cartesian3: 3, rotary4: 4, table5: 5, head4: 4, head5: 5, robot6: 6 }[kind]);
       worst = Math.max(worst, tipError);
     }
     // Float32 storage of values and points: well under 1e-3 mm.

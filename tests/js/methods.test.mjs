@@ -69,13 +69,14 @@ test('sections, done lines, progress details and machine hints come from the rig
   assert.equal(doneSummary({ layers: 80 }), '', 'planar: no summary');
   assert.equal(progressDetail({ line: 'beam', level: 2, J_G: 1.25, beams: 8 }), 'search level 2: J_G = 1.25 mm² (beam, 8 beams)');
   assert.equal(progressDetail({}), '');
-  assert.equal(machineHint('voxel', 'cartesian3'), 'the voxel method tilts the nozzle: choose table5, head5 or a robot (cartesian3 has no tilt axes)');
+  assert.equal(machineHint('voxel', 'cartesian3'), 'the voxel method tilts the nozzle: choose table5, head4, head5 or a robot (cartesian3 has no tilt axes)');
   assert.equal(machineHint('surface', 'rotary4'),
-    'the surface method keeps the nozzle along the surface normal: choose table5, head5 or a robot (rotary4 has no tilt axes)');
+    'the surface method keeps the nozzle along the surface normal: choose table5, head4, head5 or a robot (rotary4 has no tilt axes)');
   assert.equal(machineHint('geodesic', 'robot6'), '');
   assert.equal(machineHint('voxel', 'head5'), '', 'a 5-axis head tilts the nozzle');
+  assert.equal(machineHint('multidir', 'head4'), '', 'a turning tilted nozzle');
   assert.equal(machineHint('multidir', 'cartesian3'),
-    'the multidir method turns the part between parts: choose rotary4, table5, head5 or a robot (cartesian3 has no rotary axis)');
+    'the multidir method turns the part between parts: choose rotary4, table5, head4, head5 or a robot (cartesian3 has no rotary axis)');
   assert.equal(machineHint('multidir', 'rotary4'), '');
   assert.equal(machineHint('planar', 'cartesian3'), '');
 });

@@ -171,7 +171,7 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
 
   test('machines(): the built-ins in display order; each parses back to itself; UR5 DH as PROGRAM-FORMAT.md', () => {
     const list = m.machines();
-    assert.deepEqual(list.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
+    assert.deepEqual(list.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
     for (const { name, profile, json } of list) {
       assert.equal(machineKind(profile), machineKind(name), name);
       assert.deepEqual(m.parseMachine(json).profile, profile, `${name}: parseMachine(machineJson) is itself`);

@@ -86,10 +86,10 @@ TEST(KinematicsInverse, CartesianIsTheIdentityAndNeedsPlusZ) {
 // and its axis onto the machine's nozzle axis; non-finite values and unknown kinds give false.
 TEST(KinematicsInverse, PlatformTransformIsTheForwardMapsPlatform) {
   std::mt19937 rng(7);
-  for (const char* name : {"cartesian3", "rotary4", "table5", "head5", "robot6"}) {
+  for (const char* name : {"cartesian3", "rotary4", "table5", "head4", "head5", "robot6"}) {
     const MachineProfile m = builtin(name);
     const bool robot = m.kind == MachineKind::Robot6;
-    const bool head = m.kind == MachineKind::Head5;  // the bed stays: identity, the head turns
+    const bool head = m.kind == MachineKind::Head5 || m.kind == MachineKind::Head4;  // the bed stays
     double worstTip = 0, worstAxis = 0, worstRigid = 0;
     for (int i = 0; i < 1000; ++i) {
       const MachineValues v = randomValues(m, rng);
@@ -101,8 +101,11 @@ TEST(KinematicsInverse, PlatformTransformIsTheForwardMapsPlatform) {
       worstRigid = std::max(worstRigid, (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() +
                                             std::abs(r.determinant() - 1) + t.row(3).cwiseAbs().sum() - 1);
       // head5: the nozzle tip is the carriage point plus the turned tip offset, the axis the head's.
-      const Eigen::Matrix3d headTurn = Eigen::AngleAxisd(v[4] * kPi / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
-                                       Eigen::AngleAxisd(v[3] * kPi / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
+      // head5 turns by Rz(C = v[4]) Ry(B = v[3]); head4 by Rz(C = v[3]) Ry(its fixed tilt).
+      const bool fixedTilt = m.kind == MachineKind::Head4;
+      const Eigen::Matrix3d headTurn =
+          Eigen::AngleAxisd((fixedTilt ? v[3] : v[4]) * kPi / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix() *
+          Eigen::AngleAxisd((fixedTilt ? m.tiltDegrees : v[3]) * kPi / 180, Eigen::Vector3d::UnitY()).toRotationMatrix();
       const Eigen::Vector3d nozzle = robot  ? m.nozzleTip
                                      : head ? Eigen::Vector3d(Eigen::Vector3d(v[0], v[1], v[2]) + headTurn * m.tipOffset)
                                             : Eigen::Vector3d(v[0], v[1], v[2]);
@@ -285,6 +288,47 @@ TEST(KinematicsInverse, Head5EveryBranchRoundTripsAndRecoversTheOriginal) {
   ASSERT_FALSE(up.candidates.empty());
   EXPECT_EQ(up.candidates[0].values[4], 123);
   EXPECT_NEAR(up.candidates[0].values[2], 65, 1e-9) << "the carriage 60 mm above the tip";
+}
+
+// head4 (a nozzle leaning a fixed 45 degrees, turned by C): axes on its cone round-trip exactly;
+// for any other axis only the azimuth is the machine's: the candidate keeps the tip, turns the
+// nozzle to that azimuth, and a vertical axis keeps the reference's C.
+TEST(KinematicsInverse, Head4RoundTripsOnItsConeAndTakesTheAzimuthOfAnyOtherAxis) {
+  const MachineProfile m = builtin("head4");
+  ASSERT_EQ(m.tiltDegrees, 45);
+  std::mt19937 rng(9);
+  for (int i = 0; i < 5000; ++i) {
+    const MachineValues v = randomValues(m, rng);
+    Eigen::Vector3d tip, axis;
+    ASSERT_TRUE(forwardMap(m, v, tip, axis));
+    EXPECT_NEAR(std::acos(axis.z()) * 180 / kPi, 45, 1e-9);
+    EXPECT_NEAR((tip - Eigen::Vector3d(v[0], v[1], v[2])).norm(), 40, 1e-9);
+    const bool withReference = i % 2 == 0;
+    IkOptions o;
+    o.reference = withReference ? &v : nullptr;
+    const IkResult ik = inverseMap(m, tip, axis, o);
+    ASSERT_TRUE(ik.ok() && ik.orientationFeasible) << ik.message;
+    ASSERT_EQ(ik.candidates.size(), 1u);
+    expectCandidatesMapBack(m, ik, tip, axis);
+    const MachineValues& c = ik.candidates[0].values;
+    EXPECT_TRUE(withReference ? std::abs(c[3] - v[3]) < 1e-7 : wrappedDiff(c[3], v[3], 360) < 1e-7) << v[3] << " " << c[3];
+    // An axis off the cone: the same azimuth, the head's tilt, the tip exact.
+    const double lean = std::uniform_real_distribution<double>(0.05, 1.4)(rng);
+    const double az = std::atan2(axis.y(), axis.x());
+    const Eigen::Vector3d off(std::sin(lean) * std::cos(az), std::sin(lean) * std::sin(az), std::cos(lean));
+    const IkResult k2 = inverseMap(m, tip, off, o);
+    ASSERT_EQ(k2.candidates.size(), 1u);
+    Eigen::Vector3d t2, u2;
+    ASSERT_TRUE(forwardMap(m, k2.candidates[0].values, t2, u2));
+    EXPECT_LT((t2 - tip).norm(), 1e-9);
+    EXPECT_LT((u2 - axis).norm(), 1e-9) << "the head's axis at the asked azimuth";
+  }
+  MachineValues ref{0, 0, 0, 77, 0, 0};
+  IkOptions o;
+  o.reference = &ref;
+  const IkResult up = inverseMap(m, {5, 5, 5}, Eigen::Vector3d::UnitZ(), o);
+  ASSERT_EQ(up.candidates.size(), 1u);
+  EXPECT_EQ(up.candidates[0].values[3], 77) << "vertical: C stays";
 }
 
 TEST(KinematicsInverse, Table5KeepsTheReferenceCAtBZeroAndAcrossTheWrap) {

@@ -58,7 +58,8 @@ double checkPoses(const ToolpathPreview& p, const MachineProfile& machine, bool 
   EXPECT_EQ(p.poses.size(), 7 * segments);
   if (p.poses.size() != 7 * segments) return INFINITY;
   const bool robot = machine.kind == MachineKind::Robot6;
-  const bool head = machine.kind == MachineKind::Head5;  // the bed stays: the head carries the tip and axis
+  // head4, head5: the bed stays; the head carries the tip and the axis.
+  const bool head = machine.kind == MachineKind::Head5 || machine.kind == MachineKind::Head4;
   double worstTip = 0, worstAxis = 0, worstNorm = 0, worstDot = 1;
   for (size_t i = 0; i < segments; ++i) {
     const float* q = &p.poses[7 * i];
@@ -169,6 +170,7 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"table5", "klipper", "csv", "gcode", "; omnislice "},
                       Case{"table5", "marlin", "csv", "gcode", "; omnislice "},
                       Case{"head5", "reprap", "csv", "gcode", "; omnislice "},
+                      Case{"head4", "marlin", "csv", "gcode", "; omnislice "},
                       Case{"robot6-ur5", "marlin", "csv", "csv", "# omnislice "},
                       Case{"robot6-ur5", "marlin", "urscript", "script", "# omnislice "}),
     [](const ::testing::TestParamInfo<Case>& i) {
@@ -421,6 +423,51 @@ TEST(MachinesPipelineHead5, EveryMethodPrintsAsOnTheTiltingTable) {
     }
     EXPECT_LT(worstOffset, 1e-3);
     if (std::string(run.method) != "planar") EXPECT_GT(maxB, 10);
+  }
+}
+
+
+// head4 (a nozzle leaning a fixed 45 degrees, turned by C): planar layers keep table5's path with
+// the nozzle at the head's tilt, 3+2 parts are cut within its 45-degree reach; the cone clears the
+// layer being printed (45 > 40 degrees), so the simulation finds both sound, and every move's axis
+// in the read-back program leans exactly 45 degrees.
+TEST(MachinesPipelineHead4, PlanarAndMultidirPrintSoundlyWithTheTiltedNozzle) {
+  const auto box = testPart();
+  const auto bracket = test::binaryStl(test::makeLBracket(10));
+  for (const auto& [method, bytes] : {std::pair<const char*, const std::vector<uint8_t>*>{"planar", &box}, {"multidir", &bracket}}) {
+    SCOPED_TRACE(method);
+    Json figures[2];
+    std::string program;
+    for (int k = 0; k < 2; ++k) {
+      Settings s;
+      ASSERT_TRUE(setSetting(s, "machine", k == 0 ? "table5" : "head4").ok());
+      ASSERT_TRUE(setSetting(s, "method", method).ok());
+      const SliceOutput out = runSlice(bytes->data(), bytes->size(), "part.stl", s);
+      ASSERT_TRUE(out.ok()) << out.message;
+      const VerifyOutput v = runVerify(out.program, bytes->data(), bytes->size(), "part.stl");
+      ASSERT_TRUE(v.ok()) << v.message;
+      figures[k] = Json::parse(v.verifyJson);
+      if (k == 1) program = out.program;
+    }
+    const Json& t = figures[0];
+    const Json& h = figures[1];
+    EXPECT_GE(h["inside"].get<double>(), 0.99);
+    EXPECT_GE(h["supported"].get<double>(), 0.99);
+    EXPECT_GE(h["surface_reached"].get<double>(), 0.99);
+    EXPECT_EQ(h["collisions"].get<int>(), 0);
+    EXPECT_EQ(h["limits"].get<int>(), 0);
+    if (std::string(method) == "planar") {
+      // The same layers: the same path and support (multidir's search sees head4's 45-degree
+      // tilt limit, not table5's 90, so it cuts other parts).
+      EXPECT_NEAR(h["supported"].get<double>(), t["supported"].get<double>(), 0.003);
+      EXPECT_NEAR(h["path_mm"].get<double>(), t["path_mm"].get<double>(), 0.002 * t["path_mm"].get<double>());
+    }
+    const ParsedProgram p = readProgram(program);
+    ASSERT_TRUE(p.ok()) << p.message;
+    ASSERT_EQ(p.machine.kind, MachineKind::Head4);
+    double worstTilt = 0;
+    for (const ProgramMove& m : p.moves) worstTilt = std::max(worstTilt, std::abs(std::acos(m.axis.z()) * 180 / M_PI - 45));
+    EXPECT_LT(worstTilt, 1e-6);
   }
 }
 
