@@ -1074,7 +1074,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
     return fail(failed<Outcome>(Status::InvalidOption, "program has more than maxSamples path samples"));
   }
   {
-    // The samples (with the parsed program's pieces) and the coverage grid within the budget.
+    // The samples and the coverage grid within the budget (the parsed program was checked before it
+    // was read: checkProgramReadBudget).
     const BoundingBox box = boundingBox(partMesh);
     const Eigen::Vector3d counts = ((box.max - box.min) / g).array() + 1.0;
     const double samplesNeeded = rep.pathMm / options.sampleSpacing + double(segments.size());
