@@ -144,10 +144,14 @@ IkResult inverseRotary(const MachineProfile& machine, const Eigen::Vector3d& tip
   return r;
 }
 
-IkResult inverseTable(const MachineProfile& machine, const Eigen::Vector3d& tip,
-                      const Eigen::Vector3d& u, const IkOptions& options) {
+// table5 and head5: B and C from the axis, in two branches, then the linear axes.
+//   table5: u = Rz(-C) Ry(-B) z = (-sin B cos C, sin B sin C, cos B); m = P + Ry(B) Rz(C)(q - P).
+//   head5:  u = Rz(C) Ry(B) z = (sin B cos C, sin B sin C, cos B); (X,Y,Z) = q - Rz(C) Ry(B) o.
+// Branches (B, C) with B >= 0 and (-B, C + 180).
+IkResult inverseTwoRotary(const MachineProfile& machine, const Eigen::Vector3d& tip, const Eigen::Vector3d& u,
+                          const IkOptions& options) {
   IkResult r;
-  // u = Rz(-C) Ry(-B) z = (-sin B cos C, sin B sin C, cos B).
+  const bool head = machine.kind == MachineKind::Head5;
   const double sinB = std::hypot(u.x(), u.y());
   const double bAbs = std::atan2(sinB, u.z()) / kDeg;  // [0, 180]
   const auto limits = machineLimits(machine);
@@ -159,15 +163,15 @@ IkResult inverseTable(const MachineProfile& machine, const Eigen::Vector3d& tip,
   Branch branches[2];
   int nb = 0;
   // Within 1e-4 rad of the C axis the azimuth of u is rounding noise of the tool-path's axis
-  // filtering (B of a few 1e-6 degrees), and following it would spin the table through the
-  // singularity inside one move: treat u as on the axis (orientation error < 1e-4 rad).
+  // filtering (B of a few 1e-6 degrees), and following it would spin C through the singularity
+  // inside one move: treat u as on the axis (orientation error < 1e-4 rad).
   if (sinB <= 1e-4) {
-    // B = 0 (or 180): C is free; keep the reference C so the motion does not spin the table.
+    // B = 0 (or 180): C is free; keep the reference C so the motion does not spin C.
     const double b = u.z() > 0 ? 0.0 : 180.0;
     branches[nb++] = {b, refC, 0};
     if (b != 0) branches[nb++] = {-b, refC, 1};
   } else {
-    const double c = std::atan2(u.y(), -u.x()) / kDeg;
+    const double c = std::atan2(u.y(), head ? u.x() : -u.x()) / kDeg;
     branches[nb++] = {bAbs, c, 0};
     branches[nb++] = {-bAbs, c + 180.0, 1};
   }
@@ -181,7 +185,8 @@ IkResult inverseTable(const MachineProfile& machine, const Eigen::Vector3d& tip,
       continue;
     }
     anyOrientation = true;
-    const Eigen::Vector3d m = p + rotY(br.b) * rotZ(cv) * (tip - p);
+    const Eigen::Vector3d m = head ? Eigen::Vector3d(tip - rotZ(cv) * rotY(br.b) * machine.tipOffset)
+                                   : Eigen::Vector3d(p + rotY(br.b) * rotZ(cv) * (tip - p));
     if (!linearInside(limits, m)) {
       ++r.outOfLimits;
       continue;
@@ -189,56 +194,6 @@ IkResult inverseTable(const MachineProfile& machine, const Eigen::Vector3d& tip,
     IkCandidate cand;
     cand.values = {m.x(), m.y(), m.z(), br.b, cv, 0};
     cand.branch = br.index;
-    r.candidates.push_back(cand);
-  }
-  r.orientationFeasible = anyOrientation;
-  return r;
-}
-
-// head5: u = Rz(C) Ry(B) z = (sin B cos C, sin B sin C, cos B); branches (B, C) and (-B, C + 180),
-// C free (the reference's) within 1e-4 rad of the vertical as on table5; the carriage point is the
-// tip less the turned tip offset.
-IkResult inverseHead(const MachineProfile& machine, const Eigen::Vector3d& tip, const Eigen::Vector3d& u,
-                     const IkOptions& options) {
-  IkResult r;
-  const double sinB = std::hypot(u.x(), u.y());
-  const double bAbs = std::atan2(sinB, u.z()) / kDeg;
-  const auto limits = machineLimits(machine);
-  const double refC = options.reference ? (*options.reference)[4] : 0.0;
-  double branches[2][2];
-  int nb = 0;
-  if (sinB <= 1e-4) {
-    const double b = u.z() > 0 ? 0.0 : 180.0;
-    branches[nb][0] = b;
-    branches[nb++][1] = refC;
-    if (b != 0) {
-      branches[nb][0] = -b;
-      branches[nb++][1] = refC;
-    }
-  } else {
-    const double c = std::atan2(u.y(), u.x()) / kDeg;
-    branches[nb][0] = bAbs;
-    branches[nb++][1] = c;
-    branches[nb][0] = -bAbs;
-    branches[nb++][1] = c + 180.0;
-  }
-  bool anyOrientation = false;
-  for (int i = 0; i < nb; ++i) {
-    const double b = branches[i][0];
-    double cv = 0;
-    if (!inside(b, limits[3]) || !nearestAlias(branches[i][1], 360.0, refC, limits[4], cv)) {
-      ++r.outOfLimits;
-      continue;
-    }
-    anyOrientation = true;
-    const Eigen::Vector3d m = tip - rotZ(cv) * rotY(b) * machine.tipOffset;
-    if (!linearInside(limits, m)) {
-      ++r.outOfLimits;
-      continue;
-    }
-    IkCandidate cand;
-    cand.values = {m.x(), m.y(), m.z(), b, cv, 0};
-    cand.branch = i;
     r.candidates.push_back(cand);
   }
   r.orientationFeasible = anyOrientation;
@@ -391,8 +346,8 @@ IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
   switch (machine.kind) {
     case MachineKind::Cartesian3: return inverseCartesian(machine, tip, u, options);
     case MachineKind::Rotary4: return inverseRotary(machine, tip, u, options);
-    case MachineKind::Table5: return inverseTable(machine, tip, u, options);
-    case MachineKind::Head5: return inverseHead(machine, tip, u, options);
+    case MachineKind::Table5:
+    case MachineKind::Head5: return inverseTwoRotary(machine, tip, u, options);
     case MachineKind::Head4: return inverseHeadFixedTilt(machine, tip, u, options);
     case MachineKind::Robot6: break;
   }
