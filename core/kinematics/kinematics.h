@@ -52,9 +52,11 @@ struct IkResult : Outcome {
 // Every candidate set of machine values that puts the tip at `tip` with nozzle axis `axis` (part
 // frame). rotary4: A = atan2(u.y, u.z) (and its 360-degree aliases inside the limits), snapped to
 // the step angle when one is declared (then orientationFeasible is false if u is not on a step);
-// table5: both branches (B, C) and (-B, C + 180), C chosen among its 360-degree aliases nearest the
-// reference; robot6: urInverse() on the freeRotationSamples platform poses. Status InvalidOption
-// for a non-unit or non-finite input or an unknown kind.
+// table5 and head5: both branches (B, C) and (-B, C + 180), C chosen among its 360-degree aliases
+// nearest the reference; head4: C from the axis's azimuth alone (its nozzle always leans its fixed
+// tilt, so the candidate's axis is the head's at that azimuth, the tip exact); robot6: urInverse()
+// on the freeRotationSamples platform poses. Status InvalidOption for a non-unit or non-finite
+// input or an unknown kind.
 IkResult inverseMap(const MachineProfile& machine, const Eigen::Vector3d& tip,
                     const Eigen::Vector3d& axis, const IkOptions& options = {});
 
@@ -87,8 +89,8 @@ Eigen::Matrix4d robotPlatformPose(const MachineProfile& machine, const MachineVa
 // The platform transform of PROGRAM-FORMAT.md: the rigid map of part-frame points into the machine
 // frame (robot6: the robot base frame) for machine values, so that it maps forwardMap()'s tip onto
 // the nozzle tip (X Y Z for the G-code kinds whose bed moves, nozzleTip for robot6). cartesian3:
-// identity; rotary4: T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P); head5: identity (the bed is
-// fixed; the tip is X Y Z + Rz(C) Ry(B) tip_offset); robot6: robotPlatformPose(). False for an
+// identity; rotary4: T(P) Rx(A) T(-P); table5: T(P) Ry(B) Rz(C) T(-P); head4, head5: identity (the
+// bed is fixed; the tip is X Y Z + the head's turn of tip_offset); robot6: robotPlatformPose(). False for an
 // unknown kind or non-finite values.
 bool platformTransform(const MachineProfile& machine, const MachineValues& values,
                        Eigen::Matrix4d& transform);

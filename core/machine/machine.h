@@ -88,8 +88,9 @@ struct MachineProfile {
   std::map<std::string, std::pair<double, double>> axisLimits;  // axis letter -> [min, max] (mm, deg)
   std::map<std::string, AxisDynamics> axisDynamics;             // axis letter -> limits
   double stepAngleDegrees = 0;  // rotary4: A must be a multiple of it (stepper platform); 0 = any
-  // head5: the nozzle tip relative to the carriage point (X Y Z, where B and C's axes meet) at
-  // B = C = 0, mm; the tip is (X,Y,Z) + Rz(C) Ry(B) tipOffset (PROGRAM-FORMAT.md).
+  // head4, head5: the nozzle tip relative to the carriage point (X Y Z, where the head's axes meet)
+  // at B = C = 0, mm; the tip is (X,Y,Z) + Rz(C) Ry(B) tipOffset (PROGRAM-FORMAT.md; head4: B is
+  // its fixed tilt).
   Eigen::Vector3d tipOffset{0, 0, 0};
   // head4: the nozzle's fixed tilt tau from +Z, degrees: the tip is (X,Y,Z) + Rz(C) Ry(tau)
   // tipOffset and the axis Rz(C) Ry(tau) +Z, whatever axis a method asks for (only its azimuth
