@@ -78,7 +78,7 @@ export interface PreviewBuffers {
 
 /** A machine profile as the program header writes it (PROGRAM-FORMAT.md, docs/MACHINES.md). */
 export interface MachineProfileJson {
-  kind: 'cartesian3' | 'rotary4' | 'table5' | 'robot6' | string;
+  kind: 'cartesian3' | 'rotary4' | 'table5' | 'head4' | 'head5' | 'robot6' | string;
   pivot?: [number, number, number];
   axis_limits?: Record<string, [number, number]>;
   joint_limits?: [number, number][];
