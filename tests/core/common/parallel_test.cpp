@@ -42,10 +42,18 @@ TEST(ParallelFor, EveryIterationOnceOnItsWorkers) {
 
 TEST(ParallelFor, TickStopsTheLoop) {
   std::atomic<size_t> ran{0};
+  // Each iteration takes 1 ms: with instant iterations the other thread could run all of them
+  // before the caller's thread takes its first (a loaded CI machine did), and the caller's tick,
+  // which runs only after the caller's own iterations, would then never run.
   const bool ok = parallelFor(
-      100000, 2, [&](size_t, size_t) { ++ran; }, [](size_t done) { return done < 10; });
+      2000, 2,
+      [&](size_t, size_t) {
+        ++ran;
+        std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      },
+      [](size_t done) { return done < 10; });
   EXPECT_FALSE(ok);
-  EXPECT_LT(ran.load(), size_t(100000));
+  EXPECT_LT(ran.load(), size_t(2000));
 }
 
 TEST(ParallelFor, ExceptionsReachTheCaller) {
