@@ -44,7 +44,7 @@ emscripten::val parseMachineJs(const std::string& json);
 
 // Replay a program of any kind (readProgram): its machine and its moves as preview buffers for the
 // machine animation, one segment per replayed piece that moves the tip. Returns {status, message,
-// machine (machineJson), format ("gcode" | "csv" | "urscript"), layers, preview: {positions,
+// machine (machineJson), format ("gcode" | "csv" | "urscript" | "rapid" | "krl"), layers, preview: {positions,
 // features, layers, machine}}.
 emscripten::val replayJs(const std::string& program);
 

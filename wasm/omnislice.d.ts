@@ -109,8 +109,8 @@ export interface SliceResult<P = string> {
   info: Record<string, any>;
   layers: number;
   preview: PreviewBuffers;
-  /** File extension of the program: 'gcode', 'csv' (robot joint CSV) or 'script' (URScript). */
-  programExtension: 'gcode' | 'csv' | 'script';
+  /** File extension of the program: 'gcode', 'csv' (robot joint CSV), 'script' (URScript), 'mod' (ABB RAPID) or 'src' (KUKA KRL). */
+  programExtension: 'gcode' | 'csv' | 'script' | 'mod' | 'src';
   mesh: MeshBuffers;
 }
 
@@ -147,7 +147,7 @@ export class Omnislice {
                                                full?: boolean; report?: Record<string, any> | null }[]):
     { rerun: number } | { chosen: number; status: string; message: string; auto: Record<string, any> };
   /** Replay a program through its declared machine: its profile and moves as preview buffers. */
-  replay(program: string): { profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number;
+  replay(program: string): { profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript' | 'rapid' | 'krl'; layers: number;
                              preview: PreviewBuffers };
   /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
   machines(settings?: Settings): { name: string; profile: MachineProfileJson; json: string }[];

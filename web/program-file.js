@@ -8,6 +8,8 @@ export const PROGRAM_KINDS = Object.freeze({
   gcode: Object.freeze({ mime: 'text/x-gcode', label: 'G-code' }),
   csv: Object.freeze({ mime: 'text/csv', label: 'robot CSV' }),
   script: Object.freeze({ mime: 'text/plain', label: 'URScript' }),
+  mod: Object.freeze({ mime: 'text/plain', label: 'ABB RAPID module' }),
+  src: Object.freeze({ mime: 'text/plain', label: 'KUKA KRL program' }),
 });
 
 /** The extension of a result's program: its programExtension when known, else 'gcode'. */

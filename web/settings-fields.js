@@ -69,12 +69,12 @@ export const usesIsoplanar = (values) => isSurface(values) || values.fill === 'i
  */
 export const PAGE_FIELDS = [
   { group: 'Machine', key: 'machine', label: 'machine', type: 'select', testid: 'machine',
-    labels: { cartesian3: 'cartesian3 (XYZ)', rotary4: 'rotary4 (XYZ A)', table5: 'table5 (XYZ B C)', head4: 'head4 (XYZ C, a tilted nozzle turns)', head5: 'head5 (XYZ B C, the head tilts)', 'robot6-ur5': 'robot6-ur5 (UR5 arm, paper 003 joint speeds)', 'robot6-ur5-rated': 'robot6-ur5-rated (UR5 arm, rated joint speeds)' } },
+    labels: { cartesian3: 'cartesian3 (XYZ)', rotary4: 'rotary4 (XYZ A)', table5: 'table5 (XYZ B C)', head4: 'head4 (XYZ C, a tilted nozzle turns)', head5: 'head5 (XYZ B C, the head tilts)', 'robot6-ur5': 'robot6-ur5 (UR5 arm, paper 003 joint speeds)', 'robot6-ur5-rated': 'robot6-ur5-rated (UR5 arm, rated joint speeds)', 'robot6-irb1200': 'robot6-irb1200 (ABB IRB 1200 arm)', 'robot6-kr6': 'robot6-kr6 (KUKA KR 6 arm)' } },
   { group: 'Machine', key: 'gcode_flavor', label: 'G-code flavour', type: 'select', testid: 'gcode-flavor',
     labels: { marlin: 'Marlin', reprap: 'RepRapFirmware', klipper: 'Klipper' },
     showIf: (v) => !isRobot(v) },
   { group: 'Machine', key: 'robot_format', label: 'robot program', type: 'select', testid: 'robot-format',
-    labels: { csv: 'joint CSV (.csv)', urscript: 'URScript (.script)' },
+    labels: { csv: 'joint CSV (.csv)', urscript: 'URScript (.script)', rapid: 'ABB RAPID (.mod)', krl: 'KUKA KRL (.src)' },
     showIf: isRobot },
   // The firmware's letters for the machine's axes (e.g. a Duet's rotary axes U and V); the core
   // checks them against the machine and the program header records them (PROGRAM-FORMAT.md).

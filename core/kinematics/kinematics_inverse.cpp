@@ -249,9 +249,9 @@ Eigen::Matrix3d rotationBetween(const Eigen::Vector3d& from, const Eigen::Vector
 IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
                       const Eigen::Vector3d& u, const IkOptions& options) {
   IkResult r;
-  if (!isUrFamily(machine.dh)) {
+  if (!hasAnalyticInverse(machine.dh)) {
     r.status = Status::InvalidOption;
-    r.message = "robot6 inverse kinematics needs a UR-family DH table";
+    r.message = "robot6 inverse kinematics needs a UR-family or spherical-wrist DH table";
     return r;
   }
   const int samples = std::max(1, options.freeRotationSamples);
@@ -265,7 +265,7 @@ IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
   for (int k = 0; k < samples; ++k) {
     const double g = robotFreeAngle(k, samples);
     const Eigen::Matrix4d f = robotFlangeForFreeAngle(frame, g);
-    const int ns = urInverseBranches(machine.dh, f, options.branchMask & 0xff, sol, br);
+    const int ns = armInverseBranches(machine.dh, f, options.branchMask & 0xff, sol, br);
     for (int s = 0; s < ns; ++s) {
       any = true;
       IkCandidate c;

@@ -248,6 +248,117 @@ int urInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int bran
   return n;
 }
 
+bool isSphericalWrist(const DhTable& dh) {
+  constexpr double eps = 1e-9;
+  for (const DhRow& r : dh) {
+    if (!std::isfinite(r.thetaOffset) || !std::isfinite(r.d) || !std::isfinite(r.a) ||
+        !std::isfinite(r.alpha)) {
+      return false;
+    }
+  }
+  auto quarter = [&](double a) { return std::abs(std::abs(a) - kPi / 2) <= eps; };
+  return quarter(dh[0].alpha) && std::abs(dh[1].alpha) <= eps && quarter(dh[2].alpha) &&
+         quarter(dh[3].alpha) && quarter(dh[4].alpha) && std::abs(dh[1].d) <= eps &&
+         std::abs(dh[2].d) <= eps && std::abs(dh[4].d) <= eps && std::abs(dh[3].a) <= eps &&
+         std::abs(dh[4].a) <= eps && std::abs(dh[5].a) <= eps && std::abs(dh[1].a) > eps &&
+         std::hypot(dh[2].a, dh[3].d) > eps;
+}
+
+// Derivation (theta_i = q_i + thetaOffset_i, s_i = sin(alpha_i); R = [x6 y6 z6], p = flange):
+//  * The wrist centre c = p - d6 z6 is the origin of frames 4 and 5 (a4 = a5 = d5 = 0). With
+//    d2 = d3 = 0 every link from frame 1 to it lies in the plane of the base axis and
+//    x1 = (c1, s1, 0), so t1 = atan2(c_y, c_x) (shoulder 0) or that + pi (shoulder 1).
+//  * In frame 1 (origin (a1 c1, a1 s1, d1), x1, y1 = (0, 0, s_1)) joints 2 and 3 turn about
+//    z1 = z2; c - o1 = a2 (cos t2, sin t2) + a3 (cos t23, sin t23) + d4 s_3 (sin t23, -cos t23):
+//    a two-link arm with lengths a2 and L = |(a3, -d4 s_3)| at angle t23 + delta,
+//    delta = atan2(-d4 s_3, a3). Elbow bit: the sign of phi = t3 + delta.
+//  * M = R3^T R Rx(alpha6)^T = Rz(t4) Rx(alpha4) Rz(t5) Rx(alpha5) Rz(t6). Its last column is
+//    (s_5 c4 sin t5, s_5 s4 sin t5, -s_4 s_5 cos t5) and its last row
+//    (s_4 sin t5 c6, -s_4 sin t5 s6, -s_4 s_5 cos t5): t5 from both (wrist bit: the sign of
+//    sin t5), then t4 and t6. At sin t5 = 0 only t4 + t6 (or t4 - t6) is fixed: t4 = 0.
+int sphericalWristInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
+                                  JointValues solutions[8], int branches[8]) {
+  if (!flange.allFinite()) return 0;
+  const double d1 = dh[0].d, a1 = dh[0].a, a2 = dh[1].a, a3 = dh[2].a, d4 = dh[3].d, d6 = dh[5].d;
+  const double sA1 = dh[0].alpha > 0 ? 1 : -1, sA3 = dh[2].alpha > 0 ? 1 : -1;
+  const double sA4 = dh[3].alpha > 0 ? 1 : -1, sA5 = dh[4].alpha > 0 ? 1 : -1;
+  const Eigen::Matrix3d rot = flange.topLeftCorner<3, 3>();
+  const Eigen::Vector3d c = flange.topRightCorner<3, 1>() - d6 * rot.col(2);
+  const double e = d4 * sA3;
+  const double len = std::hypot(a3, e), delta = std::atan2(-e, a3);
+  const double rxy = std::hypot(c.x(), c.y());
+  // The wrist centre on the base axis: joint 1 is free there; 0 is the consistent choice.
+  const double azimuth = rxy > 1e-12 ? std::atan2(c.y(), c.x()) : 0.0;
+  // Rx(alpha6)^T, applied on the right.
+  const Eigen::Matrix3d rx6T = Eigen::AngleAxisd(-dh[5].alpha, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  const double off[6] = {dh[0].thetaOffset, dh[1].thetaOffset, dh[2].thetaOffset,
+                         dh[3].thetaOffset, dh[4].thetaOffset, dh[5].thetaOffset};
+  int n = 0;
+  for (int shoulder = 0; shoulder < 2; ++shoulder) {
+    if (!(branchMask & (shoulder ? 0xaa : 0x55))) continue;
+    const double t1 = shoulder == 0 ? azimuth : azimuth + kPi;
+    const double rho = shoulder == 0 ? rxy : -rxy;  // signed distance along x1
+    const double u = rho - a1, v = sA1 * (c.z() - d1);
+    double cphi = (u * u + v * v - a2 * a2 - len * len) / (2 * a2 * len);
+    if (!clampUnit(cphi)) continue;
+    const double phiAbs = std::acos(cphi);
+    for (int elbow = 0; elbow < 2; ++elbow) {
+      const int fixedBits = shoulder | elbow << 2;
+      if (!(branchMask >> fixedBits & 1) && !(branchMask >> (fixedBits | 2) & 1)) continue;
+      const double phi = elbow == 0 ? phiAbs : -phiAbs;
+      const double t2 = std::atan2(v, u) - std::atan2(len * std::sin(phi), a2 + len * std::cos(phi));
+      const double t3 = phi - delta;
+      // R3 = Rz(t1) Rx(alpha1) Rz(t2 + t3) Rx(alpha3) (alpha2 = 0).
+      const Eigen::Matrix3d r3 =
+          (Eigen::AngleAxisd(t1, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(dh[0].alpha, Eigen::Vector3d::UnitX()) *
+           Eigen::AngleAxisd(t2 + t3, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(dh[2].alpha, Eigen::Vector3d::UnitX()))
+              .toRotationMatrix();
+      const Eigen::Matrix3d m = r3.transpose() * rot * rx6T;
+      const double cos5 = -m(2, 2) * sA4 * sA5;
+      const double sin5Abs = std::hypot(m(0, 2), m(1, 2));
+      for (int wrist = 0; wrist < 2; ++wrist) {
+        const int b = shoulder | wrist << 1 | elbow << 2;
+        if (!(branchMask >> b & 1)) continue;
+        const double sin5 = wrist == 0 ? sin5Abs : -sin5Abs;
+        const double t5 = std::atan2(sin5, cos5);
+        double t4, t6;
+        if (sin5Abs > 1e-12) {
+          t4 = std::atan2(m(1, 2) * sA5 * sin5, m(0, 2) * sA5 * sin5);
+          t6 = std::atan2(-m(2, 1) * sA4 * sin5, m(2, 0) * sA4 * sin5);
+        } else {
+          // Rz(t6) = (Rx(alpha4) Rz(t5) Rx(alpha5))^T M with t4 = 0.
+          t4 = 0;
+          const Eigen::Matrix3d head = (Eigen::AngleAxisd(dh[3].alpha, Eigen::Vector3d::UnitX()) *
+                                        Eigen::AngleAxisd(t5, Eigen::Vector3d::UnitZ()) *
+                                        Eigen::AngleAxisd(dh[4].alpha, Eigen::Vector3d::UnitX()))
+                                           .toRotationMatrix();
+          const Eigen::Matrix3d r6 = head.transpose() * m;
+          t6 = std::atan2(r6(1, 0), r6(0, 0));
+        }
+        JointValues& q = solutions[n];
+        q[0] = wrapPi(t1 - off[0]);
+        q[1] = wrapPi(t2 - off[1]);
+        q[2] = wrapPi(t3 - off[2]);
+        q[3] = wrapPi(t4 - off[3]);
+        q[4] = wrapPi(t5 - off[4]);
+        q[5] = wrapPi(t6 - off[5]);
+        branches[n] = b;
+        ++n;
+      }
+    }
+  }
+  return n;
+}
+
+int armInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
+                       JointValues solutions[8], int branches[8]) {
+  if (isUrFamily(dh)) return urInverseBranches(dh, flange, branchMask, solutions, branches);
+  if (isSphericalWrist(dh)) return sphericalWristInverseBranches(dh, flange, branchMask, solutions, branches);
+  return 0;
+}
+
+bool hasAnalyticInverse(const DhTable& dh) { return isUrFamily(dh) || isSphericalWrist(dh); }
+
 Eigen::Matrix<double, 6, 6> armJacobian(const DhTable& dh, const JointValues& q) {
   const std::array<Eigen::Matrix4d, 7> f = armFrames(dh, q);
   const Eigen::Vector3d pe = f[6].topRightCorner<3, 1>();

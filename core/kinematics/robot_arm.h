@@ -42,6 +42,28 @@ int urInverse(const DhTable& dh, const Eigen::Matrix4d& flange, JointValues solu
 int urInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
                       JointValues solutions[8], int branches[8]);
 
+// True when dh is an arm with a spherical wrist that sphericalWristInverse() solves (most
+// industrial arms: ABB IRB, KUKA KR, Fanuc): d2 = d3 = d5 = 0, a4 = a5 = a6 = 0, alpha2 = 0 and
+// alpha1, alpha3, alpha4, alpha5 = +-pi/2 (joints 2 and 3 parallel, joints 4-6 meeting in the wrist
+// centre), a2 != 0; a1 (shoulder offset), a3 (elbow offset), d1, d4, d6 and the theta offsets free.
+bool isSphericalWrist(const DhTable& dh);
+
+// Analytic inverse of a spherical-wrist arm (Pieper): the wrist centre p - d6 z6 fixes joints 1-3
+// (joint 1 from its azimuth, 2 and 3 as a planar two-link arm in the plane of joint 1), the
+// orientation left for the wrist fixes 4-6. Up to 8 solutions, the same branch bits as urInverse
+// (1 = shoulder: wrist centre in front of or behind the base axis, 2 = wrist flip, 4 = elbow),
+// each joint wrapped to (-pi, pi]; branchMask as in urInverseBranches.
+int sphericalWristInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
+                                  JointValues solutions[8], int branches[8]);
+
+// The analytic inverse of dh's structure: urInverseBranches for the UR family,
+// sphericalWristInverseBranches for a spherical wrist, 0 solutions otherwise.
+int armInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int branchMask,
+                       JointValues solutions[8], int branches[8]);
+
+// True when armInverseBranches solves dh (UR family or spherical wrist).
+bool hasAnalyticInverse(const DhTable& dh);
+
 // Geometric Jacobian at q in the base frame: rows 0-2 linear velocity of the flange origin in
 // metres per radian (so the rows are commensurate with the angular ones), rows 3-5 angular.
 Eigen::Matrix<double, 6, 6> armJacobian(const DhTable& dh, const JointValues& q);

@@ -79,6 +79,71 @@ MachineProfile ur5Profile(double nozzleDiameter, bool rated) {
   m.nozzle.diameter = nozzleDiameter;
   return m;
 }
+
+// An industrial arm with a spherical wrist (robot_arm.h) holding the platform under the fixed
+// nozzle as the UR5 does: the plate 50 mm beyond the flange along its z, the nozzle pointing down
+// at `tip`. The DH table's theta offsets put q = 0 at the controller's zero and `signs` turn q into
+// the controller's angles; limits and speeds are the data sheet's, in the controller's degrees.
+// The data sheets give no accelerations: each joint reaches its speed in 0.25 s. The tips were
+// chosen as the UR5's: a grid search (x 250..900, z -100..1100 mm, y 0 or 150) for the largest
+// worst-case singularity measure over a 100 mm cube of tips tilted up to 60 degrees within the
+// joint ranges (IRB 1200: 0.125 at (650, 150, 700); KR 6: 0.115 at (550, 150, 800); the UR5's about
+// 0.107); the test IndustrialArm.PlacementReachesTheBuildVolume checks it.
+struct IndustrialArm {
+  const char* name;
+  double d[6], a[6], alpha[6], thetaOffset[6];
+  int signs[6];
+  double minDeg[6], maxDeg[6], speedDegS[6];
+  Eigen::Vector3d tip;
+};
+
+MachineProfile industrialArmProfile(const IndustrialArm& arm, double nozzleDiameter) {
+  MachineProfile m;
+  m.kind = MachineKind::Robot6;
+  m.name = arm.name;
+  for (int i = 0; i < 6; ++i) {
+    m.dh[i] = DhRow{arm.thetaOffset[i], arm.d[i], arm.a[i], arm.alpha[i]};
+    m.jointSigns[i] = arm.signs[i];
+    const double lo = arm.minDeg[i] * kPi / 180, hi = arm.maxDeg[i] * kPi / 180;
+    m.jointLimits[i] = arm.signs[i] > 0 ? std::make_pair(lo, hi) : std::make_pair(-hi, -lo);
+    const double v = arm.speedDegS[i] * kPi / 180;
+    m.jointDynamics[i] = AxisDynamics{v, 4 * v, 0};
+  }
+  m.flangeToPlatform = Eigen::Matrix4d::Identity();
+  m.flangeToPlatform(2, 3) = kUr5PlateOffset;
+  m.nozzleTip = arm.tip;
+  m.nozzleAxis = Eigen::Vector3d::UnitZ();
+  m.nozzle.diameter = nozzleDiameter;
+  return m;
+}
+
+// ABB IRB 1200-5/0.9 (product specification): 399.1 mm to axis 2, upper arm 448, elbow offset 42,
+// forearm 451, wrist to flange 82; zero with the lower arm vertical and the forearm horizontal.
+// Every joint turns as ABB counts it about its DH z.
+const IndustrialArm kIrb1200{"robot6-irb1200",
+                             {399.1, 0, 0, 451, 0, 82},
+                             {0, 448, 42, 0, 0, 0},
+                             {-kPi / 2, 0, -kPi / 2, kPi / 2, -kPi / 2, 0},
+                             {0, -kPi / 2, 0, 0, 0, kPi},
+                             {1, 1, 1, 1, 1, 1},
+                             {-170, -100, -200, -270, -130, -400},
+                             {170, 135, 70, 270, 130, 400},
+                             {288, 240, 297, 400, 405, 600},
+                             {650, 150, 700}};
+
+// KUKA KR 6 R900 sixx (KR AGILUS, data sheet): 400 mm to axis 2 with a 25 mm shoulder offset,
+// lower arm 455, elbow offset 35, forearm 420, wrist to flange 80; zero with the lower arm
+// horizontal (A2 = -90 deg raises it). A1, A4 and A6 turn against the DH z axes (KUKA's sense).
+const IndustrialArm kKr6{"robot6-kr6",
+                         {400, 0, 0, 420, 0, 80},
+                         {25, 455, 35, 0, 0, 0},
+                         {-kPi / 2, 0, -kPi / 2, kPi / 2, -kPi / 2, 0},
+                         {0, 0, -kPi / 2, 0, 0, kPi},
+                         {-1, 1, 1, -1, 1, -1},
+                         {-170, -190, -120, -185, -120, -350},
+                         {170, 45, 156, 185, 120, 350},
+                         {360, 300, 360, 381, 388, 615},
+                         {550, 150, 800}};
 }  // namespace
 
 MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,
@@ -141,6 +206,10 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
     m.axisDynamics["C"] = {90, 900, 9000};
   } else if (name == "robot6-ur5" || name == "robot6" || name == "robot6-ur5-rated") {
     m = ur5Profile(nozzleDiameter, name == "robot6-ur5-rated");
+  } else if (name == kIrb1200.name) {
+    m = industrialArmProfile(kIrb1200, nozzleDiameter);
+  } else if (name == kKr6.name) {
+    m = industrialArmProfile(kKr6, nozzleDiameter);
   } else {
     r.status = Status::InvalidOption;
     r.message = "unknown machine \"" + name + "\"; built-in machines:";
@@ -156,7 +225,7 @@ MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector
 }
 
 std::vector<std::string> builtinMachineNames() {
-  return {"cartesian3", "rotary4", "table5", "head4", "head5", "robot6-ur5", "robot6-ur5-rated"};
+  return {"cartesian3", "rotary4", "table5", "head4", "head5", "robot6-ur5", "robot6-ur5-rated", "robot6-irb1200", "robot6-kr6"};
 }
 
 const char* machineKindName(MachineKind kind) {

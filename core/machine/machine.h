@@ -111,6 +111,10 @@ struct MachineProfile {
   Eigen::Matrix4d flangeToPlatform = Eigen::Matrix4d::Identity();
   Eigen::Vector3d nozzleTip{0, 0, 0};   // mm, robot base frame
   Eigen::Vector3d nozzleAxis{0, 0, 1};  // unit, robot base frame, tip -> hot end
+  // The controller's joint angles (RAPID, KRL: degrees) = jointSigns[i] x q_i: -1 where the
+  // controller turns a joint against its DH z axis (KUKA's A1, A4, A6). The theta offsets put
+  // q = 0 at the controller's zero. URScript and the CSV write q itself.
+  std::array<int, 6> jointSigns{1, 1, 1, 1, 1, 1};
 
   NozzleGeometry nozzle;
 };
@@ -123,8 +127,10 @@ struct MachineProfileResult : Outcome {
   MachineProfile machine;
 };
 
-// Built-in profiles by name: "cartesian3", "rotary4", "table5", "robot6-ur5" (alias "robot6"; paper
-// 003's joint limits) and "robot6-ur5-rated" (the same arm at its rated joint speed).
+// Built-in profiles by name: "cartesian3", "rotary4", "table5", "head4", "head5", "robot6-ur5"
+// (alias "robot6"; paper 003's joint limits), "robot6-ur5-rated" (the same arm at its rated joint
+// speed), "robot6-irb1200" (ABB IRB 1200-5/0.9) and "robot6-kr6" (KUKA KR 6 R900 sixx), the
+// industrial arms at their data sheets' axis ranges and speeds.
 // bedSize sizes the linear axes of the G-code kinds; nozzleDiameter sets nozzle.diameter.
 // InvalidOption for an unknown name (the message lists the names).
 MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,

@@ -85,6 +85,11 @@ std::string machineJson(const MachineProfile& machine) {
     j["flange_to_platform"] = t;
     j["nozzle_tip"] = {machine.nozzleTip.x(), machine.nozzleTip.y(), machine.nozzleTip.z()};
     j["nozzle_axis"] = {machine.nozzleAxis.x(), machine.nozzleAxis.y(), machine.nozzleAxis.z()};
+    if (machine.jointSigns != std::array<int, 6>{1, 1, 1, 1, 1, 1}) {
+      OJson signs = OJson::array();
+      for (int sign : machine.jointSigns) signs.push_back(sign);
+      j["joint_signs"] = signs;
+    }
   }
   OJson nozzle = {{"diameter", machine.nozzle.diameter},
                   {"cone_half_angle_deg", machine.nozzle.coneHalfAngleDegrees},
@@ -272,6 +277,14 @@ struct Parser {
         if (!readDynamics((*it)[i], m.jointDynamics[i])) {
           return fail("\"joint_dynamics\" entries must be {velocity, acceleration, jerk} >= 0");
         }
+      }
+    }
+    if (auto it = j.find("joint_signs"); it != j.end()) {
+      double signs[6];
+      if (!readNumbers(*it, 6, signs)) return fail("\"joint_signs\" must be 6 numbers, each 1 or -1");
+      for (int i = 0; i < 6; ++i) {
+        if (signs[i] != 1 && signs[i] != -1) return fail("\"joint_signs\" must be 6 numbers, each 1 or -1");
+        m.jointSigns[i] = signs[i] > 0 ? 1 : -1;
       }
     }
     if (auto it = j.find("flange_to_platform"); it != j.end()) {

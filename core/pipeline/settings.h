@@ -201,7 +201,7 @@ struct Settings {
   GcodeDialect gcodeFlavor = GcodeDialect::Marlin;  // G-code kinds: marlin | reprap | klipper
   // G-code kinds: PNG thumbnails of the part for printer hosts, width x height each (empty = none).
   std::vector<std::pair<int, int>> thumbnails;
-  RobotFormat robotFormat = RobotFormat::Csv;       // robot6: csv | urscript
+  RobotFormat robotFormat = RobotFormat::Csv;       // robot6: csv | urscript | rapid | krl
   int freeRotationSamples = 30;        // robot6: samples of the rotation about the nozzle axis
   bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter
   double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more

@@ -41,7 +41,12 @@ Outcome checkMachinePath(const MachinePath& path, const ProgramInfo& info);
 // and the filament fed by extruding moves.
 void pathTotals(const MachinePath& path, double& timeS, double& filamentMm);
 
-// robot6 writer (CSV or URScript per info.robotFormat); checks already done.
+// robot6 writer (CSV or URScript per info.robotFormat; RAPID and KRL through
+// writeControllerProgram); checks already done.
 WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo& info);
+
+// robot6 writer for the arm's own controller: ABB RAPID or KUKA KRL per info.robotFormat
+// (write_robot_controller.cpp); checks already done.
+WriteProgramResult writeControllerProgram(const MachinePath& path, const ProgramInfo& info);
 
 }  // namespace omnislice

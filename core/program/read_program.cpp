@@ -154,7 +154,7 @@ struct Word {
   double value;
 };
 
-enum class Format { Gcode, Csv, UrScript };
+enum class Format { Gcode, Csv, UrScript, Rapid, Krl };
 
 constexpr size_t kMaxPieces = 20000000;  // replayed pieces per program (about 4 GB of moves)
 
@@ -175,6 +175,13 @@ class Reader {
   void gcodeLine(std::string_view lineText);
   void csvRow(const std::string& lineText);
   void scriptLine(const std::string& lineText);
+  void rapidLine(const std::string& lineText);
+  void krlLine(const std::string& lineText);
+  // A joint-space move to controller angles `deg` (RAPID, KRL) lasting t seconds at the current
+  // extruder value; the first target is the start pose.
+  void controllerMove(const std::array<double, 6>& deg, double t);
+  // Filament fed at the current extruder value for t seconds without motion.
+  void controllerWait(double t);
   bool setMachine(const std::string& json);
   // Replays the move a -> b (first n values) with `filament`; feedMmPerMin < 0 derives the feed
   // from durationS and the part-frame length.
@@ -207,6 +214,9 @@ class Reader {
   double analogScale_ = 0;  // per mm/s of filament, from the extruder header
   int analogPort_ = 0;
   double analog_ = 0;       // current analog value
+  std::string analogSignal_;  // RAPID: the extruder's signal name
+  double percent_ = 100;       // KRL: BAS(#VEL_PTP, p)
+  bool moduleEnded_ = false;   // RAPID: ENDMODULE seen
 };
 
 bool Reader::setMachine(const std::string& json) {
@@ -222,8 +232,10 @@ bool Reader::setMachine(const std::string& json) {
   }
   const int n = machineAxisCount(m.machine.kind);
   if (format_ == Format::Gcode && m.machine.kind == MachineKind::Robot6) {
-    fail(Status::UnsupportedFormat, "robot6 programs are joint CSV or URScript, not G-code");
-    return false;
+    // `;` comments and a robot6 machine: a KUKA KRL program.
+    format_ = Format::Krl;
+    r_.format = "krl";
+    r_.absoluteExtrusion = false;
   }
   if (format_ != Format::Gcode && m.machine.kind != MachineKind::Robot6) {
     fail(Status::ParseError, "a robot program needs a robot6 machine, not '" + std::string(machineKindName(m.machine.kind)) + "'");
@@ -304,6 +316,10 @@ void Reader::comment(const std::string& c, bool first) {
         return fail(Status::ParseError, "extruder header needs a positive per_mm_s");
       }
       analogScale_ = j["per_mm_s"].get<double>();
+      if (j.contains("signal")) {
+        if (!j["signal"].is_string()) return fail(Status::ParseError, "extruder signal must be a name");
+        analogSignal_ = j["signal"].get<std::string>();
+      }
       if (j.contains("port")) {
         if (!j["port"].is_number_integer()) return fail(Status::ParseError, "extruder port must be an integer");
         analogPort_ = j["port"].get<int>();
@@ -674,6 +690,213 @@ void Reader::scriptLine(const std::string& lineText) {
   return fail(Status::ParseError, "unsupported URScript statement '" + name + "'");
 }
 
+void Reader::controllerMove(const std::array<double, 6>& deg, double t) {
+  MachineValues q{};
+  for (int i = 0; i < 6; ++i) q[i] = r_.machine.jointSigns[i] * deg[i] * kPi / 180;
+  const double filament = analog_ != 0 ? analog_ / analogScale_ * t : 0.0;
+  if (analog_ != 0 && !(t > 0)) return fail(Status::ParseError, "extruding move without a duration");
+  if (!sawRow_) {
+    sawRow_ = true;
+    values_ = q;  // the first target is the start pose
+    if (filament == 0) return;
+  }
+  if (q == values_ && filament == 0) return;
+  emit(values_, q, filament, -1, t);
+  values_ = q;
+}
+
+void Reader::controllerWait(double t) {
+  const double filament = analog_ != 0 ? analog_ / analogScale_ * t : 0.0;
+  if (filament == 0) return;
+  sawRow_ = true;
+  emit(values_, values_, filament, 0, t);
+}
+
+namespace {
+// The six numbers of "a1,a2,...,a6" (RAPID) or "A1 a1, A2 a2, ..., A6 a6" (KRL, any order, E1..E6
+// ignored); false when one is missing or not a number.
+bool parseAngles(const std::string& text, bool named, std::array<double, 6>& deg) {
+  const std::vector<std::string> parts = split(text, ',');
+  if (!named) {
+    if (parts.size() != 6) return false;
+    for (int i = 0; i < 6; ++i) {
+      if (!parseNumber(parts[i], deg[i])) return false;
+    }
+    return true;
+  }
+  int seen = 0;
+  for (const std::string& p : parts) {
+    const std::string t = trim(p);
+    const size_t sp = t.find(' ');
+    if (sp == std::string::npos) return false;
+    const std::string name = t.substr(0, sp);
+    if (name.size() == 2 && (name[0] == 'A' || name[0] == 'a') && name[1] >= '1' && name[1] <= '6') {
+      const int i = name[1] - '1';
+      if (!parseNumber(t.substr(sp + 1), deg[i])) return false;
+      seen |= 1 << i;
+    } else if (!(name.size() == 2 && (name[0] == 'E' || name[0] == 'e'))) {
+      return false;
+    }
+  }
+  return seen == 0x3f;
+}
+
+std::string upper(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return s;
+}
+}  // namespace
+
+void Reader::rapidLine(const std::string& lineText) {
+  if (moduleEnded_) return fail(Status::ParseError, "text after ENDMODULE");
+  const std::string u = upper(lineText);
+  if (startsWith(u, "PROC ")) {
+    if (inDef_ || defEnded_) return fail(Status::ParseError, "a second PROC");
+    inDef_ = true;
+    return;
+  }
+  if (u == "ENDPROC") {
+    if (!inDef_) return fail(Status::ParseError, "ENDPROC without PROC");
+    inDef_ = false;
+    defEnded_ = true;
+    return;
+  }
+  if (u == "ENDMODULE") {
+    if (inDef_ || !defEnded_) return fail(Status::ParseError, "ENDMODULE before ENDPROC");
+    moduleEnded_ = true;
+    return;
+  }
+  if (!inDef_) return fail(Status::ParseError, "statement outside the PROC");
+  if (!haveMachine_) return fail(Status::ParseError, "statement before the machine header");
+  if (lineText.back() != ';') return fail(Status::ParseError, "a RAPID statement ends with ';'");
+  const std::string stmt = trim(lineText.substr(0, lineText.size() - 1));
+  const size_t sp = stmt.find_first_of(" \t");
+  const std::string name = upper(stmt.substr(0, sp));
+  const std::string args = sp == std::string::npos ? "" : trim(stmt.substr(sp));
+  if (name == "MOVEABSJ") {
+    const size_t lb = args.find("[["), rb = args.find(']');
+    if (lb != 0 || rb == std::string::npos) return fail(Status::ParseError, "MoveAbsJ needs an inline jointtarget [[a1,...,a6],[...]]");
+    std::array<double, 6> deg{};
+    if (!parseAngles(args.substr(2, rb - 2), false, deg)) return fail(Status::ParseError, "MoveAbsJ needs 6 joint angles");
+    const size_t close = args.find("]]", rb);
+    if (close == std::string::npos) return fail(Status::ParseError, "MoveAbsJ: unterminated jointtarget");
+    const std::vector<std::string> rest = split(args.substr(close + 2), ',');
+    if (rest.size() != 4 || !trim(rest[0]).empty()) return fail(Status::ParseError, "MoveAbsJ target, speed, zone, tool expected");
+    double t = 0;
+    const std::string speed = trim(rest[1]);
+    const size_t tArg = upper(speed).find("\\T:=");
+    if (tArg != std::string::npos && (!parseNumber(speed.substr(tArg + 4), t) || !(t >= 0))) {
+      return fail(Status::ParseError, "MoveAbsJ \\T must be a time >= 0");
+    }
+    controllerMove(deg, t);
+    return;
+  }
+  if (name == "MOVEL" || name == "MOVEJ" || name == "MOVEC") {
+    return fail(Status::UnsupportedFormat, stmt.substr(0, sp) + " moves to a robtarget; Omnislice replays joint targets (MoveAbsJ)");
+  }
+  if (name == "SETAO") {
+    const std::vector<std::string> a = split(args, ',');
+    double v = 0;
+    if (a.size() != 2 || !parseNumber(a[1], v)) return fail(Status::ParseError, "SetAO signal, value expected");
+    if (trim(a[0]) != analogSignal_) return;  // another output
+    if (v != 0 && analogScale_ <= 0) return fail(Status::ParseError, "extruder output without an `omnislice:extruder` header");
+    analog_ = v;
+    return;
+  }
+  if (name == "WAITTIME") {
+    std::string a = args;
+    if (startsWith(upper(a), "\\INPOS")) {
+      const size_t comma = a.find(',');
+      if (comma == std::string::npos) return fail(Status::ParseError, "WaitTime \\InPos, t expected");
+      a = a.substr(comma + 1);
+    }
+    double t = 0;
+    if (!parseNumber(a, t) || !(t >= 0)) return fail(Status::ParseError, "WaitTime expects a time >= 0");
+    controllerWait(t);
+    return;
+  }
+  if (name == "TPWRITE") return;
+  return fail(Status::ParseError, "unsupported RAPID statement '" + stmt.substr(0, sp) + "'");
+}
+
+void Reader::krlLine(const std::string& lineText) {
+  const std::string u = upper(lineText);
+  if (startsWith(u, "DEF ")) {
+    if (inDef_ || defEnded_) return fail(Status::ParseError, "a second DEF");
+    inDef_ = true;
+    return;
+  }
+  if (u == "END") {
+    if (!inDef_) return fail(Status::ParseError, "END without DEF");
+    inDef_ = false;
+    defEnded_ = true;
+    return;
+  }
+  if (startsWith(u, "&")) return;  // editor attributes (&ACCESS, &REL)
+  if (!inDef_) return fail(Status::ParseError, "statement outside DEF ... END");
+  if (!haveMachine_) return fail(Status::ParseError, "statement before the machine header");
+  auto analogValue = [&](const std::string& assignment) {
+    // "$ANOUT[1]=v"
+    const size_t eq = assignment.find('=');
+    const std::string lhs = upper(trim(assignment.substr(0, eq)));
+    double v = 0;
+    if (eq == std::string::npos || !parseNumber(assignment.substr(eq + 1), v)) {
+      return fail(Status::ParseError, "$ANOUT[n]=value expected");
+    }
+    if (lhs != "$ANOUT[" + std::to_string(analogPort_) + "]") return;  // another output
+    if (v != 0 && analogScale_ <= 0) return fail(Status::ParseError, "extruder output without an `omnislice:extruder` header");
+    analog_ = v;
+  };
+  if (startsWith(u, "PTP ")) {
+    const size_t lb = lineText.find('{'), rb = lineText.find('}');
+    if (lb == std::string::npos || rb == std::string::npos || rb < lb) return fail(Status::ParseError, "PTP needs an E6AXIS target {A1 ..., A6 ...}");
+    std::array<double, 6> deg{};
+    if (!parseAngles(lineText.substr(lb + 1, rb - lb - 1), true, deg)) {
+      return fail(Status::ParseError, "PTP needs the angles A1 to A6");
+    }
+    const std::string tail = upper(trim(lineText.substr(rb + 1)));
+    if (!tail.empty() && tail != "C_PTP") return fail(Status::ParseError, "unsupported PTP option '" + tail + "'");
+    double t = 0;
+    if (sawRow_) {
+      const MachineValues& q = values_;
+      for (int i = 0; i < 6; ++i) {
+        const double from = r_.machine.jointSigns[i] * q[i] * 180 / kPi;
+        const double speed = r_.machine.jointDynamics[i].velocity * 180 / kPi * percent_ / 100.0;
+        if (!(speed > 0)) return fail(Status::ParseError, "KRL replay needs the joint speeds (joint_dynamics) in the machine header");
+        t = std::max(t, std::abs(deg[i] - from) / speed);
+      }
+    }
+    controllerMove(deg, t);
+    return;
+  }
+  if (startsWith(u, "LIN ") || startsWith(u, "CIRC ") || startsWith(u, "SLIN ") || startsWith(u, "SPL ")) {
+    return fail(Status::UnsupportedFormat, "Cartesian KRL motions are not replayed; Omnislice replays PTP to E6AXIS targets");
+  }
+  if (startsWith(u, "BAS(")) {
+    const size_t comma = lineText.find(','), close = lineText.rfind(')');
+    if (comma == std::string::npos || close == std::string::npos || close < comma) return fail(Status::ParseError, "BAS(#..., value) expected");
+    const std::string what = upper(trim(lineText.substr(4, comma - 4)));
+    if (what == "#VEL_PTP") {
+      double p = 0;
+      if (!parseNumber(lineText.substr(comma + 1, close - comma - 1), p) || !(p > 0) || p > 100) {
+        return fail(Status::ParseError, "BAS(#VEL_PTP, p) needs 0 < p <= 100");
+      }
+      percent_ = p;
+    }
+    return;
+  }
+  if (startsWith(u, "TRIGGER WHEN DISTANCE=0 DELAY=0 DO ")) return analogValue(lineText.substr(35));
+  if (startsWith(u, "$ANOUT[")) return analogValue(lineText);
+  if (startsWith(u, "WAIT SEC ")) {
+    double t = 0;
+    if (!parseNumber(lineText.substr(9), t) || !(t >= 0)) return fail(Status::ParseError, "WAIT SEC expects a time >= 0");
+    controllerWait(t);
+    return;
+  }
+  if (startsWith(u, "$APO.") || startsWith(u, "$VEL") || startsWith(u, "$ACC")) return;
+  return fail(Status::ParseError, "unsupported KRL statement '" + lineText.substr(0, 30) + "'");
+}
+
 ParsedProgram Reader::run() {
   if (trimView(text_).empty()) {
     r_.status = Status::EmptyInput;
@@ -694,6 +917,31 @@ ParsedProgram Reader::run() {
     }
     const bool first = firstContentLine;
     firstContentLine = false;
+    if (first && startsWith(std::string(lineText.substr(0, 7)), "MODULE ")) {
+      // An ABB RAPID module: the header follows as `!` comments.
+      format_ = Format::Rapid;
+      r_.format = "rapid";
+      r_.absoluteExtrusion = false;
+      n_ = 6;
+      firstContentLine = true;  // the version line is the first comment
+      continue;
+    }
+    if (format_ == Format::Rapid) {
+      if (lineText[0] == '!') {
+        comment(std::string(trimView(lineText.substr(1))), first);
+      } else {
+        rapidLine(std::string(lineText));
+      }
+      continue;
+    }
+    if (format_ == Format::Krl) {
+      if (lineText[0] == ';') {
+        comment(std::string(trimView(lineText.substr(1))), first);
+      } else {
+        krlLine(std::string(lineText));
+      }
+      continue;
+    }
     if (first && lineText[0] == '#') {
       format_ = Format::Csv;  // until a `def` line says URScript
       r_.format = "csv";
@@ -725,6 +973,12 @@ ParsedProgram Reader::run() {
   }
   if (!failed() && format_ == Format::UrScript && (inDef_ || !defEnded_)) {
     fail(Status::ParseError, "URScript program without its closing `end`");
+  }
+  if (!failed() && format_ == Format::Rapid && (inDef_ || !defEnded_ || !moduleEnded_)) {
+    fail(Status::ParseError, "RAPID module without its closing ENDPROC and ENDMODULE");
+  }
+  if (!failed() && format_ == Format::Krl && (inDef_ || !defEnded_)) {
+    fail(Status::ParseError, "KRL program without its closing END");
   }
   if (!failed() && format_ != Format::Gcode && !haveMachine_) {
     fail(Status::ParseError, "robot program without an `omnislice:machine` header");

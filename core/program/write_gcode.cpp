@@ -284,23 +284,35 @@ bool parseGcodeDialect(const std::string& text, GcodeDialect& out) {
   return false;
 }
 
-const char* robotFormatName(RobotFormat f) { return f == RobotFormat::UrScript ? "urscript" : "csv"; }
+const char* robotFormatName(RobotFormat f) {
+  switch (f) {
+    case RobotFormat::UrScript: return "urscript";
+    case RobotFormat::Rapid: return "rapid";
+    case RobotFormat::Krl: return "krl";
+    case RobotFormat::Csv: break;
+  }
+  return "csv";
+}
 
 bool parseRobotFormat(const std::string& text, RobotFormat& out) {
-  if (text == "csv") {
-    out = RobotFormat::Csv;
-    return true;
-  }
-  if (text == "urscript") {
-    out = RobotFormat::UrScript;
-    return true;
+  for (RobotFormat f : {RobotFormat::Csv, RobotFormat::UrScript, RobotFormat::Rapid, RobotFormat::Krl}) {
+    if (text == robotFormatName(f)) {
+      out = f;
+      return true;
+    }
   }
   return false;
 }
 
 const char* programExtension(MachineKind kind, RobotFormat robotFormat) {
-  if (kind == MachineKind::Robot6) return robotFormat == RobotFormat::UrScript ? "script" : "csv";
-  return "gcode";
+  if (kind != MachineKind::Robot6) return "gcode";
+  switch (robotFormat) {
+    case RobotFormat::UrScript: return "script";
+    case RobotFormat::Rapid: return "mod";   // an ABB RAPID program module
+    case RobotFormat::Krl: return "src";     // a KUKA KRL source file
+    case RobotFormat::Csv: break;
+  }
+  return "csv";
 }
 
 // ---------------------------------------------------------------- G-code

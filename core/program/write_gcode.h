@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: MIT
 // Program writers following ../shared/PROGRAM-FORMAT.md: G-code for cartesian3, rotary4 (A) and
-// table5 (B C) in the Marlin, RepRapFirmware and Klipper dialects; robot joint CSV and URScript
+// table5 (B C) in the Marlin, RepRapFirmware and Klipper dialects; robot joint CSV, URScript, ABB RAPID and KUKA KRL
 // for robot6. Header (version, method, date, machine JSON, placement, extrusion, feed semantics,
 // settings, time and filament estimate), part / layer / feature markers, moves.
 #pragma once
@@ -18,12 +18,12 @@
 namespace omnislice {
 
 enum class GcodeDialect { Marlin, RepRap, Klipper };
-enum class RobotFormat { Csv, UrScript };
+enum class RobotFormat { Csv, UrScript, Rapid, Krl };
 
 // "marlin" | "reprap" | "klipper"; parse returns false for other text.
 const char* gcodeDialectName(GcodeDialect d);
 bool parseGcodeDialect(const std::string& text, GcodeDialect& out);
-// "csv" | "urscript"
+// "csv" | "urscript" | "rapid" | "krl"
 const char* robotFormatName(RobotFormat f);
 bool parseRobotFormat(const std::string& text, RobotFormat& out);
 
@@ -70,7 +70,7 @@ struct WriteProgramResult : Outcome {
 };
 
 // Write the program of a planned machine path (planMachineMotion()) for path.machine.kind:
-// G-code for cartesian3 / rotary4 / table5 (dialect from info), CSV or URScript for robot6.
+// G-code for cartesian3 / rotary4 / table5 (dialect from info), CSV, URScript, RAPID or KRL for robot6.
 // The feed semantics declared in the header: "xyz" (Marlin, Klipper: F is the machine XYZ speed;
 // pure rotations use the rotary distance in degrees), "combined" (RepRapFirmware: F over all axes,
 // degrees counted as mm), "part_tip" (robot CSV: f is the tip speed along the part). F / f are
@@ -82,7 +82,7 @@ WriteProgramResult writeProgram(const MachinePath& path, const ProgramInfo& info
 // printing axis +Z) and write it.
 WriteProgramResult writeGcode(const Toolpath& toolpath, const ProgramInfo& info);
 
-// File extension for a machine kind and robot format: "gcode", "csv" or "script".
+// File extension for a machine kind and robot format: "gcode", "csv", "script" (URScript), "mod" (RAPID) or "src" (KRL).
 const char* programExtension(MachineKind kind, RobotFormat robotFormat);
 
 }  // namespace omnislice

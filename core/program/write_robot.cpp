@@ -45,6 +45,9 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
     f.message = msg;
     return f;
   };
+  if (info.robotFormat == RobotFormat::Rapid || info.robotFormat == RobotFormat::Krl) {
+    return writeControllerProgram(path, info);
+  }
   const MachineProfile& machine = path.machine;
   const bool script = info.robotFormat == RobotFormat::UrScript;
   pathTotals(path, r.estimatedTimeS, r.filamentMm);

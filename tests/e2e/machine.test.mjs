@@ -65,7 +65,7 @@ async function sweepMachine(label) {
 
 test('the machine panel lists the built-in machines; flavour for G-code, format for the robot', async () => {
   const options = await page.$$eval(`${tid('machine')} option`, (os) => os.map((o) => o.value));
-  assert.deepEqual(options, ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
+  assert.deepEqual(options, ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated', 'robot6-irb1200', 'robot6-kr6']);
   assert.equal(await page.isVisible(tid('gcode-flavor')), true);
   assert.equal(await page.isVisible(tid('robot-format')), false);
   await page.selectOption(tid('machine'), 'robot6-ur5');

@@ -92,6 +92,8 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
     ['robot6-ur5', { robot_format: 'csv' }, 'csv'],
     // (coarser layers: the same checks, half the robot planning time)
     ['robot6-ur5', { robot_format: 'urscript', layer_height: 0.4 }, 'script'],
+    // An industrial arm (spherical wrist) in its controller's language.
+    ['robot6-kr6', { robot_format: 'krl', layer_height: 0.4 }, 'src'],
   ];
   for (const [machine, extra, extension] of cases) {
     test(`${machine} ${JSON.stringify(extra)}: every preview.machine row maps onto its segment end`, (t) => {
@@ -140,7 +142,7 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
       // pieces whose machine values map onto their part-frame ends as well, with the same profile.
       const replay = m.replay(r.program);
       assert.deepEqual(replay.profile, profile, 'replayed machine = report.machine_profile');
-      assert.equal(replay.format, { gcode: 'gcode', csv: 'csv', script: 'urscript' }[extension]);
+      assert.equal(replay.format, { gcode: 'gcode', csv: 'csv', script: 'urscript', mod: 'rapid', src: 'krl' }[extension]);
       assert.equal(replay.layers, r.report.layers);
       const R = replay.preview.features.length;
       assert.equal(replay.preview.machine.length, 6 * R);
@@ -171,7 +173,7 @@ describe('machine output of the wasm module (Node)', { skip: why ? `skipped: ${w
 
   test('machines(): the built-ins in display order; each parses back to itself; UR5 DH as PROGRAM-FORMAT.md', () => {
     const list = m.machines();
-    assert.deepEqual(list.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
+    assert.deepEqual(list.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated', 'robot6-irb1200', 'robot6-kr6']);
     for (const { name, profile, json } of list) {
       assert.equal(machineKind(profile), machineKind(name), name);
       assert.deepEqual(m.parseMachine(json).profile, profile, `${name}: parseMachine(machineJson) is itself`);

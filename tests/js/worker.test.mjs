@@ -242,7 +242,7 @@ describe('worker protocol (Chromium)', { skip: why ? `skipped: ${why}` : false }
       const machines = await window.slicer.machines({ bed_size: '200,180,150' });
       return { good, fails, machines };
     });
-    assert.deepEqual(r.machines.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated']);
+    assert.deepEqual(r.machines.map((x) => x.name), ['cartesian3', 'rotary4', 'table5', 'head4', 'head5', 'robot6-ur5', 'robot6-ur5-rated', 'robot6-irb1200', 'robot6-kr6']);
     assert.deepEqual(r.machines[0].profile.axis_limits.Y, [-90, 90], 'sized by bed_size');
     assert.equal(r.machines[3].profile.kind, 'head4');
     assert.equal(r.machines[3].profile.tilt_deg, 45);

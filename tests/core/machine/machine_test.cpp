@@ -57,7 +57,7 @@ void expectSameProfile(const MachineProfile& a, const MachineProfile& b) {
 TEST(MachineProfile, BuiltinNamesAndValues) {
   const std::vector<std::string> names = builtinMachineNames();
   ASSERT_EQ(names, (std::vector<std::string>{"cartesian3", "rotary4", "table5", "head4", "head5", "robot6-ur5",
-                                                          "robot6-ur5-rated"}));
+                                                          "robot6-ur5-rated", "robot6-irb1200", "robot6-kr6"}));
   for (const std::string& n : names) {
     const MachineProfileResult r = builtinMachine(n, kBed, 0.6);
     ASSERT_TRUE(r.ok()) << r.message;

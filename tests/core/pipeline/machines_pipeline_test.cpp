@@ -15,6 +15,7 @@
 
 #include "../test_meshes.h"
 #include "../test_support.h"
+#include "common/math_constants.h"
 #include "kinematics/kinematics.h"
 #include "pipeline/pipeline.h"
 #include "pipeline/preview.h"
@@ -203,7 +204,7 @@ TEST(MachinesPipelineErrors, BadMachineInputIsAStatus) {
   EXPECT_EQ(setSetting(s, "machine_json", "{\"kind\":").status, Status::InvalidOption);
   EXPECT_EQ(setSetting(s, "machine_json", "[1,2]").status, Status::InvalidOption);
   EXPECT_EQ(setSetting(s, "gcode_flavor", "sailfish").status, Status::InvalidOption);
-  EXPECT_EQ(setSetting(s, "robot_format", "krl").status, Status::InvalidOption);
+  EXPECT_EQ(setSetting(s, "robot_format", "fanuc").status, Status::InvalidOption);
   EXPECT_EQ(setSetting(s, "motion.free_rotation_samples", "0").status, Status::InvalidOption);
 
   // A user profile of an unknown kind is refused when it is set, with a message naming it.
@@ -426,6 +427,118 @@ TEST(MachinesPipelineHead5, EveryMethodPrintsAsOnTheTiltingTable) {
   }
 }
 
+
+// The joint targets of a robot program, in program order, as radians of q: CSV rows, RAPID
+// MoveAbsJ jointtargets and KRL PTP E6AXIS targets (controller degrees, times the joint sign) read
+// from the text directly (not through readProgram); repeated targets once.
+std::vector<std::array<double, 6>> jointTargets(const std::string& program, const MachineProfile& m) {
+  std::vector<std::array<double, 6>> out;
+  std::istringstream in(program);
+  std::string line;
+  while (std::getline(in, line)) {
+    const size_t b = line.find_first_not_of(' ');
+    if (b == std::string::npos) continue;
+    line = line.substr(b);
+    std::array<double, 6> q{};
+    if (line.rfind("MoveAbsJ [[", 0) == 0) {
+      std::istringstream v(line.substr(11));
+      char comma;
+      for (int i = 0; i < 6; ++i) {
+        v >> q[i];
+        if (i < 5) v >> comma;
+        q[i] *= m.jointSigns[i] * kPi / 180;
+      }
+    } else if (line.rfind("PTP {", 0) == 0) {
+      for (int i = 0; i < 6; ++i) {
+        const size_t at = line.find("A" + std::to_string(i + 1) + " ");
+        EXPECT_NE(at, std::string::npos) << line;
+        q[i] = std::strtod(line.c_str() + at + 3, nullptr) * m.jointSigns[i] * kPi / 180;
+      }
+    } else if (line[0] != '#' && std::count(line.begin(), line.end(), ',') == 8) {
+      std::istringstream v(line);
+      char comma;
+      for (int i = 0; i < 6; ++i) {
+        v >> q[i];
+        v >> comma;
+      }
+      if (!v) continue;
+    } else {
+      continue;
+    }
+    // Filament-only moves (a CSV row without joint change) are not targets.
+    if (out.empty() || out.back() != q) out.push_back(q);
+  }
+  return out;
+}
+
+// ABB IRB 1200 and KUKA KR 6 (spherical wrists, their controllers' angles): a box slices on each,
+// the RAPID and KRL programs carry the joint CSV's targets (degrees in the controller's zero and
+// senses), read back to the same print and verify as the CSV does: sound.
+TEST(MachinesPipelineIndustrialArms, RapidAndKrlCarryTheCsvJointsAndVerify) {
+  const auto box = testPart();
+  struct Run {
+    const char* machine;
+    const char* format;
+    const char* extension;
+    const char* parsedFormat;
+  };
+  for (const Run& run : {Run{"robot6-irb1200", "rapid", "mod", "rapid"}, Run{"robot6-kr6", "krl", "src", "krl"}}) {
+    SCOPED_TRACE(run.machine);
+    Json figures[2];
+    std::string programs[2];
+    double times[2] = {0, 0};
+    for (int k = 0; k < 2; ++k) {
+      Settings s;
+      ASSERT_TRUE(setSetting(s, "machine", run.machine).ok());
+      ASSERT_TRUE(setSetting(s, "robot_format", k == 0 ? "csv" : run.format).ok());
+      ASSERT_TRUE(setSetting(s, "layer_height", "0.4").ok());
+      const SliceOutput out = runSlice(box.data(), box.size(), "part.stl", s);
+      ASSERT_TRUE(out.ok()) << out.message;
+      EXPECT_EQ(out.programExtension, k == 0 ? "csv" : run.extension);
+      const VerifyOutput v = runVerify(out.program, box.data(), box.size(), "part.stl");
+      ASSERT_TRUE(v.ok()) << v.message;
+      figures[k] = Json::parse(v.verifyJson);
+      programs[k] = out.program;
+      times[k] = Json::parse(out.reportJson)["estimated_time_s"].get<double>();
+    }
+    const MachineProfile m = builtinMachine(run.machine, Eigen::Vector3d(200, 200, 200), 0.4).machine;
+    const auto csv = jointTargets(programs[0], m);
+    const auto own = jointTargets(programs[1], m);
+    ASSERT_GT(csv.size(), 100u);
+    ASSERT_EQ(own.size(), csv.size());
+    double worst = 0;
+    for (size_t i = 0; i < csv.size(); ++i) {
+      for (int j = 0; j < 6; ++j) worst = std::max(worst, std::abs(own[i][j] - csv[i][j]));
+    }
+    // 6 decimals of a degree: half a micro-degree, 8.7e-9 rad.
+    EXPECT_LT(worst, 1e-8) << "joint values differ from the CSV's by " << worst << " rad";
+    const ParsedProgram p = readProgram(programs[1]);
+    ASSERT_TRUE(p.ok()) << p.message;
+    EXPECT_EQ(p.format, run.parsedFormat);
+    EXPECT_EQ(p.machine.jointSigns, m.jointSigns);
+    const Json& c = figures[0];
+    const Json& o = figures[1];
+    for (const char* key : {"inside", "coverage", "supported", "surface_reached"}) {
+      EXPECT_NEAR(o[key].get<double>(), c[key].get<double>(), 1e-3) << key << " " << o.dump();
+    }
+    EXPECT_NEAR(o["path_mm"].get<double>(), c["path_mm"].get<double>(), 1e-3 * c["path_mm"].get<double>());
+    EXPECT_EQ(o["collisions"].get<int>(), 0);
+    EXPECT_EQ(o["limits"].get<int>(), 0);
+    EXPECT_GE(o["supported"].get<double>(), 0.99);
+    EXPECT_GE(o["inside"].get<double>(), 0.99);
+    // KRL moves at whole percentages of the axis speeds, never faster than planned: its time is at
+    // least the plan's; RAPID's \T times are the plan's.
+    if (std::string(run.format) == "krl") {
+      EXPECT_GE(times[1], times[0] * 0.999);
+    } else {
+      EXPECT_NEAR(times[1], times[0], 1e-6 * times[0]);
+    }
+    std::printf("%s %s: %zu targets, worst joint difference %.2g rad, time %.0f s (CSV %.0f s), "
+                "supported %.4f, collisions %d\n",
+                run.machine, run.format, own.size(), worst, times[1], times[0], o["supported"].get<double>(),
+                o["collisions"].get<int>());
+  }
+}
 
 // head4 (a nozzle leaning a fixed 45 degrees, turned by C): planar layers keep table5's path with
 // the nozzle at the head's tilt, 3+2 parts are cut within its 45-degree reach; the cone clears the

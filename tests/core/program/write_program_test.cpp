@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <map>
 #include <random>
+#include <regex>
 #include <sstream>
 
 #include "machine_paths.h"
@@ -400,6 +401,96 @@ TEST(WriteProgram, MutatedRobotProgramsNeverCrash) {
     ASSERT_TRUE(w.ok());
     expectMutationsFailCleanly(w.text, "q,#[]()=t0.-e9\n ", rng);
   }
+  MachinePath timed = path;
+  for (AxisDynamics& d : timed.machine.jointDynamics) d.velocity = 1;  // KRL needs joint speeds
+  for (RobotFormat format : {RobotFormat::Rapid, RobotFormat::Krl}) {
+    ProgramInfo info = infoFor(timed.machine);
+    info.robotFormat = format;
+    const WriteProgramResult w = writeProgram(timed, info);
+    ASSERT_TRUE(w.ok()) << w.message;
+    expectMutationsFailCleanly(w.text, "A,;![]{}()=T:\\0.-E9\n ", rng);
+  }
+}
+
+// ABB RAPID and KUKA KRL written from the UR5 test path (joint signs +1, the UR's zero) read back
+// to the same print: every move's tip, axis and filament; RAPID's \T times are the planned
+// durations; KRL's whole percentages of the joint speeds never make a move faster than planned.
+TEST(WriteProgram, RobotRapidAndKrlRoundTrip) {
+  MachinePath path = robotPath();
+  {
+    // KRL times its moves by percentages of the joint speeds: a profile without them is refused.
+    ProgramInfo info = infoFor(path.machine);
+    info.robotFormat = RobotFormat::Krl;
+    const WriteProgramResult w = writeProgram(path, info);
+    EXPECT_EQ(w.status, Status::InvalidOption);
+    EXPECT_NE(w.message.find("joint speeds"), std::string::npos) << w.message;
+  }
+  for (int j = 0; j < 6; ++j) path.machine.jointDynamics[j].velocity = 0.5 + 0.1 * j;  // rad/s
+  for (RobotFormat format : {RobotFormat::Rapid, RobotFormat::Krl}) {
+    SCOPED_TRACE(robotFormatName(format));
+    ProgramInfo info = infoFor(path.machine);
+    info.robotFormat = format;
+    info.extruderAnalogPerMmS = 0.25;
+    const WriteProgramResult w = writeProgram(path, info);
+    ASSERT_TRUE(w.ok()) << w.message;
+    EXPECT_EQ(w.layers, 5);
+    const ParsedProgram p = readProgram(w.text);
+    ASSERT_TRUE(p.ok()) << p.message;
+    EXPECT_EQ(p.format, robotFormatName(format));
+    EXPECT_FALSE(p.absoluteExtrusion);
+    EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
+    EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
+    EXPECT_EQ(p.layerCount, 5);
+    const auto ls = lines(w.text);
+    const std::string version = std::string("omnislice ") + OMNISLICE_VERSION + " test 2026-11-21T12:00:00Z";
+    if (format == RobotFormat::Rapid) {
+      EXPECT_EQ(ls[0], "MODULE OmnislicePrint");
+      EXPECT_EQ(ls[1], "! " + version);
+      EXPECT_EQ(ls.back(), "ENDMODULE");
+      EXPECT_NE(w.text.find("MoveAbsJ [["), std::string::npos);
+      EXPECT_NE(w.text.find("SetAO aoExtruder, "), std::string::npos);
+      EXPECT_NE(w.text.find("WaitTime "), std::string::npos);  // the retracts
+    } else {
+      EXPECT_EQ(ls[0], "; " + version);
+      EXPECT_NE(std::find(ls.begin(), ls.end(), "DEF omnislice_program()"), ls.end());
+      EXPECT_EQ(ls.back(), "END");
+      EXPECT_NE(w.text.find("PTP {A1 "), std::string::npos);
+      EXPECT_NE(w.text.find("TRIGGER WHEN DISTANCE=0 DELAY=0 DO $ANOUT[1]="), std::string::npos);
+      EXPECT_NE(w.text.find("BAS(#VEL_PTP, "), std::string::npos);
+    }
+    for (std::string l : ls) {
+      // Statements only (comments are text), without RAPID's 9E9 (no external axis).
+      l = l.substr(std::min(l.size(), l.find_first_not_of(' ')));
+      if (l.empty() || l[0] == '!' || l[0] == ';') continue;
+      for (size_t at; (at = l.find("9E9")) != std::string::npos;) l.erase(at, 3);
+      EXPECT_FALSE(std::regex_search(l, std::regex("[0-9.][eE][-+]?[0-9]"))) << l;  // no exponents
+    }
+    const auto g = checkRoundTrip(path, p, 0, 1e-5);
+    size_t k = 0;
+    MachineValues prevValues = path.start;
+    double planned = 0, replayed = 0;
+    for (size_t i = 0; i < path.moves.size() && k < g.size(); ++i) {
+      const MachineMove& m = path.moves[i];
+      if (m.values == prevValues && m.filament == 0) continue;
+      const auto& grp = g[k++];
+      const bool moved = m.values != prevValues;
+      prevValues = m.values;
+      if (!moved || !(m.durationS > 0)) continue;
+      double len = 0;
+      for (const ProgramMove* piece : grp) len += (piece->to - piece->from).norm();
+      if (len < 1e-6) continue;
+      const double duration = len / (grp.back()->feedMmPerMin / 60.0);
+      planned += m.durationS;
+      replayed += duration;
+      if (format == RobotFormat::Rapid) {
+        EXPECT_NEAR(duration, m.durationS, 1e-6 * m.durationS + 1e-9) << "move " << i;
+      } else {
+        EXPECT_GE(duration, m.durationS * (1 - 1e-6)) << "move " << i;
+      }
+    }
+    EXPECT_EQ(k, g.size());
+    std::printf("%s: planned %.2f s, replayed %.2f s\n", robotFormatName(format), planned, replayed);
+  }
 }
 
 TEST(WriteProgram, RefusesRotationBetweenPartsWithoutRetractOrLift) {
@@ -457,7 +548,13 @@ TEST(WriteProgram, NamesAndExtensions) {
   RobotFormat f;
   EXPECT_TRUE(parseRobotFormat("urscript", f));
   EXPECT_EQ(f, RobotFormat::UrScript);
-  EXPECT_FALSE(parseRobotFormat("krl", f));
+  EXPECT_TRUE(parseRobotFormat("krl", f));
+  EXPECT_EQ(f, RobotFormat::Krl);
+  EXPECT_TRUE(parseRobotFormat("rapid", f));
+  EXPECT_EQ(f, RobotFormat::Rapid);
+  EXPECT_FALSE(parseRobotFormat("fanuc", f));
+  EXPECT_STREQ(programExtension(MachineKind::Robot6, RobotFormat::Rapid), "mod");
+  EXPECT_STREQ(programExtension(MachineKind::Robot6, RobotFormat::Krl), "src");
   EXPECT_STREQ(robotFormatName(RobotFormat::Csv), "csv");
   EXPECT_STREQ(programExtension(MachineKind::Table5, RobotFormat::Csv), "gcode");
   EXPECT_STREQ(programExtension(MachineKind::Robot6, RobotFormat::Csv), "csv");
