@@ -225,7 +225,7 @@ struct Solver {
     const Eigen::Matrix4d f = robotFlangeForFreeAngle(fr, gamma);
     JointValues sol[8];
     int br[8];
-    if (armInverseBranches(m.dh, f, 1 << branch, sol, br) != 1) return false;
+    if (armInverseBranches(m.dh, f, (1 << branch) & m.ikBranches, sol, br) != 1) return false;
     for (int j = 0; j < 6; ++j) {
       if (!aliasNear(sol[0][j], ref ? (*ref)[j] : 0.0, limits[j], out[j])) return false;
     }
@@ -281,7 +281,7 @@ struct RobotGamma {
     const Eigen::Matrix4d f = robotFlangeForFreeAngle(fr, gamma);
     JointValues sol[8];
     int br[8];
-    if (armInverseBranches(s.m.dh, f, 1 << branch, sol, br) != 1) return -1;
+    if (armInverseBranches(s.m.dh, f, (1 << branch) & s.m.ikBranches, sol, br) != 1) return -1;
     MachineValues v{};
     for (int j = 0; j < 6; ++j) {
       if (!aliasNear(sol[0][j], 0.0, s.limits[j], v[j])) return -1;
@@ -299,7 +299,7 @@ struct RobotGamma {
     for (int k = 0; k < samples; ++k) {
       const double g = robotFreeAngle(k, samples);
       const Eigen::Matrix4d f = robotFlangeForFreeAngle(fr, g);
-      const int n = armInverseBranches(s.m.dh, f, 0xff, sol, br);
+      const int n = armInverseBranches(s.m.dh, f, s.m.ikBranches, sol, br);
       for (int c = 0; c < n; ++c) {
         MachineValues v{};
         bool ok = true;

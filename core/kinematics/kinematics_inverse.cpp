@@ -265,7 +265,7 @@ IkResult inverseRobot(const MachineProfile& machine, const Eigen::Vector3d& tip,
   for (int k = 0; k < samples; ++k) {
     const double g = robotFreeAngle(k, samples);
     const Eigen::Matrix4d f = robotFlangeForFreeAngle(frame, g);
-    const int ns = armInverseBranches(machine.dh, f, options.branchMask & 0xff, sol, br);
+    const int ns = armInverseBranches(machine.dh, f, options.branchMask & machine.ikBranches & 0xff, sol, br);
     for (int s = 0; s < ns; ++s) {
       any = true;
       IkCandidate c;

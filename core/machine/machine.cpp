@@ -85,10 +85,10 @@ MachineProfile ur5Profile(double nozzleDiameter, bool rated) {
 // at `tip`. The DH table's theta offsets put q = 0 at the controller's zero and `signs` turn q into
 // the controller's angles; limits and speeds are the data sheet's, in the controller's degrees.
 // The data sheets give no accelerations: each joint reaches its speed in 0.25 s. The tips were
-// chosen as the UR5's: a grid search (x 250..900, z -100..1100 mm, y 0 or 150) for the largest
+// chosen as the UR5's: a grid search (x 300..900, z 200..1100 mm, y 0 or 150) for the largest
 // worst-case singularity measure over a 100 mm cube of tips tilted up to 60 degrees within the
-// joint ranges (IRB 1200: 0.125 at (650, 150, 700); KR 6: 0.115 at (550, 150, 800); the UR5's about
-// 0.107); the test IndustrialArm.PlacementReachesTheBuildVolume checks it.
+// joint ranges and ik_branches (IRB 1200: 0.119 at (600, 0, 800); KR 6: 0.107 at (700, 0, 800);
+// the UR5's about 0.1); the test IndustrialArm.PlacementReachesTheBuildVolume checks it.
 struct IndustrialArm {
   const char* name;
   double d[6], a[6], alpha[6], thetaOffset[6];
@@ -109,6 +109,11 @@ MachineProfile industrialArmProfile(const IndustrialArm& arm, double nozzleDiame
     const double v = arm.speedDegS[i] * kPi / 180;
     m.jointDynamics[i] = AxisDynamics{v, 4 * v, 0};
   }
+  // Shoulder in front of the base axis and elbow up (branches 0 and 2: the zero pose's, either
+  // wrist): free, the planner switched to the over-the-back or folded-elbow poses where one joint
+  // neared its limit and swung the arm through the print (spot, 40 mm, multidir: 154 print moves
+  // of several radians).
+  m.ikBranches = 0x05;
   m.flangeToPlatform = Eigen::Matrix4d::Identity();
   m.flangeToPlatform(2, 3) = kUr5PlateOffset;
   m.nozzleTip = arm.tip;
@@ -129,7 +134,7 @@ const IndustrialArm kIrb1200{"robot6-irb1200",
                              {-170, -100, -200, -270, -130, -400},
                              {170, 135, 70, 270, 130, 400},
                              {288, 240, 297, 400, 405, 600},
-                             {650, 150, 700}};
+                             {600, 0, 800}};
 
 // KUKA KR 6 R900 sixx (KR AGILUS, data sheet): 400 mm to axis 2 with a 25 mm shoulder offset,
 // lower arm 455, elbow offset 35, forearm 420, wrist to flange 80; zero with the lower arm
@@ -143,7 +148,7 @@ const IndustrialArm kKr6{"robot6-kr6",
                          {-170, -190, -120, -185, -120, -350},
                          {170, 45, 156, 185, 120, 350},
                          {360, 300, 360, 381, 388, 615},
-                         {550, 150, 800}};
+                         {700, 0, 800}};
 }  // namespace
 
 MachineProfileResult builtinMachine(const std::string& name, const Eigen::Vector3d& bedSize,

@@ -115,6 +115,12 @@ struct MachineProfile {
   // controller turns a joint against its DH z axis (KUKA's A1, A4, A6). The theta offsets put
   // q = 0 at the controller's zero. URScript and the CSV write q itself.
   std::array<int, 6> jointSigns{1, 1, 1, 1, 1, 1};
+  // The inverse-kinematics branches the planner may use (bit b = branch b of urInverse /
+  // sphericalWristInverseBranches: 1 shoulder, 2 wrist, 4 elbow); 0xff = all. An industrial arm
+  // is usually run in one shoulder and elbow configuration (as a robot programmer fixes ABB's
+  // confdata or KUKA's Status): switching between them mid-print is a joint swing no bead
+  // survives.
+  int ikBranches = 0xff;
 
   NozzleGeometry nozzle;
 };

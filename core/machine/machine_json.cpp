@@ -90,6 +90,7 @@ std::string machineJson(const MachineProfile& machine) {
       for (int sign : machine.jointSigns) signs.push_back(sign);
       j["joint_signs"] = signs;
     }
+    if (machine.ikBranches != 0xff) j["ik_branches"] = machine.ikBranches;
   }
   OJson nozzle = {{"diameter", machine.nozzle.diameter},
                   {"cone_half_angle_deg", machine.nozzle.coneHalfAngleDegrees},
@@ -286,6 +287,12 @@ struct Parser {
         if (signs[i] != 1 && signs[i] != -1) return fail("\"joint_signs\" must be 6 numbers, each 1 or -1");
         m.jointSigns[i] = signs[i] > 0 ? 1 : -1;
       }
+    }
+    if (auto it = j.find("ik_branches"); it != j.end()) {
+      if (!it->is_number_integer() || it->get<int64_t>() < 1 || it->get<int64_t>() > 255) {
+        return fail("\"ik_branches\" must be an integer 1..255 (bit b allows inverse-kinematics branch b)");
+      }
+      m.ikBranches = int(it->get<int64_t>());
     }
     if (auto it = j.find("flange_to_platform"); it != j.end()) {
       double t[16];

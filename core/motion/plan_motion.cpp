@@ -547,7 +547,7 @@ bool Planner::chooseTrack(size_t layers) {
     const Eigen::Matrix4d f = robotFlangeForFreeAngle(frame, robotFreeAngle(k, samples));
     JointValues sol[8];
     int br[8];
-    const int n = armInverseBranches(m_.dh, f, mask, sol, br);
+    const int n = armInverseBranches(m_.dh, f, mask & m_.ikBranches, sol, br);
     int count = 0;
     for (int i = 0; i < n; ++i) {
       bool ok = true;
@@ -615,7 +615,7 @@ bool Planner::solveNear(const Eigen::Vector3d& pos, const Eigen::Vector3d& axis,
     const Eigen::Matrix4d flange = w * m_.flangeToPlatform.inverse();
     JointValues sols[8];
     int branches[8];
-    const int count = armInverseBranches(m_.dh, flange, 0xff, sols, branches);
+    const int count = armInverseBranches(m_.dh, flange, m_.ikBranches, sols, branches);
     for (int i = 0; i < count; ++i) cands.push_back(sols[i]);
   } else {
     IkOptions io;

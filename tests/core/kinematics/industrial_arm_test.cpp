@@ -213,9 +213,11 @@ TEST(IndustrialArm, JsonRoundTripKeepsTheJointSigns) {
   const MachineProfile m = arm("robot6-kr6");
   const std::string json = machineJson(m);
   EXPECT_NE(json.find("\"joint_signs\":[-1,1,1,-1,1,-1]"), std::string::npos) << json;
+  EXPECT_NE(json.find("\"ik_branches\":5"), std::string::npos) << json;
   const MachineParseResult back = machineFromJson(json);
   ASSERT_TRUE(back.ok()) << back.message;
   EXPECT_EQ(back.machine.jointSigns, m.jointSigns);
+  EXPECT_EQ(back.machine.ikBranches, 5);
   EXPECT_EQ(machineJson(back.machine), json);
   // The UR5 keeps its JSON without the key.
   EXPECT_EQ(machineJson(arm("robot6-ur5")).find("joint_signs"), std::string::npos);
@@ -224,6 +226,34 @@ TEST(IndustrialArm, JsonRoundTripKeepsTheJointSigns) {
   const MachineParseResult refused = machineFromJson(bad);
   EXPECT_EQ(refused.status, Status::ParseError);
   EXPECT_NE(refused.message.find("joint_signs"), std::string::npos);
+  std::string noBranch = json;
+  noBranch.replace(noBranch.find("\"ik_branches\":5"), 15, "\"ik_branches\":0");
+  EXPECT_EQ(machineFromJson(noBranch).status, Status::ParseError);
+}
+
+TEST(IndustrialArm, ZeroPoseIsOnTheAllowedBranches) {
+  // The controllers' zero and home poses (either wrist) are branches 0 and 2, the profiles'
+  // ik_branches; the inverse restricted to them still round-trips such poses.
+  struct Pose {
+    const char* name;
+    double deg[6];
+  };
+  for (const Pose& p : {Pose{"robot6-irb1200", {0, 0, 0, 0, 30, 0}}, Pose{"robot6-irb1200", {10, 30, -20, 40, -60, 5}},
+                        Pose{"robot6-kr6", {0, -90, 90, 0, 30, 0}}, Pose{"robot6-kr6", {-10, -60, 70, 20, -60, 5}}}) {
+    const MachineProfile m = arm(p.name);
+    const JointValues q = toQ(m, p.deg);
+    JointValues sol[8];
+    int br[8];
+    const int n = armInverseBranches(m.dh, armForward(m.dh, q), m.ikBranches, sol, br);
+    bool found = false;
+    for (int s = 0; s < n; ++s) {
+      EXPECT_TRUE(m.ikBranches >> br[s] & 1);
+      double dq = 0;
+      for (int j = 0; j < 6; ++j) dq = std::max(dq, std::abs(std::remainder(sol[s][j] - q[j], 2 * kPi)));
+      found = found || dq < 1e-9;
+    }
+    EXPECT_TRUE(found) << p.name << " " << p.deg[4];
+  }
 }
 
 TEST(IndustrialArm, PlacementReachesTheBuildVolume) {
