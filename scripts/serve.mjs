@@ -34,6 +34,7 @@ export const MIME_TYPES = {
   '.txt': 'text/plain; charset=utf-8',
   '.md': 'text/plain; charset=utf-8',
   '.gcode': 'text/plain; charset=utf-8',
+  '.webmanifest': 'application/manifest+json',
 };
 
 /** Route table: URL prefix -> folder relative to the repository root. */

@@ -487,4 +487,10 @@ async function start() {
 }
 
 installPageApi(app);
+// The service worker (web/sw.js) keeps the app, its engine and the demos for offline use. Not
+// registered from a file: URL; refused registrations (a browser without workers, a blocked
+// context) leave the page as it is.
+if ('serviceWorker' in navigator && /^https?:$/.test(location.protocol)) {
+  navigator.serviceWorker.register('/sw.js').catch(() => {});
+}
 start();

@@ -24,10 +24,11 @@ export async function browserUnavailable() {
 /**
  * Launch Chromium and the server; open the page at pagePath. Options: root, the served checkout
  * (default this one; its build/wasm unless OMNISLICE_WASM_DIR is set); viewport {width, height};
- * beforeGoto(context, server), awaited before the page loads (e.g. to route or record requests).
+ * beforeGoto(context, server), awaited before the page loads (e.g. to route or record requests);
+ * serviceWorkers 'block' (default: the page registers none) or 'allow'.
  * Returns {page, context, server, logs (console lines and 'pageerror: ...'), close()}.
  */
-export async function openPage(pagePath, { root = REPO, viewport, beforeGoto } = {}) {
+export async function openPage(pagePath, { root = REPO, viewport, beforeGoto, serviceWorkers = 'block' } = {}) {
   const { chromium } = await import('playwright-core');
   const server = await startServer({ root, wasmDir: process.env.OMNISLICE_WASM_DIR || path.join(root, 'build/wasm') });
   const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), 'omnislice-chromium-'));
@@ -37,6 +38,9 @@ export async function openPage(pagePath, { root = REPO, viewport, beforeGoto } =
     args: ['--no-sandbox', '--disable-gpu', '--disable-quic', '--no-first-run',
       '--disable-background-networking', '--disable-component-update', '--disable-sync'],
     acceptDownloads: true,
+    // The app's service worker (web/sw.js) would answer requests from its cache and hide them
+    // from context.route; only the offline test allows it.
+    serviceWorkers,
     ...(viewport ? { viewport } : {}),
   });
   const page = context.pages()[0] || await context.newPage();
