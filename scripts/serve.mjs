@@ -9,6 +9,11 @@
 // workers, wasm and data only from this origin, no inline script but the page's import map (by its
 // hash), no eval (WebAssembly compiles under 'wasm-unsafe-eval'), no plugins.
 //
+// The iframe API (web/embed.html) serves the origins in /embed-origins.json ({"origins": [...]}):
+// the list OMNISLICE_EMBED_ORIGINS (comma-separated origins) or startServer's embedOrigins gives,
+// answered by this server; without either, the file web/embed-origins.json if the host made one
+// (none: no origin may use the iframe).
+//
 // CLI:  node scripts/serve.mjs            (PORT env, default 8080; HOST env, default 127.0.0.1)
 // API:  const { url, close } = await startServer({ port: 0, root });
 import crypto from 'node:crypto';
@@ -118,19 +123,51 @@ export function contentSecurityPolicy(root = REPO_ROOT) {
   ].join('; ');
 }
 
+/**
+ * The origins of a comma-separated list ("https://portal.example, http://localhost:3000"), each
+ * normalised (URL.origin); throws on an entry that is not an http(s) origin.
+ */
+export function parseEmbedOrigins(text) {
+  const out = [];
+  for (const entry of String(text).split(',').map((s) => s.trim()).filter(Boolean)) {
+    let url;
+    try {
+      url = new URL(entry);
+    } catch {
+      throw new Error(`OMNISLICE_EMBED_ORIGINS: "${entry}" is not an origin (scheme://host[:port])`);
+    }
+    if (!/^https?:$/.test(url.protocol) || url.origin !== entry.replace(/\/$/, '')) {
+      throw new Error(`OMNISLICE_EMBED_ORIGINS: "${entry}" is not an http(s) origin (scheme://host[:port], no path)`);
+    }
+    out.push(url.origin);
+  }
+  return out;
+}
+
 function sendStatus(res, status) {
   const text = http.STATUS_CODES[status] || 'Error';
   res.writeHead(status, { 'Content-Type': 'text/plain; charset=utf-8', 'Content-Length': Buffer.byteLength(text) });
   res.end(text);
 }
 
-async function handle(req, res, root, routes) {
+async function handle(req, res, root, routes, embedOrigins) {
   if (req.method !== 'GET' && req.method !== 'HEAD') {
     res.setHeader('Allow', 'GET, HEAD');
     sendStatus(res, 405);
     return;
   }
   const urlPath = (req.url || '/').split('?')[0].split('#')[0];
+  if (urlPath === '/embed-origins.json' && embedOrigins) {
+    const body = JSON.stringify({ origins: embedOrigins });
+    res.writeHead(200, {
+      'Content-Type': MIME_TYPES['.json'],
+      'Content-Length': Buffer.byteLength(body),
+      'Cache-Control': 'no-store',
+      'X-Content-Type-Options': 'nosniff',
+    });
+    res.end(req.method === 'HEAD' ? undefined : body);
+    return;
+  }
   const resolved = resolveRequestPath(urlPath, root, routes);
   if (!resolved.file) {
     sendStatus(res, resolved.status);
@@ -177,7 +214,8 @@ async function handle(req, res, root, routes) {
 /**
  * Start the server.
  * @param {{port?: number, host?: string, root?: string, quiet?: boolean,
- *          extraRoutes?: Array<[string, string]>, onRequest?: (path: string) => void}} options
+ *          extraRoutes?: Array<[string, string]>, onRequest?: (path: string) => void,
+ *          embedOrigins?: string[]}} options
  *   port 0 picks a free port; root defaults to the repository holding this script; extraRoutes
  *   (prefix -> folder, relative to root or absolute) are tried before the app's ROUTES (tests
  *   add /tests/ and another wasm folder); onRequest sees every request path.
@@ -185,13 +223,15 @@ async function handle(req, res, root, routes) {
  */
 export function startServer({
   port = 8080, host = '127.0.0.1', root = REPO_ROOT, quiet = true, extraRoutes = [], onRequest,
+  embedOrigins = process.env.OMNISLICE_EMBED_ORIGINS !== undefined
+    ? parseEmbedOrigins(process.env.OMNISLICE_EMBED_ORIGINS) : undefined,
 } = {}) {
   const routes = [...extraRoutes, ...ROUTES];
   const csp = contentSecurityPolicy(root);
   const server = http.createServer((req, res) => {
     if (onRequest) onRequest((req.url || '/').split('?')[0]);
     res.setHeader('Content-Security-Policy', csp);
-    handle(req, res, root, routes).catch(() => {
+    handle(req, res, root, routes, embedOrigins).catch(() => {
       if (!res.headersSent) sendStatus(res, 500);
       else res.destroy();
     });
@@ -227,7 +267,14 @@ if (process.argv[1] && path.resolve(process.argv[1]) === fileURLToPath(import.me
     console.error(`serve: PORT must be an integer in 0..65535, got "${process.env.PORT}"`);
     process.exit(2);
   }
-  startServer({ port, host: process.env.HOST || '127.0.0.1', quiet: false }).catch((err) => {
+  let embedOrigins;
+  try {
+    if (process.env.OMNISLICE_EMBED_ORIGINS !== undefined) embedOrigins = parseEmbedOrigins(process.env.OMNISLICE_EMBED_ORIGINS);
+  } catch (err) {
+    console.error(`serve: ${err.message}`);
+    process.exit(2);
+  }
+  startServer({ port, host: process.env.HOST || '127.0.0.1', quiet: false, embedOrigins }).catch((err) => {
     console.error(`serve: ${err.message}`);
     process.exit(1);
   });

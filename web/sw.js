@@ -21,6 +21,8 @@ const APP_FILES = [
   '/block-runner.js',
   '/colors.js',
   '/demo-models.js',
+  '/embed.html',
+  '/embed.js',
   '/format.js',
   '/machine-kinematics.js',
   '/machine-panel.js',

@@ -12,13 +12,14 @@ export const REPO = path.resolve(path.dirname(fileURLToPath(import.meta.url)), '
  * Start the server on `root` (default this checkout). Returns {url (no trailing slash), close(),
  * requests: string[]}.
  */
-export async function startServer({ root = REPO, wasmDir = path.join(root, 'build/wasm') } = {}) {
+export async function startServer({ root = REPO, wasmDir = path.join(root, 'build/wasm'), embedOrigins } = {}) {
   const requests = [];
   const server = await startAppServer({
     port: 0,
     root,
     extraRoutes: [['/tests/', 'tests'], ['/wasm/', wasmDir]],
     onRequest: (p) => requests.push(decodeURIComponent(p)),
+    embedOrigins,
   });
   return { url: server.url.replace(/\/$/, ''), requests, close: server.close };
 }
