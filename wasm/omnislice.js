@@ -24,8 +24,10 @@ export class OmnisliceError extends Error {
   }
 }
 
+// Node, its worker threads included (omnislice/node runs the browser worker there with a `self`
+// of its own); a browser's worker has WorkerGlobalScope, which Node does not define.
 const isNode = typeof process !== 'undefined' && !!process.versions && !!process.versions.node
-  && typeof window === 'undefined' && typeof self === 'undefined';
+  && typeof window === 'undefined' && typeof WorkerGlobalScope === 'undefined';
 
 /**
  * Settings object -> "key=value" lines for setSetting(). Numbers must be finite; arrays are

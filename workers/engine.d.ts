@@ -28,7 +28,7 @@ export interface Slicer {
   /** With method = auto, progress events carry `candidate` (a method) besides stage 'auto'. */
   slice(meshIdOrFile: MeshRef, settings?: Settings,
         options?: { onProgress?: (p: Progress & { candidate?: string }) => void; signal?: AbortSignal }):
-    Promise<{ program: string; programBytes: Uint8Array; programExtension: 'gcode' | 'csv' | 'script';
+    Promise<{ program: string; programBytes: Uint8Array; programExtension: 'gcode' | 'csv' | 'script' | 'mod' | 'src';
               report: Record<string, any>; info: Record<string, any>;
               layers: number; preview: PreviewBuffers; mesh: MeshBuffers;
               /** method = auto in a pool of workers: every candidate's result by method (each
@@ -40,7 +40,7 @@ export interface Slicer {
          options?: { onProgress?: (p: Progress) => void; signal?: AbortSignal; memoryMb?: number }): Promise<Record<string, any>>;
   /** Replay a program through its declared machine (for the machine animation). */
   replay(program: string, options?: { signal?: AbortSignal }):
-    Promise<{ profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript'; layers: number; preview: PreviewBuffers }>;
+    Promise<{ profile: MachineProfileJson; format: 'gcode' | 'csv' | 'urscript' | 'rapid' | 'krl'; layers: number; preview: PreviewBuffers }>;
   /** The built-in machine profiles in display order, sized by the settings' bed_size and nozzle. */
   machines(settings?: Settings): Promise<{ name: string; profile: MachineProfileJson; json: string }[]>;
   /** The core's settings table in listing order (defaults, ranges, units, help, choices). */
