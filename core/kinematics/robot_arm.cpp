@@ -84,6 +84,17 @@ inline double wrapPi(double a) {
   return a;
 }
 
+// Joint values from the DH angles theta_i = q_i + off_i of one solution, each in (-pi, pi].
+inline void storeSolution(double t1, double t2, double t3, double t4, double t5, double t6,
+                          const double off[6], JointValues& q) {
+  q[0] = wrapPi(t1 - off[0]);
+  q[1] = wrapPi(t2 - off[1]);
+  q[2] = wrapPi(t3 - off[2]);
+  q[3] = wrapPi(t4 - off[3]);
+  q[4] = wrapPi(t5 - off[4]);
+  q[5] = wrapPi(t6 - off[5]);
+}
+
 // Clamp a cosine/sine that roundoff pushed slightly beyond [-1, 1]; false when it is truly out.
 inline bool clampUnit(double& v) {
   constexpr double kSlack = 1e-9;
@@ -233,13 +244,7 @@ int urInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flange, int bran
         const double t3 = elbow == 0 ? t3abs : -t3abs;
         const double t2 = elbow == 0 ? base - beta : base + beta;
         const double t4 = t234 - t2 - t3;
-        JointValues& q = solutions[n];
-        q[0] = wrapPi(t1 - off[0]);
-        q[1] = wrapPi(t2 - off[1]);
-        q[2] = wrapPi(t3 - off[2]);
-        q[3] = wrapPi(t4 - off[3]);
-        q[4] = wrapPi(t5 - off[4]);
-        q[5] = wrapPi(t6 - off[5]);
+        storeSolution(t1, t2, t3, t4, t5, t6, off, solutions[n]);
         branches[n] = b;
         ++n;
       }
@@ -335,13 +340,7 @@ int sphericalWristInverseBranches(const DhTable& dh, const Eigen::Matrix4d& flan
           const Eigen::Matrix3d r6 = head.transpose() * m;
           t6 = std::atan2(r6(1, 0), r6(0, 0));
         }
-        JointValues& q = solutions[n];
-        q[0] = wrapPi(t1 - off[0]);
-        q[1] = wrapPi(t2 - off[1]);
-        q[2] = wrapPi(t3 - off[2]);
-        q[3] = wrapPi(t4 - off[3]);
-        q[4] = wrapPi(t5 - off[4]);
-        q[5] = wrapPi(t6 - off[5]);
+        storeSolution(t1, t2, t3, t4, t5, t6, off, solutions[n]);
         branches[n] = b;
         ++n;
       }

@@ -3,6 +3,9 @@
 // formatting and the header of PROGRAM-FORMAT.md, identical in every kind but for the comment
 // prefix, the extrusion mode and the feed semantics.
 #pragma once
+#include <cstdint>
+#include <map>
+#include <set>
 #include <string>
 
 #include "motion/machine_path.h"
@@ -40,6 +43,53 @@ Outcome checkMachinePath(const MachinePath& path, const ProgramInfo& info);
 // Time and filament of a path: the planner's estimate when it has one (else the sum of durations)
 // and the filament fed by extruding moves.
 void pathTotals(const MachinePath& path, double& timeS, double& filamentMm);
+
+// The part / layer / feature markers of PROGRAM-FORMAT.md, in every writer's order: a part's
+// marker restates its layer, a layer's restates its first feature. A part's direction is the
+// part-frame axis of its first extruding move (of its first move when it has none).
+class ProgramMarkers {
+ public:
+  explicit ProgramMarkers(const MachinePath& path) {
+    for (const MachineMove& m : path.moves) {
+      if (extruding(m)) partDirection_.emplace(m.part, m.axis.normalized());
+    }
+    for (const MachineMove& m : path.moves) partDirection_.emplace(m.part, m.axis.normalized());
+  }
+
+  // The markers due before move m: line(text) for "omnislice:part ..." and "omnislice:layer ..."
+  // (text without the comment prefix), feature(f) when an extruding move starts a feature.
+  template <class Line, class NewFeature>
+  void before(const MachineMove& m, Line&& line, NewFeature&& feature) {
+    if (m.part != part_) {
+      part_ = m.part;
+      const Eigen::Vector3d d = partDirection_[m.part];
+      line("omnislice:part " + std::to_string(m.part) + " direction [" + fixedNumber(d.x(), 10) + "," +
+           fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
+      layer_ = INT32_MIN;
+    }
+    if (m.layer != layer_) {
+      layer_ = m.layer;
+      layers_.insert(m.layer);
+      line("omnislice:layer " + std::to_string(m.layer));
+      feature_ = Feature::None;
+    }
+    if (extruding(m) && m.feature != Feature::None && m.feature != feature_) {
+      feature_ = m.feature;
+      feature(m.feature);
+    }
+  }
+
+  // Distinct layers marked so far.
+  int layerCount() const { return static_cast<int>(layers_.size()); }
+
+  static bool extruding(const MachineMove& m) { return m.kind == MoveKind::Print || m.kind == MoveKind::Support; }
+
+ private:
+  std::map<int32_t, Eigen::Vector3d> partDirection_;
+  std::set<int> layers_;
+  int32_t part_ = INT32_MIN, layer_ = INT32_MIN;
+  Feature feature_ = Feature::None;
+};
 
 // robot6 writer (CSV or URScript per info.robotFormat; RAPID and KRL through
 // writeControllerProgram); checks already done.

@@ -431,23 +431,13 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
     (void)scratch;
   }
 
-  // Nozzle direction of each part: the part-frame axis of its first extruding move.
-  std::map<int32_t, Eigen::Vector3d> partDirection;
-  for (const MachineMove& m : path.moves) {
-    if (extrudingKind(m.kind)) partDirection.emplace(m.part, m.axis.normalized());
-  }
-  for (const MachineMove& m : path.moves) partDirection.emplace(m.part, m.axis.normalized());
-
-  std::set<int> layersSeen;
+  ProgramMarkers markers(path);
   // Part cooling fan: 0..255 as M106 writes it; off until fanOffLayers (part, layer) pairs with
   // extrusion have begun.
   auto fanValue = [](double pct) { return static_cast<int>(std::lround(pct * 255 / 100)); };
   int fanNow = 0;                  // the start code switched it off
   int layersBegun = 0;             // (part, layer) pairs with extrusion so far
   std::pair<int32_t, int32_t> lastExtrudingLayer{INT32_MIN, INT32_MIN};
-  int currentLayer = INT32_MIN;
-  int currentPart = INT32_MIN;
-  Feature currentFeature = Feature::None;
   bool retracted = false;
   bool printed = false;
   int32_t lastPrintedPart = 0;
@@ -455,25 +445,13 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   double e = 0;  // absolute E, accumulated
   for (size_t k = 0; k < path.moves.size(); ++k) {
     const MachineMove& m = path.moves[k];
-    if (m.part != currentPart) {
-      currentPart = m.part;
-      const Eigen::Vector3d d = partDirection[m.part];
-      line("; omnislice:part " + std::to_string(m.part) + " direction [" + fixedNumber(d.x(), 10) + "," +
-           fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
-      currentLayer = INT32_MIN;  // every part restates its layer
-    }
-    if (m.layer != currentLayer) {
-      currentLayer = m.layer;
-      layersSeen.insert(m.layer);
-      line("; omnislice:layer " + std::to_string(m.layer));
-      currentFeature = Feature::None;  // a new layer restates its first feature
-    }
+    markers.before(
+        m, [&](const std::string& text) { line("; " + text); },
+        [&](Feature f) {
+          line(std::string("; omnislice:feature ") + featureName(f));
+          line(std::string(";TYPE:") + typeName(f));
+        });
     const bool extruding = extrudingKind(m.kind);
-    if (extruding && m.feature != Feature::None && m.feature != currentFeature) {
-      currentFeature = m.feature;
-      line(std::string("; omnislice:feature ") + featureName(m.feature));
-      line(std::string(";TYPE:") + typeName(m.feature));
-    }
     if (extruding && m.filament > 0) {
       if (std::make_pair(m.part, m.layer) != lastExtrudingLayer) {
         lastExtrudingLayer = {m.part, m.layer};
@@ -569,7 +547,7 @@ WriteProgramResult writeGcodeProgram(const MachinePath& path, const ProgramInfo&
   line("M104 S0");
   line("M140 S0");
   line("M84");
-  r.layers = static_cast<int>(layersSeen.size());
+  r.layers = markers.layerCount();
   return r;
 }
 

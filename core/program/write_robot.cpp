@@ -97,37 +97,12 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
     line(joints(path.start, written, ",") + ",0.000000,0.000000,travel");
   }
 
-  std::map<int32_t, Eigen::Vector3d> partDirection;
-  for (const MachineMove& m : path.moves) {
-    if (m.kind == MoveKind::Print || m.kind == MoveKind::Support) {
-      partDirection.emplace(m.part, m.axis.normalized());
-    }
-  }
-  for (const MachineMove& m : path.moves) partDirection.emplace(m.part, m.axis.normalized());
-
-  std::set<int> layersSeen;
-  int currentLayer = INT32_MIN, currentPart = INT32_MIN;
-  Feature currentFeature = Feature::None;
+  ProgramMarkers markers(path);
   for (size_t k = 0; k < path.moves.size(); ++k) {
     const MachineMove& m = path.moves[k];
-    if (m.part != currentPart) {
-      currentPart = m.part;
-      const Eigen::Vector3d d = partDirection[m.part];
-      line(indent + "# omnislice:part " + std::to_string(m.part) + " direction [" +
-           fixedNumber(d.x(), 10) + "," + fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
-      currentLayer = INT32_MIN;
-    }
-    if (m.layer != currentLayer) {
-      currentLayer = m.layer;
-      layersSeen.insert(m.layer);
-      line(indent + "# omnislice:layer " + std::to_string(m.layer));
-      currentFeature = Feature::None;
-    }
-    const bool extruding = m.kind == MoveKind::Print || m.kind == MoveKind::Support;
-    if (extruding && m.feature != Feature::None && m.feature != currentFeature) {
-      currentFeature = m.feature;
-      line(indent + std::string("# omnislice:feature ") + featureName(m.feature));
-    }
+    markers.before(
+        m, [&](const std::string& text) { line(indent + "# " + text); },
+        [&](Feature f) { line(indent + "# omnislice:feature " + featureName(f)); });
     MachineValues next{};
     const std::string q = joints(m.values, next, script ? ", " : ",");
     const bool moved = next != written;
@@ -188,7 +163,7 @@ WriteProgramResult writeRobotProgram(const MachinePath& path, const ProgramInfo&
   } else {
     line("# omnislice:end");
   }
-  r.layers = static_cast<int>(layersSeen.size());
+  r.layers = markers.layerCount();
   return r;
 }
 

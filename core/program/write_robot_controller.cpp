@@ -128,35 +128,13 @@ WriteProgramResult writeControllerProgram(const MachinePath& path, const Program
     }
   }
 
-  std::map<int32_t, Eigen::Vector3d> partDirection;
-  for (const MachineMove& m : path.moves) {
-    if (m.kind == MoveKind::Print || m.kind == MoveKind::Support) partDirection.emplace(m.part, m.axis.normalized());
-  }
-  for (const MachineMove& m : path.moves) partDirection.emplace(m.part, m.axis.normalized());
-  std::set<int> layersSeen;
-  int currentLayer = INT32_MIN, currentPart = INT32_MIN;
-  Feature currentFeature = Feature::None;
+  ProgramMarkers markers(path);
   double extraTime = 0;  // KRL: time beyond the plan from the whole percentages
   for (size_t k = 0; k < path.moves.size(); ++k) {
     const MachineMove& m = path.moves[k];
-    if (m.part != currentPart) {
-      currentPart = m.part;
-      const Eigen::Vector3d d = partDirection[m.part];
-      line(comment + "omnislice:part " + std::to_string(m.part) + " direction [" + fixedNumber(d.x(), 10) + "," +
-           fixedNumber(d.y(), 10) + "," + fixedNumber(d.z(), 10) + "]");
-      currentLayer = INT32_MIN;
-    }
-    if (m.layer != currentLayer) {
-      currentLayer = m.layer;
-      layersSeen.insert(m.layer);
-      line(comment + "omnislice:layer " + std::to_string(m.layer));
-      currentFeature = Feature::None;
-    }
-    const bool extruding = m.kind == MoveKind::Print || m.kind == MoveKind::Support;
-    if (extruding && m.feature != Feature::None && m.feature != currentFeature) {
-      currentFeature = m.feature;
-      line(comment + "omnislice:feature " + featureName(m.feature));
-    }
+    markers.before(
+        m, [&](const std::string& text) { line(comment + text); },
+        [&](Feature f) { line(comment + "omnislice:feature " + featureName(f)); });
     std::array<double, 6> next{};
     const std::string target = angles(m.values, next);
     const bool moved = next != written;
@@ -232,7 +210,7 @@ WriteProgramResult writeControllerProgram(const MachinePath& path, const Program
            "axis to p % of its speed (joint_dynamics).\n";
   }
   out += body;
-  r.layers = static_cast<int>(layersSeen.size());
+  r.layers = markers.layerCount();
   return r;
 }
 
