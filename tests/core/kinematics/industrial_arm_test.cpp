@@ -24,6 +24,7 @@
 #include "kinematics/robot_arm.h"
 #include "machine/machine.h"
 #include "machine/machine_json.h"
+#include "workspace_reach.h"
 
 namespace omnislice {
 namespace {
@@ -259,43 +260,13 @@ TEST(IndustrialArm, ZeroPoseIsOnTheAllowedBranches) {
 TEST(IndustrialArm, PlacementReachesTheBuildVolume) {
   // Every tip of a 100 mm cube on the platform, the nozzle axis vertical or tilted 30 and 60
   // degrees in 8 directions, has an inverse within the joint ranges, away from singularities.
-  std::vector<Eigen::Vector3d> axes{Eigen::Vector3d::UnitZ()};
-  for (int tilt : {30, 60}) {
-    for (int k = 0; k < 8; ++k) {
-      const double t = tilt * kPi / 180, a = k * kPi / 4;
-      axes.emplace_back(std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), std::cos(t));
-    }
-  }
   for (const DrawnArm& d : kDrawn) {
-    const MachineProfile m = arm(d.name);
-    double minBest = 1e300;
-    int unreachable = 0, points = 0;
-    for (int ix = 0; ix <= 4; ++ix) {
-      for (int iy = 0; iy <= 4; ++iy) {
-        for (int iz = 0; iz <= 4; ++iz) {
-          const Eigen::Vector3d tip(-50 + 25 * ix, -50 + 25 * iy, 25 * iz);
-          for (const Eigen::Vector3d& u : axes) {
-            const IkResult ik = inverseMap(m, tip, u);
-            ASSERT_TRUE(ik.ok()) << ik.message;
-            ++points;
-            double best = 0;
-            for (const IkCandidate& c : ik.candidates) {
-              best = std::max(best, singularityMeasure(armJacobian(m.dh, c.values)));
-              for (int j = 0; j < 6; ++j) {
-                EXPECT_GE(c.values[j], m.jointLimits[j].first - 1e-12);
-                EXPECT_LE(c.values[j], m.jointLimits[j].second + 1e-12);
-              }
-            }
-            if (ik.candidates.empty()) ++unreachable;
-            minBest = std::min(minBest, best);
-          }
-        }
-      }
-    }
+    const WorkspaceReach r = workspaceReach(arm(d.name));
     std::printf("%s workspace: %d poses, %d unreachable, min over poses of the best w_PS %.4f\n",
-                d.name.c_str(), points, unreachable, minBest);
-    EXPECT_EQ(unreachable, 0) << d.name;
-    EXPECT_GT(minBest, 0.05) << d.name;
+                d.name.c_str(), r.points, r.unreachable, r.minBest);
+    EXPECT_EQ(r.unreachable, 0) << d.name;
+    EXPECT_EQ(r.outsideLimits, 0) << d.name;
+    EXPECT_GT(r.minBest, 0.05) << d.name;
   }
 }
 

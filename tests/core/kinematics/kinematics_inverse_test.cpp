@@ -16,6 +16,7 @@
 #include "kinematics/kinematics.h"
 #include "kinematics/robot_arm.h"
 #include "machine/machine.h"
+#include "workspace_reach.h"
 
 namespace omnislice {
 namespace {
@@ -476,42 +477,14 @@ TEST(KinematicsInverse, Robot6RecoversTheOriginalUpToTheSamplingStep) {
 // z in [0, 100]) at every grid point with the nozzle axis +Z and tilted up to 60 degrees in 8
 // directions, with a candidate away from singularities.
 TEST(KinematicsInverse, Robot6Ur5ReachesTheBuildVolume) {
-  const MachineProfile m = builtin("robot6-ur5");
-  std::vector<Eigen::Vector3d> axes{Eigen::Vector3d::UnitZ()};
-  for (int tilt : {30, 60}) {
-    for (int k = 0; k < 8; ++k) {
-      const double t = tilt * kPi / 180, a = k * kPi / 4;
-      axes.emplace_back(std::sin(t) * std::cos(a), std::sin(t) * std::sin(a), std::cos(t));
-    }
-  }
-  double minBest = 1e300;
-  int unreachable = 0, points = 0;
-  Eigen::Vector3d worstTip = Eigen::Vector3d::Zero();
-  Eigen::Vector3d worstAxis = Eigen::Vector3d::Zero();
-  for (int ix = 0; ix <= 4; ++ix) {
-    for (int iy = 0; iy <= 4; ++iy) {
-      for (int iz = 0; iz <= 4; ++iz) {
-        const Eigen::Vector3d tip(-50 + 25 * ix, -50 + 25 * iy, 25 * iz);
-        for (const Eigen::Vector3d& u : axes) {
-          const IkResult ik = inverseMap(m, tip, u);
-          ASSERT_TRUE(ik.ok());
-          ++points;
-          double best = 0;
-          for (const IkCandidate& c : ik.candidates) {
-            best = std::max(best, singularityMeasure(armJacobian(m.dh, c.values)));
-          }
-          if (ik.candidates.empty()) ++unreachable;
-          if (best < minBest) minBest = best, worstTip = tip, worstAxis = u;
-        }
-      }
-    }
-  }
+  const WorkspaceReach r = workspaceReach(builtin("robot6-ur5"));
   std::printf("UR5 workspace: %d poses, %d unreachable, min over poses of the best w_PS %.4f "
               "(at tip %.0f %.0f %.0f axis %.2f %.2f %.2f)\n",
-              points, unreachable, minBest, worstTip.x(), worstTip.y(), worstTip.z(),
-              worstAxis.x(), worstAxis.y(), worstAxis.z());
-  EXPECT_EQ(unreachable, 0);
-  EXPECT_GT(minBest, 0.05);
+              r.points, r.unreachable, r.minBest, r.worstTip.x(), r.worstTip.y(), r.worstTip.z(),
+              r.worstAxis.x(), r.worstAxis.y(), r.worstAxis.z());
+  EXPECT_EQ(r.unreachable, 0);
+  EXPECT_EQ(r.outsideLimits, 0);
+  EXPECT_GT(r.minBest, 0.05);
 }
 
 // Speed is benchmarked, not tested: print the cost of one robot6 inverseMap() with 30 free-rotation

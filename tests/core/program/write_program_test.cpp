@@ -309,27 +309,61 @@ MachinePath robotPath() {
   return b.path;
 }
 
+// Writes `path` as a robot program in `format` and reads it back: the checks every robot format
+// shares (5 layers, its format name, the machine and placement carried in the header).
+ParsedProgram writeAndReadRobot(const MachinePath& path, RobotFormat format, WriteProgramResult& w,
+                                ProgramInfo& info) {
+  info = infoFor(path.machine);
+  info.robotFormat = format;
+  info.extruderAnalogPerMmS = 0.25;
+  w = writeProgram(path, info);
+  EXPECT_TRUE(w.ok()) << w.message;
+  EXPECT_EQ(w.layers, 5);
+  ParsedProgram p = readProgram(w.text);
+  EXPECT_TRUE(p.ok()) << p.message;
+  EXPECT_EQ(p.format, robotFormatName(format));
+  EXPECT_FALSE(p.absoluteExtrusion);
+  EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
+  EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
+  EXPECT_EQ(p.layerCount, 5);
+  return p;
+}
+
+// For each planned move with tip motion, `check(move index, planned duration, replayed duration)`,
+// the replayed one from the read-back group's part-frame length / its feed. `g` from
+// checkRoundTrip(): one group per move that changes the values or the filament.
+template <class Check>
+void forEachReplayedDuration(const MachinePath& path, const std::vector<std::vector<const ProgramMove*>>& g,
+                             Check check) {
+  size_t k = 0;
+  MachineValues prevValues = path.start;
+  for (size_t i = 0; i < path.moves.size() && k < g.size(); ++i) {
+    const MachineMove& m = path.moves[i];
+    if (m.values == prevValues && m.filament == 0) continue;
+    const auto& grp = g[k++];
+    const bool moved = m.values != prevValues;
+    prevValues = m.values;
+    if (!moved || !(m.durationS > 0)) continue;
+    double len = 0;
+    for (const ProgramMove* piece : grp) len += (piece->to - piece->from).norm();
+    if (len < 1e-6) continue;  // no tip motion: no speed to give back
+    check(i, m.durationS, len / (grp.back()->feedMmPerMin / 60.0));
+  }
+  EXPECT_EQ(k, g.size());
+}
+
 TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
   const MachinePath path = robotPath();
   ASSERT_GT(path.moves.size(), 30u);
   for (RobotFormat format : {RobotFormat::Csv, RobotFormat::UrScript}) {
     SCOPED_TRACE(robotFormatName(format));
-    ProgramInfo info = infoFor(path.machine);
-    info.robotFormat = format;
-    info.extruderAnalogPerMmS = 0.25;
-    const WriteProgramResult w = writeProgram(path, info);
-    ASSERT_TRUE(w.ok()) << w.message;
-    EXPECT_EQ(w.layers, 5);
-    const ParsedProgram p = readProgram(w.text);
-    ASSERT_TRUE(p.ok()) << p.message;
-    EXPECT_EQ(p.format, robotFormatName(format));
+    WriteProgramResult w;
+    ProgramInfo info;
+    const ParsedProgram p = writeAndReadRobot(path, format, w, info);
+    ASSERT_TRUE(w.ok() && p.ok());
     EXPECT_EQ(p.feedSemantics, "part_tip");
-    EXPECT_FALSE(p.absoluteExtrusion);
     EXPECT_EQ(p.machine.kind, MachineKind::Robot6);
-    EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
     EXPECT_TRUE(p.machine.flangeToPlatform.isApprox(path.machine.flangeToPlatform, 1e-12));
-    EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
-    EXPECT_EQ(p.layerCount, 5);
     const auto ls = lines(w.text);
     ASSERT_GT(ls.size(), 20u);
     EXPECT_EQ(ls[0], std::string("# omnislice ") + OMNISLICE_VERSION + " test 2026-11-21T12:00:00Z");
@@ -350,20 +384,9 @@ TEST(WriteProgram, RobotCsvAndUrScriptRoundTrip) {
     // The first row / target is the start pose: no group for it.
     const auto g = checkRoundTrip(path, p, 0, 1e-5);
     // f gives back the planned durations: part-frame length / speed.
-    size_t k = 0;
-    MachineValues prevValues = path.start;
-    for (size_t i = 0; i < path.moves.size() && k < g.size(); ++i) {
-      const MachineMove& m = path.moves[i];
-      if (m.values == prevValues && m.filament == 0) continue;
-      const auto& grp = g[k++];
-      prevValues = m.values;
-      double len = 0;
-      for (const ProgramMove* piece : grp) len += (piece->to - piece->from).norm();
-      if (len < 1e-6) continue;  // no tip motion: no speed to give back
-      const double duration = len / (grp.back()->feedMmPerMin / 60.0);
-      EXPECT_NEAR(duration, m.durationS, 0.01 * m.durationS) << "move " << i;
-    }
-    EXPECT_EQ(k, g.size());
+    forEachReplayedDuration(path, g, [](size_t i, double planned, double replayed) {
+      EXPECT_NEAR(replayed, planned, 0.01 * planned) << "move " << i;
+    });
   }
 }
 
@@ -428,19 +451,10 @@ TEST(WriteProgram, RobotRapidAndKrlRoundTrip) {
   for (int j = 0; j < 6; ++j) path.machine.jointDynamics[j].velocity = 0.5 + 0.1 * j;  // rad/s
   for (RobotFormat format : {RobotFormat::Rapid, RobotFormat::Krl}) {
     SCOPED_TRACE(robotFormatName(format));
-    ProgramInfo info = infoFor(path.machine);
-    info.robotFormat = format;
-    info.extruderAnalogPerMmS = 0.25;
-    const WriteProgramResult w = writeProgram(path, info);
-    ASSERT_TRUE(w.ok()) << w.message;
-    EXPECT_EQ(w.layers, 5);
-    const ParsedProgram p = readProgram(w.text);
-    ASSERT_TRUE(p.ok()) << p.message;
-    EXPECT_EQ(p.format, robotFormatName(format));
-    EXPECT_FALSE(p.absoluteExtrusion);
-    EXPECT_EQ(machineJson(p.machine), machineJson(path.machine));
-    EXPECT_TRUE(p.placement.isApprox(info.placement, 1e-12));
-    EXPECT_EQ(p.layerCount, 5);
+    WriteProgramResult w;
+    ProgramInfo info;
+    const ParsedProgram p = writeAndReadRobot(path, format, w, info);
+    ASSERT_TRUE(w.ok() && p.ok());
     const auto ls = lines(w.text);
     const std::string version = std::string("omnislice ") + OMNISLICE_VERSION + " test 2026-11-21T12:00:00Z";
     if (format == RobotFormat::Rapid) {
@@ -466,29 +480,16 @@ TEST(WriteProgram, RobotRapidAndKrlRoundTrip) {
       EXPECT_FALSE(std::regex_search(l, std::regex("[0-9.][eE][-+]?[0-9]"))) << l;  // no exponents
     }
     const auto g = checkRoundTrip(path, p, 0, 1e-5);
-    size_t k = 0;
-    MachineValues prevValues = path.start;
     double planned = 0, replayed = 0;
-    for (size_t i = 0; i < path.moves.size() && k < g.size(); ++i) {
-      const MachineMove& m = path.moves[i];
-      if (m.values == prevValues && m.filament == 0) continue;
-      const auto& grp = g[k++];
-      const bool moved = m.values != prevValues;
-      prevValues = m.values;
-      if (!moved || !(m.durationS > 0)) continue;
-      double len = 0;
-      for (const ProgramMove* piece : grp) len += (piece->to - piece->from).norm();
-      if (len < 1e-6) continue;
-      const double duration = len / (grp.back()->feedMmPerMin / 60.0);
-      planned += m.durationS;
-      replayed += duration;
+    forEachReplayedDuration(path, g, [&](size_t i, double plan, double replay) {
+      planned += plan;
+      replayed += replay;
       if (format == RobotFormat::Rapid) {
-        EXPECT_NEAR(duration, m.durationS, 1e-6 * m.durationS + 1e-9) << "move " << i;
+        EXPECT_NEAR(replay, plan, 1e-6 * plan + 1e-9) << "move " << i;
       } else {
-        EXPECT_GE(duration, m.durationS * (1 - 1e-6)) << "move " << i;
+        EXPECT_GE(replay, plan * (1 - 1e-6)) << "move " << i;
       }
-    }
-    EXPECT_EQ(k, g.size());
+    });
     std::printf("%s: planned %.2f s, replayed %.2f s\n", robotFormatName(format), planned, replayed);
   }
 }
