@@ -311,10 +311,26 @@ SettingSpec thumbnailsSpec() {
   return s;
 }
 
+// The slicing direction: normalised, unless already of unit length within 1e-12, and listed
+// exactly (17 significant digits, unitDirection below), so a listed direction sets again to the same
+// bits and the listing is a fixed point (renormalising a unit vector, or one rounded to 10 digits,
+// can move its last digits; found by the settings fuzz target).
 std::string nonZero(Eigen::Vector3d& d) {
-  if (d.norm() < 1e-9) return "the direction must not be zero";
-  d.normalize();
+  const double n = d.norm();
+  if (!(n >= 1e-9)) return "the direction must not be zero";
+  if (std::abs(n - 1) > 1e-12) d /= n;
   return "";
+}
+
+SettingSpec unitDirection(SettingSpec s, Field<Eigen::Vector3d> field) {
+  s.format = [field](const Settings& st) {
+    const Eigen::Vector3d& v = read(field, st);
+    std::ostringstream out;
+    out.precision(17);
+    out << v.x() << ',' << v.y() << ',' << v.z();
+    return out.str();
+  };
+  return s;
 }
 
 std::string bedSizeRange(Eigen::Vector3d& b) {
@@ -331,10 +347,11 @@ std::vector<SettingSpec> makeTable() {
                      "the machine takes, verifies each program and delivers the best (sound first, then "
                      "supported, less support, less time)"),
       machineSpec(),
-      vector3("direction", [](S& s) -> Eigen::Vector3d& { return s.direction; }, "",
-              "planar: slicing direction d in the part frame (normalised); on cartesian3 the part is "
-              "turned so d points up",
-              "expected three numbers 'x,y,z'", nonZero),
+      unitDirection(vector3("direction", [](S& s) -> Eigen::Vector3d& { return s.direction; }, "",
+                            "planar: slicing direction d in the part frame (normalised); on cartesian3 the part is "
+                            "turned so d points up",
+                            "expected three numbers 'x,y,z'", nonZero),
+                    [](S& s) -> Eigen::Vector3d& { return s.direction; }),
       // ---- numbers, by key -------------------------------------------------------------------
       number("acceleration", [](S& s) -> double& { return s.acceleration; }, 0, 100000, "mm/s^2",
              "time estimate only (0 = ignore)"),
