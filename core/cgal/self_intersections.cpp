@@ -10,8 +10,13 @@
 #include <cmath>
 #include <exception>
 
+#include "geometry/exact_predicates.h"
+
 namespace omnislice {
 namespace {
+
+using exact::orient2;
+using exact::orient3;
 
 using Kernel = CGAL::Exact_predicates_inexact_constructions_kernel;
 using Point = Kernel::Point_3;
@@ -48,55 +53,6 @@ int commonAxis(const std::array<const Point*, N>& p) {
     if (same) return k;
   }
   return -1;
-}
-
-// a + b = x + y exactly, x the rounded sum (Knuth's two-sum).
-void twoSum(double a, double b, double& x, double& y) {
-  x = a + b;
-  const double bv = x - a, av = x - bv;
-  y = (a - av) + (b - bv);
-}
-
-// Exact sign of the 2D orientation det = (q_i - p_i)(r_j - p_j) - (q_j - p_j)(r_i - p_i), as
-// the sum of its six coordinate products, each split exactly by fma into a rounded product and
-// its error, summed into a nonoverlapping expansion (Shewchuk's grow-expansion): the sign of the
-// largest nonzero component is the sign of the sum.
-int exactOrient2(const Point& p, const Point& q, const Point& r, int i, int j) {
-  const double terms[6][2] = {{q[i], r[j]},  {-q[i], p[j]}, {-p[i], r[j]},
-                              {-q[j], r[i]}, {q[j], p[i]},  {p[j], r[i]}};
-  double e[24];
-  int n = 0;
-  auto grow = [&](double t) {
-    double h[24];
-    int m = 0;
-    double q0 = t;
-    for (int k = 0; k < n; ++k) {
-      double x, y;
-      twoSum(q0, e[k], x, y);
-      if (y != 0) h[m++] = y;
-      q0 = x;
-    }
-    if (q0 != 0) h[m++] = q0;
-    std::copy(h, h + m, e);
-    n = m;
-  };
-  for (const auto& t : terms) {
-    const double prod = t[0] * t[1];
-    grow(prod);
-    grow(std::fma(t[0], t[1], -prod));
-  }
-  return n == 0 ? 0 : (e[n - 1] > 0 ? 1 : -1);
-}
-
-// Sign of the 2D orientation of (p, q, r) in the plane of axes (i, j): +1, -1 or 0, exact (the
-// static error bound, Shewchuk's ccwerrboundA, decides most cases; the expansion the rest).
-int orient2(const Point& p, const Point& q, const Point& r, int i, int j) {
-  const double l = (q[i] - p[i]) * (r[j] - p[j]), rr = (q[j] - p[j]) * (r[i] - p[i]);
-  const double det = l - rr;
-  const double bound = 3.3306690738754716e-16 * (std::abs(l) + std::abs(rr));
-  if (det > bound) return 1;
-  if (det < -bound) return -1;
-  return exactOrient2(p, q, r, i, j);
 }
 
 // For q, r on one line through p (orient2 == 0, q != p): whether r lies on the same side of p
@@ -141,7 +97,9 @@ struct Sharing {
 class PairTester {
  public:
   PairTester(const Mesh& mesh, std::vector<Point>& points, bool shortcuts)
-      : mesh_(mesh), points_(points), shortcuts_(shortcuts) {}
+      : mesh_(mesh), points_(points), shortcuts_(shortcuts) {
+    exactSafe_ = exact::coordinatesInExactRange(mesh.positions);
+  }
 
   bool degenerate(uint32_t f) const {
     const uint32_t* t = mesh_.triangles.data() + 3 * f;
@@ -171,6 +129,7 @@ class PairTester {
   }
 
   mutable size_t planarDecided = 0;
+  mutable size_t orientDecided = 0;
 
  private:
   // Both faces exactly in one axis plane: the 2D decision where every orientation is certain.
@@ -179,7 +138,13 @@ class PairTester {
                                            &points_[b[0]], &points_[b[1]], &points_[b[2]]};
     const int k = commonAxis<6>(p);
     if (k < 0) return Answer::Unknown;
-    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    return coplanar(p, sh, (k + 1) % 3, (k + 2) % 3);
+  }
+
+  // Two faces in one plane (p: a's corners, then b's), decided in the coordinates (i, j): exact
+  // when the plane projects onto them one to one (an affine bijection keeps every orientation,
+  // collinearity and order along a line), i.e. when a's corners are not collinear there.
+  Answer coplanar(const std::array<const Point*, 6>& p, const Sharing& sh, int i, int j) const {
     if (sh.count == 3) return Answer::Yes;
     if (sh.count == 2) {
       // Common edge p-q, r opposite in f, s in g: folded onto each other iff r and s lie on the
@@ -259,6 +224,10 @@ class PairTester {
     return Answer::Yes;
   }
 
+  // Faces in general position: exact orientations (orient3) first, CGAL where they leave it open.
+  // Coplanar faces (every corner of one in the other's plane: flat regions of CAD parts off the
+  // axis planes, planar quads of ruled surfaces) are decided in 2D (coplanar), which CGAL's
+  // filters only reach through exact arithmetic (a thrown exception each in wasm, no GMP).
   bool exact(const uint32_t* a, const uint32_t* b, const Sharing& sh) const {
     const Point& a0 = points_[a[0]];
     const Point& a1 = points_[a[1]];
@@ -266,8 +235,15 @@ class PairTester {
     const Point& b0 = points_[b[0]];
     const Point& b1 = points_[b[1]];
     const Point& b2 = points_[b[2]];
-    if (sh.count == 0) return CGAL::do_intersect(Triangle(a0, a1, a2), Triangle(b0, b1, b2));
     if (sh.count == 3) return true;
+    if (shortcuts_ && exactSafe_) {
+      const Answer answer = byOrientations(a, b, sh);
+      if (answer != Answer::Unknown) {
+        ++orientDecided;
+        return answer == Answer::Yes;
+      }
+    }
+    if (sh.count == 0) return CGAL::do_intersect(Triangle(a0, a1, a2), Triangle(b0, b1, b2));
     if (sh.count == 2) {
       // Common edge p-q; r opposite in f, s opposite in g. Non-coplanar faces meet only on p-q.
       int p, q, r, s;
@@ -297,9 +273,125 @@ class PairTester {
            CGAL::do_intersect(oppositeB, Triangle(a0, a1, a2));
   }
 
+  // The decisions exact orientations settle (sh.count < 3), with the faces' corners p (a's,
+  // then b's). For each face against the other's plane:
+  // - its unshared corners strictly on one side: the faces meet at most in their shared corners
+  //   (apart, or adjacent);
+  // - all its corners in the plane: coplanar, decided in 2D;
+  // - touching the plane without crossing it (ruled surfaces, fans, a corner on a plane): it
+  //   meets the plane in T, the hull of its corners there (a point or a segment), so the faces
+  //   meet where T meets the other face, decided in 2D in that plane.
+  // Unknown (CGAL): both faces cross each other's planes, or a degenerate projection.
+  Answer byOrientations(const uint32_t* a, const uint32_t* b, const Sharing& sh) const {
+    const std::array<const Point*, 6> p = {&points_[a[0]], &points_[a[1]], &points_[a[2]],
+                                           &points_[b[0]], &points_[b[1]], &points_[b[2]]};
+    for (int pass = 0; pass < 2; ++pass) {
+      const int base = pass == 0 ? 0 : 3, other = 3 - base;
+      const uint32_t* baseIdx = pass == 0 ? a : b;
+      const uint32_t* otherIdx = pass == 0 ? b : a;
+      // Orientations of the other face's corners against base's plane (0 for shared corners).
+      int o[3], pos = 0, neg = 0;
+      bool shared[3];
+      for (int x = 0; x < 3; ++x) {
+        const uint32_t v = otherIdx[x];
+        shared[x] = v == baseIdx[0] || v == baseIdx[1] || v == baseIdx[2];
+        o[x] = shared[x] ? 0 : orient3(*p[base], *p[base + 1], *p[base + 2], *p[other + x]);
+        pos += o[x] > 0;
+        neg += o[x] < 0;
+      }
+      if (pos + neg == 3 - sh.count && (pos == 0 || neg == 0)) return Answer::No;
+      if (pos > 0 && neg > 0) continue;  // crosses base's plane: try the other way round
+      int i, j;
+      if (!projection(p, base, i, j)) return Answer::Unknown;
+      if (pos + neg == 0) return coplanar(p, sh, i, j);  // (pass 0: every corner of b in a's plane)
+      // Touching: T = the other face's corners in base's plane (1 or 2 of them; count < 2 here).
+      const Point* t[2];
+      int n = 0;
+      for (int x = 0; x < 3; ++x)
+        if (o[x] == 0) t[n++] = p[other + x];
+      const Point& c0 = *p[base];
+      const Point& c1 = *p[base + 1];
+      const Point& c2 = *p[base + 2];
+      if (sh.count == 1) {
+        // T = v-c from the common vertex v: the faces meet beyond v iff v-c runs into base's
+        // closed corner at v.
+        int va, vb;
+        sh.vertex(va, vb);
+        const int vBase = pass == 0 ? va : vb;
+        const Point& v = *p[base + vBase];
+        const Point& c = *(t[0] == &v ? t[1] : t[0]);
+        if (c == v) return Answer::Unknown;  // a duplicate of v (unwelded): CGAL
+        const Point& r1 = *p[base + (vBase + 1) % 3];
+        const Point& r2 = *p[base + (vBase + 2) % 3];
+        const int inner = orient2(v, r1, r2, i, j);
+        const int o1 = orient2(v, r1, c, i, j), o2 = orient2(v, c, r2, i, j);
+        if (o1 == inner && o2 == inner) return Answer::Yes;            // into the corner
+        if (o1 == 0 && sameRay(v, r1, c, i, j)) return Answer::Yes;     // along its edge v-r1
+        if (o2 == 0 && sameRay(v, r2, c, i, j)) return Answer::Yes;     // along its edge v-r2
+        return Answer::No;
+      }
+      // No common vertex: do T (a point, or a segment) and base's closed triangle meet?
+      if (n == 2 && *t[0] == *t[1]) n = 1;
+      const int inner = orient2(c0, c1, c2, i, j);
+      auto inside = [&](const Point& q) {
+        const Point* c[3] = {&c0, &c1, &c2};
+        for (int e = 0; e < 3; ++e) {
+          const int s = orient2(*c[e], *c[(e + 1) % 3], q, i, j);
+          if (s == -inner) return false;
+        }
+        return true;
+      };
+      if (inside(*t[0]) || (n == 2 && inside(*t[1]))) return Answer::Yes;
+      if (n == 1) return Answer::No;
+      const Point* c[3] = {&c0, &c1, &c2};
+      for (int e = 0; e < 3; ++e)
+        if (segmentsMeet(*t[0], *t[1], *c[e], *c[(e + 1) % 3], i, j)) return Answer::Yes;
+      return Answer::No;
+    }
+    return Answer::Unknown;  // both cross each other's planes: CGAL
+  }
+
+  // Whether the closed segments p1-p2 and p3-p4 (non-degenerate, in one plane projecting one to
+  // one onto (i, j)) meet: exact orientations, collinear cases by 1D comparisons.
+  static bool segmentsMeet(const Point& p1, const Point& p2, const Point& p3, const Point& p4, int i, int j) {
+    const int d1 = orient2(p3, p4, p1, i, j), d2 = orient2(p3, p4, p2, i, j);
+    const int d3 = orient2(p1, p2, p3, i, j), d4 = orient2(p1, p2, p4, i, j);
+    if (d1 * d2 < 0 && d3 * d4 < 0) return true;
+    // q on the closed segment u-w, given collinear: compare along an axis where u-w moves.
+    auto onSegment = [&](const Point& u, const Point& w, const Point& q) {
+      const int k = u[i] != w[i] ? i : j;
+      return std::min(u[k], w[k]) <= q[k] && q[k] <= std::max(u[k], w[k]);
+    };
+    return (d1 == 0 && onSegment(p3, p4, p1)) || (d2 == 0 && onSegment(p3, p4, p2)) ||
+           (d3 == 0 && onSegment(p1, p2, p3)) || (d4 == 0 && onSegment(p1, p2, p4));
+  }
+
+  // Coordinates (i, j) onto which the plane of the face with corners p[base..base+2] projects
+  // one to one: those across the axis its normal leans on most, else any other in which it stays
+  // a triangle (exactly).
+  static bool projection(const std::array<const Point*, 6>& p, int base, int& i, int& j) {
+    const Point& a0 = *p[base];
+    const Point& a1 = *p[base + 1];
+    const Point& a2 = *p[base + 2];
+    const double n[3] = {(a1[1] - a0[1]) * (a2[2] - a0[2]) - (a1[2] - a0[2]) * (a2[1] - a0[1]),
+                         (a1[2] - a0[2]) * (a2[0] - a0[0]) - (a1[0] - a0[0]) * (a2[2] - a0[2]),
+                         (a1[0] - a0[0]) * (a2[1] - a0[1]) - (a1[1] - a0[1]) * (a2[0] - a0[0])};
+    int first = 0;
+    for (int k = 1; k < 3; ++k)
+      if (std::abs(n[k]) > std::abs(n[first])) first = k;
+    for (int t = 0; t < 3; ++t) {
+      const int k = (first + t) % 3;
+      i = (k + 1) % 3;
+      j = (k + 2) % 3;
+      if (orient2(a0, a1, a2, i, j) != 0) return true;
+    }
+    return false;
+  }
+
   const Mesh& mesh_;
   std::vector<Point>& points_;
   bool shortcuts_;
+  bool exactSafe_ = true;
 };
 
 }  // namespace
@@ -361,6 +453,7 @@ SelfIntersectionResult findSelfIntersections(const Mesh& mesh, const SelfInterse
     std::sort(result.pairs.begin(), result.pairs.end());
     result.candidates = candidates;
     result.planarDecided = tester.planarDecided;
+    result.orientDecided = tester.orientDecided;
     if (!reportProgress(progress, "validate", to)) {
       result = SelfIntersectionResult{};
       result.status = Status::Cancelled;

@@ -21,6 +21,11 @@ struct SelfIntersectionOptions {
   // line, a face on another's edge line: exact 1D comparisons): CGAL's filters fail on exact
   // zeros and fall back to exact arithmetic through a thrown exception, which in wasm (no GMP)
   // made the Yoga .tet's check 0.25-0.5 s against 13 ms native, and a 100k-face CAD box 8.6 s.
+  // Other pairs go through exact orientations in plain doubles first (a static filter, else an
+  // fma expansion): a face strictly on one side of the other's plane (but for shared corners) is
+  // apart; faces in one inclined plane (flat regions of CAD parts, the planar quads of a saddle)
+  // are decided in 2D in the axis pair onto which they project, as above. CGAL decides the rest
+  // (faces crossing each other's planes).
   // false = CGAL for every pair (the reference in tests).
   bool planarShortcuts = true;
 };
@@ -30,6 +35,7 @@ struct SelfIntersectionResult : Outcome {
   bool capped = false;  // the search stopped at the cap: there may be more
   size_t candidates = 0;     // face pairs whose boxes overlap (tested)
   size_t planarDecided = 0;  // of those, decided by the axis-plane shortcuts
+  size_t orientDecided = 0;  // decided by the exact orientations (after CGAL's box test)
   std::vector<std::pair<uint32_t, uint32_t>> pairs;  // when collectPairs, sorted
 };
 

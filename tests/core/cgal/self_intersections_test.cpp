@@ -6,6 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <cstdio>
+#include <functional>
 #include <random>
 #include <set>
 
@@ -132,29 +134,39 @@ TEST(SelfIntersections, VertexNeighbours) {
   EXPECT_EQ(findSelfIntersections(m, {}).count, 0u);
 }
 
-// The axis-plane shortcuts decide exactly as CGAL does: random triangles with corners on a coarse
-// grid in the planes z = 0 and x = 3 (shared corners, shared edges, folds, touching edges,
-// collinear corners, duplicates), some off the planes; every pair found, with and without them.
-TEST(SelfIntersections, PlanarShortcutsAgreeWithCgal) {
+// Random triangles with corners on two 7 x 7 grids of points, grid(plane, a, b) for plane 0
+// and 1 and a, b in 0..6, and on ten points off both (shared corners, shared edges, folds,
+// touching edges, collinear corners, duplicates): 40 trials of 60 faces. With `mixed`, a third
+// of the faces meant for plane 1 get two corners on plane 0 and one off it instead (faces
+// touching plane 0 along an edge). Every trial finds the same pairs with the shortcuts as with
+// CGAL alone (the reference).
+struct ShortcutTally {
+  size_t intersecting = 0, candidates = 0, planarDecided = 0, orientDecided = 0;
+};
+ShortcutTally expectShortcutsAgreeWithCgal(const std::function<Eigen::Vector3d(int, int, int)>& grid,
+                                           bool mixed = false) {
   std::mt19937 rng(11);
   std::uniform_int_distribution<int> coord(0, 6), axisPick(0, 9);
-  size_t total = 0, decided = 0, candidates = 0;
+  ShortcutTally tally;
   for (int trial = 0; trial < 40; ++trial) {
     Mesh m;
-    // Vertices: a 7 x 7 grid in z = 0, the same grid in x = 3, and a few off both planes.
-    for (int a = 0; a <= 6; ++a)
-      for (int b = 0; b <= 6; ++b) m.positions.insert(m.positions.end(), {0.5 * a, 0.5 * b, 0.0});
-    for (int a = 0; a <= 6; ++a)
-      for (int b = 0; b <= 6; ++b) m.positions.insert(m.positions.end(), {3.0, 0.5 * a, 0.5 * b - 1});
+    for (int plane = 0; plane < 2; ++plane)
+      for (int a = 0; a <= 6; ++a)
+        for (int b = 0; b <= 6; ++b) {
+          const Eigen::Vector3d p = grid(plane, a, b);
+          m.positions.insert(m.positions.end(), {p.x(), p.y(), p.z()});
+        }
     for (int k = 0; k < 10; ++k)
       m.positions.insert(m.positions.end(), {0.37 * coord(rng), 0.41 * coord(rng), 0.29 * coord(rng) - 0.9});
     const uint32_t offPlane = 98;
     for (int f = 0; f < 60; ++f) {
       const int pick = axisPick(rng);
       uint32_t v[3];
-      for (uint32_t& x : v) {
-        if (pick < 6) x = uint32_t(7 * coord(rng) + coord(rng));              // z = 0 grid
-        else if (pick < 9) x = uint32_t(49 + 7 * coord(rng) + coord(rng));    // x = 3 grid
+      for (int k = 0; k < 3; ++k) {
+        uint32_t& x = v[k];
+        if (pick < 6) x = uint32_t(7 * coord(rng) + coord(rng));              // plane 0
+        else if (mixed && pick == 6) x = k < 2 ? uint32_t(7 * coord(rng) + coord(rng)) : offPlane + uint32_t(coord(rng)) % 10;
+        else if (pick < 9) x = uint32_t(49 + 7 * coord(rng) + coord(rng));    // plane 1
         else x = offPlane + uint32_t(coord(rng)) % 10;
       }
       m.triangles.insert(m.triangles.end(), {v[0], v[1], v[2]});
@@ -163,18 +175,86 @@ TEST(SelfIntersections, PlanarShortcutsAgreeWithCgal) {
     fast.cap = reference.cap = 0;
     reference.planarShortcuts = false;
     const SelfIntersectionResult a = findSelfIntersections(m, fast), b = findSelfIntersections(m, reference);
-    ASSERT_TRUE(a.ok() && b.ok());
+    EXPECT_TRUE(a.ok() && b.ok());
     EXPECT_EQ(a.pairs, b.pairs) << "trial " << trial;
-    EXPECT_EQ(b.planarDecided, 0u);
-    total += b.count;
-    decided += a.planarDecided;
-    candidates += a.candidates;
+    EXPECT_EQ(b.planarDecided + b.orientDecided, 0u);
+    tally.intersecting += b.count;
+    tally.candidates += a.candidates;
+    tally.planarDecided += a.planarDecided;
+    tally.orientDecided += a.orientDecided;
   }
-  EXPECT_GT(total, 200u);  // the cases do intersect, often
-  std::printf("planar shortcuts decided %zu of %zu candidate pairs\n", decided, candidates);
+  return tally;
+}
+
+// The axis-plane shortcuts decide exactly as CGAL does: grids in the planes z = 0 and x = 3.
+TEST(SelfIntersections, PlanarShortcutsAgreeWithCgal) {
+  const ShortcutTally t = expectShortcutsAgreeWithCgal([](int plane, int a, int b) {
+    return plane == 0 ? Eigen::Vector3d(0.5 * a, 0.5 * b, 0.0) : Eigen::Vector3d(3.0, 0.5 * a, 0.5 * b - 1);
+  });
+  EXPECT_GT(t.intersecting, 200u);  // the cases do intersect, often
+  std::printf("axis planes: shortcuts decided %zu + %zu (orientations) of %zu candidate pairs\n", t.planarDecided,
+              t.orientDecided, t.candidates);
   // Exact orientations and the collinear cases (rays along one line, a face touching another's
   // edge line) decide 23.4k of 32.2k here; the static filter alone decided 12.9k.
-  EXPECT_GT(decided, 2 * candidates / 3);
+  EXPECT_GT(t.planarDecided, 2 * t.candidates / 3);
+}
+
+// The exact 3D orientations decide exactly as CGAL does on two inclined planes whose grid points
+// lie in them exactly (dyadic steps): coplanar faces decided in 2D, faces apart by sides, faces
+// touching a plane along an edge from a shared corner (mixed).
+TEST(SelfIntersections, OrientationShortcutsAgreeWithCgalOnInclinedPlanes) {
+  const ShortcutTally t = expectShortcutsAgreeWithCgal([](int plane, int a, int b) {
+    if (plane == 0) return Eigen::Vector3d(1 + 0.5 * a + 0.25 * b, 2 + 0.25 * a - 0.5 * b, 3 + 0.75 * a + 0.125 * b);
+    return Eigen::Vector3d(2.5 + 0.375 * a, -1 + 0.5 * b, 0.5 - 0.25 * a + 0.625 * b);
+  }, true);
+  EXPECT_GT(t.intersecting, 200u);
+  std::printf("inclined planes: shortcuts decided %zu + %zu (orientations) of %zu candidate pairs\n",
+              t.planarDecided, t.orientDecided, t.candidates);
+  EXPECT_GT(t.planarDecided + t.orientDecided, 2 * t.candidates / 3);
+}
+
+// A saddle z = (x^2 - y^2) / 8 on a grid of step 1/4: every grid quad is exactly planar (no xy
+// term), so its two triangles are a coplanar pair that CGAL's filters leave to exact
+// arithmetic. No pair intersects, as CGAL alone finds; the orientations decide every coplanar
+// pair and the pairs apart (faces sharing a corner on a saddle mostly cross each other's planes:
+// CGAL, whose filters decide those).
+TEST(SelfIntersections, PlanarQuadsOfASaddleAreDecidedExactly) {
+  Mesh m;
+  const int n = 24;
+  for (int i = 0; i <= n; ++i)
+    for (int j = 0; j <= n; ++j) {
+      const double x = 0.25 * (i - n / 2), y = 0.25 * (j - n / 2);
+      m.positions.insert(m.positions.end(), {x, y, (x * x - y * y) / 8});
+    }
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const uint32_t v = uint32_t(i * (n + 1) + j);
+      m.triangles.insert(m.triangles.end(), {v, v + n + 1, v + n + 2, v, v + n + 2, v + 1});
+    }
+  SelfIntersectionOptions fast, reference;
+  fast.cap = reference.cap = 0;
+  reference.planarShortcuts = false;
+  const SelfIntersectionResult a = findSelfIntersections(m, fast), b = findSelfIntersections(m, reference);
+  ASSERT_TRUE(a.ok() && b.ok());
+  EXPECT_EQ(a.count, 0u);
+  EXPECT_EQ(b.count, 0u);
+  EXPECT_GT(a.candidates, 5000u);
+  std::printf("saddle: orientations decided %zu of %zu candidate pairs\n", a.orientDecided, a.candidates);
+  EXPECT_GE(a.orientDecided, size_t(n * n));  // at least the n^2 quads' coplanar pairs
+  // Folding one quad's triangle onto its partner (the far corner moved across the shared
+  // diagonal, within the plane) is found by both.
+  Mesh folded = m;
+  const uint32_t v = uint32_t(5 * (n + 1) + 7);
+  // Triangle (v, v+n+2, v+1) becomes (v, v+n+2, w), w = the mirror of v+1 across the diagonal,
+  // i.e. the quad's fourth corner v+n+1: it lies on the other triangle's side, in the same plane.
+  for (size_t t = 0; t < folded.faceCount(); ++t) {
+    uint32_t* tri = &folded.triangles[3 * t];
+    if (tri[0] == v && tri[1] == v + n + 2 && tri[2] == v + 1) tri[2] = v + n + 1;
+  }
+  const SelfIntersectionResult fa = findSelfIntersections(folded, fast), fb = findSelfIntersections(folded, reference);
+  ASSERT_TRUE(fa.ok() && fb.ok());
+  EXPECT_EQ(fa.pairs, fb.pairs);
+  EXPECT_GE(fa.count, 1u);
 }
 
 // The cap stops the search; progress can cancel it.
