@@ -160,8 +160,9 @@ struct MultidirSettings {
   int axisSearch = 0;            // 4dof: > 0 = try this many horizontal rotation axes
   SearchScheme scheme = SearchScheme::Beam;  // beam | greedy | constrained
   MultidirDof dof = MultidirDof::Auto;
-  double interfaceOverlap = 0.8; // an earlier part reaches across a later part's plane by this
-                                 // fraction of (h/2)(1 - |cos beta|) (multidir_method.cpp); 0 = none
+  double interfaceOverlap = 1.0; // an earlier part reaches across a later part's plane by this
+                                 // fraction of (h/2)(1 - |cos beta|) (multidir_method.cpp); 0 = none,
+                                 // 1 = as far as keeps its layers under the later part's first tips
 };
 
 // Supports under what stays risky (paper 000 Section V: projected supports). The multidir method
