@@ -1273,7 +1273,6 @@ TEST(PrintOrderCollision, TimingThreeHundredCurvedIgds) {
     if (angle == 75) {
       EXPECT_GT(cross, 0u);
     }
-    EXPECT_LT(cm.ms, 20000.0);  // generous (shared 2-core machine); the figure is printed
   }
 }
 

@@ -791,8 +791,8 @@ TEST(FeedRate, DriveDirectionBadInput) {
 }
 
 // Algorithm 1 timing (issue 5: 20k samples on robot6 in <= 1 s in WebAssembly): buildFeedField +
-// searchDriveDirection with 180 directions on 5k and 20k saddle samples. Printed; the assertion
-// is only a loose guard against a pathological slowdown.
+// searchDriveDirection with 180 directions on 5k and 20k saddle samples. Printed only: speed is
+// measured by `npm run bench` (the saddle's theta* search), never asserted in a test.
 TEST(FeedRate, AlgorithmOneTiming) {
   const MachineProfile m = machineNamed("robot6-ur5");
   for (int count : {5000, 20000}) {
@@ -811,7 +811,6 @@ TEST(FeedRate, AlgorithmOneTiming) {
         "[ feed ] Algorithm 1 on %zu samples: field %.3f s + 180 directions %.3f s = "
         "%.3f s native (theta* %.0f, unreachable %zu)\n",
         samples.size(), a, b, a + b, r.thetaStarDegrees, r.unreachable);
-    EXPECT_LT(a + b, 20.0);
   }
 }
 

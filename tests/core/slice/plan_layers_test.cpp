@@ -548,7 +548,7 @@ TEST(PlanLayers, TimingHundredThousandTriangles) {
   const double planS = std::chrono::duration<double>(t2 - t1).count();
   std::printf("%zu triangles, %zu layers: slice %.3f s, plan %.3f s, %zu moves\n", sphere.faceCount(),
               slices.layers.size(), sliceS, planS, plan.toolpath.moves.size());
-  EXPECT_LT(sliceS + planS, 10.0);  // generous: the machine is shared; target is ~1 s natively
+  // The times are printed; speed is measured by `npm run bench` (torus-100k), never asserted here.
 }
 
 

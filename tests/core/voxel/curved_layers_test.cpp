@@ -970,16 +970,17 @@ double timeBunnyLayers(double w, size_t minVoxels) {
   return ms;
 }
 
+// The Bunny's ~100k-voxel layers extract (the time is printed; speed is measured by `npm run
+// bench`, never asserted in a test).
 TEST(CurvedLayers, BunnyHundredThousandVoxelsTiming) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  // Generous bound for a loaded shared machine; the target is well under 2 s.
-  EXPECT_LT(timeBunnyLayers(0.53, 95000), 10000);
+  timeBunnyLayers(0.53, 95000);
 }
 
 // Benchmark only (run with --gtest_also_run_disabled_tests): about 540k voxels.
 TEST(CurvedLayers, DISABLED_BunnyFiveHundredFortyThousandVoxelsTiming) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
-  EXPECT_LT(timeBunnyLayers(0.305, 500000), 60000);
+  timeBunnyLayers(0.305, 500000);
 }
 
 }  // namespace

@@ -287,9 +287,10 @@ TEST(Voxelize, TorusAndRotatedBoxAreConservativeAndTight) {
   }
 }
 
-// Large slanted triangles (a CAD-like rotated cube: 12 faces, each spanning ~100 cells per side)
-// must not cost a triangle/box test per cell of their bounding boxes.
-TEST(Voxelize, LargeSlantedTrianglesAreFast) {
+// Large slanted triangles (a CAD-like rotated cube: 12 faces, each spanning ~100 cells per side):
+// conservative voxels (the time is printed: a triangle/box test per cell of their bounding boxes
+// would show in `npm run bench`'s voxelize stage, where speed is measured).
+TEST(Voxelize, LargeSlantedTriangles) {
   Mesh box = test::makeBox(-15, -15, -15, 15, 15, 15);
   const Eigen::Matrix3d rot = (Eigen::AngleAxisd(0.7, Vector3d(1, 2, 3).normalized())).toRotationMatrix();
   for (size_t v = 0; v < box.vertexCount(); ++v) {
@@ -302,7 +303,6 @@ TEST(Voxelize, LargeSlantedTrianglesAreFast) {
   const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_TRUE(r.ok()) << r.message;
   std::printf("rotated 30 mm cube at w 0.25: %zu solid cells of %zu, %.0f ms\n", r.solidCount, r.grid.cellCount(), ms);
-  EXPECT_LT(ms, 1000);
   checkConservative(m, 0.25, 2000, 23);
 }
 
@@ -512,8 +512,9 @@ TEST(VoxelizeModels, BunnyKittenFertilityAreConservative) {
   }
 }
 
-// Measurement: a ~540k-Solid-voxel grid of the full-resolution Bunny (the paper's Fig. 3 size).
-TEST(VoxelizeModels, FiveHundredFortyThousandVoxelsUnderASecond) {
+// A ~540k-Solid-voxel grid of the full-resolution Bunny (the paper's Fig. 3 size); the time is
+// printed (speed: `npm run bench`, the 540k-voxel Bunny).
+TEST(VoxelizeModels, FiveHundredFortyThousandVoxels) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
   const Mesh m = test::loadPlaced("compas_bunny_closed_high_res.stl", UpAxis::PosZ, 0);
   const double w = std::cbrt(test::meshVolume(m) / 540000.0);
@@ -527,7 +528,6 @@ TEST(VoxelizeModels, FiveHundredFortyThousandVoxelsUnderASecond) {
               r.solidCount, r.grid.cellCount(), ms);
   EXPECT_GT(r.solidCount, 500000u);
   EXPECT_LT(r.solidCount, 700000u);
-  EXPECT_LT(ms, 2000) << "voxelising ~540k cells must take well under a second natively";
 }
 
 }  // namespace
