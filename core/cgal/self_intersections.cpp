@@ -281,7 +281,9 @@ class PairTester {
   // - touching the plane without crossing it (ruled surfaces, fans, a corner on a plane): it
   //   meets the plane in T, the hull of its corners there (a point or a segment), so the faces
   //   meet where T meets the other face, decided in 2D in that plane.
-  // Unknown (CGAL): both faces cross each other's planes, or a degenerate projection.
+  // - both crossing each other's planes from a common vertex: decided by four orientations.
+  // Unknown (CGAL): faces without a common corner crossing each other's planes, or a degenerate
+  // projection.
   Answer byOrientations(const uint32_t* a, const uint32_t* b, const Sharing& sh) const {
     const std::array<const Point*, 6> p = {&points_[a[0]], &points_[a[1]], &points_[a[2]],
                                            &points_[b[0]], &points_[b[1]], &points_[b[2]]};
@@ -347,6 +349,24 @@ class PairTester {
       for (int e = 0; e < 3; ++e)
         if (segmentsMeet(*t[0], *t[1], *c[e], *c[(e + 1) % 3], i, j)) return Answer::Yes;
       return Answer::No;
+    }
+    if (sh.count == 1) {
+      // Both cross each other's planes (every unshared corner strictly off the other plane):
+      // A meets the planes' common line L in [v, X], X on a1-a2, and B in [v, Y], Y on b1-b2;
+      // they overlap beyond v iff Y lies in A's corner at v (the ray v-X). Y's side of the line
+      // v-a1 within A's plane is its side of the plane (v, a1, b1), which b1 lies on and Y
+      // between b1 and b2 (so b2's side); that plane misses a2 and b2 (a2 in it would put b1 in
+      // A's plane, b2 in it a1 in B's): all four orientations are nonzero.
+      int va, vb;
+      sh.vertex(va, vb);
+      const Point& v = *p[va];
+      const Point& a1 = *p[(va + 1) % 3];
+      const Point& a2 = *p[(va + 2) % 3];
+      const Point& b1 = *p[3 + (vb + 1) % 3];
+      const Point& b2 = *p[3 + (vb + 2) % 3];
+      const bool side1 = orient3(v, a1, b1, b2) == orient3(v, a1, b1, a2);
+      const bool side2 = orient3(v, a2, b1, b2) == orient3(v, a2, b1, a1);
+      return side1 && side2 ? Answer::Yes : Answer::No;
     }
     return Answer::Unknown;  // both cross each other's planes: CGAL
   }
