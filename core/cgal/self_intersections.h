@@ -24,8 +24,9 @@ struct SelfIntersectionOptions {
   // Other pairs go through exact orientations in plain doubles first (a static filter, else an
   // fma expansion): a face strictly on one side of the other's plane (but for shared corners) is
   // apart; faces in one inclined plane (flat regions of CAD parts, the planar quads of a saddle)
-  // are decided in 2D in the axis pair onto which they project, as above. CGAL decides the rest
-  // (faces crossing each other's planes).
+  // are decided in 2D in the axis pair onto which they project, as above; a face touching the
+  // other's plane, and faces sharing a vertex that cross each other's planes, by orientations
+  // too. CGAL decides the rest (faces without a common corner crossing each other's planes).
   // false = CGAL for every pair (the reference in tests).
   bool planarShortcuts = true;
 };
