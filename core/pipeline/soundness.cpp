@@ -105,14 +105,24 @@ std::vector<std::string> remedies(const VerifySection& v, const SoundnessCriteri
       // (h 0.2) or layer_height 0.2 -> 0.215 (w 0.45): held-out suzanne 50 mm 0.9891 -> 0.9937 /
       // 0.9936, rocker arm 50 mm 0.9903 -> 0.9949 / 0.9945, shared topopt 20 mm 0.988 -> 0.9928 (w);
       // at w = sqrt(5) h itself (0.447) suzanne stays at 0.9897, hence the margin (2.1 h).
-      const double h = settings.layerHeight, w = settings.effectiveLineWidth();
+      // Only what a nozzle can lay: lines no narrower than the nozzle, layers no thicker than it.
+      const double h = settings.layerHeight, w = settings.effectiveLineWidth(), d = settings.nozzleDiameter;
       if (w > 2.1 * h) {
-        char s[200];
-        std::snprintf(s, sizeof s,
-                      "narrower lines or thicker layers (line_width <= 2.1 x layer_height, e.g. line_width=%.2f "
-                      "or layer_height=%.3f)",
-                      std::floor(2.1 * h * 100) / 100, std::ceil(w / 2.1 * 1000) / 1000);
-        addOnce(out, s);
+        const double narrower = std::floor(2.1 * h * 100) / 100, thicker = std::ceil(w / 2.1 * 1000) / 1000;
+        char s[200] = "";
+        if (narrower >= d && thicker <= d) {
+          std::snprintf(s, sizeof s,
+                        "narrower lines or thicker layers (line_width <= 2.1 x layer_height, e.g. line_width=%.2f "
+                        "or layer_height=%.3f)",
+                        narrower, thicker);
+        } else if (thicker <= d) {
+          std::snprintf(s, sizeof s, "thicker layers (line_width <= 2.1 x layer_height, e.g. layer_height=%.3f)",
+                        thicker);
+        } else if (narrower >= d) {
+          std::snprintf(s, sizeof s, "narrower lines (line_width <= 2.1 x layer_height, e.g. line_width=%.2f)",
+                        narrower);
+        }
+        if (s[0] != 0) addOnce(out, s);
       }
     }
     // Geodesic: where the field is slow at the surface the outer beads stand out over the layer
