@@ -39,8 +39,8 @@ inline void twoProduct(double a, double b, double& x, double& y) {
 
 // An exact sum of doubles as a nonoverlapping expansion (Shewchuk's grow-expansion, zeros
 // dropped): the sign of its largest component is the sign of the sum. Products enter exactly as
-// their rounded value and its error. At most 99 terms (an expansion of k terms has at most k + 1
-// components); the largest sum here has 96.
+// their rounded value and its error. At most 100 terms (each term adds at most one component);
+// the largest sum here has 96.
 class ExactSum {
  public:
   void add(double t) {
