@@ -177,10 +177,15 @@ export function buildTreeMesh(p = TREE_PARAMS) {
   return { positions: Float64Array.from(positions), indices: Uint32Array.from(indices), grid: n };
 }
 
-/** OBJ text of a mesh (positions written with `decimals` decimals, no trailing zeros). */
-export function toObj(mesh, decimals = TREE_PARAMS.decimals) {
+const TREE_TITLE = 'omnislice demo: branching tree for the geodesic method (scripts/make-demo-tree.mjs)';
+
+/**
+ * OBJ text of a mesh (positions written with `decimals` decimals, no trailing zeros) under a
+ * one-line `title` comment.
+ */
+export function toObj(mesh, decimals = TREE_PARAMS.decimals, title = TREE_TITLE) {
   const { positions: P, indices: I } = mesh;
-  const lines = ['# omnislice demo: branching tree for the geodesic method (scripts/make-demo-tree.mjs)'];
+  const lines = [`# ${title}`];
   const num = (x) => String(Number(x.toFixed(decimals)));
   for (let v = 0; v < P.length / 3; v++) lines.push(`v ${num(P[3 * v])} ${num(P[3 * v + 1])} ${num(P[3 * v + 2])}`);
   for (let f = 0; f < I.length / 3; f++) lines.push(`f ${I[3 * f] + 1} ${I[3 * f + 1] + 1} ${I[3 * f + 2] + 1}`);

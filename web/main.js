@@ -12,7 +12,7 @@
 // The page's state is mirrored on <body data-state> (starting, loading, ready, slicing, done,
 // error, cancelled) and <body data-slice-count>, which the end-to-end tests wait on.
 import { timed } from './block-runner.js';
-import { DEMOS } from './demo-models.js';
+import { DEMOS, demoOfQuery } from './demo-models.js';
 import { closeMachineView, openMachineView, showMotion, wireMachinePanel } from './machine-panel.js';
 import {
   buildViews, disposeViews, doneSummary, enablePanels, methodNamed, progressDetail, resetPanels, setLayerRange,
@@ -483,7 +483,7 @@ async function start() {
   app.slicer = slicer;
   wireSettings();
   updateButtons();
-  await loadDemo(DEMOS.overhang, { sliceAfter: true });
+  await loadDemo(demoOfQuery(location.search), { sliceAfter: true });
 }
 
 installPageApi(app);

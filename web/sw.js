@@ -55,6 +55,7 @@ const APP_FILES = [
   '/methods/voxel-view.js',
   '/methods/voxel.js',
   '/model-panel.js',
+  '/models/demo-arms.obj',
   '/models/demo-overhang.stl',
   '/models/demo-saddle.obj',
   '/models/demo-tree.obj',

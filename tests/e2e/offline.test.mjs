@@ -41,7 +41,7 @@ test('after the first visit the app reloads and slices the demo with the network
     return { active: !!reg.active, scope: reg.scope, entries: (await cache.keys()).map((r) => new URL(r.url).pathname) };
   });
   assert.ok(cached.active);
-  for (const f of ['/', '/main.js', '/workers/slicer-worker.js', '/wasm/omnislice.wasm', '/models/demo-overhang.stl']) {
+  for (const f of ['/', '/main.js', '/workers/slicer-worker.js', '/wasm/omnislice.wasm', '/models/demo-arms.obj', '/models/demo-overhang.stl']) {
     assert.ok(cached.entries.includes(f), `${f} cached (${cached.entries.length} entries)`);
   }
   await context.setOffline(true);

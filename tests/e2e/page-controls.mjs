@@ -1,7 +1,9 @@
 // SPDX-License-Identifier: MIT
 // The app page of an end-to-end test file, set up in one place. appPage(label) registers the
 // file's `before` and `after` hooks: the server and headless Chromium (../js/browser.mjs), the page
-// opened and, by default, its demo's first slice awaited; a temporary folder for downloads;
+// opened (by default at /?demo=overhang: the planar overhang piece on cartesian3, which these
+// files start from; first-visit.test.mjs opens / as a new user does) and, by default, its demo's
+// first slice awaited; a temporary folder for downloads;
 // everything closed afterwards. It returns the page and the controls the tests share: settings by
 // data-testid, range sliders, the slice counter, waiting for a state or a slice, downloading the
 // program. Screenshots go to OUT_DIR (build/e2e).
@@ -34,14 +36,15 @@ async function pageUnavailable(root) {
 /**
  * The app page of this test file (see the file comment). Options: height of the 1280-wide
  * viewport; required: a missing prerequisite fails the file (otherwise the tests skip, except
- * under CI=true); root: the served checkout; waitForDemo: wait in `before` for the demo's slice on
- * load; beforeGoto(context, server): run before the page loads.
+ * under CI=true); root: the served checkout; path: the page's address (default /?demo=overhang);
+ * waitForDemo: wait in `before` for the demo's slice on load; beforeGoto(context, server): run
+ * before the page loads.
  * @returns {{page, skip, tmpDir, server, context, pageErrors, setSetting, slide, sliceCount, waitState,
  *   waitSliced, sliceAndWait, downloadProgram}} page: the Playwright page, usable at module level (it forwards to
  *   the page opened in `before`); skip(t): true (the test skipped with the reason) when the page
  *   could not open
  */
-export function appPage(label, { height = 900, required = false, root = ROOT, waitForDemo = true, beforeGoto } = {}) {
+export function appPage(label, { height = 900, required = false, root = ROOT, path: pagePath = '/?demo=overhang', waitForDemo = true, beforeGoto } = {}) {
   let session = null;
   let tmpDir = null;
   let skipWhy = null;
@@ -116,7 +119,7 @@ export function appPage(label, { height = 900, required = false, root = ROOT, wa
     }
     fs.mkdirSync(OUT_DIR, { recursive: true });
     tmpDir = fs.mkdtempSync(path.join(os.tmpdir(), `omnislice-${label}-e2e-`));
-    session = await openPage('/', { root, viewport: { width: 1280, height }, beforeGoto });
+    session = await openPage(pagePath, { root, viewport: { width: 1280, height }, beforeGoto });
     if (waitForDemo) await waitState('done', { minSlices: 1 });
   });
 
