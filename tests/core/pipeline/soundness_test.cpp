@@ -372,6 +372,19 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   VerifySection both = v;
   both.leftOutMm = 22;
   EXPECT_TRUE(automaticRemedies(both, s).empty()) << "beads over air and tool path left out";
+  // Tool path left out alone: the heat source within one layer of the platform (the interval,
+  // layer_height when geodesic.interval_mm is 0); not when the user set the band.
+  both.supported = 1;
+  r = automaticRemedies(both, s);
+  ASSERT_EQ(r.size(), 1u);
+  EXPECT_EQ(r[0].key + "=" + r[0].value, "geodesic.base_band_mm=0.2");
+  s.geodesic.intervalMm = 0.6;
+  EXPECT_EQ(automaticRemedies(both, s).at(0).value, "0.6");
+  s.geodesic.baseBandMm = 0.3;
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "the band is the user's";
+  s.geodesic = Settings().geodesic;
+  both.collisions = 2;
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "tool path left out and collisions";
   both = v;
   both.collisions = 0;
   both.surfaceReached = 0.5;
