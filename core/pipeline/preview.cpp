@@ -102,18 +102,18 @@ ToolpathPreview toolpathPreview(const MachinePath& path, const Toolpath& toolpat
 ToolpathPreview programPreview(const ParsedProgram& program) {
   ToolpathPreview p;
   PoseBuffer poses(program.machine, p.poses);
+  // Each feature marker's colour code: its Feature, WallInner for names that are none of them.
+  std::vector<uint8_t> codes(program.features.size(), static_cast<uint8_t>(Feature::WallInner));
+  for (size_t i = 0; i < program.features.size(); ++i) {
+    for (uint8_t f = 1; f <= static_cast<uint8_t>(Feature::Bridge); ++f) {
+      if (program.features[i] == featureName(static_cast<Feature>(f))) codes[i] = f;
+    }
+  }
   for (const ProgramMove& m : program.moves) {
     if ((m.to - m.from).squaredNorm() == 0) continue;  // retracts, pure rotations: no segment
     append(p.positions, toFloat(m.from));
     append(p.positions, toFloat(m.to));
-    uint8_t code = 0;
-    if (m.filament > 0) {
-      code = static_cast<uint8_t>(Feature::WallInner);
-      for (uint8_t f = 1; f <= static_cast<uint8_t>(Feature::Bridge); ++f) {
-        if (m.feature == featureName(static_cast<Feature>(f))) code = f;
-      }
-    }
-    p.features.push_back(code);
+    p.features.push_back(m.filament > 0 ? codes[m.feature] : 0);
     p.layers.push_back(static_cast<uint32_t>(std::max(0, m.layer)));
     MachineValues values{};
     for (size_t k = 0; k < 6; ++k) {

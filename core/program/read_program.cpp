@@ -201,7 +201,9 @@ class Reader {
   double plainLayerHeight_ = 0;  // `;Layer height:` of other slicers
   bool sawMoves_ = false;
   int layer_ = -1, part_ = 0;
-  std::string feature_;
+  uint16_t feature_ = 0;  // index into r_.features
+  // The current feature marker: its index in r_.features, added there on first use.
+  void setFeature(const std::string& name);
   std::set<int> layers_;
   // G-code state
   std::vector<std::string> letters_{"X", "Y", "Z"};
@@ -218,6 +220,19 @@ class Reader {
   double percent_ = 100;       // KRL: BAS(#VEL_PTP, p)
   bool moduleEnded_ = false;   // RAPID: ENDMODULE seen
 };
+
+void Reader::setFeature(const std::string& name) {
+  const auto at = std::find(r_.features.begin(), r_.features.end(), name);
+  if (at != r_.features.end()) {
+    feature_ = static_cast<uint16_t>(at - r_.features.begin());
+    return;
+  }
+  // Feature names come from the program's own markers: a program naming more than a few hundred
+  // is malformed (Omnislice writes nine).
+  if (r_.features.size() >= 1024) return fail(Status::ParseError, "more than 1024 distinct feature markers");
+  feature_ = static_cast<uint16_t>(r_.features.size());
+  r_.features.push_back(name);
+}
 
 bool Reader::setMachine(const std::string& json) {
   if (sawMoves_) {
@@ -351,7 +366,7 @@ void Reader::comment(const std::string& c, bool first) {
       if (!parseInt(value, layer_)) return fail(Status::ParseError, "bad layer index");
       layers_.insert(layer_);
     } else if (key == "feature") {
-      feature_ = value;
+      setFeature(value);
     } else if (key == "part") {
       const std::string idx = value.substr(0, value.find(' '));
       if (!parseInt(idx, part_)) return fail(Status::ParseError, "bad part index");
@@ -378,7 +393,7 @@ void Reader::comment(const std::string& c, bool first) {
     layer_ = layer_ < 0 ? 0 : layer_ + 1;
     layers_.insert(layer_);
   } else if (startsWith(c, "TYPE:")) {
-    feature_ = featureFromType(c.substr(5));
+    setFeature(featureFromType(c.substr(5)));
   } else if (startsWith(c, "Layer height:")) {
     double x = 0;
     if (parseNumber(c.substr(13), x) && x > 0) plainLayerHeight_ = x;
@@ -406,7 +421,7 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
     m.layer = layer_;
     m.part = part_;
     m.feature = feature_;
-    m.axes.assign(b.begin(), b.begin() + n_);
+    m.axes = {b, static_cast<uint8_t>(n_)};
     m.line = lineNo_;
     r_.moves.push_back(std::move(m));
     sawMoves_ = true;
@@ -438,8 +453,7 @@ void Reader::emit(const MachineValues& a, const MachineValues& b, double filamen
     m.layer = layer_;
     m.part = part_;
     m.feature = feature_;
-    const MachineValues v = lerpValues(a, b, pieces.t[i]);
-    m.axes.assign(v.begin(), v.begin() + n_);
+    m.axes = {lerpValues(a, b, pieces.t[i]), static_cast<uint8_t>(n_)};
     m.line = lineNo_;
     r_.moves.push_back(std::move(m));
   }

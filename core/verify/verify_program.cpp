@@ -391,6 +391,8 @@ Outcome checkVerifyInput(const ParsedProgram& program, const Mesh& partMesh, con
 // moves become segments, grouped in beads. InvalidOption for a coordinate beyond 1e6 mm.
 Outcome extrudingSegments(const ParsedProgram& program, std::vector<Segment>& segments, VerifyReport& rep) {
   const std::vector<std::pair<double, double>> limits = machineLimits(program.machine);
+  const auto supportAt = std::find(program.features.begin(), program.features.end(), "support");
+  const int support = supportAt == program.features.end() ? -1 : int(supportAt - program.features.begin());
   int bead = -1;
   bool prevExtruding = false;
   Eigen::Vector3d prevEnd(0, 0, 0);
@@ -431,7 +433,7 @@ Outcome extrudingSegments(const ParsedProgram& program, std::vector<Segment>& se
     s.bead = bead;
     s.layer = m.layer;
     s.line = m.line;
-    s.support = m.feature == "support";
+    s.support = m.feature == support;
     segments.push_back(s);
     beadS += len;
     rep.pathMm += len;

@@ -55,7 +55,7 @@ TEST(MemoryBudget, SettingIsRangeChecked) {
 // refused at, and a budget of that figure gets past that structure, until the slice is made (within
 // a few steps: one per structure). Catches a figure that is not what the check compares.
 TEST(MemoryBudget, RaisingTheBudgetToTheNamedFigureGetsPastEachStructure) {
-  const auto bytes = test::binaryStl(test::onPlatform(test::makeUvSphere(9, 48, 24)));
+  const auto bytes = test::binaryStl(test::onPlatform(test::makeUvSphere(12, 48, 24)));
   for (Method method : {Method::Voxel, Method::Geodesic, Method::Planar}) {
     Settings s = test::coarseCurvedSettings(method);
     if (method == Method::Planar) s.machine = "cartesian3";
@@ -114,6 +114,40 @@ TEST(MemoryBudget, VerifyChecksItsSamplesAgainstTheBudget) {
   EXPECT_EQ(text.status, Status::OutOfMemory) << text.message;
   EXPECT_EQ(text.message.rfind("reading the program (", 0), 0u) << text.message;
   EXPECT_TRUE(runVerify(out.program, bytes.data(), bytes.size(), "sphere.stl").ok());
+}
+
+// The parsed program's estimate (kProgramTextBytes per byte of text) bounds what the parse holds:
+// its moves (pieces of interpolated rotary and joint moves included) and the deque's blocks, on
+// programs of every kind of writer, with the most pieces per byte where axes turn (voxel on
+// table5). A quarter of the bound is kept as margin; and the bound is not loose by more than 4x
+// on the densest of them, so a wrong per-move size or a parse that doubles its moves fails here.
+TEST(MemoryBudget, ProgramTextEstimateBoundsTheParsedMoves) {
+  const auto bytes = test::binaryStl(test::onPlatform(test::makeUvSphere(8, 48, 24)));
+  struct Case {
+    Method method;
+    const char* machine;
+    const char* robotFormat;
+  };
+  double densest = 0;
+  for (const Case c : {Case{Method::Planar, "cartesian3", ""}, Case{Method::Voxel, "table5", ""},
+                       Case{Method::Voxel, "robot6-ur5", "csv"}, Case{Method::Multidir, "rotary4", ""},
+                       Case{Method::Voxel, "robot6-irb1200", "rapid"}}) {
+    Settings s = c.method == Method::Planar ? Settings() : test::coarseCurvedSettings(c.method);
+    s.machine = c.machine;
+    if (*c.robotFormat) ASSERT_TRUE(setSetting(s, "robot_format", c.robotFormat).ok());
+    s.verify = VerifyMode::Off;
+    const SliceOutput out = runSlice(bytes.data(), bytes.size(), "sphere.stl", s);
+    ASSERT_TRUE(out.ok()) << c.machine << ": " << out.message;
+    const ParsedProgram p = readProgram(out.program);
+    ASSERT_TRUE(p.ok()) << c.machine << ": " << p.message;
+    const double held = double(p.moves.size()) * sizeof(ProgramMove);
+    const double perByte = held / double(out.program.size());
+    densest = std::max(densest, perByte);
+    RecordProperty(std::string(c.machine) + "_bytes_per_text_byte", std::to_string(perByte));
+    EXPECT_LE(perByte, 0.75 * memory_cost::kProgramTextBytes)
+        << c.machine << ": " << p.moves.size() << " moves from " << out.program.size() << " bytes";
+  }
+  EXPECT_GE(densest, memory_cost::kProgramTextBytes / 4) << "the estimate is far above every program";
 }
 
 // Peak resident memory of this process, MB (Linux); -1 when unknown.

@@ -53,7 +53,7 @@ SupportMoves checkSupportMoves(const Sliced& r, double w) {
   }
   for (const ProgramMove& m : p.moves) {
     // Extruding support moves (an unretract, E without motion, keeps the previous feature).
-    if (m.feature != "support" || !(m.filament > 0) || !((m.to - m.from).norm() > 1e-9)) continue;
+    if (p.featureOf(m) != "support" || !(m.filament > 0) || !((m.to - m.from).norm() > 1e-9)) continue;
     ++s.count;
     if (tree.inside(m.to) && tree.closest(m.to).distance > 0.5 * w + 1e-6) {
       ++s.insidePart;

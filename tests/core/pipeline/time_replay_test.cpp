@@ -71,7 +71,7 @@ Replay replayTime(const std::string& program) {
     const std::vector<double> start = prev;
     while (j < p.moves.size() && p.moves[j].line == p.moves[i].line) {
       filament += p.moves[j].filament;
-      prev = p.moves[j].axes;
+      prev.assign(p.moves[j].axes.begin(), p.moves[j].axes.end());
       ++j;
     }
     // The tip's chord in the part frame (a turning move's tip path bends; the ramp is the tip's).

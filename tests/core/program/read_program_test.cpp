@@ -74,7 +74,7 @@ TEST(ReadProgram, RoundTripKeepsEveryMoveAndHeaderFact) {
     // it differs from the requested speed by that rounding only.
     EXPECT_NEAR(pm.feedMmPerMin, m.speed * 60, 0.01 * m.speed * 60) << "move " << i;
     if (m.kind == MoveKind::Print) {
-      EXPECT_EQ(pm.feature, featureName(m.feature)) << "move " << i;
+      EXPECT_EQ(p.featureOf(pm), featureName(m.feature)) << "move " << i;
     }
     ASSERT_EQ(pm.axes.size(), 3u);
     EXPECT_EQ(pm.axes[0], pm.to.x());
@@ -133,9 +133,9 @@ TEST(ReadProgram, PlainGcodeOfOtherSlicers) {
   EXPECT_EQ(p.layerCount, 2);
   ASSERT_EQ(p.moves.size(), 8u);
   EXPECT_EQ(p.moves[1].filament, 0.5);
-  EXPECT_EQ(p.moves[1].feature, "wall-outer");
+  EXPECT_EQ(p.featureOf(p.moves[1]), "wall-outer");
   EXPECT_EQ(p.moves[1].feedMmPerMin, 1200);
-  EXPECT_EQ(p.moves[3].feature, "infill");
+  EXPECT_EQ(p.featureOf(p.moves[3]), "infill");
   EXPECT_EQ(p.moves[4].filament, -0.8);
   EXPECT_EQ(p.moves[4].from, p.moves[4].to);
   EXPECT_EQ(p.moves[5].layer, 1);

@@ -225,12 +225,12 @@ TEST(WriteProgram, GcodeKindsAndDialectsRoundTrip) {
       const std::vector<std::string> names = machineAxisNames(path.machine.kind);
       size_t k = 1;
       MachineValues prevValues = path.start;
-      std::vector<double> prevAxes = g[0].back()->axes;
+      MoveAxes prevAxes = g[0].back()->axes;
       for (size_t i = 0; i < path.moves.size(); ++i) {
         const MachineMove& m = path.moves[i];
         if (m.values == prevValues && m.filament == 0) continue;
         const auto& grp = g[k++];
-        const std::vector<double>& end = grp.back()->axes;
+        const MoveAxes& end = grp.back()->axes;
         double lin = 0, rot = 0;
         for (size_t a = 0; a < end.size(); ++a) {
           const double d = end[a] - prevAxes[a];
