@@ -4,13 +4,17 @@
 // method = auto and slices it. What a new user sees must show what multi-axis printing buys:
 // every method table5 takes ran and was checked, planar layers needed supports under the arms,
 // and the program written is a verified multi-axis one with next to no support, in the side-by-
-// side table with the chosen row marked.
+// side table with the chosen row marked. Slicing it again, no main-thread task over 50 ms while
+// the candidates run and their results are shown (issue 28's target; long-tasks.mjs).
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import path from 'node:path';
 import { OUT_DIR, appPage, tid } from './page-controls.mjs';
+import { longTaskCheck } from './long-tasks.mjs';
 
-const { page, skip, pageErrors, downloadProgram } = appPage('first-visit', { path: '/' });
+const app = appPage('first-visit', { path: '/' });
+const { page, skip, pageErrors, downloadProgram } = app;
+const { sliceWithLongTaskCheck } = longTaskCheck(app);
 
 test('the first visit slices the arms demo with auto on table5: a sound multi-axis program over planar with supports', async (t) => {
   if (skip(t)) return;
@@ -53,5 +57,14 @@ test('the first visit slices the arms demo with auto on table5: a sound multi-ax
   assert.ok(text.includes(`; omnislice:setting method = ${report.auto.chosen}`));
   assert.ok(text.includes('; omnislice:setting machine = table5'));
   await page.screenshot({ path: path.join(OUT_DIR, 'first-visit.png') });
+  assert.deepEqual(pageErrors(), []);
+});
+
+test('the four candidates run and show without a main-thread task over 50 ms', async (t) => {
+  if (skip(t)) return;
+  const workers = await page.evaluate(() => window.omnislice.workers);
+  t.diagnostic(`${workers} worker(s)`);
+  const rec = await sliceWithLongTaskCheck(t, 'auto on the arms demo');
+  assert.ok(rec.texts.some((x) => /^done in [\d.]+ s: auto chose \w+ of 4/.test(x)), JSON.stringify(rec.texts.slice(-3)));
   assert.deepEqual(pageErrors(), []);
 });
