@@ -228,7 +228,7 @@ void Reader::setFeature(const std::string& name) {
     return;
   }
   // Feature names come from the program's own markers: a program naming more than a few hundred
-  // is malformed (Omnislice writes nine).
+  // is malformed (Omnislice's writers use about ten).
   if (r_.features.size() >= 1024) return fail(Status::ParseError, "more than 1024 distinct feature markers");
   feature_ = static_cast<uint16_t>(r_.features.size());
   r_.features.push_back(name);

@@ -407,16 +407,13 @@ class CurvedToolpathBuilder {
     return false;
   }
 
-  // Free axis near u: rings of increasing angle around u (azimuths from the side away from the
-  // offending points); among the free candidates of the first free ring and the next few, the one
-  // of least turn + half its angle to ref (the neighbour's axis: consistent turns along a path).
-  // False when none within maxCorrectionDegrees and the tilt range.
-  // collides(i, u, &away), remembered within one path: alignTurns and taperTurns search again
-  // around the same base axes, and the sum of `away` runs over every printed point in the cone,
-  // the costliest query at real sizes (fertility at 100 mm: 70 % of the slice in it). Forgotten
-  // whenever the printed set changes (a new path's points, retired segments), so the answers are
-  // those of the query itself.
+  // collides(i, u, &away) from away = 0, remembered within one path: alignTurns and taperTurns
+  // search again around the same base axes, and the sum of `away` runs over every printed point
+  // in the cone, the costliest query at real sizes (a profile of fertility at 100 mm: 70 % of the
+  // tool-path stage in it). Forgotten whenever the printed set changes (a new path's points,
+  // retired segments), so the answers are those of the query itself.
   bool collidesAway(size_t i, const Vector3d& u, Vector3d& away) const {
+    away = Vector3d::Zero();
     const bool tight = i < tight_.size() && tight_[i];
     std::vector<AwayEntry>& entries = awayCache_[i];
     for (const AwayEntry& e : entries) {
@@ -431,8 +428,12 @@ class CurvedToolpathBuilder {
   }
   void forgetAway() { awayCache_.clear(); }
 
+  // Free axis near u: rings of increasing angle around u (azimuths from the side away from the
+  // offending points); among the free candidates of the first free ring and the next few, the one
+  // of least turn + half its angle to ref (the neighbour's axis: consistent turns along a path).
+  // False when none within maxCorrectionDegrees and the tilt range.
   bool searchFree(size_t i, Vector3d& u, const Vector3d& ref, double window) const {
-    Vector3d away = Vector3d::Zero();
+    Vector3d away;
     if (!collidesAway(i, u, away)) return true;
     away -= away.dot(u) * u;
     if (away.norm() < 1e-9) away = u.unitOrthogonal();
