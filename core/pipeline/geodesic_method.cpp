@@ -411,6 +411,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   if (tp.skippedPoints > 0) out.warnings.push_back(skippedPathWarning(tp, out.toolpath, igds.layers.size()));
   if (auto w = stage::beadOnPlatformWarning(out.toolpath)) out.warnings.push_back(*w);
   out.leftOutMm = tp.skippedMm;
+  for (const Eigen::Vector3d& e : tp.skippedEnds) out.leftOutLowestMm = std::min(out.leftOutLowestMm, e.z());
   out.layerHeight = interval;
   const int printedLayers = stage::printedLayerCount(filled.paths);
   out.slicedLayers = static_cast<size_t>(printedLayers);

@@ -6,6 +6,7 @@
 // report after). One file per method: {planar,multidir,voxel,geodesic,surface}_method.cpp.
 #pragma once
 #include <Eigen/Core>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -66,6 +67,8 @@ struct MethodResult : Outcome {
                               // solid under a surface); else the placed part
   double leftOutMm = 0;       // tool path the method planned but left out (no nozzle axis clears
                               // the part there), mm: a program with any is not sound
+  // The lowest left-out point's height above the platform, mm (infinity when none is left out).
+  double leftOutLowestMm = std::numeric_limits<double>::infinity();
   Timings timingsMs;          // the method's stages, in the order they ran
   std::vector<Warning> warnings;  // what the user should know about the delivered result
   MethodReport report;        // the method's sections of the report

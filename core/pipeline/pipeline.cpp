@@ -480,7 +480,8 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
     std::vector<AttemptSection> tried;
     double retryMs = 0;  // attempts not delivered
     if (made.check && !made.check->section.sound) {
-      const std::vector<SettingRemedy> remedies = automaticRemedies(made.check->section, settings);
+      const std::vector<SettingRemedy> remedies =
+          automaticRemedies(made.check->section, settings, made.result.leftOutLowestMm);
       for (size_t k = 0; k < remedies.size() && k + 1 < size_t(settings.verifyAttempts); ++k) {
         Settings changed = settings;
         if (Outcome o = setSetting(changed, remedies[k].key, remedies[k].value); !o.ok()) continue;

@@ -242,7 +242,7 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
   return out;
 }
 
-std::vector<SettingRemedy> automaticRemedies(const VerifySection& v, const Settings& settings) {
+std::vector<SettingRemedy> automaticRemedies(const VerifySection& v, const Settings& settings, double leftOutLowestMm) {
   std::vector<SettingRemedy> out;
   auto number = [](double x) {
     char s[32];
@@ -254,14 +254,16 @@ std::vector<SettingRemedy> automaticRemedies(const VerifySection& v, const Setti
   // and 22 mm left out; thinner layers left as much out), so nothing is tried.
   const bool fillPasses = v.inside >= v.minInside && (!v.coverageJudged || v.coverage >= v.minCoverage) &&
                           v.surfaceReached >= v.minReached && v.limits == 0;
+  const double interval = settings.geodesic.intervalMm > 0 ? settings.geodesic.intervalMm : settings.layerHeight;
   if (settings.method == Method::Geodesic && fillPasses && v.leftOutMm > 0 && v.collisions == 0 &&
-      v.supported >= v.minSupported && settings.geodesic.baseBandMm == 0) {
-    // Tool path left out where the curved layers reach down along a base that is not flat: the
-    // heat source taken from the boundary within one layer of the platform instead of a quarter
-    // (geodesic_method.cpp's comment on geodesic.base_band_mm). Measured: the shared Kitten at
-    // 100 mm on table5, 15 mm left out on layers 14-30 within 2 mm of the bed -> sound. It can
-    // harm a base with a pocket, so it is a remedy, checked like the first program, not a default.
-    const double interval = settings.geodesic.intervalMm > 0 ? settings.geodesic.intervalMm : settings.layerHeight;
+      v.supported >= v.minSupported && settings.geodesic.baseBandMm == 0 && leftOutLowestMm <= 5 * interval) {
+    // Tool path left out next to the bed, where the curved layers reach down along a base that is
+    // not flat: the heat source taken from the boundary within one layer of the platform instead
+    // of a quarter (geodesic_method.cpp's comment on geodesic.base_band_mm). Measured: the shared
+    // Kitten at 100 mm on table5, 15 mm left out on layers 14-30 within 2 mm of the bed -> sound.
+    // Left out higher (fertility at 100 mm: layers 689-797, 2-13 mm up) it did not help and
+    // doubled the slice (368 -> 710 s), so it is not tried there. It can harm a base with a
+    // pocket, so it is a remedy, checked like the first program, not a default.
     out.push_back({"geodesic.base_band_mm", number(interval),
                    "tool path left out: the layers' source widened to the part's boundary within one layer of "
                    "the platform"});

@@ -4,6 +4,7 @@
 // sound, the statement a user gets before anything is written: what fails, where, and what would
 // print the model (supports, another method, another machine, another placement).
 #pragma once
+#include <limits>
 #include <string>
 
 #include "common/progress.h"
@@ -63,8 +64,12 @@ struct SettingRemedy {
 //   (geodesic.max_thickness_ratio 0.55, then 0.45; the Yoga on robot6 at 40 mm 0.9895 -> 0.995
 //   for 18 % more layers);
 // - multidir with supports on, beads over air: multidir.alpha_max_deg 40 (the shared topopt at
-//   20 mm, 0.987 -> 0.994 for 4 % more time).
-std::vector<SettingRemedy> automaticRemedies(const VerifySection& check, const Settings& settings);
+//   20 mm, 0.987 -> 0.994 for 4 % more time);
+// - geodesic leaving tool path out next to the bed (leftOutLowestMm, the lowest left-out point's
+//   height above the platform, within 5 intervals) and failing nothing else: the heat source
+//   within one interval of the platform (geodesic.base_band_mm; the Kitten at 100 mm sound).
+std::vector<SettingRemedy> automaticRemedies(const VerifySection& check, const Settings& settings,
+                                             double leftOutLowestMm = std::numeric_limits<double>::infinity());
 
 // The "remedied" warning: the program of the user's settings failed (first.failures) and the
 // delivered one was made with the last of `tried`.

@@ -374,17 +374,20 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   EXPECT_TRUE(automaticRemedies(both, s).empty()) << "beads over air and tool path left out";
   // Tool path left out alone: the heat source within one layer of the platform (the interval,
   // layer_height when geodesic.interval_mm is 0); not when the user set the band.
+  // Next to the bed only (the lowest left-out point within 5 intervals of the platform).
   both.supported = 1;
-  r = automaticRemedies(both, s);
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "where it is left out unknown";
+  r = automaticRemedies(both, s, 0.4);
   ASSERT_EQ(r.size(), 1u);
   EXPECT_EQ(r[0].key + "=" + r[0].value, "geodesic.base_band_mm=0.2");
+  EXPECT_TRUE(automaticRemedies(both, s, 2.0).empty()) << "left out 2 mm up (10 intervals)";
   s.geodesic.intervalMm = 0.6;
-  EXPECT_EQ(automaticRemedies(both, s).at(0).value, "0.6");
+  EXPECT_EQ(automaticRemedies(both, s, 2.0).at(0).value, "0.6");
   s.geodesic.baseBandMm = 0.3;
-  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "the band is the user's";
+  EXPECT_TRUE(automaticRemedies(both, s, 0.4).empty()) << "the band is the user's";
   s.geodesic = Settings().geodesic;
   both.collisions = 2;
-  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "tool path left out and collisions";
+  EXPECT_TRUE(automaticRemedies(both, s, 0.4).empty()) << "tool path left out and collisions";
   both = v;
   both.collisions = 0;
   both.surfaceReached = 0.5;
