@@ -26,6 +26,7 @@
 #include "motion/plan_motion.h"
 #include "pipeline/auto_choice.h"
 #include "pipeline/method.h"
+#include "pipeline/curved_supports.h"
 #include "pipeline/soundness.h"
 #include "program/read_program.h"
 #include "program/write_gcode.h"
@@ -338,6 +339,9 @@ struct Attempt : Outcome {
   double ms = 0;
 };
 
+Attempt programAndCheck(Attempt a, StageClock& clock, const MachineProfile& machine, VerifyMode mode,
+                        const ProgressFn& progress, const AutoBound* bound, Clock::time_point start);
+
 Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const MachineProfile& machine,
                     const MethodEntry& method, VerifyMode mode, const ProgressFn& progress,
                     const AutoBound* bound = nullptr) {
@@ -358,7 +362,14 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
   } else {
     a.printed = part.mesh;
   }
+  return programAndCheck(std::move(a), clock, machine, mode, progress, bound, start);
+}
 
+// The motion, the program and (unless verify is off) the check of an attempt whose tool path is
+// made (a.result, a.printed, a.placement, a.settings).
+Attempt programAndCheck(Attempt a, StageClock& clock, const MachineProfile& machine, VerifyMode mode,
+                        const ProgressFn& progress, const AutoBound* bound, Clock::time_point start) {
+  const Settings& settings = a.settings;
   // Motion and program.
   if (Outcome o = checkMemoryBudget(double(a.result.toolpath.moves.size()) * memory_cost::kMoveBytes,
                                     settings.memoryMb,
@@ -413,6 +424,109 @@ Attempt makeAttempt(const PlacedPart& part, const Settings& settings, const Mach
   a.timingsMs = std::move(clock.timings);
   a.ms = msSince(start);
   return a;
+}
+
+// Supports as the last resort of the curved methods (curved_supports.h): support = projected adds
+// fins under whatever the check finds printed over air; auto only when beads over air are the one
+// failure left, and the finned program is delivered only when its check finds it sound.
+bool curvedSupportsWanted(const Settings& settings, const SoundnessCheck& check) {
+  if (settings.method != Method::Voxel && settings.method != Method::Geodesic) return false;
+  if (check.unsupportedTips.empty() || settings.support.mode == SupportMode::None) return false;
+  if (settings.support.mode == SupportMode::Projected) return true;
+  const VerifySection& v = check.section;
+  return !v.sound && v.inside >= v.minInside && (!v.coverageJudged || v.coverage >= v.minCoverage) &&
+         v.surfaceReached >= v.minReached && v.limits == 0 && v.collisions == 0 && v.leftOutMm <= 0 &&
+         v.supported < v.minSupported;
+}
+
+// The attempt `made` again with fins under its unsupported samples: motion, program and check of
+// the finned tool path (the method does not run again).
+Attempt withCurvedSupports(const Attempt& made, const MachineProfile& machine, VerifyMode mode,
+                           const ProgressFn& progress, CurvedSupportResult& fins) {
+  const Clock::time_point start = Clock::now();
+  const Settings& settings = made.settings;
+  CurvedSupportOptions o;
+  o.layerHeightMm = made.result.layerHeight > 0 ? made.result.layerHeight : settings.layerHeight;
+  o.lineWidthMm = settings.effectiveLineWidth();
+  o.filamentDiameterMm = settings.filamentDiameter;
+  o.speedMmS = settings.outerWallSpeed;
+  o.travelSpeedMmS = settings.travelSpeed;
+  o.retractMm = settings.retractLength;
+  o.retractSpeedMmS = settings.retractSpeed;
+  o.coneHalfAngleDeg = machine.nozzle.coneHalfAngleDegrees;
+  o.coneLengthMm = machine.nozzle.coneLength;
+  fins = addCurvedSupports(made.result.toolpath, made.printed, made.check->unsupportedTips, o);
+  if (fins.columns == 0) return failed<Attempt>(Status::InvalidOption, "no fin: no sample over air has room under it");
+  Attempt a;
+  a.settings = settings;
+  a.result = made.result;
+  a.result.toolpath = std::move(fins.toolpath);
+  auto& ws = a.result.warnings;  // the check of the finned program says again what it must
+  ws.erase(std::remove_if(ws.begin(), ws.end(), [](const Warning& w) { return w.code == "unsound_program"; }),
+           ws.end());
+  fins.toolpath = {};
+  a.printed = made.printed;
+  a.placement = made.placement;
+  StageClock clock;
+  clock.timings = made.timingsMs;
+  // The stages after the method ran again: keep the method's, name the fins' step.
+  clock.timings.erase(std::remove_if(clock.timings.begin(), clock.timings.end(),
+                                     [](const auto& t) { return t.first == "motion" || t.first == "program" ||
+                                                                t.first == "verify"; }),
+                      clock.timings.end());
+  clock.done("supports");
+  return programAndCheck(std::move(a), clock, machine, mode, progress, nullptr, start);
+}
+
+// Curved supports after the remedies (curvedSupportsWanted): the fins' program is tried, listed in
+// `tried` and delivered into `made` when sound (or with support = projected); `retryMs` then counts
+// what was not delivered. False when cancelled.
+bool supportsLastResort(Attempt& made, std::vector<AttemptSection>& tried, double& retryMs, bool& delivered,
+                        const MachineProfile& machine, VerifyMode mode, const ProgressFn& progress) {
+  if (!reportProgress(progress, "retry", 1)) return false;
+  const Settings& settings = made.settings;
+  CurvedSupportResult fins;
+  Attempt finned;
+  try {
+    finned = withCurvedSupports(made, machine, mode, progress, fins);
+  } catch (const std::bad_alloc&) {
+    finned = failed<Attempt>(allocationFailed("adding supports"));
+  }
+  if (finned.status == Status::Cancelled) return false;
+  if (fins.columns == 0) return true;  // nothing to print: nothing made again, nothing said
+  AttemptSection t;
+  t.settings = "support=projected";
+  t.why = "beads over air: support fins under them, printed before the paths they carry";
+  t.ms = finned.ms;
+  if (finned.ok() && finned.check) {
+    t.sound = finned.check->section.sound;
+    t.failures = finned.check->section.failures;
+  } else {
+    t.failures = {finned.message};
+  }
+  tried.push_back(t);
+  if (!t.sound && !(finned.ok() && settings.support.mode == SupportMode::Projected)) return true;
+  char text[600];
+  std::snprintf(text, sizeof text,
+                "support fins under %zu of the %zu surface samples printed over air (%zu fins, %.0f mm of support "
+                "path, %zu standing on the platform); none under %zu with part below them (not an underside), "
+                "%zu whose column a path printed later would strike, %zu landing on part printed after them, %zu "
+                "with no room",
+                fins.columns, fins.samples, fins.fins, fins.pathMm, fins.onPlatform, fins.notUnderside,
+                fins.inLaterCones, fins.landsLater, fins.blocked - fins.inLaterCones - fins.landsLater);
+  finned.result.warnings.push_back({"curved_supports", text});
+  // The first program's motion, program and check, and the remedies before, were not delivered
+  // (its method's stages are the delivered program's).
+  double methodMs = 0;
+  for (const auto& stage : made.result.timingsMs) methodMs += stage.second;
+  retryMs = std::max(0.0, made.ms - methodMs);
+  for (size_t j = 0; j + 1 < tried.size(); ++j) retryMs += tried[j].ms;
+  if (t.sound && !made.check->section.sound) {
+    finned.result.warnings.push_back({"remedied", remediedMessage(made.check->section, tried)});
+  }
+  made = std::move(finned);
+  delivered = true;
+  return true;
 }
 
 }  // namespace
@@ -479,7 +593,8 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
     }
     std::vector<AttemptSection> tried;
     double retryMs = 0;  // attempts not delivered
-    if (made.check && !made.check->section.sound) {
+    bool finnedDelivered = false;  // the delivered program is the one with curved supports
+    if (made.check && (!made.check->section.sound || curvedSupportsWanted(settings, *made.check))) {
       const std::vector<SettingRemedy> remedies =
           automaticRemedies(made.check->section, settings, made.result.leftOutLowestMm);
       for (size_t k = 0; k < remedies.size() && k + 1 < size_t(settings.verifyAttempts); ++k) {
@@ -516,8 +631,15 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
           break;
         }
       }
+      // Asked for (projected), or a remedy within verify_attempts (auto).
+      const bool finsAllowed = settings.support.mode == SupportMode::Projected ||
+                               tried.size() + 1 < size_t(settings.verifyAttempts);
+      if (finsAllowed && curvedSupportsWanted(settings, *made.check) &&
+          !supportsLastResort(made, tried, retryMs, finnedDelivered, machine, mode, progress)) {
+        return failed<SliceOutput>(Status::Cancelled, "cancelled");
+      }
       noteAttempts(made.check->section, tried);
-      if (!made.check->section.sound) {
+      if (!made.check->section.sound && !finnedDelivered) {
         for (const AttemptSection& t : tried) retryMs += t.ms;
         for (Warning& w : made.result.warnings) {
           if (w.code == "unsound_program") w.message = made.check->section.statement;

@@ -213,9 +213,10 @@ struct Settings {
   RepairMode repair = RepairMode::Auto;
   VerifyMode verify = VerifyMode::Auto;  // auto | refuse | warn | off (pipeline/soundness.h)
   // Programs made at most: when the check finds one unsound, again with the remedies the slicer
-  // applies itself (soundness.h automaticRemedies), the first sound one delivered; 1 = only the
-  // program of these settings.
-  int verifyAttempts = 3;
+  // applies itself (soundness.h automaticRemedies, then curved supports: pipeline.cpp), the first
+  // sound one delivered; 1 = only the program of these settings. 4: the geodesic method's two
+  // thinner-layer remedies, then supports.
+  int verifyAttempts = 4;
   // method = auto: candidates run on this many threads (0 = every core; 1 = one after another);
   // a wasm build without pthreads runs one.
   int threads = 0;

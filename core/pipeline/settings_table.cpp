@@ -545,7 +545,7 @@ std::vector<SettingSpec> makeTable() {
       choice<SupportMode>("support", [](S& s) -> SupportMode& { return s.support.mode; },
                           {{"auto", SupportMode::Auto}, {"none", SupportMode::None},
                            {"projected", SupportMode::Projected}},
-                          "a support mode", "auto (multidir: projected; planar: projected when more of the surface than support.auto_share_pct overhangs, else none), none or projected"),
+                          "a support mode", "auto (multidir: projected; planar: projected when more of the surface than support.auto_share_pct overhangs, else none; voxel and geodesic: fins when beads over air are the one failure left and they make the program sound), none or projected"),
       // ---- method-specific choices (listed only with their method) ------------------------------
       onlyWith(Method::Voxel,
                choice<GrowthStrategy>("voxel.strategy", [](S& s) -> GrowthStrategy& { return s.voxel.strategy; },
@@ -630,7 +630,8 @@ std::vector<SettingSpec> makeTable() {
       unlisted(integer("verify_attempts", [](S& s) -> int& { return s.verifyAttempts; }, 1, 10, "programs",
                        "when the check finds a program unsound, make it again with the remedies the slicer "
                        "can apply itself (voxel: another smoothing of the layer field; geodesic: thinner "
-                       "layers at the surface; multidir: a stricter self-supporting angle) and deliver "
+                       "layers at the surface; multidir: a stricter self-supporting angle; voxel and geodesic, "
+                       "last: support fins under beads over air) and deliver "
                        "the first sound one; at most this many programs (1 = no second attempt)")),
   };
   return t;

@@ -19,6 +19,7 @@ const char* const kWriteAnyway = "To write this program anyway, set verify=warn.
 
 // Positions kept per kind for the page to draw (evenly spread over all of them).
 constexpr size_t kKeptPoints = 4000;
+constexpr size_t kSupportTips = 200000;
 
 std::string percent(double share) {
   char s[32];
@@ -175,6 +176,7 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
   }
   VerifyOptions vo;
   vo.keepPoints = kKeptPoints;
+  vo.keepUnsupported = kSupportTips;
   vo.memoryBudgetMb = settings.memoryMb;
   VerifyReport rep = verifyProgram(program, part, vo, progress);
   if (!rep.ok()) return failed<SoundnessCheck>(rep);
@@ -236,7 +238,15 @@ SoundnessCheck checkProgram(const std::string& programText, const Mesh& part, co
     if (mode == VerifyMode::Refuse) sentences.push_back(kWriteAnyway);
     v.statement = joined(sentences, " ");
   }
-  out.preview.unsupported = std::move(rep.unsupportedPoints);
+  // The preview: up to kKeptPoints of them, spread evenly (the samples verify would have kept).
+  out.unsupportedTips = std::move(rep.unsupportedPoints);
+  const size_t tips = out.unsupportedTips.size() / 3, shown = std::min(tips, kKeptPoints);
+  out.preview.unsupported.reserve(3 * shown);
+  for (size_t k = 0; k < shown; ++k) {
+    const size_t i = k * tips / shown;
+    out.preview.unsupported.insert(out.preview.unsupported.end(), out.unsupportedTips.begin() + long(3 * i),
+                                   out.unsupportedTips.begin() + long(3 * i + 3));
+  }
   out.preview.collisions = std::move(rep.collisionPoints);
   v.ms = msSince(t0);
   return out;

@@ -37,6 +37,8 @@ VerifyMode effectiveVerifyMode(const Settings& settings);
 struct SoundnessCheck : Outcome {
   VerifySection section;  // the report's "verify"
   VerifyPreview preview;  // where it fails, for viewers
+  std::vector<float> unsupportedTips;  // #U*3: every unsupported surface sample (up to 200,000,
+                                       // spread evenly beyond), for curved supports
 };
 
 // Simulate `program` (the text the pipeline wrote) against `part` (the printed solid in the part

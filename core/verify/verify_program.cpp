@@ -1098,7 +1098,8 @@ VerifyReport verifyProgram(const ParsedProgram& program, const Mesh& partMesh,
   std::vector<uint8_t> nearSurface;
   ok = insideSamples(tree, partMesh, segments, samples, w, progress, nearSurface, rep);
   if (ok.ok()) {
-    ok = supportedSamples(tree, partMesh, segments, samples, nearSurface, h, options.keepPoints, progress, rep);
+    ok = supportedSamples(tree, partMesh, segments, samples, nearSurface, h,
+                          options.keepUnsupported > 0 ? options.keepUnsupported : options.keepPoints, progress, rep);
   }
   if (ok.ok()) ok = collidingSamples(program, segments, samples, h, options.keepPoints, progress, rep);
   if (ok.ok()) ok = coverage(tree, partMesh, segments, g, h, w, options.maxGridPoints, progress, rep);

@@ -23,6 +23,8 @@ struct VerifyOptions {
   size_t keepPoints = 0;             // > 0: keep up to this many positions of the unsupported
                                      // and of the colliding samples (spread evenly over them), for
                                      // viewers to draw where a program fails
+  size_t keepUnsupported = 0;        // > 0: keep up to this many unsupported positions instead
+                                     // of keepPoints (curved supports need all of them)
 };
 
 // Where a collision happened: the sample (tip position and nozzle axis), the earlier material
