@@ -444,6 +444,7 @@ bool curvedSupportsWanted(const Settings& settings, const SoundnessCheck& check)
 Attempt withCurvedSupports(const Attempt& made, const MachineProfile& machine, VerifyMode mode,
                            const ProgressFn& progress, CurvedSupportResult& fins) {
   const Clock::time_point start = Clock::now();
+  StageClock clock;  // its first stage: the fins
   const Settings& settings = made.settings;
   CurvedSupportOptions o;
   o.layerHeightMm = made.result.layerHeight > 0 ? made.result.layerHeight : settings.layerHeight;
@@ -467,9 +468,8 @@ Attempt withCurvedSupports(const Attempt& made, const MachineProfile& machine, V
   fins.toolpath = {};
   a.printed = made.printed;
   a.placement = made.placement;
-  StageClock clock;
   clock.timings = made.timingsMs;
-  // The stages after the method ran again: keep the method's, name the fins' step.
+  // The method's stages stay (it did not run again); motion, program and check follow the fins.
   clock.timings.erase(std::remove_if(clock.timings.begin(), clock.timings.end(),
                                      [](const auto& t) { return t.first == "motion" || t.first == "program" ||
                                                                 t.first == "verify"; }),
@@ -517,9 +517,10 @@ bool supportsLastResort(Attempt& made, std::vector<AttemptSection>& tried, doubl
   finned.result.warnings.push_back({"curved_supports", text});
   // The first program's motion, program and check, and the remedies before, were not delivered
   // (its method's stages are the delivered program's).
-  double methodMs = 0;
-  for (const auto& stage : made.result.timingsMs) methodMs += stage.second;
-  retryMs = std::max(0.0, made.ms - methodMs);
+  retryMs = 0;
+  for (const auto& [stage, ms] : made.timingsMs) {
+    if (stage == "motion" || stage == "program" || stage == "verify") retryMs += ms;
+  }
   for (size_t j = 0; j + 1 < tried.size(); ++j) retryMs += tried[j].ms;
   if (t.sound && !made.check->section.sound) {
     finned.result.warnings.push_back({"remedied", remediedMessage(made.check->section, tried)});
