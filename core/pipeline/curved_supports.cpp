@@ -29,6 +29,21 @@ bool extruding(const Move& m) {
 
 int64_t floorOf(double v) { return int64_t(std::floor(v)); }
 
+// Every extruding move of a path sampled every 0.5 mm or closer, its ends included:
+// visit(point, move index).
+template <class Visit>
+void forEachSample(const Toolpath& path, Visit&& visit) {
+  Eigen::Vector3d prev = path.start;
+  for (size_t k = 0; k < path.moves.size(); ++k) {
+    const Move& m = path.moves[k];
+    if (extruding(m)) {
+      const int pieces = std::max(1, int(std::ceil((m.position - prev).norm() / 0.5)));
+      for (int i = 0; i <= pieces; ++i) visit(Eigen::Vector3d(prev + (double(i) / pieces) * (m.position - prev)), k);
+    }
+    prev = m.position;
+  }
+}
+
 // A cell's key: 21 bits per coordinate (1 mm cells over +-1 km).
 uint64_t cellKey(int64_t x, int64_t y, int64_t z) {
   const uint64_t m = (uint64_t(1) << 21) - 1;
@@ -93,16 +108,7 @@ class ConeBlocker {
   ConeBlocker(const Toolpath& path, double h, double halfAngleDeg, double length)
       : ConeBlocker(h, halfAngleDeg, length) {
     sorted_ = true;
-    Eigen::Vector3d prev = path.start;
-    for (size_t k = 0; k < path.moves.size(); ++k) {
-      const Move& m = path.moves[k];
-      if (extruding(m)) {
-        const double len = (m.position - prev).norm();
-        const int pieces = std::max(1, int(std::ceil(len / 0.5)));
-        for (int i = 0; i <= pieces; ++i) add(prev + (double(i) / pieces) * (m.position - prev), uint32_t(k));
-      }
-      prev = m.position;
-    }
+    forEachSample(path, [&](const Eigen::Vector3d& p, size_t k) { add(p, uint32_t(k)); });
   }
 
   void add(const Eigen::Vector3d& p, uint32_t index) {
@@ -193,26 +199,16 @@ class LaterCones {
  public:
   LaterCones(const Toolpath& path, double h, double halfAngleDeg, double length)
       : h_(h), t_(halfAngleDeg * kPi / 180), length_(length) {
-    Eigen::Vector3d prev = path.start;
-    for (size_t k = 0; k < path.moves.size(); ++k) {
-      const Move& m = path.moves[k];
-      if (extruding(m)) {
-        const double len = (m.position - prev).norm();
-        const int pieces = std::max(1, int(std::ceil(len / 0.5)));
-        const Eigen::Vector3d u = m.axis.normalized();
-        for (int i = 0; i <= pieces; ++i) {
-          const Eigen::Vector3d p = prev + (double(i) / pieces) * (m.position - prev);
-          const int64_t a = floorOf(p.x()), b = floorOf(p.y()), c = floorOf(p.z());
-          points_[cellKey(a, b, c)].push_back({p, u, uint32_t(k)});
-          for (int l = 1; l < kLevels; ++l) {
-            Cell& cell = cells_[size_t(l)][cellKey(a >> l, b >> l, c >> l)];
-            cell.latest = std::max(cell.latest, uint32_t(k));
-            cell.axis += u;
-          }
-        }
+    forEachSample(path, [&](const Eigen::Vector3d& p, size_t k) {
+      const Eigen::Vector3d u = path.moves[k].axis.normalized();
+      const int64_t a = floorOf(p.x()), b = floorOf(p.y()), c = floorOf(p.z());
+      points_[cellKey(a, b, c)].push_back({p, u, uint32_t(k)});
+      for (int l = 1; l < kLevels; ++l) {
+        Cell& cell = cells_[size_t(l)][cellKey(a >> l, b >> l, c >> l)];
+        cell.latest = std::max(cell.latest, uint32_t(k));
+        cell.axis += u;
       }
-      prev = m.position;
-    }
+    });
     // The spread of the axes about each cell's mean: from the points at level 1, from the
     // children above it.
     for (int l = 1; l < kLevels; ++l) {
@@ -249,7 +245,7 @@ class LaterCones {
 
  private:
   static constexpr int kLevels = 7;          // 1, 2, 4, ..., 64 mm
-  static constexpr double kMargin = 0.35;    // as ConeBlocker's lateral margin
+  static constexpr double kMargin = 0.35, kAxialMargin = 0.1;  // as ConeBlocker's margins
   struct Point {
     Eigen::Vector3d p, u;
     uint32_t move;
@@ -278,7 +274,7 @@ class LaterCones {
         if (q.move <= after) continue;
         const Eigen::Vector3d d = x - q.p;
         const double axial = d.dot(q.u);
-        if (axial <= h_ - 0.1 || d.norm() >= length_ + kMargin) continue;
+        if (axial <= h_ - kAxialMargin || d.norm() >= length_ + kMargin) continue;
         if ((d - axial * q.u).norm() < axial * std::tan(t_) + kMargin) return true;
       }
       return false;

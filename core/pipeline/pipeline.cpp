@@ -426,6 +426,21 @@ Attempt programAndCheck(Attempt a, StageClock& clock, const MachineProfile& mach
   return a;
 }
 
+// The report's entry for a program made again with `settings` ("key=value") for `why`.
+AttemptSection attemptSection(const std::string& settings, const std::string& why, const Attempt& again) {
+  AttemptSection t;
+  t.settings = settings;
+  t.why = why;
+  t.ms = again.ms;
+  if (again.ok() && again.check) {
+    t.sound = again.check->section.sound;
+    t.failures = again.check->section.failures;
+  } else {
+    t.failures = {again.message};
+  }
+  return t;
+}
+
 // Supports as the last resort of the curved methods (curved_supports.h): support = projected adds
 // fins under whatever the check finds printed over air; auto only when beads over air are the one
 // failure left, and the finned program is delivered only when its check finds it sound.
@@ -494,16 +509,8 @@ bool supportsLastResort(Attempt& made, std::vector<AttemptSection>& tried, doubl
   }
   if (finned.status == Status::Cancelled) return false;
   if (fins.columns == 0) return true;  // nothing to print: nothing made again, nothing said
-  AttemptSection t;
-  t.settings = "support=projected";
-  t.why = "beads over air: support fins under them, printed before the paths they carry";
-  t.ms = finned.ms;
-  if (finned.ok() && finned.check) {
-    t.sound = finned.check->section.sound;
-    t.failures = finned.check->section.failures;
-  } else {
-    t.failures = {finned.message};
-  }
+  const AttemptSection t = attemptSection(
+      "support=projected", "beads over air: support fins under them, printed before the paths they carry", finned);
   tried.push_back(t);
   if (!t.sound && !(finned.ok() && settings.support.mode == SupportMode::Projected)) return true;
   char text[600];
@@ -613,16 +620,7 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
           again = failed<Attempt>(allocationFailed("making the program again"));
         }
         if (again.status == Status::Cancelled) return failed<SliceOutput>(again);
-        AttemptSection t;
-        t.settings = remedies[k].key + "=" + remedies[k].value;
-        t.why = remedies[k].why;
-        t.ms = again.ms;
-        if (again.ok() && again.check) {
-          t.sound = again.check->section.sound;
-          t.failures = again.check->section.failures;
-        } else {
-          t.failures = {again.message};
-        }
+        const AttemptSection t = attemptSection(remedies[k].key + "=" + remedies[k].value, remedies[k].why, again);
         tried.push_back(t);
         if (t.sound) {
           retryMs = made.ms;
