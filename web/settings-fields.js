@@ -219,9 +219,11 @@ export const PAGE_FIELDS = [
     sendIf: isMultidir },
   // Supports (paper 000 Section V): projected through the multidir parts' subspaces, or along +Z
   // for a planar print (core/pipeline/settings.h SupportSettings).
+  // Every method: planar and multidir project supports; voxel and geodesic add fins under beads
+  // printed over air (auto: as the last resort, kept only when they make the program sound).
   { group: 'Supports', key: 'support', label: 'supports', type: 'select', testid: 'support-mode',
-    labels: { auto: 'auto (multidir: projected, planar: none)', none: 'none', projected: 'projected' },
-    showIf: isPlanar, sendIf: isPlanar },
+    labels: { auto: 'auto (multidir: projected; planar: where it overhangs; curved: fins when they make it sound)',
+      none: 'none', projected: 'projected (curved: fins under whatever is over air)' } },
   { group: 'Supports', key: 'support.sampling_mm', label: 'overhang sampling R (mm, 0 = from the nozzle)', step: 0.5,
     testid: 'support-sampling', showIf: (v) => isPlanar(v) && v.support !== 'none', sendIf: isPlanar },
   { group: 'Supports', key: 'support.merge_angle_deg', label: 'tree branch angle (deg, 0 = straight columns)', step: 5,
