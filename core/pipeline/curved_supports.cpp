@@ -127,7 +127,8 @@ class ConeBlocker {
     size_t best = SIZE_MAX;
     const double s = cellAt(kLevels - 1);
     const double r = radius_ + kLateralMargin;
-    const Eigen::Vector3d lo(x.x() - r, x.y() - r, x.z() + h_ - kAxialMargin), hi(x.x() + r, x.y() + r, x.z() + length_ + r);
+    const Eigen::Vector3d lo(x.x() - r, x.y() - r, x.z() + h_ - kAxialMargin);
+    const Eigen::Vector3d hi(x.x() + r, x.y() + r, x.z() + length_ + r);
     for (int64_t i = floorOf(lo.x() / s); i <= floorOf(hi.x() / s); ++i) {
       for (int64_t j = floorOf(lo.y() / s); j <= floorOf(hi.y() / s); ++j) {
         for (int64_t k = floorOf(lo.z() / s); k <= floorOf(hi.z() / s); ++k) descend(kLevels - 1, i, j, k, x, best);
@@ -444,9 +445,8 @@ CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, co
       const double reach = w + h;
       bool printed = false;
       hash.near(q, [&](size_t k) {
-        if (!printed && k < before && pointSegmentDistance2(q, hash.startOf(k), path.moves[k].position) <= reach * reach) {
-          printed = true;
-        }
+        printed = printed ||
+                  (k < before && pointSegmentDistance2(q, hash.startOf(k), path.moves[k].position) <= reach * reach);
       });
       ok = printed;
     }

@@ -645,6 +645,12 @@ static SliceOutput runOneMethod(const uint8_t* data, size_t size, const std::str
         }
       }
     }
+    if (!made.check && settings.support.mode == SupportMode::Projected &&
+        (settings.method == Method::Voxel || settings.method == Method::Geodesic)) {
+      made.result.warnings.push_back(
+          {"curved_supports", "no support fins: they go under what the check finds printed over air, and verify = off "
+                              "skips the check"});
+    }
     MethodResult& result = made.result;
     std::optional<SoundnessCheck>& check = made.check;
     const MachinePath& motion = made.motion;

@@ -173,7 +173,9 @@ TEST(CurvedSupports, FinsCarryEveryBeadOverAirAndClearEveryCone) {
   for (size_t i = 0; i < tips; ++i) {
     const Eigen::Vector3d tip(t.overAir[3 * i], t.overAir[3 * i + 1], t.overAir[3 * i + 2]);
     bool carried = false;
-    for (const Sample& x : s) carried = carried || (x.support && x.move < original[t.capStart] && (x.p - tip).norm() <= 1.5 * kH);
+    for (const Sample& x : s) {
+      carried = carried || (x.support && x.move < original[t.capStart] && (x.p - tip).norm() <= 1.5 * kH);
+    }
     EXPECT_TRUE(carried) << tip.transpose();
   }
   EXPECT_EQ(collisions(s), 0u);
@@ -254,6 +256,17 @@ TEST(CurvedSupports, PipelineDeliversFinsThatVerifyConfirms) {
   const SliceOutput autoOut = runSlice(bytes.data(), bytes.size(), "tunnel.stl", s);
   ASSERT_TRUE(autoOut.ok()) << autoOut.message;
   EXPECT_EQ(nlohmann::json::parse(autoOut.reportJson).value("support_volume_mm3", 0.0), 0.0);
+  // Without the check there is nothing to put fins under, and the report says so.
+  s.support.mode = SupportMode::Projected;
+  s.verify = VerifyMode::Off;
+  const SliceOutput off = runSlice(bytes.data(), bytes.size(), "tunnel.stl", s);
+  ASSERT_TRUE(off.ok()) << off.message;
+  bool saidOff = false;
+  for (const Warning& w : off.warnings) {
+    saidOff = saidOff || (w.code == "curved_supports" && w.message.find("verify = off") != std::string::npos);
+  }
+  EXPECT_TRUE(saidOff);
+  EXPECT_EQ(nlohmann::json::parse(off.reportJson).value("support_volume_mm3", 0.0), 0.0);
 }
 
 }  // namespace
