@@ -154,3 +154,16 @@ test('settingsFields: the page keeps no defaults, ranges or choices; drift from 
     .find((f) => f.key === 'infill_pattern');
   assert.deepEqual(pattern.options, [{ label: 'grid', value: 'grid' }, { label: 'lines', value: 'lines' }, { label: 'gyroid', value: 'gyroid' }]);
 });
+
+test('supports: offered and sent for every method (curved layers: fins), the planar-only details not', needsFields, () => {
+  const model = new SettingsModel(FIELDS);
+  const field = (key) => FIELDS.find((f) => f.key === key);
+  for (const method of ['planar', 'multidir', 'voxel', 'geodesic']) {
+    model.set('method', method);
+    model.set('support', 'projected');
+    assert.notEqual(field('support').showIf?.(model.values), false, `${method}: the supports row is shown`);
+    assert.equal(model.toSliceSettings().support, 'projected', `${method}: the choice is sent`);
+    const curved = method === 'voxel' || method === 'geodesic';
+    assert.equal(field('support.sampling_mm').showIf(model.values), !curved, `${method}: sampling row`);
+  }
+});
