@@ -301,18 +301,16 @@ struct Hit {
   size_t move = 0;        // the extruding move the sample lies on
   double t = 0;           // its parameter along the move
   Eigen::Vector3d p;      // the sample
-  double top = 0;         // the highest copy's tip height (p.z - h)
+  double top = 0;         // the highest copy's tip height (a support layer j h)
   double land = 0;        // what the column stands on: the platform (0) or the part's surface
   int levels = 0;         // copies under the sample (0: no column)
   std::vector<size_t> at; // per copy from the top (at[0] = the highest): where it is printed
 };
 
-// A piece of one copy of a fin: consecutive samples of a stretch printed at the same place.
+// A piece of a fin on one support layer: consecutive samples of a stretch printed at one place.
 struct Piece {
-  size_t stretch = 0;
-  int level = 0;  // its support layer j (height j h)
   std::vector<Eigen::Vector3d> line;
-  double z = 0;   // its height
+  double z = 0;  // its support layer's height
 };
 
 }  // namespace
@@ -496,8 +494,6 @@ CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, co
         while (j < s1 && has(j, layer) && placeOf(j, layer) == where) ++j;
         auto copy = [&](size_t q) { return Eigen::Vector3d(hits[q].p.x(), hits[q].p.y(), double(layer) * h); };
         Piece piece;
-        piece.stretch = s0;
-        piece.level = layer;
         if (j - i == 1) {
           // One sample: a dash of one line width along its move.
           Eigen::Vector3d d = path.moves[hits[i].move].position - hash.startOf(hits[i].move);
@@ -515,9 +511,9 @@ CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, co
     s0 = s1;
   }
 
-  // 4. The tool path with the copies in it: at each place the pieces lowest copy first (pieces of
-  // one stretch), printed with the nozzle vertical; after a retraction the filament is pushed back
-  // for them and pulled again after them.
+  // 4. The tool path with the pieces in it: at each place the lowest support layer first, printed
+  // with the nozzle vertical; after a retraction the filament is pushed back for them and pulled
+  // again after them.
   r.toolpath.start = path.start;
   r.toolpath.layerCount = path.layerCount;
   r.toolpath.moves.reserve(n);
