@@ -316,7 +316,7 @@ struct Piece {
 }  // namespace
 
 CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, const std::vector<float>& unsupported,
-                                      const CurvedSupportOptions& o) {
+                                      const CurvedSupportOptions& o, const ProgressFn& progress) {
   CurvedSupportResult r;
   r.samples = unsupported.size() / 3;
   const double h = o.layerHeightMm, w = o.lineWidthMm;
@@ -404,6 +404,8 @@ CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, co
     int level;  // 1 = the highest
     double z;
   };
+  for (const Hit& hit : hits) r.copies += size_t(hit.levels);
+  if (r.copies > o.maxCopies) return r;
   std::vector<Copy> copies;
   for (size_t i = 0; i < hits.size(); ++i) {
     hits[i].at.assign(size_t(hits[i].levels), n);
@@ -411,7 +413,12 @@ CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, co
   }
   std::stable_sort(copies.begin(), copies.end(), [](const Copy& a, const Copy& b) { return a.z > b.z; });
   ConeBlocker finCones(h, o.coneHalfAngleDeg, o.coneLengthMm);
-  for (const Copy& c : copies) {
+  for (size_t ci = 0; ci < copies.size(); ++ci) {
+    const Copy& c = copies[ci];
+    if ((ci & 4095) == 0 && !reportProgress(progress, "supports", 0.9 * double(ci) / double(copies.size()))) {
+      r.cancelled = true;
+      return r;
+    }
     Hit& hit = hits[c.hit];
     const Eigen::Vector3d x(hit.p.x(), hit.p.y(), c.z);
     size_t at = c.level == 1 ? insertionBefore(runStart[hit.move]) : hit.at[size_t(c.level - 2)];

@@ -28,6 +28,7 @@
 #include <cstddef>
 #include <vector>
 
+#include "common/progress.h"
 #include "mesh/mesh.h"
 #include "toolpath/toolpath.h"
 
@@ -46,9 +47,14 @@ struct CurvedSupportOptions {
                                     // the tool path's within the chord tolerance)
   double coneHalfAngleDeg = 40;     // the machine's nozzle cone (verify's collision test)
   double coneLengthMm = 25;
+  size_t maxCopies = 1000000;       // more support beads (column heights) than this: no fins
+                                    // (about 100 bytes and 15 us natively each)
 };
 
 struct CurvedSupportResult {
+  bool cancelled = false;      // progress returned false (toolpath then empty)
+  size_t copies = 0;           // column heights the samples at an underside would need; above
+                               // maxCopies nothing is built (columns 0)
   Toolpath toolpath;           // the input with the fins inserted
   size_t samples = 0;          // unsupported samples given
   size_t matched = 0;          // of those, found on an extruding move
@@ -68,7 +74,8 @@ struct CurvedSupportResult {
 // The fins for `unsupported` (#U*3 part-frame tips, verify's unsupported samples of the program
 // made from `path`) under the part `part` (closed, part frame). Deterministic. Cost: the tool path
 // sampled every 0.5 mm into two cell hierarchies, then one descent per copy for each cone test.
+// Progress stage "supports" while the copies are placed.
 CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, const std::vector<float>& unsupported,
-                                      const CurvedSupportOptions& options);
+                                      const CurvedSupportOptions& options, const ProgressFn& progress = {});
 
 }  // namespace omnislice

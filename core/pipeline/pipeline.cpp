@@ -471,7 +471,8 @@ Attempt withCurvedSupports(const Attempt& made, const MachineProfile& machine, V
   o.retractSpeedMmS = settings.retractSpeed;
   o.coneHalfAngleDeg = machine.nozzle.coneHalfAngleDegrees;
   o.coneLengthMm = machine.nozzle.coneLength;
-  fins = addCurvedSupports(made.result.toolpath, made.printed, made.check->unsupportedTips, o);
+  fins = addCurvedSupports(made.result.toolpath, made.printed, made.check->unsupportedTips, o, progress);
+  if (fins.cancelled) return failed<Attempt>(Status::Cancelled, "cancelled");
   if (fins.columns == 0) return failed<Attempt>(Status::InvalidOption, "no fin: no sample over air has room under it");
   Attempt a;
   a.settings = settings;
@@ -508,7 +509,14 @@ bool supportsLastResort(Attempt& made, std::vector<AttemptSection>& tried, doubl
     finned = failed<Attempt>(allocationFailed("adding supports"));
   }
   if (finned.status == Status::Cancelled) return false;
-  if (fins.columns == 0) return true;  // nothing to print: nothing made again, nothing said
+  if (fins.columns == 0) {  // nothing to print: nothing made again
+    if (fins.copies > CurvedSupportOptions().maxCopies) {
+      made.result.warnings.push_back(
+          {"curved_supports", "no support fins: the samples printed over air would need " + std::to_string(fins.copies) +
+                                  " support beads, more than " + std::to_string(CurvedSupportOptions().maxCopies)});
+    }
+    return true;
+  }
   const AttemptSection t = attemptSection(
       "support=projected", "beads over air: support fins under them, printed before the paths they carry", finned);
   tried.push_back(t);

@@ -207,6 +207,27 @@ TEST(CurvedSupports, ColumnsAPathPrintedLaterWouldStrikeAreDropped) {
   EXPECT_EQ(collisions(samples(r.toolpath), true), 0u);
 }
 
+TEST(CurvedSupports, BoundedAndCancellable) {
+  const Tee t = tee(false);
+  CurvedSupportOptions o = options();
+  const CurvedSupportResult all = addCurvedSupports(t.path, t.mesh, t.overAir, o);
+  // Each sample (tip at 10.2 mm) gets a copy on every support layer from 10.0 down to 0.2 mm.
+  EXPECT_EQ(all.copies, all.columns * 50u);
+  o.maxCopies = all.copies - 1;
+  const CurvedSupportResult capped = addCurvedSupports(t.path, t.mesh, t.overAir, o);
+  EXPECT_EQ(capped.copies, all.copies);
+  EXPECT_EQ(capped.columns, 0u);
+  EXPECT_TRUE(capped.toolpath.moves.empty());
+  int calls = 0;
+  const CurvedSupportResult stopped =
+      addCurvedSupports(t.path, t.mesh, t.overAir, options(), [&](const char* stage, double) {
+        EXPECT_STREQ(stage, "supports");
+        return ++calls < 1;
+      });
+  EXPECT_TRUE(stopped.cancelled);
+  EXPECT_EQ(stopped.columns, 0u);
+}
+
 TEST(CurvedSupports, SamplesOverPartMaterialGetNone) {
   // Samples on the stem's top layer's loop: the part lies right under them.
   const Tee t = tee(false);
