@@ -432,34 +432,28 @@ CurvedSupportResult addCurvedSupports(const Toolpath& path, const Mesh& part, co
   const LaterCones later(path, h, o.coneHalfAngleDeg, o.coneLengthMm);
   for (Hit& hit : hits) {
     if (hit.levels == 0) continue;
-    bool ok = true;
-    for (int k = 0; ok && k < hit.levels; ++k) {
-      ok = !later.reaches(Eigen::Vector3d(hit.p.x(), hit.p.y(), hit.top - double(k) * h), hit.at[size_t(k)]);
+    bool struck = false;
+    for (int k = 0; !struck && k < hit.levels; ++k) {
+      struck = later.reaches(Eigen::Vector3d(hit.p.x(), hit.p.y(), hit.top - double(k) * h), hit.at[size_t(k)]);
     }
-    if (!ok) {
-      hit.levels = 0;
-      hit.at.clear();
-      ++r.blocked;
-      ++r.inLaterCones;
-      continue;
-    }
-    const size_t before = hit.at.back();
-    if (hit.land > 0) {
-      // The surface it lands on must be printed before its lowest copy.
+    // The surface it lands on must be printed before its lowest copy.
+    bool landsLater = false;
+    if (!struck && hit.land > 0) {
       const Eigen::Vector3d q(hit.p.x(), hit.p.y(), hit.land);
+      const size_t before = hit.at.back();
       const double reach = w + h;
       bool printed = false;
       hash.near(q, [&](size_t k) {
         printed = printed ||
                   (k < before && pointSegmentDistance2(q, hash.startOf(k), path.moves[k].position) <= reach * reach);
       });
-      ok = printed;
+      landsLater = !printed;
     }
-    if (!ok) {
+    if (struck || landsLater) {
       hit.levels = 0;
       hit.at.clear();
       ++r.blocked;
-      ++r.landsLater;
+      ++(struck ? r.inLaterCones : r.landsLater);
       continue;
     }
     ++r.columns;
