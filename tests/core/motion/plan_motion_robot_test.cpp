@@ -167,7 +167,11 @@ TEST(PlanMotionRobot, RatedArmSamePosesLessTime) {
   EXPECT_LE(r[1], 1 + 1e-4);
   std::printf("[ robot6 ] helix: %.1f s at paper 003's joint limits, %.1f s rated\n",
               paper.stats.estimatedTimeS, rated.stats.estimatedTimeS);
-  EXPECT_LT(rated.stats.estimatedTimeS, 0.8 * paper.stats.estimatedTimeS);
+  EXPECT_LT(rated.stats.estimatedTimeS, paper.stats.estimatedTimeS);
+  // On this smooth helix paper 003's jerk limit costs little once the durations share their slack
+  // (feed_limits.cpp tighten(): 24.8 s; lowering each move to its floor where it could left
+  // 155.8 s, feeds alternating fast and slow).
+  EXPECT_LT(paper.stats.estimatedTimeS, 1.5 * rated.stats.estimatedTimeS);
 }
 
 // Penalties in play: a singularity threshold above the measure of most poses of the path (w is
