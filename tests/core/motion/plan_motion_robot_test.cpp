@@ -169,7 +169,7 @@ TEST(PlanMotionRobot, RatedArmSamePosesLessTime) {
               paper.stats.estimatedTimeS, rated.stats.estimatedTimeS);
   EXPECT_LT(rated.stats.estimatedTimeS, paper.stats.estimatedTimeS);
   // On this smooth helix paper 003's jerk limit costs little once the durations share their slack
-  // (feed_limits.cpp tighten(): 24.8 s; lowering each move to its floor where it could left
+  // (feed_limits.cpp tighten(): 26.0 s; lowering each move to its floor where it could left
   // 155.8 s, feeds alternating fast and slow).
   EXPECT_LT(paper.stats.estimatedTimeS, 1.5 * rated.stats.estimatedTimeS);
 }
