@@ -57,6 +57,10 @@ struct SettingRemedy {
 
 // The remedies for this check's failures, in the order to try them (empty when none applies, or
 // when another failure besides theirs would leave the program unsound anyway):
+// - voxel or geodesic, colliding samples or tool path left out (beads supported, the fill
+//   sound), with motion.axis_freedom_deg set above 15: the axes leaning at most 15 deg from
+//   their ideal (geodesic, table5, 40 mm: the shared coin 1 mm left out at 25, sound at the
+//   default 15);
 // - voxel, colliding samples: the layer field smoothed half as much (voxel.smooth; where the
 //   field's creases fall moves with the smoothing: 40 mm, table5, at 20 / 10 / 40 passes the
 //   Kitten 14 / 0 / 13 colliding samples, the topopt part 28 / 35 / 2, the Yoga 144 / 35 / 462;

@@ -408,6 +408,30 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   EXPECT_TRUE(automaticRemedies(v, s).empty()) << "without supports the statement sends to support=auto";
   s.method = Method::Planar;
   EXPECT_TRUE(automaticRemedies(v, s).empty());
+  // Axes leaning further than 15 deg for motion: first back to 15, for collisions or tool path
+  // left out, voxel or geodesic (then the method's own remedies); not at 15 or below.
+  s = Settings();
+  s.axisFreedomDegrees = 25;
+  both = v;
+  both.supported = 1;
+  both.collisions = 3;
+  for (Method m : {Method::Voxel, Method::Geodesic}) {
+    s.method = m;
+    r = automaticRemedies(both, s);
+    ASSERT_FALSE(r.empty());
+    EXPECT_EQ(r[0].key + "=" + r[0].value, "motion.axis_freedom_deg=15");
+    Settings t = s;
+    EXPECT_TRUE(setSetting(t, r[0].key, r[0].value).ok());
+  }
+  EXPECT_EQ(r.size(), 1u) << "geodesic collisions: no other setting";
+  s.method = Method::Voxel;
+  EXPECT_EQ(automaticRemedies(both, s).size(), 2u) << "then voxel.smooth";
+  both.collisions = 0;
+  both.leftOutMm = 5;
+  s.method = Method::Geodesic;
+  EXPECT_EQ(automaticRemedies(both, s).at(0).value, "15");
+  s.axisFreedomDegrees = 15;
+  EXPECT_TRUE(automaticRemedies(both, s).empty()) << "left out 5 mm, lowest point unknown, freedom 15";
 }
 
 // The branches at 20 mm, geodesic: the mesher's tets (0.31 mm cells) fill 55 % of the thin
