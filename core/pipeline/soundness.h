@@ -65,7 +65,9 @@ struct SettingRemedy {
 //   field's creases fall moves with the smoothing: 40 mm, table5, at 20 / 10 / 40 passes the
 //   Kitten 14 / 0 / 13 colliding samples, the topopt part 28 / 35 / 2, the Yoga 144 / 35 / 462;
 //   every sound program a second smoothing gave on the shared models came from half: the Kitten
-//   at 20 and 40 mm, the Bunnyhead at 20 mm; none of three unsound held-out models);
+//   at 20 and 40 mm, the Bunnyhead at 20 mm; none of three unsound held-out models); then, from
+//   the default growth (pg-sp-gcfa), voxel.strategy sp-gcfa (at 40 mm it made the Yoga and the
+//   topopt part sound on table5 and robot6 and the kitten (ply) on robot6; fertility 467 -> 53);
 // - geodesic, supported below the bound: thinner layers where the field is slow at the surface
 //   (geodesic.max_thickness_ratio 0.55, then 0.45; the Yoga on robot6 at 40 mm 0.9895 -> 0.995
 //   for 18 % more layers);

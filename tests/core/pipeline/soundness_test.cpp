@@ -350,8 +350,14 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   EXPECT_TRUE(automaticRemedies(v, s).empty()) << "sound: nothing to remedy";
   v.collisions = 3;
   std::vector<SettingRemedy> r = automaticRemedies(v, s);
-  ASSERT_EQ(r.size(), 1u);
+  ASSERT_EQ(r.size(), 2u);
   EXPECT_EQ(r[0].key + "=" + r[0].value, "voxel.smooth=10");
+  EXPECT_EQ(r[1].key + "=" + r[1].value, "voxel.strategy=sp-gcfa");
+  {
+    Settings other = s;
+    other.voxel.strategy = GrowthStrategy::Gcfa;
+    EXPECT_EQ(automaticRemedies(v, other).size(), 1u) << "another growth the user chose stays";
+  }
   for (const SettingRemedy& x : r) {
     Settings t = s;
     EXPECT_TRUE(setSetting(t, x.key, x.value).ok()) << x.key;
@@ -425,7 +431,7 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   }
   EXPECT_EQ(r.size(), 1u) << "geodesic collisions: no other setting";
   s.method = Method::Voxel;
-  EXPECT_EQ(automaticRemedies(both, s).size(), 2u) << "then voxel.smooth";
+  EXPECT_EQ(automaticRemedies(both, s).size(), 3u) << "then voxel.smooth and voxel.strategy";
   both.collisions = 0;
   both.leftOutMm = 5;
   s.method = Method::Geodesic;
