@@ -68,7 +68,7 @@ for (const [name, file, placement] of models) {
         const bed = (r.warnings || []).find((w) => w.code === 'bead_on_platform');
         if (bed) row.bed_mm = Number(bed.message.split(' mm')[0]);
         if (r.voxel) Object.assign(row, { partial: r.voxel.thickness.partial_layers, reordered: r.voxel.reordered_paths });
-        if (r.geodesic) row.reordered = r.geodesic.reordered_paths;
+        if (r.geodesic) Object.assign(row, { reordered: r.geodesic.reordered_paths, near_ideal: r.geodesic.near_ideal_paths });
         if (v.attempts && v.attempts.length) row.made_again = v.attempts.map((a) => `${a.settings}:${a.sound ? 'sound' : 'not'}`).join(' ');
       } catch (e) {
         row.error = String(e.stderr || e.message).split('\n')[0].slice(0, 200);

@@ -255,7 +255,7 @@ export const PAGE_FIELDS = [
     showIf: isRobot },
   { group: 'Motion', key: 'motion.smooth_orientations', label: 'smooth orientations', type: 'checkbox' },
   { group: 'Motion', key: 'motion.filter_deg', label: 'orientation filter above (°)', step: 1 },
-  { group: 'Motion', key: 'motion.axis_freedom_deg', label: 'axis freedom for motion (°)', step: 1,
+  { group: 'Motion', key: 'motion.axis_freedom_deg', label: 'axis freedom for motion (°, −1 = the method\'s)', step: 1,
     testid: 'axis-freedom', showIf: (v) => isVoxel(v) || isGeodesic(v) },
   { group: 'Motion', key: 'motion.chord_tolerance', label: 'chord tolerance (mm)', step: 0.001 },
 ];

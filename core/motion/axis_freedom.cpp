@@ -46,15 +46,24 @@ size_t chooseAxesForMotion(const std::vector<Vector3d>& points, std::vector<Vect
     }
   }
   size_t changed = 0;
-  bool havePrev = false;
+  bool havePrev = false, relaxing = false;
+  const double relax = std::max(0.0, o.relaxDegreesPerMm);
   Vector3d prev = Vector3d::UnitZ();
   for (size_t i = 0; i < n; ++i) {
     const Vector3d u = axes[i];
     if (!u.allFinite() || std::abs(u.norm() - 1) > 1e-6) {
       havePrev = false;  // left as it is; the next point starts again from its preferred axis
+      relaxing = false;
       continue;
     }
     Vector3d x = havePrev ? prev : preferredAxis(u, free[i]);
+    if (havePrev && relaxing) {
+      const double d = (points[i] - points[i - 1]).norm();
+      const Vector3d target = preferredAxis(u, free[i]);
+      if (std::isfinite(d)) x = turnToward(x, target, relax * d);
+      if (axisAngleDegrees(x, target) <= 1e-9) relaxing = false;
+    }
+    if (relax > 0 && free[i] < freedom - 1e-9) relaxing = true;
     // Outside the ideal's cone: its nearest axis on the cone.
     if (axisAngleDegrees(x, u) > free[i]) x = turnToward(u, x, free[i]);
     // The tilt range: the chosen axis may not lean further than the range or its ideal does.

@@ -23,6 +23,12 @@ struct AxisFreedomOptions {
   double freedomDegrees = 15;   // largest angle between an axis and its ideal; 0 = the ideal
   double maxTiltDegrees = 180;  // the machine's tilt range from +Z (axes stay within it)
   double limitRampDegreesPerMm = 2;  // a lowered freedom (limit) rises back at most this fast
+  // After a point whose freedom a limit lowered, the axis turns back toward each next point's
+  // preferred axis at most this fast (degrees per mm of path) until it reaches it; 0 = it stays
+  // where the taut string leaves it. Without it an axis pulled to a tilted ideal at one point
+  // stays tilted along the rest of the path (it is inside every later cone), and on a spiral
+  // whose ideals lean less than the freedom it then follows their azimuth round every ring.
+  double relaxDegreesPerMm = 0;
 };
 
 // The least tilted axis within freedomDegrees of u: +Z when u leans from +Z by at most
@@ -36,7 +42,8 @@ Eigen::Vector3d preferredAxis(const Eigen::Vector3d& u, double freedomDegrees);
 // when the ideal is). `limit`, when not empty (one per point), lowers the freedom of single
 // points: point i leans at most min(freedomDegrees, limit[j] + limitRampDegreesPerMm x the path
 // length between i and j) over every j (0 at j: its ideal axis exactly there, and the freedom
-// ramps up around it, so the axis comes to the ideal gradually instead of jumping to it).
+// ramps up around it, so the axis comes to the ideal gradually instead of jumping to it; after
+// it the axis relaxes back to the preferred axes at relaxDegreesPerMm).
 // Non-finite or non-unit axes are left as they are. Returns the number of axes changed by more
 // than 1e-9. Sizes must match (otherwise nothing changes).
 size_t chooseAxesForMotion(const std::vector<Eigen::Vector3d>& points, std::vector<Eigen::Vector3d>& axes,

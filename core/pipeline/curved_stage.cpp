@@ -206,7 +206,7 @@ CurvedToolpathOptions curvedToolpathOptions(const Settings& settings, const Mach
   o.coneLength = machine.nozzle.coneLength;
   o.collisionClearance = nominalHeight;
   o.filterThresholdDegrees = settings.smoothOrientations ? settings.orientationFilterDegrees : 180;
-  o.axisFreedomDegrees = settings.axisFreedomDegrees;
+  o.axisFreedomDegrees = settings.effectiveAxisFreedom();
   const bool isoplanar = settings.fill == FillMode::Isoplanar;
   o.lineWidth = isoplanar ? settings.nozzleDiameter : settings.effectiveLineWidth();
   o.ellipseBeads = isoplanar;

@@ -457,6 +457,7 @@ MethodResult runGeodesicMethod(const PlacedPart& placed, const MethodContext& co
   report.gougingCorrections = tp.gougingCorrections;
   report.gougingUncorrected = tp.gougingUncorrected;
   report.reorderedPaths = tp.reorderedPaths;
+  report.nearIdealPaths = tp.nearIdealPaths;
   report.skippedSegments = tp.skippedPoints;
   report.skippedMm = tp.skippedMm;
   out.report.geodesic = std::move(report);

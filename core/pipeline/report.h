@@ -184,6 +184,7 @@ struct GeodesicReport {
   double maxTiltDeg = 0;
   size_t gougingCorrections = 0, gougingUncorrected = 0, skippedSegments = 0;
   size_t reorderedPaths = 0;  // paths printed in another order to free self-blocked points
+  size_t nearIdealPaths = 0;  // paths printed with their ideal axes where others left tool path out
   double skippedMm = 0;
   std::optional<std::pair<int32_t, int32_t>> skippedLayers;  // [first, last], 0-based
   Timings timingsMs;

@@ -290,6 +290,7 @@ Json geodesicJson(const GeodesicReport& r) {
           {"gouging_corrections", r.gougingCorrections},
           {"gouging_uncorrected", r.gougingUncorrected},
           {"reordered_paths", r.reorderedPaths},
+          {"near_ideal_paths", r.nearIdealPaths},
           {"skipped_segments", r.skippedSegments},
           {"skipped_mm", num(r.skippedMm)},
           {"skipped_layers", r.skippedLayers ? Json::array({r.skippedLayers->first, r.skippedLayers->second})

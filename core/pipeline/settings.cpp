@@ -95,6 +95,10 @@ Outcome validateSettings(const Settings& s) {
   if (s.isoplanar.thetaDegrees < 0 && s.isoplanar.thetaDegrees != -1) {
     return {Status::InvalidOption, "setting 'isoplanar.theta_deg': use an angle in [0, 180) or -1 to search"};
   }
+  if (s.axisFreedomDegrees < 0 && s.axisFreedomDegrees != -1) {
+    return {Status::InvalidOption,
+            "setting 'motion.axis_freedom_deg': use an angle in [0, 45] or -1 for the method's (geodesic 25, voxel 15)"};
+  }
   if (s.fill == FillMode::Spiral && s.method != Method::Voxel) {
     return {Status::InvalidOption, "setting 'fill': spiral fills curved layers of method voxel only"};
   }
@@ -106,6 +110,7 @@ std::vector<std::pair<std::string, std::string>> listSettings(const Settings& s)
   Settings copy = s;
   copy.lineWidth = s.effectiveLineWidth();
   copy.firstLayerHeight = s.effectiveFirstLayerHeight();
+  copy.axisFreedomDegrees = s.effectiveAxisFreedom();
   std::vector<std::pair<std::string, std::string>> out;
   for (const SettingSpec& spec : settingSpecs()) {
     if (!spec.listed || (spec.onlyFor && *spec.onlyFor != s.method)) continue;

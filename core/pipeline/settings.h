@@ -128,15 +128,20 @@ struct GeodesicSettings {
   // 40 mm, table5, with maxThicknessRatio 0.7 (left-out mm, before -> after, against heatTime 30
   // and ratio 1): kitten 102 -> 0, kitten (ply) 765 -> 343, fertility 4,149 -> 1,995, yoga 112 ->
   // 85, topopt 19 -> 0; sound 2 -> 5 of 9 for about the same number of layers; bench bunny 5.9 ->
-  // 5.1 s native, field 308 -> 147 ms.
-  double alignPasses = 10;
+  // 5.1 s native, field 308 -> 147 ms. 40 since 2026-12-01: with the tool path retrying its
+  // left-out paths near their ideal axes and the axis freedom 25, the nine models at 40 mm
+  // (table5 and robot6) are sound wherever they were at 10 (the Yoga now too), the layers
+  // smoother for the machine: kitten table5 1.07 -> 0.69 h (rotary motion 78,492 -> 3,315 deg),
+  // coin 2.02 -> 1.81 h, bunny 2.76 -> 2.08 h, bunnyhead 1.46 -> 1.18 h, topopt 2.28 -> 1.85 h.
+  double alignPasses = 40;
   // Where those passes leave tool path out, the field, layers and tool path are made once more
   // with this many passes and the attempt leaving less out is kept (0, or not above alignPasses:
   // no retry). More passes round the creases further but are not better everywhere (40 mm,
   // table5, left-out mm at 10 / 30 / 40 / 50 passes: kitten (ply) 343 / 0 / 0 / 0 with supported
   // 0.992 / 0.990 / 0.988 at 30-50, yoga 85 / 1.7 / 0 / 0, fertility 1,995 / 817 / 552 / 417,
-  // bunny 0 / 0.9 / 0.8 / 1.8), so they are the retry, not the default.
-  double alignRetryPasses = 40;
+  // bunny 0 / 0.9 / 0.8 / 1.8; measured before the left-out paths were retried near their
+  // ideal axes). With 40 passes the default, the retry takes 50.
+  double alignRetryPasses = 50;
   TraversalKind sequence = TraversalKind::A3;  // print order: a3 (Algorithm 3) | lpt | dpt
   bool remesh = true;           // isotropic remeshing + Laplacian smoothing of the IGDS
 };
@@ -207,11 +212,13 @@ struct Settings {
   bool smoothOrientations = true;      // paper 001 Section 5.2 orientation filter
   double orientationFilterDegrees = 10;  // filter where neighbouring axes differ by more
   // Curved layers (voxel, geodesic): how far a nozzle axis may lean from its ideal (Eq. 3 / the
-  // layer normal) to keep the rotary axes still (motion/axis_freedom.h); 0 = the ideal axes.
-  // 25 was measured (2026-12-01, the 36 curved slices of the shared models at 40 mm): estimated
-  // time 3-38 % shorter, voxel as sound as at 15, but geodesic left 1-18 mm of tool path out on
-  // 6 of 9 models that are sound at 15, so 15 stays (soundness.cpp remedies a higher one with 15).
-  double axisFreedomDegrees = 15;
+  // layer normal) to keep the rotary axes still (motion/axis_freedom.h); 0 = the ideal axes, -1 =
+  // the method's (effectiveAxisFreedom: geodesic 25, voxel 15). Measured on the 36 curved slices
+  // of the shared models at 40 mm (2026-12-01): geodesic at 25, once its tool path retried the
+  // paths it left out near their ideal axes (CurvedToolpathOptions::retryLeftOutNearIdeal), is
+  // sound wherever it is at 15 and 13-45 % shorter on table5; voxel at 25 lost the Yoga (table5,
+  // robot6) and the kitten (ply, robot6), which its remedies make sound at 15.
+  double axisFreedomDegrees = -1;
   double chordTolerance = 0.01;        // mm, machine interpolation vs the part-frame path
   RepairMode repair = RepairMode::Auto;
   VerifyMode verify = VerifyMode::Auto;  // auto | refuse | warn | off (pipeline/soundness.h)
@@ -268,6 +275,11 @@ struct Settings {
 
   // Resolved line width.
   double effectiveLineWidth() const { return lineWidth > 0 ? lineWidth : 1.125 * nozzleDiameter; }
+  // Resolved axis freedom (axisFreedomDegrees; -1 = the method's).
+  double effectiveAxisFreedom() const {
+    if (axisFreedomDegrees >= 0) return axisFreedomDegrees;
+    return method == Method::Geodesic ? 25 : 15;
+  }
   double effectiveFirstLayerHeight() const {
     return firstLayerHeight > 0 ? firstLayerHeight : layerHeight;
   }

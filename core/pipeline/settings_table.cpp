@@ -399,9 +399,9 @@ std::vector<SettingSpec> makeTable() {
              "machine interpolation vs the part-frame path"),
       number("motion.filter_deg", [](S& s) -> double& { return s.orientationFilterDegrees; }, 0.1, 180, "deg",
              "orientation filter where neighbouring axes differ by more"),
-      number("motion.axis_freedom_deg", [](S& s) -> double& { return s.axisFreedomDegrees; }, 0, 45, "deg",
+      number("motion.axis_freedom_deg", [](S& s) -> double& { return s.axisFreedomDegrees; }, -1, 45, "deg",
              "curved layers: how far the nozzle axis may lean from the layer's ideal axis to keep the "
-             "rotary axes still (0 = the ideal axis)"),
+             "rotary axes still (0 = the ideal axis, -1 = the method's: geodesic 25, voxel 15)"),
       number("multidir.alpha_max_deg", [](S& s) -> double& { return s.multidir.alphaMaxDeg; }, 1, 89, "deg",
              "maximal self-supporting angle"),
       number("multidir.interface_overlap", [](S& s) -> double& { return s.multidir.interfaceOverlap; }, 0, 1, "",

@@ -889,6 +889,7 @@ class CurvedToolpathBuilder {
       const size_t np = path.points.size();
       if (np < 2) continue;
       const double width = path.width > 0 ? std::min(path.width, o_.lineWidth) : o_.lineWidth;
+      const Counters unoriented = counters();
       if (!orientPath(l, path, done)) return false;
       const Counters before = counters();
       correctPath(path.points, samples_, layer);
@@ -896,6 +897,10 @@ class CurvedToolpathBuilder {
         const int reordered = printSelfBlockedFirst(l, path, before, width, speed, printKind, feature, done);
         if (reordered < 0) return false;
         if (reordered > 0) continue;
+      }
+      if (o_.skipUncorrectable && o_.retryLeftOutNearIdeal && o_.axisFreedomDegrees > 0 &&
+          result_.skippedPoints > before.skippedPoints && !orientNearIdeal(l, path, unoriented, before, done)) {
+        return false;
       }
       travelTo(path.points[0], samples_[0].axis, layer);
       printSegments(path, width, speed, printKind, feature, layer);
@@ -1066,8 +1071,62 @@ class CurvedToolpathBuilder {
     return 1;
   }
 
-  // samples_ of a path's points (Eq. 3 within the tilt range). False when cancelled.
-  bool orientPath(size_t l, const SurfacePath& path, double done) {
+  // A path that left segments out (skip_, since the counters `before`) oriented again with the
+  // freedom lowered to 0 at both ends of every segment left out, the limits of each round adding
+  // to the last's (two rounds at most): the axis ramps to the ideal there (limitRampDegreesPerMm)
+  // and afterwards relaxes back to the least tilted axis at kRelaxDegreesPerMm, so one lowered
+  // point does not leave the rest of a spiral on a tilted axis that follows the rings' azimuth.
+  // The orientation that leaves the least out stays in samples_ / skip_ (ties keep the first);
+  // the orientation counters count it once (`unoriented`: before the path was first oriented).
+  // False when cancelled.
+  static constexpr double kRelaxDegreesPerMm = 5;
+  bool orientNearIdeal(size_t l, const SurfacePath& path, const Counters& unoriented, const Counters& before,
+                       double done) {
+    auto reorient = [&](const std::vector<double>* limit) {
+      result_.orientationFallbacks = unoriented.fallbacks;
+      result_.tiltClamped = unoriented.clamped;
+      result_.axesFreed = unoriented.freed;
+      return orientPath(l, path, done, limit);
+    };
+    const int32_t layer = static_cast<int32_t>(l);
+    const size_t np = path.points.size();
+    size_t bestBad = badSince(before);
+    std::vector<double> limit(np, std::numeric_limits<double>::infinity()), bestLimit;
+    std::vector<Piece> pieces;
+    pieces.push_back(keep(path));
+    bool lastIsBest = true;
+    for (int round = 0; round < 2 && bestBad > 0; ++round) {
+      bool added = false;
+      for (size_t i = 1; i < np; ++i) {
+        if (!skip_[i]) continue;
+        added = added || limit[i] != 0 || limit[i - 1] != 0;
+        limit[i] = limit[i - 1] = 0;
+      }
+      if (!added) break;
+      undo(pieces, before);
+      if (!reorient(&limit)) return false;
+      correctPath(path.points, samples_, layer);
+      pieces.clear();
+      pieces.push_back(keep(path));
+      const size_t bad = badSince(before);
+      lastIsBest = bad < bestBad;
+      if (lastIsBest) {
+        bestBad = bad;
+        bestLimit = limit;
+      }
+    }
+    if (!lastIsBest) {
+      undo(pieces, before);
+      if (!reorient(bestLimit.empty() ? nullptr : &bestLimit)) return false;
+      correctPath(path.points, samples_, layer);
+    }
+    if (!bestLimit.empty()) ++result_.nearIdealPaths;
+    return true;
+  }
+
+  // samples_ of a path's points (Eq. 3 within the tilt range); `limit` (one per point, when
+  // given) lowers the motion term's freedom there (chooseAxesForMotion). False when cancelled.
+  bool orientPath(size_t l, const SurfacePath& path, double done, const std::vector<double>* limit = nullptr) {
     const size_t np = path.points.size();
     const auto s0 = Clock::now();
     samples_.resize(np);
@@ -1089,10 +1148,12 @@ class CurvedToolpathBuilder {
         axes_[i] = samples_[i].axis;
         // An axis turned onto the tilt range already leans from Eq. 3: it keeps its axis.
         freedom_[i] = samples_[i].clamped ? 0.0 : o_.axisFreedomDegrees;
+        if (limit && limit->size() == np) freedom_[i] = std::min(freedom_[i], (*limit)[i]);
       }
       AxisFreedomOptions fo;
       fo.freedomDegrees = o_.axisFreedomDegrees;
       fo.maxTiltDegrees = o_.maxTiltDegrees;
+      if (limit) fo.relaxDegreesPerMm = kRelaxDegreesPerMm;
       result_.axesFreed += chooseAxesForMotion(path.points, axes_, fo, freedom_);
       for (size_t i = 0; i < np; ++i) samples_[i].axis = axes_[i];
     }

@@ -80,6 +80,11 @@ struct CurvedToolpathOptions {
   // the runs of those segments are printed first and the rest after them, when that leaves fewer
   // points colliding (CurvedToolpathResult::reorderedPaths).
   bool reorderSelfBlocked = true;
+  // skipUncorrectable with axisFreedomDegrees > 0: a path that leaves segments out is oriented
+  // again with no freedom at their ends (their ideal axes there; the freedom ramps back around
+  // them and the axis then relaxes to the least tilted one), up to two rounds; the orientation
+  // that leaves the least out is printed (CurvedToolpathResult::nearIdealPaths).
+  bool retryLeftOutNearIdeal = true;
 };
 
 struct CurvedToolpathResult : Outcome {
@@ -91,6 +96,7 @@ struct CurvedToolpathResult : Outcome {
   size_t gougingCorrections = 0;    // path points whose axis was turned to avoid earlier material
   size_t gougingUncorrected = 0;    // path points left colliding (no free axis within the limits)
   size_t reorderedPaths = 0;        // paths printed with their self-blocked runs first
+  size_t nearIdealPaths = 0;        // paths printed with their ideal axes where others left path out
   size_t skippedPoints = 0;         // skipUncorrectable: segments left out
   double skippedMm = 0;             // their length, mm
   std::vector<Eigen::Vector3d> skippedEnds;  // start and end of each segment left out (2 per segment)

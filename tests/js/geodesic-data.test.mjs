@@ -353,7 +353,7 @@ test('settings schema: geodesic rows shown and sent only for the geodesic method
   model.set('geodesic.tet_size_mm', 1.5);
   assert.equal(field('geodesic.target_tets').showIf(model.values), false, 'the target count is unused with a tet size');
   // The core's defaults and ranges (core/pipeline/settings_table.cpp), which the fields take.
-  assert.deepEqual(keys.map((k) => field(k).value), [0, 0, 60000, 0, 0.7, 10, 40, 1, 0, 'a3', true]);
+  assert.deepEqual(keys.map((k) => field(k).value), [0, 0, 60000, 0, 0.7, 40, 50, 1, 0, 'a3', true]);
   assert.throws(() => normaliseValue(field('geodesic.align_passes'), '101'), /within 0..100/);
   assert.throws(() => normaliseValue(field('geodesic.base_band_mm'), '21'), /within 0..20/);
   assert.throws(() => normaliseValue(field('geodesic.max_thickness_ratio'), '3.5'), /within 0..3/);

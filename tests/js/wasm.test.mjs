@@ -61,8 +61,9 @@ describe('wasm module in Node', { skip: why ? `skipped: ${why}` : false }, () =>
     assert.deepEqual(schema, cli);
     const { values } = m.defaultSettings();
     const byKey = Object.fromEntries(schema.map((s) => [s.key, s]));
-    // The listing resolves line_width (0 = 1.125 x nozzle) and first_layer_height (0 = layer_height).
-    const resolved = { line_width: '0', first_layer_height: '0' };
+    // The listing resolves line_width (0 = 1.125 x nozzle), first_layer_height (0 = layer_height)
+    // and motion.axis_freedom_deg (-1 = the method's).
+    const resolved = { line_width: '0', first_layer_height: '0', 'motion.axis_freedom_deg': '-1' };
     for (const [key, text] of Object.entries(values)) {
       assert.ok(byKey[key], `listed key ${key} is in the schema`);
       assert.equal(byKey[key].default, resolved[key] ?? text, `${key} default`);

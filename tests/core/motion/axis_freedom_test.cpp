@@ -4,7 +4,7 @@
 // within the cones can turn from the same start (dynamic programming over a fine grid); on a
 // ring whose ideals lean further than the freedom the axis winds once, as it must, and on
 // ideals that wobble within the freedom it settles and stays still; where the freedom drops, it
-// ramps instead of jumping.
+// ramps instead of jumping, and after it the axis relaxes back to +Z when asked to.
 #include "common/math_constants.h"
 #include "motion/axis_freedom.h"
 #include "motion/orientation_smoothing.h"
@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <random>
 #include <vector>
@@ -224,6 +225,48 @@ TEST(AxisFreedom, LoweredFreedomRampsInsteadOfJumping) {
   }
   // Far from the drop the axis leans the full freedom toward +Z (the path starts there).
   EXPECT_NEAR(axisAngleDegrees(axes[0], Vector3d::UnitZ()), 45, 1e-6);
+}
+
+TEST(AxisFreedom, AfterALoweredPointTheAxisRelaxesBackToVertical) {
+  // A ring whose ideals lean 10 degrees (within the freedom 15: +Z everywhere, nothing turns),
+  // the freedom lowered to 0 at one point (a segment left out with the motion term's axes). The
+  // axis comes to that point's ideal. Without relaxing it then stays inside every later cone and
+  // is dragged round the ring (C winds); relaxing at 5 deg/mm it is back on +Z within a few mm
+  // and the whole path turns little more than there and back.
+  const size_t n = 720, at = 100;
+  std::vector<Vector3d> ideal(n);
+  for (size_t i = 0; i < n; ++i) ideal[i] = fromTiltAzimuth(10, 0.5 * double(i));
+  std::vector<double> limit(n, std::numeric_limits<double>::infinity());
+  limit[at] = 0;
+  AxisFreedomOptions o;
+  o.freedomDegrees = 15;
+  std::vector<Vector3d> stays = ideal, relaxes = ideal;
+  chooseAxesForMotion(linePoints(n), stays, o, limit);
+  o.relaxDegreesPerMm = 5;
+  chooseAxesForMotion(linePoints(n), relaxes, o, limit);
+  for (const auto* axes : {&stays, &relaxes}) {
+    EXPECT_LT(axisAngleDegrees((*axes)[at], ideal[at]), 1e-9);
+    for (size_t i = 0; i < n; ++i) EXPECT_LE(axisAngleDegrees((*axes)[i], ideal[i]), 15 + 1e-6) << i;
+    for (size_t i = 0; i + 20 < at; ++i) EXPECT_LT(axisAngleDegrees((*axes)[i], Vector3d::UnitZ()), 1e-9) << i;
+  }
+  // Staying: still tilted half a ring later.
+  EXPECT_GT(axisAngleDegrees(stays[at + 360], Vector3d::UnitZ()), 4);
+  // Relaxing: +Z again within 10 mm (20 points), turning about 2 x 10 degrees in all.
+  for (size_t i = at + 20; i < n; ++i) EXPECT_LT(axisAngleDegrees(relaxes[i], Vector3d::UnitZ()), 1e-9) << i;
+  EXPECT_LT(totalTurn(relaxes), 2 * 10 + 3);
+  // What a table's C axis turns (the azimuth of tilted axes): the staying axis is dragged along
+  // by the cones until it settles where all of them meet (5 degrees from +Z), the relaxing one
+  // turns only around the point.
+  auto azimuthMotion = [](const std::vector<Vector3d>& a) {
+    double sum = 0;
+    for (size_t i = 1; i < a.size(); ++i) {
+      if (std::hypot(a[i - 1].x(), a[i - 1].y()) < 1e-9 || std::hypot(a[i].x(), a[i].y()) < 1e-9) continue;
+      sum += std::abs(std::remainder(std::atan2(a[i].y(), a[i].x()) - std::atan2(a[i - 1].y(), a[i - 1].x()), 2 * kPi));
+    }
+    return sum / kDeg;
+  };
+  std::printf("azimuth motion: %.1f staying, %.1f relaxing (degrees)\n", azimuthMotion(stays), azimuthMotion(relaxes));
+  EXPECT_LT(azimuthMotion(relaxes), 0.5 * azimuthMotion(stays));
 }
 
 }  // namespace

@@ -232,12 +232,15 @@ TEST(Soundness, VoxelTurnsBetweenFreeAxesDoNotCollide) {
 
 // The kitten (genus 1) at 40 mm: where the fronts around its hole merge, the paper's field leaves
 // layers meeting at sharp creases that no nozzle axis reaches (770 mm of tool path left out);
-// aligning the heat's directions there (geodesic.align_passes, default 10) leaves none, and the
+// aligning the heat's directions there (geodesic.align_passes, default 40) leaves none, and the
 // program is sound.
 TEST(Soundness, GeodesicAlignedFrontsLeaveNoToolPathOut) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
+  // The paper's field and its axes (no freedom for motion, so no path is retried near them).
   const Json paper = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40,
-                                    {{"geodesic.align_passes", "0"}, {"geodesic.align_retry_passes", "0"}}, UpAxis::PosY);
+                                    {{"geodesic.align_passes", "0"}, {"geodesic.align_retry_passes", "0"},
+                                     {"motion.axis_freedom_deg", "0"}},
+                                    UpAxis::PosY);
   const Json now = checkedFigures("pymdp_kitten.off", Method::Geodesic, 40, {}, UpAxis::PosY);
   ASSERT_TRUE(paper.contains("left_out_mm") && now.contains("left_out_mm"));
   EXPECT_GT(paper["left_out_mm"].get<double>(), 100.0) << paper.dump();
@@ -245,8 +248,19 @@ TEST(Soundness, GeodesicAlignedFrontsLeaveNoToolPathOut) {
   EXPECT_TRUE(now["sound"].get<bool>()) << now.dump();
 }
 
+// The scenario the retry was measured on, before the defaults became 40 passes and axis freedom
+// 25 (with which this kitten leaves nothing out at first): 10 passes, freedom 15, solid. The tool
+// path's retry of left-out paths near their ideal axes (always on) still leaves more than 10 mm
+// out there.
+void setAsMeasured(Settings& s) {
+  ASSERT_TRUE(setSetting(s, "geodesic.align_passes", "10").ok());
+  ASSERT_TRUE(setSetting(s, "geodesic.align_retry_passes", "40").ok());
+  ASSERT_TRUE(setSetting(s, "motion.axis_freedom_deg", "15").ok());
+  ASSERT_TRUE(setSetting(s, "infill", "100").ok());  // as measured (sparse: 8.5 mm left out first)
+}
+
 // The kitten (ply, genus 1) at 20 mm, solid: ten alignment passes still leave 25 mm of tool path out;
-// the second attempt with geodesic.align_retry_passes (default 40) leaves none and is kept, and
+// the second attempt with geodesic.align_retry_passes (40) leaves none and is kept, and
 // the report says what the first left out. Without the retry the slice is refused.
 TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
   OMNISLICE_REQUIRE_SHARED_MODELS();
@@ -254,8 +268,8 @@ TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
   Settings s = onTable5(Method::Geodesic, 20);
   ASSERT_TRUE(setSetting(s, "verify", "warn").ok());
+  setAsMeasured(s);
   ASSERT_TRUE(setSetting(s, "geodesic.align_retry_passes", "0").ok());
-  ASSERT_TRUE(setSetting(s, "infill", "100").ok());  // as measured (sparse: 8.5 mm left out first)
   const SliceOutput once = runSlice(bytes.data(), bytes.size(), file, s);
   ASSERT_TRUE(once.ok()) << once.message;
   const Json a = Json::parse(once.reportJson);
@@ -263,7 +277,7 @@ TEST(Soundness, GeodesicRetryWithStrongerAlignmentLeavesNothingOut) {
   EXPECT_GT(firstLeftOut, 10.0) << a["verify"].dump();
   EXPECT_FALSE(a["geodesic"]["align_retry"]["retried"].get<bool>());
 
-  s.geodesic.alignRetryPasses = Settings().geodesic.alignRetryPasses;
+  s.geodesic.alignRetryPasses = 40;
   const SliceOutput twice = runSlice(bytes.data(), bytes.size(), file, s);
   ASSERT_TRUE(twice.ok()) << twice.message;
   const Json b = Json::parse(twice.reportJson);
@@ -284,7 +298,7 @@ TEST(Soundness, GeodesicRetryBesideTheFirstMakesTheSameProgram) {
   const std::vector<uint8_t> bytes = test::readBytes(test::sharedModelsDir() / file);
   Settings s = onTable5(Method::Geodesic, 20);
   ASSERT_TRUE(setSetting(s, "verify", "warn").ok());
-  ASSERT_TRUE(setSetting(s, "infill", "100").ok());
+  setAsMeasured(s);
   s.threads = 1;
   const SliceOutput one = runSlice(bytes.data(), bytes.size(), file, s);
   s.threads = 2;
@@ -363,6 +377,7 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
     EXPECT_TRUE(setSetting(t, x.key, x.value).ok()) << x.key;
   }
   s.method = Method::Geodesic;
+  s.axisFreedomDegrees = 15;  // the freedom's own remedy: below
   EXPECT_TRUE(automaticRemedies(v, s).empty()) << "geodesic collisions: no setting the slicer changes";
   v.collisions = 0;
   v.supported = 0.985;
@@ -414,24 +429,26 @@ TEST(Soundness, AutomaticRemediesFollowTheFailures) {
   EXPECT_TRUE(automaticRemedies(v, s).empty()) << "without supports the statement sends to support=auto";
   s.method = Method::Planar;
   EXPECT_TRUE(automaticRemedies(v, s).empty());
-  // Axes leaning further than 15 deg for motion: first back to 15, for collisions or tool path
-  // left out, voxel or geodesic (then the method's own remedies); not at 15 or below.
+  // Geodesic axes leaning further than 15 deg for motion (its default 25, or set): back to 15,
+  // for collisions or tool path left out; not at 15 or below. Not voxel (as sound at 25 as at 15
+  // where measured; its collisions have remedies of their own).
   s = Settings();
-  s.axisFreedomDegrees = 25;
   both = v;
   both.supported = 1;
   both.collisions = 3;
-  for (Method m : {Method::Voxel, Method::Geodesic}) {
-    s.method = m;
+  s.method = Method::Geodesic;
+  for (double freedom : {-1.0, 25.0}) {
+    s.axisFreedomDegrees = freedom;
     r = automaticRemedies(both, s);
-    ASSERT_FALSE(r.empty());
+    ASSERT_EQ(r.size(), 1u) << "geodesic collisions: no other setting";
     EXPECT_EQ(r[0].key + "=" + r[0].value, "motion.axis_freedom_deg=15");
     Settings t = s;
     EXPECT_TRUE(setSetting(t, r[0].key, r[0].value).ok());
   }
-  EXPECT_EQ(r.size(), 1u) << "geodesic collisions: no other setting";
   s.method = Method::Voxel;
-  EXPECT_EQ(automaticRemedies(both, s).size(), 3u) << "then voxel.smooth and voxel.strategy";
+  r = automaticRemedies(both, s);
+  ASSERT_EQ(r.size(), 2u) << "voxel.smooth and voxel.strategy only";
+  EXPECT_EQ(r[0].key, "voxel.smooth");
   both.collisions = 0;
   both.leftOutMm = 5;
   s.method = Method::Geodesic;
