@@ -26,8 +26,8 @@ struct AxisFreedomOptions {
   // After a point whose freedom a limit lowered, the axis turns back toward each next point's
   // preferred axis at most this fast (degrees per mm of path) until it reaches it; 0 = it stays
   // where the taut string leaves it. Without it an axis pulled to a tilted ideal at one point
-  // stays tilted along the rest of the path (it is inside every later cone), and on a spiral
-  // whose ideals lean less than the freedom it then follows their azimuth round every ring.
+  // stays tilted along the rest of the path (it is inside every later cone) instead of +Z, and
+  // near +Z a small tilt whose azimuth the cones drag along is what turns a table's C axis.
   double relaxDegreesPerMm = 0;
 };
 

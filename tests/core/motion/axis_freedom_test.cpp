@@ -230,9 +230,10 @@ TEST(AxisFreedom, LoweredFreedomRampsInsteadOfJumping) {
 TEST(AxisFreedom, AfterALoweredPointTheAxisRelaxesBackToVertical) {
   // A ring whose ideals lean 10 degrees (within the freedom 15: +Z everywhere, nothing turns),
   // the freedom lowered to 0 at one point (a segment left out with the motion term's axes). The
-  // axis comes to that point's ideal. Without relaxing it then stays inside every later cone and
-  // is dragged round the ring (C winds); relaxing at 5 deg/mm it is back on +Z within a few mm
-  // and the whole path turns little more than there and back.
+  // axis comes to that point's ideal. Without relaxing it then stays tilted inside the later
+  // cones, dragged along until it settles where they all meet (5 degrees from +Z); relaxing at
+  // 5 deg/mm it is back on +Z within a few mm and the whole path turns little more than there
+  // and back.
   const size_t n = 720, at = 100;
   std::vector<Vector3d> ideal(n);
   for (size_t i = 0; i < n; ++i) ideal[i] = fromTiltAzimuth(10, 0.5 * double(i));
